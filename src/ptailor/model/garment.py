@@ -1,0 +1,198 @@
+"""The garment data model and its panels.
+
+A garment is one triangle mesh seen twice: triangle ``i`` of ``F3`` (drape, 3D) and triangle
+``i`` of ``F2`` (pattern, 2D) are the same piece of cloth. Vertices on a seam are one vertex
+in 3D and two in 2D.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+
+
+@dataclass(frozen=True)
+class Garment:
+    """A drape and its pattern.
+
+    Attributes
+    ----------
+    V3 : (n3, 3) float array
+        Drape vertex positions.
+    F3 : (m, 3) int array
+        Drape triangles, indices into ``V3``.
+    V2 : (n2, 2) float array
+        Pattern vertex positions.
+    F2 : (m, 3) int array
+        Pattern triangles, indices into ``V2``; row ``i`` is the same cloth as ``F3[i]``.
+    face_group : (m,) int array
+        Index into ``group_names`` of each triangle's OBJ ``g``/``o`` group (-1: none).
+    group_names : tuple of str
+        Group names in file order.
+    units : str
+        Length unit of both ``V3`` and ``V2`` (everything is computed in one unit).
+    """
+
+    V3: np.ndarray
+    F3: np.ndarray
+    V2: np.ndarray
+    F2: np.ndarray
+    face_group: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    group_names: tuple[str, ...] = ()
+    units: str = "cm"
+
+    def __post_init__(self) -> None:
+        m = len(self.F3)
+        if len(self.face_group) != m:
+            object.__setattr__(self, "face_group", np.full(m, -1, dtype=np.int64))
+
+    @property
+    def n_faces(self) -> int:
+        return int(len(self.F3))
+
+    def with_drape(self, V3: np.ndarray) -> Garment:
+        """Return a copy with drape positions ``V3`` (same topology)."""
+        return replace(self, V3=np.asarray(V3, dtype=np.float64))
+
+    def with_pattern(self, V2: np.ndarray) -> Garment:
+        """Return a copy with pattern positions ``V2`` (same topology)."""
+        return replace(self, V2=np.asarray(V2, dtype=np.float64))
+
+
+@dataclass(frozen=True)
+class Panel:
+    """One connected piece of the pattern.
+
+    Attributes
+    ----------
+    index : int
+        Position in the garment's panel list.
+    name : str
+        From the OBJ groups when its faces share one, else ``panel_<index>``.
+    faces : (k,) int array
+        Indices of the garment triangles of this panel, ascending.
+    vertices : (p,) int array
+        Indices into ``V2`` of the pattern vertices this panel uses, ascending.
+    mirrored : bool
+        True when the panel's 2D triangles are clockwise.
+    """
+
+    index: int
+    name: str
+    faces: np.ndarray
+    vertices: np.ndarray
+    mirrored: bool
+
+
+def signed_areas_2d(V2: np.ndarray, F2: np.ndarray) -> np.ndarray:
+    """Signed areas of 2D triangles.
+
+    Parameters
+    ----------
+    V2 : (n, 2) float array
+    F2 : (m, 3) int array
+
+    Returns
+    -------
+    (m,) float array
+        Positive for counter-clockwise triangles.
+    """
+    a, b, c = V2[F2[:, 0]], V2[F2[:, 1]], V2[F2[:, 2]]
+    u, v = b - a, c - a
+    return 0.5 * (u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0])
+
+
+def areas_3d(V3: np.ndarray, F3: np.ndarray) -> np.ndarray:
+    """Areas of 3D triangles, ``(m,)``."""
+    a, b, c = V3[F3[:, 0]], V3[F3[:, 1]], V3[F3[:, 2]]
+    return 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+
+
+def face_components(F: np.ndarray, n: int) -> np.ndarray:
+    """Label triangles by the connected component of the vertices they use.
+
+    Parameters
+    ----------
+    F : (m, 3) int array
+    n : int
+        Number of vertices.
+
+    Returns
+    -------
+    (m,) int array
+        Component label per triangle, numbered in order of first appearance.
+    """
+    m = len(F)
+    if m == 0:
+        return np.zeros(0, dtype=np.int64)
+    rows = np.repeat(np.arange(m), 3)
+    A = sp.coo_matrix((np.ones(3 * m), (rows, F.ravel())), shape=(m, n)).tocsr()
+    _, vlab = connected_components(A.T @ A, directed=False)
+    flab = vlab[F[:, 0]]
+    # renumber by first appearance so labels are stable under vertex renumbering
+    _, first = np.unique(flab, return_index=True)
+    order = np.argsort(first)
+    remap = np.empty(order.size, dtype=np.int64)
+    remap[flab[first[order]]] = np.arange(order.size)
+    return remap[flab]
+
+
+def panels(garment: Garment) -> list[Panel]:
+    """The panels of a garment: connected components of ``F2``.
+
+    Parameters
+    ----------
+    garment : Garment
+
+    Returns
+    -------
+    list of Panel
+        In order of each panel's first triangle. Names come from the OBJ group shared by
+        most of the panel's triangles when that group covers no other panel, else
+        ``panel_<index>``; names are made unique with a ``_<k>`` suffix.
+    """
+    F2 = garment.F2
+    lab = face_components(F2, len(garment.V2))
+    n_p = int(lab.max()) + 1 if lab.size else 0
+    order = np.argsort(lab, kind="stable")
+    bounds = np.searchsorted(lab[order], np.arange(n_p + 1))
+    sa = signed_areas_2d(garment.V2, F2)
+    # majority group per panel, vectorised through a (panel, group) count table
+    g = garment.face_group
+    n_g = len(garment.group_names)
+    names: list[str] = []
+    if n_g:
+        valid = g >= 0
+        table = np.zeros((n_p, n_g), dtype=np.int64)
+        np.add.at(table, (lab[valid], g[valid]), 1)
+        best = table.argmax(axis=1)
+        panels_per_group = (table > 0).sum(axis=0)
+        for p in range(n_p):
+            ok = table[p, best[p]] > 0 and panels_per_group[best[p]] == 1
+            names.append(garment.group_names[best[p]] if ok else f"panel_{p}")
+    else:
+        names = [f"panel_{p}" for p in range(n_p)]
+    seen: dict[str, int] = {}
+    out: list[Panel] = []
+    for p in range(n_p):
+        name = names[p]
+        if name in seen:
+            seen[name] += 1
+            name = f"{name}_{seen[name]}"
+        else:
+            seen[name] = 0
+        faces = np.sort(order[bounds[p] : bounds[p + 1]])
+        verts = np.unique(F2[faces])
+        out.append(
+            Panel(
+                index=p,
+                name=name,
+                faces=faces,
+                vertices=verts,
+                mirrored=bool(sa[faces].sum() < 0),
+            )
+        )
+    return out

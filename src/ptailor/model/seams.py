@@ -1,0 +1,121 @@
+"""Seams: 3D edges whose two triangles use different 2D edges, chained into curves."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+
+
+@dataclass(frozen=True)
+class Seam:
+    """One seam curve between two panels (or a panel and itself).
+
+    Attributes
+    ----------
+    panels : tuple of int
+        Panel indices ``(a, b)``, ``a <= b``.
+    edges3 : (k, 2) int array
+        The seam's edges in the drape, indices into ``V3``.
+    edges_a, edges_b : (k, 2) int arrays
+        The same edges in the pattern on panel ``a``'s and panel ``b``'s side, into ``V2``.
+    """
+
+    panels: tuple[int, int]
+    edges3: np.ndarray
+    edges_a: np.ndarray
+    edges_b: np.ndarray
+
+    def lengths(self, V2: np.ndarray) -> tuple[float, float]:
+        """Total 2D length of each side for pattern positions ``V2``."""
+
+        def total(E: np.ndarray) -> float:
+            return float(np.linalg.norm(V2[E[:, 1]] - V2[E[:, 0]], axis=1).sum())
+
+        return total(self.edges_a), total(self.edges_b)
+
+
+def half_edges(F: np.ndarray) -> np.ndarray:
+    """Directed half-edges of a triangle list.
+
+    Parameters
+    ----------
+    F : (m, 3) int array
+
+    Returns
+    -------
+    (3m, 2) int array
+        Row ``3 * i + k`` is the edge from corner ``k`` to corner ``k + 1`` of triangle ``i``.
+    """
+    return np.stack([F, np.roll(F, -1, axis=1)], axis=2).reshape(-1, 2)
+
+
+def seams(F3: np.ndarray, F2: np.ndarray, face_panel: np.ndarray) -> list[Seam]:
+    """Find the seams of a garment.
+
+    Parameters
+    ----------
+    F3, F2 : (m, 3) int arrays
+        Drape and pattern triangles.
+    face_panel : (m,) int array
+        Panel index of each triangle.
+
+    Returns
+    -------
+    list of Seam
+        Sorted by panel pair, then by the smallest drape vertex on the curve.
+    """
+    m = len(F3)
+    if m == 0:
+        return []
+    h3 = half_edges(F3)
+    h2 = half_edges(F2)
+    face = np.repeat(np.arange(m), 3)
+    key = np.sort(h3, axis=1)
+    _, inv, cnt = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    inv = inv.ravel()
+    inner = cnt[inv] == 2
+    idx = np.flatnonzero(inner)
+    idx = idx[np.argsort(inv[idx], kind="stable")]
+    first, second = idx[0::2], idx[1::2]
+    # align the second side's 2D edge to the first side's 3D direction
+    same_dir = h3[first, 0] == h3[second, 0]
+    e2_first = h2[first]
+    e2_second = np.where(same_dir[:, None], h2[second], h2[second][:, ::-1])
+    is_seam = np.any(e2_first != e2_second, axis=1)
+    first, second = first[is_seam], second[is_seam]
+    e3 = h3[first]
+    ea, eb = e2_first[is_seam], e2_second[is_seam]
+    pa, pb = face_panel[face[first]], face_panel[face[second]]
+    swap = pa > pb
+    pa, pb = np.where(swap, pb, pa), np.where(swap, pa, pb)
+    ea, eb = np.where(swap[:, None], eb, ea), np.where(swap[:, None], ea, eb)
+    k = len(e3)
+    if k == 0:
+        return []
+    n_p = int(face_panel.max()) + 1
+    pair = pa * n_p + pb
+    # chain: edges of one panel pair sharing a drape vertex belong to one curve
+    node_key = np.stack([np.repeat(pair, 2), e3.ravel()], axis=1)
+    _, kinv = np.unique(node_key, axis=0, return_inverse=True)
+    B = sp.coo_matrix(
+        (np.ones(2 * k), (np.repeat(np.arange(k), 2), kinv.ravel())), shape=(k, kinv.max() + 1)
+    ).tocsr()
+    _, lab = connected_components(B @ B.T, directed=False)
+    order = np.lexsort((e3.min(axis=1), pair, lab))
+    out: list[Seam] = []
+    lab_sorted = lab[order]
+    cuts = np.flatnonzero(np.diff(lab_sorted)) + 1
+    for grp in np.split(order, cuts):
+        out.append(
+            Seam(
+                panels=(int(pa[grp[0]]), int(pb[grp[0]])),
+                edges3=e3[grp],
+                edges_a=ea[grp],
+                edges_b=eb[grp],
+            )
+        )
+    out.sort(key=lambda s: (s.panels, int(s.edges3.min())))
+    return out

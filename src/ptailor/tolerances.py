@@ -1,0 +1,14 @@
+"""Every numeric tolerance in one place (trimesh style)."""
+
+#: Relative (to the panel's bounding-box diagonal) area below which a triangle is degenerate.
+ZERO_AREA_REL = 1e-12
+#: ARAP local/global iterations stop when the relative energy change falls below this.
+ARAP_REL_TOL = 1e-8
+#: ...or after this many iterations.
+ARAP_MAX_ITER = 100
+#: Default weights of the pinned-vertex and as-similar-as-possible terms (the paper's).
+W_PIN = 1000.0
+W_ASAP = 1000.0
+#: A 2D triangle whose signed area has the opposite sign of its panel's is flipped when
+#: its magnitude exceeds this fraction of the panel's mean triangle area.
+FLIP_REL = 1e-9
