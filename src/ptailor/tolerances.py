@@ -12,3 +12,8 @@ W_ASAP = 1000.0
 #: A 2D triangle whose signed area has the opposite sign of its panel's is flipped when
 #: its magnitude exceeds this fraction of the panel's mean triangle area.
 FLIP_REL = 1e-9
+#: Energy (relative to the total target area) below which the targets are met exactly.
+ARAP_ZERO_ENERGY = 1e-18
+#: Boundary vertices where the outline turns by more than this are corners: the
+#: as-similar-as-possible term (a tangent direction) does not apply there.
+ASAP_CORNER_DEG = 30.0

@@ -1,0 +1,171 @@
+"""Scale-preserving flattening of a whole garment: targets, stitching, placement."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+
+from ptailor import tolerances as tol
+from ptailor.method.intrinsic import Intrinsic, intrinsic_targets
+from ptailor.method.stitch import StitchInfo, stitch
+from ptailor.model.garment import Garment, Panel, panels
+
+Method = Literal["scale-preserving", "uniform"]
+
+
+@dataclass(frozen=True)
+class FlattenResult:
+    """Adjusted pattern positions and solver state.
+
+    Attributes
+    ----------
+    V2 : (n2, 2) float array
+        The adjusted pattern, each panel placed by a rigid best fit onto its original.
+    targets : (m, 2, 2) float array
+        The per-triangle target edge matrices the solver glued (in each panel's original
+        frame, mirrored panels flipped).
+    info : StitchInfo
+    """
+
+    V2: np.ndarray
+    targets: np.ndarray
+    info: StitchInfo
+
+
+def panel_labels(panel_list: list[Panel], m: int) -> np.ndarray:
+    """Panel index per triangle, ``(m,)`` int."""
+    lab = np.full(m, -1, dtype=np.int64)
+    for p in panel_list:
+        lab[p.faces] = p.index
+    return lab
+
+
+def vertex_labels(panel_list: list[Panel], n: int) -> np.ndarray:
+    """Panel index per pattern vertex, ``(n,)`` int, -1 for unused vertices."""
+    lab = np.full(n, -1, dtype=np.int64)
+    for p in panel_list:
+        lab[p.vertices] = p.index
+    return lab
+
+
+def mirror_mask(panel_list: list[Panel], n: int) -> np.ndarray:
+    """``(n,)`` bool: pattern vertices of mirrored (clockwise) panels."""
+    mask = np.zeros(n, dtype=bool)
+    for p in panel_list:
+        if p.mirrored:
+            mask[p.vertices] = True
+    return mask
+
+
+def central_vertices(V2: np.ndarray, vlab: np.ndarray, n_panels: int) -> np.ndarray:
+    """Per panel, the vertex nearest to the panel's vertex centroid, ``(n_panels,)`` int."""
+    used = np.flatnonzero(vlab >= 0)
+    lab = vlab[used]
+    cnt = np.bincount(lab, minlength=n_panels).astype(float)
+    cen = np.stack([np.bincount(lab, V2[used, c], n_panels) for c in range(2)], 1)
+    cen /= np.maximum(cnt, 1)[:, None]
+    d = np.linalg.norm(V2[used] - cen[lab], axis=1)
+    order = np.lexsort((d, lab))
+    first = np.searchsorted(lab[order], np.arange(n_panels))
+    return used[order[first]]
+
+
+def rigid_fit(X: np.ndarray, Y: np.ndarray, vlab: np.ndarray, n_panels: int) -> np.ndarray:
+    """Move each panel of ``X`` by the rotation + translation that best fits it onto ``Y``.
+
+    Parameters
+    ----------
+    X, Y : (n, 2) float arrays
+        Moving and reference positions with the same vertices.
+    vlab : (n,) int array
+        Panel per vertex; vertices with -1 are returned unchanged.
+    n_panels : int
+
+    Returns
+    -------
+    (n, 2) float array
+    """
+    used = np.flatnonzero(vlab >= 0)
+    lab = vlab[used]
+    cnt = np.maximum(np.bincount(lab, minlength=n_panels), 1).astype(float)
+
+    def centroid(P: np.ndarray) -> np.ndarray:
+        return np.stack([np.bincount(lab, P[:, c], n_panels) for c in range(2)], 1) / cnt[:, None]
+
+    cx, cy = centroid(X[used]), centroid(Y[used])
+    a = X[used] - cx[lab]
+    b = Y[used] - cy[lab]
+    dot = np.bincount(lab, a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1], n_panels)
+    crs = np.bincount(lab, a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], n_panels)
+    ang = np.arctan2(crs, dot)
+    c, s = np.cos(ang)[lab], np.sin(ang)[lab]
+    out = X.copy()
+    out[used] = np.stack([c * a[:, 0] - s * a[:, 1], s * a[:, 0] + c * a[:, 1]], 1) + cy[lab]
+    return out
+
+
+def flatten(
+    garment: Garment,
+    V3_edit: np.ndarray,
+    *,
+    method: Method = "scale-preserving",
+    intrinsic: Intrinsic = "polar",
+    asap_panels: np.ndarray | None = None,
+    w_pin: float = tol.W_PIN,
+    w_asap: float = tol.W_ASAP,
+    max_iter: int = tol.ARAP_MAX_ITER,
+    rel_tol: float = tol.ARAP_REL_TOL,
+    panel_list: list[Panel] | None = None,
+) -> FlattenResult:
+    """Adjust a garment's pattern to an edited drape.
+
+    Parameters
+    ----------
+    garment : Garment
+        The original drape and pattern.
+    V3_edit : (n3, 3) float array
+        The edited drape (same triangles as ``garment.F3``).
+    method : {"scale-preserving", "uniform"}
+        ``uniform`` flattens the edited drape directly (the paper's baseline).
+    intrinsic : {"polar", "paper"}
+        How scale-preserving targets are formed (ignored for ``uniform``).
+    asap_panels : (n_panels,) bool array, optional
+        Panels whose outline keeps its shape (as-similar-as-possible); default none.
+    w_pin, w_asap, max_iter, rel_tol
+        Solver settings (see :func:`ptailor.method.stitch.stitch`).
+    panel_list : list of Panel, optional
+        ``panels(garment)``, when the caller already has it.
+
+    Returns
+    -------
+    FlattenResult
+    """
+    plist = panels(garment) if panel_list is None else panel_list
+    n2, m = len(garment.V2), garment.n_faces
+    flip = mirror_mask(plist, n2)
+    sign = np.where(flip, -1.0, 1.0)
+    V2 = garment.V2 * np.stack([sign, np.ones(n2)], 1)
+    kind: Intrinsic = "uniform" if method == "uniform" else intrinsic
+    targets = intrinsic_targets(V2, garment.F2, garment.V3, V3_edit, garment.F3, intrinsic=kind)
+    vlab = vertex_labels(plist, n2)
+    pins = central_vertices(V2, vlab, len(plist))
+    asap_faces = None
+    if asap_panels is not None and np.any(asap_panels):
+        flab = panel_labels(plist, m)
+        asap_faces = np.flatnonzero(np.asarray(asap_panels)[flab])
+    X, info = stitch(
+        V2,
+        garment.F2,
+        targets,
+        pins=pins,
+        asap_faces=asap_faces,
+        w_pin=w_pin,
+        w_asap=w_asap,
+        max_iter=max_iter,
+        rel_tol=rel_tol,
+    )
+    X = rigid_fit(X, V2, vlab, len(plist))
+    X[:, 0] *= sign
+    return FlattenResult(V2=X, targets=targets, info=info)

@@ -1,0 +1,143 @@
+"""Intrinsic scale: per-triangle target pattern triangles after a 3D edit.
+
+All targets are returned as ``(m, 2, 2)`` edge matrices ``[p1 - p0, p2 - p0]`` (columns)
+expressed in the original pattern's own frame, so the stitching solver can start from
+identity rotations and the result keeps the pattern's orientation.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import numpy as np
+
+Intrinsic = Literal["polar", "paper", "uniform"]
+
+
+def edge_matrices(V: np.ndarray, F: np.ndarray) -> np.ndarray:
+    """Edge matrices of triangles.
+
+    Parameters
+    ----------
+    V : (n, d) float array
+    F : (m, 3) int array
+
+    Returns
+    -------
+    (m, d, 2) float array
+        Columns ``p1 - p0`` and ``p2 - p0``.
+    """
+    p0 = V[F[:, 0]]
+    return np.stack([V[F[:, 1]] - p0, V[F[:, 2]] - p0], axis=2)
+
+
+def local_frames(E: np.ndarray) -> np.ndarray:
+    """The paper's local frame matrix (equation 0 with sin and cos in their right places).
+
+    Parameters
+    ----------
+    E : (m, d, 2) float array
+        Edge matrices ``[u, v]`` in 2D or 3D.
+
+    Returns
+    -------
+    (m, 2, 2) float array
+        ``[[|u|, |v| cos t], [0, |v| sin t]]``, ``u`` along +x, ``sin t >= 0``.
+    """
+    u, v = E[:, :, 0], E[:, :, 1]
+    lu = np.linalg.norm(u, axis=1)
+    dot = np.einsum("ij,ij->i", u, v)
+    if E.shape[1] == 2:
+        cross = np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0])
+    else:
+        cross = np.linalg.norm(np.cross(u, v), axis=1)
+    L = np.zeros((len(E), 2, 2))
+    L[:, 0, 0] = lu
+    L[:, 0, 1] = dot / lu
+    L[:, 1, 1] = cross / lu
+    return L
+
+
+def sqrt_spd2(C: np.ndarray) -> np.ndarray:
+    """Square roots of symmetric positive definite 2x2 matrices, in closed form.
+
+    Parameters
+    ----------
+    C : (m, 2, 2) float array
+
+    Returns
+    -------
+    (m, 2, 2) float array
+        ``U`` with ``U @ U = C``, ``U`` symmetric positive definite.
+    """
+    s = np.sqrt(np.maximum(np.linalg.det(C), 0.0))
+    t = np.sqrt(np.maximum(np.trace(C, axis1=1, axis2=2) + 2.0 * s, 1e-300))
+    return (C + s[:, None, None] * np.eye(2)) / t[:, None, None]
+
+
+def stretch_tensors(E2: np.ndarray, E3: np.ndarray) -> np.ndarray:
+    """Right stretch tensors ``U = sqrt(J^T J)`` of the maps from pattern to drape triangles.
+
+    Parameters
+    ----------
+    E2 : (m, 2, 2) float array
+        Pattern edge matrices.
+    E3 : (m, 3, 2) float array
+        Drape edge matrices.
+
+    Returns
+    -------
+    (m, 2, 2) float array
+    """
+    J = E3 @ np.linalg.inv(E2)
+    return sqrt_spd2(np.swapaxes(J, 1, 2) @ J)
+
+
+def intrinsic_targets(
+    V2: np.ndarray,
+    F2: np.ndarray,
+    V3: np.ndarray,
+    V3_edit: np.ndarray,
+    F3: np.ndarray,
+    *,
+    intrinsic: Intrinsic = "polar",
+) -> np.ndarray:
+    """Target pattern triangles that keep the intrinsic scale through a 3D edit.
+
+    Parameters
+    ----------
+    V2 : (n2, 2) float array
+        Original pattern, counter-clockwise triangles (flip mirrored panels first).
+    F2 : (m, 3) int array
+    V3, V3_edit : (n3, 3) float arrays
+        Original and edited drape.
+    F3 : (m, 3) int array
+    intrinsic : {"polar", "paper", "uniform"}
+        ``polar``: the frame-free ``U0^-1 U1 P_i`` (DESIGN.md section 2, the default);
+        ``paper``: the paper's ``T_i t_i^-1 t_i^edit``; ``uniform``: the edited drape
+        triangle itself (uniform flattening, the baseline).
+
+    Returns
+    -------
+    (m, 2, 2) float array
+        Target edge matrices in the original pattern's frame.
+    """
+    E2 = edge_matrices(V2, F2)
+    E3e = edge_matrices(V3_edit, F3)
+    if intrinsic == "polar":
+        U0 = stretch_tensors(E2, edge_matrices(V3, F3))
+        U1 = stretch_tensors(E2, E3e)
+        return np.linalg.solve(U0, U1) @ E2
+    te = local_frames(E3e)
+    if intrinsic == "paper":
+        # R_u T_i = E2, so R_u T_i t_i^-1 t_i^edit = E2 t_i^-1 t_i^edit
+        t = local_frames(edge_matrices(V3, F3))
+        return E2 @ np.linalg.solve(t, te)
+    if intrinsic == "uniform":
+        # rotate the edited drape triangle so its u edge has the pattern's u direction
+        u = E2[:, :, 0]
+        ang = np.arctan2(u[:, 1], u[:, 0])
+        c, s = np.cos(ang), np.sin(ang)
+        R = np.stack([np.stack([c, -s], 1), np.stack([s, c], 1)], 1)
+        return R @ te
+    raise ValueError(f"unknown intrinsic method {intrinsic!r}")

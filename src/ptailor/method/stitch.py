@@ -1,0 +1,228 @@
+"""Stitching: glue per-triangle targets into panels (ARAP local/global + ASAP boundary).
+
+Minimises, over all panels at once (the system is block diagonal by panel)::
+
+    E(x) = sum_i A_i |J_i(x) - R_i|_F^2                       as-rigid-as-possible
+         + w_pin  sum_(c in C) |x_c - c|^2                     one pinned vertex per panel
+         + w_asap sum_(k in B) (n_k . (x_(k+1) - x_(k-1)))^2   as-similar-as-possible
+
+where ``J_i`` is the map from triangle ``i``'s target to its current position (so the first
+term is Liu et al. 2008's triangle ARAP energy: cotangent-weighted edge terms), ``R_i`` a
+rotation per triangle, ``n_k`` the unit normal of the original boundary chord at ``k``.
+The matrix never changes: it is factored once and each iteration back-substitutes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from ptailor import tolerances as tol
+from ptailor.model.boundary import boundary_loops
+
+
+@dataclass(frozen=True)
+class StitchInfo:
+    """What the solver did.
+
+    Attributes
+    ----------
+    iterations : int
+        Local/global iterations after the initial solve.
+    energy : float
+        Final value of ``E``.
+    converged : bool
+        True when the relative energy change fell below the tolerance.
+    """
+
+    iterations: int
+    energy: float
+    converged: bool
+
+
+def gradient_operators(F: np.ndarray, targets: np.ndarray, n: int) -> tuple[sp.csr_matrix, ...]:
+    """Sparse operators giving each triangle's Jacobian from vertex coordinates.
+
+    Parameters
+    ----------
+    F : (m, 3) int array
+    targets : (m, 2, 2) float array
+        Target edge matrices ``[e01, e02]``.
+    n : int
+        Number of vertices.
+
+    Returns
+    -------
+    D0, D1 : (m, n) sparse matrices
+        ``J[:, c, j] = Dj @ X[:, c]`` for positions ``X (n, 2)``.
+    """
+    m = len(F)
+    Dm = np.array([[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]])
+    G = Dm[None] @ np.linalg.inv(targets)  # (m, 3, 2)
+    rows = np.repeat(np.arange(m), 3)
+    cols = F.ravel()
+    return tuple(
+        sp.csr_matrix((G[:, :, j].ravel(), (rows, cols)), shape=(m, n)) for j in range(2)
+    )
+
+
+def closest_rotations(J: np.ndarray) -> np.ndarray:
+    """Closest rotations (det +1) to 2x2 matrices, in closed form.
+
+    Parameters
+    ----------
+    J : (m, 2, 2) float array
+
+    Returns
+    -------
+    (m, 2, 2) float array
+    """
+    ang = np.arctan2(J[:, 1, 0] - J[:, 0, 1], J[:, 0, 0] + J[:, 1, 1])
+    c, s = np.cos(ang), np.sin(ang)
+    return np.stack([np.stack([c, -s], 1), np.stack([s, c], 1)], 1)
+
+
+def asap_rows(V2: np.ndarray, F2: np.ndarray, faces: np.ndarray) -> sp.csr_matrix:
+    """Rows of the linear as-similar-as-possible term for the boundary of some triangles.
+
+    Parameters
+    ----------
+    V2 : (n, 2) float array
+        Original pattern.
+    F2 : (m, 3) int array
+    faces : (k,) int array
+        Triangles whose boundary loops get the term (whole panels).
+
+    Returns
+    -------
+    (b, 2n) sparse matrix
+        Row ``k`` is ``n_k . (x_(k+1) - x_(k-1))`` over unknowns ``[x; y]``.
+    """
+    n = len(V2)
+    loops = boundary_loops(F2[faces]) if len(faces) else []
+    loops = [lp for lp in loops if len(lp) >= 3]
+    if not loops:
+        return sp.csr_matrix((0, 2 * n))
+    nxt = np.concatenate([np.roll(lp, -1) for lp in loops])
+    prv = np.concatenate([np.roll(lp, 1) for lp in loops])
+    cur = np.concatenate(loops)
+    chord = V2[nxt] - V2[prv]
+    length = np.linalg.norm(chord, axis=1)
+    # a corner has no tangent: skip vertices where the outline turns sharply
+    a, b = V2[cur] - V2[prv], V2[nxt] - V2[cur]
+    na, nb = np.linalg.norm(a, axis=1), np.linalg.norm(b, axis=1)
+    cos_turn = np.einsum("ij,ij->i", a, b) / np.maximum(na * nb, 1e-300)
+    keep = (length > 0) & (cos_turn >= np.cos(np.radians(tol.ASAP_CORNER_DEG)))
+    nrm = np.stack([-chord[:, 1], chord[:, 0]], 1)[keep] / length[keep, None]
+    nxt, prv, b = nxt[keep], prv[keep], int(keep.sum())
+    r = np.arange(b)
+    rows = np.concatenate([r, r, r, r])
+    cols = np.concatenate([nxt, nxt + n, prv, prv + n])
+    vals = np.concatenate([nrm[:, 0], nrm[:, 1], -nrm[:, 0], -nrm[:, 1]])
+    return sp.csr_matrix((vals, (rows, cols)), shape=(b, 2 * n))
+
+
+def factor(A: sp.spmatrix):
+    """Factor a sparse symmetric positive definite matrix once; return a solve function."""
+    from scipy.sparse.linalg import splu
+
+    lu = splu(
+        sp.csc_matrix(A),
+        permc_spec="MMD_AT_PLUS_A",
+        diag_pivot_thresh=0.0,
+        options={"SymmetricMode": True},
+    )
+    return lu.solve
+
+
+def stitch(
+    V2: np.ndarray,
+    F2: np.ndarray,
+    targets: np.ndarray,
+    *,
+    pins: np.ndarray,
+    asap_faces: np.ndarray | None = None,
+    w_pin: float = tol.W_PIN,
+    w_asap: float = tol.W_ASAP,
+    max_iter: int = tol.ARAP_MAX_ITER,
+    rel_tol: float = tol.ARAP_REL_TOL,
+) -> tuple[np.ndarray, StitchInfo]:
+    """Stitch per-triangle targets into continuous panels.
+
+    Parameters
+    ----------
+    V2 : (n, 2) float array
+        Original pattern (counter-clockwise triangles); the start, the pin positions and
+        the as-similar-as-possible chord normals come from it.
+    F2 : (m, 3) int array
+    targets : (m, 2, 2) float array
+        Target edge matrices in the original pattern's frame.
+    pins : (p,) int array
+        One pinned vertex per panel.
+    asap_faces : (k,) int array, optional
+        Triangles of the panels that keep their outline shape (as-similar-as-possible).
+    w_pin, w_asap : float
+        Term weights.
+    max_iter : int
+        Local/global iterations at most.
+    rel_tol : float
+        Stop when the relative energy change falls below this.
+
+    Returns
+    -------
+    X : (n, 2) float array
+        Stitched positions; vertices no triangle uses keep their original position.
+    info : StitchInfo
+    """
+    n = len(V2)
+    D0, D1 = gradient_operators(F2, targets, n)
+    area = 0.5 * np.abs(np.linalg.det(targets))
+    W = sp.diags(area)
+    L = (D0.T @ W @ D0 + D1.T @ W @ D1).tocsr()
+    used = np.zeros(n, dtype=bool)
+    used[F2.ravel()] = True
+    # unused vertices: identity rows so the system stays non-singular and they stay put
+    pin_w = np.zeros(n)
+    pin_w[pins] = w_pin
+    pin_w[~used] = 1.0
+    A = sp.block_diag([L, L]) + sp.diags(np.concatenate([pin_w, pin_w]))
+    B = None
+    if asap_faces is not None and len(asap_faces):
+        B = asap_rows(V2, F2, np.asarray(asap_faces))
+        A = A + w_asap * (B.T @ B)
+    solve = factor(A)
+    pin_rhs = pin_w[:, None] * V2
+
+    def energy(X: np.ndarray, R: np.ndarray) -> float:
+        J0, J1 = D0 @ X, D1 @ X  # (m, 2): J[:, c, j] = Dj @ X[:, c]
+        e = float(area @ ((J0 - R[:, :, 0]) ** 2 + (J1 - R[:, :, 1]) ** 2).sum(axis=1))
+        e += float(w_pin * ((X[pins] - V2[pins]) ** 2).sum())
+        if B is not None:
+            e += float(w_asap * ((B @ X.T.ravel()) ** 2).sum())
+        return e
+
+    def global_step(R: np.ndarray) -> np.ndarray:
+        rhs = np.empty((n, 2))
+        for c in range(2):
+            rhs[:, c] = D0.T @ (area * R[:, c, 0]) + D1.T @ (area * R[:, c, 1])
+        rhs += pin_rhs
+        return solve(rhs.T.ravel()).reshape(2, n).T
+
+    R = np.broadcast_to(np.eye(2), (len(F2), 2, 2)).copy()
+    X = global_step(R)
+    scale = float(area.sum()) + 1e-300
+    e_prev = np.inf
+    it, converged = 0, False
+    for it in range(1, max_iter + 1):  # noqa: B007 - iterations, not triangles
+        J = np.stack([D0 @ X, D1 @ X], axis=2)
+        R = closest_rotations(J)
+        e = energy(X, R)
+        if e <= tol.ARAP_ZERO_ENERGY * scale or abs(e_prev - e) <= rel_tol * max(e, 1e-300):
+            converged = True
+            break
+        X = global_step(R)
+        e_prev = e
+    X[~used] = V2[~used]
+    return X, StitchInfo(iterations=it, energy=energy(X, R), converged=converged)
