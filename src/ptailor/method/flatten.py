@@ -27,11 +27,14 @@ class FlattenResult:
         The per-triangle target edge matrices the solver glued (in each panel's original
         frame, mirrored panels flipped).
     info : StitchInfo
+    asap_panels : (n_panels,) bool array or None
+        Panels that kept their outline shape.
     """
 
     V2: np.ndarray
     targets: np.ndarray
     info: StitchInfo
+    asap_panels: np.ndarray | None = None
 
 
 def panel_labels(panel_list: list[Panel], m: int) -> np.ndarray:
@@ -168,4 +171,4 @@ def flatten(
     )
     X = rigid_fit(X, V2, vlab, len(plist))
     X[:, 0] *= sign
-    return FlattenResult(V2=X, targets=targets, info=info)
+    return FlattenResult(V2=X, targets=targets, info=info, asap_panels=asap_panels)

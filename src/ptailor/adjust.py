@@ -1,0 +1,147 @@
+"""The adjustment pipeline: recipe steps on the drape, then scale-preserving flattening."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ptailor.edits import OPERATIONS, EditOptions, EditState
+from ptailor.method.flatten import FlattenResult, flatten, panel_labels, vertex_labels
+from ptailor.model.garment import Garment, panels
+from ptailor.model.seams import seams
+from ptailor.recipe import Recipe
+
+
+@dataclass(frozen=True)
+class Adjustment:
+    """Everything an ``adjust`` run produced.
+
+    Attributes
+    ----------
+    state : EditState
+        ``state.base`` the original garment, ``state.V3`` the edited drape.
+    result : FlattenResult
+        The adjusted pattern (``result.V2``).
+    baseline : FlattenResult or None
+        Uniform flattening of the edited drape, for comparison.
+    settings : dict
+        The flatten settings used (after command-line overrides).
+    timing_s : dict
+        Seconds per stage.
+    """
+
+    state: EditState
+    result: FlattenResult
+    baseline: FlattenResult | None
+    settings: dict
+    timing_s: dict = field(default_factory=dict)
+
+    @property
+    def garment(self) -> Garment:
+        """The adjusted garment: edited drape and adjusted pattern."""
+        return Garment(
+            V3=self.state.V3,
+            F3=self.state.base.F3,
+            V2=self.result.V2,
+            F2=self.state.base.F2,
+            face_group=self.state.base.face_group,
+            group_names=self.state.base.group_names,
+            units=self.state.base.units,
+        )
+
+
+def apply_steps(garment: Garment, recipe: Recipe, *, options: EditOptions) -> EditState:
+    """Apply a recipe's steps to the drape, in order.
+
+    Parameters
+    ----------
+    garment : Garment
+    recipe : Recipe
+    options : EditOptions
+
+    Returns
+    -------
+    EditState
+    """
+    plist = panels(garment)
+    state = EditState(
+        base=garment, V3=garment.V3.copy(), panels=plist, even=np.ones(len(plist), dtype=bool)
+    )
+    for step in recipe.steps:
+        state = OPERATIONS[step["op"]].apply(state, step, options=options)
+    return state
+
+
+def asap_mask(state: EditState, boundary: str) -> np.ndarray:
+    """Panels that keep their outline shape, per ``flatten.boundary``."""
+    n = len(state.panels)
+    if boundary == "similar":
+        return np.ones(n, dtype=bool)
+    if boundary == "free":
+        return np.zeros(n, dtype=bool)
+    return state.even.copy()
+
+
+def adjust(
+    garment: Garment,
+    recipe: Recipe,
+    *,
+    method: str | None = None,
+    intrinsic: str | None = None,
+    baseline: bool = True,
+    options: EditOptions | None = None,
+) -> Adjustment:
+    """Run a recipe on a garment and adjust its pattern.
+
+    Parameters
+    ----------
+    garment : Garment
+    recipe : Recipe
+    method, intrinsic : str, optional
+        Override ``recipe.flatten``'s.
+    baseline : bool
+        Also compute uniform flattening for the report.
+    options : EditOptions, optional
+
+    Returns
+    -------
+    Adjustment
+    """
+    settings = dict(recipe.flatten)
+    if method is not None:
+        settings["method"] = method
+    if intrinsic is not None:
+        settings["intrinsic"] = intrinsic
+    t0 = time.perf_counter()
+    state = apply_steps(garment, recipe, options=options or EditOptions())
+    t1 = time.perf_counter()
+    asap = asap_mask(state, settings["boundary"])
+    kw = {
+        "asap_panels": asap,
+        "w_pin": float(settings["w_pin"]),
+        "w_asap": float(settings["w_asap"]),
+        "max_iter": int(settings["max_iter"]),
+        "panel_list": state.panels,
+    }
+    result = flatten(
+        state.base, state.V3, method=settings["method"], intrinsic=settings["intrinsic"], **kw
+    )
+    t2 = time.perf_counter()
+    base = None
+    if baseline:
+        base = result if settings["method"] == "uniform" else flatten(
+            state.base, state.V3, method="uniform", **kw
+        )
+    t3 = time.perf_counter()
+    timing = {"edit": t1 - t0, "flatten": t2 - t1, "baseline": t3 - t2}
+    return Adjustment(state=state, result=result, baseline=base, settings=settings, timing_s=timing)
+
+
+def garment_structure(state: EditState) -> tuple[np.ndarray, np.ndarray, list]:
+    """Face and vertex panel labels and the seams of the (original) garment."""
+    g = state.base
+    flab = panel_labels(state.panels, g.n_faces)
+    vlab = vertex_labels(state.panels, len(g.V2))
+    return flab, vlab, seams(g.F3, g.F2, flab)

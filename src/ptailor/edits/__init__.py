@@ -1,0 +1,94 @@
+"""Recipe operations: one module per edit, registered by name.
+
+Each operation is an :class:`Operation`: a parameter spec, checked when the recipe is
+validated (before any garment is read), and a pure function applying the step::
+
+    apply(state: EditState, step: dict, *, options: EditOptions) -> EditState
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ptailor.model.garment import Garment, Panel
+
+#: validate(value, where) -> list of problems
+Check = Callable[[Any, str], list[str]]
+
+
+@dataclass(frozen=True)
+class Param:
+    """One step parameter: its check, whether it is required, its default."""
+
+    check: Check
+    required: bool = False
+    default: Any = None
+    doc: str = ""
+
+
+@dataclass(frozen=True)
+class EditState:
+    """The garment as the recipe's steps go.
+
+    Attributes
+    ----------
+    base : Garment
+        The original drape and pattern (on the current topology).
+    V3 : (n3, 3) float array
+        The edited drape so far.
+    panels : list of Panel
+        ``panels(base)``.
+    even : (n_panels,) bool array
+        Panels every step so far moved by one affine map (or not at all): with
+        ``boundary: auto`` they keep their outline shape (as-similar-as-possible).
+    log : tuple of dict
+        One record per applied step, for the report.
+    """
+
+    base: Garment
+    V3: np.ndarray
+    panels: list[Panel]
+    even: np.ndarray
+    log: tuple[dict, ...] = field(default_factory=tuple)
+
+
+@dataclass(frozen=True)
+class EditOptions:
+    """Garment-independent settings of a run (axes)."""
+
+    up: tuple[float, float, float] = (0.0, 1.0, 0.0)
+    front: tuple[float, float, float] = (0.0, 0.0, 1.0)
+
+
+@dataclass(frozen=True)
+class Operation:
+    """A registered recipe operation."""
+
+    name: str
+    params: dict[str, Param]
+    apply: Callable[..., EditState]
+    doc: str = ""
+
+
+OPERATIONS: dict[str, Operation] = {}
+
+
+def register(name: str, params: dict[str, Param], doc: str = "") -> Callable:
+    """Decorator registering ``apply`` as the recipe operation ``name``."""
+
+    def deco(fn: Callable[..., EditState]) -> Callable[..., EditState]:
+        OPERATIONS[name] = Operation(name=name, params=params, apply=fn, doc=doc or fn.__doc__ or "")
+        return fn
+
+    return deco
+
+
+def _load_all() -> None:
+    from ptailor.edits import scale  # noqa: F401
+
+
+_load_all()

@@ -1,0 +1,95 @@
+"""Regions of a garment named in a recipe, and their axes."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ptailor.errors import PtailorError
+from ptailor.model.garment import Garment, Panel
+
+
+def region_faces(region: Any, garment: Garment, V3: np.ndarray, plist: list[Panel]) -> np.ndarray:
+    """Triangles a recipe region selects.
+
+    Parameters
+    ----------
+    region : ``"all"`` | ``{"panels": [...]}`` | ``{"box": {"min": ..., "max": ...}}``
+    garment : Garment
+    V3 : (n3, 3) float array
+        Current drape (a box selects triangles whose three corners are inside).
+    plist : list of Panel
+
+    Returns
+    -------
+    (k,) int array
+        Ascending triangle indices.
+
+    Raises
+    ------
+    PtailorError
+        Unknown panel names (listing the garment's), or a region that selects nothing.
+    """
+    m = garment.n_faces
+    if region == "all":
+        return np.arange(m)
+    if "panels" in region:
+        by_name = {p.name: p for p in plist}
+        unknown = [n for n in region["panels"] if n not in by_name]
+        if unknown:
+            raise PtailorError(
+                f"no panel named {', '.join(unknown)} (this garment has: "
+                f"{', '.join(by_name)})"
+            )
+        faces = np.unique(np.concatenate([by_name[n].faces for n in region["panels"]]))
+    else:
+        lo, hi = np.asarray(region["box"]["min"]), np.asarray(region["box"]["max"])
+        inside = np.all((V3 >= lo) & (V3 <= hi), axis=1)
+        faces = np.flatnonzero(inside[garment.F3].all(axis=1))
+    if faces.size == 0:
+        raise PtailorError(f"region {region!r} selects no triangle of the garment")
+    return faces
+
+
+def region_axis(V3: np.ndarray, F3: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """The principal axis of a region of the drape (for ``axis: auto``).
+
+    For tube-like regions (sleeves, a torso, a skirt) the axis is the direction the surface
+    normals avoid: the eigenvector of the smallest eigenvalue of the area-weighted normal
+    tensor. For sheet-like regions (normals all alike) that is ill-defined, and the axis is
+    the direction of largest extent of the positions instead.
+
+    Parameters
+    ----------
+    V3 : (n, 3) float array
+    F3 : (m, 3) int array
+    faces : (k,) int array
+
+    Returns
+    -------
+    (3,) float array
+        Unit vector, sign chosen so its largest component is positive.
+    """
+    T = F3[faces]
+    a, b, c = V3[T[:, 0]], V3[T[:, 1]], V3[T[:, 2]]
+    cr = np.cross(b - a, c - a)  # |cr| = 2 area, so cr cr^T / |cr| = 2 area n n^T
+    w = np.linalg.norm(cr, axis=1)
+    nrm = cr / np.maximum(w, 1e-300)[:, None]
+    N = (nrm * w[:, None]).T @ nrm
+    lam, vec = np.linalg.eigh(N / max(np.trace(N), 1e-300))
+    if lam[1] > 0.1 and lam[1] > 4.0 * lam[0]:
+        ax = vec[:, 0]
+    else:
+        P = V3[np.unique(T)]
+        P = P - P.mean(axis=0)
+        ax = np.linalg.eigh(P.T @ P)[1][:, -1]
+    return ax * np.sign(ax[np.argmax(np.abs(ax))])
+
+
+def region_centroid(V3: np.ndarray, F3: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Area-weighted centroid of a region of the drape, ``(3,)``."""
+    T = F3[faces]
+    a, b, c = V3[T[:, 0]], V3[T[:, 1]], V3[T[:, 2]]
+    w = np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    return ((a + b + c) / 3.0 * w[:, None]).sum(axis=0) / max(float(w.sum()), 1e-300)

@@ -1,0 +1,157 @@
+"""Load a garment from an OBJ (v = drape, vt = pattern), or a pattern file plus a drape file."""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ptailor.errors import PtailorError
+from ptailor.formats import reader_for
+from ptailor.model.garment import Garment, areas_3d, signed_areas_2d
+from ptailor.model.units import CM_PER, factor
+from ptailor.model.validate import check_garment
+
+_UNIT_RE = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)?\s*(mm|cm|m|in)\s*$")
+
+
+def parse_units(text: str, *, what: str) -> float:
+    """Centimetres per file unit from ``cm``, ``in``, ... or a scaled unit like ``0.3333cm``.
+
+    Raises
+    ------
+    PtailorError
+        For anything else (``auto`` is handled by the caller).
+    """
+    m = _UNIT_RE.match(text)
+    if not m:
+        known = ", ".join(CM_PER)
+        raise PtailorError(f"{what}: unknown unit {text!r} (use {known}, auto, or e.g. 0.5cm)")
+    return float(m.group(1) or 1.0) * CM_PER[m.group(2)]
+
+
+@dataclass(frozen=True)
+class LoadedGarment:
+    """A garment in computation units, and how to write it back in file units.
+
+    Attributes
+    ----------
+    garment : Garment
+        Drape and pattern in ``garment.units``.
+    drape_scale, pattern_scale : float
+        File units times this gives computation units.
+    pattern_units_estimated : bool
+        True when ``pattern_units='auto'`` estimated ``pattern_scale`` from the drape.
+    inputs : dict
+        Role (``garment``, ``drape``) to path.
+    header : tuple of str
+        The pattern file's leading comments.
+    """
+
+    garment: Garment
+    drape_scale: float
+    pattern_scale: float
+    pattern_units_estimated: bool
+    inputs: dict[str, str]
+    header: tuple[str, ...]
+
+
+def load_garment(
+    path: str | Path,
+    *,
+    drape: str | Path | None = None,
+    units: str = "cm",
+    pattern_units: str = "cm",
+    drape_units: str = "cm",
+) -> LoadedGarment:
+    """Read and check a garment.
+
+    Parameters
+    ----------
+    path : str or Path
+        OBJ with ``v`` = drape and ``vt`` = pattern; or, with ``drape``, a pattern-only OBJ
+        (pattern in ``vt``, or in a planar ``v`` when it has no ``vt``).
+    drape : str or Path, optional
+        OBJ whose ``v`` is the drape, with the same faces as ``path``.
+    units : str
+        Computation (and report) unit.
+    pattern_units, drape_units : str
+        File units: ``mm``, ``cm``, ``m``, ``in``, a scaled unit such as ``0.3333cm``, or
+        for the pattern ``auto`` (normalised atlas: scale estimated from the drape's area).
+
+    Returns
+    -------
+    LoadedGarment
+
+    Raises
+    ------
+    PtailorError
+        Naming the file and the problem.
+    """
+    spath = str(path)
+    mesh = reader_for(path)(path)
+    inputs = {"garment": spath}
+    if drape is None:
+        if mesh.fvt is None or len(mesh.vt) == 0:
+            raise PtailorError(
+                "faces carry no texture coordinates (vt): no pattern to adjust "
+                "(give the drape with --drape if this file holds only the pattern)",
+                path=spath,
+            )
+        V3, F3, V2, F2 = mesh.v, mesh.fv, mesh.vt, mesh.fvt
+        err_path = spath
+    else:
+        dpath = str(drape)
+        dmesh = reader_for(drape)(drape)
+        inputs["drape"] = dpath
+        if mesh.fvt is not None and len(mesh.vt):
+            V2, F2 = mesh.vt, mesh.fvt
+        else:
+            z = mesh.v[:, 2]
+            if np.ptp(z) > 1e-9 * max(float(np.ptp(mesh.v[:, :2])), 1e-300):
+                raise PtailorError("no 2D pattern: no vt and the v are not planar", path=spath)
+            V2, F2 = mesh.v[:, :2], mesh.fv
+        V3, F3 = dmesh.v, dmesh.fv
+        if len(F3) != len(F2):
+            raise PtailorError(
+                f"pattern and drape have different faces ({len(F2)} vs {len(F3)} triangles"
+                f" in {spath})",
+                path=dpath,
+            )
+        err_path = dpath
+    d_cm = parse_units(drape_units, what="--drape-units")
+    to_units = 1.0 / CM_PER[units] if units in CM_PER else factor("cm", units)
+    drape_scale = d_cm * to_units
+    V3 = V3 * drape_scale
+    estimated = pattern_units == "auto"
+    if estimated:
+        if not (np.all(np.isfinite(V2)) and np.all(np.isfinite(V3))):
+            pattern_scale = 1.0  # check_garment reports the NaNs below
+        else:
+            a2 = float(np.abs(signed_areas_2d(V2, F2)).sum())
+            a3 = float(areas_3d(V3, F3).sum())
+            if a2 <= 0:
+                raise PtailorError("pattern has zero area", path=spath)
+            pattern_scale = float(np.sqrt(a3 / a2))
+    else:
+        pattern_scale = parse_units(pattern_units, what="--pattern-units") * to_units
+    g = Garment(
+        V3=np.ascontiguousarray(V3, dtype=np.float64),
+        F3=np.ascontiguousarray(F3, dtype=np.int64),
+        V2=np.ascontiguousarray(V2 * pattern_scale, dtype=np.float64),
+        F2=np.ascontiguousarray(F2, dtype=np.int64),
+        face_group=mesh.face_group,
+        group_names=mesh.group_names,
+        units=units,
+    )
+    check_garment(g, path=err_path)
+    return LoadedGarment(
+        garment=g,
+        drape_scale=drape_scale,
+        pattern_scale=pattern_scale,
+        pattern_units_estimated=estimated,
+        inputs=inputs,
+        header=mesh.header,
+    )

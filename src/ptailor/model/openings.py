@@ -1,0 +1,237 @@
+"""Openings: the boundary loops of the drape, named from geometry.
+
+One recipe should be able to say ``hem`` for a T-shirt, a dress and a skirt, so the names come
+from where a loop sits on the garment, not from the file. See :func:`openings` for the rules.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ptailor.model.boundary import boundary_loops
+
+#: A loop shorter than this fraction of the longest loop is a mesh defect, never named.
+_MIN_REL_LENGTH = 0.05
+#: A loop is "horizontal" when its plane normal is within 60 degrees of the up axis.
+_HORIZONTAL_COS = 0.5
+#: Minimum height of the band below the side loops where the torso is measured (fraction of
+#: the garment's height).
+_BAND_REL = 0.05
+
+
+@dataclass(frozen=True)
+class Opening:
+    """One opening of a garment: a boundary loop of the drape.
+
+    Attributes
+    ----------
+    name : str
+        ``hem``, ``neckline``, ``waist``, ``cuff_left``, ``cuff_right``, ``leg_left``,
+        ``leg_right``, ``armhole_left``, ``armhole_right``, else ``opening_<k>``.
+    loop : (k,) int array
+        Ordered drape vertex indices (into ``V3``) of the loop, in boundary half-edge order.
+    length : float
+        3D perimeter of the closed loop.
+    centroid : (3,) float array
+        Length-weighted centroid of the loop (its edges' midpoints weighted by their length).
+    """
+
+    name: str
+    loop: np.ndarray
+    length: float
+    centroid: np.ndarray
+
+
+def body_frame(up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> np.ndarray:
+    """Orthonormal rows ``(left, up, front)`` of the wearer's frame.
+
+    ``front`` is made orthogonal to ``up``; ``left = up x front`` is the wearer's left (with y
+    up and z front the wearer faces +z and their left is +x).
+
+    Raises
+    ------
+    ValueError
+        When ``up`` or ``front`` is zero or not finite, or they are parallel.
+    """
+    u = np.asarray(up, dtype=np.float64).reshape(3)
+    f = np.asarray(front, dtype=np.float64).reshape(3)
+    nu = np.linalg.norm(u)
+    if not np.isfinite(nu) or nu == 0.0 or not np.all(np.isfinite(f)):
+        raise ValueError(f"up axis must be a finite non-zero vector, got {tuple(u)}")
+    u = u / nu
+    f = f - (f @ u) * u
+    nf = np.linalg.norm(f)
+    if nf < 1e-9 * max(1.0, float(np.linalg.norm(np.asarray(front, dtype=np.float64)))):
+        raise ValueError("front axis must be non-zero and not parallel to the up axis")
+    f = f / nf
+    return np.stack([np.cross(u, f), u, f])
+
+
+def _loop_geometry(P: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
+    """Perimeter, length-weighted centroid and best-fit plane normal of a closed polyline."""
+    Q = np.roll(P, -1, axis=0)
+    seg = np.linalg.norm(Q - P, axis=1)
+    length = float(seg.sum())
+    if length > 0.0:
+        centroid = ((P + Q) * 0.5 * seg[:, None]).sum(axis=0) / length
+        w = 0.5 * (seg + np.roll(seg, 1))  # each vertex carries half its two edges
+    else:
+        centroid = P.mean(axis=0)
+        w = np.ones(len(P))
+    X = (P - centroid) * np.sqrt(w)[:, None]
+    _, _, vt = np.linalg.svd(X, full_matrices=False)
+    normal = vt[-1] if vt.shape[0] == 3 else np.zeros(3)
+    return length, centroid, normal
+
+
+def openings(V3, F3, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> list[Opening]:
+    """The openings (boundary loops of the drape) with names from geometry.
+
+    Parameters
+    ----------
+    V3 : (n, 3) float array
+        Drape positions; vertices no triangle uses are ignored.
+    F3 : (m, 3) int array
+        Drape triangles.
+    up, front : 3-vectors
+        The body's up and front directions (``front`` is orthogonalised against ``up``).
+
+    Returns
+    -------
+    list of Opening
+        In :func:`ptailor.model.boundary.boundary_loops` order (longest loop first, ties by
+        smallest vertex index); names are unique.
+
+    Notes
+    -----
+    Everything is measured in the wearer's frame: ``left = up x front`` is the wearer's left
+    (y up, z front: the wearer's left is +x, so ``cuff_left`` has the larger x). ``height``
+    is the coordinate along ``up``; ``H`` the garment's height (referenced vertices).
+
+    1. Loops shorter than 5 % of the longest loop are ignored (``opening_<k>``). Each other
+       loop gets its perimeter, centroid and best-fit plane normal; it is *horizontal* when
+       that normal is within 60 degrees of ``up``.
+    2. The centre line is the garment's area-weighted mean left coordinate. A loop that
+       straddles it is *centred*; a loop entirely on the wearer's left (right) of it is a
+       *left* (*right*) *side loop*.
+    3. Legs: if both sides have side loops, the lowest side loop of each side is horizontal,
+       both lie in the lower half of the garment, below every centred loop, and there is at
+       most one centred loop, they are ``leg_left`` and ``leg_right`` (trousers, shorts,
+       jumpsuits).
+    4. Sleeves: if (after the legs) both sides still have side loops, the longest one on each
+       side is a sleeve opening and the garment is a *top*. They are ``cuff_left`` and
+       ``cuff_right`` when they lie outside the torso: the torso's half-width is the largest
+       distance from the centre line of the garment's vertices in a band just below the two
+       loops (as tall as the taller loop, at least 5 % of ``H``), and the loops are cuffs when
+       the sum of their two inner edges' distances from the centre line exceeds the sum of the
+       two half-widths (an empty band counts as zero width). Otherwise they are
+       ``armhole_left`` and ``armhole_right`` (sleeveless tops and dresses).
+    5. Centred loops, sorted by centroid height:
+       - top with legs (jumpsuit): the highest is ``neckline``;
+       - top: with two or more, the highest is ``neckline`` and the lowest horizontal other
+         one ``hem``; with one, it is ``hem`` when horizontal and below both sleeve loops'
+         centroids, else ``neckline``;
+       - legs without a top (trousers): the highest horizontal one is ``waist``;
+       - neither (skirt, tube): among the horizontal ones the lowest is ``hem`` and, when
+         there are two or more, the highest is ``waist``. A lone tube (a cylinder) therefore
+         gets ``waist`` on top and ``hem`` at the bottom.
+    6. Every other loop is ``opening_<k>``, ``k`` its index in the returned list.
+    """
+    V3 = np.asarray(V3, dtype=np.float64)
+    F3 = np.asarray(F3, dtype=np.int64).reshape(-1, 3)
+    frame = body_frame(up, front)
+    loops = boundary_loops(F3) if len(F3) else []
+    if not loops:
+        return []
+
+    used = np.unique(F3)
+    S = V3 @ frame[0]  # left coordinate per vertex
+    Hc = V3 @ frame[1]  # height per vertex
+    h_min, h_max = float(Hc[used].min()), float(Hc[used].max())
+    H = h_max - h_min
+
+    a, b, c = V3[F3[:, 0]], V3[F3[:, 1]], V3[F3[:, 2]]
+    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    face_s = (S[F3[:, 0]] + S[F3[:, 1]] + S[F3[:, 2]]) / 3.0
+    s0 = float((area * face_s).sum() / area.sum()) if area.sum() > 0 else float(S[used].mean())
+
+    n = len(loops)
+    geo = [_loop_geometry(V3[L]) for L in loops]
+    length = np.array([g[0] for g in geo])
+    cen = np.array([g[1] for g in geo]).reshape(n, 3)
+    nrm = np.array([g[2] for g in geo]).reshape(n, 3)
+    ch = cen @ frame[1]  # centroid heights
+    smin = np.array([S[L].min() for L in loops])
+    smax = np.array([S[L].max() for L in loops])
+    big = length >= _MIN_REL_LENGTH * length.max()
+    horizontal = np.abs(nrm @ frame[1]) >= _HORIZONTAL_COS
+
+    centred = [i for i in range(n) if big[i] and smin[i] < s0 < smax[i]]
+    left = [i for i in range(n) if big[i] and smin[i] >= s0]
+    right = [i for i in range(n) if big[i] and smax[i] <= s0]
+    centred.sort(key=lambda i: (ch[i], i))
+    names: dict[int, str] = {}
+
+    # 3. legs
+    has_legs = False
+    if left and right and len(centred) <= 1:
+        ll = min(left, key=lambda i: (ch[i], i))
+        lr = min(right, key=lambda i: (ch[i], i))
+        lowest_centred = ch[centred[0]] if centred else np.inf
+        mid = h_min + 0.5 * H
+        if horizontal[ll] and horizontal[lr] and max(ch[ll], ch[lr]) < min(mid, lowest_centred):
+            names[ll], names[lr] = "leg_left", "leg_right"
+            left.remove(ll)
+            right.remove(lr)
+            has_legs = True
+
+    # 4. sleeves or armholes
+    is_top = False
+    if left and right:
+        sl = max(left, key=lambda i: (length[i], -i))
+        sr = max(right, key=lambda i: (length[i], -i))
+        hl, hr = Hc[loops[sl]], Hc[loops[sr]]
+        lo = min(hl.min(), hr.min())
+        band_h = max(np.ptp(hl), np.ptp(hr), _BAND_REL * H)
+        sel = used[(Hc[used] < lo) & (Hc[used] >= lo - band_h)]
+        d = S[sel] - s0
+        half_l = max(float(d.max()), 0.0) if d.size else 0.0
+        half_r = max(float(-d.min()), 0.0) if d.size else 0.0
+        inner = (smin[sl] - s0) + (s0 - smax[sr])
+        kind = "cuff" if inner > half_l + half_r else "armhole"
+        names[sl], names[sr] = f"{kind}_left", f"{kind}_right"
+        is_top = True
+
+    # 5. centred loops
+    flat = [i for i in centred if horizontal[i]]
+    if is_top and has_legs:
+        if centred:
+            names[centred[-1]] = "neckline"
+    elif is_top:
+        sleeve_h = min(ch[sl], ch[sr])
+        if len(centred) >= 2:
+            names[centred[-1]] = "neckline"
+            if flat and flat[0] != centred[-1]:
+                names[flat[0]] = "hem"
+        elif centred:
+            i = centred[0]
+            names[i] = "hem" if horizontal[i] and ch[i] < sleeve_h else "neckline"
+    elif has_legs:
+        if flat:
+            names[flat[-1]] = "waist"
+    elif flat:
+        names[flat[0]] = "hem"
+        if len(flat) >= 2:
+            names[flat[-1]] = "waist"
+
+    return [
+        Opening(
+            name=names.get(i, f"opening_{i}"),
+            loop=loops[i],
+            length=float(length[i]),
+            centroid=cen[i],
+        )
+        for i in range(n)
+    ]

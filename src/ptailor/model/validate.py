@@ -1,0 +1,55 @@
+"""Checks that a garment is usable, each failing with one clear line."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ptailor import tolerances as tol
+from ptailor.errors import PtailorError
+from ptailor.model.garment import Garment, areas_3d, signed_areas_2d
+
+
+def check_garment(g: Garment, *, path: str | None = None) -> None:
+    """Raise :class:`PtailorError` if the garment cannot be adjusted.
+
+    Checks finite coordinates, matching triangle counts, a consistent pattern-to-drape
+    vertex map (one 2D vertex is one 3D vertex) and no zero-area triangles in 2D or 3D.
+
+    Parameters
+    ----------
+    g : Garment
+    path : str, optional
+        Named in the error message.
+    """
+    if len(g.F2) != len(g.F3):
+        raise PtailorError(
+            f"pattern and drape have different faces ({len(g.F2)} vs {len(g.F3)} triangles)",
+            path=path,
+        )
+    if len(g.F3) == 0:
+        raise PtailorError("no triangles", path=path)
+    used3 = np.unique(g.F3)
+    used2 = np.unique(g.F2)
+    if not np.all(np.isfinite(g.V3[used3])):
+        raise PtailorError("NaN or infinite drape coordinates (v)", path=path)
+    if not np.all(np.isfinite(g.V2[used2])):
+        raise PtailorError("NaN or infinite pattern coordinates (vt)", path=path)
+    # one pattern vertex must sit on one drape vertex
+    to3 = np.full(len(g.V2), -1, dtype=np.int64)
+    to3[g.F2.ravel()] = g.F3.ravel()
+    if np.any(to3[g.F2.ravel()] != g.F3.ravel()):
+        raise PtailorError(
+            "pattern and drape have different faces (a pattern vertex maps to two drape vertices)",
+            path=path,
+        )
+    diag3 = float(np.ptp(g.V3[used3], axis=0).max())
+    diag2 = float(np.ptp(g.V2[used2], axis=0).max())
+    a3 = areas_3d(g.V3, g.F3)
+    a2 = np.abs(signed_areas_2d(g.V2, g.F2))
+    for name, a, d in (("3D (drape)", a3, diag3), ("2D (pattern)", a2, diag2)):
+        bad = np.flatnonzero(a <= tol.ZERO_AREA_REL * max(d, 1e-300) ** 2)
+        if bad.size:
+            raise PtailorError(
+                f"{bad.size} zero-area triangle(s) in {name}, first is face {int(bad[0]) + 1}",
+                path=path,
+            )

@@ -1,0 +1,155 @@
+"""Recipes: YAML edit recipes (format 1), validated whole before any garment is read."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ptailor import tolerances as tol
+from ptailor.edits import OPERATIONS
+from ptailor.edits.checks import choice, number
+from ptailor.errors import PtailorError, RecipeError
+from ptailor.model.units import UNITS
+
+FLATTEN_PARAMS = {
+    "method": (choice("scale-preserving", "uniform"), "scale-preserving"),
+    "intrinsic": (choice("polar", "paper"), "polar"),
+    "boundary": (choice("auto", "similar", "free"), "auto"),
+    "w_pin": (number(gt=0.0), tol.W_PIN),
+    "w_asap": (number(gt=0.0), tol.W_ASAP),
+    "max_iter": (number(ge=1, le=10000), tol.ARAP_MAX_ITER),
+}
+TOP_KEYS = ("format", "units", "steps", "flatten")
+
+
+@dataclass(frozen=True)
+class Recipe:
+    """A validated recipe with every default filled in.
+
+    Attributes
+    ----------
+    units : str
+    steps : list of dict
+        Each with ``op`` and all of its parameters.
+    flatten : dict
+        ``method``, ``intrinsic``, ``boundary``, ``w_pin``, ``w_asap``, ``max_iter``.
+    source : str
+        Where it came from (a path, ``<stdin>`` or ``<string>``).
+    """
+
+    units: str = "cm"
+    steps: list[dict] = field(default_factory=list)
+    flatten: dict = field(default_factory=lambda: {k: d for k, (_, d) in FLATTEN_PARAMS.items()})
+    source: str = "<string>"
+
+
+def validate(data: Any) -> tuple[Recipe | None, list[str]]:
+    """Check a parsed recipe; collect every problem.
+
+    Parameters
+    ----------
+    data : object
+        The YAML document.
+
+    Returns
+    -------
+    recipe : Recipe or None
+        None when there are problems.
+    problems : list of str
+    """
+    probs: list[str] = []
+    if data is None:
+        data = {}
+    if not isinstance(data, dict):
+        return None, ["the recipe must be a mapping with 'steps' (and optionally units, flatten)"]
+    for k in data:
+        if k not in TOP_KEYS:
+            probs.append(f"unknown key {k!r} (known: {', '.join(TOP_KEYS)})")
+    if data.get("format", 1) != 1:
+        probs.append(f"format: only format 1 is known, got {data['format']!r}")
+    units = data.get("units", "cm")
+    probs += choice(*UNITS)(units, "units")
+    steps_in = data.get("steps", [])
+    if steps_in is None:
+        steps_in = []
+    steps: list[dict] = []
+    if not isinstance(steps_in, list):
+        probs.append("steps: expected a list of steps")
+        steps_in = []
+    for i, st in enumerate(steps_in, start=1):
+        where = f"steps[{i}]"
+        if not isinstance(st, dict) or "op" not in st:
+            probs.append(f"{where}: expected a mapping with 'op'")
+            continue
+        op = OPERATIONS.get(st["op"]) if isinstance(st["op"], str) else None
+        if op is None:
+            probs.append(f"{where}.op: unknown op {st['op']!r} (known: {', '.join(OPERATIONS)})")
+            continue
+        full = {"op": op.name}
+        for k, v in st.items():
+            if k != "op" and k not in op.params:
+                probs.append(f"{where}: unknown key {k!r} for {op.name} (known: {', '.join(op.params)})")
+        for k, prm in op.params.items():
+            if k in st:
+                probs += prm.check(st[k], f"{where}.{k}")
+                full[k] = st[k]
+            elif prm.required:
+                probs.append(f"{where}: {op.name} needs {k!r}")
+            else:
+                full[k] = prm.default
+        steps.append(full)
+    fl_in = data.get("flatten", {}) or {}
+    flatten: dict = {}
+    if not isinstance(fl_in, dict):
+        probs.append("flatten: expected a mapping")
+        fl_in = {}
+    for k in fl_in:
+        if k not in FLATTEN_PARAMS:
+            probs.append(f"flatten: unknown key {k!r} (known: {', '.join(FLATTEN_PARAMS)})")
+    for k, (check, default) in FLATTEN_PARAMS.items():
+        if k in fl_in:
+            probs += check(fl_in[k], f"flatten.{k}")
+        flatten[k] = fl_in.get(k, default)
+    if probs:
+        return None, probs
+    return Recipe(units=units, steps=steps, flatten=flatten), []
+
+
+def parse_recipe(text: str, *, source: str = "<string>") -> Recipe:
+    """Parse and validate recipe text.
+
+    Raises
+    ------
+    RecipeError
+        Listing every problem, or the YAML syntax error with its line.
+    """
+    import yaml
+
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f"line {mark.line + 1}: " if mark is not None else ""
+        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        raise RecipeError([f"{where}YAML syntax error: {problem}"], path=source) from None
+    recipe, probs = validate(data)
+    if probs:
+        raise RecipeError(probs, path=source)
+    assert recipe is not None
+    return Recipe(units=recipe.units, steps=recipe.steps, flatten=recipe.flatten, source=source)
+
+
+def load_recipe(path: str | Path) -> Recipe:
+    """Read and validate a recipe file (``-`` reads standard input)."""
+    import sys
+
+    if str(path) == "-":
+        return parse_recipe(sys.stdin.read(), source="<stdin>")
+    try:
+        text = Path(path).read_text()
+    except FileNotFoundError:
+        raise PtailorError("no such file", path=str(path)) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise PtailorError(f"cannot read recipe ({exc})", path=str(path)) from None
+    return parse_recipe(text, source=str(path))

@@ -1,0 +1,1 @@
+"""Distortion metrics and the adjustment report."""

@@ -1,0 +1,179 @@
+"""The report: ``report.json`` content and the terminal summary."""
+
+from __future__ import annotations
+
+import hashlib
+from pathlib import Path
+
+import numpy as np
+
+from ptailor import __version__
+from ptailor.adjust import Adjustment, garment_structure
+from ptailor.report.metrics import (
+    boundary_deviation,
+    flipped,
+    intrinsic_scale_error,
+    panel_areas,
+    panel_sizes,
+    summary_stats,
+)
+
+
+def sha256(path: str) -> str:
+    """Hex SHA-256 of a file's bytes."""
+    h = hashlib.sha256()
+    with Path(path).open("rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def _r(x: float, nd: int = 6) -> float:
+    return round(float(x), nd)
+
+
+def build_report(
+    adj: Adjustment,
+    *,
+    inputs: dict[str, str],
+    units_note: dict,
+    warnings: list[str],
+    timing_s: dict[str, float],
+) -> dict:
+    """Assemble the report.
+
+    Parameters
+    ----------
+    adj : Adjustment
+    inputs : dict
+        Role to path; each is hashed.
+    units_note : dict
+        ``units`` block: computation unit and each file's unit (and whether estimated).
+    warnings : list of str
+    timing_s : dict
+        Seconds per stage (load, edit, flatten, baseline, write).
+
+    Returns
+    -------
+    dict
+        JSON-serialisable, deterministic apart from ``timing_s``.
+    """
+    st = adj.state
+    g = st.base
+    n = len(st.panels)
+    flab, vlab, seam_list = garment_structure(st)
+    sign_v = np.where(np.isin(np.arange(len(g.V2)), _mirrored_vertices(st)), -1.0, 1.0)
+    flipv = np.stack([sign_v, np.ones(len(g.V2))], 1)
+    orient = np.array([-1.0 if p.mirrored else 1.0 for p in st.panels])[flab]
+    V2a = adj.result.V2
+    err = intrinsic_scale_error(g.V2 * flipv, V2a * flipv, g.F2, g.V3, st.V3, g.F3)
+    es = summary_stats(err, flab, n)
+    flips = np.bincount(flab, flipped(V2a, g.F2, orient), minlength=n)
+    area0 = panel_areas(g.V2, g.F2, flab, n)
+    area1 = panel_areas(V2a, g.F2, flab, n)
+    size0 = panel_sizes(g.V2, vlab, n)
+    size1 = panel_sizes(V2a, vlab, n)
+    dev = boundary_deviation(g.V2, V2a, g.F2, vlab, n)
+    if adj.baseline is not None:
+        Vb = adj.baseline.V2
+        areab = panel_areas(Vb, g.F2, flab, n)
+        sizeb = panel_sizes(Vb, vlab, n)
+        errb = summary_stats(
+            intrinsic_scale_error(g.V2 * flipv, Vb * flipv, g.F2, g.V3, st.V3, g.F3), flab, n
+        )
+    panels_out = []
+    for p in st.panels:  # one record per panel
+        i = p.index
+        rec = {
+            "name": p.name,
+            "triangles": int(p.faces.size),
+            "mirrored": p.mirrored,
+            "outline_kept": bool(adj.result.asap_panels[i]) if adj.result.asap_panels is not None else False,
+            "area_before": _r(area0[i]),
+            "area_after": _r(area1[i]),
+            "size_before": [_r(size0[i, 0]), _r(size0[i, 1])],
+            "size_after": [_r(size1[i, 0]), _r(size1[i, 1])],
+            "boundary_deviation": _r(dev[i]),
+            "intrinsic_scale_error": {k: _r(v[i], 8) for k, v in es.items()},
+            "flipped_triangles": int(flips[i]),
+        }
+        if adj.baseline is not None:
+            rec["baseline_area_after"] = _r(areab[i])
+            rec["baseline_size_after"] = [_r(sizeb[i, 0]), _r(sizeb[i, 1])]
+            rec["baseline_intrinsic_scale_error"] = {k: _r(v[i], 8) for k, v in errb.items()}
+        panels_out.append(rec)
+    names = [p.name for p in st.panels]
+    seams_out = []
+    for s in seam_list:
+        la0, lb0 = s.lengths(g.V2)
+        la1, lb1 = s.lengths(V2a)
+        seams_out.append(
+            {
+                "panels": [names[s.panels[0]], names[s.panels[1]]],
+                "edges": int(len(s.edges3)),
+                "length_before": [_r(la0), _r(lb0)],
+                "length_after": [_r(la1), _r(lb1)],
+            }
+        )
+    info = adj.result.info
+    return {
+        "ptailor_version": __version__,
+        "method": adj.settings["method"],
+        "intrinsic": adj.settings["intrinsic"] if adj.settings["method"] != "uniform" else None,
+        "boundary": adj.settings["boundary"],
+        "units": units_note,
+        "inputs": {k: {"path": v, "sha256": sha256(v)} for k, v in inputs.items()},
+        "steps": list(st.log),
+        "solver": {
+            "iterations": info.iterations,
+            "converged": info.converged,
+            "energy": float(f"{info.energy:.6g}"),
+            "w_pin": adj.settings["w_pin"],
+            "w_asap": adj.settings["w_asap"],
+        },
+        "panels": panels_out,
+        "seams": seams_out,
+        "timing_s": {k: round(v, 4) for k, v in timing_s.items()},
+        "warnings": list(warnings),
+    }
+
+
+def _mirrored_vertices(st) -> np.ndarray:
+    parts = [p.vertices for p in st.panels if p.mirrored]
+    return np.concatenate(parts) if parts else np.zeros(0, dtype=np.int64)
+
+
+def summary_lines(report: dict) -> list[str]:
+    """A short human summary of a report, one panel per line."""
+    u = report["units"]["computation"]
+    has_base = bool(report["panels"]) and "baseline_size_after" in report["panels"][0]
+    head = f"{'panel':<14} {'size before':>17} {'after (ours)':>17}"
+    if has_base:
+        head += f" {'uniform':>17}"
+    head += f" {'outline dev':>11} {'scale err p95':>13} {'flips':>5}"
+    lines = [f"method: {report['method']}" + (f" ({report['intrinsic']})" if report["intrinsic"] else "")
+             + f", units: {u}", head]
+
+    def wh(s: list[float]) -> str:
+        return f"{s[0]:7.2f} x {s[1]:7.2f}"
+
+    for p in report["panels"]:
+        ln = f"{p['name'][:14]:<14} {wh(p['size_before']):>17} {wh(p['size_after']):>17}"
+        if has_base:
+            ln += f" {wh(p['baseline_size_after']):>17}"
+        ln += (
+            f" {p['boundary_deviation']:11.4f} {p['intrinsic_scale_error']['p95']:13.2e}"
+            f" {p['flipped_triangles']:5d}"
+        )
+        lines.append(ln)
+    def ratio(ls: list[float]) -> float:
+        return ls[0] / max(ls[1], 1e-12)
+
+    changed = [
+        s for s in report["seams"]
+        if abs(ratio(s["length_after"]) - ratio(s["length_before"])) > 1e-3 * ratio(s["length_before"])
+    ]
+    lines.append(f"seams: {len(report['seams'])}, ease (length ratio) changed on {len(changed)}")
+    for w in report["warnings"]:
+        lines.append(f"warning: {w}")
+    return lines

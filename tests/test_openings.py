@@ -1,0 +1,288 @@
+"""Openings: boundary loops of the drape named from geometry."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from ptailor.model.openings import Opening, body_frame, openings
+
+SHARED = Path(__file__).parents[2] / "shared"
+
+
+# ---------------------------------------------------------------- generated meshes
+
+
+def tube(radii, heights, n=48):
+    """An open surface of revolution around y: ring j has radius radii[j] at heights[j]."""
+    radii = np.asarray(radii, dtype=float)
+    heights = np.asarray(heights, dtype=float)
+    t = 2 * np.pi * np.arange(n) / n
+    V = np.concatenate(
+        [
+            np.c_[r * np.cos(t), np.full(n, h), r * np.sin(t)]
+            for r, h in zip(radii, heights, strict=True)
+        ]
+    )
+    j, i = np.meshgrid(np.arange(len(radii) - 1), np.arange(n), indexing="ij")
+    j, i = j.ravel(), i.ravel()
+    a, b = j * n + i, j * n + (i + 1) % n
+    c, d = a + n, b + n
+    F = np.concatenate([np.c_[a, c, b], np.c_[b, c, d]])
+    return V, F
+
+
+def holey_ellipsoid(axes, holes, nu=96, nv=64):
+    """A lat-long ellipsoid with caps removed: holes = [(direction, angle_deg)].
+
+    Directions are on the unit sphere before scaling by ``axes``; removed caps leave
+    unreferenced vertices in V, as real exports do.
+    """
+    th = np.pi * np.arange(1, nv) / nv  # polar angle from +y, poles excluded
+    ph = 2 * np.pi * np.arange(nu) / nu
+    T, P = np.meshgrid(th, ph, indexing="ij")
+    D = np.c_[(np.sin(T) * np.cos(P)).ravel(), np.cos(T).ravel(), (np.sin(T) * np.sin(P)).ravel()]
+    D = np.vstack([D, [0, 1, 0], [0, -1, 0]])
+    top, bot = len(D) - 2, len(D) - 1
+    j, i = np.meshgrid(np.arange(nv - 2), np.arange(nu), indexing="ij")
+    j, i = j.ravel(), i.ravel()
+    a, b = j * nu + i, j * nu + (i + 1) % nu
+    c, d = a + nu, b + nu
+    last = (nv - 2) * nu
+    k = np.arange(nu)
+    F = np.concatenate(
+        [
+            np.c_[a, b, c],
+            np.c_[b, d, c],
+            np.c_[np.full(nu, top), (k + 1) % nu, k],
+            np.c_[np.full(nu, bot), last + k, last + (k + 1) % nu],
+        ]
+    )
+    cen = D[F].mean(axis=1)
+    cen /= np.linalg.norm(cen, axis=1, keepdims=True)
+    keep = np.ones(len(F), dtype=bool)
+    for direction, angle in holes:
+        u = np.asarray(direction, dtype=float)
+        u /= np.linalg.norm(u)
+        keep &= cen @ u < np.cos(np.radians(angle))
+    return D * np.asarray(axes, dtype=float), F[keep]
+
+
+def names(ops: list[Opening]) -> list[str]:
+    return sorted(o.name for o in ops)
+
+
+def by_name(ops: list[Opening]) -> dict[str, Opening]:
+    return {o.name: o for o in ops}
+
+
+def rotation(axis, angle):
+    axis = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
+    K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    return np.eye(3) + np.sin(angle) * K + (1 - np.cos(angle)) * K @ K
+
+
+# ---------------------------------------------------------------- frame
+
+
+def test_body_frame_left_is_plus_x_for_y_up_z_front():
+    R = body_frame((0, 1, 0), (0, 0, 1))
+    np.testing.assert_allclose(R, np.eye(3), atol=1e-15)
+    R = body_frame((0, 0, 2), (0, -1, 0.3))  # z up, -y front, front not orthogonal
+    np.testing.assert_allclose(R @ R.T, np.eye(3), atol=1e-12)
+    np.testing.assert_allclose(R[1], [0, 0, 1])
+    np.testing.assert_allclose(R[0], [1, 0, 0], atol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("up", "front"), [((0, 0, 0), (0, 0, 1)), ((0, 1, 0), (0, 2, 0)), ((np.nan, 1, 0), (0, 0, 1))]
+)
+def test_bad_frame_raises(up, front):
+    V, F = tube([10, 10], [0, 20])
+    with pytest.raises(ValueError):
+        openings(V, F, up=up, front=front)
+
+
+# ---------------------------------------------------------------- generated garments
+
+
+def test_cylinder_is_waist_and_hem():
+    n, r = 48, 10.0
+    V, F = tube([r, r, r, r], [0, 10, 20, 30], n=n)
+    ops = openings(V, F)
+    assert names(ops) == ["hem", "waist"]
+    o = by_name(ops)
+    perimeter = n * 2 * r * np.sin(np.pi / n)
+    assert o["hem"].length == pytest.approx(perimeter)
+    assert o["waist"].length == pytest.approx(perimeter)
+    np.testing.assert_allclose(o["hem"].centroid, [0, 0, 0], atol=1e-12)
+    np.testing.assert_allclose(o["waist"].centroid, [0, 30, 0], atol=1e-12)
+    np.testing.assert_array_equal(np.sort(o["hem"].loop), np.arange(n))
+    assert o["hem"].loop.dtype.kind == "i"
+
+
+def test_cone_skirt_and_no_faces():
+    V, F = tube([40, 30, 20, 14], [0, 25, 50, 70])  # wide at the bottom
+    o = by_name(openings(V, F))
+    assert set(o) == {"hem", "waist"}
+    assert o["hem"].centroid[1] == pytest.approx(0)
+    assert o["waist"].centroid[1] == pytest.approx(70)
+    assert o["hem"].length > o["waist"].length
+    assert openings(V, np.zeros((0, 3), dtype=int)) == []
+
+
+def test_unreferenced_vertices_and_shifted_indices():
+    V, F = tube([40, 30, 14], [0, 35, 70])
+    junk = np.full((7, 3), 1e6)
+    ops0 = openings(V, F)
+    ops1 = openings(np.vstack([junk, V]), F + 7)
+    assert [o.name for o in ops0] == [o.name for o in ops1]
+    for a, b in zip(ops0, ops1, strict=True):
+        np.testing.assert_array_equal(a.loop + 7, b.loop)
+        np.testing.assert_allclose(a.centroid, b.centroid)
+
+
+def test_other_frames_and_rotation():
+    V, F = tube([40, 30, 14], [0, 35, 70])
+    R = rotation([1, 2, 3], 0.7)
+    up = R @ [0, 1, 0]
+    o = by_name(openings(V @ R.T + [5, -3, 2], F, up=up, front=R @ [0, 0, 1]))
+    assert set(o) == {"hem", "waist"}
+    assert (o["waist"].centroid - o["hem"].centroid) @ up == pytest.approx(70)
+    # upside down: the names swap
+    o2 = by_name(openings(V, F, up=(0, -1, 0)))
+    np.testing.assert_array_equal(o2["hem"].loop, o["waist"].loop)
+
+
+def test_trousers():
+    V, F = holey_ellipsoid(
+        (20, 40, 12),
+        [
+            ((0, 1, 0), 35),
+            ((np.sin(np.radians(25)), -np.cos(np.radians(25)), 0), 18),
+            ((-np.sin(np.radians(25)), -np.cos(np.radians(25)), 0), 18),
+        ],
+    )
+    o = by_name(openings(V, F))
+    assert set(o) == {"waist", "leg_left", "leg_right"}
+    assert o["leg_left"].centroid[0] > 5 > -5 > o["leg_right"].centroid[0]
+    assert o["waist"].centroid[1] > 30
+    # facing the other way (front = -z): the wearer's left is -x
+    o = by_name(openings(V, F, front=(0, 0, -1)))
+    assert o["leg_left"].centroid[0] < 0 < o["leg_right"].centroid[0]
+
+
+def _armholes(extra=()):
+    c, s = np.cos(np.radians(35)), np.sin(np.radians(35))
+    return [((0, 1, 0), 25), ((c, s, 0), 18), ((-c, s, 0), 18), *extra]
+
+
+def test_sleeveless_top():
+    V, F = holey_ellipsoid((20, 35, 12), _armholes([((0, -1, 0), 45)]))
+    o = by_name(openings(V, F))
+    assert set(o) == {"hem", "neckline", "armhole_left", "armhole_right"}
+    assert o["armhole_left"].centroid[0] > 0 > o["armhole_right"].centroid[0]
+    assert o["neckline"].centroid[1] > 30 > -20 > o["hem"].centroid[1]
+
+
+def test_jumpsuit_and_unnamed_loop():
+    t = np.radians(25)
+    legs = [((np.sin(t), -np.cos(t), 0), 18), ((-np.sin(t), -np.cos(t), 0), 18)]
+    V, F = holey_ellipsoid((20, 60, 12), _armholes(legs))
+    o = by_name(openings(V, F))
+    assert set(o) == {"neckline", "armhole_left", "armhole_right", "leg_left", "leg_right"}
+    # a pocket-like hole at the front fits no rule
+    V, F = holey_ellipsoid((20, 35, 12), _armholes([((0, -1, 0), 45), ((0, -0.3, 1), 8)]))
+    ops = openings(V, F)
+    assert names(ops) == ["armhole_left", "armhole_right", "hem", "neckline", "opening_4"]
+    assert ops[4].name == "opening_4" and ops[4].centroid[2] > 10
+
+
+# ---------------------------------------------------------------- real garments
+
+
+def read_obj(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """Minimal OBJ reader: ``v`` positions and the ``v`` index of triangle ``f`` lines."""
+    V, F = [], []
+    with open(path) as fh:
+        for line in fh:
+            if line.startswith("v "):
+                V.append([float(x) for x in line.split()[1:4]])
+            elif line.startswith("f "):
+                F.append([int(tok.split("/")[0]) - 1 for tok in line.split()[1:4]])
+    return np.array(V), np.array(F, dtype=np.int64)
+
+
+@pytest.fixture(scope="module")
+def garment():
+    cache: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+
+    def load(rel: str):
+        path = SHARED / "garments" / rel
+        if not path.exists():
+            pytest.skip(f"{path} not available")
+        if rel not in cache:
+            cache[rel] = read_obj(path)
+        return cache[rel]
+
+    return load
+
+
+# name -> (loop size, length, centroid), checked by hand against the loops of each file
+REAL = {
+    "gpg_tee6/tee6_sim.obj": {
+        "hem": (52, 310.9, (-0.2, -72.0, 3.6)),
+        "neckline": (29, 158.9, (0.0, 77.6, -0.5)),
+        "cuff_left": (20, 100.3, (87.9, 58.9, -7.3)),
+        "cuff_right": (20, 100.2, (-87.7, 58.0, -8.7)),
+    },
+    "diffavatar/tshirt.obj": {
+        "hem": (53, 101.5, (0.0, 103.5, -4.4)),
+        "neckline": (26, 48.9, (-0.4, 163.7, -6.0)),
+        "cuff_left": (20, 34.9, (33.5, 137.0, -6.0)),
+        "cuff_right": (20, 35.0, (-33.2, 136.2, -5.5)),
+    },
+    "diffavatar/longsleeve_initial.obj": {
+        "hem": (60, 116.9, (-0.2, 76.0, -3.8)),
+        "neckline": (24, 40.4, (0.0, 135.6, 0.4)),
+        "cuff_left": (16, 31.5, (38.2, 106.5, -1.0)),
+        "cuff_right": (16, 31.6, (-37.4, 107.0, -1.5)),
+    },
+    "diffavatar/dress_initial.obj": {
+        "hem": (189, 341.2, (-1.9, 13.8, -7.7)),
+        "neckline": (62, 115.2, (-1.7, 124.7, -7.2)),
+        "armhole_left": (36, 64.2, (10.7, 122.8, -6.7)),
+        "armhole_right": (36, 66.5, (-14.6, 122.6, -8.5)),
+    },
+}
+
+
+@pytest.mark.parametrize("rel", sorted(REAL))
+def test_real_garments(garment, rel):
+    V, F = garment(rel)
+    ops = openings(V, F)
+    got = by_name(ops)
+    assert set(got) == set(REAL[rel])
+    for name, (k, length, centroid) in REAL[rel].items():
+        o = got[name]
+        assert len(o.loop) == k
+        assert o.length == pytest.approx(length, abs=0.06)
+        np.testing.assert_allclose(o.centroid, centroid, atol=0.06)
+        assert np.isin(o.loop, F).all()
+
+
+def test_tee6_mirrored_and_rotated(garment):
+    V, F = garment("gpg_tee6/tee6_sim.obj")
+    o = by_name(openings(V, F))
+    # mirrored left-right (faces flipped to keep the orientation): the cuffs swap
+    m = by_name(openings(V * [-1, 1, 1], F[:, ::-1]))
+    assert set(m) == set(o)
+    np.testing.assert_array_equal(np.sort(m["cuff_left"].loop), np.sort(o["cuff_right"].loop))
+    # the same garment stored z up and facing -y
+    R = rotation([1, 0, 0], np.pi / 2)  # y -> z, z -> -y
+    r = by_name(openings(V @ R.T, F, up=(0, 0, 1), front=(0, -1, 0)))
+    for name in o:
+        np.testing.assert_array_equal(r[name].loop, o[name].loop)
+        np.testing.assert_allclose(r[name].centroid, R @ o[name].centroid, atol=1e-9)
