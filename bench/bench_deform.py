@@ -22,7 +22,11 @@ def cylinder(nu: int, nv: int, radius: float = 1.0, height: float = 3.0):
     th = 2.0 * np.pi * np.arange(nu) / nu
     z = np.linspace(0.0, height, nv + 1)
     V = np.column_stack(
-        [np.tile(radius * np.cos(th), nv + 1), np.tile(radius * np.sin(th), nv + 1), np.repeat(z, nu)]
+        [
+            np.tile(radius * np.cos(th), nv + 1),
+            np.tile(radius * np.sin(th), nv + 1),
+            np.repeat(z, nu),
+        ]
     )
     I, J = np.meshgrid(np.arange(nu), np.arange(nv))
     a = J * nu + I

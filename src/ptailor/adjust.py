@@ -131,8 +131,10 @@ def adjust(
     t2 = time.perf_counter()
     base = None
     if baseline:
-        base = result if settings["method"] == "uniform" else flatten(
-            state.base, state.V3, method="uniform", **kw
+        base = (
+            result
+            if settings["method"] == "uniform"
+            else flatten(state.base, state.V3, method="uniform", **kw)
         )
     t3 = time.perf_counter()
     timing = {"edit": t1 - t0, "flatten": t2 - t1, "baseline": t3 - t2}

@@ -17,8 +17,11 @@ def bundled_recipe(name: str) -> str:
 
     path = resources.files("ptailor") / "recipes" / f"{name}.yaml"
     if not path.is_file():
-        known = sorted(p.name[:-5] for p in (resources.files("ptailor") / "recipes").iterdir()
-                       if p.name.endswith(".yaml"))
+        known = sorted(
+            p.name[:-5]
+            for p in (resources.files("ptailor") / "recipes").iterdir()
+            if p.name.endswith(".yaml")
+        )
         raise PtailorError(f"no bundled recipe {name!r} (known: {', '.join(known)})")
     return path.read_text()
 
@@ -37,9 +40,14 @@ def sample_obj_text(name: str) -> str:
     plist = panels(g)
     with tempfile.TemporaryDirectory() as td:
         p = Path(td) / "s.obj"
-        write_obj(p, V3=g.V3, F3=g.F3, V2=g.V2, F2=g.F2, face_panel=panel_labels(plist, g.n_faces),
-                  panel_names=[q.name for q in plist],
-                  header=[f"ptailor generated sample: {name}", "units: cm"])
+        write_obj(
+            p,
+            V3=g.V3,
+            F3=g.F3,
+            V2=g.V2,
+            F2=g.F2,
+            face_panel=panel_labels(plist, g.n_faces),
+            panel_names=[q.name for q in plist],
+            header=[f"ptailor generated sample: {name}", "units: cm"],
+        )
         return p.read_text()
-
-

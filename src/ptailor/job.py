@@ -28,7 +28,9 @@ def panel_outlines(V2: np.ndarray, F2: np.ndarray, adj: Adjustment) -> list[list
     return out
 
 
-def write_outputs(tmp: Path, adj: Adjustment, loaded: LoadedGarment, formats: tuple[str, ...]) -> None:
+def write_outputs(
+    tmp: Path, adj: Adjustment, loaded: LoadedGarment, formats: tuple[str, ...]
+) -> None:
     """Write the adjusted garment in the requested formats into ``tmp``."""
     g = adj.garment
     names = [p.name for p in adj.state.panels]
@@ -43,7 +45,9 @@ def write_outputs(tmp: Path, adj: Adjustment, loaded: LoadedGarment, formats: tu
             else f"units: {g.units}",
         ]
         if loaded.pattern_units_estimated:
-            header.append(f"vt normalised like the input: {loaded.pattern_scale:.9g} {g.units} per unit")
+            header.append(
+                f"vt normalised like the input: {loaded.pattern_scale:.9g} {g.units} per unit"
+            )
         write_obj(
             tmp / "garment.obj",
             V3=g.V3 / loaded.drape_scale,
@@ -111,7 +115,9 @@ def run_adjust(
         recipe = load_recipe(recipe)
     unknown = [f for f in formats if f not in FORMATS]
     if unknown:
-        raise PtailorError(f"unknown output format(s) {', '.join(unknown)} (known: {', '.join(FORMATS)})")
+        raise PtailorError(
+            f"unknown output format(s) {', '.join(unknown)} (known: {', '.join(FORMATS)})"
+        )
     inputs = [garment_path] + ([drape] if drape else [])
     check_output_dir(out, inputs)
     t0 = time.perf_counter()
@@ -123,10 +129,19 @@ def run_adjust(
         drape_units=drape_units,
     )
     t1 = time.perf_counter()
-    adj = adjust(loaded.garment, recipe, method=method, intrinsic=intrinsic, baseline=baseline, options=options)
+    adj = adjust(
+        loaded.garment,
+        recipe,
+        method=method,
+        intrinsic=intrinsic,
+        baseline=baseline,
+        options=options,
+    )
     warnings: list[str] = []
     if not adj.result.info.converged:
-        warnings.append(f"solver stopped after {adj.result.info.iterations} iterations without converging")
+        warnings.append(
+            f"solver stopped after {adj.result.info.iterations} iterations without converging"
+        )
     units_note = {
         "computation": loaded.garment.units,
         "drape": drape_units,
@@ -148,9 +163,13 @@ def run_adjust(
         shown = dict(loaded.inputs)
         if display_inputs:
             shown.update(display_inputs)
-        report = build_report(adj, inputs=loaded.inputs, units_note=units_note, warnings=warnings, timing_s=timing)
+        report = build_report(
+            adj, inputs=loaded.inputs, units_note=units_note, warnings=warnings, timing_s=timing
+        )
         for role, path in shown.items():
             report["inputs"][role]["path"] = path
-        report["outputs"] = sorted(["report.json"] + [f"{'garment' if f == 'obj' else 'pattern'}.{f}" for f in formats])
+        report["outputs"] = sorted(
+            ["report.json"] + [f"{'garment' if f == 'obj' else 'pattern'}.{f}" for f in formats]
+        )
         write_json(tmp / "report.json", report)
     return report

@@ -87,9 +87,11 @@ def validate(data: Any) -> tuple[Recipe | None, list[str]]:
             probs.append(f"{where}.op: unknown op {st['op']!r} (known: {', '.join(OPERATIONS)})")
             continue
         full = {"op": op.name}
-        for k, v in st.items():
+        for k in st:
             if k != "op" and k not in op.params:
-                probs.append(f"{where}: unknown key {k!r} for {op.name} (known: {', '.join(op.params)})")
+                probs.append(
+                    f"{where}: unknown key {k!r} for {op.name} (known: {', '.join(op.params)})"
+                )
         for k, prm in op.params.items():
             if k in st:
                 probs += prm.check(st[k], f"{where}.{k}")

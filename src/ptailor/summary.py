@@ -50,14 +50,14 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
         out_s.append(
             {
                 "panels": [names[s.panels[0]], names[s.panels[1]]],
-                "edges": int(len(s.edges3)),
+                "edges": len(s.edges3),
                 "lengths": [round(la, 3), round(lb, 3)],
             }
         )
     out_o = [
         {
             "name": o.name,
-            "vertices": int(len(o.loop)),
+            "vertices": len(o.loop),
             "length": round(float(o.length), 3),
             "centroid": [round(float(x), 3) for x in o.centroid],
         }
@@ -81,7 +81,9 @@ def summary_text(info: dict) -> str:
     u = info["units"]["computation"]
     lines = [f"{info['triangles']} triangles, {len(info['panels'])} panels, lengths in {u}"]
     if "pattern_scale_estimate" in info["units"]:
-        lines.append(f"pattern scale estimated: {info['units']['pattern_scale_estimate']} {u} per unit")
+        lines.append(
+            f"pattern scale estimated: {info['units']['pattern_scale_estimate']} {u} per unit"
+        )
     lines.append("panels:")
     for p in info["panels"]:
         lines.append(
@@ -91,7 +93,9 @@ def summary_text(info: dict) -> str:
     lines.append("seams:")
     for s in info["seams"]:
         a, b = s["panels"]
-        lines.append(f"  {a} / {b}: {s['lengths'][0]:.2f} / {s['lengths'][1]:.2f} ({s['edges']} edges)")
+        lines.append(
+            f"  {a} / {b}: {s['lengths'][0]:.2f} / {s['lengths'][1]:.2f} ({s['edges']} edges)"
+        )
     lines.append("openings:")
     for o in info["openings"]:
         c = ", ".join(f"{x:.1f}" for x in o["centroid"])

@@ -13,16 +13,40 @@ from ptailor.cli.options import axes_options, axis_vector, garment_options
 @click.option("-o", "--out", required=True, type=click.Path(file_okay=False), help="Output folder.")
 @garment_options
 @axes_options
-@click.option("--method", type=click.Choice(["scale-preserving", "uniform"]), default=None,
-              help="Override the recipe's flatten method (uniform: the paper's baseline).")
-@click.option("--intrinsic", type=click.Choice(["polar", "paper"]), default=None,
-              help="Override how intrinsic scale targets are formed.")
+@click.option(
+    "--method",
+    type=click.Choice(["scale-preserving", "uniform"]),
+    default=None,
+    help="Override the recipe's flatten method (uniform: the paper's baseline).",
+)
+@click.option(
+    "--intrinsic",
+    type=click.Choice(["polar", "paper"]),
+    default=None,
+    help="Override how intrinsic scale targets are formed.",
+)
 @click.option("--no-baseline", is_flag=True, help="Skip the uniform-flattening comparison.")
-@click.option("--formats", default="obj,svg", show_default=True, help="Outputs besides report.json.")
+@click.option(
+    "--formats", default="obj,svg", show_default=True, help="Outputs besides report.json."
+)
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON on stdout.")
 @click.option("-q", "--quiet", is_flag=True, help="Print nothing on success.")
-def adjust(garment, recipe, out, drape, pattern_units, drape_units, up, front, method, intrinsic,
-           no_baseline, formats, as_json, quiet) -> None:
+def adjust(
+    garment,
+    recipe,
+    out,
+    drape,
+    pattern_units,
+    drape_units,
+    up,
+    front,
+    method,
+    intrinsic,
+    no_baseline,
+    formats,
+    as_json,
+    quiet,
+) -> None:
     """Apply RECIPE's 3D edits to GARMENT and write the adjusted pattern to OUT.
 
     GARMENT is an OBJ with v = drape and vt = pattern (faces f v/vt). RECIPE is a YAML
@@ -37,8 +61,15 @@ def adjust(garment, recipe, out, drape, pattern_units, drape_units, up, front, m
 
     rec = load_recipe(recipe)
     report = run_adjust(
-        garment, rec, out, drape=drape, pattern_units=pattern_units, drape_units=drape_units,
-        method=method, intrinsic=intrinsic, baseline=not no_baseline,
+        garment,
+        rec,
+        out,
+        drape=drape,
+        pattern_units=pattern_units,
+        drape_units=drape_units,
+        method=method,
+        intrinsic=intrinsic,
+        baseline=not no_baseline,
         formats=tuple(f for f in formats.split(",") if f),
         options=EditOptions(up=axis_vector(up), front=axis_vector(front)),
     )

@@ -7,11 +7,16 @@ import click
 
 @click.command()
 @click.argument("out", type=click.Path(file_okay=False))
-@click.option("--sample", default="lantern_sleeve", show_default=True,
-              type=click.Choice(["lantern_sleeve", "cone_skirt", "cylinder"]),
-              help="Which generated garment to use.")
-@click.option("--recipe", "recipe_name", default=None,
-              help="Bundled recipe name (default: the sample's own).")
+@click.option(
+    "--sample",
+    default="lantern_sleeve",
+    show_default=True,
+    type=click.Choice(["lantern_sleeve", "cone_skirt", "cylinder"]),
+    help="Which generated garment to use.",
+)
+@click.option(
+    "--recipe", "recipe_name", default=None, help="Bundled recipe name (default: the sample's own)."
+)
 def demo(out, sample, recipe_name) -> None:
     """Generate a sample garment, adjust it with a bundled recipe, write everything to OUT.
 
@@ -36,7 +41,9 @@ def demo(out, sample, recipe_name) -> None:
         src = Path(td) / "sample.obj"
         src.write_text(obj)
         report = run_adjust(
-            str(src), recipe, out,
+            str(src),
+            recipe,
+            out,
             display_inputs={"garment": str(Path(out) / "sample.obj")},
             extra_files={"sample.obj": obj, "recipe.yaml": rtext},
         )

@@ -11,8 +11,14 @@ from ptailor.cli.options import axes_options, axis_vector, garment_options
 @click.argument("garment", type=click.Path(dir_okay=False))
 @garment_options
 @axes_options
-@click.option("--units", "units", default="cm", show_default=True,
-              type=click.Choice(["mm", "cm", "m", "in"]), help="Unit to report lengths in.")
+@click.option(
+    "--units",
+    "units",
+    default="cm",
+    show_default=True,
+    type=click.Choice(["mm", "cm", "m", "in"]),
+    help="Unit to report lengths in.",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print JSON instead of text.")
 def inspect(garment, drape, pattern_units, drape_units, up, front, units, as_json) -> None:
     """List GARMENT's panels, seams, openings and units."""
@@ -21,8 +27,9 @@ def inspect(garment, drape, pattern_units, drape_units, up, front, units, as_jso
     from ptailor.formats.garment import load_garment
     from ptailor.summary import garment_summary, summary_text
 
-    loaded = load_garment(garment, drape=drape, units=units, pattern_units=pattern_units,
-                          drape_units=drape_units)
+    loaded = load_garment(
+        garment, drape=drape, units=units, pattern_units=pattern_units, drape_units=drape_units
+    )
     info = garment_summary(loaded, up=axis_vector(up), front=axis_vector(front))
     info["units"].update({"pattern": pattern_units, "drape": drape_units})
     if as_json:

@@ -25,7 +25,10 @@ def garment_options(fn):
                 "scale estimated from the drape).",
             ),
             click.option(
-                "--drape-units", default="cm", show_default=True, help=f"Unit of the drape: {UNIT_HELP}."
+                "--drape-units",
+                default="cm",
+                show_default=True,
+                help=f"Unit of the drape: {UNIT_HELP}.",
             ),
         ]
     ):
@@ -37,8 +40,16 @@ def axes_options(fn):
     """``--up`` and ``--front``: the garment's axes, for naming openings."""
     for opt in reversed(
         [
-            click.option("--up", default="y", show_default=True, type=click.Choice(AXES), help="Up axis."),
-            click.option("--front", default="z", show_default=True, type=click.Choice(AXES), help="Front axis."),
+            click.option(
+                "--up", default="y", show_default=True, type=click.Choice(AXES), help="Up axis."
+            ),
+            click.option(
+                "--front",
+                default="z",
+                show_default=True,
+                type=click.Choice(AXES),
+                help="Front axis.",
+            ),
         ]
     ):
         fn = opt(fn)

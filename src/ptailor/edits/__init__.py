@@ -81,7 +81,9 @@ def register(name: str, params: dict[str, Param], doc: str = "") -> Callable:
     """Decorator registering ``apply`` as the recipe operation ``name``."""
 
     def deco(fn: Callable[..., EditState]) -> Callable[..., EditState]:
-        OPERATIONS[name] = Operation(name=name, params=params, apply=fn, doc=doc or fn.__doc__ or "")
+        OPERATIONS[name] = Operation(
+            name=name, params=params, apply=fn, doc=doc or fn.__doc__ or ""
+        )
         return fn
 
     return deco

@@ -39,13 +39,12 @@ def region_faces(region: Any, garment: Garment, V3: np.ndarray, plist: list[Pane
         unknown = [n for n in region["panels"] if n not in by_name]
         if unknown:
             raise PtailorError(
-                f"no panel named {', '.join(unknown)} (this garment has: "
-                f"{', '.join(by_name)})"
+                f"no panel named {', '.join(unknown)} (this garment has: {', '.join(by_name)})"
             )
         faces = np.unique(np.concatenate([by_name[n].faces for n in region["panels"]]))
     else:
         lo, hi = np.asarray(region["box"]["min"]), np.asarray(region["box"]["max"])
-        inside = np.all((V3 >= lo) & (V3 <= hi), axis=1)
+        inside = np.all((lo <= V3) & (hi >= V3), axis=1)
         faces = np.flatnonzero(inside[garment.F3].all(axis=1))
     if faces.size == 0:
         raise PtailorError(f"region {region!r} selects no triangle of the garment")

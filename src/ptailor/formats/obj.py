@@ -69,7 +69,9 @@ def _floats(lines: list[str], path: str, what: str, width: int) -> np.ndarray:
     return arr[:, :width]
 
 
-def _faces(lines: list[str], nv: int, nt: int, path: str) -> tuple[np.ndarray, np.ndarray | None, np.ndarray]:
+def _faces(
+    lines: list[str], nv: int, nt: int, path: str
+) -> tuple[np.ndarray, np.ndarray | None, np.ndarray]:
     """Parse ``f`` records; return (fv, fvt or None, polygon index of each triangle)."""
     corners_per = np.array([len(ln.split()) - 1 for ln in lines], dtype=np.int64)
     if np.any(corners_per < 3):
@@ -159,11 +161,18 @@ def read_obj(path: str | Path) -> ObjMesh:
     g_idx = np.array([name_idx.get(n, -1) for n in g_names_all] or [-1], dtype=np.int64)
     f_pos = np.flatnonzero(is_f)[poly]
     which = np.searchsorted(g_pos, f_pos) - 1
-    face_group = np.where(which >= 0, g_idx[np.maximum(which, 0)], -1) if len(g_pos) else (
-        np.full(len(fv), -1, dtype=np.int64)
+    face_group = (
+        np.where(which >= 0, g_idx[np.maximum(which, 0)], -1)
+        if len(g_pos)
+        else (np.full(len(fv), -1, dtype=np.int64))
     )
     return ObjMesh(
-        v=v, vt=vt, fv=fv, fvt=fvt, face_group=face_group, group_names=names,
+        v=v,
+        vt=vt,
+        fv=fv,
+        fvt=fvt,
+        face_group=face_group,
+        group_names=names,
         header=tuple(header),
     )
 
@@ -171,8 +180,9 @@ def read_obj(path: str | Path) -> ObjMesh:
 def _block(prefix: str, X: np.ndarray) -> str:
     if len(X) == 0:
         return ""
-    fmt = prefix + " " + " ".join(["%.9g"] * X.shape[1])
-    return "\n".join(fmt % tuple(r) for r in X.tolist()) + "\n"
+    # one formatting call over the whole array (no Python loop over vertices)
+    fmt = prefix + " " + " ".join(["%.9g"] * X.shape[1]) + "\n"
+    return (fmt * len(X)) % tuple(X.ravel().tolist())
 
 
 def write_obj(
@@ -209,5 +219,5 @@ def write_obj(
         a, b = F3[grp] + 1, F2[grp] + 1
         rows = np.stack([a[:, 0], b[:, 0], a[:, 1], b[:, 1], a[:, 2], b[:, 2]], 1)
         parts.append(f"g {panel_names[int(face_panel[grp[0]])]}\n")
-        parts.append("\n".join("f %d/%d %d/%d %d/%d" % tuple(r) for r in rows.tolist()) + "\n")
+        parts.append(("f %d/%d %d/%d %d/%d\n" * len(rows)) % tuple(rows.ravel().tolist()))
     Path(path).write_text("".join(parts))

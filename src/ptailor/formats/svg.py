@@ -173,7 +173,7 @@ def pattern_svg(
     seg = 2.5 * font  # legend line length
     legend_x = bar + 0.6 * font * (len(label) + 3)  # after the scale bar and its label
     legend_w = legend_x + 2 * (seg + 0.4 * font) + 0.6 * font * (len("original") + 2 + 8)
-    W = max(width, legend_w) + 2 * gap
+    W = max(width, legend_w, 0.65 * 1.4 * font * len(title)) + 2 * gap
     H = top + grid_h + gap + bar_h + gap
 
     css, factor = _CSS_UNITS.get(units, ("", 1.0))
@@ -264,4 +264,3 @@ def pattern_svg(
     out.append("</g>")
     out.append("</svg>")
     return "\n".join(out) + "\n"
-

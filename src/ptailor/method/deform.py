@@ -112,7 +112,9 @@ def _check_inputs(V, F, handles, handle_positions):
     if handles.size == 0:
         handles = np.zeros(0, dtype=np.int64)
     if handles.ndim != 1 or not np.issubdtype(handles.dtype, np.integer):
-        raise ValueError(f"handles must be an (h,) integer array, got {handles.dtype} {handles.shape}")
+        raise ValueError(
+            f"handles must be an (h,) integer array, got {handles.dtype} {handles.shape}"
+        )
     handles = handles.astype(np.int64, copy=False)
     if handles.size and (handles.min() < 0 or handles.max() >= n):
         raise ValueError(f"handles index vertices outside 0..{n - 1}")
@@ -128,13 +130,22 @@ def _check_inputs(V, F, handles, handle_positions):
     return V, F, handles, Q
 
 
-def _rotations(S: np.ndarray) -> np.ndarray:
-    """Rotations ``R (k, 3, 3)`` maximising ``trace(R S)`` for a stack ``S (k, 3, 3)``."""
-    U, _, Vh = np.linalg.svd(S)
+def _rotations(S: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Rotations maximising ``trace(R S)`` for a stack ``S (k, 3, 3)``.
+
+    Returns
+    -------
+    R : (k, 3, 3) float array
+        Proper rotations (``det = +1``).
+    trace : (k,) float array
+        The maxima, ``trace(R S)``.
+    """
+    U, sv, Vh = np.linalg.svd(S)
     # S = U diag(s) Vh, R = Vh^T U^T; a reflection is fixed by flipping the sign of U's
     # last column, the singular vector of the smallest singular value
-    U[:, :, 2] *= np.sign(np.linalg.det(U @ Vh) + 0.5)[:, None]  # det is +-1
-    return np.swapaxes(U @ Vh, 1, 2)
+    d = np.where(np.linalg.det(U @ Vh) < 0.0, -1.0, 1.0)
+    U[:, :, 2] *= d[:, None]
+    return np.swapaxes(U @ Vh, 1, 2), sv[:, 0] + sv[:, 1] + d * sv[:, 2]
 
 
 def _rigid_fit(P: np.ndarray, Q: np.ndarray, label: np.ndarray, k: int):
@@ -153,7 +164,7 @@ def _rigid_fit(P: np.ndarray, Q: np.ndarray, label: np.ndarray, k: int):
     Qc = Q - cq[label]
     H = (G @ (Pc[:, :, None] * Qc[:, None, :]).reshape(h, 9)).reshape(k, 3, 3)
     s = np.linalg.svd(H, compute_uv=False)
-    R = _rotations(H)
+    R = _rotations(H)[0]
     R[s[:, 1] <= COLLINEAR_REL * s[:, 0]] = np.eye(3)
     return R, cp, cq
 
@@ -247,15 +258,27 @@ def arap_deform(
     loc[order] = np.arange(order.size)
     na, nf = order.size, free.size
     Fa = loc[F[has_handle[comp[F[:, 0]]]]]  # triangles of those components, local indices
-    ma = Fa.shape[0]
     P = V[order]
 
+    # ---- which triangles and rotations can change -----------------------------------
+    # T1: triangles with a free corner, the only ones in the free rows of the global step;
+    # their corners' rotations are needed ("cells"), and a cell sums over all of its
+    # triangles (T2). Other rotations only add a constant to the energy.
+    T1 = (Fa < nf).any(axis=1)
+    is_cell = np.zeros(na, dtype=bool)
+    is_cell[Fa[T1]] = True
+    cells = np.flatnonzero(is_cell)
+    T2 = is_cell[Fa].any(axis=1)
+    F2 = Fa[T2]
+    m2 = F2.shape[0]
+    in1 = T1[T2]  # which rows of F2 are in T1
+
     # ---- per-triangle edge weights and the Laplacian, factored once ------------------
-    half_cot = 0.5 * _corner_cotangents(P, Fa, DEGENERATE_REL)
+    half_cot = 0.5 * _corner_cotangents(P, F2, DEGENERATE_REL)
     mean_abs = float(np.abs(half_cot).mean()) if half_cot.size else 0.0
-    w = half_cot + UNIFORM_REG * (mean_abs if mean_abs > 0.0 else 1.0)  # (ma, 3)
-    Wm = _edge_matrix(Fa, w, na)
-    L = (sp.diags(np.asarray(Wm.sum(axis=1)).ravel()) - Wm).tocsc()
+    w = half_cot + UNIFORM_REG * (mean_abs if mean_abs > 0.0 else 1.0)  # (m2, 3)
+    Wm = _edge_matrix(F2[in1], w[in1], na)
+    L = (sp.diags(np.asarray(Wm.sum(axis=1)).ravel()) - Wm).tocsr()
     Lff = L[:nf, :nf].tocsc()
     Lfh = L[:nf, nf:].tocsr()
     lu = spla.splu(
@@ -276,38 +299,58 @@ def arap_deform(
     Xa[nf:] = Q
     rhs_h = Lfh @ Q  # the handles' constant share of every global step
 
-    # ---- constant operators over triangle edges --------------------------------------
-    ea = Fa[:, [1, 2, 0]]  # edge k of triangle t runs from ea[t, k] to eb[t, k]
-    eb = Fa[:, [2, 0, 1]]
-    E0 = P[ea] - P[eb]  # rest edge vectors, (ma, 3, 3)
+    # ---- constant operators over the triangle edges ----------------------------------
+    ea = F2[:, [1, 2, 0]]  # edge k of triangle t runs from ea[t, k] to eb[t, k]
+    eb = F2[:, [2, 0, 1]]
+    E0 = P[ea] - P[eb]  # rest edge vectors, (m2, 3, 3)
     wE0 = w[:, :, None] * E0
-    # corner incidence: (N @ y)[i] sums y over the triangle corners at vertex i
-    N = sp.csr_matrix((np.ones(3 * ma), (Fa.ravel(), np.repeat(np.arange(ma), 3))), shape=(na, ma))
-    # signed edge incidence: (D @ y)[i] = sum of y over edges leaving i minus entering i
-    k3 = np.arange(3 * ma)
-    D = sp.csr_matrix(
-        (np.r_[np.ones(3 * ma), -np.ones(3 * ma)], (np.r_[ea.ravel(), eb.ravel()], np.r_[k3, k3])),
-        shape=(na, 3 * ma),
+    wE0T = np.ascontiguousarray(np.swapaxes(wE0, 1, 2))
+    # cell incidence: (N @ y)[c] sums y over the triangle corners at cell vertex c
+    cell_of = np.full(na, -1, dtype=np.int64)
+    cell_of[cells] = np.arange(cells.size)
+    corner_cell = cell_of[F2.ravel()]
+    ok = corner_cell >= 0
+    N = sp.csr_matrix(
+        (np.ones(ok.sum()), (corner_cell[ok], np.repeat(np.arange(m2), 3)[ok])),
+        shape=(cells.size, m2),
     )
+    # corners per triangle that are cells: how often each triangle enters the energy
+    ncorner = ok.reshape(m2, 3).sum(axis=1).astype(np.float64)
+    rest_part = float(ncorner @ np.einsum("tk,tka,tka->t", w, E0, E0))
+    # signed edge incidence over T1, free rows only: (D @ y)[i] = y leaving i - y entering i
+    e1a, e1b = ea[in1].ravel(), eb[in1].ravel()
+    k1 = np.arange(e1a.size)
+    sel_a, sel_b = e1a < nf, e1b < nf
+    D = sp.csr_matrix(
+        (
+            np.r_[np.ones(sel_a.sum()), -np.ones(sel_b.sum())],
+            (np.r_[e1a[sel_a], e1b[sel_b]], np.r_[k1[sel_a], k1[sel_b]]),
+        ),
+        shape=(nf, e1a.size),
+    )
+    F1c = cell_of[F2[in1]]  # T1 corners as cell indices (all are cells)
+    wE0_1 = wE0[in1]
 
-    # energy scale: an energy below (1e-12)^2 of it is rounding noise around a rigid motion
-    floor = 1e-24 * 3.0 * float(np.einsum("tk,tka,tka->", np.abs(w), E0, E0))
+    # energy = sum over cells c, triangles t at c, edges k of t of w |e'_k - R_c e_k|^2
+    #        = sum ncorner_t w (|e'|^2 + |e|^2) - 2 sum_c trace(R_c S_c)
+    # (the constant cells of handles surrounded by handles are left out)
+    scale = 2.0 * float(ncorner @ np.einsum("tk,tka,tka->t", np.abs(w), E0, E0))
     E_prev = np.inf
     for _ in range(iterations):
-        # local step: S_i = sum over the triangles at i of sum_k w_k e_k e'_k^T
+        # local step: S_c = sum over the triangles at c of sum_k w_k e_k e'_k^T
         E1 = Xa[ea] - Xa[eb]
-        St = np.einsum("tka,tkb->tab", wE0, E1)
-        R = _rotations((N @ St.reshape(ma, 9)).reshape(na, 3, 3))
-        RF = R[Fa]  # (ma, 3 corners, 3, 3)
-        res = E1[:, None, :, :] - np.einsum("tcab,tkb->tcka", RF, E0)
-        energy = float(np.einsum("tk,tcka,tcka->", w, res, res))
-        if energy <= floor or (np.isfinite(E_prev) and E_prev - energy <= tol * E_prev):
+        St = wE0T @ E1
+        R, tr = _rotations((N @ St.reshape(m2, 9)).reshape(cells.size, 3, 3))
+        deformed_part = float(ncorner @ np.einsum("tk,tka,tka->t", w, E1, E1))
+        energy = rest_part + deformed_part - 2.0 * float(tr.sum())
+        # the sum cancels to about 1e-16 * scale; below a few times that it is zero
+        if energy <= 1e-14 * scale or (np.isfinite(E_prev) and E_prev - energy <= tol * E_prev):
             break
         E_prev = energy
         # global step: L x = b / 3, b_a = sum over edges (a, b) of w (R_c0 + R_c1 + R_c2) e_ab
-        Rsum = RF.sum(axis=1)
-        b = D @ np.einsum("tab,tkb->tka", Rsum, wE0).reshape(3 * ma, 3)
-        Xa[:nf] = solve(b[:nf] / 3.0 - rhs_h)
+        Rsum = R[F1c].sum(axis=1)  # (m1, 3, 3)
+        b = D @ (wE0_1 @ np.swapaxes(Rsum, 1, 2)).reshape(-1, 3)
+        Xa[:nf] = solve(b / 3.0 - rhs_h)
 
     X[order] = Xa
     return X

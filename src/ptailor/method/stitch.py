@@ -63,9 +63,7 @@ def gradient_operators(F: np.ndarray, targets: np.ndarray, n: int) -> tuple[sp.c
     G = Dm[None] @ np.linalg.inv(targets)  # (m, 3, 2)
     rows = np.repeat(np.arange(m), 3)
     cols = F.ravel()
-    return tuple(
-        sp.csr_matrix((G[:, :, j].ravel(), (rows, cols)), shape=(m, n)) for j in range(2)
-    )
+    return tuple(sp.csr_matrix((G[:, :, j].ravel(), (rows, cols)), shape=(m, n)) for j in range(2))
 
 
 def closest_rotations(J: np.ndarray) -> np.ndarray:

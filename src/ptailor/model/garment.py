@@ -51,7 +51,7 @@ class Garment:
 
     @property
     def n_faces(self) -> int:
-        return int(len(self.F3))
+        return len(self.F3)
 
     def with_drape(self, V3: np.ndarray) -> Garment:
         """Return a copy with drape positions ``V3`` (same topology)."""

@@ -88,7 +88,9 @@ def build_report(
             "name": p.name,
             "triangles": int(p.faces.size),
             "mirrored": p.mirrored,
-            "outline_kept": bool(adj.result.asap_panels[i]) if adj.result.asap_panels is not None else False,
+            "outline_kept": bool(adj.result.asap_panels[i])
+            if adj.result.asap_panels is not None
+            else False,
             "area_before": _r(area0[i]),
             "area_after": _r(area1[i]),
             "size_before": [_r(size0[i, 0]), _r(size0[i, 1])],
@@ -110,7 +112,7 @@ def build_report(
         seams_out.append(
             {
                 "panels": [names[s.panels[0]], names[s.panels[1]]],
-                "edges": int(len(s.edges3)),
+                "edges": len(s.edges3),
                 "length_before": [_r(la0), _r(lb0)],
                 "length_after": [_r(la1), _r(lb1)],
             }
@@ -151,8 +153,12 @@ def summary_lines(report: dict) -> list[str]:
     if has_base:
         head += f" {'uniform':>17}"
     head += f" {'outline dev':>11} {'scale err p95':>13} {'flips':>5}"
-    lines = [f"method: {report['method']}" + (f" ({report['intrinsic']})" if report["intrinsic"] else "")
-             + f", units: {u}", head]
+    lines = [
+        f"method: {report['method']}"
+        + (f" ({report['intrinsic']})" if report["intrinsic"] else "")
+        + f", units: {u}",
+        head,
+    ]
 
     def wh(s: list[float]) -> str:
         return f"{s[0]:7.2f} x {s[1]:7.2f}"
@@ -166,12 +172,15 @@ def summary_lines(report: dict) -> list[str]:
             f" {p['flipped_triangles']:5d}"
         )
         lines.append(ln)
+
     def ratio(ls: list[float]) -> float:
         return ls[0] / max(ls[1], 1e-12)
 
     changed = [
-        s for s in report["seams"]
-        if abs(ratio(s["length_after"]) - ratio(s["length_before"])) > 1e-3 * ratio(s["length_before"])
+        s
+        for s in report["seams"]
+        if abs(ratio(s["length_after"]) - ratio(s["length_before"]))
+        > 1e-3 * ratio(s["length_before"])
     ]
     lines.append(f"seams: {len(report['seams'])}, ease (length ratio) changed on {len(changed)}")
     for w in report["warnings"]:

@@ -1,0 +1,37 @@
+"""Shared fixtures: generated garments and the real ones in ../shared (skipped when absent)."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+SHARED = Path(os.environ.get("PTAILOR_SHARED", ROOT.parent / "shared"))
+GARMENTS = SHARED / "garments"
+
+#: real garments: path relative to shared/garments, pattern units
+REAL = {
+    "tee6": ("gpg_tee6/tee6_sim.obj", "cm"),
+    "tshirt": ("diffavatar/tshirt.obj", "auto"),
+    "longsleeve": ("diffavatar/longsleeve_initial.obj", "auto"),
+    "dress": ("diffavatar/dress_initial.obj", "auto"),
+}
+
+
+def real_path(key: str) -> Path:
+    """Path of a shared garment, skipping the test when it is absent."""
+    p = GARMENTS / REAL[key][0]
+    if not p.is_file():
+        pytest.skip(f"{p} not available (../shared is absent)")
+    return p
+
+
+@pytest.fixture(params=sorted(REAL))
+def real_garment(request):
+    """(key, LoadedGarment) for each real garment."""
+    from ptailor.formats.garment import load_garment
+
+    p = real_path(request.param)
+    return request.param, load_garment(p, pattern_units=REAL[request.param][1])

@@ -1,0 +1,72 @@
+"""Invariants and the paper's first figure on the real garments in ../shared (skipped when absent)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from ptailor.adjust import adjust
+from ptailor.formats.garment import load_garment
+from ptailor.model.garment import panels, signed_areas_2d
+from ptailor.recipe import parse_recipe
+from tests.conftest import real_path
+
+
+def panel_area(V2, F2, p) -> float:
+    return float(abs(signed_areas_2d(V2, F2[p.faces]).sum()))
+
+
+def test_identity_returns_every_vt(real_garment):
+    _, lg = real_garment
+    g = lg.garment
+    adj = adjust(g, parse_recipe("steps: []"), baseline=False)
+    for p in panels(g):
+        size = np.ptp(g.V2[p.vertices], axis=0).max()
+        assert np.abs(adj.result.V2[p.vertices] - g.V2[p.vertices]).max() < 1e-7 * size
+
+
+def test_rigid_motion_and_uniform_scale(real_garment):
+    _, lg = real_garment
+    g = lg.garment
+    th = 0.7
+    R = np.array([[np.cos(th), 0, np.sin(th)], [0, 1, 0], [-np.sin(th), 0, np.cos(th)]])
+    moved = g.with_drape(g.V3 @ R.T + [5.0, -3.0, 2.0])
+    a = adjust(moved, parse_recipe("steps: []"), baseline=False)
+    k = 1.25
+    b = adjust(g, parse_recipe(f"steps: [{{op: scale, factor: {k}}}]"), baseline=False)
+    for p in panels(g):
+        size = np.ptp(g.V2[p.vertices], axis=0).max()
+        assert np.abs(a.result.V2[p.vertices] - g.V2[p.vertices]).max() < 1e-7 * size
+        assert panel_area(b.result.V2, g.F2, p) == pytest.approx(
+            k * k * panel_area(g.V2, g.F2, p), rel=1e-6
+        )
+        np.testing.assert_allclose(
+            np.ptp(b.result.V2[p.vertices], axis=0), k * np.ptp(g.V2[p.vertices], axis=0), rtol=1e-6
+        )
+
+
+def test_tee6_uniform_flattening_is_larger_ours_is_exact():
+    """The paper's first figure: flattening the drape gives panels larger than the pattern."""
+    g = load_garment(real_path("tee6")).garment
+    adj = adjust(g, parse_recipe("steps: []\nflatten: {boundary: free}"))
+    ratios = np.array(
+        [panel_area(adj.baseline.V2, g.F2, p) / panel_area(g.V2, g.F2, p) for p in panels(g)]
+    )
+    assert np.all(ratios > 1.0) and ratios.max() > 1.02
+    ours = np.array(
+        [panel_area(adj.result.V2, g.F2, p) / panel_area(g.V2, g.F2, p) for p in panels(g)]
+    )
+    np.testing.assert_allclose(ours, 1.0, atol=1e-9)
+
+
+def test_tshirt_mirrored_panel_scales_and_keeps_orientation():
+    g = load_garment(real_path("tshirt"), pattern_units="auto").garment
+    plist = panels(g)
+    assert sum(p.mirrored for p in plist) == 1
+    adj = adjust(
+        g, parse_recipe("steps: [{op: scale, direction: around, axis: [0,1,0], factor: 1.1}]")
+    )
+    for p in plist:
+        sa = signed_areas_2d(adj.result.V2, g.F2[p.faces])
+        assert np.all(sa < 0) if p.mirrored else np.all(sa > 0)
+        assert 1.0 < panel_area(adj.result.V2, g.F2, p) / panel_area(g.V2, g.F2, p) < 1.25
