@@ -1,4 +1,4 @@
-"""Invariants and the paper's first figure on the real garments in ../shared (skipped when absent)."""
+"""Invariants and the paper's first figure on the real garments (skipped without ../shared)."""
 
 from __future__ import annotations
 

@@ -53,6 +53,7 @@ def adjust(
     edit recipe ('-' reads it from stdin); it is validated whole before GARMENT is read.
     """
     import json
+    from pathlib import Path
 
     from ptailor.edits import EditOptions
     from ptailor.job import run_adjust
@@ -78,4 +79,4 @@ def adjust(
     elif not quiet:
         for line in summary_lines(report):
             click.echo(line)
-        click.echo(f"wrote {out}/ ({', '.join(report['outputs'])})", err=True)
+        click.echo(f"wrote {Path(out)}/ ({', '.join(report['outputs'])})", err=True)
