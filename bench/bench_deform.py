@@ -28,9 +28,9 @@ def cylinder(nu: int, nv: int, radius: float = 1.0, height: float = 3.0):
             np.repeat(z, nu),
         ]
     )
-    I, J = np.meshgrid(np.arange(nu), np.arange(nv))
-    a = J * nu + I
-    b = J * nu + (I + 1) % nu
+    col, row = np.meshgrid(np.arange(nu), np.arange(nv))
+    a = row * nu + col
+    b = row * nu + (col + 1) % nu
     F = np.concatenate([np.stack([a, b, b + nu], -1), np.stack([a, b + nu, a + nu], -1)])
     return V, F.reshape(-1, 3)
 
