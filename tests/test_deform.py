@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from ptailor.method.deform import UNIFORM_REG, arap_deform, cotangent_weights
+from ptailor.method.deform import UNIFORM_REG, _rotations, arap_deform, cotangent_weights
 
 # ---------------------------------------------------------------------------------------
 # meshes
@@ -143,6 +143,25 @@ def test_cotangent_weights_degenerate_triangles_are_finite():
     Vg = V[[0, 2, 3]]
     Wg = cotangent_weights(Vg, np.array([[0, 1, 2]])).toarray()
     assert Wd[0, 2] == pytest.approx(Wg[0, 1])  # the sound triangle is unaffected
+
+
+# ---------------------------------------------------------------------------------------
+# the local step
+
+
+def test_rotations_are_proper_and_optimal_also_for_reflections():
+    rng = np.random.default_rng(1)
+    S = rng.normal(size=(2000, 3, 3))
+    S[:1000] = S[:1000] * np.where(np.linalg.det(S[:1000]) > 0, -1.0, 1.0)[:, None, None]
+    S[-1] = 0.0  # no information: any rotation, but a rotation
+    R, tr = _rotations(S)
+    assert np.allclose(R @ np.swapaxes(R, 1, 2), np.eye(3), atol=1e-12)
+    assert np.allclose(np.linalg.det(R), 1.0)
+    assert np.allclose(tr, np.einsum("kab,kba->k", R, S))
+    # no random rotation does better
+    others = np.stack([rotation(*rng.uniform(-np.pi, np.pi, 3)) for _ in range(200)])
+    best_other = np.einsum("rab,kba->kr", others, S).max(axis=1)
+    assert np.all(tr >= best_other - 1e-12)
 
 
 # ---------------------------------------------------------------------------------------

@@ -1,0 +1,5 @@
+"""``python -m ptailor``."""
+
+from ptailor.cli.main import cli
+
+cli(prog_name="ptailor")
