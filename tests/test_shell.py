@@ -32,7 +32,11 @@ def test_adjust_each_runs_every_garment_and_reports_failures(tmp_path):
     paths = "\n".join(str(p) for p in [*good, bad]) + "\n"
     r = subprocess.run(
         [str(CLI / "adjust-each"), str(rec), str(out)],
-        input=paths, capture_output=True, text=True, env=env, timeout=300,
+        input=paths,
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
     )
     assert r.returncode == 1, r.stderr
     assert sorted(p.name for p in out.iterdir()) == ["g0", "g1", "g2"]

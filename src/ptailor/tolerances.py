@@ -17,3 +17,16 @@ ARAP_ZERO_ENERGY = 1e-18
 #: Boundary vertices where the outline turns by more than this are corners: the
 #: as-similar-as-possible term (a tangent direction) does not apply there.
 ASAP_CORNER_DEG = 30.0
+
+# 3D surface deformation (ptailor.method.deform)
+#: A triangle whose doubled area is at most this times its longest squared edge is
+#: degenerate: its cotangents are taken as zero.
+DEFORM_DEGENERATE_REL = 1e-12
+#: Uniform weight added to every triangle edge in ARAP surface deformation, relative to the
+#: mean absolute cotangent weight. It keeps a vertex whose triangles are all degenerate
+#: attached to its neighbours (instead of an empty row making the system singular); on a
+#: sound mesh its effect is of this relative order. Rigid motions stay exact.
+DEFORM_UNIFORM_REG = 1e-8
+#: Singular-value ratio below which a component's handles count as collinear (or a single
+#: point): the rigid pre-alignment then only translates that component.
+DEFORM_COLLINEAR_REL = 1e-10

@@ -57,4 +57,5 @@ def demo(out, sample, recipe_name) -> None:
             f"  {p['name']:<10} ours {a[0]:6.2f} x {a[1]:6.2f}   uniform {b[0]:6.2f} x {b[1]:6.2f}"
             f"   ({a[0] / max(b[0], 1e-12):.3f}x wider)"
         )
-    click.echo(f"wrote {Path(out)}/ ({', '.join(['sample.obj', 'recipe.yaml', *report['outputs']])})")
+    files = ", ".join(["sample.obj", "recipe.yaml", *report["outputs"]])
+    click.echo(f"wrote {Path(out)}/ ({files})")

@@ -16,19 +16,13 @@ import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 import scipy.sparse.linalg as spla
 
+from ptailor import tolerances as tol
+
 __all__ = ["arap_deform", "cotangent_weights"]
 
-#: A triangle whose doubled area is at most this times its longest squared edge is
-#: degenerate: its cotangents are taken as zero.
-DEGENERATE_REL = 1e-12
-#: Uniform weight added to every triangle edge inside :func:`arap_deform`, relative to the
-#: mean absolute cotangent weight. It keeps a vertex whose triangles are all degenerate
-#: attached to its neighbours (instead of an empty row making the system singular); on a
-#: sound mesh its effect is of this relative order. Rigid motions stay exact.
-UNIFORM_REG = 1e-8
-#: Singular-value ratio below which a component's handles count as collinear (or a single
-#: point): the rigid pre-alignment then only translates that component.
-COLLINEAR_REL = 1e-10
+DEGENERATE_REL = tol.DEFORM_DEGENERATE_REL
+UNIFORM_REG = tol.DEFORM_UNIFORM_REG
+COLLINEAR_REL = tol.DEFORM_COLLINEAR_REL
 
 
 def _corner_cotangents(V: np.ndarray, F: np.ndarray, eps: float) -> np.ndarray:
@@ -130,6 +124,16 @@ def _check_inputs(V, F, handles, handle_positions):
     return V, F, handles, Q
 
 
+def _det3(M: np.ndarray) -> np.ndarray:
+    """Determinants of a stack ``M (k, 3, 3)``, elementwise (faster than LAPACK here)."""
+    a, b, c = M[:, 0], M[:, 1], M[:, 2]
+    return (
+        a[:, 0] * (b[:, 1] * c[:, 2] - b[:, 2] * c[:, 1])
+        - a[:, 1] * (b[:, 0] * c[:, 2] - b[:, 2] * c[:, 0])
+        + a[:, 2] * (b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0])
+    )
+
+
 def _rotations(S: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Rotations maximising ``trace(R S)`` for a stack ``S (k, 3, 3)``.
 
@@ -143,7 +147,7 @@ def _rotations(S: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     U, sv, Vh = np.linalg.svd(S)
     # S = U diag(s) Vh, R = Vh^T U^T; a reflection is fixed by flipping the sign of U's
     # last column, the singular vector of the smallest singular value
-    d = np.where(np.linalg.det(U @ Vh) < 0.0, -1.0, 1.0)
+    d = np.where(_det3(U) * _det3(Vh) < 0.0, -1.0, 1.0)
     U[:, :, 2] *= d[:, None]
     return np.swapaxes(U @ Vh, 1, 2), sv[:, 0] + sv[:, 1] + d * sv[:, 2]
 
@@ -216,7 +220,8 @@ def arap_deform(
         guess.
     tol : float, keyword-only
         Stop early when the energy decreases by less than ``tol`` times its previous value,
-        or is zero to rounding (the surface is then a rigid motion of the rest pose).
+        or is below ``1e-14`` of its scale ``sum w |e|^2`` (zero to rounding: every edge
+        within about ``1e-7`` of a rigid motion of its cells).
 
     Returns
     -------
@@ -234,7 +239,14 @@ def arap_deform(
     -----
     Degenerate triangles (see :func:`cotangent_weights`) contribute no cotangent term; a
     uniform weight of relative size ``UNIFORM_REG`` on every triangle edge keeps their
-    vertices attached to the rest.
+    vertices attached to the rest. Only the rotations that reach a free vertex are computed
+    (vertices of triangles with a free corner); the energy used for the stopping test
+    leaves out the other cells, which are constant.
+
+    The energy is evaluated as ``sum w (|e'|^2 + |e|^2) - 2 sum_i trace(R_i S_i)`` from the
+    singular values, so it costs nothing extra but is only accurate to about ``1e-16`` of
+    its scale; relative changes below ``tol`` are resolved while the energy is above
+    about ``1e-16 / tol`` of the scale.
     """
     V, F, handles, Q = _check_inputs(V, F, handles, handle_positions)
     n = V.shape[0]
@@ -316,7 +328,8 @@ def arap_deform(
     )
     # corners per triangle that are cells: how often each triangle enters the energy
     ncorner = ok.reshape(m2, 3).sum(axis=1).astype(np.float64)
-    rest_part = float(ncorner @ np.einsum("tk,tka,tka->t", w, E0, E0))
+    wn = ncorner[:, None] * w
+    rest_part = float(np.einsum("tk,tka,tka->", wn, E0, E0))
     # signed edge incidence over T1, free rows only: (D @ y)[i] = y leaving i - y entering i
     e1a, e1b = ea[in1].ravel(), eb[in1].ravel()
     k1 = np.arange(e1a.size)
@@ -334,14 +347,14 @@ def arap_deform(
     # energy = sum over cells c, triangles t at c, edges k of t of w |e'_k - R_c e_k|^2
     #        = sum ncorner_t w (|e'|^2 + |e|^2) - 2 sum_c trace(R_c S_c)
     # (the constant cells of handles surrounded by handles are left out)
-    scale = 2.0 * float(ncorner @ np.einsum("tk,tka,tka->t", np.abs(w), E0, E0))
+    scale = 2.0 * float(np.einsum("tk,tka,tka->", np.abs(wn), E0, E0))
     E_prev = np.inf
     for _ in range(iterations):
         # local step: S_c = sum over the triangles at c of sum_k w_k e_k e'_k^T
         E1 = Xa[ea] - Xa[eb]
         St = wE0T @ E1
         R, tr = _rotations((N @ St.reshape(m2, 9)).reshape(cells.size, 3, 3))
-        deformed_part = float(ncorner @ np.einsum("tk,tka,tka->t", w, E1, E1))
+        deformed_part = float(np.einsum("tk,tka,tka->", wn, E1, E1))
         energy = rest_part + deformed_part - 2.0 * float(tr.sum())
         # the sum cancels to about 1e-16 * scale; below a few times that it is zero
         if energy <= 1e-14 * scale or (np.isfinite(E_prev) and E_prev - energy <= tol * E_prev):
