@@ -70,3 +70,29 @@ def test_tshirt_mirrored_panel_scales_and_keeps_orientation():
         sa = signed_areas_2d(adj.result.V2, g.F2[p.faces])
         assert np.all(sa < 0) if p.mirrored else np.all(sa > 0)
         assert 1.0 < panel_area(adj.result.V2, g.F2, p) / panel_area(g.V2, g.F2, p) < 1.25
+
+
+def test_tee6_one_sleeve_wider_body_follows():
+    """Scaling one sleeve (two panels) around its axis: that sleeve widens, the other stays."""
+    g = load_garment(real_path("tee6")).garment
+    adj = adjust(
+        g,
+        parse_recipe(
+            "steps: [{op: scale, region: {panels: [panel_0, panel_1]}, direction: around, "
+            "factor: 1.2}]"
+        ),
+    )
+    plist = panels(g)
+    w = {
+        p.name: np.ptp(adj.result.V2[p.vertices], axis=0) / np.ptp(g.V2[p.vertices], axis=0)
+        for p in plist
+    }
+    for name in ("panel_0", "panel_1"):
+        assert 1.17 < w[name][0] < 1.21  # around the arm
+        assert 0.98 < w[name][1] < 1.05
+    for name in ("panel_2", "panel_3"):
+        np.testing.assert_allclose(w[name], 1.0, atol=5e-3)
+    assert list(adj.state.even) == [True, True, False, False, False, False]
+    for p in plist:
+        sa = signed_areas_2d(adj.result.V2, g.F2[p.faces])
+        assert np.all(sa > 0)
