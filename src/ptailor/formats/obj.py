@@ -6,6 +6,7 @@ vectorised: each record kind is joined and converted by numpy in one call.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -44,24 +45,40 @@ class ObjMesh:
     header: tuple[str, ...]
 
 
-def _floats(lines: list[str], path: str, what: str, width: int) -> np.ndarray:
-    """Parse records such as ``v x y z`` into an ``(k, width)`` array (extra columns dropped)."""
-    if not lines:
-        return np.zeros((0, width))
-    counts = np.fromiter((ln.count(" ") for ln in lines), dtype=np.int64, count=len(lines))
-    body = " ".join(ln.split(None, 1)[1] if " " in ln else "" for ln in lines)
+_GROUP = re.compile(rb"^[go](?:[ \t]+([^\r\n]*?))?[ \t]*\r?$", re.M)
+
+
+def _records(raw: bytes, tag: bytes) -> list[bytes]:
+    """Bodies of the records ``tag ...`` (text after the tag), in file order."""
+    return re.findall(rb"^" + tag + rb"[ \t]+([^\r\n]*)", raw, re.M)
+
+
+def _numbers(bodies: list[bytes], dtype: type) -> np.ndarray | None:
+    """Parse equal-length records in one call; None when they are ragged."""
+    ncol = len(bodies[0].split())
+    joined = b" ".join(bodies)
     try:
-        vals = np.array(body.split(), dtype=np.float64)
-    except ValueError as exc:
-        raise PtailorError(f"unreadable '{what}' record ({exc})", path=path) from None
-    ncol = len(vals) // len(lines) if len(vals) % len(lines) == 0 else -1
-    if ncol >= 2 and np.all(counts == counts[0]):
-        arr = vals.reshape(len(lines), ncol)
-    else:
-        # ragged records (tabs, double spaces, optional w): the slow, exact path
-        rows = [ln.split()[1:] for ln in lines]
-        ncol = min(len(r) for r in rows)
-        arr = np.array([r[:ncol] for r in rows], dtype=np.float64)
+        vals = np.array(joined.split(), dtype=dtype)
+    except ValueError:
+        return None
+    if ncol == 0 or vals.size != ncol * len(bodies):
+        return None
+    return vals.reshape(len(bodies), ncol)
+
+
+def _floats(bodies: list[bytes], path: str, what: str, width: int) -> np.ndarray:
+    """Parse records such as ``v x y z`` into an ``(k, width)`` array (extra columns dropped)."""
+    if not bodies:
+        return np.zeros((0, width))
+    arr = _numbers(bodies, np.float64)
+    if arr is None:
+        # ragged records (an optional w, colours on some lines): the slow, exact path
+        try:
+            rows = [b.split() for b in bodies]
+            ncol = min(len(r) for r in rows)
+            arr = np.array([r[:ncol] for r in rows], dtype=np.float64)
+        except ValueError as exc:
+            raise PtailorError(f"unreadable '{what}' record ({exc})", path=path) from None
     if arr.shape[1] < 2:
         raise PtailorError(f"'{what}' records need at least 2 coordinates", path=path)
     if arr.shape[1] < width:
@@ -70,26 +87,27 @@ def _floats(lines: list[str], path: str, what: str, width: int) -> np.ndarray:
 
 
 def _faces(
-    lines: list[str], nv: int, nt: int, path: str
+    bodies: list[bytes], nv: int, nt: int, path: str
 ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray]:
     """Parse ``f`` records; return (fv, fvt or None, polygon index of each triangle)."""
-    corners_per = np.array([len(ln.split()) - 1 for ln in lines], dtype=np.int64)
+    k = bodies[0].split()[0].count(b"/") if bodies[0].split() else 0
+    if k > 2:
+        raise PtailorError("unreadable 'f' record (more than two '/' in a corner)", path=path)
+    flat = [b.replace(b"//", b"/0/").replace(b"/", b" ") for b in bodies]
+    nums = _numbers(flat, np.int64)
+    if nums is not None and nums.shape[1] % (k + 1) == 0:
+        corners_per = np.full(len(bodies), nums.shape[1] // (k + 1), dtype=np.int64)
+        nums = nums.reshape(-1, k + 1)
+    else:
+        corners_per = np.array([len(b.split()) for b in bodies], dtype=np.int64)
+        nums = _numbers([b" ".join(flat)], np.int64)
+        if nums is None or nums.size != corners_per.sum() * (k + 1):
+            raise PtailorError("faces mix corner formats (v, v/vt, v/vt/vn, v//vn)", path=path)
+        nums = nums.reshape(-1, k + 1)
     if np.any(corners_per < 3):
         bad = int(np.flatnonzero(corners_per < 3)[0])
         raise PtailorError(f"face {bad + 1} has fewer than 3 corners", path=path)
-    corners = " ".join(ln.split(None, 1)[1] for ln in lines).split()
-    slashes = {c.count("/") for c in corners[:: max(1, len(corners) // 1000)]}
-    k = corners[0].count("/")
-    joined = " ".join(corners)
-    if len(slashes) != 1 or joined.count("/") != k * len(corners) or k > 2:
-        raise PtailorError("faces mix corner formats (v, v/vt, v/vt/vn, v//vn)", path=path)
-    try:
-        nums = np.array(
-            joined.replace("//", "/0/").replace("/", " ").split(), dtype=np.int64
-        ).reshape(len(corners), k + 1)
-    except ValueError:
-        raise PtailorError("unreadable 'f' record", path=path) from None
-    has_vt = k >= 1 and not np.all(nums[:, 1] == 0) if k else False
+    has_vt = k >= 1 and not np.all(nums[:, 1] == 0)
 
     def resolve(idx: np.ndarray, count: int, what: str) -> np.ndarray:
         out = np.where(idx < 0, idx + count, idx - 1)
@@ -102,7 +120,7 @@ def _faces(
     # fan triangulation, vectorised over polygons
     start = np.concatenate([[0], np.cumsum(corners_per)[:-1]])
     ntri = corners_per - 2
-    poly = np.repeat(np.arange(len(lines)), ntri)
+    poly = np.repeat(np.arange(len(bodies)), ntri)
     local = np.arange(ntri.sum()) - np.repeat(np.cumsum(ntri) - ntri, ntri)
     base = start[poly]
     tri = np.stack([base, base + local + 1, base + local + 2], axis=1)
@@ -134,46 +152,34 @@ def read_obj(path: str | Path) -> ObjMesh:
         raise PtailorError(f"cannot read file ({exc.strerror})", path=spath) from None
     if b"\0" in raw[:4096]:
         raise PtailorError("not an OBJ file (binary content)", path=spath)
-    text = raw.decode("utf-8", errors="replace")
-    lines = [ln.strip() for ln in text.splitlines()]
     header: list[str] = []
-    for ln in lines:
+    for ln in raw[:4096].decode("utf-8", errors="replace").splitlines():
+        ln = ln.strip()
         if ln and not ln.startswith("#"):
             break
         if ln:
             header.append(ln.lstrip("#").strip())
-    v_l = [ln for ln in lines if ln.startswith("v ") or ln.startswith("v\t")]
-    vt_l = [ln for ln in lines if ln.startswith("vt ") or ln.startswith("vt\t")]
-    kinds = np.array([ln[:2] for ln in lines], dtype="<U2")
-    is_f = (kinds == "f ") | (kinds == "f\t")
-    is_g = np.isin(kinds, ["g ", "o ", "g\t", "o\t", "g", "o"])
-    f_l = [lines[i] for i in np.flatnonzero(is_f)]
-    if not v_l or not f_l:
-        raise PtailorError("not an OBJ file (no 'v' or no 'f' records)", path=spath)
-    v = _floats(v_l, spath, "v", 3)
-    vt = _floats(vt_l, spath, "vt", 2)
-    fv, fvt, poly = _faces(f_l, len(v), len(vt), spath)
-    # group of each face: the last g/o line before it
-    g_pos = np.flatnonzero(is_g)
-    g_names_all = [lines[i].split(None, 1)[1].strip() if " " in lines[i] else "" for i in g_pos]
-    names = tuple(dict.fromkeys(n for n in g_names_all if n))
-    name_idx = {n: i for i, n in enumerate(names)}
-    g_idx = np.array([name_idx.get(n, -1) for n in g_names_all] or [-1], dtype=np.int64)
-    f_pos = np.flatnonzero(is_f)[poly]
-    which = np.searchsorted(g_pos, f_pos) - 1
-    face_group = (
-        np.where(which >= 0, g_idx[np.maximum(which, 0)], -1)
-        if len(g_pos)
-        else (np.full(len(fv), -1, dtype=np.int64))
+    # split at g/o records: chunk i follows group name i (chunk 0 has no group)
+    parts = _GROUP.split(raw)
+    chunks, gnames = (
+        parts[0::2],
+        [(n or b"").decode("utf-8", errors="replace").strip() for n in parts[1::2]],
     )
+    f_chunks = [_records(c, b"f") for c in chunks]
+    f_b = [b for fc in f_chunks for b in fc]
+    v_b = _records(raw, b"v")
+    if not v_b or not f_b:
+        raise PtailorError("not an OBJ file (no 'v' or no 'f' records)", path=spath)
+    v = _floats(v_b, spath, "v", 3)
+    vt = _floats(_records(raw, b"vt"), spath, "vt", 2)
+    fv, fvt, poly = _faces(f_b, len(v), len(vt), spath)
+    names = tuple(dict.fromkeys(n for n in gnames if n))
+    name_idx = {n: i for i, n in enumerate(names)}
+    chunk_group = np.array([-1] + [name_idx.get(n, -1) for n in gnames], dtype=np.int64)
+    per_chunk = np.array([len(fc) for fc in f_chunks], dtype=np.int64)
+    face_group = np.repeat(chunk_group, per_chunk)[poly]
     return ObjMesh(
-        v=v,
-        vt=vt,
-        fv=fv,
-        fvt=fvt,
-        face_group=face_group,
-        group_names=names,
-        header=tuple(header),
+        v=v, vt=vt, fv=fv, fvt=fvt, face_group=face_group, group_names=names, header=tuple(header)
     )
 
 

@@ -31,6 +31,22 @@ def edge_matrices(V: np.ndarray, F: np.ndarray) -> np.ndarray:
     return np.stack([V[F[:, 1]] - p0, V[F[:, 2]] - p0], axis=2)
 
 
+def det2(A: np.ndarray) -> np.ndarray:
+    """Determinants of 2x2 matrices in closed form, ``(m, 2, 2)`` -> ``(m,)``."""
+    return A[:, 0, 0] * A[:, 1, 1] - A[:, 0, 1] * A[:, 1, 0]
+
+
+def inv2(A: np.ndarray) -> np.ndarray:
+    """Inverses of 2x2 matrices in closed form, ``(m, 2, 2)`` -> ``(m, 2, 2)``."""
+    det = det2(A)
+    out = np.empty_like(A)
+    out[:, 0, 0] = A[:, 1, 1]
+    out[:, 1, 1] = A[:, 0, 0]
+    out[:, 0, 1] = -A[:, 0, 1]
+    out[:, 1, 0] = -A[:, 1, 0]
+    return out / det[:, None, None]
+
+
 def local_frames(E: np.ndarray) -> np.ndarray:
     """The paper's local frame matrix (equation 0 with sin and cos in their right places).
 
@@ -70,8 +86,8 @@ def sqrt_spd2(C: np.ndarray) -> np.ndarray:
     (m, 2, 2) float array
         ``U`` with ``U @ U = C``, ``U`` symmetric positive definite.
     """
-    s = np.sqrt(np.maximum(np.linalg.det(C), 0.0))
-    t = np.sqrt(np.maximum(np.trace(C, axis1=1, axis2=2) + 2.0 * s, 1e-300))
+    s = np.sqrt(np.maximum(det2(C), 0.0))
+    t = np.sqrt(np.maximum(C[:, 0, 0] + C[:, 1, 1] + 2.0 * s, 1e-300))
     return (C + s[:, None, None] * np.eye(2)) / t[:, None, None]
 
 
@@ -89,7 +105,7 @@ def stretch_tensors(E2: np.ndarray, E3: np.ndarray) -> np.ndarray:
     -------
     (m, 2, 2) float array
     """
-    J = E3 @ np.linalg.inv(E2)
+    J = E3 @ inv2(E2)
     return sqrt_spd2(np.swapaxes(J, 1, 2) @ J)
 
 
@@ -127,12 +143,12 @@ def intrinsic_targets(
     if intrinsic == "polar":
         U0 = stretch_tensors(E2, edge_matrices(V3, F3))
         U1 = stretch_tensors(E2, E3e)
-        return np.linalg.solve(U0, U1) @ E2
+        return inv2(U0) @ U1 @ E2
     te = local_frames(E3e)
     if intrinsic == "paper":
         # R_u T_i = E2, so R_u T_i t_i^-1 t_i^edit = E2 t_i^-1 t_i^edit
         t = local_frames(edge_matrices(V3, F3))
-        return E2 @ np.linalg.solve(t, te)
+        return E2 @ inv2(t) @ te
     if intrinsic == "uniform":
         # rotate the edited drape triangle so its u edge has the pattern's u direction
         u = E2[:, :, 0]

@@ -20,6 +20,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ptailor import tolerances as tol
+from ptailor.method.intrinsic import det2, inv2
 from ptailor.model.boundary import boundary_loops
 
 
@@ -60,10 +61,34 @@ def gradient_operators(F: np.ndarray, targets: np.ndarray, n: int) -> tuple[sp.c
     """
     m = len(F)
     Dm = np.array([[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]])
-    G = Dm[None] @ np.linalg.inv(targets)  # (m, 3, 2)
+    G = Dm[None] @ inv2(targets)  # (m, 3, 2)
     rows = np.repeat(np.arange(m), 3)
     cols = F.ravel()
     return tuple(sp.csr_matrix((G[:, :, j].ravel(), (rows, cols)), shape=(m, n)) for j in range(2))
+
+
+def laplacian(F: np.ndarray, targets: np.ndarray, area: np.ndarray, n: int) -> sp.csc_matrix:
+    """The triangle ARAP matrix ``sum_i A_i G_i G_i^T`` (cotangent Laplacian of the targets).
+
+    Parameters
+    ----------
+    F : (m, 3) int array
+    targets : (m, 2, 2) float array
+        Target edge matrices.
+    area : (m,) float array
+        Target areas.
+    n : int
+
+    Returns
+    -------
+    (n, n) sparse matrix
+    """
+    Dm = np.array([[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]])
+    G = Dm[None] @ inv2(targets)  # (m, 3, 2) hat-function gradients
+    K = area[:, None, None] * (G @ np.swapaxes(G, 1, 2))  # (m, 3, 3)
+    rows = np.repeat(F, 3, axis=1).ravel()
+    cols = np.tile(F, (1, 3)).ravel()
+    return sp.csc_matrix((K.ravel(), (rows, cols)), shape=(n, n))
 
 
 def closest_rotations(J: np.ndarray) -> np.ndarray:
@@ -176,21 +201,27 @@ def stitch(
     """
     n = len(V2)
     D0, D1 = gradient_operators(F2, targets, n)
-    area = 0.5 * np.abs(np.linalg.det(targets))
-    W = sp.diags(area)
-    L = (D0.T @ W @ D0 + D1.T @ W @ D1).tocsr()
+    area = 0.5 * np.abs(det2(targets))
     used = np.zeros(n, dtype=bool)
     used[F2.ravel()] = True
     # unused vertices: identity rows so the system stays non-singular and they stay put
     pin_w = np.zeros(n)
     pin_w[pins] = w_pin
     pin_w[~used] = 1.0
-    A = sp.block_diag([L, L]) + sp.diags(np.concatenate([pin_w, pin_w]))
+    L = laplacian(F2, targets, area, n) + sp.diags(pin_w)
     B = None
     if asap_faces is not None and len(asap_faces):
         B = asap_rows(V2, F2, np.asarray(asap_faces))
-        A = A + w_asap * (B.T @ B)
-    solve = factor(A)
+    if B is None or B.shape[0] == 0:
+        # x and y decouple: one n x n factor serves both coordinates
+        B = None
+        solve_L = factor(L)
+
+        def solve(rhs: np.ndarray) -> np.ndarray:
+            return solve_L(rhs.reshape(2, n).T).T.ravel()
+
+    else:
+        solve = factor(sp.block_diag([L, L]) + w_asap * (B.T @ B))
     pin_rhs = pin_w[:, None] * V2
 
     def energy(X: np.ndarray, R: np.ndarray) -> float:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ptailor.model.seams import half_edges
+from ptailor.model.seams import edge_keys, half_edges
 
 
 def boundary_edges(F: np.ndarray) -> np.ndarray:
@@ -21,9 +21,8 @@ def boundary_edges(F: np.ndarray) -> np.ndarray:
         counter-clockwise.
     """
     h = half_edges(F)
-    key = np.sort(h, axis=1)
-    _, inv, cnt = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    return h[cnt[inv.ravel()] == 1]
+    _, inv, cnt = np.unique(edge_keys(h), return_inverse=True, return_counts=True)
+    return h[cnt[inv] == 1]
 
 
 def boundary_loops(F: np.ndarray) -> list[np.ndarray]:

@@ -52,6 +52,21 @@ def half_edges(F: np.ndarray) -> np.ndarray:
     return np.stack([F, np.roll(F, -1, axis=1)], axis=2).reshape(-1, 2)
 
 
+def edge_keys(E: np.ndarray) -> np.ndarray:
+    """One int64 key per undirected edge, equal for ``(a, b)`` and ``(b, a)``.
+
+    Parameters
+    ----------
+    E : (k, 2) int array
+
+    Returns
+    -------
+    (k,) int64 array
+    """
+    lo, hi = np.minimum(E[:, 0], E[:, 1]), np.maximum(E[:, 0], E[:, 1])
+    return lo.astype(np.int64) * (int(E.max(initial=0)) + 1) + hi
+
+
 def seams(F3: np.ndarray, F2: np.ndarray, face_panel: np.ndarray) -> list[Seam]:
     """Find the seams of a garment.
 
@@ -73,9 +88,7 @@ def seams(F3: np.ndarray, F2: np.ndarray, face_panel: np.ndarray) -> list[Seam]:
     h3 = half_edges(F3)
     h2 = half_edges(F2)
     face = np.repeat(np.arange(m), 3)
-    key = np.sort(h3, axis=1)
-    _, inv, cnt = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    inv = inv.ravel()
+    _, inv, cnt = np.unique(edge_keys(h3), return_inverse=True, return_counts=True)
     inner = cnt[inv] == 2
     idx = np.flatnonzero(inner)
     idx = idx[np.argsort(inv[idx], kind="stable")]
@@ -98,8 +111,8 @@ def seams(F3: np.ndarray, F2: np.ndarray, face_panel: np.ndarray) -> list[Seam]:
     n_p = int(face_panel.max()) + 1
     pair = pa * n_p + pb
     # chain: edges of one panel pair sharing a drape vertex belong to one curve
-    node_key = np.stack([np.repeat(pair, 2), e3.ravel()], axis=1)
-    _, kinv = np.unique(node_key, axis=0, return_inverse=True)
+    node_key = np.repeat(pair, 2) * (int(e3.max()) + 1) + e3.ravel()
+    _, kinv = np.unique(node_key, return_inverse=True)
     B = sp.coo_matrix(
         (np.ones(2 * k), (np.repeat(np.arange(k), 2), kinv.ravel())), shape=(k, kinv.max() + 1)
     ).tocsr()

@@ -66,7 +66,9 @@ def build_report(
     flipv = np.stack([sign_v, np.ones(len(g.V2))], 1)
     orient = np.array([-1.0 if p.mirrored else 1.0 for p in st.panels])[flab]
     V2a = adj.result.V2
-    err = intrinsic_scale_error(g.V2 * flipv, V2a * flipv, g.F2, g.V3, st.V3, g.F3)
+    polar = adj.settings["method"] != "uniform" and adj.settings["intrinsic"] == "polar"
+    target = adj.result.targets if polar else None
+    err = intrinsic_scale_error(g.V2 * flipv, V2a * flipv, g.F2, g.V3, st.V3, g.F3, target=target)
     es = summary_stats(err, flab, n)
     flips = np.bincount(flab, flipped(V2a, g.F2, orient), minlength=n)
     area0 = panel_areas(g.V2, g.F2, flab, n)
@@ -79,7 +81,9 @@ def build_report(
         areab = panel_areas(Vb, g.F2, flab, n)
         sizeb = panel_sizes(Vb, vlab, n)
         errb = summary_stats(
-            intrinsic_scale_error(g.V2 * flipv, Vb * flipv, g.F2, g.V3, st.V3, g.F3), flab, n
+            intrinsic_scale_error(g.V2 * flipv, Vb * flipv, g.F2, g.V3, st.V3, g.F3, target=target),
+            flab,
+            n,
         )
     panels_out = []
     for p in st.panels:  # one record per panel

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ptailor.method.intrinsic import edge_matrices, intrinsic_targets, sqrt_spd2
+from ptailor.method.intrinsic import edge_matrices, intrinsic_targets, inv2, sqrt_spd2
 from ptailor.method.stitch import closest_rotations
 from ptailor.model.boundary import boundary_edges
 from ptailor.model.garment import signed_areas_2d
@@ -79,6 +79,8 @@ def intrinsic_scale_error(
     V3: np.ndarray,
     V3_edit: np.ndarray,
     F3: np.ndarray,
+    *,
+    target: np.ndarray | None = None,
 ) -> np.ndarray:
     """Per-triangle relative change of the intrinsic scale, frame-free.
 
@@ -95,6 +97,8 @@ def intrinsic_scale_error(
     F2 : (m, 3) int array
     V3, V3_edit : (n3, 3) float arrays
     F3 : (m, 3) int array
+    target : (m, 2, 2) float array, optional
+        The polar targets, when the caller has them (they are recomputed otherwise).
 
     Returns
     -------
@@ -103,10 +107,12 @@ def intrinsic_scale_error(
     E2 = edge_matrices(V2, F2)
     E2n = edge_matrices(V2_new, F2)
     E3, E3e = edge_matrices(V3, F3), edge_matrices(V3_edit, F3)
-    U0 = sqrt_spd2(np.swapaxes(J0 := E3 @ np.linalg.inv(E2), 1, 2) @ J0)
-    target = intrinsic_targets(V2, F2, V3, V3_edit, F3, intrinsic="polar")
-    S = closest_rotations(E2n @ np.linalg.inv(target))
-    Jn = E3e @ np.linalg.inv(E2n) @ S
+    J0 = E3 @ inv2(E2)
+    U0 = sqrt_spd2(np.swapaxes(J0, 1, 2) @ J0)
+    if target is None:
+        target = intrinsic_targets(V2, F2, V3, V3_edit, F3, intrinsic="polar")
+    S = closest_rotations(E2n @ inv2(target))
+    Jn = E3e @ inv2(E2n) @ S
     Mn = sqrt_spd2(np.swapaxes(Jn, 1, 2) @ Jn)
     num = np.linalg.norm(Mn - U0, axis=(1, 2))
     return num / np.linalg.norm(U0, axis=(1, 2))
