@@ -224,9 +224,11 @@ def stitch(
         solve = factor(sp.block_diag([L, L]) + w_asap * (B.T @ B))
     pin_rhs = pin_w[:, None] * V2
 
-    def energy(X: np.ndarray, R: np.ndarray) -> float:
-        J0, J1 = D0 @ X, D1 @ X  # (m, 2): J[:, c, j] = Dj @ X[:, c]
-        e = float(area @ ((J0 - R[:, :, 0]) ** 2 + (J1 - R[:, :, 1]) ** 2).sum(axis=1))
+    def jacobians(X: np.ndarray) -> np.ndarray:
+        return np.stack([D0 @ X, D1 @ X], axis=2)  # (m, 2, 2): J[:, c, j] = Dj @ X[:, c]
+
+    def energy(X: np.ndarray, J: np.ndarray, R: np.ndarray) -> float:
+        e = float(area @ ((J - R) ** 2).sum(axis=(1, 2)))
         e += float(w_pin * ((X[pins] - V2[pins]) ** 2).sum())
         if B is not None:
             e += float(w_asap * ((B @ X.T.ravel()) ** 2).sum())
@@ -245,13 +247,13 @@ def stitch(
     e_prev = np.inf
     it, converged = 0, False
     for it in range(1, max_iter + 1):  # noqa: B007 - iterations, not triangles
-        J = np.stack([D0 @ X, D1 @ X], axis=2)
+        J = jacobians(X)
         R = closest_rotations(J)
-        e = energy(X, R)
+        e = energy(X, J, R)
         if e <= tol.ARAP_ZERO_ENERGY * scale or abs(e_prev - e) <= rel_tol * max(e, 1e-300):
             converged = True
             break
         X = global_step(R)
         e_prev = e
     X[~used] = V2[~used]
-    return X, StitchInfo(iterations=it, energy=energy(X, R), converged=converged)
+    return X, StitchInfo(iterations=it, energy=energy(X, jacobians(X), R), converged=converged)
