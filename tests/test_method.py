@@ -157,3 +157,21 @@ def test_partial_region_follows_smoothly_and_keeps_seams_closed():
     assert not adj.state.even[0] and adj.state.even[1]
     det = np.linalg.det(edge_matrices(adj.result.V2, g.F2))
     assert np.all(det > 0)
+
+
+@pytest.mark.parametrize("name", sorted(GARMENTS))
+def test_seam_springs_keep_the_invariants(name):
+    g = GARMENTS[name]()
+    asap = np.ones(len(panels(g)), bool)
+    size = np.ptp(g.V2, axis=0).max()
+    r = flatten(g, g.V3, asap_panels=asap, keep_seams=True)
+    assert np.abs(r.V2 - g.V2).max() < 1e-7 * size
+    r = flatten(g, rigid(g.V3) * 1.3, asap_panels=asap, keep_seams=True)
+    for p in panels(g):
+        np.testing.assert_allclose(panel_size(r.V2, p), 1.3 * panel_size(g.V2, p), rtol=1e-6)
+
+
+def test_seam_springs_keep_the_lantern_exact():
+    g = lantern_sleeve()
+    adj = adjust(g, parse_recipe(AROUND + "\nflatten: {seams: keep}"))
+    np.testing.assert_allclose(panel_size(adj.result.V2, panels(g)[1]), [48.0, 8.0], rtol=1e-6)

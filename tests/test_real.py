@@ -96,3 +96,27 @@ def test_tee6_one_sleeve_wider_body_follows():
     for p in plist:
         sa = signed_areas_2d(adj.result.V2, g.F2[p.faces])
         assert np.all(sa > 0)
+
+
+def seam_mismatch(adj) -> float:
+    from ptailor.adjust import garment_structure
+
+    _, _, seam_list = garment_structure(adj.state)
+    worst = 0.0
+    for s in seam_list:
+        la, lb = s.lengths(adj.result.V2)
+        la0, lb0 = s.lengths(adj.state.base.V2)
+        worst = max(worst, abs(la / lb - la0 / lb0) / (la0 / lb0))
+    return worst
+
+
+def test_tee6_seams_keep_matches_seam_lengths():
+    """flatten.seams: keep holds every seam's two sides at their original ratio."""
+    g = load_garment(real_path("tee6")).garment
+    step = (
+        "steps: [{op: scale, region: {panels: [panel_0, panel_1]}, direction: around, factor: 1.2}]"
+    )
+    free = adjust(g, parse_recipe(step), baseline=False)
+    keep = adjust(g, parse_recipe(step + "\nflatten: {seams: keep}"), baseline=False)
+    assert seam_mismatch(free) > 0.01
+    assert seam_mismatch(keep) < 0.002

@@ -122,6 +122,8 @@ def adjust(
         "asap_panels": asap,
         "w_pin": float(settings["w_pin"]),
         "w_asap": float(settings["w_asap"]),
+        "keep_seams": settings["seams"] == "keep",
+        "w_seam": float(settings["w_seam"]),
         "max_iter": int(settings["max_iter"]),
         "panel_list": state.panels,
     }

@@ -9,6 +9,8 @@ ARAP_MAX_ITER = 100
 #: Default weights of the pinned-vertex and as-similar-as-possible terms (the paper's).
 W_PIN = 1000.0
 W_ASAP = 1000.0
+#: Weight of the seam springs that keep both sides of a seam at their original length ratio.
+W_SEAM = 1000.0
 #: A 2D triangle whose signed area has the opposite sign of its panel's is flipped when
 #: its magnitude exceeds this fraction of the panel's mean triangle area.
 FLIP_REL = 1e-9

@@ -11,6 +11,7 @@ from ptailor import tolerances as tol
 from ptailor.method.intrinsic import Intrinsic, intrinsic_targets
 from ptailor.method.stitch import StitchInfo, stitch
 from ptailor.model.garment import Garment, Panel, panels
+from ptailor.model.seams import seam_halfedges
 
 Method = Literal["scale-preserving", "uniform"]
 
@@ -116,8 +117,10 @@ def flatten(
     method: Method = "scale-preserving",
     intrinsic: Intrinsic = "polar",
     asap_panels: np.ndarray | None = None,
+    keep_seams: bool = False,
     w_pin: float = tol.W_PIN,
     w_asap: float = tol.W_ASAP,
+    w_seam: float = tol.W_SEAM,
     max_iter: int = tol.ARAP_MAX_ITER,
     rel_tol: float = tol.ARAP_REL_TOL,
     panel_list: list[Panel] | None = None,
@@ -136,7 +139,9 @@ def flatten(
         How scale-preserving targets are formed (ignored for ``uniform``).
     asap_panels : (n_panels,) bool array, optional
         Panels whose outline keeps its shape (as-similar-as-possible); default none.
-    w_pin, w_asap, max_iter, rel_tol
+    keep_seams : bool
+        Keep each seam's two sides at their original length ratio (seam springs).
+    w_pin, w_asap, w_seam, max_iter, rel_tol
         Solver settings (see :func:`ptailor.method.stitch.stitch`).
     panel_list : list of Panel, optional
         ``panels(garment)``, when the caller already has it.
@@ -164,8 +169,10 @@ def flatten(
         targets,
         pins=pins,
         asap_faces=asap_faces,
+        seam_pairs=seam_halfedges(garment.F3, garment.F2) if keep_seams else None,
         w_pin=w_pin,
         w_asap=w_asap,
+        w_seam=w_seam,
         max_iter=max_iter,
         rel_tol=rel_tol,
     )

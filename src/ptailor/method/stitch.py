@@ -67,6 +67,60 @@ def gradient_operators(F: np.ndarray, targets: np.ndarray, n: int) -> tuple[sp.c
     return tuple(sp.csr_matrix((G[:, :, j].ravel(), (rows, cols)), shape=(m, n)) for j in range(2))
 
 
+@dataclass(frozen=True)
+class SeamSprings:
+    """Springs on both sides of each seam edge that keep the sides' length ratio.
+
+    Attributes
+    ----------
+    E : (2s, n) sparse matrix
+        Edge-difference operator: rows ``0..s-1`` the a-side edges, ``s..2s-1`` the b-side.
+    rho : (s,) float array
+        Original length ratio ``|e_b| / |e_a|`` (the ease).
+    target : (2s, 2) float array
+        Current target edge vectors.
+    """
+
+    E: sp.csr_matrix
+    rho: np.ndarray
+    target: np.ndarray
+
+    @staticmethod
+    def build(
+        V2: np.ndarray, F2: np.ndarray, targets: np.ndarray, pairs: np.ndarray
+    ) -> SeamSprings:
+        """Springs for half-edge ``pairs``, starting at the target triangles' edges."""
+        from ptailor.model.seams import half_edges
+
+        h2 = half_edges(F2)
+        ends = np.concatenate([h2[pairs[:, 0]], h2[pairs[:, 1]]])  # (2s, 2)
+        s2 = len(ends)
+        r = np.arange(s2)
+        E = sp.csr_matrix(
+            (np.concatenate([-np.ones(s2), np.ones(s2)]), (np.concatenate([r, r]), ends.T.ravel())),
+            shape=(s2, len(V2)),
+        )
+        length0 = np.linalg.norm(E @ V2, axis=1)
+        s = s2 // 2
+        rho = length0[s:] / np.maximum(length0[:s], 1e-300)
+        # start: the edge as its target triangle has it (corner positions 0, e01, e02)
+        P = np.concatenate([np.zeros((len(targets), 1, 2)), np.swapaxes(targets, 1, 2)], axis=1)
+        h = np.concatenate([pairs[:, 0], pairs[:, 1]])
+        f, c = h // 3, h % 3
+        start = P[f, (c + 1) % 3] - P[f, c]
+        return SeamSprings(E=E, rho=rho, target=start)
+
+    def local_step(self, X: np.ndarray) -> SeamSprings:
+        """Targets along the current edges, at the common length that best fits both sides."""
+        e = self.E @ X
+        length = np.maximum(np.linalg.norm(e, axis=1), 1e-300)
+        s = len(self.rho)
+        la, lb = length[:s], length[s:]
+        common = (la / self.rho + lb) / (1.0 / self.rho**2 + 1.0)  # the b-side length
+        want = np.concatenate([common / self.rho, common])
+        return SeamSprings(E=self.E, rho=self.rho, target=e * (want / length)[:, None])
+
+
 def laplacian(F: np.ndarray, targets: np.ndarray, area: np.ndarray, n: int) -> sp.csc_matrix:
     """The triangle ARAP matrix ``sum_i A_i G_i G_i^T`` (cotangent Laplacian of the targets).
 
@@ -167,8 +221,10 @@ def stitch(
     *,
     pins: np.ndarray,
     asap_faces: np.ndarray | None = None,
+    seam_pairs: np.ndarray | None = None,
     w_pin: float = tol.W_PIN,
     w_asap: float = tol.W_ASAP,
+    w_seam: float = tol.W_SEAM,
     max_iter: int = tol.ARAP_MAX_ITER,
     rel_tol: float = tol.ARAP_REL_TOL,
 ) -> tuple[np.ndarray, StitchInfo]:
@@ -186,7 +242,12 @@ def stitch(
         One pinned vertex per panel.
     asap_faces : (k,) int array, optional
         Triangles of the panels that keep their outline shape (as-similar-as-possible).
-    w_pin, w_asap : float
+    seam_pairs : (s, 2) int array, optional
+        Half-edge pairs on the two sides of each seam edge
+        (:func:`ptailor.model.seams.seam_halfedges`). Each side gets a spring toward a
+        common length chosen in the local step so the two sides keep their original
+        length ratio (ease): ``w_seam sum |e_a - (l / rho) d_a|^2 + |e_b - l d_b|^2``.
+    w_pin, w_asap, w_seam : float
         Term weights.
     max_iter : int
         Local/global iterations at most.
@@ -209,6 +270,10 @@ def stitch(
     pin_w[pins] = w_pin
     pin_w[~used] = 1.0
     L = laplacian(F2, targets, area, n) + sp.diags(pin_w)
+    seam = None
+    if seam_pairs is not None and len(seam_pairs):
+        seam = SeamSprings.build(V2, F2, targets, np.asarray(seam_pairs))
+        L = L + w_seam * (seam.E.T @ seam.E)
     B = None
     if asap_faces is not None and len(asap_faces):
         B = asap_rows(V2, F2, np.asarray(asap_faces))
@@ -229,6 +294,8 @@ def stitch(
 
     def energy(X: np.ndarray, J: np.ndarray, R: np.ndarray) -> float:
         e = float(area @ ((J - R) ** 2).sum(axis=(1, 2)))
+        if seam is not None:
+            e += float(w_seam * ((seam.E @ X - seam.target) ** 2).sum())
         e += float(w_pin * ((X[pins] - V2[pins]) ** 2).sum())
         if B is not None:
             e += float(w_asap * ((B @ X.T.ravel()) ** 2).sum())
@@ -239,6 +306,8 @@ def stitch(
         for c in range(2):
             rhs[:, c] = D0.T @ (area * R[:, c, 0]) + D1.T @ (area * R[:, c, 1])
         rhs += pin_rhs
+        if seam is not None:
+            rhs += w_seam * (seam.E.T @ seam.target)
         return solve(rhs.T.ravel()).reshape(2, n).T
 
     R = np.broadcast_to(np.eye(2), (len(F2), 2, 2)).copy()
@@ -249,6 +318,8 @@ def stitch(
     for it in range(1, max_iter + 1):  # noqa: B007 - iterations, not triangles
         J = jacobians(X)
         R = closest_rotations(J)
+        if seam is not None:
+            seam = seam.local_step(X)
         e = energy(X, J, R)
         if e <= tol.ARAP_ZERO_ENERGY * scale or abs(e_prev - e) <= rel_tol * max(e, 1e-300):
             converged = True

@@ -67,6 +67,31 @@ def edge_keys(E: np.ndarray) -> np.ndarray:
     return lo.astype(np.int64) * (int(E.max(initial=0)) + 1) + hi
 
 
+def seam_halfedges(F3: np.ndarray, F2: np.ndarray) -> np.ndarray:
+    """Pairs of half-edges on the two sides of every seam edge.
+
+    Parameters
+    ----------
+    F3, F2 : (m, 3) int arrays
+        Drape and pattern triangles.
+
+    Returns
+    -------
+    (k, 2) int array
+        Half-edge ids (``3 * face + corner``, see :func:`half_edges`) of the two triangles
+        sharing a drape edge whose pattern edges differ, ordered by drape edge.
+    """
+    h3, h2 = half_edges(F3), half_edges(F2)
+    _, inv, cnt = np.unique(edge_keys(h3), return_inverse=True, return_counts=True)
+    idx = np.flatnonzero(cnt[inv] == 2)
+    idx = idx[np.argsort(inv[idx], kind="stable")]
+    first, second = idx[0::2], idx[1::2]
+    same_dir = h3[first, 0] == h3[second, 0]
+    e2_second = np.where(same_dir[:, None], h2[second], h2[second][:, ::-1])
+    is_seam = np.any(h2[first] != e2_second, axis=1)
+    return np.stack([first[is_seam], second[is_seam]], axis=1)
+
+
 def seams(F3: np.ndarray, F2: np.ndarray, face_panel: np.ndarray) -> list[Seam]:
     """Find the seams of a garment.
 
@@ -88,19 +113,13 @@ def seams(F3: np.ndarray, F2: np.ndarray, face_panel: np.ndarray) -> list[Seam]:
     h3 = half_edges(F3)
     h2 = half_edges(F2)
     face = np.repeat(np.arange(m), 3)
-    _, inv, cnt = np.unique(edge_keys(h3), return_inverse=True, return_counts=True)
-    inner = cnt[inv] == 2
-    idx = np.flatnonzero(inner)
-    idx = idx[np.argsort(inv[idx], kind="stable")]
-    first, second = idx[0::2], idx[1::2]
+    pairs = seam_halfedges(F3, F2)
+    first, second = pairs[:, 0], pairs[:, 1]
     # align the second side's 2D edge to the first side's 3D direction
     same_dir = h3[first, 0] == h3[second, 0]
-    e2_first = h2[first]
-    e2_second = np.where(same_dir[:, None], h2[second], h2[second][:, ::-1])
-    is_seam = np.any(e2_first != e2_second, axis=1)
-    first, second = first[is_seam], second[is_seam]
     e3 = h3[first]
-    ea, eb = e2_first[is_seam], e2_second[is_seam]
+    ea = h2[first]
+    eb = np.where(same_dir[:, None], h2[second], h2[second][:, ::-1])
     pa, pb = face_panel[face[first]], face_panel[face[second]]
     swap = pa > pb
     pa, pb = np.where(swap, pb, pa), np.where(swap, pa, pb)

@@ -136,6 +136,8 @@ def build_report(
             "energy": float(f"{info.energy:.6g}"),
             "w_pin": adj.settings["w_pin"],
             "w_asap": adj.settings["w_asap"],
+            "seams": adj.settings["seams"],
+            "w_seam": adj.settings["w_seam"],
         },
         "panels": panels_out,
         "seams": seams_out,
