@@ -50,10 +50,10 @@ import numpy as np
 
 import ptailor
 from ptailor import tolerances
-from ptailor.formats.obj import write_obj
+from ptailor.formats.obj import write_garment
 from ptailor.method import flatten as flatten_mod
 from ptailor.method import stitch as stitch_mod
-from ptailor.method.flatten import central_vertices, flatten, panel_labels, vertex_labels
+from ptailor.method.flatten import central_vertices, flatten, vertex_labels
 from ptailor.model.garment import Garment, panels
 from ptailor.samples import sample_for_triangles
 
@@ -262,18 +262,8 @@ def ptailor_command() -> list[str]:
 
 
 def write_inputs(g: Garment, folder: Path) -> tuple[Path, Path]:
-    plist = panels(g)
     garment = folder / "garment.obj"
-    write_obj(
-        garment,
-        V3=g.V3,
-        F3=g.F3,
-        V2=g.V2,
-        F2=g.F2,
-        face_panel=panel_labels(plist, g.n_faces),
-        panel_names=[p.name for p in plist],
-        header=["ptailor benchmark: lantern sleeve", "units: cm"],
-    )
+    write_garment(garment, g, header=["ptailor benchmark: lantern sleeve", "units: cm"])
     recipe = folder / "recipe.yaml"
     recipe.write_text(RECIPE)
     return garment, recipe

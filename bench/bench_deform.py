@@ -15,32 +15,18 @@ import time
 import numpy as np
 
 from ptailor.method.deform import arap_deform
-
-
-def cylinder(nu: int, nv: int, radius: float = 1.0, height: float = 3.0):
-    """Open cylinder around z: ``nu`` vertices per ring, ``nv`` rows, ``2 nu nv`` triangles."""
-    th = 2.0 * np.pi * np.arange(nu) / nu
-    z = np.linspace(0.0, height, nv + 1)
-    V = np.column_stack(
-        [
-            np.tile(radius * np.cos(th), nv + 1),
-            np.tile(radius * np.sin(th), nv + 1),
-            np.repeat(z, nu),
-        ]
-    )
-    col, row = np.meshgrid(np.arange(nu), np.arange(nv))
-    a = row * nu + col
-    b = row * nu + (col + 1) % nu
-    F = np.concatenate([np.stack([a, b, b + nu], -1), np.stack([a, b + nu, a + nu], -1)])
-    return V, F.reshape(-1, 3)
+from ptailor.samples import cylinder
 
 
 def main() -> None:
-    V, F = cylinder(250, 200)
-    z = V[:, 2]
-    handles = np.flatnonzero((z <= z.max() / 3.0 + 1e-9) | (z >= z.max() - 1e-9))
+    g = cylinder(n_around=250, n_along=200)  # 100,000 triangles, axis y
+    V, F = g.V3, g.F3
+    y = V[:, 1]
+    handles = np.flatnonzero((y <= y.max() / 3.0 + 1e-9) | (y >= y.max() - 1e-9))
     Q = V[handles].copy()
-    Q[z[handles] < z.max() / 2.0, :2] *= 1.2
+    low = y[handles] < y.max() / 2.0
+    Q[low, 0] *= 1.2
+    Q[low, 2] *= 1.2
     times = []
     for _ in range(5):
         t0 = time.perf_counter()

@@ -31,23 +31,10 @@ def sample_obj_text(name: str) -> str:
     import tempfile
     from pathlib import Path
 
-    from ptailor.formats.obj import write_obj
-    from ptailor.method.flatten import panel_labels
-    from ptailor.model.garment import panels
+    from ptailor.formats.obj import write_garment
     from ptailor.samples import SAMPLES
 
-    g = SAMPLES[name]()
-    plist = panels(g)
     with tempfile.TemporaryDirectory() as td:
         p = Path(td) / "s.obj"
-        write_obj(
-            p,
-            V3=g.V3,
-            F3=g.F3,
-            V2=g.V2,
-            F2=g.F2,
-            face_panel=panel_labels(plist, g.n_faces),
-            panel_names=[q.name for q in plist],
-            header=[f"ptailor generated sample: {name}", "units: cm"],
-        )
+        write_garment(p, SAMPLES[name](), header=[f"ptailor generated sample: {name}", "units: cm"])
         return p.read_text()

@@ -9,10 +9,14 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ptailor.errors import PtailorError
+
+if TYPE_CHECKING:
+    from ptailor.model.garment import Garment
 
 
 @dataclass(frozen=True)
@@ -227,3 +231,29 @@ def write_obj(
         parts.append(f"g {panel_names[int(face_panel[grp[0]])]}\n")
         parts.append(("f %d/%d %d/%d %d/%d\n" * len(rows)) % tuple(rows.ravel().tolist()))
     Path(path).write_text("".join(parts))
+
+
+def write_garment(path: str | Path, garment: Garment, *, header: list[str] = ()) -> None:  # type: ignore[assignment]
+    """Write a :class:`~ptailor.model.Garment` as OBJ, one ``g`` group per panel.
+
+    Parameters
+    ----------
+    path : str or Path
+    garment : Garment
+    header : list of str
+        Comment lines written first.
+    """
+    from ptailor.method.flatten import panel_labels
+    from ptailor.model.garment import panels
+
+    plist = panels(garment)
+    write_obj(
+        path,
+        V3=garment.V3,
+        F3=garment.F3,
+        V2=garment.V2,
+        F2=garment.F2,
+        face_panel=panel_labels(plist, garment.n_faces),
+        panel_names=[p.name for p in plist],
+        header=list(header),
+    )
