@@ -16,8 +16,6 @@ from ptailor.output import check_output_dir, staged_dir, write_json
 from ptailor.recipe import Recipe, load_recipe
 from ptailor.report.build import build_report
 
-FORMATS = ("obj", "svg")
-
 
 def panel_outlines(V2: np.ndarray, F2: np.ndarray, adj: Adjustment) -> list[list[np.ndarray]]:
     """Closed boundary loops of each panel (outer outline first), as ``(k, 2)`` arrays."""
@@ -28,42 +26,54 @@ def panel_outlines(V2: np.ndarray, F2: np.ndarray, adj: Adjustment) -> list[list
     return out
 
 
+def output_obj(tmp: Path, adj: Adjustment, loaded: LoadedGarment) -> str:
+    """``garment.obj``: edited drape and adjusted pattern, in the input files' units."""
+    from ptailor.formats.obj import write_obj
+    from ptailor.method.flatten import panel_labels
+
+    g = adj.garment
+    header = [
+        "ptailor adjusted garment: v = edited drape, vt = adjusted pattern",
+        f"v: {loaded.drape_scale:.9g} {g.units} per unit; "
+        f"vt: {loaded.pattern_scale:.9g} {g.units} per unit"
+        + (" (estimated)" if loaded.pattern_units_estimated else ""),
+    ]
+    write_obj(
+        tmp / "garment.obj",
+        V3=g.V3 / loaded.drape_scale,
+        F3=g.F3,
+        V2=g.V2 / loaded.pattern_scale,
+        F2=g.F2,
+        face_panel=panel_labels(adj.state.panels, g.n_faces),
+        panel_names=[p.name for p in adj.state.panels],
+        header=header,
+    )
+    return "garment.obj"
+
+
+def output_svg(tmp: Path, adj: Adjustment, loaded: LoadedGarment) -> str:
+    """``pattern.svg``: adjusted outlines over the original ones (dashed), at 1:1."""
+    from ptailor.formats.svg import pattern_svg
+
+    del loaded
+    g = adj.garment
+    before = panel_outlines(adj.state.base.V2, g.F2, adj)
+    after = panel_outlines(g.V2, g.F2, adj)
+    names = [p.name for p in adj.state.panels]
+    (tmp / "pattern.svg").write_text(pattern_svg(before, after, names, units=g.units))
+    return "pattern.svg"
+
+
+#: output format -> writer(folder, adjustment, loaded garment) returning the file name
+OUTPUTS = {"obj": output_obj, "svg": output_svg}
+FORMATS = tuple(OUTPUTS)
+
+
 def write_outputs(
     tmp: Path, adj: Adjustment, loaded: LoadedGarment, formats: tuple[str, ...]
-) -> None:
-    """Write the adjusted garment in the requested formats into ``tmp``."""
-    g = adj.garment
-    names = [p.name for p in adj.state.panels]
-    if "obj" in formats:
-        from ptailor.formats.obj import write_obj
-        from ptailor.method.flatten import panel_labels
-
-        header = [
-            "ptailor adjusted garment: v = edited drape, vt = adjusted pattern",
-            f"drape units: {g.units} x {1 / loaded.drape_scale:.9g} per file unit"
-            if loaded.drape_scale != 1.0
-            else f"units: {g.units}",
-        ]
-        if loaded.pattern_units_estimated:
-            header.append(
-                f"vt normalised like the input: {loaded.pattern_scale:.9g} {g.units} per unit"
-            )
-        write_obj(
-            tmp / "garment.obj",
-            V3=g.V3 / loaded.drape_scale,
-            F3=g.F3,
-            V2=g.V2 / loaded.pattern_scale,
-            F2=g.F2,
-            face_panel=panel_labels(adj.state.panels, g.n_faces),
-            panel_names=names,
-            header=header,
-        )
-    if "svg" in formats:
-        from ptailor.formats.svg import pattern_svg
-
-        before = panel_outlines(adj.state.base.V2, g.F2, adj)
-        after = panel_outlines(g.V2, g.F2, adj)
-        (tmp / "pattern.svg").write_text(pattern_svg(before, after, names, units=g.units))
+) -> list[str]:
+    """Write the adjusted garment in the requested formats into ``tmp``; return file names."""
+    return [OUTPUTS[f](tmp, adj, loaded) for f in FORMATS if f in formats]
 
 
 def run_adjust(
@@ -155,7 +165,7 @@ def run_adjust(
         )
     with staged_dir(out) as tmp:
         t2 = time.perf_counter()
-        write_outputs(tmp, adj, loaded, formats)
+        written = write_outputs(tmp, adj, loaded, formats)
         for name, text in (extra_files or {}).items():
             (tmp / name).write_text(text)
         t3 = time.perf_counter()
@@ -168,8 +178,6 @@ def run_adjust(
         )
         for role, path in shown.items():
             report["inputs"][role]["path"] = path
-        report["outputs"] = sorted(
-            ["report.json"] + [f"{'garment' if f == 'obj' else 'pattern'}.{f}" for f in formats]
-        )
+        report["outputs"] = sorted(["report.json", *written])
         write_json(tmp / "report.json", report)
     return report

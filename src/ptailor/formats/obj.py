@@ -7,6 +7,7 @@ vectorised: each record kind is joined and converted by numpy in one call.
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -204,7 +205,7 @@ def write_obj(
     F2: np.ndarray,
     face_panel: np.ndarray,
     panel_names: list[str],
-    header: list[str] = (),  # type: ignore[assignment]
+    header: Sequence[str] = (),
 ) -> None:
     """Write a garment OBJ: ``v`` = drape, ``vt`` = pattern, one ``g`` group per panel.
 
@@ -233,7 +234,7 @@ def write_obj(
     Path(path).write_text("".join(parts))
 
 
-def write_garment(path: str | Path, garment: Garment, *, header: list[str] = ()) -> None:  # type: ignore[assignment]
+def write_garment(path: str | Path, garment: Garment, *, header: Sequence[str] = ()) -> None:
     """Write a :class:`~ptailor.model.Garment` as OBJ, one ``g`` group per panel.
 
     Parameters
