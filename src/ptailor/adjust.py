@@ -120,6 +120,7 @@ def adjust(
     asap = asap_mask(state, settings["boundary"])
     kw = {
         "asap_panels": asap,
+        "outline_free": state.outline_free,
         "w_pin": float(settings["w_pin"]),
         "w_asap": float(settings["w_asap"]),
         "keep_seams": settings["seams"] == "keep",

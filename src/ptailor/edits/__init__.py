@@ -47,6 +47,9 @@ class EditState:
         ``boundary: auto`` they keep their outline shape (as-similar-as-possible).
     log : tuple of dict
         One record per applied step, for the report.
+    outline_free : (n2,) bool array or None
+        Pattern vertices of ``base`` whose outline is free even on ``even`` panels (an edge
+        a step created, such as an extended hem); None for none.
     """
 
     base: Garment
@@ -54,6 +57,7 @@ class EditState:
     panels: list[Panel]
     even: np.ndarray
     log: tuple[dict, ...] = field(default_factory=tuple)
+    outline_free: np.ndarray | None = None
 
 
 @dataclass(frozen=True)

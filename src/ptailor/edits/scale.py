@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from ptailor.edits import EditOptions, EditState, Param, register
@@ -86,4 +88,4 @@ def scale(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         "centroid": [round(float(x), 6) for x in c],
         "triangles": int(faces.size),
     }
-    return EditState(base=g, V3=V_new, panels=state.panels, even=even, log=(*state.log, rec))
+    return replace(state, V3=V_new, even=even, log=(*state.log, rec))

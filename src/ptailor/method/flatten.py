@@ -117,6 +117,7 @@ def flatten(
     method: Method = "scale-preserving",
     intrinsic: Intrinsic = "polar",
     asap_panels: np.ndarray | None = None,
+    outline_free: np.ndarray | None = None,
     keep_seams: bool = False,
     w_pin: float = tol.W_PIN,
     w_asap: float = tol.W_ASAP,
@@ -139,6 +140,8 @@ def flatten(
         How scale-preserving targets are formed (ignored for ``uniform``).
     asap_panels : (n_panels,) bool array, optional
         Panels whose outline keeps its shape (as-similar-as-possible); default none.
+    outline_free : (n2,) bool array, optional
+        Pattern vertices whose outline stays free even on those panels (an edited edge).
     keep_seams : bool
         Keep each seam's two sides at their original length ratio (seam springs).
     w_pin, w_asap, w_seam, max_iter, rel_tol
@@ -169,6 +172,7 @@ def flatten(
         targets,
         pins=pins,
         asap_faces=asap_faces,
+        asap_exclude=outline_free,
         seam_pairs=seam_halfedges(garment.F3, garment.F2) if keep_seams else None,
         w_pin=w_pin,
         w_asap=w_asap,

@@ -161,7 +161,9 @@ def closest_rotations(J: np.ndarray) -> np.ndarray:
     return np.stack([np.stack([c, -s], 1), np.stack([s, c], 1)], 1)
 
 
-def asap_rows(V2: np.ndarray, F2: np.ndarray, faces: np.ndarray) -> sp.csr_matrix:
+def asap_rows(
+    V2: np.ndarray, F2: np.ndarray, faces: np.ndarray, *, exclude: np.ndarray | None = None
+) -> sp.csr_matrix:
     """Rows of the linear as-similar-as-possible term for the boundary of some triangles.
 
     Parameters
@@ -171,6 +173,8 @@ def asap_rows(V2: np.ndarray, F2: np.ndarray, faces: np.ndarray) -> sp.csr_matri
     F2 : (m, 3) int array
     faces : (k,) int array
         Triangles whose boundary loops get the term (whole panels).
+    exclude : (n,) bool array, optional
+        Boundary vertices that get no term (an outline being edited there).
 
     Returns
     -------
@@ -192,6 +196,8 @@ def asap_rows(V2: np.ndarray, F2: np.ndarray, faces: np.ndarray) -> sp.csr_matri
     na, nb = np.linalg.norm(a, axis=1), np.linalg.norm(b, axis=1)
     cos_turn = np.einsum("ij,ij->i", a, b) / np.maximum(na * nb, 1e-300)
     keep = (length > 0) & (cos_turn >= np.cos(np.radians(tol.ASAP_CORNER_DEG)))
+    if exclude is not None:
+        keep &= ~exclude[cur]
     nrm = np.stack([-chord[:, 1], chord[:, 0]], 1)[keep] / length[keep, None]
     nxt, prv, b = nxt[keep], prv[keep], int(keep.sum())
     r = np.arange(b)
@@ -221,6 +227,7 @@ def stitch(
     *,
     pins: np.ndarray,
     asap_faces: np.ndarray | None = None,
+    asap_exclude: np.ndarray | None = None,
     seam_pairs: np.ndarray | None = None,
     w_pin: float = tol.W_PIN,
     w_asap: float = tol.W_ASAP,
@@ -242,6 +249,8 @@ def stitch(
         One pinned vertex per panel.
     asap_faces : (k,) int array, optional
         Triangles of the panels that keep their outline shape (as-similar-as-possible).
+    asap_exclude : (n,) bool array, optional
+        Outline vertices left free even on those panels.
     seam_pairs : (s, 2) int array, optional
         Half-edge pairs on the two sides of each seam edge
         (:func:`ptailor.model.seams.seam_halfedges`). Each side gets a spring toward a
@@ -276,7 +285,7 @@ def stitch(
         L = L + w_seam * (seam.E.T @ seam.E)
     B = None
     if asap_faces is not None and len(asap_faces):
-        B = asap_rows(V2, F2, np.asarray(asap_faces))
+        B = asap_rows(V2, F2, np.asarray(asap_faces), exclude=asap_exclude)
     if B is None or B.shape[0] == 0:
         # x and y decouple: one n x n factor serves both coordinates
         B = None
