@@ -102,6 +102,8 @@ def validate(data: Any) -> tuple[Recipe | None, list[str]]:
                 probs.append(f"{where}: {op.name} needs {k!r}")
             else:
                 full[k] = prm.default
+        if op.check is not None and not any(pr.startswith(where) for pr in probs):
+            probs += op.check(full, where)
         steps.append(full)
     fl_in = data.get("flatten", {}) or {}
     flatten: dict = {}

@@ -32,3 +32,8 @@ DEFORM_UNIFORM_REG = 1e-8
 #: Singular-value ratio below which a component's handles count as collinear (or a single
 #: point): the rigid pre-alignment then only translates that component.
 DEFORM_COLLINEAR_REL = 1e-10
+
+# Surgery (shorten, cut)
+#: Field values within this many mean edge lengths of zero snap to zero before splitting,
+#: so a cut passing next to a vertex goes through it instead of making a sliver.
+SPLIT_SNAP_REL = 1e-3

@@ -76,17 +76,28 @@ class Operation:
     params: dict[str, Param]
     apply: Callable[..., EditState]
     doc: str = ""
+    check: Callable[[dict, str], list[str]] | None = None
 
 
 OPERATIONS: dict[str, Operation] = {}
 
 
-def register(name: str, params: dict[str, Param], doc: str = "") -> Callable:
-    """Decorator registering ``apply`` as the recipe operation ``name``."""
+def register(
+    name: str,
+    params: dict[str, Param],
+    doc: str = "",
+    *,
+    check: Callable[[dict, str], list[str]] | None = None,
+) -> Callable:
+    """Decorator registering ``apply`` as the recipe operation ``name``.
+
+    ``check(step, where)``, when given, validates the step as a whole (rules that tie
+    parameters together) after each parameter passed its own check.
+    """
 
     def deco(fn: Callable[..., EditState]) -> Callable[..., EditState]:
         OPERATIONS[name] = Operation(
-            name=name, params=params, apply=fn, doc=doc or fn.__doc__ or ""
+            name=name, params=params, apply=fn, doc=doc or fn.__doc__ or "", check=check
         )
         return fn
 
@@ -94,7 +105,7 @@ def register(name: str, params: dict[str, Param], doc: str = "") -> Callable:
 
 
 def _load_all() -> None:
-    from ptailor.edits import scale  # noqa: F401
+    from ptailor.edits import cut, scale, shorten  # noqa: F401
 
 
 _load_all()

@@ -1,0 +1,177 @@
+"""``cut``: cut the garment with a plane or a polyline sketched in a named view."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+
+from ptailor.edits import EditOptions, EditState, Param, register
+from ptailor.edits.checks import choice, is_number, vector3
+from ptailor.edits.surgery import split_keep
+from ptailor.errors import PtailorError
+
+VIEWS = ("front", "back", "left", "right", "top", "bottom")
+
+
+def view_spec(x: Any, where: str) -> list[str]:
+    """A named view or a view direction ``[x, y, z]`` (from the viewer into the garment)."""
+    if x in VIEWS:
+        return []
+    p = vector3(x, where)
+    if p or all(v == 0 for v in x):
+        return [f"{where}: expected one of {', '.join(VIEWS)} or [x, y, z], got {x!r}"]
+    return []
+
+
+def sketch_spec(x: Any, where: str) -> list[str]:
+    """A polyline of at least two distinct 2D points."""
+    ok = (
+        isinstance(x, list)
+        and len(x) >= 2
+        and all(isinstance(q, list) and len(q) == 2 and all(is_number(v) for v in q) for q in x)
+    )
+    if not ok:
+        return [f"{where}: expected a polyline [[u, v], [u, v], ...] of at least 2 points"]
+    return []
+
+
+def plane_spec(x: Any, where: str) -> list[str]:
+    """``{point: [x, y, z], normal: [x, y, z]}``."""
+    if not isinstance(x, dict) or set(x) != {"point", "normal"}:
+        return [f"{where}: expected {{point: [x, y, z], normal: [x, y, z]}}"]
+    probs = vector3(x["point"], f"{where}.point") + vector3(x["normal"], f"{where}.normal")
+    if not probs and all(v == 0 for v in x["normal"]):
+        probs.append(f"{where}.normal: must not be zero")
+    return probs
+
+
+def view_frame(view: Any, *, up: tuple, front: tuple) -> np.ndarray:
+    """Rows ``(right, up, direction)`` of a view; ``direction`` points from the viewer.
+
+    Named views use the garment's axes: ``front`` looks at the garment's front (the viewer
+    stands in front, looking along ``-front``), ``left`` stands at the wearer's left, and so
+    on; ``top`` looks down with the front at the bottom of the image.
+    """
+    u = np.asarray(up, float) / np.linalg.norm(up)
+    f = np.asarray(front, float)
+    f = f - u * (f @ u)
+    f /= np.linalg.norm(f)
+    left = np.cross(u, f)
+    dirs = {
+        "front": (-f, u),
+        "back": (f, u),
+        "left": (-left, u),
+        "right": (left, u),
+        "top": (-u, f),
+        "bottom": (u, -f),
+    }
+    if isinstance(view, str):
+        d, img_up = dirs[view]
+    else:
+        d = np.asarray(view, float) / np.linalg.norm(view)
+        img_up = u - d * (u @ d)
+        if np.linalg.norm(img_up) < 1e-9:
+            img_up = f - d * (f @ d)
+        img_up /= np.linalg.norm(img_up)
+    right = np.cross(d, img_up)
+    return np.stack([right, img_up, d])
+
+
+def polyline_side(P: np.ndarray, Q: np.ndarray) -> np.ndarray:
+    """Signed distance of 2D points to a polyline extended straight beyond its ends.
+
+    Positive on the left of the direction of travel. Uses the nearest segment (the end
+    segments extended to infinity), so a polyline that crosses the garment splits it.
+
+    Parameters
+    ----------
+    P : (n, 2) float array
+    Q : (k, 2) float array
+        Polyline, ``k >= 2``.
+
+    Returns
+    -------
+    (n,) float array
+    """
+    A, B = Q[:-1], Q[1:]
+    AB = B - A
+    L2 = np.maximum((AB * AB).sum(1), 1e-300)
+    AP = P[:, None, :] - A[None]
+    t = (AP * AB[None]).sum(2) / L2[None]
+    lo = np.where(np.arange(len(A)) == 0, -np.inf, 0.0)
+    hi = np.where(np.arange(len(A)) == len(A) - 1, np.inf, 1.0)
+    t = np.clip(t, lo[None], hi[None])
+    D = AP - t[..., None] * AB[None]
+    dist = np.sqrt((D * D).sum(2))
+    j = np.argmin(dist, axis=1)
+    r = np.arange(len(P))
+    cross = AB[j, 0] * AP[r, j, 1] - AB[j, 1] * AP[r, j, 0]
+    return np.where(cross >= 0, 1.0, -1.0) * dist[r, j]
+
+
+def sketch_field(V: np.ndarray, step: dict, *, options: EditOptions) -> np.ndarray:
+    """Field whose negative side is what a sketch cut removes."""
+    frame = view_frame(step["view"], up=options.up, front=options.front)
+    X = V @ frame.T  # (right, up, depth)
+    Q = np.asarray(step["sketch"], float)
+    side = polyline_side(X[:, :2], Q)
+    # which way is "above" / "left" for this polyline's direction of travel
+    travel = Q[-1] - Q[0]
+    left_normal = np.array([-travel[1], travel[0]])
+    want = {"above": [0, 1], "below": [0, -1], "left": [-1, 0], "right": [1, 0]}[step["remove"]]
+    sign = 1.0 if left_normal @ np.asarray(want, float) > 0 else -1.0
+    phi = -sign * side  # removed where phi < 0
+    if step["layers"] == "near":
+        used = np.isfinite(X[:, 2])
+        mid = float(np.median(X[used, 2]))
+        phi = np.maximum(phi, X[:, 2] - mid)  # only the layer nearer than the middle goes
+    return phi
+
+
+def one_tool(step: dict, where: str) -> list[str]:
+    """A cut has a plane or a sketch, not both."""
+    if (step.get("plane") is None) == (step.get("sketch") is None):
+        return [f"{where}: cut needs exactly one of 'plane' or 'sketch'"]
+    return []
+
+
+@register(
+    "cut",
+    {
+        "plane": Param(plane_spec, doc="{point, normal}: removes the side the normal points to"),
+        "view": Param(view_spec, default="front", doc="front | back | left | right | top | bottom"),
+        "sketch": Param(sketch_spec, doc="polyline [[u, v], ...] in the view's image plane"),
+        "remove": Param(choice("above", "below", "left", "right"), default="above"),
+        "layers": Param(choice("both", "near"), default="both"),
+    },
+    check=one_tool,
+)
+def cut(state: EditState, step: dict, *, options: EditOptions) -> EditState:
+    """Cut with a plane, or with a sketched polyline extruded along the view direction.
+
+    Triangles are split exactly on the cutting surface and the chosen side is removed;
+    the pattern follows by barycentric transfer.
+    """
+    V = state.V3
+    if step.get("plane") is not None:
+        p = np.asarray(step["plane"]["point"], float)
+        nrm = np.asarray(step["plane"]["normal"], float)
+        phi = -(V - p) @ (nrm / np.linalg.norm(nrm))
+        what = "plane"
+    else:
+        phi = sketch_field(V, step, options=options)
+        what = "sketch"
+    used = np.unique(state.base.F3)
+    if np.all(phi[used] >= 0):
+        raise PtailorError(f"the cut's {what} misses the garment: nothing to remove")
+    res = split_keep(state, phi)
+    rec = {
+        "op": "cut",
+        "by": what,
+        "removed_triangles": res.removed_triangles,
+        "split_triangles": res.split_triangles,
+        "new_edge_vertices": len(res.new_vertices3),
+    }
+    return replace(res.state, log=(*state.log, rec))

@@ -1,0 +1,57 @@
+"""Finding a recipe's opening (``hem``, ``{loop: 2}``) on the current drape."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ptailor.edits import EditOptions, EditState
+from ptailor.errors import PtailorError
+from ptailor.model.openings import openings
+
+
+def opening_spec(x: Any, where: str) -> list[str]:
+    """Recipe check: an opening name or ``{loop: k}``."""
+    if isinstance(x, str) and x:
+        return []
+    if isinstance(x, dict) and set(x) == {"loop"} and isinstance(x["loop"], int) and x["loop"] >= 0:
+        return []
+    return [f"{where}: expected an opening name (hem, neckline, ...) or {{loop: k}}, got {x!r}"]
+
+
+def find_opening(state: EditState, spec: Any, *, options: EditOptions) -> tuple[str, np.ndarray]:
+    """The drape loop a recipe names.
+
+    Parameters
+    ----------
+    state : EditState
+        Openings are found on the edited drape ``state.V3``.
+    spec : str or dict
+        A name from :func:`ptailor.model.openings.openings`, or ``{"loop": k}`` for the k-th
+        boundary loop (longest first, as ``ptailor inspect`` lists them).
+    options : EditOptions
+        The up and front axes.
+
+    Returns
+    -------
+    name : str
+    loop : (k,) int array
+        Ordered drape vertex indices.
+
+    Raises
+    ------
+    PtailorError
+        An unknown name or loop index, listing what this garment has.
+    """
+    ops = openings(state.V3, state.base.F3, up=options.up, front=options.front)
+    if isinstance(spec, dict):
+        k = spec["loop"]
+        if k >= len(ops):
+            raise PtailorError(f"no opening {{loop: {k}}}: this garment has {len(ops)} loops")
+        return ops[k].name, ops[k].loop
+    for o in ops:
+        if o.name == spec:
+            return o.name, o.loop
+    names = ", ".join(o.name for o in ops) or "none"
+    raise PtailorError(f"no opening named {spec!r} on this garment (it has: {names})")

@@ -1,0 +1,203 @@
+"""Surgery: split a garment exactly on the zero level of a scalar field and keep one side.
+
+Shorten and cut both reduce to this. The field lives on drape vertices; every triangle it
+crosses is split on the crossing (new vertices on edges, linearly interpolated in the
+original drape, the edited drape and the pattern alike), so the kept triangles are unchanged
+and the pattern follows by barycentric transfer, as the paper does. A crossing on a seam
+edge is one new drape vertex and one new pattern vertex per side.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ptailor import tolerances as tol
+from ptailor.edits import EditState
+from ptailor.errors import PtailorError
+from ptailor.model.garment import Garment, panels
+from ptailor.model.seams import edge_keys
+
+
+@dataclass(frozen=True)
+class SplitResult:
+    """The kept part of a garment and how it relates to the input.
+
+    Attributes
+    ----------
+    state : EditState
+        The new state (base garment, edited drape, panels, outline flags).
+    face_parent : (m_new,) int array
+        Input triangle each new triangle comes from.
+    new_vertices2 : (k,) int array
+        Pattern vertices (in the new numbering) created on the zero level: the new edge.
+    new_vertices3 : (k3,) int array
+        Drape vertices (new numbering) created on the zero level.
+    removed_triangles : int
+        Input triangles wholly or partly removed.
+    split_triangles : int
+        Input triangles the zero level crossed.
+    """
+
+    state: EditState
+    face_parent: np.ndarray
+    new_vertices2: np.ndarray
+    new_vertices3: np.ndarray
+    removed_triangles: int
+    split_triangles: int
+
+
+def _edge_points(
+    A: np.ndarray, B: np.ndarray, key: np.ndarray, t: np.ndarray, base: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Unique points ``A + t (B - A)`` per edge key; return (new index per row, points)."""
+    _, first, inv = np.unique(key, return_index=True, return_inverse=True)
+    P = A[first] + t[first, None] * (B[first] - A[first])
+    return base + inv, P
+
+
+def _source_name(name: str, old: dict) -> str:
+    """The input panel a kept panel came from (a panel cut in two gets a ``_k`` suffix)."""
+    return name if name in old else name.rsplit("_", 1)[0]
+
+
+def split_keep(state: EditState, phi: np.ndarray) -> SplitResult:
+    """Keep the part of the garment where ``phi >= 0``.
+
+    Parameters
+    ----------
+    state : EditState
+    phi : (n3,) float array
+        Field on the drape vertices; triangles it crosses are split on ``phi = 0``. Values
+        within ``tol.SPLIT_SNAP_REL`` mean edge lengths of zero snap to zero, so no sliver is
+        made next to a vertex.
+
+    Returns
+    -------
+    SplitResult
+
+    Raises
+    ------
+    PtailorError
+        When nothing or everything would be removed.
+    """
+    g = state.base
+    F3, F2 = g.F3, g.F2
+    m = len(F3)
+    E = state.V3[F3[:, [1, 2, 0]]] - state.V3[F3]
+    h = float(np.linalg.norm(E, axis=2).mean())
+    s = np.where(np.abs(phi) <= tol.SPLIT_SNAP_REL * h, 0.0, phi)
+    S = s[F3]  # (m, 3)
+    cp, cn = (S > 0).sum(1), (S < 0).sum(1)
+    keep_whole = cn == 0
+    split = (cp > 0) & (cn > 0)
+    if not np.any(~keep_whole):
+        raise PtailorError("the cut does not reach the garment: nothing to remove")
+    if not np.any(keep_whole | split):
+        raise PtailorError("the cut removes the whole garment")
+    # rotate split triangles so the odd corner comes first: the only + corner (case A),
+    # or the only - corner (case B: two + corners)
+    fs = np.flatnonzero(split)
+    caseA = cp[fs] == 1
+    odd = np.where(caseA, np.argmax(S[fs] > 0, axis=1), np.argmax(S[fs] < 0, axis=1))
+    cyc = (odd[:, None] + np.arange(3)[None]) % 3
+    R3 = np.take_along_axis(F3[fs], cyc, axis=1)
+    R2 = np.take_along_axis(F2[fs], cyc, axis=1)
+    RS = np.take_along_axis(S[fs], cyc, axis=1)
+    # crossings on the edges (c0, c1) and (c0, c2) where the signs are strictly opposite
+    cross1 = RS[:, 0] * RS[:, 1] < 0
+    cross2 = RS[:, 0] * RS[:, 2] < 0
+    rows = np.concatenate([np.flatnonzero(cross1), np.flatnonzero(cross2)])
+    other = np.concatenate([np.ones(cross1.sum(), int), np.full(cross2.sum(), 2)])
+    a3, b3 = R3[rows, 0], R3[rows, other]
+    a2, b2 = R2[rows, 0], R2[rows, other]
+    sa, sb = RS[rows, 0], RS[rows, other]
+    t = sa / (sa - sb)
+    n3, n2 = len(g.V3), len(g.V2)
+    key3 = edge_keys(np.stack([a3, b3], 1))
+    # orient t from the lower vertex so duplicates of one edge give the same point
+    lo3 = a3 < b3
+    tl = np.where(lo3, t, 1.0 - t)
+    A3, B3 = np.where(lo3, a3, b3), np.where(lo3, b3, a3)
+    idx3, Pbase = _edge_points(g.V3[A3], g.V3[B3], key3, tl, n3)
+    _, Pedit = _edge_points(state.V3[A3], state.V3[B3], key3, tl, n3)
+    key2 = edge_keys(np.stack([a2, b2], 1))
+    lo2 = a2 < b2
+    A2, B2 = np.where(lo2, a2, b2), np.where(lo2, b2, a2)
+    idx2, P2 = _edge_points(g.V2[A2], g.V2[B2], key2, np.where(lo2, t, 1.0 - t), n2)
+    # new vertex per (split row, edge 1|2)
+    x3 = np.full((len(fs), 3), -1)
+    x2 = np.full((len(fs), 3), -1)
+    x3[rows, other], x2[rows, other] = idx3, idx2
+    # case A: keep (c0, c1 or x01, c2 or x02); case B: keep quad (x01, c1, c2, x02)
+    pick3 = np.where(x3 >= 0, x3, R3)
+    pick2 = np.where(x2 >= 0, x2, R2)
+    A_ = np.flatnonzero(caseA)
+    B_ = np.flatnonzero(~caseA)
+    T3 = [
+        pick3[A_],
+        np.stack([x3[B_, 1], R3[B_, 1], R3[B_, 2]], 1),
+        np.stack([x3[B_, 1], R3[B_, 2], x3[B_, 2]], 1),
+    ]
+    T2 = [
+        pick2[A_],
+        np.stack([x2[B_, 1], R2[B_, 1], R2[B_, 2]], 1),
+        np.stack([x2[B_, 1], R2[B_, 2], x2[B_, 2]], 1),
+    ]
+    whole = np.flatnonzero(keep_whole)
+    parent = np.concatenate([whole, fs[A_], fs[B_], fs[B_]])
+    F3n = np.concatenate([F3[whole], *T3])
+    F2n = np.concatenate([F2[whole], *T2])
+    order = np.argsort(parent, kind="stable")  # keep the input's triangle order
+    parent, F3n, F2n = parent[order], F3n[order], F2n[order]
+    V3b = np.concatenate([g.V3, Pbase])
+    V3e = np.concatenate([state.V3, Pedit])
+    V2n = np.concatenate([g.V2, P2])
+    # compact: drop vertices no kept triangle uses (and keep earlier unreferenced ones out)
+    used3 = np.zeros(len(V3b), bool)
+    used3[F3n.ravel()] = True
+    used2 = np.zeros(len(V2n), bool)
+    used2[F2n.ravel()] = True
+    map3 = np.cumsum(used3) - 1
+    map2 = np.cumsum(used2) - 1
+    plist = state.panels
+    flab = np.empty(m, dtype=np.int64)
+    for p in plist:  # a loop over panels
+        flab[p.faces] = p.index
+    names = tuple(p.name for p in plist)
+    base = Garment(
+        V3=V3b[used3],
+        F3=map3[F3n],
+        V2=V2n[used2],
+        F2=map2[F2n],
+        face_group=flab[parent],
+        group_names=names,
+        units=g.units,
+    )
+    new_panels = panels(base)
+    # a panel that lost triangles has an edited outline: it no longer keeps its shape
+    touched = np.zeros(len(plist), bool)
+    touched[flab[np.flatnonzero(~keep_whole)]] = True
+    old_even = {p.name: bool(state.even[p.index]) and not touched[p.index] for p in plist}
+    even = np.array([old_even.get(_source_name(q.name, old_even), False) for q in new_panels])
+    free = np.zeros(len(V2n), bool)
+    if state.outline_free is not None:
+        free[:n2] = state.outline_free
+    free[n2:] = True
+    new_state = replace(
+        state,
+        base=base,
+        V3=V3e[used3],
+        panels=new_panels,
+        even=even,
+        outline_free=free[used2],
+    )
+    return SplitResult(
+        state=new_state,
+        face_parent=parent,
+        new_vertices2=map2[np.arange(n2, len(V2n))[used2[n2:]]],
+        new_vertices3=map3[np.arange(n3, len(V3b))[used3[n3:]]],
+        removed_triangles=int((~keep_whole).sum()),
+        split_triangles=int(split.sum()),
+    )

@@ -1,0 +1,106 @@
+"""How far an edited edge moved: distances from new edge vertices to the old opening."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ptailor.model.seams import half_edges
+
+if TYPE_CHECKING:
+    from ptailor.edits import EditState
+    from ptailor.edits.surgery import SplitResult
+
+
+def point_segment_distance(P: np.ndarray, A: np.ndarray, B: np.ndarray) -> np.ndarray:
+    """Distance from each point to the nearest of some segments.
+
+    Parameters
+    ----------
+    P : (p, d) float array
+    A, B : (s, d) float arrays
+        Segment ends.
+
+    Returns
+    -------
+    (p,) float array
+    """
+    if len(P) == 0 or len(A) == 0:
+        return np.zeros(len(P))
+    AB = B - A
+    L2 = np.maximum((AB * AB).sum(1), 1e-300)
+    AP = P[:, None, :] - A[None]
+    t = np.clip((AP * AB[None]).sum(2) / L2[None], 0.0, 1.0)
+    D = AP - t[..., None] * AB[None]
+    return np.sqrt((D * D).sum(2).min(1))
+
+
+def opening_halfedges(F3: np.ndarray, loop: np.ndarray) -> np.ndarray:
+    """Half-edge ids (``3 * face + corner``) of the triangles along a boundary loop."""
+    h = half_edges(F3)
+    nxt = np.roll(loop, -1)
+    n = int(F3.max()) + 1
+    want = np.zeros(0, dtype=np.int64)
+    key = h[:, 0].astype(np.int64) * n + h[:, 1]
+    fwd = loop.astype(np.int64) * n + nxt
+    bwd = nxt.astype(np.int64) * n + loop
+    want = np.flatnonzero(np.isin(key, fwd) | np.isin(key, bwd))
+    return want
+
+
+def _stats(d: np.ndarray) -> dict:
+    if d.size == 0:
+        return {"mean": 0.0, "min": 0.0, "max": 0.0}
+    return {
+        "mean": round(float(d.mean()), 6),
+        "min": round(float(d.min()), 6),
+        "max": round(float(d.max()), 6),
+    }
+
+
+def edge_offsets(before: EditState, res: SplitResult, loop: np.ndarray) -> dict:
+    """Distance of a new edge from the opening it replaced, in 3D and per panel in 2D.
+
+    Parameters
+    ----------
+    before : EditState
+        The state the opening was found on.
+    res : SplitResult
+        The split that made the new edge.
+    loop : (k,) int array
+        The opening's drape vertices in ``before``.
+
+    Returns
+    -------
+    dict
+        ``{"3d": {mean, min, max}, "pattern": {panel: {mean, min, max}}}``; 3D distances
+        are straight-line distances from the new edge to the old opening's polyline.
+    """
+    g0 = before.base
+    nxt = np.roll(loop, -1)
+    new3 = res.state.V3[res.new_vertices3]
+    out = {"3d": _stats(point_segment_distance(new3, before.V3[loop], before.V3[nxt]))}
+    he = opening_halfedges(g0.F3, loop)
+    h2 = half_edges(g0.F2)
+    face_old = he // 3
+    flab_old = np.empty(len(g0.F3), dtype=np.int64)
+    for p in before.panels:  # a loop over panels
+        flab_old[p.faces] = p.index
+    vlab_new = np.full(len(res.state.base.V2), -1, dtype=np.int64)
+    for p in res.state.panels:
+        vlab_new[p.vertices] = p.index
+    pattern = {}
+    new2 = res.new_vertices2
+    for p in before.panels:
+        segs = he[flab_old[face_old] == p.index]
+        if segs.size == 0:
+            continue
+        mine = [
+            q.index for q in res.state.panels if q.name == p.name or q.name.startswith(p.name + "_")
+        ]
+        pts = new2[np.isin(vlab_new[new2], mine)]
+        d = point_segment_distance(res.state.base.V2[pts], g0.V2[h2[segs, 0]], g0.V2[h2[segs, 1]])
+        pattern[p.name] = _stats(d)
+    out["pattern"] = pattern
+    return out
