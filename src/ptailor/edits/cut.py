@@ -47,6 +47,27 @@ def plane_spec(x: Any, where: str) -> list[str]:
     return probs
 
 
+def boolean(x: Any, where: str) -> list[str]:
+    """true or false."""
+    return [] if isinstance(x, bool) else [f"{where}: expected true or false, got {x!r}"]
+
+
+def sagittal_mirror(V: np.ndarray, F: np.ndarray, *, options: EditOptions) -> np.ndarray:
+    """Mirror drape positions across the sagittal plane.
+
+    The plane contains the up and front axes and passes through the drape's area-weighted
+    centroid (a fitted plane comes with the symmetry step).
+    """
+    from ptailor.edits.region import region_centroid
+
+    u = np.asarray(options.up, float)
+    f = np.asarray(options.front, float)
+    left = np.cross(u, f)
+    left /= np.linalg.norm(left)
+    c = region_centroid(V, F, np.arange(len(F)))
+    return V - 2.0 * ((V - c) @ left)[:, None] * left
+
+
 def view_frame(view: Any, *, up: tuple, front: tuple) -> np.ndarray:
     """Rows ``(right, up, direction)`` of a view; ``direction`` points from the viewer.
 
@@ -145,6 +166,7 @@ def one_tool(step: dict, where: str) -> list[str]:
         "sketch": Param(sketch_spec, doc="polyline [[u, v], ...] in the view's image plane"),
         "remove": Param(choice("above", "below", "left", "right"), default="above"),
         "layers": Param(choice("both", "near"), default="both"),
+        "symmetric": Param(boolean, default=False, doc="also cut the mirror image"),
     },
     check=one_tool,
 )
@@ -158,11 +180,21 @@ def cut(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     if step.get("plane") is not None:
         p = np.asarray(step["plane"]["point"], float)
         nrm = np.asarray(step["plane"]["normal"], float)
-        phi = -(V - p) @ (nrm / np.linalg.norm(nrm))
+
+        def field(X: np.ndarray) -> np.ndarray:
+            return -(X - p) @ (nrm / np.linalg.norm(nrm))
+
         what = "plane"
     else:
-        phi = sketch_field(V, step, options=options)
+
+        def field(X: np.ndarray) -> np.ndarray:
+            return sketch_field(X, step, options=options)
+
         what = "sketch"
+    phi = field(V)
+    if step["symmetric"]:
+        # remove what the cut removes and what its mirror image removes
+        phi = np.minimum(phi, field(sagittal_mirror(V, state.base.F3, options=options)))
     used = np.unique(state.base.F3)
     if np.all(phi[used] >= 0):
         raise PtailorError(f"the cut's {what} misses the garment: nothing to remove")

@@ -97,7 +97,8 @@ def _corner_updates(V: np.ndarray, FT: np.ndarray, D: np.ndarray) -> np.ndarray:
     # whose discriminant / 4 is det (|c|^2 - delta^2): real iff |delta| <= |AB|.
     det = aa * bb - ab * ab
     cc = aa + bb - 2.0 * ab
-    delta = dB - dA
+    with np.errstate(invalid="ignore"):  # inf - inf where neither corner is reached
+        delta = dB - dA
     ok = np.isfinite(delta) & (det > GEODESIC_DEGENERATE_REL * aa * bb)
     ok &= delta * delta <= cc
     if np.any(ok):
@@ -108,7 +109,7 @@ def _corner_updates(V: np.ndarray, FT: np.ndarray, D: np.ndarray) -> np.ndarray:
         # lambda >= 0: the characteristic enters the triangle between A and B
         up_a = p * (ab_ - bb_) - ab_ * dl
         up_b = p * (ab_ - aa_) + aa_ * dl
-        good = (p >= np.maximum(dl, 0.0)) & (up_a <= 0.0) & (up_b <= 0.0)
+        good = (up_a <= 0.0) & (up_b <= 0.0)
         two = np.where(good, dA[i] + p, np.inf)
         cand[i] = np.minimum(cand[i], two)
     return cand

@@ -1,0 +1,35 @@
+"""Assertions that an adjusted garment is valid (shared by the edit tests)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ptailor.model.garment import Garment, areas_3d, panels, signed_areas_2d
+from ptailor.model.seams import edge_keys, half_edges, seams
+
+
+def assert_valid(g: Garment, *, V2: np.ndarray | None = None) -> None:
+    """Manifold drape, no zero-area or flipped triangles, consistent pattern orientation."""
+    V2 = g.V2 if V2 is None else V2
+    _, cnt = np.unique(edge_keys(half_edges(g.F3)), return_counts=True)
+    assert cnt.max() <= 2, "non-manifold drape edge"
+    diag = np.ptp(g.V3[np.unique(g.F3)], axis=0).max()
+    assert areas_3d(g.V3, g.F3).min() > 1e-12 * diag**2, "zero-area drape triangle"
+    for p in panels(g):
+        sa = signed_areas_2d(V2, g.F2[p.faces])
+        sign = -1 if p.mirrored else 1
+        assert np.all(sa * sign > 1e-12 * diag**2), f"flipped or zero-area triangle in {p.name}"
+
+
+def seam_sides(g: Garment, V2: np.ndarray) -> list[tuple[float, float]]:
+    """Both sides' lengths of every seam."""
+    flab = np.empty(g.n_faces, dtype=np.int64)
+    for p in panels(g):
+        flab[p.faces] = p.index
+    return [s.lengths(V2) for s in seams(g.F3, g.F2, flab)]
+
+
+def assert_seams_equal(g: Garment, V2: np.ndarray, *, rtol: float = 1e-6) -> None:
+    """Every seam's two sides have the same length."""
+    for la, lb in seam_sides(g, V2):
+        assert abs(la - lb) <= rtol * max(la, lb), (la, lb)

@@ -1,0 +1,158 @@
+"""Cut: exact splits, barycentric pattern transfer, valid output, clear errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from ptailor.adjust import adjust
+from ptailor.cli.main import cli
+from ptailor.errors import PtailorError
+from ptailor.formats.garment import load_garment
+from ptailor.job import run_adjust
+from ptailor.model.garment import panels
+from ptailor.model.seams import half_edges
+from ptailor.recipe import parse_recipe
+from ptailor.samples import cone_skirt, lantern_sleeve
+from tests.conftest import real_path
+from tests.garment_checks import assert_seams_equal, assert_valid
+
+PLANE = "steps: [{op: cut, plane: {point: [0, 20, 0], normal: [0, -1, 0]}}]"
+
+
+def test_plane_cut_splits_exactly_and_transfers_the_pattern():
+    g = cone_skirt()
+    adj = adjust(g, parse_recipe(PLANE))
+    b = adj.state.base
+    assert_valid(b, V2=adj.result.V2)
+    # everything below y = 20 is gone, the new edge lies on the plane
+    used = np.unique(b.F3)
+    assert adj.state.V3[used, 1].min() == pytest.approx(20.0, abs=1e-9)
+    # no deformation: the final pattern is the transferred one, kept triangles unchanged
+    np.testing.assert_allclose(adj.result.V2, b.V2, atol=1e-9)
+    # developable and isometric: every pattern edge has its drape length, new ones included
+    h3, h2 = half_edges(b.F3), half_edges(b.F2)
+    l3 = np.linalg.norm(b.V3[h3[:, 1]] - b.V3[h3[:, 0]], axis=1)
+    l2 = np.linalg.norm(b.V2[h2[:, 1]] - b.V2[h2[:, 0]], axis=1)
+    np.testing.assert_allclose(l2, l3, rtol=1e-9)
+    assert_seams_equal(b, adj.result.V2)
+    assert [p.name for p in adj.state.panels] == ["front", "back"]
+    rec = adj.state.log[0]
+    assert rec["split_triangles"] == 128 and rec["new_edge_vertices"] == 128
+
+
+def test_cut_through_a_seam_gives_one_drape_vertex_and_two_pattern_vertices():
+    g = lantern_sleeve()  # the sleeve's closing seam runs along y
+    adj = adjust(
+        g, parse_recipe("steps: [{op: cut, plane: {point: [0, 30.3, 0], normal: [0, 1, 0]}}]")
+    )
+    b = adj.state.base
+    ring = np.flatnonzero(np.isclose(adj.state.V3[:, 1], 30.3))
+    assert len(ring) == 96  # per column: the vertical edge and the quad's diagonal
+    on_cut2 = np.unique(b.F2[np.isin(b.F3, ring)])
+    assert len(on_cut2) == 97  # the seam's crossing appears once per side in the pattern
+    assert_valid(b, V2=adj.result.V2)
+
+
+def test_sketch_cut_both_layers_and_near_layer():
+    g = cone_skirt()
+    both = adjust(
+        g,
+        parse_recipe(
+            "steps: [{op: cut, view: front, sketch: [[-50, 15], [0, 25], [50, 15]], remove: below}]"
+        ),
+    )
+    near = adjust(
+        g,
+        parse_recipe(
+            "steps: [{op: cut, view: front, sketch: [[-50, 15], [0, 25], [50, 15]], remove: below,"
+            " layers: near}]"
+        ),
+    )
+    zf = both.state.V3[np.unique(both.state.base.F3)]
+    # both layers: nothing below the sketch is left, front or back
+    assert zf[:, 1].min() >= 15 - 1e-9
+    zn = near.state.V3[np.unique(near.state.base.F3)]
+    back_low = (zn[:, 2] < -5) & (zn[:, 1] < 10)
+    front_low = (zn[:, 2] > 5) & (zn[:, 1] < 10)
+    assert back_low.any() and not front_low.any()
+    for a in (both, near):
+        assert_valid(a.state.base, V2=a.result.V2)
+
+
+def test_symmetric_cut_mirrors_the_sketch():
+    g = cone_skirt()
+    adj = adjust(
+        g,
+        parse_recipe(
+            "steps: [{op: cut, view: front, sketch: [[10, 0], [10, 60]], remove: right,"
+            " symmetric: true}]"
+        ),
+    )
+    X = adj.state.V3[np.unique(adj.state.base.F3), 0]
+    # the mirror plane passes through the area centroid (x = 0 up to triangulation)
+    assert X.min() == pytest.approx(-10, abs=1e-3) and X.max() == pytest.approx(10, abs=1e-6)
+
+
+def test_cut_output_can_be_adjusted_again(tmp_path):
+    from ptailor.demo import sample_obj_text
+
+    src = tmp_path / "skirt.obj"
+    src.write_text(sample_obj_text("cone_skirt"))
+    run_adjust(str(src), parse_recipe(PLANE), tmp_path / "o")
+    again = load_garment(tmp_path / "o" / "garment.obj")
+    rep = run_adjust(
+        str(tmp_path / "o" / "garment.obj"), parse_recipe("steps: []"), tmp_path / "o2"
+    )
+    assert [p["name"] for p in rep["panels"]] == ["front", "back"]
+    assert again.garment.n_faces == rep["panels"][0]["triangles"] + rep["panels"][1]["triangles"]
+
+
+@pytest.mark.parametrize(
+    ("step", "message"),
+    [
+        ("{op: cut, plane: {point: [0, 500, 0], normal: [0, 1, 0]}}", "misses the garment"),
+        ("{op: cut, plane: {point: [0, 500, 0], normal: [0, -1, 0]}}", "whole garment"),
+        ("{op: cut, view: front, sketch: [[-50, 500], [50, 500]], remove: above}", "misses"),
+    ],
+)
+def test_cut_errors(tmp_path, step, message):
+    from ptailor.demo import sample_obj_text
+
+    src = tmp_path / "skirt.obj"
+    src.write_text(sample_obj_text("cone_skirt"))
+    rec = tmp_path / "r.yaml"
+    rec.write_text(f"steps: [{step}]\n")
+    r = CliRunner().invoke(cli, ["adjust", str(src), str(rec), "-o", str(tmp_path / "o")])
+    assert r.exit_code == 2 and message in r.output
+    assert not (tmp_path / "o").exists()
+    with pytest.raises(PtailorError):
+        adjust(load_garment(src).garment, parse_recipe(f"steps: [{step}]"))
+
+
+@pytest.mark.parametrize("key", ["tee6", "dress"])
+def test_plane_cut_on_real_garments(key):
+    from tests.conftest import REAL
+
+    g = load_garment(real_path(key), pattern_units=REAL[key][1]).garment
+    used = np.unique(g.F3)
+    y0, y1 = g.V3[used, 1].min(), g.V3[used, 1].max()
+    y = y0 + 0.3 * (y1 - y0)
+    adj = adjust(
+        g,
+        parse_recipe(f"steps: [{{op: cut, plane: {{point: [0, {y}, 0], normal: [0, -1, 0]}}}}]"),
+        baseline=False,
+    )
+    b = adj.state.base
+    assert_valid(b, V2=adj.result.V2)
+    assert adj.state.V3[np.unique(b.F3), 1].min() >= y - 1e-6
+    # seams equal before stay equal (barycentric transfer on both sides)
+    before = {}
+    from tests.garment_checks import seam_sides
+
+    equal_before = all(abs(a - c) <= 1e-6 * max(a, c) for a, c in seam_sides(g, g.V2))
+    if equal_before:
+        assert_seams_equal(b, adj.result.V2)
+    del before
+    assert len(panels(b)) >= 1
