@@ -1,0 +1,56 @@
+"""Benchmark the surgery edits (shorten, cut) on a generated 100,000-triangle garment.
+
+    python bench/bench_edits.py [--triangles 100000] [--repeat 5]
+
+Times the edit step alone (``ptailor.adjust.apply_steps``: opening lookup, geodesic
+distance, exact split, pattern transfer) and the whole in-process ``adjust`` with the
+edit (flatten and baseline included), medians over the repeats. Target from issue 3:
+each edit within 2 s.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+
+from ptailor.adjust import adjust, apply_steps
+from ptailor.edits import EditOptions
+from ptailor.recipe import parse_recipe
+from ptailor.samples import sample_for_triangles
+
+RECIPES = {
+    "shorten hem by 5": "steps: [{op: shorten, opening: hem, by: 5}]",
+    "cut plane y = 30": "steps: [{op: cut, plane: {point: [0, 30, 0], normal: [0, 1, 0]}}]",
+    "cut sketch (front)": (
+        "steps: [{op: cut, view: front, sketch: [[-30, 20], [0, 30], [30, 20]], remove: below}]"
+    ),
+}
+
+
+def median_time(fn, repeat: int) -> float:
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--triangles", type=int, default=100_000)
+    ap.add_argument("--repeat", type=int, default=5)
+    args = ap.parse_args()
+    g = sample_for_triangles(args.triangles)
+    print(f"lantern sleeve, {g.n_faces} triangles; medians of {args.repeat} runs")
+    for name, text in RECIPES.items():
+        rec = parse_recipe(text)
+        t_edit = median_time(lambda r=rec: apply_steps(g, r, options=EditOptions()), args.repeat)
+        t_all = median_time(lambda r=rec: adjust(g, r), args.repeat)
+        flag = "ok" if t_edit <= 2.0 else "OVER 2 s"
+        print(f"{name:<22} edit {t_edit:6.3f} s  adjust {t_all:6.3f} s  [{flag}]")
+
+
+if __name__ == "__main__":
+    main()
