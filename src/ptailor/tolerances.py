@@ -37,3 +37,19 @@ DEFORM_COLLINEAR_REL = 1e-10
 #: Field values within this many mean edge lengths of zero snap to zero before splitting,
 #: so a cut passing next to a vertex goes through it instead of making a sliver.
 SPLIT_SNAP_REL = 1e-3
+
+# Geodesic distance (ptailor.method.geodesic)
+#: A distance that decreases by less than this fraction of (itself plus the mean edge
+#: length) is still lowered, but does not make its triangles active again; the iteration
+#: stops when no change is larger, so the result is a fixed point to about this order.
+GEODESIC_REL_TOL = 1e-12
+#: A triangle corner whose ``|a|^2 |b|^2 - (a.b)^2`` (squared doubled area) is at most this
+#: times ``|a|^2 |b|^2`` (an angle below about 1e-7 rad) is degenerate: only the one-point
+#: (edge) updates apply there.
+GEODESIC_DEGENERATE_REL = 1e-14
+#: With a finite ``limit``, vertices below ``limit`` plus this many longest edge lengths
+#: keep propagating. A value may depend on a neighbour's slightly larger value (through an
+#: obtuse triangle), so the band reaches a little beyond ``limit``.
+GEODESIC_BAND_MARGIN_EDGES = 2.0
+#: Vertices propagate in order of distance, this many mean edge lengths at a time.
+GEODESIC_STEP_EDGES = 2.0

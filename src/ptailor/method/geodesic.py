@@ -1,15 +1,18 @@
-"""Geodesic distance on a triangle mesh from a set of source vertices (fast marching).
+"""Geodesic distance on a triangle mesh from a curve through source vertices.
 
 The distance is measured from the *curve* through the sources, not from the source points:
 a triangle with two sources at its other corners gives the distance to the segment between
-them. A front that leaves a straight boundary edge is therefore planar and, on a mesh
-without obtuse triangles, exact: this is what measuring "5 cm up from the hem" needs.
+them. A front that leaves a straight boundary edge is therefore planar and exact on a
+planar or developable mesh, whatever its triangles' shapes: this is what measuring "5 cm up
+from the hem" needs.
 
 The method is a vectorised, parallel (Jacobi) variant of fast marching (Kimmel & Sethian,
 "Computing geodesic paths on manifolds", PNAS 1998) in the spirit of the fast iterative
-method (Jeong & Whitaker, SIAM J. Sci. Comput. 2008): every iteration recomputes, for all
-triangles next to a vertex whose distance changed in the previous iteration, the two-point
-(triangle) Eikonal update of each corner, and keeps the smallest candidate per vertex.
+method (Jeong & Whitaker, SIAM J. Sci. Comput. 2008) and of group marching (Kim, SIAM J.
+Sci. Comput. 2001): every iteration recomputes, for all triangles next to a vertex whose
+distance just decreased, the two-point (triangle) Eikonal update of each corner, and keeps
+the smallest candidate per vertex; vertices propagate a few edge lengths' worth of distance
+at a time, in increasing order.
 
 Pure functions over arrays in the libigl / gpytoolbox style: inputs are never mutated,
 there is no hidden state, and there is no Python loop over vertices or triangles (only
@@ -21,20 +24,14 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from ptailor import tolerances as tol
+
 __all__ = ["geodesic_distance"]
 
-# Tolerances (to move to ptailor.tolerances as GEODESIC_*).
-#: A distance that decreases by less than this fraction (of itself plus the mean edge
-#: length) is still lowered, but does not make its triangles active again: the iteration
-#: stops once every change is below it, so results are fixed points to about this order.
-GEODESIC_REL_TOL = 1e-12
-#: A triangle whose squared doubled area ``|a|^2 |b|^2 - (a.b)^2`` is at most this times
-#: ``|a|^2 |b|^2`` (an angle below about 1e-7 rad) is degenerate: only its edges update.
-GEODESIC_DEGENERATE_REL = 1e-14
-#: With a finite ``limit``, vertices up to ``limit`` plus this many mean edge lengths keep
-#: propagating. (Values below ``limit`` only depend on smaller values, so no margin is
-#: needed in exact arithmetic; this one guards the comparison against rounding.)
-GEODESIC_BAND_MARGIN_EDGES = 2.0
+GEODESIC_REL_TOL = tol.GEODESIC_REL_TOL
+GEODESIC_DEGENERATE_REL = tol.GEODESIC_DEGENERATE_REL
+GEODESIC_BAND_MARGIN_EDGES = tol.GEODESIC_BAND_MARGIN_EDGES
+GEODESIC_STEP_EDGES = tol.GEODESIC_STEP_EDGES
 
 
 def _vertex_triangles(F: np.ndarray, n: int) -> sp.csr_matrix:
@@ -77,8 +74,17 @@ def _corner_updates(V: np.ndarray, FT: np.ndarray, D: np.ndarray) -> np.ndarray:
         the smallest of the one-point updates ``d_A + |A - C|``, ``d_B + |B - C|`` and, when
         it is valid, the two-point update: the value at ``C`` of the planar front (unit
         gradient in the triangle's plane) through ``(A, d_A)`` and ``(B, d_B)``, valid when
-        it exists, is at least ``max(d_A, d_B)`` and its characteristic reaches ``C`` from
-        between ``A`` and ``B``.
+        it exists (``|d_B - d_A| <= |AB|``) and its characteristic reaches ``C`` from
+        between ``A`` and ``B`` (upwind). The update is then a weighted mean of ``d_A`` and
+        ``d_B`` plus a positive length, non-decreasing in both.
+
+    Notes
+    -----
+    Single-pass fast marching also requires ``p >= max(d_A, d_B)`` (causality), which
+    rejects the update in a triangle obtuse at ``C`` whose far corner the front reaches
+    after ``C``. An iterative method does not need causality, only monotonicity (which the
+    upwind condition gives); dropping it keeps planar fronts exact on obtuse triangles
+    (with it, a jittered grid overestimated the distance from a straight edge by 2-4 %).
     """
     P = V[FT]  # (k, 3, d)
     a = P[:, [1, 2, 0]] - P  # (k, 3, d): C -> A for each corner C
@@ -128,55 +134,57 @@ def geodesic_distance(
     Fast marching with the triangle (two-point) Eikonal update, iterated in parallel over
     the active triangles until no distance below ``limit`` changes. Two sources joined by
     an edge act as the whole segment between them, so a front leaving a straight boundary
-    is planar: on a planar or developable mesh without obtuse triangles the distance from
-    a straight edge is exact to rounding. Elsewhere the error is first order in the edge
-    length (as for any fast marching); obtuse triangles may fall back to edge updates,
-    giving slightly larger values.
+    is planar: on a planar or developable mesh the distance from a straight edge is exact to
+    rounding, obtuse triangles included. A curved front (a circular hem, a point source)
+    has the usual first-order fast-marching error, an overestimate for a convex front.
 
     Parameters
     ----------
     V : (n, 3) float array
         Vertex positions (any dimension >= 2 works).
     F : (m, 3) int array
-        Triangles; a mesh with boundary, several components or unreferenced vertices is
-        fine.
+        Triangles; boundaries, several components and unreferenced vertices are fine.
     sources : (k,) int array
-        Vertices at distance 0, typically all vertices of a boundary loop. Duplicates are
-        allowed; an empty array gives ``+inf`` everywhere.
+        Vertices at distance 0, typically all vertices of a boundary loop (in any order:
+        the curve is made of the mesh edges between sources). Duplicates are allowed; an
+        empty array gives ``+inf`` everywhere.
     limit : float, keyword-only
         Only distances below ``limit`` are needed. Values below ``limit`` are those of the
-        unlimited run (to about ``GEODESIC_REL_TOL``); values at or above it are upper
-        bounds, ``+inf`` for vertices well beyond it. The work is restricted to the band
-        of triangles next to vertices below ``limit`` (plus a margin of
-        ``GEODESIC_BAND_MARGIN_EDGES`` mean edge lengths), so a small ``limit`` costs in
-        proportion to the area it covers.
+        unlimited run (to about ``GEODESIC_REL_TOL``); values at or above it are only upper
+        bounds, ``+inf`` for vertices a few edges beyond it. The work is restricted to the
+        narrow band of triangles next to vertices below ``limit`` (plus
+        ``GEODESIC_BAND_MARGIN_EDGES`` longest edge lengths), so it is in proportion to
+        the area the band covers.
     max_iter : int or None, keyword-only
-        Most iterations. ``None`` means ``n + 1``: every final value is reached through a
-        chain of strictly smaller values, so in exact arithmetic the iteration converges in
-        at most ``n`` steps (as Bellman-Ford); in practice it stops after about as many
-        iterations as the longest front path has edges, and ``max_iter`` is only a guard.
-        If it stops early, every value is an upper bound.
+        Most parallel iterations; ``None`` iterates until converged. The iteration always
+        terminates (a vertex only propagates a decrease of at least ``GEODESIC_REL_TOL``
+        times the mean edge length); it takes about one to three iterations per edge on
+        the longest shortest path of the band (about 250 for a 50,000-vertex tube 224 rows
+        long, about 0.6 ``n`` on a strip one quad wide). If ``max_iter`` stops it first,
+        every value is an upper bound.
 
     Returns
     -------
     (n,) float array
-        Distances; ``0`` at the sources, ``+inf`` at vertices not connected to a source
-        (other components, unreferenced vertices).
+        Distances: ``0`` at the sources, ``+inf`` at vertices not connected to a source
+        (other components, unreferenced vertices) and possibly beyond ``limit``.
 
     Raises
     ------
     ValueError
-        On malformed arrays, out-of-range indices, a NaN or negative ``limit`` or a
-        negative ``max_iter``.
+        On malformed or non-finite arrays, out-of-range indices, a NaN or negative
+        ``limit`` or a negative ``max_iter``.
     """
     V = np.asarray(V, dtype=np.float64)
     F = np.asarray(F)
     src = np.atleast_1d(np.asarray(sources))
     if V.ndim != 2 or V.shape[1] < 2:
         raise ValueError(f"V must be an (n, d) array with d >= 2, got shape {V.shape}")
+    if not np.all(np.isfinite(V)):
+        raise ValueError("V has non-finite coordinates")
     n = V.shape[0]
     if F.size == 0:
-        F = F.reshape(0, 3)
+        F = F.reshape(0, 3).astype(np.int64)
     if F.ndim != 2 or F.shape[1] != 3 or not np.issubdtype(F.dtype, np.integer):
         raise ValueError(f"F must be an (m, 3) int array, got {F.dtype} {F.shape}")
     if F.size and (F.min() < 0 or F.max() >= n):
@@ -190,8 +198,7 @@ def geodesic_distance(
     limit = float(limit)
     if np.isnan(limit) or limit < 0.0:
         raise ValueError(f"limit must be >= 0, got {limit!r}")
-    max_iter = n + 1 if max_iter is None else int(max_iter)
-    if max_iter < 0:
+    if max_iter is not None and int(max_iter) < 0:
         raise ValueError(f"max_iter must be >= 0, got {max_iter!r}")
     F = F.astype(np.int64, copy=False)
 
@@ -201,25 +208,42 @@ def geodesic_distance(
         return d
 
     E = V[F[:, [1, 2, 0]]] - V[F]
-    h = float(np.mean(np.sqrt(np.einsum("mcd,mcd->mc", E, E))))
-    band = limit + GEODESIC_BAND_MARGIN_EDGES * h if np.isfinite(limit) else np.inf
+    lengths = np.sqrt(np.einsum("mcd,mcd->mc", E, E))
+    h = float(np.mean(lengths))
+    band = limit + GEODESIC_BAND_MARGIN_EDGES * float(lengths.max())
+    step = GEODESIC_STEP_EDGES * h
     VT = _vertex_triangles(F, n)
 
+    # A vertex whose distance decreased propagates (makes its triangles active) once its
+    # distance is below the threshold ``tau``; until then it waits in ``pending``. When
+    # nothing below ``tau`` is left to propagate, ``tau`` advances by ``step`` past the
+    # smallest waiting distance. The fixed point is that of any other order; this one
+    # keeps tentative, too large values from flooding the mesh with corrections.
+    pending = np.zeros(n, dtype=bool)
+    tau = step
     active = np.unique(src)
-    for _ in range(max_iter):
+    iterations = 0
+    while max_iter is None or iterations < max_iter:
         if active.size == 0:
-            break
-        T = np.unique(_gather_rows(VT.indptr, VT.indices, active))
-        FT = F[T]
+            waiting = np.flatnonzero(pending)
+            if waiting.size == 0:
+                break
+            tau = max(tau, float(d[waiting].min())) + step
+            active = waiting[d[waiting] <= tau]
+            pending[active] = False
+        iterations += 1
+        FT = F[np.unique(_gather_rows(VT.indptr, VT.indices, active))]
         cand = _corner_updates(V, FT, d[FT]).ravel()
         target = FT.ravel()
         old = d[target]
         lower = cand < old
-        if not np.any(lower):
-            break
         target, cand, old = target[lower], cand[lower], old[lower]
         np.minimum.at(d, target, cand)
-        # only a significant decrease of a value inside the band propagates
-        moved = (old - cand > GEODESIC_REL_TOL * (cand + h)) & (d[target] < band)
-        active = np.unique(target[moved])
+        # a significant decrease inside the band propagates, now or when tau passes it
+        moved = np.unique(target[old - cand > GEODESIC_REL_TOL * (cand + h)])
+        moved = moved[d[moved] < band]
+        now = d[moved] < tau
+        active = moved[now]
+        pending[moved[~now]] = True
+        pending[active] = False
     return d
