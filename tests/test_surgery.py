@@ -156,3 +156,30 @@ def test_plane_cut_on_real_garments(key):
         assert_seams_equal(b, adj.result.V2)
     del before
     assert len(panels(b)) >= 1
+
+
+def test_polyline_side_at_a_shared_vertex_uses_the_pseudo_normal():
+    from ptailor.edits.cut import polyline_side
+
+    Q = np.array([[-8.0, 60.0], [0.0, 50.0], [8.0, 60.0]])  # a V, travelling left to right
+    below = np.array([[23.3, 21.0], [-23.3, 21.0], [0.0, 0.0], [30.0, 10.0]])
+    above = np.array([[0.0, 70.0], [0.0, 55.0]])
+    assert np.all(polyline_side(below, Q) < 0)  # right of travel
+    assert np.all(polyline_side(above, Q) > 0)
+
+
+def test_near_layer_v_notch_removes_only_the_notch():
+    g = cone_skirt()
+    adj = adjust(
+        g,
+        parse_recipe(
+            "steps: [{op: cut, view: front, sketch: [[-8, 60], [0, 50], [8, 60]], remove: above,"
+            " layers: near}]"
+        ),
+    )
+    kept = adj.state.V3[np.unique(adj.state.base.F3)]
+    # everything below the notch's tip is kept, front and back
+    lost_area = g.n_faces - adj.state.base.n_faces
+    assert 0 < adj.state.log[0]["removed_triangles"] < 200
+    assert lost_area < 200
+    assert kept[:, 1].min() == pytest.approx(g.V3[:, 1].min())

@@ -30,6 +30,8 @@ class Adjustment:
         The flatten settings used (after command-line overrides).
     timing_s : dict
         Seconds per stage.
+    original : Garment or None
+        The input garment, before any step (surgery changes ``state.base``'s triangles).
     """
 
     state: EditState
@@ -37,6 +39,12 @@ class Adjustment:
     baseline: FlattenResult | None
     settings: dict
     timing_s: dict = field(default_factory=dict)
+    original: Garment | None = None
+
+    def original_panels(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """Panel name to ``(faces, vertices)`` in the input garment."""
+        g = self.original if self.original is not None else self.state.base
+        return {p.name: (p.faces, p.vertices) for p in panels(g)}
 
     @property
     def garment(self) -> Garment:
@@ -141,7 +149,14 @@ def adjust(
         )
     t3 = time.perf_counter()
     timing = {"edit": t1 - t0, "flatten": t2 - t1, "baseline": t3 - t2}
-    return Adjustment(state=state, result=result, baseline=base, settings=settings, timing_s=timing)
+    return Adjustment(
+        state=state,
+        result=result,
+        baseline=base,
+        settings=settings,
+        timing_s=timing,
+        original=garment,
+    )
 
 
 def garment_structure(state: EditState) -> tuple[np.ndarray, np.ndarray, list]:

@@ -57,7 +57,12 @@ def output_svg(tmp: Path, adj: Adjustment, loaded: LoadedGarment) -> str:
 
     del loaded
     g = adj.garment
-    before = panel_outlines(adj.state.base.V2, g.F2, adj)
+    g0 = adj.original if adj.original is not None else adj.state.base
+    orig = adj.original_panels()
+    before = [
+        [g0.V2[lp] for lp in boundary_loops(g0.F2[orig[p.name][0]])] if p.name in orig else []
+        for p in adj.state.panels
+    ]
     after = panel_outlines(g.V2, g.F2, adj)
     names = [p.name for p in adj.state.panels]
     (tmp / "pattern.svg").write_text(pattern_svg(before, after, names, units=g.units))

@@ -105,7 +105,7 @@ def register(
 
 
 def _load_all() -> None:
-    from ptailor.edits import cut, scale, shorten  # noqa: F401
+    from ptailor.edits import cut, extend, scale, shorten  # noqa: F401
 
 
 _load_all()

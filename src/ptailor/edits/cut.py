@@ -128,8 +128,17 @@ def polyline_side(P: np.ndarray, Q: np.ndarray) -> np.ndarray:
     dist = np.sqrt((D * D).sum(2))
     j = np.argmin(dist, axis=1)
     r = np.arange(len(P))
-    cross = AB[j, 0] * AP[r, j, 1] - AB[j, 1] * AP[r, j, 0]
-    return np.where(cross >= 0, 1.0, -1.0) * dist[r, j]
+    side = AB[j, 0] * AP[r, j, 1] - AB[j, 1] * AP[r, j, 0]
+    # nearest to an inner vertex: the side comes from the vertex's pseudo-normal (the sum of
+    # its two segments' left normals), since either segment alone can give the wrong sign
+    tj = t[r, j]
+    vtx = np.where(tj >= 1.0, j + 1, np.where(tj <= 0.0, j, -1))
+    inner = (vtx > 0) & (vtx < len(Q) - 1)
+    nl = np.stack([-AB[:, 1], AB[:, 0]], 1) / np.sqrt(L2)[:, None]
+    vi = vtx[inner]
+    n_v = nl[vi - 1] + nl[vi]
+    side[inner] = ((P[inner] - Q[vi]) * n_v).sum(1)
+    return np.where(side >= 0, 1.0, -1.0) * dist[r, j]
 
 
 def sketch_field(V: np.ndarray, step: dict, *, options: EditOptions) -> np.ndarray:

@@ -71,9 +71,19 @@ def build_report(
     err = intrinsic_scale_error(g.V2 * flipv, V2a * flipv, g.F2, g.V3, st.V3, g.F3, target=target)
     es = summary_stats(err, flab, n)
     flips = np.bincount(flab, flipped(V2a, g.F2, orient), minlength=n)
-    area0 = panel_areas(g.V2, g.F2, flab, n)
+    # "before" is the input garment's panel of the same name (surgery changes triangles)
+    g0 = adj.original if adj.original is not None else g
+    orig = adj.original_panels()
+    flab0 = np.full(g0.n_faces, -1, dtype=np.int64)
+    vlab0 = np.full(len(g0.V2), -1, dtype=np.int64)
+    for p in st.panels:  # a loop over panels
+        if p.name in orig:
+            flab0[orig[p.name][0]] = p.index
+            vlab0[orig[p.name][1]] = p.index
+    keep0 = flab0 >= 0
+    area0 = panel_areas(g0.V2, g0.F2[keep0], flab0[keep0], n)
     area1 = panel_areas(V2a, g.F2, flab, n)
-    size0 = panel_sizes(g.V2, vlab, n)
+    size0 = panel_sizes(g0.V2, vlab0, n)
     size1 = panel_sizes(V2a, vlab, n)
     dev = boundary_deviation(g.V2, V2a, g.F2, vlab, n)
     if adj.baseline is not None:
