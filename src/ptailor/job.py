@@ -13,7 +13,7 @@ from ptailor.errors import PtailorError
 from ptailor.formats.garment import LoadedGarment, load_garment
 from ptailor.model.boundary import boundary_loops
 from ptailor.output import check_output_dir, staged_dir, write_json
-from ptailor.recipe import Recipe, load_recipe
+from ptailor.recipe import Recipe, axis_vector, load_recipe
 from ptailor.report.build import build_report
 
 
@@ -81,6 +81,31 @@ def write_outputs(
     return [OUTPUTS[f](tmp, adj, loaded) for f in FORMATS if f in formats]
 
 
+def load_body(path: str, *, units: str, to: str):
+    """Read a body mesh with trimesh, scaled from ``units`` to ``to``.
+
+    Raises
+    ------
+    PtailorError
+        A missing or unreadable file, or one with no triangles.
+    """
+    import trimesh
+
+    from ptailor.formats.garment import parse_units
+    from ptailor.model.units import CM_PER
+
+    if not Path(path).is_file():
+        raise PtailorError("no such file", path=path)
+    try:
+        mesh = trimesh.load(path, force="mesh", process=False)
+    except Exception as exc:  # trimesh raises many kinds for bad files
+        raise PtailorError(f"not a readable body mesh ({exc})", path=path) from None
+    if not hasattr(mesh, "faces") or len(mesh.faces) == 0:
+        raise PtailorError("body mesh has no triangles", path=path)
+    scale = parse_units(units, what="--body-units") / CM_PER[to]
+    return trimesh.Trimesh(vertices=mesh.vertices * scale, faces=mesh.faces, process=False)
+
+
 def run_adjust(
     garment_path: str,
     recipe: Recipe | str,
@@ -93,7 +118,10 @@ def run_adjust(
     intrinsic: str | None = None,
     baseline: bool = True,
     formats: tuple[str, ...] = FORMATS,
-    options: EditOptions | None = None,
+    up: str | None = None,
+    front: str | None = None,
+    body: str | None = None,
+    body_units: str = "cm",
     display_inputs: dict[str, str] | None = None,
     extra_files: dict[str, str] | None = None,
 ) -> dict:
@@ -115,7 +143,11 @@ def run_adjust(
         Compute uniform flattening for comparison.
     formats : tuple of str
         Outputs to write besides ``report.json``.
-    options : EditOptions, optional
+    up, front : str, optional
+        The garment's axes (``y``, ``-z``, ...); default the recipe's, else y up, z front.
+    body : str, optional
+        A watertight body mesh (any format trimesh reads) in ``body_units``: extended rows
+        are pushed out of it.
     display_inputs : dict, optional
         Role to the path the report shows (default: the path read).
     extra_files : dict, optional
@@ -133,8 +165,13 @@ def run_adjust(
         raise PtailorError(
             f"unknown output format(s) {', '.join(unknown)} (known: {', '.join(FORMATS)})"
         )
-    inputs = [garment_path] + ([drape] if drape else [])
+    inputs = [garment_path] + ([drape] if drape else []) + ([body] if body else [])
     check_output_dir(out, inputs)
+    options = EditOptions(
+        up=axis_vector(up or recipe.up or "y"),
+        front=axis_vector(front or recipe.front or "z"),
+        body=load_body(body, units=body_units, to=recipe.units) if body else None,
+    )
     t0 = time.perf_counter()
     loaded = load_garment(
         garment_path,
@@ -175,11 +212,10 @@ def run_adjust(
             (tmp / name).write_text(text)
         t3 = time.perf_counter()
         timing = {"load": t1 - t0, **adj.timing_s, "write": t3 - t2}
-        shown = dict(loaded.inputs)
-        if display_inputs:
-            shown.update(display_inputs)
+        read = {**loaded.inputs, **({"body": body} if body else {})}
+        shown = {**read, **(display_inputs or {})}
         report = build_report(
-            adj, inputs=loaded.inputs, units_note=units_note, warnings=warnings, timing_s=timing
+            adj, inputs=read, units_note=units_note, warnings=warnings, timing_s=timing
         )
         for role, path in shown.items():
             report["inputs"][role]["path"] = path

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -22,7 +22,16 @@ FLATTEN_PARAMS = {
     "w_seam": (number(gt=0.0), tol.W_SEAM),
     "max_iter": (number(ge=1, le=10000), tol.ARAP_MAX_ITER),
 }
-TOP_KEYS = ("format", "units", "steps", "flatten")
+TOP_KEYS = ("format", "units", "up", "front", "steps", "flatten")
+AXIS_NAMES = ("x", "y", "z", "-x", "-y", "-z")
+
+
+def axis_vector(name: str) -> tuple[float, float, float]:
+    """``"-y"`` -> ``(0, -1, 0)``."""
+    sign = -1.0 if name.startswith("-") else 1.0
+    v = [0.0, 0.0, 0.0]
+    v["xyz".index(name[-1])] = sign
+    return (v[0], v[1], v[2])
 
 
 @dataclass(frozen=True)
@@ -38,12 +47,16 @@ class Recipe:
         ``method``, ``intrinsic``, ``boundary``, ``w_pin``, ``w_asap``, ``max_iter``.
     source : str
         Where it came from (a path, ``<stdin>`` or ``<string>``).
+    up, front : str or None
+        The garment's axes (``y``, ``-z``, ...) when the recipe sets them.
     """
 
     units: str = "cm"
     steps: list[dict] = field(default_factory=list)
     flatten: dict = field(default_factory=lambda: {k: d for k, (_, d) in FLATTEN_PARAMS.items()})
     source: str = "<string>"
+    up: str | None = None
+    front: str | None = None
 
 
 def validate(data: Any) -> tuple[Recipe | None, list[str]]:
@@ -72,6 +85,11 @@ def validate(data: Any) -> tuple[Recipe | None, list[str]]:
         probs.append(f"format: only format 1 is known, got {data['format']!r}")
     units = data.get("units", "cm")
     probs += choice(*UNITS)(units, "units")
+    for k in ("up", "front"):
+        if k in data:
+            probs += choice(*AXIS_NAMES)(data[k], k)
+    if "up" in data and "front" in data and str(data["up"])[-1:] == str(data["front"])[-1:]:
+        probs.append("up and front must be different axes")
     steps_in = data.get("steps", [])
     if steps_in is None:
         steps_in = []
@@ -119,7 +137,9 @@ def validate(data: Any) -> tuple[Recipe | None, list[str]]:
         flatten[k] = fl_in.get(k, default)
     if probs:
         return None, probs
-    return Recipe(units=units, steps=steps, flatten=flatten), []
+    return Recipe(
+        units=units, steps=steps, flatten=flatten, up=data.get("up"), front=data.get("front")
+    ), []
 
 
 def parse_recipe(text: str, *, source: str = "<string>") -> Recipe:
@@ -143,7 +163,7 @@ def parse_recipe(text: str, *, source: str = "<string>") -> Recipe:
     if probs:
         raise RecipeError(probs, path=source)
     assert recipe is not None
-    return Recipe(units=recipe.units, steps=recipe.steps, flatten=recipe.flatten, source=source)
+    return replace(recipe, source=source)
 
 
 def load_recipe(path: str | Path) -> Recipe:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ptailor.cli.options import axes_options, axis_vector, garment_options
+from ptailor.cli.options import axes_options, garment_options
 
 
 @click.command()
@@ -25,6 +25,13 @@ from ptailor.cli.options import axes_options, axis_vector, garment_options
     default=None,
     help="Override how intrinsic scale targets are formed.",
 )
+@click.option(
+    "--body",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="Watertight body mesh: extended rows are pushed out of it.",
+)
+@click.option("--body-units", default="cm", show_default=True, help="Unit of the body mesh.")
 @click.option("--no-baseline", is_flag=True, help="Skip the uniform-flattening comparison.")
 @click.option(
     "--formats", default="obj,svg", show_default=True, help="Outputs besides report.json."
@@ -42,6 +49,8 @@ def adjust(
     front,
     method,
     intrinsic,
+    body,
+    body_units,
     no_baseline,
     formats,
     as_json,
@@ -55,7 +64,6 @@ def adjust(
     import json
     from pathlib import Path
 
-    from ptailor.edits import EditOptions
     from ptailor.job import run_adjust
     from ptailor.recipe import load_recipe
     from ptailor.report.build import summary_lines
@@ -72,7 +80,10 @@ def adjust(
         intrinsic=intrinsic,
         baseline=not no_baseline,
         formats=tuple(f for f in formats.split(",") if f),
-        options=EditOptions(up=axis_vector(up), front=axis_vector(front)),
+        up=up,
+        front=front,
+        body=body,
+        body_units=body_units,
     )
     if as_json:
         click.echo(json.dumps(report, indent=2))

@@ -30,7 +30,7 @@ def inspect(garment, drape, pattern_units, drape_units, up, front, units, as_jso
     loaded = load_garment(
         garment, drape=drape, units=units, pattern_units=pattern_units, drape_units=drape_units
     )
-    info = garment_summary(loaded, up=axis_vector(up), front=axis_vector(front))
+    info = garment_summary(loaded, up=axis_vector(up, "y"), front=axis_vector(front, "z"))
     info["units"].update({"pattern": pattern_units, "drape": drape_units})
     if as_json:
         click.echo(json.dumps(info, indent=2))

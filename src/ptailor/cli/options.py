@@ -41,14 +41,16 @@ def axes_options(fn):
     for opt in reversed(
         [
             click.option(
-                "--up", default="y", show_default=True, type=click.Choice(AXES), help="Up axis."
+                "--up",
+                default=None,
+                type=click.Choice(AXES),
+                help="Up axis [default: the recipe's, else y].",
             ),
             click.option(
                 "--front",
-                default="z",
-                show_default=True,
+                default=None,
                 type=click.Choice(AXES),
-                help="Front axis.",
+                help="Front axis [default: the recipe's, else z].",
             ),
         ]
     ):
@@ -59,9 +61,8 @@ def axes_options(fn):
 AXES = ["x", "y", "z", "-x", "-y", "-z"]
 
 
-def axis_vector(name: str) -> tuple[float, float, float]:
-    """``"-y"`` -> ``(0, -1, 0)``."""
-    sign = -1.0 if name.startswith("-") else 1.0
-    v = [0.0, 0.0, 0.0]
-    v["xyz".index(name[-1])] = sign
-    return (v[0], v[1], v[2])
+def axis_vector(name: str | None, default: str) -> tuple[float, float, float]:
+    """``"-y"`` -> ``(0, -1, 0)``; ``None`` gives ``default``'s vector."""
+    from ptailor.recipe import axis_vector as vec
+
+    return vec(name or default)

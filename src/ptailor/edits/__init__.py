@@ -62,10 +62,19 @@ class EditState:
 
 @dataclass(frozen=True)
 class EditOptions:
-    """Garment-independent settings of a run (axes)."""
+    """Garment-independent settings of a run.
+
+    Attributes
+    ----------
+    up, front : (3,) tuple of float
+        The garment's axes (openings, views, the sagittal plane).
+    body : trimesh.Trimesh or None
+        A watertight body in the computation unit: extended rows are pushed out of it.
+    """
 
     up: tuple[float, float, float] = (0.0, 1.0, 0.0)
     front: tuple[float, float, float] = (0.0, 0.0, 1.0)
+    body: Any = None
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,82 @@
+"""Run options: the garment's axes from the recipe or the command line, and a body mesh."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from ptailor.cli.main import cli
+from ptailor.formats.obj import write_garment
+from ptailor.model.garment import Garment
+from ptailor.samples import cone_skirt
+
+
+def rotated_skirt(tmp_path):
+    """The cone skirt stored z-up, facing -y."""
+    g = cone_skirt()
+    R = np.array([[1.0, 0, 0], [0, 0, -1], [0, 1, 0]])  # y -> z, z -> -y
+    p = tmp_path / "zup.obj"
+    write_garment(
+        p,
+        Garment(
+            V3=g.V3 @ R.T,
+            F3=g.F3,
+            V2=g.V2,
+            F2=g.F2,
+            face_group=g.face_group,
+            group_names=g.group_names,
+        ),
+    )
+    return p
+
+
+@pytest.mark.parametrize("where", ["recipe", "cli"])
+def test_axes_from_recipe_or_command_line(tmp_path, where):
+    p = rotated_skirt(tmp_path)
+    rec = tmp_path / "r.yaml"
+    head = "up: z\nfront: -y\n" if where == "recipe" else ""
+    rec.write_text(head + "steps: [{op: shorten, opening: hem, by: 5}]\n")
+    args = ["adjust", str(p), str(rec), "-o", str(tmp_path / "o"), "--json"]
+    if where == "cli":
+        args += ["--up", "z", "--front", "-y"]
+    r = CliRunner().invoke(cli, args)
+    assert r.exit_code == 0, r.output
+    step = json.loads(r.output)["steps"][0]
+    assert step["opening"] == "hem"
+    assert step["achieved"]["3d"]["mean"] == pytest.approx(5.0, rel=1e-6)
+
+
+def test_recipe_axes_are_validated(tmp_path):
+    rec = tmp_path / "r.yaml"
+    rec.write_text("up: q\nfront: y\nsteps: []\n")
+    r = CliRunner().invoke(cli, ["adjust", "nope.obj", str(rec), "-o", str(tmp_path / "o")])
+    assert r.exit_code == 2 and "up: expected one of" in r.output
+
+
+def test_body_option(tmp_path):
+    import trimesh
+
+    from ptailor.demo import sample_obj_text
+
+    src = tmp_path / "s.obj"
+    src.write_text(sample_obj_text("cone_skirt"))
+    body = tmp_path / "body.obj"
+    trimesh.creation.icosphere(subdivisions=3, radius=20.0).export(body)
+    rec = tmp_path / "r.yaml"
+    rec.write_text("steps: [{op: extend, opening: hem, by: 3}]\n")
+    r = CliRunner().invoke(
+        cli,
+        ["adjust", str(src), str(rec), "--body", str(body), "-o", str(tmp_path / "o"), "--json"],
+    )
+    assert r.exit_code == 0, r.output
+    assert "body" in json.loads(r.output)["inputs"]
+    bad = tmp_path / "bad.obj"
+    bad.write_text("nothing here\n")
+    r = CliRunner().invoke(
+        cli, ["adjust", str(src), str(rec), "--body", str(bad), "-o", str(tmp_path / "o2")]
+    )
+    assert r.exit_code == 2 and str(bad) in r.output
+    assert not (tmp_path / "o2").exists()
