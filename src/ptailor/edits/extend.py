@@ -434,7 +434,7 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     free[:n2] = False if state.outline_free is None else state.outline_free
 
     # achieved lengths: the new edge's distance from the old opening, in 3D and per panel
-    from ptailor.report.outline import point_segment_distance
+    from ptailor.report.outline import distance_stats, point_segment_distance
 
     top3 = new_e[(rows - 1) * k :]
     d3 = point_segment_distance(top3, Ve[oe.a3], Ve[oe.b3])
@@ -447,7 +447,7 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         sel = edge_panel == p.index
         if sel.any():
             d2 = point_segment_distance(top2[col_panel == p.index], V2[oe.a2[sel]], V2[oe.b2[sel]])
-            achieved_pattern[p.name] = round(float(d2.mean()), 6)
+            achieved_pattern[p.name] = distance_stats(d2)
     rec = {
         "op": "extend",
         "opening": name,
@@ -455,8 +455,7 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         "rows": rows,
         "new_triangles": len(F3_new),
         "smoothing": smoothing,
-        "achieved_3d": round(float(d3.mean()), 6),
-        "achieved_pattern": achieved_pattern,
+        "achieved": {"3d": distance_stats(d3), "pattern": achieved_pattern},
     }
     return replace(
         state,

@@ -49,7 +49,8 @@ def opening_halfedges(F3: np.ndarray, loop: np.ndarray) -> np.ndarray:
     return want
 
 
-def _stats(d: np.ndarray) -> dict:
+def distance_stats(d: np.ndarray) -> dict:
+    """``{"mean", "min", "max"}`` of distances, rounded for the report."""
     if d.size == 0:
         return {"mean": 0.0, "min": 0.0, "max": 0.0}
     return {
@@ -80,7 +81,7 @@ def edge_offsets(before: EditState, res: SplitResult, loop: np.ndarray) -> dict:
     g0 = before.base
     nxt = np.roll(loop, -1)
     new3 = res.state.V3[res.new_vertices3]
-    out = {"3d": _stats(point_segment_distance(new3, before.V3[loop], before.V3[nxt]))}
+    out = {"3d": distance_stats(point_segment_distance(new3, before.V3[loop], before.V3[nxt]))}
     he = opening_halfedges(g0.F3, loop)
     h2 = half_edges(g0.F2)
     face_old = he // 3
@@ -101,6 +102,6 @@ def edge_offsets(before: EditState, res: SplitResult, loop: np.ndarray) -> dict:
         ]
         pts = new2[np.isin(vlab_new[new2], mine)]
         d = point_segment_distance(res.state.base.V2[pts], g0.V2[h2[segs, 0]], g0.V2[h2[segs, 1]])
-        pattern[p.name] = _stats(d)
+        pattern[p.name] = distance_stats(d)
     out["pattern"] = pattern
     return out
