@@ -11,7 +11,7 @@ from ptailor.adjust import adjust
 from ptailor.demo import bundled_recipe
 from ptailor.model.seams import half_edges
 from ptailor.recipe import load_recipe, parse_recipe
-from ptailor.samples import cone_skirt, lantern_sleeve
+from ptailor.samples import SAMPLES, cone_skirt
 
 RECIPES = sorted((Path(__file__).resolve().parents[1] / "recipes").glob("*.yaml"))
 
@@ -25,10 +25,20 @@ def test_recipes_folder_is_bundled():
 @pytest.mark.parametrize("path", RECIPES, ids=[p.stem for p in RECIPES])
 def test_recipe_validates_and_runs(path):
     rec = load_recipe(path)
-    g = cone_skirt() if "skirt" in path.stem else lantern_sleeve()
+    # a recipe names the generated garment it is meant for in a '# sample: NAME' line
+    sample = next(
+        (
+            ln.split(":", 1)[1].strip()
+            for ln in path.read_text().splitlines()
+            if ln.startswith("# sample:")
+        ),
+        "lantern_sleeve",
+    )
+    g = SAMPLES[sample]()
     adj = adjust(g, rec)
     assert np.all(np.isfinite(adj.result.V2))
-    E = adj.result.V2[g.F2[:, 1:]] - adj.result.V2[g.F2[:, :1]]
+    F2 = adj.state.base.F2
+    E = adj.result.V2[F2[:, 1:]] - adj.result.V2[F2[:, :1]]
     cross = E[:, 0, 0] * E[:, 1, 1] - E[:, 0, 1] * E[:, 1, 0]
     assert np.all(cross > 0)  # no flipped triangle
 

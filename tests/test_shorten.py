@@ -113,3 +113,23 @@ def test_shorten_errors(tmp_path, step, message):
     assert not (tmp_path / "o").exists()
     if "collar" in step:
         assert "hem" in r.output and "waist" in r.output  # lists what the garment has
+
+
+@pytest.mark.parametrize("op", ["extend", "shorten"])
+def test_dress_hem_edits_are_valid_and_readjustable(op, tmp_path):
+    import ptailor.edits.extend  # noqa: F401  (registers the op)
+
+    path = real_path("dress")
+    rec = parse_recipe(f"steps: [{{op: {op}, opening: hem, by: 5}}]")
+    rep = run_adjust(str(path), rec, tmp_path / "o", pattern_units="auto", baseline=False)
+    out = load_garment(tmp_path / "o" / "garment.obj", pattern_units="auto").garment
+    assert_valid(out)
+    assert rep["steps"][0]["achieved"]["3d"]["mean"] == pytest.approx(5.0, rel=0.05)
+    assert all(p["flipped_triangles"] == 0 for p in rep["panels"])
+    again = run_adjust(
+        str(tmp_path / "o" / "garment.obj"),
+        parse_recipe("steps: []"),
+        tmp_path / "o2",
+        pattern_units="auto",
+    )
+    assert len(again["panels"]) == len(rep["panels"])
