@@ -132,30 +132,34 @@ def test_cut_errors(tmp_path, step, message):
 
 
 @pytest.mark.parametrize("key", ["tee6", "dress"])
-def test_plane_cut_on_real_garments(key):
+def test_plane_cut_on_real_garments(key, tmp_path):
     from tests.conftest import REAL
+    from tests.garment_checks import seam_sides
 
-    g = load_garment(real_path(key), pattern_units=REAL[key][1]).garment
+    path = real_path(key)
+    g = load_garment(path, pattern_units=REAL[key][1]).garment
     used = np.unique(g.F3)
     y0, y1 = g.V3[used, 1].min(), g.V3[used, 1].max()
     y = y0 + 0.3 * (y1 - y0)
-    adj = adjust(
-        g,
-        parse_recipe(f"steps: [{{op: cut, plane: {{point: [0, {y}, 0], normal: [0, -1, 0]}}}}]"),
-        baseline=False,
-    )
+    rec = parse_recipe(f"steps: [{{op: cut, plane: {{point: [0, {y}, 0], normal: [0, -1, 0]}}}}]")
+    adj = adjust(g, rec, baseline=False)
     b = adj.state.base
     assert_valid(b, V2=adj.result.V2)
     assert adj.state.V3[np.unique(b.F3), 1].min() >= y - 1e-6
     # seams equal before stay equal (barycentric transfer on both sides)
-    before = {}
-    from tests.garment_checks import seam_sides
-
-    equal_before = all(abs(a - c) <= 1e-6 * max(a, c) for a, c in seam_sides(g, g.V2))
-    if equal_before:
+    if all(abs(a - c) <= 1e-6 * max(a, c) for a, c in seam_sides(g, g.V2)):
         assert_seams_equal(b, adj.result.V2)
-    del before
     assert len(panels(b)) >= 1
+    # ptailor takes its own output again
+    run_adjust(str(path), rec, tmp_path / "o", pattern_units=REAL[key][1], baseline=False)
+    again = run_adjust(
+        str(tmp_path / "o" / "garment.obj"),
+        parse_recipe("steps: []"),
+        tmp_path / "o2",
+        pattern_units=REAL[key][1],
+        baseline=False,
+    )
+    assert sum(p["triangles"] for p in again["panels"]) == b.n_faces
 
 
 def test_polyline_side_at_a_shared_vertex_uses_the_pseudo_normal():
