@@ -33,3 +33,17 @@ def assert_seams_equal(g: Garment, V2: np.ndarray, *, rtol: float = 1e-6) -> Non
     """Every seam's two sides have the same length."""
     for la, lb in seam_sides(g, V2):
         assert abs(la - lb) <= rtol * max(la, lb), (la, lb)
+
+
+def adjust_sample_cli(tmp_path, step: str, *, sample: str = "cone_skirt"):
+    """Run ``ptailor adjust`` on a generated sample with a one-step recipe; return the result."""
+    from click.testing import CliRunner
+
+    from ptailor.cli.main import cli
+    from ptailor.demo import sample_obj_text
+
+    src = tmp_path / f"{sample}.obj"
+    src.write_text(sample_obj_text(sample))
+    rec = tmp_path / "r.yaml"
+    rec.write_text(f"steps: [{step}]\n")
+    return CliRunner().invoke(cli, ["adjust", str(src), str(rec), "-o", str(tmp_path / "o")])

@@ -14,7 +14,7 @@ from ptailor.edits.body import closest_points, push_out, winding_numbers
 from ptailor.edits.extend import opening_edges
 from ptailor.errors import PtailorError
 from ptailor.formats.garment import load_garment
-from ptailor.formats.obj import write_obj
+from ptailor.formats.obj import write_garment
 from ptailor.job import run_adjust
 from ptailor.method.flatten import panel_labels
 from ptailor.model.garment import panels
@@ -252,15 +252,7 @@ def test_bad_by_is_a_recipe_error():
 def test_output_can_be_adjusted_again(tmp_path):
     g = cone_skirt(n_around=24, n_along=6)
     src = tmp_path / "skirt.obj"
-    write_obj(
-        src,
-        V3=g.V3,
-        F3=g.F3,
-        V2=g.V2,
-        F2=g.F2,
-        face_panel=g.face_group,
-        panel_names=list(g.group_names),
-    )
+    write_garment(src, g)
     run_adjust(str(src), extend_recipe("hem", 4), tmp_path / "out1")
     once = load_garment(tmp_path / "out1" / "garment.obj").garment
     assert once.n_faces > g.n_faces

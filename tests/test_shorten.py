@@ -4,17 +4,15 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from click.testing import CliRunner
 
 from ptailor.adjust import adjust
-from ptailor.cli.main import cli
 from ptailor.formats.garment import load_garment
 from ptailor.job import run_adjust
 from ptailor.recipe import parse_recipe
 from ptailor.report.outline import point_segment_distance
 from ptailor.samples import cone_skirt, lantern_sleeve
 from tests.conftest import REAL, real_path
-from tests.garment_checks import assert_seams_equal, assert_valid
+from tests.garment_checks import adjust_sample_cli, assert_seams_equal, assert_valid
 
 
 def ring(V: np.ndarray, used: np.ndarray, which) -> np.ndarray:
@@ -102,13 +100,7 @@ def test_shorten_hem_on_real_garments(key, tmp_path):
     ],
 )
 def test_shorten_errors(tmp_path, step, message):
-    from ptailor.demo import sample_obj_text
-
-    src = tmp_path / "skirt.obj"
-    src.write_text(sample_obj_text("cone_skirt"))
-    rec = tmp_path / "r.yaml"
-    rec.write_text(f"steps: [{step}]\n")
-    r = CliRunner().invoke(cli, ["adjust", str(src), str(rec), "-o", str(tmp_path / "o")])
+    r = adjust_sample_cli(tmp_path, step)
     assert r.exit_code == 2 and message in r.output, r.output
     assert not (tmp_path / "o").exists()
     if "collar" in step:

@@ -4,10 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from click.testing import CliRunner
 
 from ptailor.adjust import adjust
-from ptailor.cli.main import cli
 from ptailor.errors import PtailorError
 from ptailor.formats.garment import load_garment
 from ptailor.job import run_adjust
@@ -16,7 +14,7 @@ from ptailor.model.seams import half_edges
 from ptailor.recipe import parse_recipe
 from ptailor.samples import cone_skirt, lantern_sleeve
 from tests.conftest import real_path
-from tests.garment_checks import assert_seams_equal, assert_valid
+from tests.garment_checks import adjust_sample_cli, assert_seams_equal, assert_valid
 
 PLANE = "steps: [{op: cut, plane: {point: [0, 20, 0], normal: [0, -1, 0]}}]"
 
@@ -118,17 +116,11 @@ def test_cut_output_can_be_adjusted_again(tmp_path):
     ],
 )
 def test_cut_errors(tmp_path, step, message):
-    from ptailor.demo import sample_obj_text
-
-    src = tmp_path / "skirt.obj"
-    src.write_text(sample_obj_text("cone_skirt"))
-    rec = tmp_path / "r.yaml"
-    rec.write_text(f"steps: [{step}]\n")
-    r = CliRunner().invoke(cli, ["adjust", str(src), str(rec), "-o", str(tmp_path / "o")])
+    r = adjust_sample_cli(tmp_path, step)
     assert r.exit_code == 2 and message in r.output
     assert not (tmp_path / "o").exists()
     with pytest.raises(PtailorError):
-        adjust(load_garment(src).garment, parse_recipe(f"steps: [{step}]"))
+        adjust(load_garment(tmp_path / "cone_skirt.obj").garment, parse_recipe(f"steps: [{step}]"))
 
 
 @pytest.mark.parametrize("key", ["tee6", "dress"])
