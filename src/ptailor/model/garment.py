@@ -151,8 +151,9 @@ def panels(garment: Garment) -> list[Panel]:
     -------
     list of Panel
         In order of each panel's first triangle. Names come from the OBJ group shared by
-        most of the panel's triangles when that group covers no other panel, else
-        ``panel_<index>``; names are made unique with a ``_<k>`` suffix.
+        most of the panel's triangles, else ``panel_<index>`` (also when one group covers
+        every panel: it names the mesh); a group over several panels names them
+        ``name``, ``name_1``, ... (a panel a cut split in two keeps its name that way).
     """
     F2 = garment.F2
     lab = face_components(F2, len(garment.V2))
@@ -169,9 +170,10 @@ def panels(garment: Garment) -> list[Panel]:
         table = np.zeros((n_p, n_g), dtype=np.int64)
         np.add.at(table, (lab[valid], g[valid]), 1)
         best = table.argmax(axis=1)
-        panels_per_group = (table > 0).sum(axis=0)
+        # one group over every panel names the whole mesh, not a panel
+        whole_mesh = int((table.sum(axis=0) > 0).sum()) == 1 and n_p > 1
         for p in range(n_p):
-            ok = table[p, best[p]] > 0 and panels_per_group[best[p]] == 1
+            ok = table[p, best[p]] > 0 and not whole_mesh
             names.append(garment.group_names[best[p]] if ok else f"panel_{p}")
     else:
         names = [f"panel_{p}" for p in range(n_p)]
