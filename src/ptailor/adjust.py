@@ -129,6 +129,7 @@ def adjust(
     kw = {
         "asap_panels": asap,
         "outline_free": state.outline_free,
+        "frozen_panels": np.array([p.name in state.frozen for p in state.panels], dtype=bool),
         "w_pin": float(settings["w_pin"]),
         "w_asap": float(settings["w_asap"]),
         "keep_seams": settings["seams"] == "keep",

@@ -50,6 +50,9 @@ class EditState:
     outline_free : (n2,) bool array or None
         Pattern vertices of ``base`` whose outline is free even on ``even`` panels (an edge
         a step created, such as an extended hem); None for none.
+    frozen : frozenset of str
+        Names of panels whose pattern is kept: their drape's change goes into their
+        intrinsic scale (a cuff that gathers more when the sleeve above it widens).
     """
 
     base: Garment
@@ -58,6 +61,7 @@ class EditState:
     even: np.ndarray
     log: tuple[dict, ...] = field(default_factory=tuple)
     outline_free: np.ndarray | None = None
+    frozen: frozenset[str] = frozenset()
 
 
 @dataclass(frozen=True)
@@ -114,7 +118,7 @@ def register(
 
 
 def _load_all() -> None:
-    from ptailor.edits import cut, extend, scale, shorten  # noqa: F401
+    from ptailor.edits import cut, extend, scale, scale_seam, shorten  # noqa: F401
 
 
 _load_all()

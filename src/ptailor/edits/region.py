@@ -51,8 +51,41 @@ def region_faces(region: Any, garment: Garment, V3: np.ndarray, plist: list[Pane
     return faces
 
 
-def region_axis(V3: np.ndarray, F3: np.ndarray, faces: np.ndarray) -> np.ndarray:
+def body_axis(P: np.ndarray, body_vertices: np.ndarray, *, k: int = 16) -> np.ndarray:
+    """The body's local axis near some garment points.
+
+    The body part nearest to the points (each point's ``k`` nearest body vertices) and its
+    direction of largest extent: along the arm for a sleeve, up the torso for a bodice.
+
+    Parameters
+    ----------
+    P : (p, 3) float array
+        Garment points (a region, a seam line).
+    body_vertices : (b, 3) float array
+    k : int
+        Body vertices taken per garment point.
+
+    Returns
+    -------
+    (3,) float array
+        Unit vector, largest component positive.
+    """
+    from scipy.spatial import cKDTree
+
+    _, idx = cKDTree(body_vertices).query(P, k=min(k, len(body_vertices)))
+    Q = body_vertices[np.unique(idx)]
+    Q = Q - Q.mean(axis=0)
+    ax = np.linalg.eigh(Q.T @ Q)[1][:, -1]
+    return ax * np.sign(ax[np.argmax(np.abs(ax))])
+
+
+def region_axis(
+    V3: np.ndarray, F3: np.ndarray, faces: np.ndarray, *, body: Any = None
+) -> np.ndarray:
     """The principal axis of a region of the drape (for ``axis: auto``).
+
+    With a ``body`` (a mesh with ``vertices``), the body's local axis at the region
+    (:func:`body_axis`).
 
     For tube-like regions (sleeves, a torso, a skirt) the axis is the direction the surface
     normals avoid: the eigenvector of the smallest eigenvalue of the area-weighted normal
@@ -71,6 +104,8 @@ def region_axis(V3: np.ndarray, F3: np.ndarray, faces: np.ndarray) -> np.ndarray
         Unit vector, sign chosen so its largest component is positive.
     """
     T = F3[faces]
+    if body is not None:
+        return body_axis(V3[np.unique(T)], np.asarray(body.vertices, dtype=float))
     a, b, c = V3[T[:, 0]], V3[T[:, 1]], V3[T[:, 2]]
     cr = np.cross(b - a, c - a)  # |cr| = 2 area, so cr cr^T / |cr| = 2 area n n^T
     w = np.linalg.norm(cr, axis=1)

@@ -50,11 +50,10 @@ def scale(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     and ``A`` from :func:`scale_matrix`. Panels wholly inside the region move evenly;
     panels partly inside, or moved only by the follow-up deformation, do not.
     """
-    del options
     g, V3 = state.base, state.V3
     faces = region_faces(step["region"], g, V3, state.panels)
     if step["axis"] == "auto":
-        ax = region_axis(V3, g.F3, faces)
+        ax = region_axis(V3, g.F3, faces, body=options.body)
     else:
         ax = np.asarray(step["axis"], dtype=float)
         ax = ax / np.linalg.norm(ax)

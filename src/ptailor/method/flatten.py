@@ -8,7 +8,7 @@ from typing import Literal
 import numpy as np
 
 from ptailor import tolerances as tol
-from ptailor.method.intrinsic import Intrinsic, intrinsic_targets
+from ptailor.method.intrinsic import Intrinsic, edge_matrices, intrinsic_targets
 from ptailor.method.stitch import StitchInfo, stitch
 from ptailor.model.garment import Garment, Panel, panels
 from ptailor.model.seams import seam_halfedges
@@ -118,6 +118,7 @@ def flatten(
     intrinsic: Intrinsic = "polar",
     asap_panels: np.ndarray | None = None,
     outline_free: np.ndarray | None = None,
+    frozen_panels: np.ndarray | None = None,
     keep_seams: bool = False,
     w_pin: float = tol.W_PIN,
     w_asap: float = tol.W_ASAP,
@@ -142,6 +143,9 @@ def flatten(
         Panels whose outline keeps its shape (as-similar-as-possible); default none.
     outline_free : (n2,) bool array, optional
         Pattern vertices whose outline stays free even on those panels (an edited edge).
+    frozen_panels : (n_panels,) bool array, optional
+        Panels whose pattern triangles are kept as they were: the change of their drape is
+        taken up by their intrinsic scale (the cuff a seam-line scale gathers into).
     keep_seams : bool
         Keep each seam's two sides at their original length ratio (seam springs).
     w_pin, w_asap, w_seam, max_iter, rel_tol
@@ -160,6 +164,9 @@ def flatten(
     V2 = garment.V2 * np.stack([sign, np.ones(n2)], 1)
     kind: Intrinsic = "uniform" if method == "uniform" else intrinsic
     targets = intrinsic_targets(V2, garment.F2, garment.V3, V3_edit, garment.F3, intrinsic=kind)
+    if frozen_panels is not None and np.any(frozen_panels):
+        frozen = np.asarray(frozen_panels)[panel_labels(plist, m)]
+        targets[frozen] = edge_matrices(V2, garment.F2[frozen])
     vlab = vertex_labels(plist, n2)
     pins = central_vertices(V2, vlab, len(plist))
     asap_faces = None

@@ -1,0 +1,167 @@
+"""``scale_seam``: move a seam line, scaling the part on one side (the lantern sleeve)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+
+from ptailor.edits import EditOptions, EditState, Param, register
+from ptailor.edits.checks import choice, number
+from ptailor.edits.region import body_axis
+from ptailor.errors import PtailorError
+from ptailor.method.flatten import panel_labels
+from ptailor.model.seams import seams
+
+
+def panel_pair(x: Any, where: str) -> list[str]:
+    """Two panel names."""
+    ok = isinstance(x, list) and len(x) == 2 and all(isinstance(n, str) for n in x)
+    return [] if ok else [f"{where}: expected two panel names [a, b], got {x!r}"]
+
+
+def name(x: Any, where: str) -> list[str]:
+    """A non-empty string."""
+    return [] if isinstance(x, str) and x else [f"{where}: expected a name, got {x!r}"]
+
+
+def fix_list(x: Any, where: str) -> list[str]:
+    """Openings (names or ``{loop: k}``) and seams (``[a, b]``) that must not move."""
+    from ptailor.edits.opening import opening_spec
+
+    if not isinstance(x, list):
+        return [f"{where}: expected a list of openings and seams, got {x!r}"]
+    probs: list[str] = []
+    for i, f in enumerate(x):
+        w = f"{where}[{i}]"
+        probs += panel_pair(f, w) if isinstance(f, list) else opening_spec(f, w)
+    return probs
+
+
+def part_in_seam(step: dict, where: str) -> list[str]:
+    """The scaled part is one of the seam's two panels."""
+    if step["part"] not in step["seam"]:
+        return [f"{where}.part: {step['part']!r} is not one of the seam's panels {step['seam']}"]
+    return []
+
+
+def seam_vertices(state: EditState, pair: list[str]) -> np.ndarray:
+    """Drape vertices of the seam between two named panels.
+
+    Raises
+    ------
+    PtailorError
+        Unknown panel names, or panels that share no seam.
+    """
+    by_name = {p.name: p.index for p in state.panels}
+    unknown = [n for n in pair if n not in by_name]
+    if unknown:
+        raise PtailorError(
+            f"no panel named {', '.join(unknown)} (this garment has: {', '.join(by_name)})"
+        )
+    want = tuple(sorted((by_name[pair[0]], by_name[pair[1]])))
+    flab = panel_labels(state.panels, state.base.n_faces)
+    found = [s for s in seams(state.base.F3, state.base.F2, flab) if s.panels == want]
+    if not found:
+        raise PtailorError(f"panels {pair[0]} and {pair[1]} share no seam")
+    return np.unique(np.concatenate([s.edges3.ravel() for s in found]))
+
+
+@register(
+    "scale_seam",
+    {
+        "seam": Param(panel_pair, required=True, doc="the seam between two panels, by name"),
+        "part": Param(name, required=True, doc="the panel on the side that is scaled"),
+        "direction": Param(choice("around", "along"), default="around"),
+        "factor": Param(number(gt=0.0, le=100.0), required=True),
+        "fix": Param(fix_list, default=[], doc="openings or seams that must not move"),
+    },
+    check=part_in_seam,
+)
+def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditState:
+    """Move a seam line and scale the part on one side; what ``fix`` names stays put.
+
+    The axis is the normal of the seam line's best-fit plane (or the body's local axis with
+    a body). ``around`` scales the part about the axis by a factor growing linearly along
+    it from 1 at the part's fixed (or far) end to ``factor`` at the seam, so a straight
+    sleeve becomes a frustum; ``along`` scales the part's positions along the axis about
+    that end, moving the seam and carrying the other panel with it. The rest of the garment
+    follows by as-rigid-as-possible deformation; what ``fix`` names stays put. The other
+    panel's pattern is kept (``frozen``): its drape's change goes into its intrinsic scale,
+    as a gathered cuff takes up a wider sleeve.
+    """
+    from ptailor.edits.opening import find_opening
+    from ptailor.method.deform import arap_deform
+
+    g, V3 = state.base, state.V3
+    a, b = step["seam"]
+    part = step["part"]
+    other = b if part == a else a
+    ring = seam_vertices(state, [a, b])
+    P = V3[ring]
+    c = P.mean(axis=0)
+    if options.body is not None:
+        ax = body_axis(P, np.asarray(options.body.vertices, dtype=float))
+    else:
+        ax = np.linalg.eigh((P - c).T @ (P - c))[1][:, 0]  # the seam plane's normal
+    ax = ax / np.linalg.norm(ax)
+    f = float(step["factor"])
+    by_name = {p.name: p for p in state.panels}
+    part_v = np.unique(g.F3[by_name[part].faces])
+    other_v = np.setdiff1d(np.unique(g.F3[by_name[other].faces]), ring)
+    fixed: list[np.ndarray] = []
+    for spec in step["fix"]:
+        if isinstance(spec, list):
+            fixed.append(seam_vertices(state, spec))
+        else:
+            fixed.append(find_opening(state, spec, options=options)[1])
+    fixed_v = np.setdiff1d(np.unique(np.concatenate(fixed)), ring) if fixed else np.zeros(0, int)
+    # the part scales from 1 at its fixed end (or far end) to the factor at the seam,
+    # linearly along the axis: a straight tube becomes a frustum, exactly developable
+    s_part = (V3[part_v] - c) @ ax
+    anchor = (
+        float(((V3[fixed_v] - c) @ ax).mean())
+        if len(fixed_v) and np.isin(fixed_v, part_v).any()
+        else float(s_part[np.argmax(np.abs(s_part))])
+    )
+    t = np.clip(1.0 - s_part / anchor, 0.0, 1.0) if anchor != 0 else np.ones(len(part_v))
+    d = V3[part_v] - c
+    axial = (d @ ax)[:, None] * ax
+    if step["direction"] == "around":
+        k = 1.0 + (f - 1.0) * t
+        moved = c + axial + k[:, None] * (d - axial)
+        handles, targets = part_v, moved
+    else:
+        # positions along the axis scale by f about the anchor; the other panel moves along
+        shift = -(f - 1.0) * anchor * ax
+        moved = V3[part_v] + ((f - 1.0) * (d @ ax - anchor))[:, None] * ax
+        handles = np.concatenate([part_v, other_v])
+        targets = np.concatenate([moved, V3[other_v] + shift])
+    keep = ~np.isin(fixed_v, handles)
+    handles = np.concatenate([handles, fixed_v[keep]])
+    targets = np.concatenate([targets, V3[fixed_v[keep]]])
+    V_new = arap_deform(V3, g.F3, handles, targets)
+    changed = np.any(np.abs(V_new - V3) > 0, axis=1)
+    even = state.even.copy()
+    for p in state.panels:  # a loop over panels
+        if p.name == part or changed[g.F3[p.faces]].any():
+            even[p.index] = False  # the part's outline changes shape (wider at the seam)
+    rec = {
+        "op": "scale_seam",
+        "seam": [a, b],
+        "part": part,
+        "direction": step["direction"],
+        "factor": f,
+        "axis": [round(float(x), 6) for x in ax],
+        "seam_vertices": len(ring),
+        "fixed_vertices": len(fixed_v),
+        "pattern_kept": other,
+    }
+    return replace(
+        state,
+        V3=V_new,
+        even=even,
+        frozen=state.frozen | {other},
+        log=(*state.log, rec),
+    )

@@ -1,0 +1,97 @@
+"""scale_seam: the paper's lantern sleeve, moving the sleeve/cuff seam line."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from ptailor.adjust import adjust
+from ptailor.errors import PtailorError
+from ptailor.formats.garment import load_garment
+from ptailor.recipe import parse_recipe
+from ptailor.samples import lantern_sleeve
+from tests.conftest import real_path
+from tests.garment_checks import assert_valid
+
+
+def edge_length(V2, V0, verts, which) -> float:
+    y = V0[verts, 1]
+    idx = verts[np.isclose(y, which(y))]
+    o = idx[np.argsort(V0[idx, 0])]
+    return float(np.linalg.norm(np.diff(V2[o], axis=0), axis=1).sum())
+
+
+def step(direction: str, factor: float = 1.3, fix: str = "[waist]") -> str:
+    return (
+        f"steps: [{{op: scale_seam, seam: [sleeve, cuff], part: sleeve, "
+        f"direction: {direction}, factor: {factor}, fix: {fix}}}]"
+    )
+
+
+def test_around_widens_the_sleeve_bottom_keeps_the_top_and_the_cuff():
+    g = lantern_sleeve()  # openings: hem (cuff bottom) and waist (sleeve top, the armhole)
+    adj = adjust(g, parse_recipe(step("around")))
+    sleeve, cuff = adj.state.panels
+    V, V0 = adj.result.V2, g.V2
+    assert edge_length(V, V0, sleeve.vertices, np.max) == pytest.approx(28.0, rel=1e-3)
+    assert edge_length(V, V0, sleeve.vertices, np.min) == pytest.approx(1.3 * 28.0, rel=1e-3)
+    np.testing.assert_allclose(np.ptp(V[cuff.vertices], axis=0), [40.0, 8.0], rtol=1e-9)
+    # the armhole did not move in 3D
+    top = np.isclose(g.V3[:, 1], g.V3[:, 1].max())
+    np.testing.assert_allclose(adj.state.V3[top], g.V3[top], atol=1e-9)
+    assert_valid(adj.state.base, V2=V)
+    rec = adj.state.log[0]
+    assert rec["pattern_kept"] == "cuff" and rec["seam_vertices"] == 48
+
+
+def test_along_lengthens_the_sleeve_and_carries_the_cuff():
+    g = lantern_sleeve()
+    adj = adjust(g, parse_recipe(step("along")))
+    sleeve, cuff = adj.state.panels
+    np.testing.assert_allclose(np.ptp(adj.result.V2[sleeve.vertices], axis=0), [28, 52], rtol=1e-6)
+    np.testing.assert_allclose(np.ptp(adj.result.V2[cuff.vertices], axis=0), [40, 8], rtol=1e-9)
+    cuff3 = np.unique(g.F3[cuff.faces])
+    assert np.ptp(adj.state.V3[cuff3, 1]) == pytest.approx(8.0, rel=1e-9)  # moved, not stretched
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        (
+            "steps: [{op: scale_seam, seam: [sleeve, cuff], part: collar, factor: 1.2}]",
+            "not one of the seam's panels",
+        ),
+        (
+            "steps: [{op: scale_seam, seam: [sleeve], part: sleeve, factor: 1.2}]",
+            "expected two panel names",
+        ),
+    ],
+)
+def test_recipe_errors(text, message):
+    with pytest.raises(PtailorError, match=message):
+        parse_recipe(text)
+
+
+def test_panels_without_a_seam():
+    g = lantern_sleeve()
+    with pytest.raises(PtailorError, match="no panel named"):
+        adjust(
+            g,
+            parse_recipe(
+                "steps: [{op: scale_seam, seam: [sleeve, collar], part: sleeve, factor: 1.2}]"
+            ),
+        )
+
+
+def test_tee6_armhole_seam_stays_valid():
+    g = load_garment(real_path("tee6")).garment
+    adj = adjust(
+        g,
+        parse_recipe(
+            "steps: [{op: scale_seam, seam: [panel_0, panel_4], part: panel_0, direction: around,"
+            " factor: 1.1, fix: [cuff_left, cuff_right]}]"
+        ),
+        baseline=False,
+    )
+    assert_valid(adj.state.base, V2=adj.result.V2)
+    assert "panel_4" in adj.state.frozen
