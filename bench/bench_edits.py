@@ -4,8 +4,8 @@
 
 Times the edit step alone (``ptailor.adjust.apply_steps``: opening lookup, geodesic
 distance, exact split, pattern transfer) and the whole in-process ``adjust`` with the
-edit (flatten and baseline included), medians over the repeats. Target from issue 3:
-each edit within 2 s.
+edit (flatten and baseline included), medians over the repeats. Targets from issues 3
+and 4: each surgery edit and each deformation step within 2 s.
 """
 
 from __future__ import annotations
@@ -24,6 +24,12 @@ RECIPES = {
     "cut plane y = 30": "steps: [{op: cut, plane: {point: [0, 30, 0], normal: [0, 1, 0]}}]",
     "cut sketch (front)": (
         "steps: [{op: cut, view: front, sketch: [[-30, 20], [0, 30], [30, 20]], remove: below}]"
+    ),
+    "scale cuff 1.3 (ARAP)": (
+        "steps: [{op: scale, region: {panels: [cuff]}, direction: around, factor: 1.3}]"
+    ),
+    "scale_seam 1.3": (
+        "steps: [{op: scale_seam, seam: [sleeve, cuff], part: sleeve, factor: 1.3, fix: [waist]}]"
     ),
 }
 
