@@ -3,14 +3,16 @@
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from ptailor.edits import OPERATIONS, EditOptions, EditState
+from ptailor.edits.mirror import apply_mirrored
 from ptailor.method.flatten import FlattenResult, flatten, panel_labels, vertex_labels
 from ptailor.model.garment import Garment, panels
 from ptailor.model.seams import seams
+from ptailor.model.symmetry import sagittal_plane
 from ptailor.recipe import Recipe
 
 
@@ -63,6 +65,11 @@ class Adjustment:
 def apply_steps(garment: Garment, recipe: Recipe, *, options: EditOptions) -> EditState:
     """Apply a recipe's steps to the drape, in order.
 
+    A step with ``symmetric: true`` is applied with its mirror image across the sagittal
+    plane (:func:`ptailor.edits.mirror.apply_mirrored`). The plane is fitted once, to the
+    input drape (or to ``options.body``), before the first step, and recorded as the
+    first log record ``{"op": "symmetry", "plane": ..., "rms": ..., "max": ...}``.
+
     Parameters
     ----------
     garment : Garment
@@ -77,8 +84,29 @@ def apply_steps(garment: Garment, recipe: Recipe, *, options: EditOptions) -> Ed
     state = EditState(
         base=garment, V3=garment.V3.copy(), panels=plist, even=np.ones(len(plist), dtype=bool)
     )
+    plane = None
+    if any(step.get("symmetric") for step in recipe.steps):
+        plane = sagittal_plane(
+            garment.V3, garment.F3, up=options.up, front=options.front, body=options.body
+        )
+        rec = plane.record()
+        state = replace(
+            state,
+            log=(
+                {
+                    "op": "symmetry",
+                    "fitted_to": "body" if options.body is not None else "drape",
+                    "plane": {"point": rec["point"], "normal": rec["normal"]},
+                    "rms": rec["rms"],
+                    "max": rec["max"],
+                },
+            ),
+        )
     for step in recipe.steps:
-        state = OPERATIONS[step["op"]].apply(state, step, options=options)
+        if step.get("symmetric") and plane is not None:
+            state = apply_mirrored(state, step, options=options, plane=plane)
+        else:
+            state = OPERATIONS[step["op"]].apply(state, step, options=options)
     return state
 
 

@@ -22,7 +22,9 @@ FLATTEN_PARAMS = {
     "w_seam": (number(gt=0.0), tol.W_SEAM),
     "max_iter": (number(ge=1, le=10000), tol.ARAP_MAX_ITER),
 }
-TOP_KEYS = ("format", "units", "up", "front", "steps", "flatten")
+TOP_KEYS = ("format", "units", "up", "front", "symmetric", "steps", "flatten")
+#: A step key every operation accepts (see :mod:`ptailor.edits.mirror`).
+STEP_KEYS = ("symmetric",)
 AXIS_NAMES = ("x", "y", "z", "-x", "-y", "-z")
 
 
@@ -34,6 +36,11 @@ def axis_vector(name: str) -> tuple[float, float, float]:
     return (v[0], v[1], v[2])
 
 
+def _boolean(x: Any, where: str) -> list[str]:
+    """true or false."""
+    return [] if isinstance(x, bool) else [f"{where}: expected true or false, got {x!r}"]
+
+
 @dataclass(frozen=True)
 class Recipe:
     """A validated recipe with every default filled in.
@@ -42,13 +49,17 @@ class Recipe:
     ----------
     units : str
     steps : list of dict
-        Each with ``op`` and all of its parameters.
+        Each with ``op``, all of its parameters and ``symmetric`` (resolved: the step's
+        own, else the recipe's).
     flatten : dict
         ``method``, ``intrinsic``, ``boundary``, ``w_pin``, ``w_asap``, ``max_iter``.
     source : str
         Where it came from (a path, ``<stdin>`` or ``<string>``).
     up, front : str or None
         The garment's axes (``y``, ``-z``, ...) when the recipe sets them.
+    symmetric : bool
+        The recipe-level default of every step's ``symmetric`` (each step in ``steps``
+        carries its own, resolved value).
     """
 
     units: str = "cm"
@@ -57,6 +68,7 @@ class Recipe:
     source: str = "<string>"
     up: str | None = None
     front: str | None = None
+    symmetric: bool = False
 
 
 def validate(data: Any) -> tuple[Recipe | None, list[str]]:
@@ -90,6 +102,8 @@ def validate(data: Any) -> tuple[Recipe | None, list[str]]:
             probs += choice(*AXIS_NAMES)(data[k], k)
     if "up" in data and "front" in data and str(data["up"])[-1:] == str(data["front"])[-1:]:
         probs.append("up and front must be different axes")
+    symmetric = data.get("symmetric", False)
+    probs += _boolean(symmetric, "symmetric")
     steps_in = data.get("steps", [])
     if steps_in is None:
         steps_in = []
@@ -107,10 +121,11 @@ def validate(data: Any) -> tuple[Recipe | None, list[str]]:
             probs.append(f"{where}.op: unknown op {st['op']!r} (known: {', '.join(OPERATIONS)})")
             continue
         full = {"op": op.name}
+        known = [*op.params, *(k for k in STEP_KEYS if k not in op.params)]
         for k in st:
-            if k != "op" and k not in op.params:
+            if k != "op" and k not in known:
                 probs.append(
-                    f"{where}: unknown key {k!r} for {op.name} (known: {', '.join(op.params)})"
+                    f"{where}: unknown key {k!r} for {op.name} (known: {', '.join(known)})"
                 )
         for k, prm in op.params.items():
             if k in st:
@@ -120,6 +135,11 @@ def validate(data: Any) -> tuple[Recipe | None, list[str]]:
                 probs.append(f"{where}: {op.name} needs {k!r}")
             else:
                 full[k] = prm.default
+        # symmetric: every op's, defaulting to the recipe's (an op's own symmetric param, such
+        # as cut's, takes the same resolved value and mirrors itself)
+        if "symmetric" in st and "symmetric" not in op.params:
+            probs += _boolean(st["symmetric"], f"{where}.symmetric")
+        full["symmetric"] = st.get("symmetric", symmetric is True)
         if op.check is not None and not any(pr.startswith(where) for pr in probs):
             probs += op.check(full, where)
         steps.append(full)
@@ -138,7 +158,12 @@ def validate(data: Any) -> tuple[Recipe | None, list[str]]:
     if probs:
         return None, probs
     return Recipe(
-        units=units, steps=steps, flatten=flatten, up=data.get("up"), front=data.get("front")
+        units=units,
+        steps=steps,
+        flatten=flatten,
+        up=data.get("up"),
+        front=data.get("front"),
+        symmetric=symmetric,
     ), []
 
 

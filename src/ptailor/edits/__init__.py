@@ -118,7 +118,7 @@ def register(
 
 
 def _load_all() -> None:
-    from ptailor.edits import cut, extend, scale, scale_seam, shorten  # noqa: F401
+    from ptailor.edits import cut, extend, loosen, scale, scale_seam, shorten  # noqa: F401
 
 
 _load_all()

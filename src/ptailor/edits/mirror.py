@@ -1,0 +1,252 @@
+"""Symmetric steps: a step and its mirror image across the sagittal plane.
+
+A symmetric step is applied as usual, then once more to the garment's mirror image: the
+drape (and the pattern) are reflected, the triangles' winding reversed so normals stay
+outward, the step's panel references renamed to the mirror panels, the step applied, and
+everything reflected back. Geometric references (boxes, planes, sketches, opening names
+such as ``cuff_left``, which are found from the geometry) need no renaming: on the
+mirrored garment they select the other side by themselves.
+
+``symmetric`` is meant for one-sided steps. A step on something centred (``region: all``,
+the front panel, the hem) is applied twice, once per side; the report's step record says
+``"mirrored": true`` and holds the mirror application's own record under ``"mirror"``
+(its ``centroid`` and ``axis`` reflected back into the garment's coordinates).
+An operation with its own ``symmetric`` parameter (``cut``) mirrors itself in one go, so a
+centred cut does not fail for removing nothing the second time; its record says
+``"mirror": "own"`` (``cut`` mirrors across the plane through the drape's area centroid
+with normal ``up x front``, not the fitted plane).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+
+from ptailor.edits import OPERATIONS, EditOptions, EditState
+from ptailor.errors import PtailorError
+from ptailor.model.symmetry import SagittalPlane, mirror_points, panel_mirror_map
+
+#: A ``{loop: k}`` opening's mirror is the loop whose centroid is nearest the mirrored
+#: centroid, within this fraction of the loop's length.
+_LOOP_DIST = 0.25
+
+
+def mirror_state(state: EditState, plane: SagittalPlane) -> EditState:
+    """The garment's mirror image (an involution up to rounding).
+
+    The drape (``state.V3`` and ``state.base.V3``) is reflected across the plane, the
+    pattern across its vertical axis (``u -> -u``), and the winding of ``F3`` and ``F2``
+    reversed, so drape normals stay outward and pattern triangles keep their orientation;
+    panels, seams, the ``even`` and ``frozen`` panel sets are unchanged.
+    """
+    g = state.base
+    base = replace(
+        g,
+        V3=mirror_points(g.V3, plane),
+        F3=np.ascontiguousarray(g.F3[:, ::-1]),
+        V2=g.V2 * np.array([-1.0, 1.0]),
+        F2=np.ascontiguousarray(g.F2[:, ::-1]),
+    )
+    return replace(state, base=base, V3=mirror_points(state.V3, plane))
+
+
+def mirror_options(options: EditOptions, plane: SagittalPlane) -> EditOptions:
+    """The options with the body (if any) reflected too, its faces' winding reversed."""
+    if options.body is None:
+        return options
+    import trimesh
+
+    body = options.body
+    mb = trimesh.Trimesh(
+        vertices=mirror_points(np.asarray(body.vertices, dtype=np.float64), plane),
+        faces=np.asarray(body.faces)[:, ::-1],
+        process=False,
+    )
+    return replace(options, body=mb)
+
+
+class _Renamer:
+    """Renames a step's panel and ``{loop: k}`` references to their mirror images."""
+
+    def __init__(
+        self, before: EditState, mirrored: EditState, plane: SagittalPlane, options: EditOptions
+    ) -> None:
+        self.before, self.mirrored, self.plane, self.options = before, mirrored, plane, options
+        self._names: dict[str, str | None] | None = None
+
+    def panel(self, name: Any) -> Any:
+        if not isinstance(name, str):
+            return name
+        if self._names is None:
+            st = self.before
+            mm = panel_mirror_map(st.base, self.plane, V3=st.V3, panel_list=st.panels)
+            self._names = {
+                p.name: (st.panels[int(mm[p.index])].name if mm[p.index] >= 0 else None)
+                for p in st.panels
+            }
+        if name not in self._names:
+            return name  # unknown: the step's own lookup reports it
+        other = self._names[name]
+        if other is None:
+            raise PtailorError(
+                f"panel {name!r} has no mirror image across the sagittal plane "
+                "(no panel of matching area there): set symmetric: false on this step"
+            )
+        return other
+
+    def loop(self, spec: dict) -> dict:
+        from ptailor.model.openings import openings
+
+        k = spec["loop"]
+        ops0 = openings(
+            self.before.V3, self.before.base.F3, up=self.options.up, front=self.options.front
+        )
+        if k >= len(ops0):
+            return spec  # the step's own lookup reports it
+        m = self.mirrored
+        ops1 = openings(m.V3, m.base.F3, up=self.options.up, front=self.options.front)
+        # on the mirrored garment, the mirror loop sits where loop k sat before the step
+        cen = np.array([o.centroid for o in ops1]).reshape(-1, 3)
+        d = np.linalg.norm(cen - ops0[k].centroid, axis=1)
+        j = int(np.argmin(d)) if len(d) else -1
+        if j < 0 or d[j] > _LOOP_DIST * ops0[k].length:
+            raise PtailorError(
+                f"opening {{loop: {k}}} has no mirror image across the sagittal plane: "
+                "set symmetric: false on this step"
+            )
+        return {"loop": j}
+
+    def opening(self, spec: Any) -> Any:
+        return self.loop(spec) if isinstance(spec, dict) and set(spec) == {"loop"} else spec
+
+
+def mirror_step(
+    step: dict,
+    *,
+    before: EditState,
+    mirrored: EditState,
+    plane: SagittalPlane,
+    options: EditOptions,
+) -> dict:
+    """A step's references renamed for its application to the mirrored garment.
+
+    Renamed, by parameter name (whatever the operation): ``region: {panels: [...]}``,
+    ``seam: [a, b]``, ``part: a``, the seams ``[a, b]`` and ``{loop: k}`` openings in
+    ``fix``, and an ``opening: {loop: k}``. Panels map through
+    :func:`ptailor.model.symmetry.panel_mirror_map` on the garment before the step; a
+    ``{loop: k}`` to the loop of the mirrored garment nearest where loop ``k`` was.
+
+    Parameters
+    ----------
+    step : dict
+    before : EditState
+        The garment before the step (the step's names refer to it).
+    mirrored : EditState
+        The mirror image of the garment after the step (what the renamed step acts on).
+    plane : SagittalPlane
+    options : EditOptions
+
+    Returns
+    -------
+    dict
+
+    Raises
+    ------
+    PtailorError
+        A named panel or loop without a mirror image.
+    """
+    r = _Renamer(before, mirrored, plane, options)
+    out = dict(step)
+    reg = step.get("region")
+    if isinstance(reg, dict) and "panels" in reg:
+        out["region"] = {**reg, "panels": [r.panel(n) for n in reg["panels"]]}
+    if isinstance(step.get("seam"), list):
+        out["seam"] = [r.panel(n) for n in step["seam"]]
+    if "part" in step:
+        out["part"] = r.panel(step["part"])
+    if isinstance(step.get("fix"), list):
+        out["fix"] = [
+            [r.panel(n) for n in f] if isinstance(f, list) else r.opening(f) for f in step["fix"]
+        ]
+    if "opening" in step:
+        out["opening"] = r.opening(step["opening"])
+    return out
+
+
+def _restore(after: EditState, pre: EditState, mirrored: EditState, plane) -> EditState:
+    """Reflect the mirrored garment back; vertices the step left alone keep their bits."""
+    back = mirror_state(after, plane)
+    base = pre.base if after.base is mirrored.base else back.base
+    V3 = back.V3
+    if after.V3.shape == mirrored.V3.shape and base is pre.base:
+        same = np.all(after.V3 == mirrored.V3, axis=1)
+        V3 = np.where(same[:, None], pre.V3, V3)
+    return replace(back, base=base, V3=V3)
+
+
+def apply_mirrored(
+    state: EditState, step: dict, *, options: EditOptions, plane: SagittalPlane
+) -> EditState:
+    """Apply a step and its mirror image across the sagittal plane.
+
+    Parameters
+    ----------
+    state : EditState
+    step : dict
+        A validated step.
+    options : EditOptions
+    plane : SagittalPlane
+
+    Returns
+    -------
+    EditState
+        With one log record for the step: the step's own, with ``"mirrored": true`` and the
+        mirror application's record under ``"mirror"``.
+
+    Raises
+    ------
+    PtailorError
+        A panel or loop the step names that has no mirror image.
+    """
+    op = OPERATIONS[step["op"]]
+    n_log = len(state.log)
+    if "symmetric" in op.params:  # the operation mirrors itself
+        out = op.apply(state, {**step, "symmetric": True}, options=options)
+        recs = out.log[n_log:]
+        rec = {**(recs[-1] if recs else {"op": op.name}), "mirrored": True, "mirror": "own"}
+        return replace(out, log=(*state.log, rec))
+    once = op.apply(state, step, options=options)
+    m = mirror_state(once, plane)
+    mstep = mirror_step(step, before=state, mirrored=m, plane=plane, options=options)
+    m_after = op.apply(m, mstep, options=mirror_options(options, plane))
+    out = _restore(m_after, once, m, plane)
+    rec1 = once.log[n_log:]
+    rec2 = m_after.log[len(once.log) :]
+    rec = {**(rec1[-1] if rec1 else {"op": op.name}), "mirrored": True}
+    rec["mirror"] = _record_back(rec2[-1], plane) if rec2 else {}
+    return replace(out, log=(*state.log, rec))
+
+
+def _record_back(rec: dict, plane: SagittalPlane) -> dict:
+    """A mirror application's log record in the garment's coordinates.
+
+    Its ``centroid`` (a point) and ``axis`` (a direction, largest component kept positive)
+    are reflected back; everything else is copied.
+    """
+    out = dict(rec)
+    if _is3(rec.get("centroid")):
+        c = mirror_points(np.asarray(rec["centroid"], dtype=np.float64), plane)
+        out["centroid"] = [round(float(x), 6) for x in c]
+    if _is3(rec.get("axis")):
+        a = np.asarray(rec["axis"], dtype=np.float64)
+        n = np.asarray(plane.normal, dtype=np.float64)
+        a = a - 2.0 * (a @ n) * n
+        a = a * np.sign(a[np.argmax(np.abs(a))])
+        out["axis"] = [round(float(x), 6) for x in a]
+    return out
+
+
+def _is3(x: Any) -> bool:
+    return isinstance(x, list) and len(x) == 3

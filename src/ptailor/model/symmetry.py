@@ -1,0 +1,341 @@
+"""The sagittal plane of a garment (or body) and the mirror images it defines.
+
+The plane is fitted by a trimmed iterative-closest-point match of the surface to its own
+mirror image, starting from the plane through the area centroid whose normal is the
+wearer's left (``up x front``). Panels are paired with their mirror images by their
+mirrored centroids and areas, so a step naming the left sleeve can be applied to the
+right one.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ptailor.errors import PtailorError
+from ptailor.model.garment import Garment, Panel, panels
+from ptailor.model.openings import body_frame
+
+#: Fraction of the worst pairs (largest mirror distance) left out of each plane update.
+_TRIM = 0.1
+#: Weight of the point-to-point term next to the point-to-plane one in the plane fit: small
+#: enough for fast point-to-plane convergence, enough to pin directions the surface's
+#: tangent planes leave free (turning a surface of revolution about its axis).
+_MU = 0.1
+#: Levenberg-Marquardt damping of the plane update, relative to the normal matrix diagonal.
+_DAMP = 1e-6
+#: Largest turn of the normal per update (radians, about).
+_MAX_TURN = 0.2
+#: Panels are mirror images when their mirrored centroids are closer than this fraction of
+#: the square root of the larger panel's area ...
+_PANEL_DIST = 0.25
+#: ... and their areas differ by less than this fraction of the larger one.
+_PANEL_AREA = 0.2
+
+
+@dataclass(frozen=True)
+class SagittalPlane:
+    """A mirror plane and how well a surface matches its mirror image across it.
+
+    Attributes
+    ----------
+    point : (3,) float array
+        A point of the plane: the surface's area centroid projected onto it.
+    normal : (3,) float array
+        Unit normal, pointing to the wearer's left (``normal @ (up x front) > 0``).
+    rms : float
+        Area-weighted root mean square distance from each mirrored vertex to the surface
+        (to the triangles around its nearest vertex): 0 for a mirror-symmetric surface.
+    max : float
+        The largest such distance.
+    """
+
+    point: np.ndarray
+    normal: np.ndarray
+    rms: float
+    max: float
+
+    def record(self) -> dict:
+        """The plane as a report record (rounded lists)."""
+        return {
+            "point": [round(float(x), 6) for x in self.point],
+            "normal": [round(float(x), 9) for x in self.normal],
+            "rms": float(f"{self.rms:.6g}"),
+            "max": float(f"{self.max:.6g}"),
+        }
+
+
+def mirror_points(P: np.ndarray, plane: SagittalPlane) -> np.ndarray:
+    """Reflect points across a plane.
+
+    Parameters
+    ----------
+    P : (n, 3) float array
+    plane : SagittalPlane
+
+    Returns
+    -------
+    (n, 3) float array
+        ``P - 2 ((P - point) . normal) normal``.
+    """
+    P = np.asarray(P, dtype=np.float64)
+    n = np.asarray(plane.normal, dtype=np.float64)
+    return P - 2.0 * ((P - plane.point) @ n)[..., None] * n
+
+
+def _vertex_areas(V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Lumped vertex areas (a third of each adjacent triangle) and the area centroid."""
+    a, b, c = V[F[:, 0]], V[F[:, 1]], V[F[:, 2]]
+    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    w = np.bincount(F.ravel(), weights=np.repeat(area / 3.0, 3), minlength=len(V))
+    total = float(area.sum())
+    if not total > 0.0:
+        raise PtailorError("cannot fit a sagittal plane: the surface has no area")
+    centroid = ((a + b + c) / 3.0 * area[:, None]).sum(axis=0) / total
+    return w, centroid
+
+
+def _surface_distance(X: np.ndarray, V: np.ndarray, F: np.ndarray, near: np.ndarray) -> np.ndarray:
+    """Distance from points to the triangles around a nearby vertex of each.
+
+    Parameters
+    ----------
+    X : (q, 3) float array
+    V : (n, 3) float array
+    F : (m, 3) int array
+    near : (q,) int array
+        A vertex near each point (its nearest); the triangles around it are searched.
+
+    Returns
+    -------
+    (q,) float array
+        At most ``|X - V[near]|``.
+    """
+    from trimesh.triangles import closest_point
+
+    flat = F.ravel()
+    order = np.argsort(flat, kind="stable")
+    counts = np.bincount(flat, minlength=len(V))
+    start = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    slot = np.arange(flat.size) - start[flat[order]]
+    table = np.full((len(V), max(int(counts.max()), 1)), -1, dtype=np.int64)
+    table[flat[order], slot] = order // 3  # vertex -> its triangles, padded with -1
+    cand = table[near]
+    qi, k = np.nonzero(cand >= 0)
+    tri = cand[qi, k]
+    d = np.full(cand.shape, np.inf)
+    d[qi, k] = np.linalg.norm(closest_point(V[F[tri]], X[qi]) - X[qi], axis=1)
+    return np.minimum(d.min(axis=1), np.linalg.norm(X - V[near], axis=1))
+
+
+def _vertex_normals(V: np.ndarray, F: np.ndarray) -> np.ndarray:
+    """Area-weighted unit vertex normals ``(n, 3)`` (zero for unused vertices)."""
+    cr = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    N = np.zeros_like(V)
+    for k in range(3):  # the three corners, each vectorised over the triangles
+        np.add.at(N, F[:, k], cr)
+    return N / np.maximum(np.linalg.norm(N, axis=1), 1e-300)[:, None]
+
+
+def _plane_step(
+    Pc: np.ndarray,
+    s: np.ndarray,
+    m: np.ndarray,
+    r: np.ndarray,
+    E: np.ndarray,
+    w: np.ndarray,
+    n: np.ndarray,
+) -> np.ndarray:
+    """One damped Gauss-Newton update of a mirror plane.
+
+    Minimises ``sum w (r^2 + mu |E|^2)`` linearised in the plane: ``r`` the point-to-plane
+    and ``E`` the point-to-point residuals of the mirrored vertices against their partners.
+
+    Parameters
+    ----------
+    Pc : (k, 3) float array
+        Vertices minus the plane's point.
+    s : (k,) float array
+        Their signed distances to the plane.
+    m : (k, 3) float array
+        Unit normals of the surface at the partners.
+    r : (k,) float array
+        ``E . m``.
+    E : (k, 3) float array
+        Mirrored vertex minus partner.
+    w : (k,) float array
+        Weights.
+    n : (3,) float array
+        The plane's unit normal.
+
+    Returns
+    -------
+    (4,) float array
+        The change of the normal (orthogonal to ``n``) and the plane's shift along ``n``.
+    """
+    u = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0])
+    u /= np.linalg.norm(u)
+    v = np.cross(n, u)
+    B = np.stack([u, v], axis=1)  # (3, 2)
+    # mirrored p = p - 2 s n; with n -> n + B a and the point shifted by e n:
+    # d(mirror p) = -2 [((p - c) . B a - e) n + s B a]
+    Jp = -2.0 * (Pc @ B)[:, None, :] * n[None, :, None] - 2.0 * s[:, None, None] * B[None]
+    J = np.concatenate([Jp, np.broadcast_to(2.0 * n[None, :, None], (len(s), 3, 1))], axis=2)
+    Jr = np.einsum("ki,kip->kp", m, J)  # point-to-plane rows
+    A = (Jr * w[:, None]).T @ Jr + _MU * np.einsum("k,kip,kiq->pq", w, J, J)
+    b = -(Jr * w[:, None]).T @ r - _MU * np.einsum("k,kip,ki->p", w, J, E)
+    A = A + _DAMP * np.diag(np.diag(A)) + 1e-300 * np.eye(3)
+    x = np.linalg.solve(A, b)
+    return np.concatenate([B @ x[:2], x[2:]])
+
+
+def sagittal_plane(
+    V3: np.ndarray,
+    F3: np.ndarray,
+    *,
+    up: Any = (0.0, 1.0, 0.0),
+    front: Any = (0.0, 0.0, 1.0),
+    body: Any = None,
+    iterations: int = 20,
+    trim: float = _TRIM,
+) -> SagittalPlane:
+    """Fit the mirror plane of a garment's drape (or of a body).
+
+    Start from the plane through the area-weighted centroid with normal ``up x front`` (the
+    wearer's left), then iterate (ICP): reflect the used vertices across the plane, pair
+    each reflection with its nearest vertex of the surface (``cKDTree``), drop the worst
+    ``trim`` fraction of the pairs, and move the plane by one damped Gauss-Newton step on
+    the area-weighted point-to-plane distances of the pairs (the partner's tangent plane)
+    plus a tenth of their point-to-point distances. (Taking the pairs' perpendicular
+    bisector instead converges slowly: the pairs slide along the surface with the plane;
+    a skirt tilted 8 degrees was still 3 degrees off after 20 iterations, where this takes
+    five.) The match quality is measured from the mirrored vertices to the surface itself
+    (not to its vertices), so it does not grow with the mesh's edge length.
+
+    Parameters
+    ----------
+    V3 : (n, 3) float array
+        Drape positions; vertices no triangle uses are ignored.
+    F3 : (m, 3) int array
+    up, front : 3-vectors
+        The wearer's axes.
+    body : trimesh.Trimesh or None
+        When given, the plane is fitted to the body's vertices and faces instead.
+    iterations : int
+        Most plane updates (stops earlier once the plane no longer moves).
+    trim : float
+        Fraction of pairs left out of each update, in ``[0, 1)``.
+
+    Returns
+    -------
+    SagittalPlane
+
+    Raises
+    ------
+    PtailorError
+        A surface without area.
+    """
+    if body is not None:
+        V = np.asarray(body.vertices, dtype=np.float64)
+        F = np.asarray(body.faces, dtype=np.int64).reshape(-1, 3)
+    else:
+        V = np.asarray(V3, dtype=np.float64)
+        F = np.asarray(F3, dtype=np.int64).reshape(-1, 3)
+    if len(F) == 0:
+        raise PtailorError("cannot fit a sagittal plane: the surface has no triangles")
+    from scipy.spatial import cKDTree
+
+    w_all, centroid = _vertex_areas(V, F)
+    used = np.unique(F)
+    P, w = V[used], w_all[used]
+    left = body_frame(up, front)[0]
+    n, c = left.copy(), centroid.copy()
+    N = _vertex_normals(V, F)[used]
+    tree = cKDTree(P)
+    scale = float(np.ptp(P, axis=0).max()) or 1.0
+    for _ in range(int(iterations)):  # ICP iterations, each vectorised over the vertices
+        s = (P - c) @ n
+        E = P - 2.0 * s[:, None] * n  # the mirrored vertices
+        d, j = tree.query(E)
+        E = E - P[j]  # minus their partners
+        m = N[j]
+        r = (E * m).sum(axis=1)  # point-to-plane residuals
+        keep = d <= np.quantile(d, 1.0 - trim) if trim > 0 else np.ones(len(d), dtype=bool)
+        x = _plane_step(P[keep] - c, s[keep], m[keep], r[keep], E[keep], w[keep], n)
+        turn = np.linalg.norm(x[:3])
+        if turn > _MAX_TURN:  # a careful first step from a poor start
+            x[:3] *= _MAX_TURN / turn
+        n_new = n + x[:3]
+        n_new /= np.linalg.norm(n_new)
+        c = c + x[3] * n
+        moved = np.linalg.norm(n_new - n) + abs(x[3]) / scale
+        n = n_new
+        if moved < 1e-13:
+            break
+    n = n * (1.0 if n @ left >= 0 else -1.0)
+    point = centroid - ((centroid - c) @ n) * n
+    plane = SagittalPlane(point=point, normal=n, rms=0.0, max=0.0)
+    X = mirror_points(P, plane)
+    _, j = tree.query(X)
+    d = _surface_distance(X, V, F, used[j])
+    rms = float(np.sqrt((w * d * d).sum() / w.sum()))
+    return SagittalPlane(point=point, normal=n, rms=rms, max=float(d.max()))
+
+
+def panel_mirror_map(
+    garment: Garment,
+    plane: SagittalPlane,
+    *,
+    V3: np.ndarray | None = None,
+    panel_list: list[Panel] | None = None,
+) -> np.ndarray:
+    """Each panel's mirror image across the plane.
+
+    Panels are matched one to one (``scipy.optimize.linear_sum_assignment``) by the
+    distance between one panel's mirrored area centroid and the other's centroid, plus
+    their relative area difference. A match counts when the distance is below a quarter of
+    the square root of the larger panel's area and the areas differ by less than 20 %.
+
+    Parameters
+    ----------
+    garment : Garment
+    plane : SagittalPlane
+    V3 : (n3, 3) float array, optional
+        Drape positions to measure (default ``garment.V3``).
+    panel_list : list of Panel, optional
+        Default ``panels(garment)``.
+
+    Returns
+    -------
+    (n_panels,) int array
+        Index of each panel's mirror panel (itself for a centred panel such as a front),
+        -1 when none is within tolerance.
+    """
+    from scipy.optimize import linear_sum_assignment
+
+    V = garment.V3 if V3 is None else np.asarray(V3, dtype=np.float64)
+    plist = panels(garment) if panel_list is None else panel_list
+    k = len(plist)
+    if k == 0:
+        return np.zeros(0, dtype=np.int64)
+    F = garment.F3
+    a, b, c = V[F[:, 0]], V[F[:, 1]], V[F[:, 2]]
+    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    mid = (a + b + c) / 3.0
+    A = np.array([area[p.faces].sum() for p in plist])  # a loop over panels
+    C = np.array([(mid[p.faces] * area[p.faces, None]).sum(0) for p in plist])
+    C = C / np.maximum(A, 1e-300)[:, None]
+    MC = mirror_points(C, plane)
+    dist = np.linalg.norm(MC[:, None, :] - C[None, :, :], axis=2)
+    big = np.maximum(A[:, None], A[None, :])
+    size = np.sqrt(big)
+    darea = np.abs(A[:, None] - A[None, :]) / np.maximum(big, 1e-300)
+    ok = (dist <= _PANEL_DIST * size) & (darea <= _PANEL_AREA)
+    cost = np.where(ok, dist / np.maximum(size, 1e-300) + darea, 1e6)
+    rows, cols = linear_sum_assignment(cost)
+    out = np.full(k, -1, dtype=np.int64)
+    good = ok[rows, cols]
+    out[rows[good]] = cols[good]
+    return out
