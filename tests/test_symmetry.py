@@ -430,3 +430,23 @@ def test_tee6_one_sided_sleeve_scale_keeps_the_right_sleeve(tee6_runs, key):
             assert a1[p.index] / a0[p.index] > 1.1
             assert a1[j] == pytest.approx(a0[j], rel=0.005)
     assert [r["op"] for r in adj.state.log] == ["scale"]
+
+
+def test_centred_step_is_applied_once():
+    """region: all is its own mirror image: symmetric must not scale it twice."""
+    import numpy as _np
+
+    from ptailor.adjust import adjust as _adjust
+    from ptailor.recipe import parse_recipe as _parse
+    from ptailor.samples import lantern_sleeve
+
+    g = lantern_sleeve()
+    adj = _adjust(
+        g,
+        _parse(
+            "symmetric: true\nsteps: [{op: scale, direction: around, axis: [0,1,0], factor: 1.2}]"
+        ),
+    )
+    cuff = adj.state.panels[1]
+    _np.testing.assert_allclose(_np.ptp(adj.result.V2[cuff.vertices], axis=0), [48, 8], rtol=1e-6)
+    assert adj.state.log[-1]["mirrored"] == "self"

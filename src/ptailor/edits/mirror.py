@@ -7,10 +7,12 @@ everything reflected back. Geometric references (boxes, planes, sketches, openin
 such as ``cuff_left``, which are found from the geometry) need no renaming: on the
 mirrored garment they select the other side by themselves.
 
-``symmetric`` is meant for one-sided steps. A step on something centred (``region: all``,
-the front panel, the hem) is applied twice, once per side; the report's step record says
-``"mirrored": true`` and holds the mirror application's own record under ``"mirror"``
-(its ``centroid`` and ``axis`` reflected back into the garment's coordinates).
+``symmetric`` is meant for one-sided steps. A step that is its own mirror image (named
+references that map to themselves, such as ``region: all``, the front panel or the hem,
+and no box, plane or sketch) is applied once and recorded ``"mirrored": "self"``. Otherwise
+the report's step record says ``"mirrored": true`` and holds the mirror application's own
+record under ``"mirror"`` (its ``centroid`` and ``axis`` reflected back into the garment's
+coordinates).
 An operation with its own ``symmetric`` parameter (``cut``) mirrors itself in one go, so a
 centred cut does not fail for removing nothing the second time; its record says
 ``"mirror": "own"`` (``cut`` mirrors across the plane through the drape's area centroid
@@ -186,6 +188,23 @@ def _restore(after: EditState, pre: EditState, mirrored: EditState, plane) -> Ed
     return replace(back, base=base, V3=V3)
 
 
+def is_centred(step: dict, mstep: dict) -> bool:
+    """A step that is its own mirror image: renaming changed nothing, it names no side.
+
+    Geometric references (a box, a plane, a sketch or silhouette) are never taken as
+    centred: their mirror image is another place.
+    """
+    reg = step.get("region")
+    geometric = (isinstance(reg, dict) and "box" in reg) or any(
+        step.get(k) is not None for k in ("plane", "sketch", "silhouette")
+    )
+    sided = any(
+        isinstance(v, str) and (v.endswith("_left") or v.endswith("_right"))
+        for v in [step.get("opening"), *(step.get("fix") or [])]
+    )
+    return not geometric and not sided and mstep == step
+
+
 def apply_mirrored(
     state: EditState, step: dict, *, options: EditOptions, plane: SagittalPlane
 ) -> EditState:
@@ -203,7 +222,8 @@ def apply_mirrored(
     -------
     EditState
         With one log record for the step: the step's own, with ``"mirrored": true`` and the
-        mirror application's record under ``"mirror"``.
+        mirror application's record under ``"mirror"`` (``"mirrored": "self"`` when the step
+        is its own mirror image, see :func:`is_centred`, and was applied once).
 
     Raises
     ------
@@ -220,6 +240,11 @@ def apply_mirrored(
     once = op.apply(state, step, options=options)
     m = mirror_state(once, plane)
     mstep = mirror_step(step, before=state, mirrored=m, plane=plane, options=options)
+    if is_centred(step, mstep):
+        # its own mirror image (region all, a front panel, the hem): applied once
+        rec1 = once.log[n_log:]
+        rec = {**(rec1[-1] if rec1 else {"op": op.name}), "mirrored": "self"}
+        return replace(once, log=(*state.log, rec))
     m_after = op.apply(m, mstep, options=mirror_options(options, plane))
     out = _restore(m_after, once, m, plane)
     rec1 = once.log[n_log:]
