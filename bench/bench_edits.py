@@ -28,6 +28,9 @@ RECIPES = {
     "scale cuff 1.3 (ARAP)": (
         "steps: [{op: scale, region: {panels: [cuff]}, direction: around, factor: 1.3}]"
     ),
+    "loosen box by 2": (
+        "steps: [{op: loosen, region: {box: {min: [-50, 18, -50], max: [50, 38, 50]}}, by: 2}]"
+    ),
     "scale_seam 1.3": (
         "steps: [{op: scale_seam, seam: [sleeve, cuff], part: sleeve, factor: 1.3, fix: [waist]}]"
     ),
