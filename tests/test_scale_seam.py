@@ -95,3 +95,29 @@ def test_tee6_armhole_seam_stays_valid():
     )
     assert_valid(adj.state.base, V2=adj.result.V2)
     assert "panel_4" in adj.state.frozen
+
+
+def test_body_axis_drives_auto_axes():
+    """With a body, axis: auto is the body's local axis near the region, not the garment's."""
+    import trimesh
+
+    from ptailor.edits import EditOptions
+    from ptailor.edits.region import region_axis
+
+    g = lantern_sleeve()
+    faces = np.arange(g.n_faces)
+    np.testing.assert_allclose(np.abs(region_axis(g.V3, g.F3, faces)), [0, 1, 0], atol=1e-6)
+    # an "arm" inside the sleeve, tilted 30 degrees in the x-y plane
+    d = np.array([np.sin(np.pi / 6), np.cos(np.pi / 6), 0.0])
+    T = trimesh.geometry.align_vectors([0, 0, 1], d)
+    T[:3, 3] = [0, 24, 0]
+    arm = trimesh.creation.cylinder(radius=2.0, height=80.0, sections=32, transform=T)
+    ax = region_axis(g.V3, g.F3, faces, body=arm)
+    assert abs(ax @ d) > 0.99
+    adj = adjust(
+        g,
+        parse_recipe("steps: [{op: scale, direction: along, factor: 1.1}]"),
+        options=EditOptions(body=arm),
+        baseline=False,
+    )
+    assert abs(np.asarray(adj.state.log[0]["axis"]) @ d) > 0.99
