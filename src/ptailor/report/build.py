@@ -199,6 +199,13 @@ def summary_lines(report: dict) -> list[str]:
         > 1e-3 * ratio(s["length_before"])
     ]
     lines.append(f"seams: {len(report['seams'])}, ease (length ratio) changed on {len(changed)}")
+    for st in report.get("steps", []):
+        if st.get("op") == "symmetry":
+            n = ", ".join(f"{x:.3f}" for x in st["plane"]["normal"])
+            lines.append(
+                f"symmetry plane: normal ({n}), garment vs mirror rms {st['rms']:.3g},"
+                f" max {st['max']:.3g}"
+            )
     for w in report["warnings"]:
         lines.append(f"warning: {w}")
     return lines
