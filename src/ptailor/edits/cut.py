@@ -59,13 +59,16 @@ def sagittal_mirror(V: np.ndarray, F: np.ndarray, *, options: EditOptions) -> np
     centroid (a fitted plane comes with the symmetry step).
     """
     from ptailor.edits.region import region_centroid
+    from ptailor.model.symmetry import SagittalPlane, mirror_points
 
-    u = np.asarray(options.up, float)
-    f = np.asarray(options.front, float)
-    left = np.cross(u, f)
-    left /= np.linalg.norm(left)
-    c = region_centroid(V, F, np.arange(len(F)))
-    return V - 2.0 * ((V - c) @ left)[:, None] * left
+    left = np.cross(np.asarray(options.up, float), np.asarray(options.front, float))
+    plane = SagittalPlane(
+        point=region_centroid(V, F, np.arange(len(F))),
+        normal=left / np.linalg.norm(left),
+        rms=0.0,
+        max=0.0,
+    )
+    return mirror_points(V, plane)
 
 
 def view_frame(view: Any, *, up: tuple, front: tuple) -> np.ndarray:

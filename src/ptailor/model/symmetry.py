@@ -87,8 +87,10 @@ def mirror_points(P: np.ndarray, plane: SagittalPlane) -> np.ndarray:
 
 def _vertex_areas(V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Lumped vertex areas (a third of each adjacent triangle) and the area centroid."""
+    from ptailor.model.garment import areas_3d
+
     a, b, c = V[F[:, 0]], V[F[:, 1]], V[F[:, 2]]
-    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    area = areas_3d(V, F)
     w = np.bincount(F.ravel(), weights=np.repeat(area / 3.0, 3), minlength=len(V))
     total = float(area.sum())
     if not total > 0.0:
