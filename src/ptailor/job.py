@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -11,6 +12,7 @@ from ptailor.adjust import Adjustment, adjust
 from ptailor.edits import EditOptions
 from ptailor.errors import PtailorError
 from ptailor.formats.garment import LoadedGarment, load_garment
+from ptailor.marks import CarriedPiece, PiecePlan
 from ptailor.model.boundary import boundary_loops
 from ptailor.output import check_output_dir, staged_dir, write_json
 from ptailor.recipe import Recipe, axis_vector, load_recipe
@@ -26,11 +28,36 @@ def panel_outlines(V2: np.ndarray, F2: np.ndarray, adj: Adjustment) -> list[list
     return out
 
 
-def output_obj(tmp: Path, adj: Adjustment, loaded: LoadedGarment) -> str:
+@dataclass(frozen=True)
+class OutputContext:
+    """What the output writers share besides the adjustment.
+
+    Attributes
+    ----------
+    loaded : LoadedGarment
+        The input, with its file units.
+    pieces : list of CarriedPiece or None
+        The adjusted pieces (computation units), ``None`` for panels removed whole.
+    plan : PiecePlan
+    errors : (m,) float array
+        Intrinsic-scale error per adjusted triangle.
+    seam_allowance : float or None
+        Computation units; the pattern's outline is then the sew line.
+    """
+
+    loaded: LoadedGarment
+    pieces: list[CarriedPiece | None]
+    plan: PiecePlan
+    errors: np.ndarray
+    seam_allowance: float | None = None
+
+
+def output_obj(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
     """``garment.obj``: edited drape and adjusted pattern, in the input files' units."""
     from ptailor.formats.obj import write_obj
     from ptailor.method.flatten import panel_labels
 
+    loaded = ctx.loaded
     g = adj.garment
     header = [
         "ptailor adjusted garment: v = edited drape, vt = adjusted pattern",
@@ -51,11 +78,8 @@ def output_obj(tmp: Path, adj: Adjustment, loaded: LoadedGarment) -> str:
     return "garment.obj"
 
 
-def output_svg(tmp: Path, adj: Adjustment, loaded: LoadedGarment) -> str:
-    """``pattern.svg``: adjusted outlines over the original ones (dashed), at 1:1."""
-    from ptailor.formats.svg import pattern_svg
-
-    del loaded
+def _sheet(adj: Adjustment, ctx: OutputContext) -> dict:
+    """The arguments both previews take: outlines before and after, triangles, errors."""
     g = adj.garment
     g0 = adj.original if adj.original is not None else adj.state.base
     orig = adj.original_panels()
@@ -63,22 +87,112 @@ def output_svg(tmp: Path, adj: Adjustment, loaded: LoadedGarment) -> str:
         [g0.V2[lp] for lp in boundary_loops(g0.F2[orig[p.name][0]])] if p.name in orig else []
         for p in adj.state.panels
     ]
-    after = panel_outlines(g.V2, g.F2, adj)
-    names = [p.name for p in adj.state.panels]
-    (tmp / "pattern.svg").write_text(pattern_svg(before, after, names, units=g.units))
+    tris = []
+    errs = []
+    for p in adj.state.panels:  # a loop over panels
+        vs, inv = np.unique(g.F2[p.faces], return_inverse=True)
+        tris.append((g.V2[vs], inv.reshape(-1, 3)))
+        errs.append(ctx.errors[p.faces])
+    return {
+        "outlines_before": before,
+        "outlines_after": panel_outlines(g.V2, g.F2, adj),
+        "names": [p.name for p in adj.state.panels],
+        "units": g.units,
+        "triangles": tris,
+        "errors": errs,
+    }
+
+
+def output_svg(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
+    """``pattern.svg``: adjusted outlines over the original ones (dashed), at 1:1."""
+    from ptailor.formats.svg import pattern_svg
+
+    (tmp / "pattern.svg").write_text(pattern_svg(**_sheet(adj, ctx)))
     return "pattern.svg"
 
 
-#: output format -> writer(folder, adjustment, loaded garment) returning the file name
-OUTPUTS = {"obj": output_obj, "svg": output_svg}
+def output_png(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
+    """``preview.png``: the same sheet as the SVG, as a picture."""
+    from ptailor.formats.png import pattern_png
+
+    pattern_png(tmp / "preview.png", **_sheet(adj, ctx))
+    return "preview.png"
+
+
+def output_dxf(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
+    """``pattern.dxf``: AAMA/ASTM pieces with their construction marks carried through."""
+    from dataclasses import replace
+
+    from ptailor.formats.dxf import write_dxf
+    from ptailor.marks import scale_piece, with_seam_allowance
+    from ptailor.model.pieces import PatternFile
+    from ptailor.model.units import CM_PER
+
+    units = ctx.plan.units
+    k = CM_PER[adj.garment.units] / CM_PER[units]
+    pieces = []
+    for cp in ctx.pieces:  # a loop over pieces
+        if cp is None:
+            continue
+        pc = cp.piece
+        if ctx.seam_allowance:
+            pc = with_seam_allowance(pc, ctx.seam_allowance)
+        pieces.append(scale_piece(pc, k))
+    src = ctx.loaded.pattern
+    pf = PatternFile(
+        pieces=tuple(pieces),
+        units=units,
+        style=src.style if src is not None else Path(ctx.loaded.inputs.get("garment", "")).stem,
+        sizes=(src.size,) if src is not None and src.size else (),
+        size=src.size if src is not None else "",
+        sample_size=src.sample_size if src is not None else "",
+    )
+    if src is not None:
+        pf = replace(pf, units_text=src.units_text)
+    write_dxf(tmp / "pattern.dxf", pf)
+    return "pattern.dxf"
+
+
+#: output format -> writer(folder, adjustment, context) returning the file name
+OUTPUTS = {"obj": output_obj, "dxf": output_dxf, "svg": output_svg, "png": output_png}
 FORMATS = tuple(OUTPUTS)
 
 
 def write_outputs(
-    tmp: Path, adj: Adjustment, loaded: LoadedGarment, formats: tuple[str, ...]
+    tmp: Path, adj: Adjustment, ctx: OutputContext, formats: tuple[str, ...]
 ) -> list[str]:
     """Write the adjusted garment in the requested formats into ``tmp``; return file names."""
-    return [OUTPUTS[f](tmp, adj, loaded) for f in FORMATS if f in formats]
+    return [OUTPUTS[f](tmp, adj, ctx) for f in FORMATS if f in formats]
+
+
+def pieces_record(plan: PiecePlan, pieces: list[CarriedPiece | None], names: list[str]) -> list:
+    """The report's ``pieces``: each piece's panel, how it matched, what its marks did."""
+    out = []
+    for pc, m, ff, cp in zip(plan.pieces, plan.matches, plan.from_file, pieces, strict=True):
+        rec = {
+            "name": pc.name,
+            "panel": names[m.panel],
+            "source": "file" if ff else "mesh",
+            "matched_by": m.how,
+        }
+        if ff:
+            rec["match_residual"] = round(m.residual, 6)
+            rec["mirrored"] = bool(np.linalg.det(m.R) < 0)
+        if cp is None:
+            rec["removed"] = True
+        else:
+            rec.update(
+                {
+                    "outline": cp.outline_from,
+                    "notches": len(cp.piece.notches),
+                    "grain_line": cp.piece.grain is not None,
+                    "internal_lines": len(cp.piece.internal),
+                    "drill_holes": len(cp.piece.drills),
+                    "marks_dropped": cp.dropped,
+                }
+            )
+        out.append(rec)
+    return out
 
 
 def load_body(path: str, *, units: str, to: str):
@@ -124,13 +238,17 @@ def run_adjust(
     body_units: str = "cm",
     display_inputs: dict[str, str] | None = None,
     extra_files: dict[str, str] | None = None,
+    size: str | None = None,
+    dxf_units: str | None = None,
+    seam_allowance: float | None = None,
 ) -> dict:
     """Load, adjust and write one garment; return the report.
 
     Parameters
     ----------
     garment_path : str
-        OBJ with drape (v) and pattern (vt), or the pattern only with ``drape``.
+        OBJ with drape (v) and pattern (vt), or the pattern only with ``drape``; or a DXF
+        pattern with ``drape`` an OBJ whose ``vt`` triangulates its pieces.
     recipe : Recipe or str
         A validated recipe, or the path of one (``-`` for stdin).
     out : str or Path
@@ -152,14 +270,25 @@ def run_adjust(
         Role to the path the report shows (default: the path read).
     extra_files : dict, optional
         File name to text, written into the output folder too.
+    size, dxf_units : str, optional
+        For a DXF pattern: the size to read, and its unit (default: from the file).
+    seam_allowance : float, optional
+        In the recipe's units: the DXF's cut line is the adjusted outline offset by this
+        (mitred corners), and the outline itself becomes the sew line (layer 14).
 
     Returns
     -------
     dict
         The report.
     """
+    from ptailor.marks import adjusted_pieces, piece_plan
+    from ptailor.model.garment import panels
+    from ptailor.report.build import triangle_errors
+
     if not isinstance(recipe, Recipe):
         recipe = load_recipe(recipe)
+    if seam_allowance is not None and not (np.isfinite(seam_allowance) and seam_allowance >= 0):
+        raise PtailorError(f"--seam-allowance must be a length >= 0, not {seam_allowance}")
     unknown = [f for f in formats if f not in FORMATS]
     if unknown:
         raise PtailorError(
@@ -179,7 +308,10 @@ def run_adjust(
         units=recipe.units,
         pattern_units=pattern_units,
         drape_units=drape_units,
+        size=size,
+        dxf_units=dxf_units,
     )
+    plan = piece_plan(loaded.garment, panels(loaded.garment), pattern=loaded.pattern)
     t1 = time.perf_counter()
     adj = adjust(
         loaded.garment,
@@ -197,25 +329,48 @@ def run_adjust(
     units_note = {
         "computation": loaded.garment.units,
         "drape": drape_units,
-        "pattern": pattern_units,
+        "pattern": pattern_units if loaded.pattern is None else loaded.pattern.units,
     }
+    if loaded.pattern is not None:
+        units_note["pattern_note"] = loaded.pattern.units_note
     if loaded.pattern_units_estimated:
         units_note["pattern_scale_estimate"] = round(loaded.pattern_scale, 6)
         warnings.append(
             f"pattern units estimated from the drape: {loaded.pattern_scale:.4g} "
             f"{loaded.garment.units} per pattern unit"
         )
+    t2 = time.perf_counter()
+    errors = triangle_errors(adj)
+    carried = adjusted_pieces(adj, plan)
+    ctx = OutputContext(
+        loaded=loaded, pieces=carried, plan=plan, errors=errors, seam_allowance=seam_allowance
+    )
+    names0 = [p.name for p in panels(adj.original if adj.original is not None else adj.state.base)]
+    dropped = sum(cp.dropped for cp in carried if cp is not None)
+    if dropped:
+        warnings.append(f"{dropped} construction mark(s) lay on parts cut away and were dropped")
     with staged_dir(out) as tmp:
-        t2 = time.perf_counter()
-        written = write_outputs(tmp, adj, loaded, formats)
+        written = write_outputs(tmp, adj, ctx, formats)
         for name, text in (extra_files or {}).items():
             (tmp / name).write_text(text)
         t3 = time.perf_counter()
         timing = {"load": t1 - t0, **adj.timing_s, "write": t3 - t2}
         read = {**loaded.inputs, **({"body": body} if body else {})}
         shown = {**read, **(display_inputs or {})}
+        pattern_rec = {"pieces": pieces_record(plan, carried, names0)}
+        if loaded.pattern is not None:
+            pf = loaded.pattern
+            pattern_rec.update({"size": pf.size, "sizes": list(pf.sizes), "style": pf.style})
+        if seam_allowance:
+            pattern_rec["seam_allowance"] = seam_allowance
         report = build_report(
-            adj, inputs=read, units_note=units_note, warnings=warnings, timing_s=timing
+            adj,
+            inputs=read,
+            units_note=units_note,
+            warnings=warnings,
+            timing_s=timing,
+            errors=errors,
+            extra={"pattern": pattern_rec},
         )
         for role, path in shown.items():
             report["inputs"][role]["path"] = path

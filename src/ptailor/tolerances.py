@@ -53,3 +53,19 @@ GEODESIC_DEGENERATE_REL = 1e-14
 GEODESIC_BAND_MARGIN_EDGES = 2.0
 #: Vertices propagate in order of distance, this many mean edge lengths at a time.
 GEODESIC_STEP_EDGES = 2.0
+
+# Pattern pieces (ptailor.marks, ptailor.model.polyline)
+#: An outline point where the outline turns by more than this is a turn point (corner).
+CORNER_DEG = 30.0
+#: A seam-allowance corner is mitred unless the mitre would reach further than this many
+#: allowances from the corner; then it is bevelled.
+MITER_LIMIT = 4.0
+#: A DXF piece matches a panel where it lies when the mean distance between their outlines
+#: is below this fraction of the piece's bounding-box diagonal ...
+PIECE_MATCH_REL = 0.01
+#: ... and, when moved, after the best rigid fit (rotation, reflection, translation) when
+#: its area is within this fraction of the panel's.
+PIECE_AREA_REL = 0.1
+#: A construction mark further than this fraction of the piece diagonal (beyond the
+#: outline's own distance from the mesh) from every remaining triangle was cut away.
+MARK_KEEP_REL = 0.002

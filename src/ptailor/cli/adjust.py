@@ -34,7 +34,30 @@ from ptailor.cli.options import axes_options, garment_options
 @click.option("--body-units", default="cm", show_default=True, help="Unit of the body mesh.")
 @click.option("--no-baseline", is_flag=True, help="Skip the uniform-flattening comparison.")
 @click.option(
-    "--formats", default="obj,svg", show_default=True, help="Outputs besides report.json."
+    "--formats",
+    default="obj,dxf,svg,png",
+    show_default=True,
+    help="Outputs besides report.json: obj (garment.obj), dxf (pattern.dxf), svg "
+    "(pattern.svg), png (preview.png).",
+)
+@click.option(
+    "--size",
+    default=None,
+    help="DXF pattern: the size to read [default: the file's sample size].",
+)
+@click.option(
+    "--dxf-units",
+    type=click.Choice(["mm", "cm", "in"]),
+    default=None,
+    help="DXF pattern: its unit [default: from the file's 'Units:' text].",
+)
+@click.option(
+    "--seam-allowance",
+    default=None,
+    metavar="LENGTH",
+    help="Write pattern.dxf with this seam allowance: the cut line is the adjusted outline "
+    "offset outward (mitred corners), the outline becomes the sew line (layer 14). A number "
+    "in the recipe's units, or with a unit: 1cm, 10mm, 0.375in.",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON on stdout.")
 @click.option("-q", "--quiet", is_flag=True, help="Print nothing on success.")
@@ -53,13 +76,18 @@ def adjust(
     body_units,
     no_baseline,
     formats,
+    size,
+    dxf_units,
+    seam_allowance,
     as_json,
     quiet,
 ) -> None:
     """Apply RECIPE's 3D edits to GARMENT and write the adjusted pattern to OUT.
 
-    GARMENT is an OBJ with v = drape and vt = pattern (faces f v/vt). RECIPE is a YAML
-    edit recipe ('-' reads it from stdin); it is validated whole before GARMENT is read.
+    GARMENT is an OBJ with v = drape and vt = pattern (faces f v/vt), or an AAMA/ASTM DXF
+    pattern with --drape an OBJ whose vt triangulates its pieces (same layout and units).
+    RECIPE is a YAML edit recipe ('-' reads it from stdin); it is validated whole before
+    GARMENT is read.
     """
     import json
     from pathlib import Path
@@ -69,6 +97,11 @@ def adjust(
     from ptailor.report.build import summary_lines
 
     rec = load_recipe(recipe)
+    allowance = None
+    if seam_allowance is not None:
+        from ptailor.formats.garment import parse_length
+
+        allowance = parse_length(seam_allowance, to=rec.units, what="--seam-allowance")
     report = run_adjust(
         garment,
         rec,
@@ -84,6 +117,9 @@ def adjust(
         front=front,
         body=body,
         body_units=body_units,
+        size=size,
+        dxf_units=dxf_units,
+        seam_allowance=allowance,
     )
     if as_json:
         click.echo(json.dumps(report, indent=2))

@@ -11,6 +11,7 @@ import numpy as np
 from ptailor.errors import PtailorError
 from ptailor.formats import reader_for
 from ptailor.model.garment import Garment, areas_3d, signed_areas_2d
+from ptailor.model.pieces import PatternFile
 from ptailor.model.units import CM_PER, factor
 from ptailor.model.validate import check_garment
 
@@ -32,6 +33,26 @@ def parse_units(text: str, *, what: str) -> float:
     return float(m.group(1) or 1.0) * CM_PER[m.group(2)]
 
 
+def parse_length(text: str, *, to: str, what: str) -> float:
+    """A length such as ``1.5``, ``1cm`` or ``0.375in`` in unit ``to`` (a bare number is in ``to``).
+
+    Raises
+    ------
+    PtailorError
+        Anything else, or a negative or non-finite length.
+    """
+    try:
+        value = float(text)
+    except ValueError:
+        m = _UNIT_RE.match(text)
+        if not m or m.group(1) is None:
+            raise PtailorError(f"{what}: not a length: {text!r} (e.g. 1, 1cm, 10mm, 0.375in)")
+        value = float(m.group(1)) * CM_PER[m.group(2)] / CM_PER[to]
+    if not np.isfinite(value) or value < 0:
+        raise PtailorError(f"{what}: must be a length >= 0, not {text!r}")
+    return value
+
+
 @dataclass(frozen=True)
 class LoadedGarment:
     """A garment in computation units, and how to write it back in file units.
@@ -48,6 +69,8 @@ class LoadedGarment:
         Role (``garment``, ``drape``) to path.
     header : tuple of str
         The pattern file's leading comments.
+    pattern : PatternFile or None
+        The CAD pattern (DXF pieces, in its own units) when the pattern came from one.
     """
 
     garment: Garment
@@ -56,6 +79,7 @@ class LoadedGarment:
     pattern_units_estimated: bool
     inputs: dict[str, str]
     header: tuple[str, ...]
+    pattern: PatternFile | None = None
 
 
 def load_garment(
@@ -65,6 +89,8 @@ def load_garment(
     units: str = "cm",
     pattern_units: str = "cm",
     drape_units: str = "cm",
+    size: str | None = None,
+    dxf_units: str | None = None,
 ) -> LoadedGarment:
     """Read and check a garment.
 
@@ -91,6 +117,10 @@ def load_garment(
         Naming the file and the problem.
     """
     spath = str(path)
+    if Path(path).suffix.lower() == ".dxf":
+        return _load_dxf_pair(
+            spath, drape, units=units, drape_units=drape_units, size=size, dxf_units=dxf_units
+        )
     mesh = reader_for(path)(path)
     inputs = {"garment": spath}
     if drape is None:
@@ -155,3 +185,53 @@ def load_garment(
         inputs=inputs,
         header=mesh.header,
     )
+
+
+def _metric_unit(dmesh, *, drape_cm: float) -> tuple[str, float]:
+    """``mm`` or ``cm`` for a METRIC pattern's ``vt``, whichever makes it the drape's size."""
+    a2 = float(np.abs(signed_areas_2d(dmesh.vt, dmesh.fvt)).sum())
+    a3 = float(areas_3d(dmesh.v * drape_cm, dmesh.fv).sum())
+    ratio = np.sqrt(a2 / a3) if a2 > 0 and a3 > 0 else 1.0  # pattern units per cm
+    unit = "mm" if abs(np.log(ratio / 10.0)) < abs(np.log(ratio)) else "cm"
+    return unit, float(ratio)
+
+
+def _load_dxf_pair(
+    path: str,
+    drape: str | Path | None,
+    *,
+    units: str,
+    drape_units: str,
+    size: str | None,
+    dxf_units: str | None,
+) -> LoadedGarment:
+    """A DXF's pieces plus the drape OBJ whose ``vt`` triangulates them."""
+    from dataclasses import replace
+
+    from ptailor.formats.dxf import read_dxf
+
+    if drape is None:
+        raise PtailorError(
+            "a DXF pattern needs its drape: --drape DRAPE.obj (v = drape, vt = the "
+            "triangulated pattern in the DXF's layout and units)",
+            path=path,
+        )
+    pattern = read_dxf(path, size=size, units=dxf_units)
+    dpath = str(drape)
+    dmesh = reader_for(drape)(drape)
+    if dmesh.fvt is None or len(dmesh.vt) == 0:
+        raise PtailorError(
+            "the drape has no texture coordinates (vt): nothing ties it to the DXF's pieces",
+            path=dpath,
+        )
+    if dxf_units is None and pattern.units_text.upper() == "METRIC":
+        unit, ratio = _metric_unit(dmesh, drape_cm=parse_units(drape_units, what="--drape-units"))
+        note = (
+            f"'Units: METRIC' in the file; {unit} judged from the drape "
+            f"({ratio:.3g} pattern units per cm of drape)"
+        )
+        pattern = replace(pattern, units=unit, units_note=note)
+    loaded = load_garment(
+        drape, units=units, pattern_units=pattern.units, drape_units=drape_units
+    )
+    return replace(loaded, inputs={"pattern": path, "drape": dpath}, pattern=pattern)

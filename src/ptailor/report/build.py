@@ -32,6 +32,29 @@ def _r(x: float, nd: int = 6) -> float:
     return round(float(x), nd)
 
 
+def _error_frame(adj: Adjustment) -> tuple[np.ndarray, np.ndarray | None]:
+    """Per-vertex x sign that unmirrors mirrored panels, and the targets errors refer to."""
+    st = adj.state
+    g = st.base
+    sign_v = np.where(np.isin(np.arange(len(g.V2)), _mirrored_vertices(st)), -1.0, 1.0)
+    flipv = np.stack([sign_v, np.ones(len(g.V2))], 1)
+    polar = adj.settings["method"] != "uniform" and adj.settings["intrinsic"] == "polar"
+    return flipv, adj.result.targets if polar else None
+
+
+def triangle_errors(adj: Adjustment) -> np.ndarray:
+    """Each adjusted triangle's relative intrinsic-scale error, ``(m,)``.
+
+    See :func:`ptailor.report.metrics.intrinsic_scale_error`.
+    """
+    st = adj.state
+    g = st.base
+    flipv, target = _error_frame(adj)
+    return intrinsic_scale_error(
+        g.V2 * flipv, adj.result.V2 * flipv, g.F2, g.V3, st.V3, g.F3, target=target
+    )
+
+
 def build_report(
     adj: Adjustment,
     *,
@@ -39,6 +62,8 @@ def build_report(
     units_note: dict,
     warnings: list[str],
     timing_s: dict[str, float],
+    errors: np.ndarray | None = None,
+    extra: dict | None = None,
 ) -> dict:
     """Assemble the report.
 
@@ -52,6 +77,10 @@ def build_report(
     warnings : list of str
     timing_s : dict
         Seconds per stage (load, edit, flatten, baseline, write).
+    errors : (m,) float array, optional
+        :func:`triangle_errors`, when already computed.
+    extra : dict, optional
+        More top-level sections (``pieces``, ...), inserted before ``timing_s``.
 
     Returns
     -------
@@ -62,13 +91,10 @@ def build_report(
     g = st.base
     n = len(st.panels)
     flab, vlab, seam_list = garment_structure(st)
-    sign_v = np.where(np.isin(np.arange(len(g.V2)), _mirrored_vertices(st)), -1.0, 1.0)
-    flipv = np.stack([sign_v, np.ones(len(g.V2))], 1)
+    flipv, target = _error_frame(adj)
     orient = np.array([-1.0 if p.mirrored else 1.0 for p in st.panels])[flab]
     V2a = adj.result.V2
-    polar = adj.settings["method"] != "uniform" and adj.settings["intrinsic"] == "polar"
-    target = adj.result.targets if polar else None
-    err = intrinsic_scale_error(g.V2 * flipv, V2a * flipv, g.F2, g.V3, st.V3, g.F3, target=target)
+    err = triangle_errors(adj) if errors is None else errors
     es = summary_stats(err, flab, n)
     flips = np.bincount(flab, flipped(V2a, g.F2, orient), minlength=n)
     # "before" is the input garment's panel of the same name (surgery changes triangles)
@@ -151,6 +177,7 @@ def build_report(
         },
         "panels": panels_out,
         "seams": seams_out,
+        **(extra or {}),
         "timing_s": {k: round(v, 4) for k, v in timing_s.items()},
         "warnings": list(warnings),
     }

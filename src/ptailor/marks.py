@@ -1,0 +1,556 @@
+"""Pattern pieces through an adjustment: match DXF pieces to panels, carry their marks.
+
+A CAD system's piece (outline, turn points, notches, grain line, internal lines, drill
+holes) is matched to the panel of the triangulated pattern it outlines, by position or,
+when it was moved, by shape (a rigid fit, reflections allowed). Every point of the piece
+is then located in the panel's triangles and carried to the adjusted pattern with the
+same barycentric coordinates (points just off the mesh keep their offset: the triangle's
+affine map is extended). A grain line keeps its direction relative to the piece: its
+middle is carried, its direction turns with the panel's best-fit rotation, its length
+follows the carried ends. A panel that lost or gained triangles (shorten, cut, extend)
+gets the mesh's new outline; marks on the part cut away are dropped and counted.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ptailor import tolerances as tol
+from ptailor.errors import PtailorError
+from ptailor.method.transfer import carry_points, locate_points
+from ptailor.model.boundary import boundary_loops
+from ptailor.model.garment import Panel, signed_areas_2d
+from ptailor.model.pieces import Piece
+from ptailor.model.polyline import corners, offset_closed, resample_closed, signed_area
+
+#: Points per outline when outlines are compared.
+_SAMPLES = 256
+#: Rigid-fit refinement iterations (ICP) when matching a moved piece by shape.
+_ICP_ITER = 30
+
+
+@dataclass(frozen=True)
+class PieceMatch:
+    """Which panel a piece outlines, and the rigid map from piece to panel coordinates.
+
+    Attributes
+    ----------
+    piece : int
+        Index into the pieces.
+    panel : int
+        Index into the panels.
+    how : str
+        ``position`` (the piece lies on the panel) or ``shape`` (it was moved).
+    R : (2, 2) float array
+        Rotation or reflection; panel point = ``R @ piece point + t``.
+    t : (2,) float array
+    residual : float
+        Mean distance between the fitted outlines, relative to the piece's diagonal.
+    """
+
+    piece: int
+    panel: int
+    how: str
+    R: np.ndarray
+    t: np.ndarray
+    residual: float
+
+    def to_panel(self, X: np.ndarray) -> np.ndarray:
+        """Piece coordinates ``(k, 2)`` to panel coordinates."""
+        return X @ self.R.T + self.t
+
+    def to_piece(self, Y: np.ndarray) -> np.ndarray:
+        """Panel coordinates ``(k, 2)`` back to piece coordinates."""
+        return (Y - self.t) @ self.R
+
+
+def outer_loop(F2: np.ndarray, faces: np.ndarray, V2: np.ndarray) -> np.ndarray:
+    """The panel's outer boundary loop (largest enclosed area), counter-clockwise.
+
+    Returns
+    -------
+    (k,) int array
+        Vertex indices into ``V2``.
+    """
+    loops = boundary_loops(F2[faces])
+    if not loops:
+        return np.zeros(0, dtype=np.int64)
+    areas = np.array([signed_area(V2[lp]) for lp in loops])  # a loop over loops, not vertices
+    k = int(np.argmax(np.abs(areas)))
+    return loops[k] if areas[k] > 0 else loops[k][::-1]
+
+
+def _piece_curve(piece: Piece) -> np.ndarray:
+    return piece.sew if piece.sew is not None else piece.outline
+
+
+class _Curve:
+    """A closed polyline that answers nearest-point queries (exact, on its segments)."""
+
+    def __init__(self, P: np.ndarray) -> None:
+        self.A = P
+        self.B = np.roll(P, -1, axis=0)
+        self.tree = cKDTree(0.5 * (self.A + self.B))
+        self.k = min(8, len(P))
+
+    def nearest(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Distance from each point ``(j, 2)`` to the curve, and the nearest points.
+
+        The segments with the ``k`` nearest midpoints are the candidates.
+        """
+        _, idx = self.tree.query(X, k=self.k)
+        idx = np.asarray(idx).reshape(len(X), self.k)
+        A, B = self.A[idx], self.B[idx]
+        AB = B - A
+        L2 = np.maximum((AB * AB).sum(-1), 1e-300)
+        t = np.clip(((X[:, None, :] - A) * AB).sum(-1) / L2, 0.0, 1.0)
+        Q = A + t[..., None] * AB
+        d = np.linalg.norm(X[:, None, :] - Q, axis=-1)
+        best = np.argmin(d, axis=1)
+        r = np.arange(len(X))
+        return d[r, best], Q[r, best]
+
+
+def _outline_distance(A: np.ndarray, ca: _Curve, B: np.ndarray, cb: _Curve) -> float:
+    """Symmetric mean distance between outlines ``ca`` and ``cb``, sampled as ``A``, ``B``."""
+    return 0.5 * float(cb.nearest(A)[0].mean() + ca.nearest(B)[0].mean())
+
+
+def _kabsch(A: np.ndarray, B: np.ndarray, *, reflect: bool) -> tuple[np.ndarray, np.ndarray]:
+    """The rigid map (rotation, or reflection when ``reflect``) taking ``A`` closest to ``B``."""
+    ca, cb = A.mean(axis=0), B.mean(axis=0)
+    H = (A - ca).T @ (B - cb)
+    U, _, Vt = np.linalg.svd(H)
+    D = np.diag([1.0, -1.0 if reflect else 1.0])
+    R = Vt.T @ D @ U.T
+    if (np.linalg.det(R) < 0) != reflect:  # the SVD's own sign
+        D = np.diag([1.0, 1.0 if reflect else -1.0])
+        R = Vt.T @ D @ U.T
+    return R, cb - R @ ca
+
+
+def _fit_shape(
+    A: np.ndarray, cb: _Curve, B: np.ndarray, diag: float
+) -> tuple[np.ndarray, np.ndarray, float]:
+    """Best rigid fit of outline samples ``A`` onto curve ``cb`` (sampled as ``B``).
+
+    Principal axes give four starts (two rotations, two reflections); ICP against the
+    curve's segments refines each; the lowest symmetric mean distance wins.
+    """
+    ca, cb0 = A.mean(axis=0), B.mean(axis=0)
+    _, Ea = np.linalg.eigh(np.cov((A - ca).T))
+    _, Eb = np.linalg.eigh(np.cov((B - cb0).T))
+    best = (np.eye(2), np.zeros(2), np.inf)
+    for sx in (1.0, -1.0):  # the four axis pairings
+        for sy in (1.0, -1.0):
+            R = Eb @ np.diag([sx, sy]) @ Ea.T
+            t = cb0 - R @ ca
+            reflect = bool(np.linalg.det(R) < 0)
+            for _ in range(_ICP_ITER):
+                _, Q = cb.nearest(A @ R.T + t)
+                R, t = _kabsch(A, Q, reflect=reflect)
+            moved = A @ R.T + t
+            res = _outline_distance(moved, _Curve(moved), B, cb)
+            if res < best[2]:
+                best = (R, t, res / diag)
+    return best
+
+
+def match_pieces(
+    pieces: list[Piece] | tuple[Piece, ...],
+    V2: np.ndarray,
+    F2: np.ndarray,
+    panel_list: list[Panel],
+    *,
+    path: str = "",
+) -> list[PieceMatch]:
+    """Match each piece to the panel it outlines.
+
+    Parameters
+    ----------
+    pieces : sequence of Piece
+        In the pattern's computation units (the sew line is matched when a piece has one).
+    V2 : (n, 2) float array
+    F2 : (m, 3) int array
+    panel_list : list of Panel
+    path : str
+        The pattern file, for the error message.
+
+    Returns
+    -------
+    list of PieceMatch
+        One per piece, in piece order.
+
+    Raises
+    ------
+    PtailorError
+        When a piece matches no panel (naming the pieces and the panels left over).
+    """
+    from scipy.optimize import linear_sum_assignment
+
+    n_pc, n_pn = len(pieces), len(panel_list)
+    curves = [resample_closed(_piece_curve(pc), _SAMPLES) for pc in pieces]
+    piece_curves = [_Curve(_piece_curve(pc)) for pc in pieces]
+    loops = [outer_loop(F2, p.faces, V2) for p in panel_list]
+    panel_pts = [resample_closed(V2[lp], _SAMPLES) for lp in loops]
+    panel_curves = [_Curve(V2[lp]) for lp in loops]
+    diag = np.array([float(np.linalg.norm(np.ptp(c, axis=0))) for c in curves])
+    piece_area = np.array([abs(signed_area(_piece_curve(pc))) for pc in pieces])
+    panel_area = np.array([abs(signed_area(V2[lp])) for lp in loops])
+    cost = np.full((n_pc, n_pn), np.inf)
+    for i in range(n_pc):  # pieces x panels: a few dozen pairs
+        for j in range(n_pn):
+            lo, hi = panel_pts[j].min(axis=0), panel_pts[j].max(axis=0)
+            clo, chi = curves[i].min(axis=0), curves[i].max(axis=0)
+            if np.any(clo > hi + 0.1 * diag[i]) or np.any(chi < lo - 0.1 * diag[i]):
+                continue
+            d = _outline_distance(curves[i], piece_curves[i], panel_pts[j], panel_curves[j])
+            cost[i, j] = d / diag[i]
+    matches: dict[int, PieceMatch] = {}
+    ok = np.where(cost < tol.PIECE_MATCH_REL, cost, 1e6)
+    rows, cols = linear_sum_assignment(ok)
+    for i, j in zip(rows.tolist(), cols.tolist(), strict=True):
+        if ok[i, j] < 1e6:
+            matches[i] = PieceMatch(i, j, "position", np.eye(2), np.zeros(2), float(cost[i, j]))
+    free_panels = [j for j in range(n_pn) if j not in {m.panel for m in matches.values()}]
+    rest = [i for i in range(n_pc) if i not in matches]
+    if rest and free_panels:
+        fits = {}
+        shape_cost = np.full((len(rest), len(free_panels)), 1e6)
+        for a, i in enumerate(rest):
+            for b, j in enumerate(free_panels):
+                if abs(piece_area[i] / max(panel_area[j], 1e-300) - 1.0) > tol.PIECE_AREA_REL:
+                    continue
+                R, t, res = _fit_shape(curves[i], panel_curves[j], panel_pts[j], diag[i])
+                fits[i, j] = (R, t, res)
+                if res < tol.PIECE_MATCH_REL:
+                    shape_cost[a, b] = res
+        rr, cc = linear_sum_assignment(shape_cost)
+        for a, b in zip(rr.tolist(), cc.tolist(), strict=True):
+            if shape_cost[a, b] < 1e6:
+                i, j = rest[a], free_panels[b]
+                R, t, res = fits[i, j]
+                matches[i] = PieceMatch(i, j, "shape", R, t, float(res))
+    missing = [i for i in range(n_pc) if i not in matches]
+    if missing:
+        used = {m.panel for m in matches.values()}
+        left = [panel_list[j].name for j in range(n_pn) if j not in used]
+        names = ", ".join(repr(pieces[i].name) for i in missing)
+        raise PtailorError(
+            f"piece(s) {names} match no panel of the drape's pattern (vt) by position or "
+            f"shape; panels left: {', '.join(left) or 'none'} (check the units and that the "
+            "drape belongs to this pattern)",
+            path=path,
+        )
+    return [matches[i] for i in range(n_pc)]
+
+
+def mesh_pieces(V2: np.ndarray, F2: np.ndarray, panel_list: list[Panel]) -> list[Piece]:
+    """Pieces drawn from a triangulated pattern: outline, turn points and a grain line.
+
+    The outline is each panel's outer boundary (counter-clockwise), holes become internal
+    lines (closed), turn points are where the outline turns by more than
+    ``tolerances.CORNER_DEG``, and the grain line runs along the pattern's y axis through
+    the panel's centroid, half the panel's height long (the pattern's layout is taken to
+    be on grain).
+
+    Returns
+    -------
+    list of Piece
+    """
+    out = []
+    areas = signed_areas_2d(V2, F2)
+    for p in panel_list:  # a loop over panels
+        loops = boundary_loops(F2[p.faces])
+        outer = outer_loop(F2, p.faces, V2)
+        P = V2[outer]
+        a = np.abs(areas[p.faces])
+        c = (V2[F2[p.faces]].mean(axis=1) * a[:, None]).sum(axis=0) / max(a.sum(), 1e-300)
+        h = float(np.ptp(P[:, 1]))
+        holes = tuple(
+            np.vstack([V2[lp], V2[lp[:1]]]) for lp in loops if len(lp) != len(outer)
+        )
+        out.append(
+            Piece(
+                name=p.name,
+                outline=P,
+                turn=corners(P),
+                grain=np.array([[c[0], c[1] - 0.25 * h], [c[0], c[1] + 0.25 * h]]),
+                internal=holes,
+            )
+        )
+    return out
+
+
+def _panel_rotation(X: np.ndarray, Y: np.ndarray) -> np.ndarray:
+    """The rotation best taking points ``X`` onto ``Y`` (both ``(k, 2)``)."""
+    a, b = X - X.mean(axis=0), Y - Y.mean(axis=0)
+    ang = np.arctan2(
+        (a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]).sum(), (a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1]).sum()
+    )
+    c, s = np.cos(ang), np.sin(ang)
+    return np.array([[c, -s], [s, c]])
+
+
+@dataclass(frozen=True)
+class CarriedPiece:
+    """A piece after the adjustment, and what happened to its marks.
+
+    Attributes
+    ----------
+    piece : Piece
+        In the original piece's coordinates (the panel's rigid map undone).
+    outline_from : str
+        ``carried`` (the piece's own outline points) or ``mesh`` (the panel's triangles
+        changed: the adjusted mesh boundary).
+    dropped : int
+        Marks (notches, drill holes, internal-line points, grain ends) cut away.
+    """
+
+    piece: Piece
+    outline_from: str
+    dropped: int
+
+
+def carry_piece(
+    piece: Piece,
+    match: PieceMatch,
+    *,
+    V2: np.ndarray,
+    F2: np.ndarray,
+    faces: np.ndarray,
+    V2_new: np.ndarray,
+    unchanged: bool,
+    reach: float = 0.0,
+) -> CarriedPiece:
+    """Carry one piece's outline and marks to the adjusted pattern.
+
+    Parameters
+    ----------
+    piece : Piece
+        In computation units.
+    match : PieceMatch
+    V2, F2 : arrays
+        The pattern the marks are located in (the original pattern after any surgery).
+    faces : (j,) int array
+        The panel's triangles in ``F2``.
+    V2_new : (n, 2) float array
+        The adjusted pattern (same ``F2``).
+    unchanged : bool
+        The panel kept all its triangles: the piece's own outline is carried; otherwise the
+        mesh's boundary is the new outline.
+    reach : float
+        How far the piece's outline lies from the original panel's mesh (its chord error):
+        marks further than that (plus ``MARK_KEEP_REL`` of the diagonal) from every
+        remaining triangle were cut away.
+
+    Returns
+    -------
+    CarriedPiece
+    """
+    diag = float(np.linalg.norm(piece.extent))
+    keep_d = reach + tol.MARK_KEEP_REL * diag
+
+    def carry(X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        if len(X) == 0:
+            return np.zeros((0, 2)), np.zeros(0, dtype=bool)
+        loc = locate_points(V2, F2, match.to_panel(X), faces=faces)
+        return match.to_piece(carry_points(V2_new, F2, loc)), loc.distance <= keep_d
+
+    dropped = 0
+    if unchanged:
+        outline, _ = carry(piece.outline)
+        turn = piece.turn
+        sew = carry(piece.sew)[0] if piece.sew is not None else None
+        how = "carried"
+    else:
+        loop = outer_loop(F2, faces, V2_new)
+        outline = match.to_piece(V2_new[loop])
+        if np.linalg.det(match.R) < 0:
+            outline = outline[::-1]
+        turn = corners(outline)
+        sew = None
+        how = "mesh"
+    notches, keep_n = carry(piece.notches)
+    drills, keep_d_ = carry(piece.drills)
+    dropped += int((~keep_n).sum() + (~keep_d_).sum())
+    internal = []
+    for line in piece.internal:  # a loop over a piece's internal lines
+        L, keep = carry(line)
+        dropped += int((~keep).sum())
+        if keep.sum() >= 2:
+            internal.append(L[keep])
+    grain = None
+    if piece.grain is not None:
+        ends, keep_g = carry(piece.grain)
+        mid, keep_m = carry(piece.grain.mean(axis=0, keepdims=True))
+        if keep_g.all() or keep_m.all():
+            Rp = _panel_rotation(V2[np.unique(F2[faces])], V2_new[np.unique(F2[faces])])
+            # the panel's rotation, seen in piece coordinates
+            Rq = match.R.T @ Rp @ match.R
+            d0 = piece.grain[1] - piece.grain[0]
+            u = Rq @ (d0 / max(np.linalg.norm(d0), 1e-300))
+            length = float(np.linalg.norm(ends[1] - ends[0]))
+            grain = np.stack([mid[0] - 0.5 * length * u, mid[0] + 0.5 * length * u])
+        else:
+            dropped += 2
+    new = replace(
+        piece,
+        outline=outline,
+        turn=turn,
+        notches=notches[keep_n],
+        notch_angles=piece.notch_angles[keep_n] if len(piece.notch_angles) == len(keep_n)
+        else np.zeros(int(keep_n.sum())),
+        grain=grain,
+        internal=tuple(internal),
+        drills=drills[keep_d_],
+        sew=sew,
+    )
+    return CarriedPiece(piece=new, outline_from=how, dropped=dropped)
+
+
+def scale_piece(piece: Piece, k: float) -> Piece:
+    """Every coordinate of ``piece`` times ``k`` (a change of units)."""
+    return replace(
+        piece,
+        outline=piece.outline * k,
+        notches=piece.notches * k,
+        grain=None if piece.grain is None else piece.grain * k,
+        internal=tuple(L * k for L in piece.internal),
+        drills=piece.drills * k,
+        sew=None if piece.sew is None else piece.sew * k,
+    )
+
+
+def with_seam_allowance(piece: Piece, d: float) -> Piece:
+    """The piece with its outline as the sew line and the outline offset by ``d`` as cut line.
+
+    Turn points of the new outline are its mitred corners (where it turns by more than
+    ``tolerances.CORNER_DEG``).
+    """
+    cut = offset_closed(piece.outline, d)
+    return replace(piece, sew=piece.outline, outline=cut, turn=corners(cut))
+
+
+@dataclass(frozen=True)
+class PiecePlan:
+    """The pieces a run writes, and the panel each one belongs to.
+
+    Attributes
+    ----------
+    pieces : tuple of Piece
+        In the garment's computation units: the CAD file's pieces, then pieces drawn from
+        the mesh for panels no file piece outlines.
+    matches : tuple of PieceMatch
+        One per piece.
+    from_file : tuple of bool
+        Whether each piece came from the pattern file.
+    units : str
+        The unit pieces are written in (the pattern file's, else the computation unit).
+    """
+
+    pieces: tuple[Piece, ...]
+    matches: tuple[PieceMatch, ...]
+    from_file: tuple[bool, ...]
+    units: str
+
+
+def piece_plan(garment, panel_list: list[Panel], *, pattern=None) -> PiecePlan:
+    """Match a pattern file's pieces to the garment's panels; draw the rest from the mesh.
+
+    Parameters
+    ----------
+    garment : Garment
+        The input garment (pattern in ``garment.units``).
+    panel_list : list of Panel
+        ``panels(garment)``.
+    pattern : PatternFile, optional
+        Pieces in ``pattern.units``.
+
+    Returns
+    -------
+    PiecePlan
+
+    Raises
+    ------
+    PtailorError
+        A file piece that matches no panel.
+    """
+    from ptailor.model.units import CM_PER
+
+    V2, F2 = garment.V2, garment.F2
+    file_pieces: list[Piece] = []
+    matches: list[PieceMatch] = []
+    units = garment.units
+    if pattern is not None:
+        k = CM_PER[pattern.units] / CM_PER[garment.units]
+        file_pieces = [scale_piece(pc, k) for pc in pattern.pieces]
+        matches = match_pieces(file_pieces, V2, F2, panel_list, path=pattern.path)
+        units = pattern.units
+    used = {m.panel for m in matches}
+    rest = [p for p in panel_list if p.index not in used]
+    drawn = mesh_pieces(V2, F2, rest)
+    pieces = file_pieces + drawn
+    matches = matches + [
+        PieceMatch(len(file_pieces) + a, p.index, "mesh", np.eye(2), np.zeros(2), 0.0)
+        for a, p in enumerate(rest)
+    ]
+    return PiecePlan(
+        pieces=tuple(pieces),
+        matches=tuple(matches),
+        from_file=tuple([True] * len(file_pieces) + [False] * len(drawn)),
+        units=units,
+    )
+
+
+def adjusted_pieces(adj, plan: PiecePlan) -> list[CarriedPiece | None]:
+    """Carry every planned piece through an adjustment.
+
+    Parameters
+    ----------
+    adj : Adjustment
+    plan : PiecePlan
+        Made on ``adj.original`` (the input garment).
+
+    Returns
+    -------
+    list of CarriedPiece or None
+        One per piece; ``None`` where the piece's panel was removed whole.
+    """
+    from ptailor.model.garment import panels
+
+    g0 = adj.original if adj.original is not None else adj.state.base
+    base = adj.state.base
+    orig = panels(g0)
+    now = {p.name: p for p in adj.state.panels}
+    a0 = np.abs(signed_areas_2d(g0.V2, g0.F2))
+    ab = np.abs(signed_areas_2d(base.V2, base.F2))
+    out: list[CarriedPiece | None] = []
+    for piece, m in zip(plan.pieces, plan.matches, strict=True):  # a loop over pieces
+        p0 = orig[m.panel]
+        p = now.get(p0.name)
+        if p is None:
+            out.append(None)
+            continue
+        s0, sb = float(a0[p0.faces].sum()), float(ab[p.faces].sum())
+        unchanged = len(p.faces) == len(p0.faces) and abs(sb - s0) <= 1e-9 * s0
+        reach = 0.0
+        if not unchanged:
+            loc = locate_points(g0.V2, g0.F2, m.to_panel(_piece_curve(piece)), faces=p0.faces)
+            reach = float(loc.distance.max(initial=0.0))
+        out.append(
+            carry_piece(
+                piece,
+                m,
+                V2=base.V2,
+                F2=base.F2,
+                faces=p.faces,
+                V2_new=adj.result.V2,
+                unchanged=unchanged,
+                reach=reach,
+            )
+        )
+    return out

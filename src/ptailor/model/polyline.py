@@ -1,0 +1,130 @@
+"""Closed 2D polylines (piece outlines): area, corners, resampling, seam-allowance offset."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ptailor import tolerances as tol
+
+
+def signed_area(P: np.ndarray) -> float:
+    """Shoelace area of a closed polyline; positive when counter-clockwise.
+
+    Parameters
+    ----------
+    P : (k, 2) float array
+        The first point not repeated.
+    """
+    x, y = P[:, 0], P[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+
+
+def dedupe_closed(P: np.ndarray, *, rel: float = 1e-12) -> np.ndarray:
+    """Indices of the points kept after dropping points equal to their predecessor.
+
+    Parameters
+    ----------
+    P : (k, 2) float array
+    rel : float
+        Points closer than this times the polyline's extent count as equal.
+
+    Returns
+    -------
+    (j,) int array
+    """
+    if len(P) == 0:
+        return np.zeros(0, dtype=np.int64)
+    eps = rel * max(float(np.ptp(P, axis=0).max()), 1e-300)
+    step = np.linalg.norm(P - np.roll(P, 1, axis=0), axis=1)
+    keep = step > eps
+    if not keep.any():
+        keep[0] = True
+    return np.flatnonzero(keep)
+
+
+def turn_angles(P: np.ndarray) -> np.ndarray:
+    """Unsigned turn at each point of a closed polyline, in degrees (0 = straight on).
+
+    Parameters
+    ----------
+    P : (k, 2) float array
+        No two consecutive points equal.
+
+    Returns
+    -------
+    (k,) float array
+    """
+    a = P - np.roll(P, 1, axis=0)
+    b = np.roll(P, -1, axis=0) - P
+    cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    dot = (a * b).sum(axis=1)
+    return np.degrees(np.abs(np.arctan2(cross, dot)))
+
+
+def corners(P: np.ndarray, *, deg: float = tol.CORNER_DEG) -> np.ndarray:
+    """Points where a closed polyline turns by more than ``deg`` degrees.
+
+    Returns
+    -------
+    (k,) bool array
+    """
+    if len(P) < 3:
+        return np.ones(len(P), dtype=bool)
+    return turn_angles(P) > deg
+
+
+def resample_closed(P: np.ndarray, n: int) -> np.ndarray:
+    """``n`` points evenly spaced by arc length along a closed polyline, from ``P[0]``.
+
+    Returns
+    -------
+    (n, 2) float array
+    """
+    Q = np.vstack([P, P[:1]])
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(Q, axis=0), axis=1))])
+    t = np.linspace(0.0, s[-1], n, endpoint=False)
+    return np.stack([np.interp(t, s, Q[:, 0]), np.interp(t, s, Q[:, 1])], axis=1)
+
+
+def offset_closed(P: np.ndarray, d: float, *, miter_limit: float = tol.MITER_LIMIT) -> np.ndarray:
+    """The closed polyline offset outward by ``d`` (a seam allowance), corners mitred.
+
+    Each edge moves ``d`` along its outward normal and neighbouring edges meet at the
+    intersection of their offset lines (a mitre). Where a mitre would reach further than
+    ``miter_limit * d`` from its corner (a very sharp point), the corner is bevelled: two
+    points, one on each offset edge.
+
+    Parameters
+    ----------
+    P : (k, 2) float array
+        A simple closed polyline, either orientation; the first point not repeated.
+    d : float
+        Offset distance, outward (negative: inward).
+    miter_limit : float
+
+    Returns
+    -------
+    (j, 2) float array
+        ``j >= k`` points in ``P``'s orientation; point ``i`` (or the pair at a bevel)
+        belongs to ``P[i]``.
+    """
+    P = np.asarray(P, dtype=np.float64)
+    P = P[dedupe_closed(P)]
+    if len(P) < 3 or d == 0:
+        return P.copy()
+    sign = 1.0 if signed_area(P) > 0 else -1.0  # outward normal = edge turned clockwise (CCW)
+    e = np.roll(P, -1, axis=0) - P  # edge i: P[i] -> P[i+1]
+    n = sign * np.stack([e[:, 1], -e[:, 0]], axis=1) / np.linalg.norm(e, axis=1)[:, None]
+    n_in = np.roll(n, 1, axis=0)  # the edge arriving at P[i]
+    m = n_in + n
+    denom = 1.0 + (n_in * n).sum(axis=1)  # = |m|^2 / 2
+    miter = np.where(denom[:, None] > 1e-12, d * m / np.maximum(denom, 1e-12)[:, None], 0.0)
+    bevel = (denom <= 2.0 / miter_limit**2) | (np.linalg.norm(miter, axis=1) > miter_limit * abs(d))
+    count = np.where(bevel, 2, 1)
+    idx = np.repeat(np.arange(len(P)), count)
+    first = np.concatenate([[True], idx[1:] != idx[:-1]])
+    out = P[idx] + miter[idx]
+    bi = bevel[idx]
+    out[bi & first] = P[idx][bi & first] + d * n_in[idx][bi & first]
+    out[bi & ~first] = P[idx][bi & ~first] + d * n[idx][bi & ~first]
+    return out

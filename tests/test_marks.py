@@ -1,0 +1,171 @@
+"""Construction marks: point location, carrying, outline offsets, piece matching."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from ptailor.errors import PtailorError
+from ptailor.marks import PieceMatch, carry_piece, match_pieces, mesh_pieces, piece_plan
+from ptailor.method.transfer import carry_points, locate_points
+from ptailor.model.garment import panels
+from ptailor.model.pieces import Piece
+from ptailor.model.polyline import corners, offset_closed, signed_area
+from ptailor.samples import cone_skirt, lantern_sleeve
+
+
+def _grid(nx: int = 6, ny: int = 4, seed: int = 0):
+    rng = np.random.default_rng(seed)
+    x, y = np.meshgrid(np.linspace(0, 10, nx), np.linspace(0, 6, ny))
+    V = np.stack([x.ravel(), y.ravel()], 1)
+    V[(V[:, 0] > 0) & (V[:, 0] < 10) & (V[:, 1] > 0) & (V[:, 1] < 6)] += rng.uniform(
+        -0.3, 0.3, (((nx - 2) * (ny - 2)), 2)
+    )
+    i = np.arange(nx * ny).reshape(ny, nx)
+    a, b, c, d = i[:-1, :-1].ravel(), i[:-1, 1:].ravel(), i[1:, 1:].ravel(), i[1:, :-1].ravel()
+    F = np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
+    return V, F
+
+
+def test_points_inside_are_found_with_their_barycentric_coordinates():
+    V, F = _grid()
+    rng = np.random.default_rng(1)
+    f = rng.integers(0, len(F), 50)
+    w = rng.dirichlet([1, 1, 1], 50)
+    P = np.einsum("ki,kij->kj", w, V[F[f]])
+    loc = locate_points(V, F, P)
+    assert np.all(loc.distance == 0)
+    np.testing.assert_allclose(carry_points(V, F, loc), P, atol=1e-12)
+    np.testing.assert_allclose(loc.bary.sum(1), 1.0)
+    assert np.all(loc.bary >= -1e-9)
+
+
+def test_carrying_follows_any_affine_map_also_just_outside_the_mesh():
+    V, F = _grid()
+    P = np.array([[2.0, 3.0], [5.0, -0.2], [10.3, 4.0], [0.0, 6.0]])  # two just outside
+    A = np.array([[1.3, 0.4], [-0.2, 0.8]])
+    t = np.array([5.0, -2.0])
+    loc = locate_points(V, F, P)
+    assert loc.distance[1] == pytest.approx(0.2) and loc.distance[2] == pytest.approx(0.3)
+    np.testing.assert_allclose(carry_points(V @ A.T + t, F, loc), P @ A.T + t, atol=1e-12)
+
+
+def test_location_is_restricted_to_the_given_faces():
+    V, F = _grid()
+    half = np.flatnonzero(V[F].mean(1)[:, 0] < 5)
+    loc = locate_points(V, F, np.array([[8.0, 3.0]]), faces=half)
+    assert loc.face[0] in set(half.tolist()) and loc.distance[0] > 1.5
+
+
+def test_offset_of_a_rectangle_is_the_rectangle_grown_by_d_with_square_corners():
+    R = np.array([[0.0, 0.0], [10.0, 0.0], [10.0, 5.0], [0.0, 5.0]])
+    for P in (R, R[::-1]):
+        O = offset_closed(P, 1.5)
+        assert len(O) == 4
+        np.testing.assert_allclose(np.sort(O, axis=0)[[0, -1]], [[-1.5, -1.5], [11.5, 6.5]])
+        assert np.sign(signed_area(O)) == np.sign(signed_area(P))
+        assert abs(signed_area(O)) == pytest.approx(13 * 8)
+
+
+def test_offset_of_a_circle_has_the_radius_plus_d_and_sharp_points_are_bevelled():
+    t = np.linspace(0, 2 * np.pi, 400, endpoint=False)
+    C = 10 * np.stack([np.cos(t), np.sin(t)], 1)
+    r = np.linalg.norm(offset_closed(C, 1.0), axis=1)
+    assert r.min() > 10.99 and r.max() < 11.01
+    spike = np.array([[0.0, 0.0], [20.0, 0.0], [0.0, 1.0]])  # a 2.9 degree point at (20, 0)
+    O = offset_closed(spike, 1.0)
+    assert len(O) == 4  # bevelled: two points at the spike
+    assert np.linalg.norm(O - [20.0, 0.0], axis=1).min() <= 4.0 + 1e-9
+
+
+def test_corners_of_a_rectangle_and_none_on_a_circle():
+    R = np.array([[0.0, 0.0], [5.0, 0.0], [10.0, 0.0], [10.0, 5.0], [0.0, 5.0]])
+    assert corners(R).tolist() == [True, False, True, True, True]
+    t = np.linspace(0, 2 * np.pi, 100, endpoint=False)
+    assert not corners(np.stack([np.cos(t), np.sin(t)], 1)).any()
+
+
+def _pieces(g):
+    plist = panels(g)
+    return plist, mesh_pieces(g.V2, g.F2, plist)
+
+
+def test_mesh_pieces_outline_the_panels_counter_clockwise_with_a_vertical_grain_line():
+    g = lantern_sleeve()
+    plist, pieces = _pieces(g)
+    assert [pc.name for pc in pieces] == [p.name for p in plist]
+    for pc in pieces:
+        assert signed_area(pc.outline) > 0
+        assert pc.turn.sum() == 4  # the sleeve's and the cuff's rectangles
+        d = pc.grain[1] - pc.grain[0]
+        assert d[0] == 0 and d[1] > 0
+
+
+def test_pieces_match_their_panels_by_position():
+    g = cone_skirt()
+    plist, pieces = _pieces(g)
+    m = match_pieces(pieces, g.V2, g.F2, plist)
+    assert [x.panel for x in m] == [p.index for p in plist]
+    assert all(x.how == "position" and x.residual < 1e-9 for x in m)
+
+
+def test_moved_and_flipped_pieces_match_by_shape_with_the_right_rigid_map():
+    g = lantern_sleeve()
+    plist, pieces = _pieces(g)
+    c, s = np.cos(0.7), np.sin(0.7)
+    moves = [
+        (np.array([[c, -s], [s, c]]), np.array([300.0, -40.0])),
+        (np.array([[-1.0, 0.0], [0.0, 1.0]]), np.array([-500.0, 10.0])),  # a reflection
+    ]
+    moved = []
+    for pc, (R, t) in zip(pieces, moves, strict=True):
+        moved.append(Piece(name=pc.name, outline=pc.outline @ R.T + t, grain=pc.grain @ R.T + t))
+    m = match_pieces(moved, g.V2, g.F2, plist)
+    for pc, mv, x in zip(pieces, moved, m, strict=True):
+        assert x.how == "shape"
+        np.testing.assert_allclose(x.to_panel(mv.grain), pc.grain, atol=1e-6)
+    assert np.linalg.det(m[1].R) < 0
+
+
+def test_a_piece_that_matches_no_panel_is_an_error_naming_it():
+    g = lantern_sleeve()
+    plist, _ = _pieces(g)
+    stray = Piece(name="pocket", outline=np.array([[0.0, 0], [3, 0], [3, 2], [0, 2]]) + 900)
+    with pytest.raises(PtailorError, match="'pocket'.*match no panel"):
+        match_pieces([stray], g.V2, g.F2, plist, path="p.dxf")
+
+
+def test_carrying_under_a_uniform_scale_scales_every_mark():
+    g = lantern_sleeve()
+    plist, pieces = _pieces(g)
+    p = plist[0]
+    pc = pieces[0]
+    pc = Piece(
+        name=pc.name,
+        outline=pc.outline,
+        turn=pc.turn,
+        notches=pc.outline[[3, 10]],
+        grain=pc.grain,
+        internal=(pc.outline[[0, 5]] * 0.5 + pc.outline.mean(0) * 0.5,),
+        drills=pc.outline.mean(0, keepdims=True),
+    )
+    k = 1.25
+    ident = PieceMatch(0, p.index, "position", np.eye(2), np.zeros(2), 0.0)
+    out = carry_piece(
+        pc, ident, V2=g.V2, F2=g.F2, faces=p.faces, V2_new=g.V2 * k, unchanged=True
+    ).piece
+    for a, b in [
+        (out.outline, pc.outline),
+        (out.notches, pc.notches),
+        (out.grain, pc.grain),
+        (out.internal[0], pc.internal[0]),
+        (out.drills, pc.drills),
+    ]:
+        np.testing.assert_allclose(a, b * k, atol=1e-9)
+
+
+def test_the_plan_draws_pieces_from_the_mesh_without_a_pattern_file():
+    g = cone_skirt()
+    plan = piece_plan(g, panels(g))
+    assert not any(plan.from_file) and len(plan.pieces) == len(panels(g))
+    assert plan.units == g.units
