@@ -60,11 +60,11 @@ def test_location_is_restricted_to_the_given_faces():
 def test_offset_of_a_rectangle_is_the_rectangle_grown_by_d_with_square_corners():
     R = np.array([[0.0, 0.0], [10.0, 0.0], [10.0, 5.0], [0.0, 5.0]])
     for P in (R, R[::-1]):
-        O = offset_closed(P, 1.5)
-        assert len(O) == 4
-        np.testing.assert_allclose(np.sort(O, axis=0)[[0, -1]], [[-1.5, -1.5], [11.5, 6.5]])
-        assert np.sign(signed_area(O)) == np.sign(signed_area(P))
-        assert abs(signed_area(O)) == pytest.approx(13 * 8)
+        grown = offset_closed(P, 1.5)
+        assert len(grown) == 4
+        np.testing.assert_allclose(np.sort(grown, axis=0)[[0, -1]], [[-1.5, -1.5], [11.5, 6.5]])
+        assert np.sign(signed_area(grown)) == np.sign(signed_area(P))
+        assert abs(signed_area(grown)) == pytest.approx(13 * 8)
 
 
 def test_offset_of_a_circle_has_the_radius_plus_d_and_sharp_points_are_bevelled():
@@ -73,9 +73,9 @@ def test_offset_of_a_circle_has_the_radius_plus_d_and_sharp_points_are_bevelled(
     r = np.linalg.norm(offset_closed(C, 1.0), axis=1)
     assert r.min() > 10.99 and r.max() < 11.01
     spike = np.array([[0.0, 0.0], [20.0, 0.0], [0.0, 1.0]])  # a 2.9 degree point at (20, 0)
-    O = offset_closed(spike, 1.0)
-    assert len(O) == 4  # bevelled: two points at the spike
-    assert np.linalg.norm(O - [20.0, 0.0], axis=1).min() <= 4.0 + 1e-9
+    bev = offset_closed(spike, 1.0)
+    assert len(bev) == 4  # bevelled: two points at the spike
+    assert np.linalg.norm(bev - [20.0, 0.0], axis=1).min() <= 4.0 + 1e-9
 
 
 def test_corners_of_a_rectangle_and_none_on_a_circle():
@@ -131,7 +131,7 @@ def test_a_piece_that_matches_no_panel_is_an_error_naming_it():
     g = lantern_sleeve()
     plist, _ = _pieces(g)
     stray = Piece(name="pocket", outline=np.array([[0.0, 0], [3, 0], [3, 2], [0, 2]]) + 900)
-    with pytest.raises(PtailorError, match="'pocket'.*match no panel"):
+    with pytest.raises(PtailorError, match=r"'pocket'.*match no panel"):
         match_pieces([stray], g.V2, g.F2, plist, path="p.dxf")
 
 

@@ -270,9 +270,7 @@ def mesh_pieces(V2: np.ndarray, F2: np.ndarray, panel_list: list[Panel]) -> list
         a = np.abs(areas[p.faces])
         c = (V2[F2[p.faces]].mean(axis=1) * a[:, None]).sum(axis=0) / max(a.sum(), 1e-300)
         h = float(np.ptp(P[:, 1]))
-        holes = tuple(
-            np.vstack([V2[lp], V2[lp[:1]]]) for lp in loops if len(lp) != len(outer)
-        )
+        holes = tuple(np.vstack([V2[lp], V2[lp[:1]]]) for lp in loops if len(lp) != len(outer))
         out.append(
             Piece(
                 name=p.name,
@@ -402,7 +400,8 @@ def carry_piece(
         outline=outline,
         turn=turn,
         notches=notches[keep_n],
-        notch_angles=piece.notch_angles[keep_n] if len(piece.notch_angles) == len(keep_n)
+        notch_angles=piece.notch_angles[keep_n]
+        if len(piece.notch_angles) == len(keep_n)
         else np.zeros(int(keep_n.sum())),
         grain=grain,
         internal=tuple(internal),

@@ -46,7 +46,8 @@ def parse_length(text: str, *, to: str, what: str) -> float:
     except ValueError:
         m = _UNIT_RE.match(text)
         if not m or m.group(1) is None:
-            raise PtailorError(f"{what}: not a length: {text!r} (e.g. 1, 1cm, 10mm, 0.375in)")
+            msg = f"{what}: not a length: {text!r} (e.g. 1, 1cm, 10mm, 0.375in)"
+            raise PtailorError(msg) from None
         value = float(m.group(1)) * CM_PER[m.group(2)] / CM_PER[to]
     if not np.isfinite(value) or value < 0:
         raise PtailorError(f"{what}: must be a length >= 0, not {text!r}")
@@ -231,7 +232,5 @@ def _load_dxf_pair(
             f"({ratio:.3g} pattern units per cm of drape)"
         )
         pattern = replace(pattern, units=unit, units_note=note)
-    loaded = load_garment(
-        drape, units=units, pattern_units=pattern.units, drape_units=drape_units
-    )
+    loaded = load_garment(drape, units=units, pattern_units=pattern.units, drape_units=drape_units)
     return replace(loaded, inputs={"pattern": path, "drape": dpath}, pattern=pattern)
