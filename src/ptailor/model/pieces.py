@@ -101,6 +101,9 @@ class PatternFile:
         ``Sample Size:`` text (``""`` when absent).
     path : str
         The file read.
+    units_text : str
+        The units word as the file writes it (``"ENGLISH"``, ``"METRIC"``), ``""`` when
+        the file has none.
     """
 
     pieces: tuple[Piece, ...]
@@ -111,3 +114,4 @@ class PatternFile:
     size: str = ""
     sample_size: str = ""
     path: str = ""
+    units_text: str = ""
