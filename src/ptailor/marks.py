@@ -248,25 +248,66 @@ def match_pieces(
     return [matches[i] for i in range(n_pc)]
 
 
-def mesh_pieces(V2: np.ndarray, F2: np.ndarray, panel_list: list[Panel]) -> list[Piece]:
-    """Pieces drawn from a triangulated pattern: outline, turn points and a grain line.
+def _edge_key(E: np.ndarray, n: int) -> np.ndarray:
+    """One int64 key per undirected edge of vertices below ``n``."""
+    return np.minimum(E[:, 0], E[:, 1]).astype(np.int64) * n + np.maximum(E[:, 0], E[:, 1])
+
+
+def _edge_partners(F2: np.ndarray, F3: np.ndarray | None, panel_list: list[Panel]):
+    """Sorted 2D edge keys of the pattern's half-edges and the panel across each (or -1)."""
+    from ptailor.method.flatten import panel_labels
+    from ptailor.model.seams import half_edges, seam_halfedges
+
+    m = len(F2)
+    keys = _edge_key(half_edges(F2), int(F2.max(initial=0)) + 1)
+    partner = np.full(3 * m, -1, dtype=np.int64)
+    if F3 is not None and m:
+        face = np.repeat(np.arange(m), 3)
+        flab = panel_labels(panel_list, m)
+        pairs = seam_halfedges(F3, F2)
+        partner[pairs[:, 0]] = flab[face[pairs[:, 1]]]
+        partner[pairs[:, 1]] = flab[face[pairs[:, 0]]]
+    order = np.argsort(keys, kind="stable")
+    return keys[order], partner[order]
+
+
+def mesh_pieces(
+    V2: np.ndarray, F2: np.ndarray, panel_list: list[Panel], *, F3: np.ndarray | None = None
+) -> list[Piece]:
+    """Pieces drawn from a triangulated pattern: outline, turn points, notches, grain line.
 
     The outline is each panel's outer boundary (counter-clockwise), holes become internal
     lines (closed), turn points are where the outline turns by more than
-    ``tolerances.CORNER_DEG``, and the grain line runs along the pattern's y axis through
-    the panel's centroid, half the panel's height long (the pattern's layout is taken to
-    be on grain).
+    ``tolerances.CORNER_DEG``. With the drape's triangles ``F3``, a notch marks each point
+    of the outline (other than a turn point) where the panel across the seam changes, or a
+    seam ends: the match points for sewing. The grain line runs along the pattern's y axis
+    through the panel's centroid, half the panel's height long (the pattern's layout is
+    taken to be on grain).
+
+    Parameters
+    ----------
+    V2 : (n, 2) float array
+    F2 : (m, 3) int array
+    panel_list : list of Panel
+    F3 : (m, 3) int array, optional
+        The drape's triangles, for seam notches.
 
     Returns
     -------
     list of Piece
     """
+    keys, partner = _edge_partners(F2, F3, panel_list)
+    n_v = int(F2.max(initial=0)) + 1
     out = []
     areas = signed_areas_2d(V2, F2)
     for p in panel_list:  # a loop over panels
         loops = boundary_loops(F2[p.faces])
         outer = outer_loop(F2, p.faces, V2)
         P = V2[outer]
+        turn = corners(P)
+        ek = _edge_key(np.stack([outer, np.roll(outer, -1)], axis=1), n_v)
+        across = partner[np.minimum(np.searchsorted(keys, ek), len(keys) - 1)]
+        notch = (across != np.roll(across, 1)) & ~turn
         a = np.abs(areas[p.faces])
         c = (V2[F2[p.faces]].mean(axis=1) * a[:, None]).sum(axis=0) / max(a.sum(), 1e-300)
         h = float(np.ptp(P[:, 1]))
@@ -275,7 +316,9 @@ def mesh_pieces(V2: np.ndarray, F2: np.ndarray, panel_list: list[Panel]) -> list
             Piece(
                 name=p.name,
                 outline=P,
-                turn=corners(P),
+                turn=turn,
+                notches=P[notch],
+                notch_angles=np.zeros(int(notch.sum())),
                 grain=np.array([[c[0], c[1] - 0.25 * h], [c[0], c[1] + 0.25 * h]]),
                 internal=holes,
             )
@@ -491,7 +534,7 @@ def piece_plan(garment, panel_list: list[Panel], *, pattern=None) -> PiecePlan:
         units = pattern.units
     used = {m.panel for m in matches}
     rest = [p for p in panel_list if p.index not in used]
-    drawn = mesh_pieces(V2, F2, rest)
+    drawn = mesh_pieces(V2, F2, rest, F3=garment.F3)
     pieces = file_pieces + drawn
     matches = matches + [
         PieceMatch(len(file_pieces) + a, p.index, "mesh", np.eye(2), np.zeros(2), 0.0)
