@@ -1,0 +1,96 @@
+"""Benchmark the pattern outputs against a whole ``adjust`` on a 100,000-triangle garment.
+
+    python bench/bench_outputs.py [--triangles 100000] [--repeat 5]
+
+On ``ptailor.samples.sample_for_triangles`` scaled 1.2 around its axis, times (medians
+over the repeats) the in-process ``adjust`` (edit, flatten, baseline), then each output
+stage on its result: the piece plan (mesh pieces and notches), carrying the pieces
+through the adjustment, writing ``pattern.dxf``, reading it back, ``pattern.svg`` and
+``preview.png``, and the ezdxf import. Target (issue 5): DXF writing and reading under
+10 % of the ``adjust`` run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from ptailor.adjust import adjust
+from ptailor.job import OutputContext, output_dxf, output_png, output_svg
+from ptailor.marks import adjusted_pieces, piece_plan
+from ptailor.model.garment import panels
+from ptailor.recipe import parse_recipe
+from ptailor.report.build import triangle_errors
+from ptailor.samples import sample_for_triangles
+
+RECIPE = "steps: [{op: scale, region: all, direction: around, axis: auto, factor: 1.2}]"
+
+
+def median_time(fn, repeat: int) -> float:
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--triangles", type=int, default=100_000)
+    ap.add_argument("--repeat", type=int, default=5)
+    args = ap.parse_args()
+    g = sample_for_triangles(args.triangles)
+    rec = parse_recipe(RECIPE)
+    print(f"lantern sleeve, {g.n_faces} triangles; medians of {args.repeat} runs")
+    t_adjust = median_time(lambda: adjust(g, rec), args.repeat)
+    adj = adjust(g, rec)
+    plan = piece_plan(g, panels(g))
+    carried = adjusted_pieces(adj, plan)
+    errors = triangle_errors(adj)
+
+    class Loaded:  # what the writers read of a LoadedGarment
+        pattern = None
+        inputs = {"garment": "bench.obj"}
+
+    ctx = OutputContext(loaded=Loaded(), pieces=carried, plan=plan, errors=errors)
+    rows = {
+        "piece plan": lambda: piece_plan(g, panels(g)),
+        "carry pieces": lambda: adjusted_pieces(adj, plan),
+    }
+    with tempfile.TemporaryDirectory() as td:
+        tmp = Path(td)
+        output_dxf(tmp, adj, ctx)
+        from ptailor.formats.dxf import read_dxf
+
+        rows["write pattern.dxf"] = lambda: output_dxf(tmp, adj, ctx)
+        rows["read pattern.dxf"] = lambda: read_dxf(tmp / "pattern.dxf")
+        rows["write pattern.svg"] = lambda: output_svg(tmp, adj, ctx)
+        rows["write preview.png"] = lambda: output_png(tmp, adj, ctx)
+        n_pts = sum(len(c.piece.outline) for c in carried if c is not None)
+        size = (tmp / "pattern.dxf").stat().st_size
+        print(f"adjust (in-process)    {t_adjust:7.3f} s")
+        times = {}
+        for name, fn in rows.items():
+            times[name] = median_time(fn, args.repeat)
+            print(f"{name:<22} {times[name]:7.3f} s  {100 * times[name] / t_adjust:5.1f} %")
+        svg_mb = (tmp / "pattern.svg").stat().st_size / 1e6
+    code = "import time; t = time.perf_counter(); import ezdxf; print(time.perf_counter() - t)"
+    imp = statistics.median(
+        float(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True).stdout)
+        for _ in range(args.repeat)
+    )
+    dxf_share = times["write pattern.dxf"] + times["read pattern.dxf"] + imp
+    print(f"import ezdxf           {imp:7.3f} s")
+    print(f"outline points {n_pts}, pattern.dxf {size / 1e3:.0f} kB, pattern.svg {svg_mb:.1f} MB")
+    flag = "ok" if dxf_share <= 0.1 * t_adjust else "OVER 10 %"
+    print(f"DXF write + read + import: {100 * dxf_share / t_adjust:.1f} % of adjust [{flag}]")
+
+
+if __name__ == "__main__":
+    main()

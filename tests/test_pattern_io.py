@@ -1,0 +1,275 @@
+"""DXF patterns through ``ptailor adjust``: pieces matched, marks carried, outputs chosen."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from ptailor.cli.main import cli
+from ptailor.demo import sample_obj_text
+from ptailor.formats.dxf import read_dxf, write_dxf
+from ptailor.marks import mesh_pieces
+from ptailor.model.garment import panels
+from ptailor.model.pieces import PatternFile, Piece
+from ptailor.model.polyline import signed_area
+from ptailor.samples import SAMPLES
+
+from tests.conftest import real_path
+
+IDENTITY = "steps: []\n"
+UNIFORM = "steps: [{op: scale, region: all, direction: uniform, factor: 1.1}]\n"
+
+
+def run(*args):
+    return CliRunner().invoke(cli, [str(a) for a in args], catch_exceptions=False)
+
+
+def _marked_pieces(g) -> list[Piece]:
+    """The garment's mesh pieces plus notches mid-edge, a drill hole and an internal line."""
+    out = []
+    for pc in mesh_pieces(g.V2, g.F2, panels(g), F3=g.F3):
+        P = pc.outline
+        mid = 0.5 * (P[[3, 17]] + P[[4, 18]])  # halfway along two outline edges
+        c = P.mean(axis=0)
+        out.append(
+            replace(
+                pc,
+                notches=np.vstack([pc.notches, mid]),
+                notch_angles=np.zeros(len(pc.notches) + 2),
+                drills=c[None] + [0.5, 0.5],
+                internal=(np.stack([c - [2.0, 1.0], c + [2.0, 1.0]]),),
+                quantity=1,
+                size="M",
+            )
+        )
+    return out
+
+
+def _setup(tmp_path, sample="lantern_sleeve", move=None):
+    """Drape OBJ + DXF (cm pieces written as METRIC mm) for a generated garment."""
+    obj = tmp_path / f"{sample}.obj"
+    obj.write_text(sample_obj_text(sample))
+    g = SAMPLES[sample]()
+    pieces = _marked_pieces(g)
+    if move is not None:
+        pieces = [move(pc) for pc in pieces]
+    dxf = tmp_path / f"{sample}.dxf"
+    pf = PatternFile(pieces=tuple(pieces), units="cm", style=sample, size="M", sizes=("M",))
+    write_dxf(dxf, pf, layout="keep")
+    return obj, dxf, pieces
+
+
+def _recipe(tmp_path, text):
+    p = tmp_path / "r.yaml"
+    p.write_text(text)
+    return p
+
+
+def _by_name(pf):
+    return {pc.name: pc for pc in pf.pieces}
+
+
+def _close(a, b, size, rel=1e-6):
+    np.testing.assert_allclose(a, b, atol=rel * size)
+
+
+def test_adjust_writes_every_format_by_default(tmp_path):
+    obj = tmp_path / "s.obj"
+    obj.write_text(sample_obj_text("lantern_sleeve"))
+    r = run("adjust", obj, _recipe(tmp_path, UNIFORM), "-o", tmp_path / "o", "-q")
+    assert r.exit_code == 0, r.output
+    names = sorted(p.name for p in (tmp_path / "o").iterdir())
+    assert names == ["garment.obj", "pattern.dxf", "pattern.svg", "preview.png", "report.json"]
+    pf = read_dxf(tmp_path / "o" / "pattern.dxf")
+    assert sorted(pc.name for pc in pf.pieces) == ["cuff", "sleeve"]
+    report = json.loads((tmp_path / "o" / "report.json").read_text())
+    assert [p["source"] for p in report["pattern"]["pieces"]] == ["mesh", "mesh"]
+
+
+def test_formats_option_writes_only_those(tmp_path):
+    obj = tmp_path / "s.obj"
+    obj.write_text(sample_obj_text("lantern_sleeve"))
+    r = run("adjust", obj, _recipe(tmp_path, IDENTITY), "-o", tmp_path / "o", "--formats", "dxf")
+    assert r.exit_code == 0, r.output
+    assert sorted(p.name for p in (tmp_path / "o").iterdir()) == ["pattern.dxf", "report.json"]
+    r = CliRunner().invoke(
+        cli, ["adjust", str(obj), str(tmp_path / "r.yaml"), "-o", str(tmp_path / "o2"),
+              "--formats", "obj,pdf"]
+    )  # fmt: skip
+    assert r.exit_code == 2 and "pdf" in r.output and not (tmp_path / "o2").exists()
+
+
+@pytest.mark.parametrize("sample", ["lantern_sleeve", "cone_skirt"])
+def test_identity_on_a_dxf_and_its_drape_gives_back_outlines_and_marks(tmp_path, sample):
+    obj, dxf, _ = _setup(tmp_path, sample)
+    r = run("adjust", dxf, _recipe(tmp_path, IDENTITY), "--drape", obj, "-o", tmp_path / "o")
+    assert r.exit_code == 0, r.output
+    before = _by_name(read_dxf(dxf))
+    after = _by_name(read_dxf(tmp_path / "o" / "pattern.dxf"))
+    assert sorted(before) == sorted(after)
+    for name, a in before.items():
+        b = after[name]
+        size = float(np.linalg.norm(a.extent))
+        _close(b.outline, a.outline, size)
+        assert b.turn.tolist() == a.turn.tolist()
+        _close(b.notches, a.notches, size)
+        _close(b.grain, a.grain, size)
+        _close(b.drills, a.drills, size)
+        _close(b.internal[0], a.internal[0], size)
+        assert b.size == "M"
+    report = json.loads((tmp_path / "o" / "report.json").read_text())
+    recs = report["pattern"]["pieces"]
+    assert all(p["source"] == "file" and p["matched_by"] == "position" for p in recs)
+    assert report["units"]["pattern"] == "mm" and "METRIC" in report["units"]["pattern_note"]
+
+
+def test_a_uniform_scale_scales_every_mark_and_keeps_the_grain_direction(tmp_path):
+    obj, dxf, _ = _setup(tmp_path)
+    r = run("adjust", dxf, _recipe(tmp_path, UNIFORM), "--drape", obj, "-o", tmp_path / "o")
+    assert r.exit_code == 0, r.output
+    before = _by_name(read_dxf(dxf))
+    after = _by_name(read_dxf(tmp_path / "o" / "pattern.dxf"))
+    for name, a in before.items():
+        b = after[name]
+        assert abs(signed_area(b.outline)) == pytest.approx(1.21 * abs(signed_area(a.outline)))
+        pa = np.vstack([a.notches, a.drills, a.grain])
+        pb = np.vstack([b.notches, b.drills, b.grain])
+        da = np.linalg.norm(pa[:, None] - pa[None], axis=-1)
+        db = np.linalg.norm(pb[:, None] - pb[None], axis=-1)
+        np.testing.assert_allclose(db, 1.1 * da, atol=1e-6 * da.max())
+        ga, gb = np.diff(a.grain, axis=0)[0], np.diff(b.grain, axis=0)[0]
+        assert abs(ga[0] * gb[1] - ga[1] * gb[0]) < 1e-9 * np.dot(ga, ga)  # parallel
+
+
+def test_a_moved_piece_is_matched_by_shape_and_written_where_the_file_had_it(tmp_path):
+    c, s = np.cos(np.pi / 2), np.sin(np.pi / 2)
+    R, t = np.array([[c, -s], [s, c]]), np.array([400.0, 50.0])
+
+    def move(pc):
+        if pc.name != "cuff":
+            return pc
+        return replace(
+            pc,
+            outline=pc.outline @ R.T + t,
+            notches=pc.notches @ R.T + t,
+            grain=pc.grain @ R.T + t,
+            drills=pc.drills @ R.T + t,
+            internal=tuple(L @ R.T + t for L in pc.internal),
+        )
+
+    obj, dxf, _ = _setup(tmp_path, move=move)
+    r = run("adjust", dxf, _recipe(tmp_path, IDENTITY), "--drape", obj, "-o", tmp_path / "o")
+    assert r.exit_code == 0, r.output
+    a = _by_name(read_dxf(dxf))["cuff"]
+    b = _by_name(read_dxf(tmp_path / "o" / "pattern.dxf"))["cuff"]
+    size = float(np.linalg.norm(a.extent))
+    _close(b.outline, a.outline, size)
+    _close(b.notches, a.notches, size)
+    _close(b.grain, a.grain, size)
+    recs = {p["name"]: p for p in json.loads((tmp_path / "o" / "report.json").read_text())[
+        "pattern"]["pieces"]}  # fmt: skip
+    assert recs["cuff"]["matched_by"] == "shape" and recs["sleeve"]["matched_by"] == "position"
+
+
+def test_shorten_drops_the_marks_it_cuts_away_and_outlines_the_new_hem(tmp_path):
+    obj, dxf, pieces = _setup(tmp_path, "cone_skirt")
+    r = run(
+        "adjust", dxf, _recipe(tmp_path, "steps: [{op: shorten, opening: hem, by: 5}]\n"),
+        "--drape", obj, "-o", tmp_path / "o",
+    )  # fmt: skip
+    assert r.exit_code == 0, r.output
+    report = json.loads((tmp_path / "o" / "report.json").read_text())
+    recs = report["pattern"]["pieces"]
+    assert all(p["outline"] == "mesh" for p in recs)
+    after = _by_name(read_dxf(tmp_path / "o" / "pattern.dxf"))
+    for pc in pieces:
+        b = after[pc.name]
+        assert abs(signed_area(b.outline)) < abs(signed_area(pc.outline))
+        assert len(b.drills) == 1 and b.grain is not None
+
+
+def test_seam_allowance_offsets_the_cut_line_and_keeps_the_sew_line(tmp_path):
+    obj = tmp_path / "s.obj"
+    obj.write_text(sample_obj_text("lantern_sleeve"))
+    rec = _recipe(tmp_path, IDENTITY)
+    assert run("adjust", obj, rec, "-o", tmp_path / "a", "--formats", "dxf").exit_code == 0
+    r = run("adjust", obj, rec, "-o", tmp_path / "b", "--formats", "dxf", "--seam-allowance", "1cm")
+    assert r.exit_code == 0, r.output
+    plain = _by_name(read_dxf(tmp_path / "a" / "pattern.dxf"))
+    sa = _by_name(read_dxf(tmp_path / "b" / "pattern.dxf"))
+    for name, a in plain.items():
+        b = sa[name]
+        _close(b.sew, a.outline, float(np.linalg.norm(a.extent)))
+        w, h = a.extent
+        assert abs(signed_area(b.outline)) == pytest.approx((w + 2) * (h + 2), rel=1e-6)
+    bad = run("adjust", obj, rec, "-o", tmp_path / "c", "--seam-allowance", "-1")
+    assert bad.exit_code == 2 and not (tmp_path / "c").exists()
+
+
+def test_dxf_errors_exit_2_naming_the_file_and_write_nothing(tmp_path):
+    obj, dxf, _ = _setup(tmp_path)
+    rec = _recipe(tmp_path, IDENTITY)
+    r = CliRunner().invoke(cli, ["adjust", str(dxf), str(rec), "-o", str(tmp_path / "o")])
+    assert r.exit_code == 2 and str(dxf) in r.output and "--drape" in r.output
+    stray = PatternFile(
+        pieces=(Piece(name="pocket", outline=np.array([[0.0, 0], [3, 0], [3, 2], [0, 2]]) + 900),),
+        units="cm",
+    )
+    bad = tmp_path / "stray.dxf"
+    write_dxf(bad, stray)
+    r = CliRunner().invoke(
+        cli, ["adjust", str(bad), str(rec), "--drape", str(obj), "-o", str(tmp_path / "o")]
+    )
+    assert r.exit_code == 2 and "pocket" in r.output and str(bad) in r.output
+    assert not (tmp_path / "o").exists()
+    novt = tmp_path / "novt.obj"
+    novt.write_text("\n".join(ln for ln in obj.read_text().splitlines() if not ln.startswith("vt")))
+    r = CliRunner().invoke(
+        cli, ["adjust", str(dxf), str(rec), "--drape", str(novt), "-o", str(tmp_path / "o")]
+    )
+    assert r.exit_code == 2 and str(novt) in r.output
+    assert not (tmp_path / "o").exists()
+
+
+def test_units_override_for_a_metric_file(tmp_path):
+    obj, dxf, _ = _setup(tmp_path)
+    r = run(
+        "adjust", dxf, _recipe(tmp_path, IDENTITY), "--drape", obj, "-o", tmp_path / "o",
+        "--dxf-units", "mm", "--formats", "dxf",
+    )  # fmt: skip
+    assert r.exit_code == 0, r.output
+    report = json.loads((tmp_path / "o" / "report.json").read_text())
+    assert report["units"]["pattern"] == "mm"
+
+
+def test_outputs_are_byte_identical_across_runs(tmp_path, monkeypatch):
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "1700000000")
+    obj, dxf, _ = _setup(tmp_path)
+    rec = _recipe(tmp_path, UNIFORM)
+    for o in ("o1", "o2"):
+        assert run("adjust", dxf, rec, "--drape", obj, "-o", tmp_path / o, "-q").exit_code == 0
+    for name in ("pattern.dxf", "pattern.svg", "preview.png", "garment.obj"):
+        assert (tmp_path / "o1" / name).read_bytes() == (tmp_path / "o2" / name).read_bytes(), name
+
+
+def test_dxf_pieces_of_a_real_garment_round_trip_through_adjust(tmp_path):
+    """tee6: pieces drawn from its mesh, written as DXF, read back with the drape."""
+    src = real_path("tee6")
+    out = tmp_path / "a"
+    r = run(
+        "adjust", src, _recipe(tmp_path, IDENTITY), "-o", out, "--formats", "dxf",
+        "--pattern-units", "0.3333333cm", "--drape-units", "0.3333333cm", "--no-baseline",
+    )  # fmt: skip
+    assert r.exit_code == 0, r.output
+    pf = read_dxf(out / "pattern.dxf")
+    assert len(pf.pieces) == 6
+    assert sum(len(pc.notches) for pc in pf.pieces) > 0
+    assert all(pc.grain is not None for pc in pf.pieces)
+    sizes = np.array([pc.extent for pc in pf.pieces]) * (10 if pf.units == "mm" else 1)
+    assert sizes.max() < 2000 and sizes.min() > 50  # mm: plausible garment pieces
+    assert Path(out / "pattern.dxf").read_text().count("Piece Name:") == 6
