@@ -1,0 +1,802 @@
+"""AAMA/ASTM D6673 DXF pattern files: read pieces with their marks, write them back.
+
+A piece is a block INSERTed in modelspace (or, in files without blocks, a closed boundary
+drawn straight into modelspace). Layers follow ASTM D6673: 1 boundary (cut line) and piece
+text, 2 turn points, 3 curve points, 4 and 80-83 notches, 5 grade reference, 6 mirror line,
+7 grain line, 8 internal lines, 11 internal cutouts, 13 drill holes, 14 sew line,
+15 annotation text, 84 and up quality-validation curves (ignored).
+
+The writer produces DXF R12 in the flavour Gerber AccuMark imports (no TABLES section, see
+:mod:`ezdxf.addons.gerber_D6673`): one block per piece, INSERTed at the origin.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import os
+import re
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ptailor.errors import PtailorError
+from ptailor.model.pieces import PatternFile, Piece
+
+#: centimetres per file unit
+CM_PER_UNIT: dict[str, float] = {"mm": 0.1, "cm": 1.0, "in": 2.54}
+#: $INSUNITS codes the reader understands
+_INSUNITS = {1: "in", 4: "mm", 5: "cm"}
+
+L_BOUNDARY, L_TURN, L_NOTCH, L_GRAIN, L_INTERNAL = "1", "2", "4", "7", "8"
+L_CUTOUT, L_DRILL, L_SEW, L_TEXT = "11", "13", "14", "15"
+NOTCH_LAYERS = frozenset({"4", "80", "81", "82", "83"})
+LAYOUTS = ("auto", "keep", "row")
+
+#: chaining / closing tolerance, relative to a piece's bounding-box diagonal
+REL_TOL = 1e-3
+#: consecutive outline points closer than this (relative) are one point
+REL_DUP = 1e-9
+#: a METRIC piece larger than this many units is in millimetres (pieces are 5-200 cm)
+MM_THRESHOLD = 300.0
+
+
+# --------------------------------------------------------------------------- reading
+
+
+@dataclass
+class _Marks:
+    """Geometry of one piece candidate, already in modelspace coordinates."""
+
+    boundary: list[np.ndarray] = field(default_factory=list)
+    turn: list[tuple[float, float]] = field(default_factory=list)
+    notches: list[tuple[float, float]] = field(default_factory=list)
+    notch_angles: list[float] = field(default_factory=list)
+    notch_lines: list[np.ndarray] = field(default_factory=list)
+    grain: list[np.ndarray] = field(default_factory=list)
+    internal: list[np.ndarray] = field(default_factory=list)
+    drills: list[tuple[float, float]] = field(default_factory=list)
+    sew: list[np.ndarray] = field(default_factory=list)
+    internal_is_line: list[bool] = field(default_factory=list)
+    texts: list[tuple[str, str, tuple[float, float]]] = field(default_factory=list)
+
+
+@dataclass
+class _Candidate:
+    """One INSERT (or one modelspace loop): a piece of some size."""
+
+    block: str
+    marks: _Marks
+    name: str = ""
+    size: str = ""
+    quantity: int = 1
+    annotations: tuple[str, ...] = ()
+
+
+def read_dxf(path: str | Path, *, size: str | None = None, units: str | None = None) -> PatternFile:
+    """Read the pieces of one size from an AAMA/ASTM DXF pattern file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The DXF file (Gerber AccuMark, CLO 3D, Optitex, ... exports).
+    size : str, optional
+        The size to read; by default the file's sample size (``Sample Size:``), else its
+        first size.
+    units : {"mm", "cm", "in"}, optional
+        The unit of the coordinates, overriding what the file says (or what is judged from
+        the piece sizes when the file says ``METRIC`` or nothing).
+
+    Returns
+    -------
+    PatternFile
+        Pieces in file order, outlines counter-clockwise, coordinates as in the file.
+
+    Raises
+    ------
+    PtailorError
+        Not a readable DXF, no pieces, an unknown size, or a boundary that does not close.
+    """
+    spath = str(path)
+    if units is not None and units not in CM_PER_UNIT:
+        raise PtailorError(f"unknown DXF units {units!r} (known: mm, cm, in)", path=spath)
+    doc = _open(spath)
+    msp = doc.modelspace()
+    style_text = _style_text(msp)
+    cands = _candidates(doc, spath)
+    if not cands:
+        raise PtailorError(
+            "no pattern pieces in the file (no boundary on layer 1 in a block or in modelspace)",
+            path=spath,
+        )
+    for c in cands:
+        _parse_piece_text(c)
+    _sizes_from_block_names(cands)
+
+    sizes = tuple(dict.fromkeys(c.size for c in cands if c.size))
+    sample = style_text.get("SAMPLE SIZE", "")
+    chosen = _choose_size(sizes, size, sample, spath)
+    chosen_c = [c for c in cands if c.size in (chosen, "")]
+    pieces = tuple(_build_piece(c, spath) for c in chosen_c)
+
+    units_text = style_text.get("UNITS", "")
+    unit, note = _units(units, units_text, doc.header.get("$INSUNITS"), pieces)
+    return PatternFile(
+        pieces=pieces,
+        units=unit,
+        units_note=note,
+        style=style_text.get("STYLE NAME", ""),
+        sizes=sizes,
+        size=chosen,
+        sample_size=sample,
+        path=spath,
+        units_text=units_text,
+    )
+
+
+def _open(spath: str) -> Any:
+    """The ezdxf document; strict reader first, then recover mode (CLO's group codes)."""
+    import ezdxf
+    from ezdxf import recover
+
+    if not Path(spath).is_file():
+        raise PtailorError("no such file", path=spath)
+    try:
+        return ezdxf.readfile(spath)
+    except Exception as strict_exc:  # any parse failure: retry leniently
+        try:
+            doc, _auditor = recover.readfile(spath)
+        except Exception as exc:
+            raise PtailorError(
+                f"not a readable DXF file ({exc or strict_exc})", path=spath
+            ) from exc
+        return doc
+
+
+def _xy(v: Any) -> tuple[float, float]:
+    return float(v[0]), float(v[1])
+
+
+def _text_of(e: Any) -> str:
+    t = e.plain_text() if e.dxftype() == "MTEXT" else e.dxf.get("text", "")
+    return str(t).strip()
+
+
+def _key_value(text: str) -> tuple[str, str]:
+    """``"Piece Name: FRONT"`` -> ``("PIECE NAME", "FRONT")``; no colon -> ``("", text)``."""
+    key, sep, value = text.partition(":")
+    if not sep:
+        return "", text
+    return " ".join(key.split()).upper(), value.strip()
+
+
+def _style_text(msp: Any) -> dict[str, str]:
+    """Modelspace ``KEY: value`` texts, keys upper-cased (first occurrence wins)."""
+    out: dict[str, str] = {}
+    for e in msp.query("TEXT MTEXT"):
+        k, v = _key_value(_text_of(e))
+        if k and k not in out:
+            out[k] = v
+    return out
+
+
+def _affine(m44: Any) -> tuple[np.ndarray, np.ndarray] | None:
+    """An ezdxf Matrix44 as (2, 2) linear part and (2,) translation (row vectors)."""
+    m = np.array([list(r) for r in m44.rows()], dtype=float)
+    A, t = m[:2, :2], m[3, :2]
+    if np.array_equal(A, np.eye(2)) and not t.any():
+        return None
+    return A, t
+
+
+def _apply(pts: np.ndarray, T: tuple[np.ndarray, np.ndarray] | None) -> np.ndarray:
+    return pts if T is None else pts @ T[0] + T[1]
+
+
+def _has_boundary(entities: Any) -> bool:
+    return any(
+        e.dxf.get("layer", "").strip() == L_BOUNDARY
+        and e.dxftype() not in ("TEXT", "MTEXT", "POINT", "INSERT")
+        for e in entities
+    )
+
+
+def _candidates(doc: Any, spath: str) -> list[_Candidate]:
+    """Piece candidates: INSERTed blocks, else defined blocks, else modelspace loops."""
+    msp = doc.modelspace()
+    out = []
+    boundary_blocks: dict[str, bool] = {}
+    for ins in msp.query("INSERT"):
+        name = ins.dxf.name
+        if name.startswith("*") or name not in doc.blocks:
+            continue
+        blk = doc.blocks[name]
+        if name not in boundary_blocks:
+            boundary_blocks[name] = _has_boundary(blk)
+        if boundary_blocks[name]:
+            out.append(_Candidate(name, _collect(blk, _affine(ins.matrix44()))))
+    if out:
+        return out
+    for blk in doc.blocks:
+        if not blk.name.startswith("*") and _has_boundary(blk):
+            out.append(_Candidate(blk.name, _collect(blk, None)))
+    if out:
+        return out
+    if _has_boundary(msp):
+        return _modelspace_candidates(_collect(msp, None), spath)
+    return []
+
+
+def _entity_points(e: Any, T: tuple[np.ndarray, np.ndarray] | None) -> np.ndarray | None:
+    """Vertices of a curve entity in modelspace, ``(n, 2)``; closed ones repeat the first."""
+    kind = e.dxftype()
+    if kind == "LINE":
+        pts = np.array([_xy(e.dxf.start), _xy(e.dxf.end)], dtype=float)
+    elif kind in ("POLYLINE", "LWPOLYLINE"):
+        if kind == "POLYLINE" and (e.is_poly_face_mesh or e.is_polygon_mesh):
+            return None
+        if e.has_arc:
+            pts = _flatten(e)
+        elif kind == "POLYLINE":
+            pts = np.array([_xy(v.dxf.location) for v in e.vertices], dtype=float)
+        else:
+            pts = np.array(e.get_points("xy"), dtype=float).reshape(-1, 2)
+        if e.is_closed and len(pts) > 2:
+            pts = np.vstack([pts, pts[:1]])
+    elif kind in ("ARC", "CIRCLE", "ELLIPSE", "SPLINE"):
+        pts = _flatten(e)
+    else:
+        return None
+    return _apply(pts, T) if len(pts) else None
+
+
+def _flatten(e: Any) -> np.ndarray:
+    """Curves (arcs, bulges, splines) as polylines, sagitta 0.1 % of their size."""
+    from ezdxf import path as ezpath
+
+    p = ezpath.make_path(e)
+    ctrl = np.array([_xy(v) for v in p.control_vertices()], dtype=float).reshape(-1, 2)
+    size = float(np.ptp(ctrl, axis=0).max()) if len(ctrl) > 1 else 1.0
+    pts = np.array([_xy(v) for v in p.flattening(distance=max(size, 1e-9) * 1e-3)], dtype=float)
+    return pts.reshape(-1, 2)
+
+
+def _point(e: Any, T: tuple[np.ndarray, np.ndarray] | None) -> tuple[float, float]:
+    loc = e.dxf.location if e.dxftype() == "POINT" else e.dxf.center
+    p = _apply(np.array([_xy(loc)], dtype=float), T)[0]
+    return float(p[0]), float(p[1])
+
+
+def _angle(deg: float, T: tuple[np.ndarray, np.ndarray] | None) -> float:
+    if T is None:
+        return float(deg)
+    a = np.radians(deg)
+    d = np.array([np.cos(a), np.sin(a)]) @ T[0]
+    return float(np.degrees(np.arctan2(d[1], d[0])) % 360.0)
+
+
+def _collect(entities: Any, T: tuple[np.ndarray, np.ndarray] | None) -> _Marks:
+    """Sort a block's (or modelspace's) entities into marks by layer."""
+    m = _Marks()
+    for e in entities:
+        kind = e.dxftype()
+        layer = e.dxf.get("layer", "0").strip()
+        if kind in ("TEXT", "MTEXT"):
+            if layer in (L_BOUNDARY, L_TEXT):
+                pos = _apply(np.array([_xy(e.dxf.insert)], dtype=float), T)[0]
+                m.texts.append((_text_of(e), layer, (float(pos[0]), float(pos[1]))))
+            continue
+        if kind == "POINT" or (kind == "CIRCLE" and layer == L_DRILL):
+            if layer == L_TURN:
+                m.turn.append(_point(e, T))
+            elif layer in NOTCH_LAYERS:
+                m.notches.append(_point(e, T))
+                has = e.dxf.hasattr("angle")
+                m.notch_angles.append(_angle(e.dxf.angle, T) if has else 0.0)
+            elif layer == L_DRILL:
+                m.drills.append(_point(e, T))
+            continue
+        if layer not in (L_BOUNDARY, L_GRAIN, L_INTERNAL, L_CUTOUT, L_SEW) and not (
+            layer in NOTCH_LAYERS and kind == "LINE"
+        ):
+            continue
+        pts = _entity_points(e, T)
+        if pts is None or len(pts) < 2:
+            continue
+        if layer == L_BOUNDARY:
+            m.boundary.append(pts)
+        elif layer in NOTCH_LAYERS:
+            m.notch_lines.append(pts[[0, -1]])
+        elif layer == L_GRAIN:
+            m.grain.append(pts[[0, -1]])
+        elif layer == L_SEW:
+            m.sew.append(pts)
+        elif layer in (L_INTERNAL, L_CUTOUT):
+            m.internal.append(pts)
+            m.internal_is_line.append(kind == "LINE" and layer == L_INTERNAL)
+    return m
+
+
+def _join_lines(lines: list[np.ndarray], is_line: list[bool], tol: float) -> list[np.ndarray]:
+    """Consecutive internal LINEs sharing ends become one polyline."""
+    out: list[np.ndarray] = []
+    prev_line = False
+    for pts, line in zip(lines, is_line, strict=True):
+        if line and prev_line and float(np.hypot(*(out[-1][-1] - pts[0]))) <= tol:
+            out[-1] = np.vstack([out[-1], pts[1:]])
+        else:
+            out.append(pts)
+        prev_line = line
+    return out
+
+
+def _chain(segments: list[np.ndarray], tol: float) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """Join segments end to end (reversing some) into loops and open chains.
+
+    Parameters
+    ----------
+    segments : list of (n_i, 2) float arrays
+        Open or closed (last point repeating the first) polylines.
+    tol : float
+        Ends closer than this join.
+
+    Returns
+    -------
+    loops : list of (k, 2) float arrays
+        Closed chains, first point not repeated.
+    opens : list of (k, 2) float arrays
+        Chains that do not close.
+    """
+    remaining = [s for s in segments if len(s) >= 2]
+    loops: list[np.ndarray] = []
+    opens: list[np.ndarray] = []
+
+    def closed(parts: list[np.ndarray]) -> bool:
+        n = sum(len(p) for p in parts)
+        return n >= 4 and float(np.hypot(*(parts[-1][-1] - parts[0][0]))) <= tol
+
+    while remaining:
+        parts = [remaining.pop(0)]
+        while remaining and not closed(parts):
+            ends = np.array([[s[0], s[-1]] for s in remaining])  # (r, 2, 2)
+            d_end = np.linalg.norm(ends - parts[-1][-1], axis=2)
+            d_start = np.linalg.norm(ends - parts[0][0], axis=2)
+            i, j = np.unravel_index(np.argmin(d_end), d_end.shape)
+            if d_end[i, j] <= tol:
+                seg = remaining.pop(int(i))
+                parts.append((seg if j == 0 else seg[::-1])[1:])
+                continue
+            i, j = np.unravel_index(np.argmin(d_start), d_start.shape)
+            if d_start[i, j] <= tol:
+                seg = remaining.pop(int(i))
+                parts.insert(0, (seg[::-1] if j == 0 else seg)[:-1])
+                continue
+            break
+        pts = np.vstack(parts)
+        if closed(parts):
+            loops.append(pts[:-1])
+        else:
+            opens.append(pts)
+    return loops, opens
+
+
+def _diag(arrays: list[np.ndarray]) -> float:
+    pts = np.vstack(arrays)
+    return float(np.hypot(*np.ptp(pts, axis=0)))
+
+
+def _modelspace_candidates(m: _Marks, spath: str) -> list[_Candidate]:
+    """Files without blocks: one piece per closed layer-1 loop, marks go to the piece
+    whose bounding box holds them (the smallest such), else the nearest."""
+    tol = REL_TOL * max(_diag(m.boundary), 1e-12)
+    loops, opens = _chain(m.boundary, tol)
+    if opens:
+        raise PtailorError(
+            f"a boundary (layer 1) in modelspace does not close ({len(opens)} open chain(s))",
+            path=spath,
+        )
+    lo = np.array([lp.min(axis=0) for lp in loops])  # (p, 2)
+    hi = np.array([lp.max(axis=0) for lp in loops])
+    area = np.prod(hi - lo, axis=1)
+
+    def owner(pts: np.ndarray) -> np.ndarray:
+        pts = np.asarray(pts, dtype=float).reshape(-1, 2)
+        gap = np.maximum(lo[None] - pts[:, None], 0) + np.maximum(pts[:, None] - hi[None], 0)
+        d = np.linalg.norm(gap, axis=2)  # (n, p)
+        score = np.where(d > 0, area.max() + 1.0 + d, area[None])
+        return np.argmin(score, axis=1) if len(pts) else np.zeros(0, dtype=int)
+
+    out = [_Marks(boundary=[np.vstack([lp, lp[:1]])]) for lp in loops]
+    for pts_name, ang_name in (("turn", None), ("notches", "notch_angles"), ("drills", None)):
+        pts = getattr(m, pts_name)
+        for k, o in enumerate(owner(np.array(pts))):
+            getattr(out[o], pts_name).append(pts[k])
+            if ang_name:
+                getattr(out[o], ang_name).append(getattr(m, ang_name)[k])
+    for name in ("notch_lines", "grain", "sew"):
+        for arr in getattr(m, name):
+            getattr(out[int(owner(arr.mean(axis=0))[0])], name).append(arr)
+    for arr, line in zip(m.internal, m.internal_is_line, strict=True):
+        o = out[int(owner(arr.mean(axis=0))[0])]
+        o.internal.append(arr)
+        o.internal_is_line.append(line)
+    for t in m.texts:
+        k, _v = _key_value(t[0])
+        if k in ("STYLE NAME", "SAMPLE SIZE", "UNITS", "CREATION DATE", "CREATION TIME"):
+            continue
+        out[int(owner(np.array(t[2]))[0])].texts.append(t)
+    return [_Candidate(f"PIECE_{i + 1}", mk) for i, mk in enumerate(out)]
+
+
+def _parse_piece_text(c: _Candidate) -> None:
+    """Name, size, quantity and annotations from the piece's text (keys any case)."""
+    notes = []
+    for text, layer, _pos in c.marks.texts:
+        k, v = _key_value(text)
+        if layer == L_BOUNDARY and k == "PIECE NAME" and not c.name:
+            c.name = v
+        elif layer == L_BOUNDARY and k == "SIZE" and not c.size:
+            c.size = v
+        elif layer == L_BOUNDARY and k == "QUANTITY":
+            try:
+                c.quantity = int(float(v))
+            except ValueError:
+                notes.append(text)
+        elif text and not (k and not v):  # skip empty "ANNOTATION:" fields
+            notes.append(text)
+    c.annotations = tuple(notes)
+
+
+def _sizes_from_block_names(cands: list[_Candidate]) -> None:
+    """Sizes from block names when no ``SIZE:`` text: ``NAME_SIZE`` blocks.
+
+    The suffix counts as a size when the piece name text is the block name's prefix, or,
+    without a name text, when the same prefix names more than one block (a graded file).
+    """
+    prefixes: dict[str, int] = {}
+    for c in cands:
+        head, sep, _tail = c.block.rpartition("_")
+        if sep:
+            prefixes[head] = prefixes.get(head, 0) + 1
+    for c in cands:
+        if not c.size:
+            if c.name and c.block.startswith(c.name) and len(c.block) > len(c.name):
+                tail = c.block[len(c.name) :]
+                if tail[0] in "_-":
+                    c.size = tail[1:]
+            elif not c.name:
+                head, sep, tail = c.block.rpartition("_")
+                if sep and prefixes.get(head, 0) > 1 and tail:
+                    c.size = tail
+        if not c.name:
+            suffix = f"_{c.size}"
+            graded = c.size and c.block.endswith(suffix) and len(c.block) > len(suffix)
+            c.name = c.block[: -len(suffix)] if graded else c.block
+
+
+def _choose_size(sizes: tuple[str, ...], size: str | None, sample: str, spath: str) -> str:
+    if size is None:
+        if sample in sizes:
+            return sample
+        return sizes[0] if sizes else ""
+    if size in sizes:
+        return size
+    folded = [s for s in sizes if s.casefold() == size.casefold()]
+    if folded:
+        return folded[0]
+    listed = ", ".join(sizes) if sizes else "none"
+    raise PtailorError(f"no size {size!r} in the file (sizes: {listed})", path=spath)
+
+
+def _build_piece(c: _Candidate, spath: str) -> Piece:
+    """Chain the boundary, orient it counter-clockwise, attach the marks."""
+    m = c.marks
+    diag = max(_diag(m.boundary), 1e-12)
+    tol = REL_TOL * diag
+    loops, opens = _chain(m.boundary, tol)
+    if not loops:
+        gap = ""
+        if opens:
+            longest = max(opens, key=len)
+            gap = f", its ends {float(np.hypot(*(longest[-1] - longest[0]))):.4g} apart"
+        raise PtailorError(
+            f"piece {c.name!r}: the boundary (layer 1) does not close{gap}", path=spath
+        )
+    areas = np.array([_signed_area(lp) for lp in loops])
+    k = int(np.argmax(np.abs(areas)))
+    outline = _drop_duplicates(loops[k], REL_DUP * diag)
+    if len(outline) < 3:
+        raise PtailorError(
+            f"piece {c.name!r}: the boundary has {len(outline)} point(s), fewer than 3",
+            path=spath,
+        )
+    turn = np.zeros(len(outline), dtype=bool)
+    if m.turn:
+        tp = np.array(m.turn, dtype=float)
+        d, idx = _nearest(outline, tp)
+        turn[idx[d <= tol]] = True
+    if _signed_area(outline) < 0:
+        outline, turn = outline[::-1].copy(), turn[::-1].copy()
+
+    notches = np.array(m.notches, dtype=float).reshape(-1, 2)
+    angles = np.array(m.notch_angles, dtype=float)
+    if m.notch_lines:
+        nl = np.array(m.notch_lines, dtype=float)  # (q, 2, 2)
+        d0, _ = _nearest(outline, nl[:, 0])
+        d1, _ = _nearest(outline, nl[:, 1])
+        flip = d1 < d0
+        at = np.where(flip[:, None], nl[:, 1], nl[:, 0])
+        to = np.where(flip[:, None], nl[:, 0], nl[:, 1])
+        dv = to - at
+        notches = np.vstack([notches, at])
+        angles = np.concatenate([angles, np.degrees(np.arctan2(dv[:, 1], dv[:, 0])) % 360.0])
+    internal = [lp for j, lp in enumerate(loops) if j != k]  # extra loops: internal shapes
+    internal = [np.vstack([lp, lp[:1]]) for lp in internal]
+    internal += _join_lines(m.internal, m.internal_is_line, tol)
+    sew = None
+    if m.sew:
+        sloops, _ = _chain(m.sew, REL_TOL * max(_diag(m.sew), 1e-12))
+        if sloops:
+            sew = max(sloops, key=lambda s: abs(_signed_area(s)))
+            if _signed_area(sew) < 0:
+                sew = sew[::-1].copy()
+    return Piece(
+        name=c.name,
+        outline=outline,
+        turn=turn,
+        notches=notches,
+        notch_angles=angles,
+        grain=m.grain[0].copy() if m.grain else None,
+        internal=tuple(internal),
+        drills=np.array(m.drills, dtype=float).reshape(-1, 2),
+        sew=sew,
+        quantity=c.quantity,
+        size=c.size,
+        annotations=c.annotations,
+    )
+
+
+def _signed_area(pts: np.ndarray) -> float:
+    x, y = pts[:, 0], pts[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+
+
+def _drop_duplicates(pts: np.ndarray, eps: float) -> np.ndarray:
+    """Drop points equal to their predecessor (cyclically)."""
+    step = np.linalg.norm(pts - np.roll(pts, 1, axis=0), axis=1)
+    keep = step > eps
+    if not keep.any():
+        return pts[:1]
+    return pts[keep]
+
+
+def _nearest(ref: np.ndarray, query: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Distance from each query point to its nearest ``ref`` point, and that point's index."""
+    from scipy.spatial import cKDTree
+
+    if len(query) == 0:
+        return np.zeros(0), np.zeros(0, dtype=int)
+    d, idx = cKDTree(ref).query(query)
+    return np.asarray(d, dtype=float), np.asarray(idx, dtype=int)
+
+
+def _units(
+    override: str | None, text: str, insunits: Any, pieces: tuple[Piece, ...]
+) -> tuple[str, str]:
+    """The coordinates' unit and where it came from."""
+    if override is not None:
+        return override, f"{override} given by the caller"
+    word = text.strip().upper()
+    quoted = f"'Units: {text.strip()}' in the file"
+    code = _INSUNITS.get(int(insunits)) if isinstance(insunits, int | float) else None
+    if word == "ENGLISH":
+        return "in", quoted
+    if code is not None and (word != "METRIC" or code != "in"):
+        src = f"{quoted}, " if word else ""
+        return code, f"{src}$INSUNITS = {int(insunits)} ({code}) in the header"
+    largest = max((float(p.extent.max()) for p in pieces), default=0.0)
+    unit = "mm" if largest > MM_THRESHOLD else "cm"
+    why = f"{unit} judged from the piece sizes (largest {largest:.4g})"
+    if word == "METRIC":
+        return unit, f"{quoted}; {why}"
+    if word:
+        return unit, f"unknown {quoted}; {why}"
+    return unit, f"no units in the file; {why}"
+
+
+# --------------------------------------------------------------------------- writing
+
+
+def write_dxf(path: str | Path, pattern: PatternFile, *, layout: str = "auto") -> None:
+    """Write pieces as an AAMA/ASTM DXF R12 file (the flavour Gerber AccuMark imports).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file to write.
+    pattern : PatternFile
+        Pieces and style text. Millimetres and centimetres are written as ``METRIC``
+        millimetres (centimetres times 10), inches as ``ENGLISH`` inches.
+    layout : {"auto", "keep", "row"}
+        ``keep`` keeps the coordinates, ``row`` lays the pieces out in rows without
+        overlap, ``auto`` keeps them unless two outlines' bounding boxes overlap.
+
+    Notes
+    -----
+    One block per piece (named after it, made DXF-safe and unique) INSERTed at the origin;
+    outlines are written counter-clockwise. ``Creation Date`` comes from
+    ``SOURCE_DATE_EPOCH`` when set, so reruns give the same bytes.
+    """
+    from ezdxf.addons import gerber_D6673
+    from ezdxf.document import Drawing
+
+    if pattern.units not in CM_PER_UNIT:
+        raise PtailorError(f"cannot write DXF in {pattern.units!r} (mm, cm or in)", path=str(path))
+    pieces = layout_pieces(pattern.pieces, layout=layout)
+    english = pattern.units == "in"
+    k = 10.0 if pattern.units == "cm" else 1.0
+    if k != 1.0:
+        pieces = tuple(_map_piece(p, k, np.zeros(2)) for p in pieces)
+
+    doc = Drawing.new("R12")  # not ezdxf.new: it sets $INSUNITS and warns that R12 has none
+    msp = doc.modelspace()
+    used: set[str] = set()
+    for p in pieces:
+        name = _block_name(p.name, used)
+        blk = doc.blocks.new(name=name, base_point=(0, 0))
+        _write_piece(blk, p)
+        msp.add_blockref(name, (0, 0), dxfattribs={"layer": L_BOUNDARY})
+
+    ext = max((float(p.extent.max()) for p in pieces), default=1.0) or 1.0
+    h = 0.01 * ext
+    top = max((float(p.outline[:, 1].max()) for p in pieces), default=0.0) + 4 * h
+    left = min((float(p.outline[:, 0].min()) for p in pieces), default=0.0)
+    lines = [
+        f"Style Name: {pattern.style}",
+        f"Creation Date: {_creation_date()}",
+        f"Sample Size: {pattern.sample_size or pattern.size}",
+        f"Units: {'ENGLISH' if english else 'METRIC'}",
+    ]
+    for i, t in enumerate(lines):
+        msp.add_text(
+            t, dxfattribs={"layer": L_BOUNDARY, "height": h, "insert": (left, top + 1.6 * h * i)}
+        )
+    gerber_D6673.export_file(doc, str(path))
+
+
+def _creation_date() -> str:
+    sde = os.environ.get("SOURCE_DATE_EPOCH", "").strip()
+    if sde:
+        try:
+            when = _dt.datetime.fromtimestamp(int(sde), tz=_dt.timezone.utc)
+            return when.strftime("%d-%m-%Y")
+        except (ValueError, OverflowError, OSError):
+            pass
+    return _dt.date.today().strftime("%d-%m-%Y")
+
+
+def _block_name(name: str, used: set[str]) -> str:
+    """A DXF-safe block name (letters, digits, ``_``, ``-``), unique in ``used``."""
+    base = re.sub(r"[^A-Za-z0-9_-]", "_", name.strip()) or "PIECE"
+    cand, n = base, 1
+    while cand.upper() in used:
+        n += 1
+        cand = f"{base}_{n}"
+    used.add(cand.upper())
+    return cand
+
+
+def _clean(text: str) -> str:
+    return " ".join(str(text).split())
+
+
+def _write_piece(blk: Any, p: Piece) -> None:
+    outline, turn = p.outline, np.asarray(p.turn, dtype=bool)
+    if _signed_area(outline) < 0:
+        outline, turn = outline[::-1], turn[::-1]
+    blk.add_polyline2d(outline.tolist(), close=True, dxfattribs={"layer": L_BOUNDARY})
+    for q in outline[turn].tolist():
+        blk.add_point(q, dxfattribs={"layer": L_TURN})
+    angles = np.broadcast_to(np.asarray(p.notch_angles, dtype=float), (len(p.notches),))
+    for q, a in zip(p.notches.tolist(), angles.tolist(), strict=True):
+        attribs = {"layer": L_NOTCH}
+        if a:
+            attribs["angle"] = a
+        blk.add_point(q, dxfattribs=attribs)
+    if p.grain is not None:
+        g = np.asarray(p.grain, dtype=float).tolist()
+        blk.add_line(g[0], g[1], dxfattribs={"layer": L_GRAIN})
+    for line in p.internal:
+        if len(line) >= 2:
+            blk.add_polyline2d(np.asarray(line).tolist(), dxfattribs={"layer": L_INTERNAL})
+    for q in np.asarray(p.drills, dtype=float).reshape(-1, 2).tolist():
+        blk.add_point(q, dxfattribs={"layer": L_DRILL})
+    if p.sew is not None and len(p.sew) >= 3:
+        sew = p.sew[::-1] if _signed_area(p.sew) < 0 else p.sew
+        blk.add_polyline2d(np.asarray(sew).tolist(), close=True, dxfattribs={"layer": L_SEW})
+
+    lo, hi = outline.min(axis=0), outline.max(axis=0)
+    h = 0.015 * float((hi - lo).max())
+    texts = [f"Piece Name: {_clean(p.name)}", f"Quantity: {int(p.quantity)}"]
+    if p.size:
+        texts.append(f"Size: {_clean(p.size)}")
+    texts += [_clean(a) for a in p.annotations]
+    x0 = float(lo[0] + 0.1 * (hi - lo)[0])
+    y0 = float((lo[1] + hi[1]) / 2 + 0.8 * h * len(texts))
+    for i, t in enumerate(texts):
+        blk.add_text(
+            t, dxfattribs={"layer": L_BOUNDARY, "height": h, "insert": (x0, y0 - 1.6 * h * i)}
+        )
+
+
+def _map_piece(p: Piece, scale: float, offset: np.ndarray) -> Piece:
+    """``p`` with every coordinate mapped ``x -> scale * x + offset`` (a new Piece)."""
+
+    def f(a: np.ndarray | None) -> np.ndarray | None:
+        return None if a is None else np.asarray(a, dtype=float) * scale + offset
+
+    return replace(
+        p,
+        outline=f(p.outline),
+        notches=f(p.notches),
+        grain=f(p.grain),
+        internal=tuple(f(a) for a in p.internal),
+        drills=f(p.drills),
+        sew=f(p.sew),
+    )
+
+
+def piece_bounds(p: Piece) -> np.ndarray:
+    """Bounding box of a piece and all its marks, ``(2, 2)``: ``[[xmin, ymin], [xmax, ymax]]``."""
+    parts = [p.outline, np.asarray(p.notches).reshape(-1, 2), np.asarray(p.drills).reshape(-1, 2)]
+    parts += [np.asarray(a).reshape(-1, 2) for a in p.internal]
+    parts += [np.asarray(a).reshape(-1, 2) for a in (p.grain, p.sew) if a is not None]
+    pts = np.vstack(parts)
+    return np.array([pts.min(axis=0), pts.max(axis=0)])
+
+
+def layout_pieces(pieces: tuple[Piece, ...], *, layout: str = "auto") -> tuple[Piece, ...]:
+    """Place pieces side by side without overlap.
+
+    Parameters
+    ----------
+    pieces : tuple of Piece
+    layout : {"auto", "keep", "row"}
+        ``keep`` returns them as they are; ``row`` translates each piece (its marks with
+        it) into rows, left to right, wrapping at about the width of a square sheet;
+        ``auto`` keeps them when no two outlines' bounding boxes overlap, else ``row``
+        (rows are packed by the bounding boxes of the outlines and all marks).
+
+    Returns
+    -------
+    tuple of Piece
+        New pieces (the input is not modified).
+    """
+    if layout not in LAYOUTS:
+        raise PtailorError(f"unknown layout {layout!r} (known: {', '.join(LAYOUTS)})")
+    pieces = tuple(pieces)
+    if layout == "keep" or not pieces:
+        return pieces
+    if layout == "auto":
+        lo = np.array([p.outline.min(axis=0) for p in pieces])  # (n, 2)
+        hi = np.array([p.outline.max(axis=0) for p in pieces])
+        over = np.all((lo[:, None] < hi[None]) & (lo[None] < hi[:, None]), axis=2)
+        np.fill_diagonal(over, False)
+        if not over.any():
+            return pieces
+    boxes = np.array([piece_bounds(p) for p in pieces])  # (n, 2, 2)
+    lo, hi = boxes[:, 0], boxes[:, 1]
+    size = hi - lo  # (n, 2)
+    gap = 0.05 * float(size.max())
+    width = max(float(size[:, 0].max()), 1.1 * float(np.sqrt(np.prod(size + gap, axis=1).sum())))
+    offsets = np.zeros((len(pieces), 2))
+    x = y = row_h = 0.0
+    for i, (w, h) in enumerate(size.tolist()):  # a loop over pieces, not points
+        if x > 0 and x + w > width:
+            x, y, row_h = 0.0, y + row_h + gap, 0.0
+        offsets[i] = (x, y)
+        x += w + gap
+        row_h = max(row_h, h)
+    shift = offsets - lo
+    return tuple(_map_piece(p, 1.0, s) for p, s in zip(pieces, shift, strict=True))
