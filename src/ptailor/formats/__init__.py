@@ -12,6 +12,11 @@ from ptailor.errors import PtailorError
 READERS: dict[str, Callable[..., Any]] = {}
 #: extension -> writer(path, **content)
 WRITERS: dict[str, Callable[..., Any]] = {}
+#: extension -> pattern reader(path, *, size=None, units=None) returning a
+#: :class:`ptailor.model.pieces.PatternFile`
+PATTERN_READERS: dict[str, Callable[..., Any]] = {}
+#: extension -> pattern writer(path, pattern, **options)
+PATTERN_WRITERS: dict[str, Callable[..., Any]] = {}
 
 
 def reader_for(path: str | Path) -> Callable[..., Any]:
@@ -24,10 +29,12 @@ def reader_for(path: str | Path) -> Callable[..., Any]:
 
 
 def _register() -> None:
-    from ptailor.formats import obj
+    from ptailor.formats import dxf, obj
 
     READERS["obj"] = obj.read_obj
     WRITERS["obj"] = obj.write_obj
+    PATTERN_READERS["dxf"] = dxf.read_dxf
+    PATTERN_WRITERS["dxf"] = dxf.write_dxf
 
 
 _register()
