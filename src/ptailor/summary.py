@@ -1,4 +1,5 @@
-"""What ``ptailor inspect`` shows: panels, seams, openings and units of a garment."""
+"""What ``ptailor inspect`` shows: panels, seams, openings and units of a garment, or the
+pieces, sizes and units of a DXF pattern."""
 
 from __future__ import annotations
 
@@ -8,7 +9,9 @@ from ptailor.formats.garment import LoadedGarment
 from ptailor.method.flatten import panel_labels, vertex_labels
 from ptailor.model.garment import panels, signed_areas_2d
 from ptailor.model.openings import openings
+from ptailor.model.pieces import PatternFile
 from ptailor.model.seams import seams
+from ptailor.model.units import CM_PER
 from ptailor.report.metrics import panel_sizes
 
 
@@ -100,4 +103,78 @@ def summary_text(info: dict) -> str:
     for o in info["openings"]:
         c = ", ".join(f"{x:.1f}" for x in o["centroid"])
         lines.append(f"  {o['name']:<16} length {o['length']:8.2f}  at ({c})")
+    return "\n".join(lines)
+
+
+def pattern_summary(pattern: PatternFile) -> dict:
+    """A JSON-ready description of a DXF pattern's pieces (no drape needed).
+
+    Parameters
+    ----------
+    pattern : PatternFile
+
+    Returns
+    -------
+    dict
+        ``inputs``, ``style``, ``pieces`` (name, size in file units and in cm, quantity,
+        notches, grain line and its angle), ``count``, ``sizes``, ``size``,
+        ``sample_size``, ``units``.
+    """
+    to_cm = CM_PER[pattern.units]
+    out_p = []
+    for p in pattern.pieces:
+        ext = p.extent
+        grain = p.grain is not None
+        angle = None
+        if grain:
+            d = np.asarray(p.grain[1], dtype=float) - np.asarray(p.grain[0], dtype=float)
+            angle = round(float(np.degrees(np.arctan2(d[1], d[0])) % 180.0), 2)
+        out_p.append(
+            {
+                "name": p.name,
+                "size": [round(float(ext[0]), 3), round(float(ext[1]), 3)],
+                "size_cm": [round(float(ext[0] * to_cm), 2), round(float(ext[1] * to_cm), 2)],
+                "quantity": int(p.quantity),
+                "points": len(p.outline),
+                "notches": len(p.notches),
+                "grain": grain,
+                "grain_angle": angle,
+                "internal_lines": len(p.internal),
+                "drills": len(p.drills),
+            }
+        )
+    return {
+        "inputs": {"pattern": pattern.path},
+        "style": pattern.style,
+        "pieces": out_p,
+        "count": len(out_p),
+        "sizes": list(pattern.sizes),
+        "size": pattern.size,
+        "sample_size": pattern.sample_size,
+        "units": {"file": pattern.units, "text": pattern.units_text, "note": pattern.units_note},
+    }
+
+
+def pattern_summary_text(info: dict) -> str:
+    """Plain-text rendering of :func:`pattern_summary`."""
+    u = info["units"]["file"]
+    n = info["count"]
+    style = f" (style {info['style']})" if info["style"] else ""
+    lines = [f"pattern: {info['inputs']['pattern']}{style}"]
+    if info["sizes"]:
+        sample = f", sample size {info['sample_size']}" if info["sample_size"] else ""
+        lines.append(f"sizes: {' '.join(info['sizes'])} (showing {info['size']}{sample})")
+    else:
+        lines.append("sizes: none named in the file")
+    lines.append(f"units: {u} ({info['units']['note']})")
+    lines.append(f"  {'piece':<20} {'size (' + u + ')':>19} {'size (cm)':>17}  qty  notches  grain")
+    for p in info["pieces"]:
+        w, h = p["size"]
+        wc, hc = p["size_cm"]
+        grain = f"yes {p['grain_angle']:.1f} deg" if p["grain"] else "no"
+        lines.append(
+            f"  {p['name']:<20} {w:8.2f} x {h:8.2f} {wc:7.1f} x {hc:7.1f}"
+            f"  {p['quantity']:>3}  {p['notches']:>7}  {grain}"
+        )
+    lines.append(f"{n} piece{'s' if n != 1 else ''}")
     return "\n".join(lines)

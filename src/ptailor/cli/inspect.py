@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import click
 
 from ptailor.cli.options import axes_options, axis_vector, garment_options
@@ -17,12 +19,45 @@ from ptailor.cli.options import axes_options, axis_vector, garment_options
     default="cm",
     show_default=True,
     type=click.Choice(["mm", "cm", "m", "in"]),
-    help="Unit to report lengths in.",
+    help="Unit to report lengths in (garments; a DXF is shown in its own units and cm).",
+)
+@click.option(
+    "--size",
+    default=None,
+    help="DXF only: the size to show [default: the file's sample size, else its first].",
+)
+@click.option(
+    "--dxf-units",
+    default=None,
+    type=click.Choice(["mm", "cm", "in"]),
+    help="DXF only: unit of the coordinates [default: from the file].",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print JSON instead of text.")
-def inspect(garment, drape, pattern_units, drape_units, up, front, units, as_json) -> None:
-    """List GARMENT's panels, seams, openings and units."""
+def inspect(
+    garment, drape, pattern_units, drape_units, up, front, units, size, dxf_units, as_json
+) -> None:
+    """List GARMENT's panels, seams, openings and units.
+
+    GARMENT may also be an AAMA/ASTM DXF pattern (PATTERN.dxf): its pieces, their sizes,
+    quantities, notches and grain lines, the sizes the file grades to and its units.
+    """
     import json
+
+    from ptailor.errors import PtailorError
+
+    if Path(garment).suffix.lower() == ".dxf":
+        from ptailor.formats.dxf import read_dxf
+        from ptailor.summary import pattern_summary, pattern_summary_text
+
+        if drape is not None:
+            raise PtailorError(
+                "inspect lists a DXF's pieces on their own: drop --drape", path=garment
+            )
+        info = pattern_summary(read_dxf(garment, size=size, units=dxf_units))
+        click.echo(json.dumps(info, indent=2) if as_json else pattern_summary_text(info))
+        return
+    if size is not None or dxf_units is not None:
+        raise PtailorError("--size and --dxf-units apply to DXF patterns only", path=garment)
 
     from ptailor.formats.garment import load_garment
     from ptailor.summary import garment_summary, summary_text
