@@ -241,6 +241,7 @@ def run_adjust(
     size: str | None = None,
     dxf_units: str | None = None,
     seam_allowance: float | None = None,
+    check=None,
 ) -> dict:
     """Load, adjust and write one garment; return the report.
 
@@ -275,6 +276,9 @@ def run_adjust(
     seam_allowance : float, optional
         In the recipe's units: the DXF's cut line is the adjusted outline offset by this
         (mitred corners), and the outline itself becomes the sew line (layer 14).
+    check : callable, optional
+        ``check(report)`` is called before the output folder is put in place; when it
+        raises, nothing is written (quality gates).
 
     Returns
     -------
@@ -375,5 +379,7 @@ def run_adjust(
         for role, path in shown.items():
             report["inputs"][role]["path"] = path
         report["outputs"] = sorted(["report.json", *written])
+        if check is not None:
+            check(report)
         write_json(tmp / "report.json", report)
     return report

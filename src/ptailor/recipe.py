@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
 from ptailor import tolerances as tol
 from ptailor.edits import OPERATIONS
-from ptailor.edits.checks import choice, number
+from ptailor.edits.checks import boolean, choice, number
 from ptailor.errors import PtailorError, RecipeError
 from ptailor.model.units import UNITS
 
@@ -34,11 +35,6 @@ def axis_vector(name: str) -> tuple[float, float, float]:
     v = [0.0, 0.0, 0.0]
     v["xyz".index(name[-1])] = sign
     return (v[0], v[1], v[2])
-
-
-def _boolean(x: Any, where: str) -> list[str]:
-    """true or false."""
-    return [] if isinstance(x, bool) else [f"{where}: expected true or false, got {x!r}"]
 
 
 @dataclass(frozen=True)
@@ -103,7 +99,7 @@ def validate(data: Any) -> tuple[Recipe | None, list[str]]:
     if "up" in data and "front" in data and str(data["up"])[-1:] == str(data["front"])[-1:]:
         probs.append("up and front must be different axes")
     symmetric = data.get("symmetric", False)
-    probs += _boolean(symmetric, "symmetric")
+    probs += boolean(symmetric, "symmetric")
     steps_in = data.get("steps", [])
     if steps_in is None:
         steps_in = []
@@ -138,7 +134,7 @@ def validate(data: Any) -> tuple[Recipe | None, list[str]]:
         # symmetric: every op's, defaulting to the recipe's (an op's own symmetric param, such
         # as cut's, takes the same resolved value and mirrors itself)
         if "symmetric" in st and "symmetric" not in op.params:
-            probs += _boolean(st["symmetric"], f"{where}.symmetric")
+            probs += boolean(st["symmetric"], f"{where}.symmetric")
         full["symmetric"] = st.get("symmetric", symmetric is True)
         if op.check is not None and not any(pr.startswith(where) for pr in probs):
             probs += op.check(full, where)
@@ -204,3 +200,131 @@ def load_recipe(path: str | Path) -> Recipe:
     except (OSError, UnicodeDecodeError) as exc:
         raise PtailorError(f"cannot read recipe ({exc})", path=str(path)) from None
     return parse_recipe(text, source=str(path))
+
+
+@dataclass(frozen=True)
+class Problem:
+    """One problem in a recipe file.
+
+    Attributes
+    ----------
+    source : str
+        The recipe's path (``<stdin>`` for standard input).
+    line : int or None
+        1-based line of the offending key or value; None when the problem is the whole
+        document.
+    message : str
+        What is wrong, starting with where (``steps[2].factor: must be > 0, got -1``).
+    """
+
+    source: str
+    line: int | None
+    message: str
+
+    def __str__(self) -> str:
+        return (
+            f"{self.source}:{self.line}: {self.message}"
+            if self.line
+            else (f"{self.source}: {self.message}")
+        )
+
+
+_WHERE = re.compile(r"^((?:[A-Za-z_]\w*)(?:\.[A-Za-z_]\w*|\[\d+\])*)(?=: )")
+_TOKEN = re.compile(r"\.?([A-Za-z_]\w*)|\[(\d+)\]")
+_UNKNOWN = re.compile(r"unknown key '([^']+)'")
+
+
+def _path_of(message: str) -> tuple[list, str | None]:
+    """``steps[2].factor: ...`` -> ``(["steps", 1, "factor"], None)``; unknown keys' names."""
+    path: list = []
+    m = _WHERE.match(message)
+    if m:
+        for name, idx in _TOKEN.findall(m.group(1)):
+            path.append(name if name else int(idx) - (1 if path == ["steps"] else 0))
+    unknown = _UNKNOWN.search(message)
+    return path, unknown.group(1) if unknown else None
+
+
+def _line_of(node: Any, path: list, key: str | None) -> int | None:
+    """Line of the YAML node at ``path`` (or of ``key`` under it), as deep as it exists."""
+    import yaml
+
+    if node is None:
+        return None
+    line = node.start_mark.line + 1
+    for step in [*path, *([key] if key is not None else [])]:
+        if isinstance(node, yaml.MappingNode):
+            hit = [(k, v) for k, v in node.value if getattr(k, "value", None) == step]
+            if not hit:
+                break
+            k, node = hit[0]
+            line = (k if step == key else node).start_mark.line + 1
+        elif isinstance(node, yaml.SequenceNode) and isinstance(step, int):
+            if not 0 <= step < len(node.value):
+                break
+            node = node.value[step]
+            line = node.start_mark.line + 1
+        else:
+            break
+    return line
+
+
+def _schema_problems(data: Any) -> list[tuple[list, str]]:
+    """``(path, message)`` for each place the document breaks ``recipes/schema.json``."""
+    import jsonschema
+
+    from ptailor.schema import recipe_schema
+
+    validator = jsonschema.Draft202012Validator(recipe_schema())
+    out = []
+    for err in sorted(validator.iter_errors(data), key=lambda e: list(map(str, e.path))):
+        path = list(err.absolute_path)
+        where = "".join(
+            f"[{p + 1 if path[:1] == ['steps'] and i == 1 else p}]"
+            if isinstance(p, int)
+            else (f".{p}" if i else p)
+            for i, p in enumerate(path)
+        )
+        out.append((path, f"{where or 'recipe'}: {err.message} (schema)"))
+    return out
+
+
+def recipe_problems(text: str, *, source: str = "<string>") -> list[Problem]:
+    """Every problem of a recipe's text, each with its line: the schema's and the rules'.
+
+    The operations' own rules (:func:`validate`) are the authority; a schema complaint about
+    a place the rules already reported is not repeated.
+
+    Parameters
+    ----------
+    text : str
+    source : str
+        Shown with each problem.
+
+    Returns
+    -------
+    list of Problem
+        Sorted by line; empty for a valid recipe.
+    """
+    import yaml
+
+    try:
+        root = yaml.compose(text, Loader=yaml.SafeLoader)
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        return [Problem(source, mark.line + 1 if mark else None, f"YAML syntax error: {problem}")]
+    _, rule_msgs = validate(data)
+    found = []
+    seen_paths = []
+    for msg in rule_msgs:
+        path, key = _path_of(msg)
+        seen_paths.append(path)
+        found.append(Problem(source, _line_of(root, path, key), msg))
+    if isinstance(data, dict) or data is None:
+        for path, msg in _schema_problems(data if data is not None else {}):
+            covered = any(path[: len(p)] == p or p[: len(path)] == path for p in seen_paths if p)
+            if not covered:
+                found.append(Problem(source, _line_of(root, path, None), msg))
+    return sorted(found, key=lambda p: p.line or 0)

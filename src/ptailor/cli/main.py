@@ -8,6 +8,7 @@ from ptailor import __version__
 from ptailor.cli.adjust import adjust
 from ptailor.cli.demo import demo
 from ptailor.cli.inspect import inspect
+from ptailor.cli.validate import validate
 
 
 class _Group(click.Group):
@@ -35,3 +36,4 @@ def cli() -> None:
 cli.add_command(adjust)
 cli.add_command(inspect)
 cli.add_command(demo)
+cli.add_command(validate)

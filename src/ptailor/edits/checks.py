@@ -1,10 +1,29 @@
-"""Small reusable parameter checks for recipe validation (each returns a list of problems)."""
+"""Small reusable parameter checks for recipe validation (each returns a list of problems).
+
+Each check carries ``schema``: the JSON Schema fragment of what it accepts, from which
+``recipes/schema.json`` is generated (:mod:`ptailor.schema`). The checks stay the
+authority (they also check what a schema cannot say: a zero axis, min above max).
+"""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 from ptailor.edits import Check
+
+#: ``[x, y, z]``
+VEC3 = {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3}
+
+
+def with_schema(fragment: dict) -> Callable[[Check], Check]:
+    """Decorator: attach a JSON Schema fragment to a check as ``check.schema``."""
+
+    def attach(fn: Check) -> Check:
+        fn.schema = fragment  # type: ignore[attr-defined]
+        return fn
+
+    return attach
 
 
 def is_number(x: Any) -> bool:
@@ -25,6 +44,8 @@ def number(*, gt: float | None = None, ge: float | None = None, le: float | None
             return [f"{where}: must be <= {le}, got {x}"]
         return []
 
+    bounds = {"exclusiveMinimum": gt, "minimum": ge, "maximum": le}
+    check.schema = {"type": "number", **{k: v for k, v in bounds.items() if v is not None}}
     return check
 
 
@@ -36,9 +57,17 @@ def choice(*options: str) -> Check:
             return [f"{where}: expected one of {', '.join(options)}, got {x!r}"]
         return []
 
+    check.schema = {"enum": list(options)}
     return check
 
 
+@with_schema({"type": "boolean"})
+def boolean(x: Any, where: str) -> list[str]:
+    """true or false."""
+    return [] if isinstance(x, bool) else [f"{where}: expected true or false, got {x!r}"]
+
+
+@with_schema(VEC3)
 def vector3(x: Any, where: str) -> list[str]:
     """A list of three numbers."""
     if not (isinstance(x, (list, tuple)) and len(x) == 3 and all(is_number(v) for v in x)):
@@ -46,6 +75,7 @@ def vector3(x: Any, where: str) -> list[str]:
     return []
 
 
+@with_schema({"anyOf": [{"const": "auto"}, VEC3]})
 def axis(x: Any, where: str) -> list[str]:
     """``auto`` or a non-zero 3-vector."""
     if x == "auto":
@@ -56,6 +86,34 @@ def axis(x: Any, where: str) -> list[str]:
     return p and [f"{where}: expected auto or [x, y, z], got {x!r}"]
 
 
+@with_schema(
+    {
+        "anyOf": [
+            {"const": "all"},
+            {
+                "type": "object",
+                "properties": {
+                    "panels": {"type": "array", "items": {"type": "string"}, "minItems": 1}
+                },
+                "required": ["panels"],
+                "additionalProperties": False,
+            },
+            {
+                "type": "object",
+                "properties": {
+                    "box": {
+                        "type": "object",
+                        "properties": {"min": VEC3, "max": VEC3},
+                        "required": ["min", "max"],
+                        "additionalProperties": False,
+                    }
+                },
+                "required": ["box"],
+                "additionalProperties": False,
+            },
+        ]
+    }
+)
 def region(x: Any, where: str) -> list[str]:
     """``all`` | ``{panels: [names]}`` | ``{box: {min: [x,y,z], max: [x,y,z]}}``."""
     if x == "all":

@@ -8,13 +8,14 @@ from typing import Any
 import numpy as np
 
 from ptailor.edits import EditOptions, EditState, Param, register
-from ptailor.edits.checks import choice, is_number, vector3
+from ptailor.edits.checks import VEC3, boolean, choice, is_number, vector3, with_schema
 from ptailor.edits.surgery import split_keep
 from ptailor.errors import PtailorError
 
 VIEWS = ("front", "back", "left", "right", "top", "bottom")
 
 
+@with_schema({"anyOf": [{"enum": list(VIEWS)}, VEC3]})
 def view_spec(x: Any, where: str) -> list[str]:
     """A named view or a view direction ``[x, y, z]`` (from the viewer into the garment)."""
     if x in VIEWS:
@@ -25,6 +26,13 @@ def view_spec(x: Any, where: str) -> list[str]:
     return []
 
 
+@with_schema(
+    {
+        "type": "array",
+        "minItems": 2,
+        "items": {"type": "array", "items": {"type": "number"}, "minItems": 2, "maxItems": 2},
+    }
+)
 def sketch_spec(x: Any, where: str) -> list[str]:
     """A polyline of at least two distinct 2D points."""
     ok = (
@@ -37,6 +45,14 @@ def sketch_spec(x: Any, where: str) -> list[str]:
     return []
 
 
+@with_schema(
+    {
+        "type": "object",
+        "properties": {"point": VEC3, "normal": VEC3},
+        "required": ["point", "normal"],
+        "additionalProperties": False,
+    }
+)
 def plane_spec(x: Any, where: str) -> list[str]:
     """``{point: [x, y, z], normal: [x, y, z]}``."""
     if not isinstance(x, dict) or set(x) != {"point", "normal"}:
@@ -45,11 +61,6 @@ def plane_spec(x: Any, where: str) -> list[str]:
     if not probs and all(v == 0 for v in x["normal"]):
         probs.append(f"{where}.normal: must not be zero")
     return probs
-
-
-def boolean(x: Any, where: str) -> list[str]:
-    """true or false."""
-    return [] if isinstance(x, bool) else [f"{where}: expected true or false, got {x!r}"]
 
 
 def sagittal_mirror(V: np.ndarray, F: np.ndarray, *, options: EditOptions) -> np.ndarray:

@@ -7,10 +7,24 @@ from typing import Any
 import numpy as np
 
 from ptailor.edits import EditOptions, EditState
+from ptailor.edits.checks import with_schema
 from ptailor.errors import PtailorError
 from ptailor.model.openings import openings
 
+OPENING_SCHEMA = {
+    "anyOf": [
+        {"type": "string", "minLength": 1},
+        {
+            "type": "object",
+            "properties": {"loop": {"type": "integer", "minimum": 0}},
+            "required": ["loop"],
+            "additionalProperties": False,
+        },
+    ]
+}
 
+
+@with_schema(OPENING_SCHEMA)
 def opening_spec(x: Any, where: str) -> list[str]:
     """Recipe check: an opening name or ``{loop: k}``."""
     if isinstance(x, str) and x:

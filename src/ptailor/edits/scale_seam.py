@@ -8,24 +8,29 @@ from typing import Any
 import numpy as np
 
 from ptailor.edits import EditOptions, EditState, Param, register
-from ptailor.edits.checks import choice, number
+from ptailor.edits.checks import choice, number, with_schema
 from ptailor.edits.region import body_axis
 from ptailor.errors import PtailorError
 from ptailor.method.flatten import panel_labels
 from ptailor.model.seams import seams
 
+PAIR_SCHEMA = {"type": "array", "items": {"type": "string"}, "minItems": 2, "maxItems": 2}
 
+
+@with_schema(PAIR_SCHEMA)
 def panel_pair(x: Any, where: str) -> list[str]:
     """Two panel names."""
     ok = isinstance(x, list) and len(x) == 2 and all(isinstance(n, str) for n in x)
     return [] if ok else [f"{where}: expected two panel names [a, b], got {x!r}"]
 
 
+@with_schema({"type": "string", "minLength": 1})
 def name(x: Any, where: str) -> list[str]:
     """A non-empty string."""
     return [] if isinstance(x, str) and x else [f"{where}: expected a name, got {x!r}"]
 
 
+@with_schema({"type": "array", "items": {"anyOf": [PAIR_SCHEMA, {"$ref": "#/$defs/opening"}]}})
 def fix_list(x: Any, where: str) -> list[str]:
     """Openings (names or ``{loop: k}``) and seams (``[a, b]``) that must not move."""
     from ptailor.edits.opening import opening_spec
