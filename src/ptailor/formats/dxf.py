@@ -158,9 +158,13 @@ def _xy(v: Any) -> tuple[float, float]:
     return float(v[0]), float(v[1])
 
 
+_DXF_UNICODE = re.compile(r"\\U\+([0-9A-Fa-f]{4})")
+
+
 def _text_of(e: Any) -> str:
+    """An entity's text, ``\\U+XXXX`` escapes decoded."""
     t = e.plain_text() if e.dxftype() == "MTEXT" else e.dxf.get("text", "")
-    return str(t).strip()
+    return _DXF_UNICODE.sub(lambda m: chr(int(m.group(1), 16)), str(t)).strip()
 
 
 def _key_value(text: str) -> tuple[str, str]:
@@ -653,9 +657,9 @@ def write_dxf(path: str | Path, pattern: PatternFile, *, layout: str = "auto") -
     top = max((float(p.outline[:, 1].max()) for p in pieces), default=0.0) + 4 * h
     left = min((float(p.outline[:, 0].min()) for p in pieces), default=0.0)
     lines = [
-        f"Style Name: {pattern.style}",
+        f"Style Name: {_clean(pattern.style)}",
         f"Creation Date: {_creation_date()}",
-        f"Sample Size: {pattern.sample_size or pattern.size}",
+        f"Sample Size: {_clean(pattern.sample_size or pattern.size)}",
         f"Units: {'ENGLISH' if english else 'METRIC'}",
     ]
     for i, t in enumerate(lines):
@@ -688,7 +692,12 @@ def _block_name(name: str, used: set[str]) -> str:
 
 
 def _clean(text: str) -> str:
-    return " ".join(str(text).split())
+    """One line of ASCII: whitespace runs as one space, other characters as ``\\U+XXXX``
+    (``?`` beyond the Basic Multilingual Plane)."""
+    one = " ".join(str(text).split())
+    return "".join(
+        c if ord(c) < 128 else f"\\U+{ord(c):04X}" if ord(c) <= 0xFFFF else "?" for c in one
+    )
 
 
 def _write_piece(blk: Any, p: Piece) -> None:
