@@ -86,3 +86,59 @@ def test_keeping_the_outline_trades_intrinsic_scale():
     err_free = np.abs(edge_ratio(free, g, free.result.V2) - 1).max()
     err_sim = np.abs(edge_ratio(similar, g, similar.result.V2) - 1).max()
     assert err_sim > 100 * err_free
+
+
+def _recipe(name: str):
+    return load_recipe(Path(__file__).resolve().parents[1] / "recipes" / f"{name}.yaml")
+
+
+def _edge_length_2d(adj, V2, select3):
+    """Total 2D length of pattern boundary edges whose drape ends both satisfy ``select3``."""
+    from ptailor.model.boundary import boundary_edges
+
+    g = adj.state.base
+    to3 = np.empty(len(g.V2), dtype=np.int64)
+    to3[g.F2.ravel()] = g.F3.ravel()
+    E = boundary_edges(g.F2)
+    keep = select3[to3[E[:, 0]]] & select3[to3[E[:, 1]]]
+    return float(np.linalg.norm(V2[E[keep, 1]] - V2[E[keep, 0]], axis=1).sum())
+
+
+def test_loosen_waist_adds_the_offset_circumference_to_the_pattern_waist():
+    g = SAMPLES["bodice"]()
+    adj = adjust(g, _recipe("loosen-waist"))
+    low = adj.state.V3[:, 1] < 1e-9
+    before = _edge_length_2d(adj, adj.state.base.V2, low)
+    after = _edge_length_2d(adj, adj.result.V2, low)
+    assert after - before == pytest.approx(2 * np.pi * 1.5, rel=0.1)
+
+
+def test_lengthen_bodice_adds_4_cm_to_both_panels():
+    from ptailor.method.flatten import vertex_labels
+    from ptailor.model.garment import panels
+    from ptailor.report.metrics import panel_sizes
+
+    g = SAMPLES["bodice"]()
+    adj = adjust(g, _recipe("lengthen-bodice"))
+    h0 = panel_sizes(g.V2, vertex_labels(panels(g), len(g.V2)), 2)[:, 1]
+    st = adj.state
+    h1 = panel_sizes(adj.result.V2, vertex_labels(st.panels, len(adj.result.V2)), 2)[:, 1]
+    np.testing.assert_allclose(h1 - h0, 4.0, atol=0.05)
+
+
+def test_deeper_neckline_cuts_the_front_only_down_to_the_sketch():
+    from ptailor.model.garment import panels, signed_areas_2d
+
+    g = SAMPLES["bodice"]()
+    adj = adjust(g, _recipe("deeper-neckline"))
+    st = adj.state
+    area = {
+        p.name: abs(signed_areas_2d(adj.result.V2, st.base.F2[p.faces]).sum()) for p in st.panels
+    }
+    area0 = {p.name: abs(signed_areas_2d(g.V2, g.F2[p.faces]).sum()) for p in panels(g)}
+    assert area["back"] == pytest.approx(area0["back"], rel=1e-9)
+    assert area["front"] < 0.97 * area0["front"]
+    front = st.V3[:, 2] > 0
+    assert st.V3[front, 1].max() > 39 and st.V3[np.abs(st.V3[:, 0]) < 0.5, 1].min() < 1
+    top_centre = st.V3[(np.abs(st.V3[:, 0]) < 0.3) & front, 1].max()
+    assert top_centre == pytest.approx(29.9, abs=0.3)

@@ -421,9 +421,39 @@ def sample_for_triangles(n_triangles: int) -> Garment:
     return lantern_sleeve(n_around=n_around, n_sleeve=n_rows - n_cuff, n_cuff=n_cuff)
 
 
+def bodice(
+    *,
+    bust_radius: float = 15.0,
+    waist_radius: float = 12.5,
+    length: float = 40.0,
+    n_around: int = 64,
+    n_along: int = 24,
+) -> Garment:
+    """A plain sleeveless bodice: front and back halves of a tube narrowing to the waist.
+
+    :func:`cone_skirt` upside down: the bust ring (``bust_radius``) at the top, the waist
+    (``waist_radius``) at ``y = 0``, side seams at ``x = +-r``, each pattern panel the exact
+    development of its half. The top opening is the neckline-to-be (a recipe cuts it
+    deeper); the waist opening is the lowest, which ``ptailor inspect`` names ``hem``.
+
+    Returns
+    -------
+    Garment
+        Panels ``front`` and ``back``, in cm.
+    """
+    return cone_skirt(
+        waist_radius=bust_radius,
+        hem_radius=waist_radius,
+        length=length,
+        n_around=n_around,
+        n_along=n_along,
+    )
+
+
 #: Samples by name, for the demo and the CLI.
 SAMPLES: dict[str, Callable[..., Garment]] = {
     "lantern_sleeve": lantern_sleeve,
     "cylinder": cylinder,
     "cone_skirt": cone_skirt,
+    "bodice": bodice,
 }
