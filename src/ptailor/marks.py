@@ -424,28 +424,30 @@ def carry_piece(
         dropped += int((~keep).sum())
         if keep.sum() >= 2:
             internal.append(L[keep])
+    # the panel's rotation, seen in piece coordinates: notch directions and the grain turn
+    # with it
+    vs = np.unique(F2[faces])
+    Rq = match.R.T @ _panel_rotation(V2[vs], V2_new[vs]) @ match.R
+    turn_deg = float(np.degrees(np.arctan2(Rq[1, 0], Rq[0, 0])))
     grain = None
     if piece.grain is not None:
         ends, keep_g = carry(piece.grain)
         mid, keep_m = carry(piece.grain.mean(axis=0, keepdims=True))
         if keep_g.all() or keep_m.all():
-            Rp = _panel_rotation(V2[np.unique(F2[faces])], V2_new[np.unique(F2[faces])])
-            # the panel's rotation, seen in piece coordinates
-            Rq = match.R.T @ Rp @ match.R
             d0 = piece.grain[1] - piece.grain[0]
             u = Rq @ (d0 / max(np.linalg.norm(d0), 1e-300))
             length = float(np.linalg.norm(ends[1] - ends[0]))
             grain = np.stack([mid[0] - 0.5 * length * u, mid[0] + 0.5 * length * u])
         else:
             dropped += 2
+    angles = piece.notch_angles if len(piece.notch_angles) == len(keep_n) else np.zeros(len(keep_n))
+    angles = np.mod(angles[keep_n] + turn_deg, 360.0)
     new = replace(
         piece,
         outline=outline,
         turn=turn,
         notches=notches[keep_n],
-        notch_angles=piece.notch_angles[keep_n]
-        if len(piece.notch_angles) == len(keep_n)
-        else np.zeros(int(keep_n.sum())),
+        notch_angles=angles,
         grain=grain,
         internal=tuple(internal),
         drills=drills[keep_d_],
