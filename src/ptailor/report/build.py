@@ -233,6 +233,18 @@ def summary_lines(report: dict) -> list[str]:
                 f"symmetry plane: normal ({n}), garment vs mirror rms {st['rms']:.3g},"
                 f" max {st['max']:.3g}"
             )
+    pat = report.get("pattern")
+    if pat and pat.get("pieces"):
+        pcs = pat["pieces"]
+        from_file = sum(p["source"] == "file" for p in pcs)
+        moved = sum(p.get("matched_by") == "shape" for p in pcs)
+        notches = sum(p.get("notches", 0) for p in pcs)
+        lines.append(
+            f"pieces: {len(pcs)} ({from_file} from the pattern file"
+            + (f", {moved} matched by shape" if moved else "")
+            + f"), {notches} notches carried"
+            + (f", size {pat['size']}" if pat.get("size") else "")
+        )
     for w in report["warnings"]:
         lines.append(f"warning: {w}")
     return lines
