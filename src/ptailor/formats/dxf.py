@@ -707,7 +707,9 @@ def _write_piece(blk: Any, p: Piece) -> None:
     blk.add_polyline2d(outline.tolist(), close=True, dxfattribs={"layer": L_BOUNDARY})
     for q in outline[turn].tolist():
         blk.add_point(q, dxfattribs={"layer": L_TURN})
-    angles = np.broadcast_to(np.asarray(p.notch_angles, dtype=float), (len(p.notches),))
+    angles = np.asarray(p.notch_angles, dtype=float).reshape(-1)
+    if len(angles) != len(p.notches):  # none given (or a single one for all)
+        angles = np.resize(angles, len(p.notches)) if len(angles) else np.zeros(len(p.notches))
     for q, a in zip(p.notches.tolist(), angles.tolist(), strict=True):
         attribs = {"layer": L_NOTCH}
         if a:
