@@ -6,6 +6,7 @@ import click
 
 from ptailor import __version__
 from ptailor.cli.adjust import adjust
+from ptailor.cli.batch import batch
 from ptailor.cli.demo import demo
 from ptailor.cli.inspect import inspect
 from ptailor.cli.validate import validate
@@ -36,4 +37,5 @@ def cli() -> None:
 cli.add_command(adjust)
 cli.add_command(inspect)
 cli.add_command(demo)
+cli.add_command(batch)
 cli.add_command(validate)

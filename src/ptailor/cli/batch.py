@@ -1,0 +1,220 @@
+"""``ptailor batch``: one recipe over a catalogue of garments."""
+
+from __future__ import annotations
+
+import click
+
+from ptailor.cli.options import UNIT_HELP, axes_options
+
+
+@click.command()
+@click.argument("recipe", type=click.Path(dir_okay=False, allow_dash=True))
+@click.argument("garments", metavar="GARMENT...", nargs=-1, required=True)
+@click.option(
+    "-o",
+    "--out",
+    required=True,
+    type=click.Path(file_okay=False),
+    help="Output root: one folder per garment, named after its file.",
+)
+@click.option(
+    "--pattern-units",
+    default="cm",
+    show_default=True,
+    help=f"Unit of the pattern coordinates: {UNIT_HELP}, or auto (a [0,1] atlas, scale "
+    "estimated from the drape).",
+)
+@click.option(
+    "--drape-units", default="cm", show_default=True, help=f"Unit of the drape: {UNIT_HELP}."
+)
+@axes_options
+@click.option("--no-baseline", is_flag=True, help="Skip the uniform-flattening comparison.")
+@click.option(
+    "--formats",
+    default="obj,dxf,svg,png",
+    show_default=True,
+    help="Outputs besides report.json: obj, dxf, svg, png.",
+)
+@click.option(
+    "--seam-allowance",
+    default=None,
+    metavar="LENGTH",
+    help="Seam allowance of pattern.dxf's cut line (1cm, 10mm, 0.375in, or a number in the "
+    "recipe's units).",
+)
+@click.option(
+    "-j",
+    "--jobs",
+    type=click.IntRange(min=1),
+    default=None,
+    help="Worker processes [default: the number of cores]; 1 runs in this process.",
+)
+@click.option(
+    "--scheduler",
+    metavar="ADDRESS",
+    default=None,
+    help="Run on a Dask distributed cluster (tcp://host:8786); its workers must see the "
+    "same files. Needs pip install 'ptailor[dask]'.",
+)
+@click.option("--force", is_flag=True, help="Redo every garment, even unchanged ones.")
+@click.option(
+    "--log",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="Write one JSON record per garment to this file (JSON lines, input order).",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print the JSON records on stdout.")
+@click.option("-q", "--quiet", is_flag=True, help="No progress bar and no summary (failures only).")
+@click.option(
+    "--max-area-change",
+    type=click.FloatRange(min=0),
+    default=None,
+    metavar="F",
+    help="Gate: fail a garment with a panel whose |area after / before - 1| exceeds F "
+    "(a fraction: 0.05 = 5 %).",
+)
+@click.option(
+    "--max-boundary-deviation",
+    type=click.FloatRange(min=0),
+    default=None,
+    metavar="D",
+    help="Gate: fail a garment with a panel whose outline deviation (report's "
+    "boundary_deviation, recipe units) exceeds D.",
+)
+@click.option(
+    "--max-intrinsic-error",
+    type=click.FloatRange(min=0),
+    default=None,
+    metavar="E",
+    help="Gate: fail a garment with a panel whose intrinsic-scale error p95 exceeds E.",
+)
+@click.option("--fail-on-flips", is_flag=True, help="Gate: fail a garment with flipped triangles.")
+@click.pass_context
+def batch(
+    ctx,
+    recipe,
+    garments,
+    out,
+    pattern_units,
+    drape_units,
+    up,
+    front,
+    no_baseline,
+    formats,
+    seam_allowance,
+    jobs,
+    scheduler,
+    force,
+    log,
+    as_json,
+    quiet,
+    max_area_change,
+    max_boundary_deviation,
+    max_intrinsic_error,
+    fail_on_flips,
+) -> None:
+    """Apply RECIPE to every GARMENT, one output folder each under OUT.
+
+    GARMENT is an OBJ (v = drape, vt = pattern), a glob (quoted: '**/*.obj' is expanded
+    here, recursively), a folder (every *.obj below it) or '-' (paths on stdin, one per
+    line). RECIPE is validated first. Each garment is written all or nothing to OUT/NAME
+    (NAME is the file's stem; later garments with the same stem get NAME-2, NAME-3) with a
+    batch.json stamp: re-running skips garments whose file, recipe and options are
+    unchanged. A garment that fails, or breaks a quality gate, gets no folder; the others
+    go on.
+
+    Exit status: 0 every garment done or unchanged, 1 some failed, 2 bad recipe or
+    arguments, 130 interrupted (complete folders are kept: run again to finish).
+    """
+    import os
+    import sys
+
+    from ptailor.batch import Gates, expand_garments, make_jobs, record_line, run_batch
+    from ptailor.batch import summary_lines as batch_summary
+    from ptailor.errors import PtailorError
+    from ptailor.formats.garment import parse_length, parse_units
+    from ptailor.job import FORMATS
+    from ptailor.recipe import load_recipe
+
+    if recipe == "-" and "-" in garments:
+        raise PtailorError("the recipe and the garment list cannot both come from stdin")
+    rec = load_recipe(recipe)
+    if pattern_units != "auto":
+        parse_units(pattern_units, what="--pattern-units")
+    parse_units(drape_units, what="--drape-units")
+    fmts = tuple(f for f in formats.split(",") if f)
+    unknown = [f for f in fmts if f not in FORMATS]
+    if unknown:
+        raise PtailorError(
+            f"--formats: unknown output format(s) {', '.join(unknown)} "
+            f"(known: {', '.join(FORMATS)})"
+        )
+    allowance = None
+    if seam_allowance is not None:
+        allowance = parse_length(seam_allowance, to=rec.units, what="--seam-allowance")
+    paths = expand_garments(garments, stdin=click.get_text_stream("stdin"), exclude_under=out)
+    if not paths:
+        raise PtailorError(f"no garments: {' '.join(garments)} matched no files")
+    todo = make_jobs(
+        paths,
+        out,
+        rec,
+        adjust_options={
+            "pattern_units": pattern_units,
+            "drape_units": drape_units,
+            "up": up,
+            "front": front,
+            "baseline": not no_baseline,
+            "formats": fmts,
+            "seam_allowance": allowance,
+        },
+        gates=Gates(
+            max_area_change=max_area_change,
+            max_boundary_deviation=max_boundary_deviation,
+            max_intrinsic_error=max_intrinsic_error,
+            fail_on_flips=fail_on_flips,
+        ),
+        force=force,
+    )
+    logf = open(log, "w") if log else None  # noqa: SIM115 - closed below, written as records come
+    try:
+
+        def on_record(r: dict) -> None:
+            line = record_line(r)
+            if logf is not None:
+                logf.write(line + "\n")
+                logf.flush()
+            if as_json:
+                click.echo(line)
+
+        workers = jobs or os.cpu_count() or 1
+        show_bar = not quiet and sys.stderr.isatty()
+        if show_bar:
+            with click.progressbar(
+                length=len(todo), label="adjusting", file=sys.stderr, show_pos=True
+            ) as bar:
+                result = run_batch(
+                    todo,
+                    workers=workers,
+                    scheduler=scheduler,
+                    on_record=on_record,
+                    on_done=lambda r: bar.update(1),
+                )
+        else:
+            result = run_batch(todo, workers=workers, scheduler=scheduler, on_record=on_record)
+    finally:
+        if logf is not None:
+            logf.close()
+    lines = batch_summary(result)
+    if quiet:
+        lines = [ln for ln in lines if ln.startswith("  ")]
+    for line in lines:
+        click.echo(line, err=True)
+    if result.interrupted:
+        done = len(todo) - result.count("interrupted")
+        click.echo(
+            f"ptailor: interrupted: {done} of {len(todo)} garments done, their folders complete;"
+            " run the same command again to finish the rest",
+            err=True,
+        )
+    ctx.exit(result.exit_status)
