@@ -13,7 +13,15 @@ from click.testing import CliRunner
 from ptailor.cli.main import cli
 from ptailor.errors import PtailorError
 from ptailor.formats import PATTERN_READERS, PATTERN_WRITERS
-from ptailor.formats.dxf import layout_pieces, piece_bounds, read_dxf, write_dxf
+from ptailor.formats.dxf import (
+    _emit_ezdxf,
+    _emit_r12,
+    dxf_plan,
+    layout_pieces,
+    piece_bounds,
+    read_dxf,
+    write_dxf,
+)
 from ptailor.model.pieces import PatternFile, Piece
 from tests.conftest import SHARED
 
@@ -218,6 +226,28 @@ def test_writer_does_not_mutate_its_input(tmp_path):
     write_dxf(tmp_path / "x.dxf", src, layout="row")
     for p, o in zip(src.pieces, before, strict=True):
         np.testing.assert_array_equal(p.outline, o)
+
+
+def test_bytes_are_what_ezdxfs_gerber_exporter_writes(tmp_path):
+    """The direct emitter writes exactly what ezdxf + gerber_D6673.export_stream write."""
+    for src in (pattern("cm"), pattern("in"), pattern("mm", pieces=(bodice(), bodice(3, 3)))):
+        plan = dxf_plan(src)
+        assert _emit_r12(plan) == _emit_ezdxf(plan)
+    out = tmp_path / "p.dxf"
+    write_dxf(out, pattern("cm"))
+    assert out.read_bytes() == _emit_ezdxf(dxf_plan(pattern("cm"))).encode("ascii")
+    if CLO.is_file():
+        plan = dxf_plan(read_dxf(CLO))
+        assert _emit_r12(plan) == _emit_ezdxf(plan)
+
+
+def test_write_errors_name_the_file(tmp_path):
+    bad = Piece("Bad", np.array([[0.0, 0.0], [np.nan, 1.0], [1.0, 1.0]]))
+    with pytest.raises(PtailorError, match=r"'Bad'.*finite") as exc:
+        write_dxf(tmp_path / "bad.dxf", pattern("cm", pieces=(bad,)))
+    assert "bad.dxf" in str(exc.value)
+    with pytest.raises(PtailorError, match="cannot write"):
+        write_dxf(tmp_path / "no" / "such" / "dir.dxf", pattern("cm"))
 
 
 def test_registered_in_dispatch_tables():

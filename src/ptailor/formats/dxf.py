@@ -631,26 +631,72 @@ def write_dxf(path: str | Path, pattern: PatternFile, *, layout: str = "auto") -
     One block per piece (named after it, made DXF-safe and unique) INSERTed at the origin;
     outlines are written counter-clockwise. ``Creation Date`` comes from
     ``SOURCE_DATE_EPOCH`` when set, so reruns give the same bytes.
+
+    The bytes are those :func:`ezdxf.addons.gerber_D6673.export_stream` writes for the
+    same entities (an empty HEADER, BLOCKS without ``*Model_Space``/``*Paper_Space``, no
+    TABLES; the tests check it tag for tag), emitted directly: ezdxf builds and exports an
+    object per VERTEX, about 80 µs each, which for a few thousand outline points would be
+    a good part of a run.
     """
-    from ezdxf.addons import gerber_D6673
-    from ezdxf.document import Drawing
+    spath = str(path)
+    text = _emit_r12(dxf_plan(pattern, layout=layout, path=spath))
+    try:
+        with open(spath, "w", encoding="ascii", newline="\n") as fh:
+            fh.write(text)
+    except OSError as exc:
+        raise PtailorError(f"cannot write: {exc.strerror or exc}", path=spath) from exc
 
+
+@dataclass(frozen=True)
+class DxfEntity:
+    """One entity to write: ``POLYLINE`` (``pts`` (n, 2), ``closed``), ``POINT`` (``pts``
+    (1, 2), optional ``angle``), ``LINE`` (``pts`` (2, 2)) or ``TEXT`` (``pts`` (1, 2),
+    ``text``, ``height``)."""
+
+    kind: str
+    layer: str
+    pts: np.ndarray
+    closed: bool = False
+    angle: float | None = None
+    text: str = ""
+    height: float = 0.0
+
+
+@dataclass(frozen=True)
+class DxfPlan:
+    """What :func:`write_dxf` writes: blocks (name, entities) and modelspace text; every
+    block is INSERTed at the origin on layer 1."""
+
+    blocks: tuple[tuple[str, tuple[DxfEntity, ...]], ...]
+    texts: tuple[DxfEntity, ...]
+
+
+def dxf_plan(pattern: PatternFile, *, layout: str = "auto", path: str | None = None) -> DxfPlan:
+    """The entities :func:`write_dxf` writes for ``pattern``, in file units (mm or in).
+
+    Parameters
+    ----------
+    pattern : PatternFile
+    layout : {"auto", "keep", "row"}
+    path : str, optional
+        Named in errors.
+
+    Returns
+    -------
+    DxfPlan
+    """
     if pattern.units not in CM_PER_UNIT:
-        raise PtailorError(f"cannot write DXF in {pattern.units!r} (mm, cm or in)", path=str(path))
+        raise PtailorError(f"cannot write DXF in {pattern.units!r} (mm, cm or in)", path=path)
+    for p in pattern.pieces:
+        if len(p.outline) < 3 or not np.all(np.isfinite(p.outline)):
+            raise PtailorError(
+                f"piece {p.name!r}: the outline needs 3 or more finite points", path=path
+            )
     pieces = layout_pieces(pattern.pieces, layout=layout)
-    english = pattern.units == "in"
-    k = 10.0 if pattern.units == "cm" else 1.0
-    if k != 1.0:
-        pieces = tuple(_map_piece(p, k, np.zeros(2)) for p in pieces)
-
-    doc = Drawing.new("R12")  # not ezdxf.new: it sets $INSUNITS and warns that R12 has none
-    msp = doc.modelspace()
+    if pattern.units == "cm":
+        pieces = tuple(_map_piece(p, 10.0, np.zeros(2)) for p in pieces)
     used: set[str] = set()
-    for p in pieces:
-        name = _block_name(p.name, used)
-        blk = doc.blocks.new(name=name, base_point=(0, 0))
-        _write_piece(blk, p)
-        msp.add_blockref(name, (0, 0), dxfattribs={"layer": L_BOUNDARY})
+    blocks = tuple((_block_name(p.name, used), _piece_entities(p)) for p in pieces)
 
     ext = max((float(p.extent.max()) for p in pieces), default=1.0) or 1.0
     h = 0.01 * ext
@@ -660,13 +706,13 @@ def write_dxf(path: str | Path, pattern: PatternFile, *, layout: str = "auto") -
         f"Style Name: {_clean(pattern.style)}",
         f"Creation Date: {_creation_date()}",
         f"Sample Size: {_clean(pattern.sample_size or pattern.size)}",
-        f"Units: {'ENGLISH' if english else 'METRIC'}",
+        f"Units: {'ENGLISH' if pattern.units == 'in' else 'METRIC'}",
     ]
-    for i, t in enumerate(lines):
-        msp.add_text(
-            t, dxfattribs={"layer": L_BOUNDARY, "height": h, "insert": (left, top + 1.6 * h * i)}
-        )
-    gerber_D6673.export_file(doc, str(path))
+    texts = tuple(
+        DxfEntity("TEXT", L_BOUNDARY, np.array([[left, top + 1.6 * h * i]]), text=t, height=h)
+        for i, t in enumerate(lines)
+    )
+    return DxfPlan(blocks, texts)
 
 
 def _creation_date() -> str:
@@ -692,40 +738,44 @@ def _block_name(name: str, used: set[str]) -> str:
 
 
 def _clean(text: str) -> str:
-    """One line of ASCII: whitespace runs as one space, other characters as ``\\U+XXXX``
-    (``?`` beyond the Basic Multilingual Plane)."""
+    """One line of printable ASCII: whitespace runs as one space, other characters as
+    ``\\U+XXXX`` (``?`` beyond the Basic Multilingual Plane or for control characters)."""
     one = " ".join(str(text).split())
     return "".join(
-        c if ord(c) < 128 else f"\\U+{ord(c):04X}" if ord(c) <= 0xFFFF else "?" for c in one
+        c if 32 <= ord(c) < 127 else f"\\U+{ord(c):04X}" if 127 < ord(c) <= 0xFFFF else "?"
+        for c in one
     )
 
 
-def _write_piece(blk: Any, p: Piece) -> None:
-    outline, turn = p.outline, np.asarray(p.turn, dtype=bool)
+def _piece_entities(p: Piece) -> tuple[DxfEntity, ...]:
+    """A piece's block content: boundary, marks, then its text."""
+    out = []
+    outline, turn = np.asarray(p.outline, dtype=float), np.asarray(p.turn, dtype=bool)
     if _signed_area(outline) < 0:
         outline, turn = outline[::-1], turn[::-1]
-    blk.add_polyline2d(outline.tolist(), close=True, dxfattribs={"layer": L_BOUNDARY})
-    for q in outline[turn].tolist():
-        blk.add_point(q, dxfattribs={"layer": L_TURN})
+    out.append(DxfEntity("POLYLINE", L_BOUNDARY, outline, closed=True))
+    out += [DxfEntity("POINT", L_TURN, q[None]) for q in outline[turn]]
+    notches = np.asarray(p.notches, dtype=float).reshape(-1, 2)
     angles = np.asarray(p.notch_angles, dtype=float).reshape(-1)
-    if len(angles) != len(p.notches):  # none given (or a single one for all)
-        angles = np.resize(angles, len(p.notches)) if len(angles) else np.zeros(len(p.notches))
-    for q, a in zip(p.notches.tolist(), angles.tolist(), strict=True):
-        attribs = {"layer": L_NOTCH}
-        if a:
-            attribs["angle"] = a
-        blk.add_point(q, dxfattribs=attribs)
+    if len(angles) != len(notches):  # none given (or one for all)
+        angles = np.resize(angles, len(notches)) if len(angles) else np.zeros(len(notches))
+    out += [
+        DxfEntity("POINT", L_NOTCH, q[None], angle=a or None)
+        for q, a in zip(notches, angles.tolist(), strict=True)
+    ]
     if p.grain is not None:
-        g = np.asarray(p.grain, dtype=float).tolist()
-        blk.add_line(g[0], g[1], dxfattribs={"layer": L_GRAIN})
-    for line in p.internal:
-        if len(line) >= 2:
-            blk.add_polyline2d(np.asarray(line).tolist(), dxfattribs={"layer": L_INTERNAL})
-    for q in np.asarray(p.drills, dtype=float).reshape(-1, 2).tolist():
-        blk.add_point(q, dxfattribs={"layer": L_DRILL})
+        out.append(DxfEntity("LINE", L_GRAIN, np.asarray(p.grain, dtype=float)[[0, -1]]))
+    out += [
+        DxfEntity("POLYLINE", L_INTERNAL, np.asarray(line, dtype=float))
+        for line in p.internal
+        if len(line) >= 2
+    ]
+    out += [DxfEntity("POINT", L_DRILL, q[None]) for q in np.asarray(p.drills).reshape(-1, 2)]
     if p.sew is not None and len(p.sew) >= 3:
-        sew = p.sew[::-1] if _signed_area(p.sew) < 0 else p.sew
-        blk.add_polyline2d(np.asarray(sew).tolist(), close=True, dxfattribs={"layer": L_SEW})
+        sew = np.asarray(p.sew, dtype=float)
+        out.append(
+            DxfEntity("POLYLINE", L_SEW, sew[::-1] if _signed_area(sew) < 0 else sew, closed=True)
+        )
 
     lo, hi = outline.min(axis=0), outline.max(axis=0)
     h = 0.015 * float((hi - lo).max())
@@ -735,10 +785,97 @@ def _write_piece(blk: Any, p: Piece) -> None:
     texts += [_clean(a) for a in p.annotations]
     x0 = float(lo[0] + 0.1 * (hi - lo)[0])
     y0 = float((lo[1] + hi[1]) / 2 + 0.8 * h * len(texts))
-    for i, t in enumerate(texts):
-        blk.add_text(
-            t, dxfattribs={"layer": L_BOUNDARY, "height": h, "insert": (x0, y0 - 1.6 * h * i)}
+    out += [
+        DxfEntity("TEXT", L_BOUNDARY, np.array([[x0, y0 - 1.6 * h * i]]), text=t, height=h)
+        for i, t in enumerate(texts)
+    ]
+    return tuple(out)
+
+
+def _emit_r12(plan: DxfPlan) -> str:
+    """The DXF text of ``plan``, as ezdxf's Gerber D6673 exporter writes it."""
+    parts = ["  0\nSECTION\n  2\nHEADER\n  0\nENDSEC\n  0\nSECTION\n  2\nBLOCKS\n"]
+    for name, ents in plan.blocks:
+        parts.append(
+            f"  0\nBLOCK\n  8\n0\n  2\n{name}\n 70\n0\n 10\n0.0\n 20\n0.0\n 30\n0.0\n"
+            f"  3\n{name}\n  1\n\n"
         )
+        parts += [_emit_entity(e) for e in ents]
+        parts.append("  0\nENDBLK\n  8\n0\n")
+    parts.append("  0\nENDSEC\n  0\nSECTION\n  2\nENTITIES\n")
+    parts += [
+        f"  0\nINSERT\n  8\n{L_BOUNDARY}\n  2\n{name}\n 10\n0.0\n 20\n0.0\n 30\n0.0\n"
+        for name, _ in plan.blocks
+    ]
+    parts += [_emit_entity(e) for e in plan.texts]
+    parts.append("  0\nENDSEC\n  0\nEOF\n")
+    return "".join(parts)
+
+
+def _emit_entity(e: DxfEntity) -> str:
+    lay = e.layer
+    pts = e.pts.tolist()  # Python floats: repr() is what ezdxf writes
+    if e.kind == "POLYLINE":
+        head = (
+            f"  0\nPOLYLINE\n  8\n{lay}\n 66\n1\n 10\n0.0\n 20\n0.0\n 30\n0.0\n"
+            f" 70\n{int(e.closed)}\n"
+        )
+        verts = "".join(
+            [f"  0\nVERTEX\n  8\n{lay}\n 10\n{x!r}\n 20\n{y!r}\n 30\n0.0\n 70\n0\n" for x, y in pts]
+        )
+        return f"{head}{verts}  0\nSEQEND\n  8\n{lay}\n"
+    (x, y), rest = pts[0], pts[1:]
+    if e.kind == "POINT":
+        ang = "" if e.angle is None else f" 50\n{float(e.angle)!r}\n"
+        return f"  0\nPOINT\n  8\n{lay}\n 10\n{x!r}\n 20\n{y!r}\n 30\n0.0\n{ang}"
+    if e.kind == "LINE":
+        (x1, y1) = rest[0]
+        return (
+            f"  0\nLINE\n  8\n{lay}\n 10\n{x!r}\n 20\n{y!r}\n 30\n0.0\n"
+            f" 11\n{x1!r}\n 21\n{y1!r}\n 31\n0.0\n"
+        )
+    return (
+        f"  0\nTEXT\n  8\n{lay}\n 10\n{x!r}\n 20\n{y!r}\n 30\n0.0\n"
+        f" 40\n{float(e.height)!r}\n  1\n{e.text}\n"
+    )
+
+
+def _emit_ezdxf(plan: DxfPlan) -> str:
+    """The same plan through ezdxf and its Gerber D6673 exporter (the reference the tests
+    hold :func:`_emit_r12` to; slow: an object per vertex)."""
+    import io
+
+    from ezdxf.addons import gerber_D6673
+    from ezdxf.document import Drawing
+
+    doc = Drawing.new("R12")  # not ezdxf.new: it sets $INSUNITS and warns that R12 has none
+
+    def add(layout: Any, e: DxfEntity) -> None:
+        attribs: dict[str, Any] = {"layer": e.layer}
+        pts = e.pts.tolist()
+        if e.kind == "POLYLINE":
+            layout.add_polyline2d(pts, close=e.closed, dxfattribs=attribs)
+        elif e.kind == "POINT":
+            if e.angle is not None:
+                attribs["angle"] = float(e.angle)
+            layout.add_point(pts[0], dxfattribs=attribs)
+        elif e.kind == "LINE":
+            layout.add_line(pts[0], pts[1], dxfattribs=attribs)
+        else:
+            attribs.update(height=float(e.height), insert=pts[0])
+            layout.add_text(e.text, dxfattribs=attribs)
+
+    msp = doc.modelspace()
+    for name, ents in plan.blocks:
+        blk = doc.blocks.new(name=name, base_point=(0, 0))
+        for e in ents:
+            add(blk, e)
+        msp.add_blockref(name, (0, 0), dxfattribs={"layer": L_BOUNDARY})
+    for e in plan.texts:
+        add(msp, e)
+    stream = io.StringIO()
+    gerber_D6673.export_stream(doc, stream)
+    return stream.getvalue()
 
 
 def _map_piece(p: Piece, scale: float, offset: np.ndarray) -> Piece:
