@@ -737,7 +737,7 @@ def _run_dask(jobs: Sequence[Job], address: str, done) -> bool:
         for job in jobs:
             fut = client.submit(run_job, job, pure=False, key=f"ptailor-batch-{token}-{job.index}")
             futures[fut] = job
-        for fut in as_completed(list(futures)):
+        for fut in as_completed(list(futures), loop=client.loop):
             job = futures[fut]
             if fut.status == "finished":
                 done(job, fut.result())
@@ -806,8 +806,8 @@ def summary_lines(result: BatchResult) -> list[str]:
     if counts["interrupted"]:
         lines.append(f"{'interrupted':<12}{counts['interrupted']:>6}   (not done: run again)")
     lines.append(
-        f"{'time':<12}{result.seconds:>8.1f} s, {rate:.1f} garments/min done or failed "
-        f"({result.where})"
+        f"{'time':<12}{result.seconds:>8.1f} s, {rate:.1f} garments/min adjusted "
+        f"(ok + failed; {result.where})"
     )
     failed = [r for r in recs if r["status"] == "failed"]
     if failed:
