@@ -111,20 +111,26 @@ def test_viewbox_contains_everything_and_cells_do_not_overlap(pattern):
 
 
 @pytest.mark.parametrize(
-    ("units", "css", "factor", "label"),
-    [("cm", "cm", 1, "10 cm"), ("mm", "mm", 1, "100 mm"), ("m", "cm", 100, "0.1 m"),
-     ("in", "in", 1, "4 in")],
+    ("units", "css", "label", "length"),
+    [("cm", "cm", "10 cm", 10), ("mm", "mm", "100 mm", 100), ("m", "cm", "0.1 m", 10),
+     ("in", "in", "4 in", 4)],
 )  # fmt: skip
-def test_real_size(pattern, units, css, factor, label):
+def test_real_size(pattern, units, css, label, length):
     before, after, names = pattern
-    root = parse(pattern_svg(before, after, names, units=units))
+    k = 0.01 if units == "m" else 1.0  # the same 1:1 print for a pattern in metres
+    scaled = [[L * k for L in p] for p in before], [[L * k for L in p] for p in after]
+    root = parse(pattern_svg(*scaled, names, units=units))
     _, _, w, h = map(float, root.get("viewBox").split())
-    assert root.get("width") == f"{w * factor:.3f}{css}"
-    assert root.get("height") == f"{h * factor:.3f}{css}"
+    assert root.get("width") == f"{w:.3f}{css}"  # user units are the css unit
+    assert root.get("height") == f"{h:.3f}{css}"
     bar = root.find("s:g[@id='scale-bar']", NS)
     assert bar.find("s:text", NS).text == label
     ends = points(bar.find("s:path", NS).get("d"))[:2]
-    assert ends[1, 0] - ends[0, 0] == pytest.approx(float(label.split()[0]), abs=2e-3)
+    assert ends[1, 0] - ends[0, 0] == pytest.approx(length, abs=2e-3)
+    if units == "m":
+        # metres are drawn in cm: the same document as the pattern in cm, but the bar's label
+        cm = pattern_svg(before, after, names, units="cm")
+        assert cm.replace(">10 cm<", ">0.1 m<") == pattern_svg(*scaled, names, units="m")
 
 
 def test_unknown_units_get_a_round_bar(pattern):
@@ -134,6 +140,11 @@ def test_unknown_units_get_a_round_bar(pattern):
     assert re.fullmatch(r"\d+\.\d{3}", root.get("width"))
     label = root.find("s:g[@id='scale-bar']/s:text", NS).text
     assert label.endswith(" uv") and float(label.split()[0]) in (0.1, 0.2, 0.5)
+    # drawn 1000 times larger (largest panel 0.6 uv -> 600 user units): readable font sizes
+    assert 100 <= float(root.get("width")) <= 10000
+    ends = points(root.find("s:g[@id='scale-bar']/s:path", NS).get("d"))[:2]
+    assert ends[1, 0] - ends[0, 0] == pytest.approx(1000 * float(label.split()[0]))
+    assert float(root.find("s:g[@class='panel']/s:text", NS).get("font-size")) >= 10
 
 
 def test_deterministic_and_input_types(pattern):
@@ -329,16 +340,21 @@ def test_unused_vertices_do_not_move_anything(meshed):
     assert s1 == s2
 
 
-@pytest.mark.parametrize(
-    ("units", "css", "factor"),
-    [("cm", "cm", 1), ("mm", "mm", 1), ("in", "in", 1), ("m", "cm", 100)],
-)
-def test_real_size_with_triangles(meshed, units, css, factor):
+@pytest.mark.parametrize(("units", "css"), [("cm", "cm"), ("mm", "mm"), ("in", "in"), ("m", "cm")])
+def test_real_size_with_triangles(meshed, units, css):
     before, after, names, tris, errs = meshed
+    k = 0.01 if units == "m" else 1.0  # a pattern in metres
+    before, after = ([[L * k for L in p] for p in ls] for ls in (before, after))
+    tris = [(V * k, F) for V, F in tris]
     root = parse(pattern_svg(before, after, names, units=units, triangles=tris, errors=errs))
     _, _, w, h = map(float, root.get("viewBox").split())
-    assert root.get("width") == f"{w * factor:.3f}{css}"
-    assert root.get("height") == f"{h * factor:.3f}{css}"
+    assert root.get("width") == f"{w:.3f}{css}"
+    assert root.get("height") == f"{h:.3f}{css}"
+    # the triangles are drawn in user units too
+    factor = 100 if units == "m" else 1  # m: drawn in cm
+    g = root.find("s:g[@class='panel']", NS)
+    Q = np.concatenate([points(p.get("d")) for p in error_paths(g)])
+    assert np.ptp(Q, axis=0) == pytest.approx(factor * np.ptp(tris[0][0], axis=0), abs=0.01)
 
 
 def test_deterministic_and_inputs_untouched(meshed):

@@ -114,8 +114,9 @@ def pattern_png(
     -----
     Each bin's triangles of a panel are one compound path (one fill, no hairline seams
     between triangles of a bin) and the whole pattern one ``PathCollection``: no Python
-    loop over triangles. Identical inputs give identical bytes (no software/time metadata,
-    matplotlib's bundled font, everything set explicitly on the artists).
+    loop over triangles. Identical inputs give identical bytes (RGB written by Pillow with no
+    software/time metadata, matplotlib's bundled font, everything set explicitly on the
+    artists).
     """
     import matplotlib
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -123,6 +124,7 @@ def pattern_png(
     from matplotlib.figure import Figure
     from matplotlib.patches import Rectangle
     from matplotlib.path import Path
+    from PIL import Image
 
     if int(size) < 16:
         raise ValueError(f"pattern_png: size must be at least 16 pixels, got {size}")
@@ -229,6 +231,13 @@ def pattern_png(
         )  # fmt: skip
         ax.text(*sw.text_xy, sw.label, ha="center", va="baseline", zorder=4, **text)
 
+    # encode RGB ourselves (the sheet is opaque): a quarter less to compress than matplotlib's
+    # RGBA, and zlib level 3 is twice as fast as the default 6 for a few % more bytes; Pillow
+    # writes no time or software chunk, so the bytes depend on the pixels (and dpi) only
     canvas = FigureCanvasAgg(fig)
-    canvas.print_png(os.fspath(path), metadata={"Software": None})
+    canvas.draw()
+    rgb = np.asarray(canvas.buffer_rgba())[:, :, :3]
+    Image.fromarray(np.ascontiguousarray(rgb)).save(
+        os.fspath(path), format="png", dpi=(dpi, dpi), compress_level=3
+    )
     return pw, ph

@@ -9,7 +9,7 @@ SVG); a panel's pattern coordinates ``P`` (y up) map to ``P * (1, -1) + sheet.of
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -288,7 +288,10 @@ class LineSample:
 
 @dataclass(frozen=True)
 class Sheet:
-    """The layout of a preview sheet, in sheet coordinates (pattern units, y down).
+    """The layout of a preview sheet, in sheet coordinates (y down).
+
+    Sheet coordinates are pattern units times ``zoom`` (1 from :func:`sheet_layout`; see
+    :meth:`scaled`).
 
     Attributes
     ----------
@@ -299,7 +302,7 @@ class Sheet:
     font : float
         Font size of names, legends and scale bar (the title is ``title_size``).
     offsets : (n, 2) float array
-        Panel ``p``'s pattern point ``P`` goes to ``P * (1, -1) + offsets[p]``.
+        Panel ``p``'s pattern point ``P`` goes to ``zoom * P * (1, -1) + offsets[p]``.
     labels : (n, 2) float array
         Where each panel's name goes (centre of its baseline), under the panel.
     title, title_xy, title_size : str, (x, y), float
@@ -319,6 +322,8 @@ class Sheet:
     tri_decimals : int
         Decimals enough for triangle corners (a resolution of ``unit / 2000`` or better:
         2 for panels of 20 cm to 2 m in cm).
+    zoom : float
+        Sheet units per pattern unit. The scale bar's ``bar_label`` stays in pattern units.
     """
 
     width: float
@@ -342,10 +347,50 @@ class Sheet:
     stroke_after: float
     dash: tuple[float, float]
     tri_decimals: int
+    zoom: float = 1.0
 
     def to_sheet(self, P: np.ndarray, p: int) -> np.ndarray:
         """Panel ``p``'s ``(k, 2)`` pattern points in sheet coordinates (a new array)."""
-        return P * np.array([1.0, -1.0]) + self.offsets[p]
+        return P * np.array([self.zoom, -self.zoom]) + self.offsets[p]
+
+    def scaled(self, k: float) -> Sheet:
+        """The same sheet in units ``k`` times smaller (``k = 100``: from m to cm).
+
+        Every length and position is multiplied by ``k``, ``zoom`` too; texts stay.
+        """
+
+        def xy(t):
+            return (k * t[0], k * t[1])
+
+        return replace(
+            self,
+            width=k * self.width,
+            height=k * self.height,
+            unit=k * self.unit,
+            font=k * self.font,
+            offsets=k * self.offsets,
+            labels=k * self.labels,
+            title_xy=xy(self.title_xy),
+            title_size=k * self.title_size,
+            bar=k * self.bar,
+            bar_xy=xy(self.bar_xy),
+            bar_tick=k * self.bar_tick,
+            bar_label_xy=xy(self.bar_label_xy),
+            lines=tuple(
+                replace(ls, x0=k * ls.x0, x1=k * ls.x1, y=k * ls.y, text_xy=xy(ls.text_xy))
+                for ls in self.lines
+            ),
+            error_title_xy=None if self.error_title_xy is None else xy(self.error_title_xy),
+            swatches=tuple(
+                replace(sw, x=k * sw.x, y=k * sw.y, w=k * sw.w, h=k * sw.h, text_xy=xy(sw.text_xy))
+                for sw in self.swatches
+            ),
+            stroke_before=k * self.stroke_before,
+            stroke_after=k * self.stroke_after,
+            dash=xy(self.dash),
+            tri_decimals=max(0, self.tri_decimals - round(math.log10(k))),
+            zoom=k * self.zoom,
+        )
 
 
 def panel_boxes(pattern: Pattern) -> tuple[np.ndarray, np.ndarray]:

@@ -6,6 +6,7 @@ bins and colours of :mod:`ptailor.formats.preview`, shared with the PNG preview)
 
 from __future__ import annotations
 
+import math
 from xml.sax.saxutils import escape
 
 import numpy as np
@@ -22,7 +23,9 @@ from ptailor.formats.preview import (
     sheet_layout,
 )
 
-#: Units the SVG can print at 1:1: pattern unit -> (CSS unit of width/height, factor).
+#: Units the SVG can print at 1:1: pattern unit -> (CSS unit of width/height and of the
+#: viewBox, its size in pattern units). Metres are drawn in cm: font sizes of a few hundredths
+#: and 3 decimals (1 mm) are too coarse for renderers (librsvg draws no readable text then).
 _CSS_UNITS = {
     "mm": ("mm", 1.0),
     "cm": ("cm", 1.0),
@@ -31,6 +34,17 @@ _CSS_UNITS = {
     "pt": ("pt", 1.0),
     "px": ("px", 1.0),
 }
+
+
+def _user_units(units: str, u: float) -> tuple[str, float]:
+    """The CSS unit of the document and user units per pattern unit.
+
+    Unknown units (normalised UVs, say) are drawn at a power of ten that makes the largest
+    panel 100 to 1000 user units (unitless: CSS pixels).
+    """
+    if units in _CSS_UNITS:
+        return _CSS_UNITS[units]
+    return "", 10.0 ** (2 - math.floor(math.log10(u)))
 
 
 def _num(x: float) -> str:
@@ -108,9 +122,11 @@ def pattern_svg(
         Panel names, one per panel.
     units : str
         The pattern's length unit. For ``mm``, ``cm``, ``m``, ``in``, ``pt`` and ``px`` the
-        document's ``width``/``height`` are in real units (``m`` is written in ``cm``) with a
-        ``viewBox`` in pattern units, so it prints at 1:1; any other unit (normalised UVs)
-        gives a unitless size.
+        document's ``width``/``height`` are in real units with a ``viewBox`` in the same
+        units (pattern units, but ``cm`` for ``m``), so it prints at 1:1; any other unit
+        (normalised UVs) gives a unitless size, the pattern scaled by a power of ten that
+        makes the largest panel 100 to 1000 user units. The scale bar's label is in
+        ``units``.
     title : str
         Written as the document's ``<title>`` and as a heading.
     triangles : list (per panel) of (V, F), optional
@@ -146,14 +162,16 @@ def pattern_svg(
         outlines_before, outlines_after, names, triangles, errors, caller="pattern_svg"
     )
     s = sheet_layout(pat, units=units, title=title)
+    css, zoom = _user_units(units, s.unit)
+    if zoom != 1.0:
+        s = s.scaled(zoom)
     W, H, font, n = s.width, s.height, s.font, len(pat.names)
     dash = f"{_num(s.dash[0])},{_num(s.dash[1])}"
 
-    css, factor = _CSS_UNITS.get(units, ("", 1.0))
     out = [
         '<?xml version="1.0" encoding="UTF-8"?>',
         f'<svg xmlns="http://www.w3.org/2000/svg" version="1.1" '
-        f'width="{_num(W * factor)}{css}" height="{_num(H * factor)}{css}" '
+        f'width="{_num(W)}{css}" height="{_num(H)}{css}" '
         f'viewBox="0 0 {_num(W)} {_num(H)}">',
     ]
     if title:
