@@ -44,3 +44,148 @@ def test_adjust_each_runs_every_garment_and_reports_failures(tmp_path):
         rep = json.loads((out / f"g{k}" / "report.json").read_text())
         assert rep["panels"][0]["area_after"] > rep["panels"][0]["area_before"]
     assert "broken.obj" in r.stderr and "not an OBJ" in r.stderr
+
+
+def _catalogue(root: Path) -> None:
+    """Generated garments in nested folders, and one broken file."""
+    (root / "tops").mkdir(parents=True)
+    (root / "skirts" / "long").mkdir(parents=True)
+    (root / "tops" / "sleeve.obj").write_text(sample_obj_text("lantern_sleeve"))
+    (root / "tops" / "tube.obj").write_text(sample_obj_text("cylinder"))
+    (root / "skirts" / "long" / "skirt.obj").write_text(sample_obj_text("cone_skirt"))
+    (root / "skirts" / "broken.obj").write_text("not a garment\n")
+
+
+def _ptailor_env(**extra: str) -> dict:
+    return dict(os.environ, PTAILOR=f"{sys.executable} -m ptailor", PYTHON=sys.executable, **extra)
+
+
+def test_adjust_catalogue_finds_garments_and_writes_a_csv_summary(tmp_path):
+    import csv
+
+    from ptailor.batch import RECORD_KEYS
+
+    cat = tmp_path / "cat"
+    _catalogue(cat)
+    rec = tmp_path / "r.yaml"
+    rec.write_text("steps: [{op: scale, factor: 1.2}]\n")
+    out = cat / "out"  # inside the catalogue: its garment.obj files are not garments
+    cmd = [str(CLI / "adjust-catalogue"), str(rec), str(cat), str(out), "-j", "2", "-q"]
+    env = _ptailor_env()
+    rows = None
+    for run, expect in ((1, "ok"), (2, "skipped")):
+        r = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=300)
+        assert r.returncode == 1, (run, r.stderr)
+        assert sorted(p.name for p in out.iterdir()) == [
+            "batch.jsonl",
+            "skirt",
+            "sleeve",
+            "summary.csv",
+            "tube",
+        ]
+        with open(out / "summary.csv", newline="") as f:
+            reader = csv.DictReader(f)
+            assert tuple(reader.fieldnames) == RECORD_KEYS
+            rows = list(reader)
+        # sorted paths: skirts/broken, skirts/long/skirt, tops/sleeve, tops/tube
+        assert [Path(x["garment"]).name for x in rows] == [
+            "broken.obj",
+            "skirt.obj",
+            "sleeve.obj",
+            "tube.obj",
+        ]
+        assert [x["status"] for x in rows] == ["failed", expect, expect, expect]
+        assert rows[0]["failure"] == "input" and "not an OBJ" in rows[0]["reason"]
+        assert rows[0]["panels"] == "" and rows[0]["out"].endswith("broken")
+        assert float(rows[2]["max_area_change"]) == pytest.approx(0.44, abs=1e-4)  # 1.2 x 1.2
+        assert rows[2]["panels"] == "2" and rows[2]["flipped_triangles"] == "0"
+        assert "broken.obj" in r.stderr and "summary.csv" in r.stderr
+    assert (out / "sleeve" / "report.json").is_file()
+    # usage
+    r = subprocess.run([str(CLI / "adjust-catalogue"), "--help"], capture_output=True, text=True)
+    assert r.returncode == 0 and "summary.csv" in r.stdout
+    r = subprocess.run([str(CLI / "adjust-catalogue"), str(rec)], capture_output=True, text=True)
+    assert r.returncode == 2 and "OUTROOT" in r.stderr
+
+
+def _adjust_parallel(tmp_path, env: dict) -> subprocess.CompletedProcess:
+    cat = tmp_path / "cat"
+    _catalogue(cat)
+    rec = tmp_path / "r.yaml"
+    rec.write_text("steps: [{op: scale, factor: 1.2}]\n")
+    paths = sorted(str(p) for p in cat.rglob("*.obj"))
+    return subprocess.run(
+        [str(CLI / "adjust-parallel"), str(rec), str(tmp_path / "out")],
+        input="\n".join(paths) + "\n\n",
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+    )
+
+
+def _check_adjust_parallel(tmp_path, r) -> None:
+    assert r.returncode == 1, r.stderr
+    out = tmp_path / "out"
+    assert sorted(p.name for p in out.iterdir()) == ["skirt", "sleeve", "tube"]
+    for name in ("skirt", "sleeve", "tube"):
+        rep = json.loads((out / name / "report.json").read_text())
+        assert rep["panels"][0]["area_after"] > rep["panels"][0]["area_before"]
+    ok = sorted(ln.split("\t") for ln in r.stdout.splitlines())
+    assert [(Path(g).name, Path(o).name, s) for s, g, o in ok] == [
+        ("skirt.obj", "skirt", "ok"),
+        ("sleeve.obj", "sleeve", "ok"),
+        ("tube.obj", "tube", "ok"),
+    ]
+    assert "failed\t" in r.stderr and "broken.obj" in r.stderr and "not an OBJ" in r.stderr
+
+
+def test_adjust_parallel_falls_back_to_xargs_without_gnu_parallel(tmp_path):
+    # a `parallel` that is not GNU parallel (moreutils has one): must not be used
+    bin_dir = tmp_path / "bin"
+    bin_dir.mkdir()
+    fake = bin_dir / "parallel"
+    fake.write_text(
+        f"#!/bin/sh\n[ \"$1\" = --version ] && {{ echo 'parallel [OPTIONS]'; exit 1; }}\n"
+        f"touch {tmp_path / 'fake-used'}\nexit 1\n"
+    )
+    fake.chmod(0o755)
+    env = _ptailor_env(JOBS="2", PATH=f"{bin_dir}{os.pathsep}{os.environ['PATH']}")
+    r = _adjust_parallel(tmp_path, env)
+    _check_adjust_parallel(tmp_path, r)
+    assert not (tmp_path / "fake-used").exists()
+    # arguments: repeated names, no garments, usage
+    rec = tmp_path / "r.yaml"
+    a, b = tmp_path / "cat" / "tops" / "tube.obj", tmp_path / "tube.obj"
+    shutil.copy(a, b)
+    r = subprocess.run(
+        [str(CLI / "adjust-parallel"), str(rec), str(tmp_path / "o2"), str(a), str(b)],
+        capture_output=True,
+        text=True,
+        env=env,
+    )
+    assert r.returncode == 2 and "repeat (tube)" in r.stderr
+    assert not (tmp_path / "o2").exists()
+    r = subprocess.run(
+        [str(CLI / "adjust-parallel"), str(rec), str(tmp_path / "o2")],
+        input="\n",
+        capture_output=True,
+        text=True,
+        env=env,
+    )
+    assert r.returncode == 2 and "no garments" in r.stderr
+    r = subprocess.run([str(CLI / "adjust-parallel"), "-h"], capture_output=True, text=True)
+    assert r.returncode == 0 and "xargs" in r.stdout
+
+
+def _gnu_parallel() -> bool:
+    if shutil.which("parallel") is None:
+        return False
+    r = subprocess.run(["parallel", "--version"], capture_output=True, text=True)
+    return "GNU parallel" in r.stdout
+
+
+@pytest.mark.skipif(not _gnu_parallel(), reason="needs GNU parallel")
+def test_adjust_parallel_with_gnu_parallel(tmp_path):
+    r = _adjust_parallel(tmp_path, _ptailor_env(JOBS="2", PARALLEL_TOOL="parallel"))
+    _check_adjust_parallel(tmp_path, r)
