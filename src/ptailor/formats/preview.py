@@ -220,7 +220,7 @@ def _shelves(cell_w: np.ndarray, cell_h: np.ndarray, gap: float, target: float):
     return origin, width, y + row_h
 
 
-def grid_layout(cell_w: np.ndarray, cell_h: np.ndarray, gap: float):
+def grid_layout(cell_w: np.ndarray, cell_h: np.ndarray, gap: float, sheet_size=None):
     """The row-wrapped grid that fits a landscape sheet (sqrt(2):1) best.
 
     Tries every row width at which some row breaks (the widths of runs of consecutive cells)
@@ -232,6 +232,9 @@ def grid_layout(cell_w: np.ndarray, cell_h: np.ndarray, gap: float):
         The cells' sizes, in order.
     gap : float
         Space between cells.
+    sheet_size : callable, optional
+        ``(grid width, grid height) -> (sheet width, sheet height)``: what is around the
+        grid (title, legends, margins); the grid alone by default.
 
     Returns
     -------
@@ -248,7 +251,8 @@ def grid_layout(cell_w: np.ndarray, cell_h: np.ndarray, gap: float):
     best = None
     for t in cand.tolist():
         origin, width, height = _shelves(cell_w, cell_h, gap, t + 1e-9)
-        sheet = max(width / math.sqrt(2.0), height)
+        sw, sh = (width, height) if sheet_size is None else sheet_size(width, height)
+        sheet = max(sw / math.sqrt(2.0), sh)
         if best is None or sheet < best[0] - 1e-9:
             best = (sheet, origin, width, height)
     return best[1], best[2], best[3]
@@ -450,9 +454,80 @@ def sheet_layout(pattern: Pattern, *, units: str, title: str = "") -> Sheet:
     # cells: the panel box plus its label, at least as wide as the label
     cell_w = np.maximum(size[:, 0], np.array([text_width(s, font) for s in pattern.names]))
     cell_h = size[:, 1] + label_h
-    origin, grid_w, grid_h = grid_layout(cell_w, cell_h, gap)
-
     top = gap + (2.6 * font if title else 0.0)
+    title_w = text_width(title, title_size)
+
+    def footer(grid_w: float, y: float):
+        """The footer under a grid ``grid_w`` wide, from height ``y`` down."""
+        # first row: scale bar with its label, then the outline legend
+        unit_bar = _BAR.get(units)
+        bar = unit_bar if unit_bar is not None else nice(0.25 * max(grid_w, u))
+        bar_label = f"{f'{bar:.3f}'.rstrip('0').rstrip('.')} {units}".strip()
+        bx, by = gap, y + 0.6 * font
+        seg = 2.5 * font
+        x = bx + bar + 0.6 * font
+        bar_label_xy = (x, by + 0.8 * font)
+        x += text_width(bar_label, font) + 1.5 * font
+        lines = []
+        for kind, text in (("before", "original"), ("after", "adjusted")):
+            ty = by + 0.8 * font
+            lines.append(
+                LineSample(kind, text, x, x + seg, by + 0.45 * font, (x + seg + 0.4 * font, ty))
+            )
+            x += seg + 0.4 * font + text_width(text, font) + 1.5 * font
+        foot_w = x - 1.5 * font - gap
+        y += 2.6 * font
+
+        # the error legend: its title, then the bins as a row of touching boxes (an ordered
+        # scale) with each range centred under its box; the title goes on a row of its own
+        # when both do not fit the width of what is above
+        error_title_xy = None
+        swatches: list[Swatch] = []
+        if pattern.triangles is not None:
+            avail = max(grid_w, foot_w, title_w)
+            bins = list(range(len(ERROR_COLOURS)))
+            if NAN_BIN in pattern.used_bins:
+                bins.append(NAN_BIN)
+            bw = max(text_width(bin_label(b), font) for b in bins) + 0.6 * font
+            bh = 1.0 * font
+            scale_w = bw * len(bins) + (0.8 * font if NAN_BIN in bins else 0.0)
+            head_w = text_width(ERROR_TITLE, font) + 0.8 * font
+            error_title_xy = (gap, y + 0.85 * font)
+            if head_w + scale_w <= avail:
+                x = head_w
+            else:
+                x, y = 0.0, y + 1.6 * font
+            for b in bins:
+                if b == NAN_BIN:
+                    x += 0.8 * font  # set apart: not part of the scale
+                swatches.append(
+                    Swatch(
+                        b, bin_colour(b), bin_label(b), gap + x, y, bw, bh,
+                        (gap + x + 0.5 * bw, y + bh + 1.05 * font),
+                    )
+                )  # fmt: skip
+                x += bw
+            foot_w = max(foot_w, x, head_w)
+            y += bh + 1.6 * font
+        return (
+            {
+                "bar": bar,
+                "bar_label": bar_label,
+                "bar_xy": (bx, by),
+                "bar_label_xy": bar_label_xy,
+                "lines": tuple(lines),
+                "error_title_xy": error_title_xy,
+                "swatches": tuple(swatches),
+            },
+            foot_w,
+            y,
+        )
+
+    def sheet_size(grid_w: float, grid_h: float) -> tuple[float, float]:
+        _, foot_w, bottom = footer(grid_w, top + grid_h + gap)
+        return max(grid_w, foot_w, title_w) + 2 * gap, bottom + gap
+
+    origin, grid_w, grid_h = grid_layout(cell_w, cell_h, gap, sheet_size)
     offsets = np.zeros((n, 2))
     labels = np.zeros((n, 2))
     if n:
@@ -460,62 +535,9 @@ def sheet_layout(pattern: Pattern, *, units: str, title: str = "") -> Sheet:
         offsets[:, 1] = top + origin[:, 1] + hi[:, 1]
         labels[:, 0] = gap + origin[:, 0] + 0.5 * cell_w
         labels[:, 1] = top + origin[:, 1] + size[:, 1] + 1.25 * font
-
-    # first footer row: scale bar with its label, then the outline legend
-    unit_bar = _BAR.get(units)
-    bar = unit_bar if unit_bar is not None else nice(0.25 * max(grid_w, u))
-    bar_label = f"{f'{bar:.3f}'.rstrip('0').rstrip('.')} {units}".strip()
-    bx, by = gap, top + grid_h + gap + 0.6 * font
-    seg = 2.5 * font
-    x = bx + bar + 0.6 * font
-    bar_label_xy = (x, by + 0.8 * font)
-    x += text_width(bar_label, font) + 1.5 * font
-    lines = []
-    for kind, text in (("before", "original"), ("after", "adjusted")):
-        lines.append(
-            LineSample(
-                kind, text, x, x + seg, by + 0.45 * font, (x + seg + 0.4 * font, by + 0.8 * font)
-            )
-        )
-        x += seg + 0.4 * font + text_width(text, font) + 1.5 * font
-    row1_w = x - 1.5 * font - gap
-    y = top + grid_h + gap + 2.6 * font
-
-    # the error legend: its title, then the bins as a row of touching boxes (an ordered
-    # scale) with each range centred under its box; the title goes on a row of its own when
-    # both do not fit the width of what is above
-    error_title_xy = None
-    swatches: list[Swatch] = []
-    foot_w = row1_w
-    if pattern.triangles is not None:
-        avail = max(grid_w, row1_w, text_width(title, title_size))
-        bins = list(range(len(ERROR_COLOURS)))
-        if NAN_BIN in pattern.used_bins:
-            bins.append(NAN_BIN)
-        bw = max(text_width(bin_label(b), font) for b in bins) + 0.6 * font
-        bh = 1.0 * font
-        scale_w = bw * len(bins) + (0.8 * font if NAN_BIN in bins else 0.0)
-        head_w = text_width(ERROR_TITLE, font) + 0.8 * font
-        error_title_xy = (gap, y + 0.85 * font)
-        if head_w + scale_w <= avail:
-            x = head_w
-        else:
-            x, y = 0.0, y + 1.6 * font
-        for b in bins:
-            if b == NAN_BIN:
-                x += 0.8 * font  # set apart: not part of the scale
-            swatches.append(
-                Swatch(
-                    b, bin_colour(b), bin_label(b), gap + x, y, bw, bh,
-                    (gap + x + 0.5 * bw, y + bh + 1.05 * font),
-                )
-            )  # fmt: skip
-            x += bw
-        foot_w = max(foot_w, x, head_w)
-        y += bh + 1.6 * font
-
-    W = max(grid_w, foot_w, text_width(title, title_size)) + 2 * gap
-    H = y + gap
+    foot, foot_w, bottom = footer(grid_w, top + grid_h + gap)
+    W = max(grid_w, foot_w, title_w) + 2 * gap
+    H = bottom + gap
     return Sheet(
         width=W,
         height=H,
@@ -526,14 +548,8 @@ def sheet_layout(pattern: Pattern, *, units: str, title: str = "") -> Sheet:
         title=title,
         title_xy=(gap, gap + 1.2 * font),
         title_size=title_size,
-        bar=bar,
-        bar_label=bar_label,
-        bar_xy=(bx, by),
         bar_tick=0.5 * font,
-        bar_label_xy=bar_label_xy,
-        lines=tuple(lines),
-        error_title_xy=error_title_xy,
-        swatches=tuple(swatches),
+        **foot,
         stroke_before=0.0018 * u,
         stroke_after=0.0025 * u,
         dash=(0.012 * u, 0.008 * u),
