@@ -2,8 +2,9 @@
 
 The sheet layout (where each panel, its name, the title, the scale bar and the legends go),
 the colour scale of the intrinsic-scale error and the checking of the inputs. Everything here
-is in *sheet coordinates*: pattern units, origin at the sheet's top-left corner, y down (as in
-SVG); a panel's pattern coordinates ``P`` (y up) map to ``P * (1, -1) + sheet.offsets[p]``.
+is in *sheet coordinates*: pattern units (times ``Sheet.zoom``, 1 unless the SVG rescales),
+origin at the sheet's top-left corner, y down (as in SVG); a panel's pattern coordinates ``P``
+(y up) map to ``zoom * P * (1, -1) + sheet.offsets[p]`` (:meth:`Sheet.to_sheet`).
 """
 
 from __future__ import annotations
@@ -51,8 +52,9 @@ def error_bins(errors: np.ndarray) -> np.ndarray:
     Returns
     -------
     (m,) int64 array
-        ``k`` for ``ERROR_EDGES[k-1] <= |e| < ERROR_EDGES[k]`` (``0 .. len(ERROR_EDGES)``),
-        ``NAN_BIN`` for NaN. Infinite errors fall in the last bin.
+        ``k`` for ``ERROR_EDGES[k-1] <= |e| < ERROR_EDGES[k]`` (``0 .. len(ERROR_EDGES)``;
+        an error on an edge goes to the upper bin: 2 % is in "2–5 %"), ``NAN_BIN`` for NaN.
+        Infinite errors fall in the last bin.
     """
     e = np.abs(np.asarray(errors, dtype=np.float64))
     b = np.searchsorted(np.asarray(ERROR_EDGES), e, side="right").astype(np.int64)
