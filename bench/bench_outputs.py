@@ -19,6 +19,7 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+from types import SimpleNamespace
 
 from ptailor.adjust import adjust
 from ptailor.job import OutputContext, output_dxf, output_png, output_svg
@@ -54,11 +55,8 @@ def main() -> None:
     carried = adjusted_pieces(adj, plan)
     errors = triangle_errors(adj)
 
-    class Loaded:  # what the writers read of a LoadedGarment
-        pattern = None
-        inputs = {"garment": "bench.obj"}
-
-    ctx = OutputContext(loaded=Loaded(), pieces=carried, plan=plan, errors=errors)
+    loaded = SimpleNamespace(pattern=None, inputs={"garment": "bench.obj"})  # what they read
+    ctx = OutputContext(loaded=loaded, pieces=carried, plan=plan, errors=errors)
     rows = {
         "piece plan": lambda: piece_plan(g, panels(g)),
         "carry pieces": lambda: adjusted_pieces(adj, plan),

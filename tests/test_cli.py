@@ -49,7 +49,13 @@ def test_adjust_writes_outputs_and_can_adjust_its_own_output(runner, sleeve, rec
     out = tmp_path / "out"
     r = run(runner, "adjust", sleeve, recipe, "-o", out)
     assert r.exit_code == 0, r.output
-    assert sorted(p.name for p in out.iterdir()) == ["garment.obj", "pattern.svg", "report.json"]
+    assert sorted(p.name for p in out.iterdir()) == [
+        "garment.obj",
+        "pattern.dxf",
+        "pattern.svg",
+        "preview.png",
+        "report.json",
+    ]
     rep = json.loads((out / "report.json").read_text())
     cuff = next(p for p in rep["panels"] if p["name"] == "cuff")
     assert cuff["size_after"] == pytest.approx([48.0, 8.0], rel=1e-6)

@@ -13,12 +13,12 @@ from click.testing import CliRunner
 from ptailor.cli.main import cli
 from ptailor.demo import sample_obj_text
 from ptailor.formats.dxf import read_dxf, write_dxf
+from ptailor.formats.obj import write_garment
 from ptailor.marks import mesh_pieces
 from ptailor.model.garment import panels
 from ptailor.model.pieces import PatternFile, Piece
 from ptailor.model.polyline import signed_area
 from ptailor.samples import SAMPLES
-
 from tests.conftest import real_path
 
 IDENTITY = "steps: []\n"
@@ -36,13 +36,14 @@ def _marked_pieces(g) -> list[Piece]:
         P = pc.outline
         mid = 0.5 * (P[[3, 17]] + P[[4, 18]])  # halfway along two outline edges
         c = P.mean(axis=0)
+        d = np.array([2.0, 1.0])
         out.append(
             replace(
                 pc,
                 notches=np.vstack([pc.notches, mid]),
                 notch_angles=np.zeros(len(pc.notches) + 2),
                 drills=c[None] + [0.5, 0.5],
-                internal=(np.stack([c - [2.0, 1.0], c + [2.0, 1.0]]),),
+                internal=(np.stack([c - d, c + d]),),
                 quantity=1,
                 size="M",
             )
@@ -51,10 +52,13 @@ def _marked_pieces(g) -> list[Piece]:
 
 
 def _setup(tmp_path, sample="lantern_sleeve", move=None):
-    """Drape OBJ + DXF (cm pieces written as METRIC mm) for a generated garment."""
-    obj = tmp_path / f"{sample}.obj"
-    obj.write_text(sample_obj_text(sample))
+    """DXF + drape OBJ for a generated garment, as CLO 3D exports them.
+
+    The DXF is written in mm (METRIC) and the drape's ``vt`` is the same pattern in mm.
+    """
     g = SAMPLES[sample]()
+    obj = tmp_path / f"{sample}.obj"
+    write_garment(obj, g.with_pattern(g.V2 * 10.0), header=[f"{sample}: v in cm, vt in mm"])
     pieces = _marked_pieces(g)
     if move is not None:
         pieces = [move(pc) for pc in pieces]
@@ -186,10 +190,11 @@ def test_shorten_drops_the_marks_it_cuts_away_and_outlines_the_new_hem(tmp_path)
     report = json.loads((tmp_path / "o" / "report.json").read_text())
     recs = report["pattern"]["pieces"]
     assert all(p["outline"] == "mesh" for p in recs)
+    before = _by_name(read_dxf(dxf))
     after = _by_name(read_dxf(tmp_path / "o" / "pattern.dxf"))
     for pc in pieces:
         b = after[pc.name]
-        assert abs(signed_area(b.outline)) < abs(signed_area(pc.outline))
+        assert abs(signed_area(b.outline)) < 0.95 * abs(signed_area(before[pc.name].outline))
         assert len(b.drills) == 1 and b.grain is not None
 
 
@@ -205,8 +210,8 @@ def test_seam_allowance_offsets_the_cut_line_and_keeps_the_sew_line(tmp_path):
     for name, a in plain.items():
         b = sa[name]
         _close(b.sew, a.outline, float(np.linalg.norm(a.extent)))
-        w, h = a.extent
-        assert abs(signed_area(b.outline)) == pytest.approx((w + 2) * (h + 2), rel=1e-6)
+        w, h = a.extent  # mm: the allowance is 10 mm
+        assert abs(signed_area(b.outline)) == pytest.approx((w + 20) * (h + 20), rel=1e-6)
     bad = run("adjust", obj, rec, "-o", tmp_path / "c", "--seam-allowance", "-1")
     assert bad.exit_code == 2 and not (tmp_path / "c").exists()
 
@@ -270,6 +275,7 @@ def test_dxf_pieces_of_a_real_garment_round_trip_through_adjust(tmp_path):
     assert len(pf.pieces) == 6
     assert sum(len(pc.notches) for pc in pf.pieces) > 0
     assert all(pc.grain is not None for pc in pf.pieces)
-    sizes = np.array([pc.extent for pc in pf.pieces]) * (10 if pf.units == "mm" else 1)
-    assert sizes.max() < 2000 and sizes.min() > 50  # mm: plausible garment pieces
+    assert pf.units == "mm"
+    sizes = np.array([pc.extent for pc in pf.pieces])
+    assert sizes.max() < 2000 and sizes.min() > 50  # plausible garment pieces in mm
     assert Path(out / "pattern.dxf").read_text().count("Piece Name:") == 6
