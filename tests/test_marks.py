@@ -169,3 +169,23 @@ def test_the_plan_draws_pieces_from_the_mesh_without_a_pattern_file():
     plan = piece_plan(g, panels(g))
     assert not any(plan.from_file) and len(plan.pieces) == len(panels(g))
     assert plan.units == g.units
+
+
+def test_grain_follows_the_body_up_axis_whatever_the_layout():
+    from ptailor.marks import grain_directions
+
+    g = cone_skirt()
+    plist = panels(g)
+    np.testing.assert_allclose(
+        grain_directions(g.V2, g.F2, g.V3, g.F3, plist), [[0, 1], [0, 1]], atol=1e-6
+    )
+    a = np.radians(30.0)
+    R = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+    turned = grain_directions(g.V2 @ R.T, g.F2, g.V3, g.F3, plist)
+    np.testing.assert_allclose(turned, [R @ [0, 1], R @ [0, 1]], atol=1e-6)
+    # a garment lying on its side (up = x) has its grain across the same pattern
+    side = grain_directions(g.V2, g.F2, g.V3[:, [1, 0, 2]], g.F3, plist, up=(1.0, 0.0, 0.0))
+    np.testing.assert_allclose(side, [[0, 1], [0, 1]], atol=1e-6)
+    pieces = mesh_pieces(g.V2 @ R.T, g.F2, plist, grain=turned)
+    d = np.diff(pieces[0].grain, axis=0)[0]
+    np.testing.assert_allclose(d / np.linalg.norm(d), R @ [0, 1], atol=1e-9)

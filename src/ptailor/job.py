@@ -43,6 +43,8 @@ class OutputContext:
         Intrinsic-scale error per adjusted triangle.
     seam_allowance : float or None
         Computation units; the pattern's outline is then the sew line.
+    title : str
+        The previews' heading.
     """
 
     loaded: LoadedGarment
@@ -50,6 +52,7 @@ class OutputContext:
     plan: PiecePlan
     errors: np.ndarray
     seam_allowance: float | None = None
+    title: str = ""
 
 
 def output_obj(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
@@ -98,6 +101,7 @@ def _sheet(adj: Adjustment, ctx: OutputContext) -> dict:
         "outlines_after": panel_outlines(g.V2, g.F2, adj),
         "names": [p.name for p in adj.state.panels],
         "units": g.units,
+        "title": ctx.title,
         "triangles": tris,
         "errors": errs,
     }
@@ -315,7 +319,7 @@ def run_adjust(
         size=size,
         dxf_units=dxf_units,
     )
-    plan = piece_plan(loaded.garment, panels(loaded.garment), pattern=loaded.pattern)
+    plan = piece_plan(loaded.garment, panels(loaded.garment), pattern=loaded.pattern, up=options.up)
     t1 = time.perf_counter()
     adj = adjust(
         loaded.garment,
@@ -347,7 +351,13 @@ def run_adjust(
     errors = triangle_errors(adj)
     carried = adjusted_pieces(adj, plan)
     ctx = OutputContext(
-        loaded=loaded, pieces=carried, plan=plan, errors=errors, seam_allowance=seam_allowance
+        loaded=loaded,
+        pieces=carried,
+        plan=plan,
+        errors=errors,
+        seam_allowance=seam_allowance,
+        title=f"{Path(garment_path).name}: {Path(recipe.source).name}"
+        + (f", seam allowance {seam_allowance:g} {loaded.garment.units}" if seam_allowance else ""),
     )
     names0 = [p.name for p in panels(adj.original if adj.original is not None else adj.state.base)]
     dropped = sum(cp.dropped for cp in carried if cp is not None)

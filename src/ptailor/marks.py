@@ -271,8 +271,102 @@ def _edge_partners(F2: np.ndarray, F3: np.ndarray | None, panel_list: list[Panel
     return keys[order], partner[order]
 
 
+def grain_directions(
+    V2: np.ndarray,
+    F2: np.ndarray,
+    V3: np.ndarray,
+    F3: np.ndarray,
+    panel_list: list[Panel],
+    *,
+    up: tuple[float, float, float] = (0.0, 1.0, 0.0),
+) -> np.ndarray:
+    """Each panel's lengthwise grain in the pattern, read off the drape.
+
+    The grain runs along the body: the pattern direction each triangle maps onto the
+    drape's ``up`` axis (its least-squares preimage through the triangle's 2D-to-3D map),
+    averaged over the panel by area. A panel lying across the body (its longest 3D axis
+    nearer horizontal than ``up``: a sleeve in T-pose, a waistband) takes that axis instead.
+
+    Parameters
+    ----------
+    V2 : (n2, 2) float array
+    F2 : (m, 3) int array
+    V3 : (n3, 3) float array
+    F3 : (m, 3) int array
+    panel_list : list of Panel
+    up : (3,) sequence of float
+
+    Returns
+    -------
+    (n_panels, 2) float array
+        Unit directions; ``(0, 1)`` where the drape says nothing (a degenerate panel).
+    """
+    from ptailor.method.flatten import panel_labels
+
+    n = len(panel_list)
+    flab = panel_labels(panel_list, len(F2))
+    u = np.asarray(up, dtype=np.float64)
+    u = u / np.linalg.norm(u)
+    # each panel's longest 3D axis (PCA of its triangle centroids, area-weighted)
+    e1, e2 = V3[F3[:, 1]] - V3[F3[:, 0]], V3[F3[:, 2]] - V3[F3[:, 0]]
+    a3 = 0.5 * np.linalg.norm(np.cross(e1, e2), axis=1)
+    c3 = V3[F3].mean(axis=1)
+    w = np.bincount(flab, a3, n)
+    mean = np.stack([np.bincount(flab, a3 * c3[:, k], n) for k in range(3)], 1)
+    mean /= np.maximum(w, 1e-300)[:, None]
+    d = c3 - mean[flab]
+    cov = np.zeros((n, 3, 3))
+    np.add.at(cov, flab, a3[:, None, None] * d[:, :, None] * d[:, None, :])
+    axis = np.linalg.eigh(cov)[1][:, :, -1]  # (n, 3)
+    lying = np.abs(axis @ u) < np.sqrt(0.5)
+    target = np.where(lying[:, None], axis, u)[flab]  # (m, 3) per triangle
+    # least-squares preimage of the target through J = E3 E2^-1 (3x2): (J^T J)^-1 J^T t
+    E2 = np.stack([V2[F2[:, 1]] - V2[F2[:, 0]], V2[F2[:, 2]] - V2[F2[:, 0]]], axis=2)  # (m,2,2)
+    E3 = np.stack([e1, e2], axis=2)  # (m, 3, 2)
+    det = E2[:, 0, 0] * E2[:, 1, 1] - E2[:, 0, 1] * E2[:, 1, 0]
+    ok = np.abs(det) > 0
+    inv = (
+        np.stack(
+            [np.stack([E2[:, 1, 1], -E2[:, 0, 1]], 1), np.stack([-E2[:, 1, 0], E2[:, 0, 0]], 1)], 1
+        )
+        / np.where(ok, det, 1.0)[:, None, None]
+    )
+    J = E3 @ inv
+    JtJ = np.einsum("mki,mkj->mij", J, J)
+    rhs = np.einsum("mki,mk->mi", J, target)
+    dj = JtJ[:, 0, 0] * JtJ[:, 1, 1] - JtJ[:, 0, 1] ** 2
+    good = ok & (dj > 0)
+    sol = np.stack(
+        [JtJ[:, 1, 1] * rhs[:, 0] - JtJ[:, 0, 1] * rhs[:, 1],
+         JtJ[:, 0, 0] * rhs[:, 1] - JtJ[:, 0, 1] * rhs[:, 0]], 1
+    ) / np.where(good, dj, 1.0)[:, None]  # fmt: skip
+    norm = np.linalg.norm(sol, axis=1)
+    good &= norm > 0
+    unit = np.where(good[:, None], sol / np.where(good, norm, 1.0)[:, None], 0.0)
+    # the direction only matters up to sign when target is a panel axis: align to the first
+    g = np.stack([np.bincount(flab, a3 * unit[:, k], n) for k in range(2)], 1)
+    if lying.any():  # sign-free average for axes: the doubled-angle mean
+        ang = 2 * np.arctan2(unit[:, 1], unit[:, 0])
+        dbl = np.stack(
+            [np.bincount(flab, a3 * np.cos(ang) * good, n),
+             np.bincount(flab, a3 * np.sin(ang) * good, n)], 1
+        )  # fmt: skip
+        half = 0.5 * np.arctan2(dbl[:, 1], dbl[:, 0])
+        g = np.where(lying[:, None], np.stack([np.cos(half), np.sin(half)], 1), g)
+    length = np.linalg.norm(g, axis=1)
+    out = np.tile([0.0, 1.0], (n, 1))
+    has = length > 0
+    out[has] = g[has] / length[has, None]
+    return out
+
+
 def mesh_pieces(
-    V2: np.ndarray, F2: np.ndarray, panel_list: list[Panel], *, F3: np.ndarray | None = None
+    V2: np.ndarray,
+    F2: np.ndarray,
+    panel_list: list[Panel],
+    *,
+    F3: np.ndarray | None = None,
+    grain: np.ndarray | None = None,
 ) -> list[Piece]:
     """Pieces drawn from a triangulated pattern: outline, turn points, notches, grain line.
 
@@ -280,9 +374,8 @@ def mesh_pieces(
     lines (closed), turn points are where the outline turns by more than
     ``tolerances.CORNER_DEG``. With the drape's triangles ``F3``, a notch marks each point
     of the outline (other than a turn point) where the panel across the seam changes, or a
-    seam ends: the match points for sewing. The grain line runs along the pattern's y axis
-    through the panel's centroid, half the panel's height long (the pattern's layout is
-    taken to be on grain).
+    seam ends: the match points for sewing. The grain line runs through the panel's
+    centroid along ``grain`` (default the pattern's y axis), across half the panel.
 
     Parameters
     ----------
@@ -291,6 +384,8 @@ def mesh_pieces(
     panel_list : list of Panel
     F3 : (m, 3) int array, optional
         The drape's triangles, for seam notches.
+    grain : (n_panels, 2) float array, optional
+        Unit grain direction per panel (:func:`grain_directions`).
 
     Returns
     -------
@@ -310,7 +405,8 @@ def mesh_pieces(
         notch = (across != np.roll(across, 1)) & ~turn
         a = np.abs(areas[p.faces])
         c = (V2[F2[p.faces]].mean(axis=1) * a[:, None]).sum(axis=0) / max(a.sum(), 1e-300)
-        h = float(np.ptp(P[:, 1]))
+        gd = np.array([0.0, 1.0]) if grain is None else grain[p.index]
+        half = 0.25 * float(np.ptp(P @ gd))
         holes = tuple(np.vstack([V2[lp], V2[lp[:1]]]) for lp in loops if len(lp) != len(outer))
         out.append(
             Piece(
@@ -319,7 +415,7 @@ def mesh_pieces(
                 turn=turn,
                 notches=P[notch],
                 notch_angles=np.zeros(int(notch.sum())),
-                grain=np.array([[c[0], c[1] - 0.25 * h], [c[0], c[1] + 0.25 * h]]),
+                grain=np.stack([c - half * gd, c + half * gd]),
                 internal=holes,
             )
         )
@@ -502,7 +598,13 @@ class PiecePlan:
     units: str
 
 
-def piece_plan(garment, panel_list: list[Panel], *, pattern=None) -> PiecePlan:
+def piece_plan(
+    garment,
+    panel_list: list[Panel],
+    *,
+    pattern=None,
+    up: tuple[float, float, float] = (0.0, 1.0, 0.0),
+) -> PiecePlan:
     """Match a pattern file's pieces to the garment's panels; draw the rest from the mesh.
 
     Parameters
@@ -513,6 +615,8 @@ def piece_plan(garment, panel_list: list[Panel], *, pattern=None) -> PiecePlan:
         ``panels(garment)``.
     pattern : PatternFile, optional
         Pieces in ``pattern.units``.
+    up : (3,) sequence of float
+        The drape's up axis: pieces drawn from the mesh take their grain from it.
 
     Returns
     -------
@@ -536,7 +640,8 @@ def piece_plan(garment, panel_list: list[Panel], *, pattern=None) -> PiecePlan:
         units = pattern.units
     used = {m.panel for m in matches}
     rest = [p for p in panel_list if p.index not in used]
-    drawn = mesh_pieces(V2, F2, rest, F3=garment.F3)
+    grain = grain_directions(V2, F2, garment.V3, garment.F3, panel_list, up=up)
+    drawn = mesh_pieces(V2, F2, rest, F3=garment.F3, grain=grain)
     pieces = file_pieces + drawn
     matches = matches + [
         PieceMatch(len(file_pieces) + a, p.index, "mesh", np.eye(2), np.zeros(2), 0.0)
