@@ -665,6 +665,19 @@ def run_batch(
     )
 
 
+def largest_first(jobs: Sequence[Job]) -> list[Job]:
+    """Dispatch order for workers: the largest garment files first, so that no worker is
+    left with a big garment while the others idle at the end (records keep input order)."""
+
+    def size(job: Job) -> int:
+        try:
+            return os.path.getsize(job.garment_abs)
+        except OSError:
+            return 0
+
+    return sorted(jobs, key=lambda j: (-size(j), j.index))
+
+
 def _run_here(jobs: Sequence[Job], done) -> bool:
     for job in jobs:
         try:
@@ -686,7 +699,7 @@ def _run_pool(jobs: Sequence[Job], n: int, done) -> bool:
     )
     futures = {}
     try:
-        for job in jobs:
+        for job in largest_first(jobs):
             futures[ex.submit(run_job, job)] = job
         for fut in as_completed(futures):
             job = futures[fut]
@@ -734,8 +747,10 @@ def _run_dask(jobs: Sequence[Job], address: str, done) -> bool:
         with contextlib.suppress(Exception):  # only a warm-up
             client.run(warm_up)
         token = uuid.uuid4().hex
-        for job in jobs:
-            fut = client.submit(run_job, job, pure=False, key=f"ptailor-batch-{token}-{job.index}")
+        order = largest_first(jobs)
+        for rank, job in enumerate(order):
+            key = f"ptailor-batch-{token}-{job.index}"
+            fut = client.submit(run_job, job, pure=False, key=key, priority=len(order) - rank)
             futures[fut] = job
         for fut in as_completed(list(futures), loop=client.loop):
             job = futures[fut]

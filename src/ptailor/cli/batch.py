@@ -129,6 +129,13 @@ def batch(
     import os
     import sys
 
+    workers = jobs or os.cpu_count() or 1
+    if scheduler is None and workers > 1:
+        # one BLAS thread per worker process (before numpy is imported): several workers
+        # with a thread per core each only oversubscribe the cores
+        for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+            os.environ.setdefault(var, "1")
+
     from ptailor.batch import Gates, expand_garments, make_jobs, record_line, run_batch
     from ptailor.batch import summary_lines as batch_summary
     from ptailor.errors import PtailorError
@@ -187,7 +194,6 @@ def batch(
             if as_json:
                 click.echo(line)
 
-        workers = jobs or os.cpu_count() or 1
         show_bar = not quiet and sys.stderr.isatty()
         if show_bar:
             with click.progressbar(
