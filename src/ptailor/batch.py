@@ -525,6 +525,7 @@ def init_worker(stop) -> None:
     global _STOP
     _STOP = stop
     signal.signal(signal.SIGINT, _on_sigint)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)  # terminate() ends a worker at once
     warm_up()
 
 
@@ -652,9 +653,9 @@ def run_batch(
         if r is None or r["status"] == "interrupted":
             r = j.record("interrupted", reason=(r or {}).get("reason") or "interrupted")
         final.append(r)
-    if interrupted and scheduler is None:
+    if scheduler is None:  # the workers are gone: what a killed one left is garbage
         for j, r in zip(jobs, final, strict=True):
-            if r["status"] == "interrupted":
+            if r["status"] == "interrupted" or r["failure"] == "internal":
                 remove_staging(j.out_abs)
     order.finish(final)
     return BatchResult(

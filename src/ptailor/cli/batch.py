@@ -7,6 +7,10 @@ import click
 from ptailor.cli.options import UNIT_HELP, axes_options
 
 
+def _interrupt(signum, frame) -> None:
+    raise KeyboardInterrupt
+
+
 @click.command()
 @click.argument("recipe", type=click.Path(dir_okay=False, allow_dash=True))
 @click.argument("garments", metavar="GARMENT...", nargs=-1, required=True)
@@ -124,9 +128,11 @@ def batch(
     go on.
 
     Exit status: 0 every garment done or unchanged, 1 some failed, 2 bad recipe or
-    arguments, 130 interrupted (complete folders are kept: run again to finish).
+    arguments, 130 interrupted by Ctrl-C or SIGTERM (complete folders are kept: run again
+    to finish).
     """
     import os
+    import signal
     import sys
 
     workers = jobs or os.cpu_count() or 1
@@ -183,6 +189,7 @@ def batch(
         ),
         force=force,
     )
+    old_term = None
     logf = open(log, "w") if log else None  # noqa: SIM115 - closed below, written as records come
     try:
 
@@ -195,6 +202,7 @@ def batch(
                 click.echo(line)
 
         show_bar = not quiet and sys.stderr.isatty()
+        old_term = signal.signal(signal.SIGTERM, _interrupt)  # SIGTERM is Ctrl-C too
         if show_bar:
             with click.progressbar(
                 length=len(todo), label="adjusting", file=sys.stderr, show_pos=True
@@ -209,6 +217,8 @@ def batch(
         else:
             result = run_batch(todo, workers=workers, scheduler=scheduler, on_record=on_record)
     finally:
+        if old_term is not None:
+            signal.signal(signal.SIGTERM, old_term)
         if logf is not None:
             logf.close()
     lines = batch_summary(result)
