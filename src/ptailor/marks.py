@@ -490,33 +490,42 @@ def carry_piece(
     """
     diag = float(np.linalg.norm(piece.extent))
     keep_d = reach + tol.MARK_KEEP_REL * diag
-
-    def carry(X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        if len(X) == 0:
-            return np.zeros((0, 2)), np.zeros(0, dtype=bool)
-        loc = locate_points(V2, F2, match.to_panel(X), faces=faces)
-        return match.to_piece(carry_points(V2_new, F2, loc)), loc.distance <= keep_d
+    grain_pts = (
+        np.vstack([piece.grain, piece.grain.mean(axis=0, keepdims=True)])
+        if piece.grain is not None
+        else np.zeros((0, 2))
+    )
+    groups = [
+        piece.outline if unchanged else np.zeros((0, 2)),
+        piece.sew if unchanged and piece.sew is not None else np.zeros((0, 2)),
+        piece.notches,
+        piece.drills,
+        grain_pts,
+        *piece.internal,
+    ]
+    # every point located at once (one search structure per piece), then split by group
+    X = np.vstack([np.asarray(g, dtype=np.float64).reshape(-1, 2) for g in groups])
+    loc = locate_points(V2, F2, match.to_panel(X), faces=faces)
+    moved = match.to_piece(carry_points(V2_new, F2, loc)) if len(X) else np.zeros((0, 2))
+    kept = loc.distance <= keep_d
+    cuts = np.cumsum([len(g) for g in groups])[:-1]
+    moved_g, kept_g = np.split(moved, cuts), np.split(kept, cuts)
 
     dropped = 0
     if unchanged:
-        outline, _ = carry(piece.outline)
-        turn = piece.turn
-        sew = carry(piece.sew)[0] if piece.sew is not None else None
-        how = "carried"
+        outline, turn, how = moved_g[0], piece.turn, "carried"
+        sew = moved_g[1] if piece.sew is not None else None
     else:
         loop = outer_loop(F2, faces, V2_new)
         outline = match.to_piece(V2_new[loop])
         if np.linalg.det(match.R) < 0:
             outline = outline[::-1]
-        turn = corners(outline)
-        sew = None
-        how = "mesh"
-    notches, keep_n = carry(piece.notches)
-    drills, keep_d_ = carry(piece.drills)
+        turn, sew, how = corners(outline), None, "mesh"
+    notches, keep_n = moved_g[2], kept_g[2]
+    drills, keep_d_ = moved_g[3], kept_g[3]
     dropped += int((~keep_n).sum() + (~keep_d_).sum())
     internal = []
-    for line in piece.internal:  # a loop over a piece's internal lines
-        L, keep = carry(line)
+    for L, keep in zip(moved_g[5:], kept_g[5:], strict=True):  # a piece's internal lines
         dropped += int((~keep).sum())
         if keep.sum() >= 2:
             internal.append(L[keep])
@@ -527,13 +536,12 @@ def carry_piece(
     turn_deg = float(np.degrees(np.arctan2(Rq[1, 0], Rq[0, 0])))
     grain = None
     if piece.grain is not None:
-        ends, keep_g = carry(piece.grain)
-        mid, keep_m = carry(piece.grain.mean(axis=0, keepdims=True))
-        if keep_g.all() or keep_m.all():
+        ends, mid, keep_g = moved_g[4][:2], moved_g[4][2], kept_g[4]
+        if keep_g[:2].all() or keep_g[2]:
             d0 = piece.grain[1] - piece.grain[0]
             u = Rq @ (d0 / max(np.linalg.norm(d0), 1e-300))
             length = float(np.linalg.norm(ends[1] - ends[0]))
-            grain = np.stack([mid[0] - 0.5 * length * u, mid[0] + 0.5 * length * u])
+            grain = np.stack([mid - 0.5 * length * u, mid + 0.5 * length * u])
         else:
             dropped += 2
     angles = piece.notch_angles if len(piece.notch_angles) == len(keep_n) else np.zeros(len(keep_n))
