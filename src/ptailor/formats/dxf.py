@@ -23,6 +23,7 @@ import numpy as np
 
 from ptailor.errors import PtailorError
 from ptailor.model.pieces import PatternFile, Piece
+from ptailor.model.polyline import dedupe_closed, signed_area
 
 #: centimetres per file unit
 CM_PER_UNIT: dict[str, float] = {"mm": 0.1, "cm": 1.0, "in": 2.54}
@@ -507,9 +508,9 @@ def _build_piece(c: _Candidate, spath: str) -> Piece:
         raise PtailorError(
             f"piece {c.name!r}: the boundary (layer 1) does not close{gap}", path=spath
         )
-    areas = np.array([_signed_area(lp) for lp in loops])
+    areas = np.array([signed_area(lp) for lp in loops])
     k = int(np.argmax(np.abs(areas)))
-    outline = _drop_duplicates(loops[k], REL_DUP * diag)
+    outline = loops[k][dedupe_closed(loops[k], rel=REL_DUP)]
     if len(outline) < 3:
         raise PtailorError(
             f"piece {c.name!r}: the boundary has {len(outline)} point(s), fewer than 3",
@@ -520,7 +521,7 @@ def _build_piece(c: _Candidate, spath: str) -> Piece:
         tp = np.array(m.turn, dtype=float)
         d, idx = _nearest(outline, tp)
         turn[idx[d <= tol]] = True
-    if _signed_area(outline) < 0:
+    if signed_area(outline) < 0:
         outline, turn = outline[::-1].copy(), turn[::-1].copy()
 
     notches = np.array(m.notches, dtype=float).reshape(-1, 2)
@@ -542,8 +543,8 @@ def _build_piece(c: _Candidate, spath: str) -> Piece:
     if m.sew:
         sloops, _ = _chain(m.sew, REL_TOL * max(_diag(m.sew), 1e-12))
         if sloops:
-            sew = max(sloops, key=lambda s: abs(_signed_area(s)))
-            if _signed_area(sew) < 0:
+            sew = max(sloops, key=lambda s: abs(signed_area(s)))
+            if signed_area(sew) < 0:
                 sew = sew[::-1].copy()
     return Piece(
         name=c.name,
@@ -559,20 +560,6 @@ def _build_piece(c: _Candidate, spath: str) -> Piece:
         size=c.size,
         annotations=c.annotations,
     )
-
-
-def _signed_area(pts: np.ndarray) -> float:
-    x, y = pts[:, 0], pts[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
-
-
-def _drop_duplicates(pts: np.ndarray, eps: float) -> np.ndarray:
-    """Drop points equal to their predecessor (cyclically)."""
-    step = np.linalg.norm(pts - np.roll(pts, 1, axis=0), axis=1)
-    keep = step > eps
-    if not keep.any():
-        return pts[:1]
-    return pts[keep]
 
 
 def _nearest(ref: np.ndarray, query: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -632,17 +619,16 @@ def write_dxf(path: str | Path, pattern: PatternFile, *, layout: str = "auto") -
     outlines are written counter-clockwise. ``Creation Date`` comes from
     ``SOURCE_DATE_EPOCH`` when set, so reruns give the same bytes.
 
-    The bytes are those :func:`ezdxf.addons.gerber_D6673.export_stream` writes for the
-    same entities (an empty HEADER, BLOCKS without ``*Model_Space``/``*Paper_Space``, no
-    TABLES; the tests check it tag for tag), emitted directly: ezdxf builds and exports an
-    object per VERTEX, about 80 µs each, which for a few thousand outline points would be
-    a good part of a run.
+    The document is built with ezdxf and saved with its Gerber D6673 exporter
+    (:func:`ezdxf.addons.gerber_D6673.export_file`): an empty HEADER, BLOCKS without
+    ``*Model_Space``/``*Paper_Space``, no TABLES, as Gerber's importer wants.
     """
+    from ezdxf.addons import gerber_D6673
+
     spath = str(path)
-    text = _emit_r12(dxf_plan(pattern, layout=layout, path=spath))
+    doc = _document(dxf_plan(pattern, layout=layout, path=spath))
     try:
-        with open(spath, "w", encoding="ascii", newline="\n") as fh:
-            fh.write(text)
+        gerber_D6673.export_file(doc, spath)
     except OSError as exc:
         raise PtailorError(f"cannot write: {exc.strerror or exc}", path=spath) from exc
 
@@ -751,7 +737,7 @@ def _piece_entities(p: Piece) -> tuple[DxfEntity, ...]:
     """A piece's block content: boundary, marks, then its text."""
     out = []
     outline, turn = np.asarray(p.outline, dtype=float), np.asarray(p.turn, dtype=bool)
-    if _signed_area(outline) < 0:
+    if signed_area(outline) < 0:
         outline, turn = outline[::-1], turn[::-1]
     out.append(DxfEntity("POLYLINE", L_BOUNDARY, outline, closed=True))
     out += [DxfEntity("POINT", L_TURN, q[None]) for q in outline[turn]]
@@ -774,7 +760,7 @@ def _piece_entities(p: Piece) -> tuple[DxfEntity, ...]:
     if p.sew is not None and len(p.sew) >= 3:
         sew = np.asarray(p.sew, dtype=float)
         out.append(
-            DxfEntity("POLYLINE", L_SEW, sew[::-1] if _signed_area(sew) < 0 else sew, closed=True)
+            DxfEntity("POLYLINE", L_SEW, sew[::-1] if signed_area(sew) < 0 else sew, closed=True)
         )
 
     lo, hi = outline.min(axis=0), outline.max(axis=0)
@@ -792,60 +778,8 @@ def _piece_entities(p: Piece) -> tuple[DxfEntity, ...]:
     return tuple(out)
 
 
-def _emit_r12(plan: DxfPlan) -> str:
-    """The DXF text of ``plan``, as ezdxf's Gerber D6673 exporter writes it."""
-    parts = ["  0\nSECTION\n  2\nHEADER\n  0\nENDSEC\n  0\nSECTION\n  2\nBLOCKS\n"]
-    for name, ents in plan.blocks:
-        parts.append(
-            f"  0\nBLOCK\n  8\n0\n  2\n{name}\n 70\n0\n 10\n0.0\n 20\n0.0\n 30\n0.0\n"
-            f"  3\n{name}\n  1\n\n"
-        )
-        parts += [_emit_entity(e) for e in ents]
-        parts.append("  0\nENDBLK\n  8\n0\n")
-    parts.append("  0\nENDSEC\n  0\nSECTION\n  2\nENTITIES\n")
-    parts += [
-        f"  0\nINSERT\n  8\n{L_BOUNDARY}\n  2\n{name}\n 10\n0.0\n 20\n0.0\n 30\n0.0\n"
-        for name, _ in plan.blocks
-    ]
-    parts += [_emit_entity(e) for e in plan.texts]
-    parts.append("  0\nENDSEC\n  0\nEOF\n")
-    return "".join(parts)
-
-
-def _emit_entity(e: DxfEntity) -> str:
-    lay = e.layer
-    pts = e.pts.tolist()  # Python floats: repr() is what ezdxf writes
-    if e.kind == "POLYLINE":
-        head = (
-            f"  0\nPOLYLINE\n  8\n{lay}\n 66\n1\n 10\n0.0\n 20\n0.0\n 30\n0.0\n"
-            f" 70\n{int(e.closed)}\n"
-        )
-        verts = "".join(
-            [f"  0\nVERTEX\n  8\n{lay}\n 10\n{x!r}\n 20\n{y!r}\n 30\n0.0\n 70\n0\n" for x, y in pts]
-        )
-        return f"{head}{verts}  0\nSEQEND\n  8\n{lay}\n"
-    (x, y), rest = pts[0], pts[1:]
-    if e.kind == "POINT":
-        ang = "" if e.angle is None else f" 50\n{float(e.angle)!r}\n"
-        return f"  0\nPOINT\n  8\n{lay}\n 10\n{x!r}\n 20\n{y!r}\n 30\n0.0\n{ang}"
-    if e.kind == "LINE":
-        (x1, y1) = rest[0]
-        return (
-            f"  0\nLINE\n  8\n{lay}\n 10\n{x!r}\n 20\n{y!r}\n 30\n0.0\n"
-            f" 11\n{x1!r}\n 21\n{y1!r}\n 31\n0.0\n"
-        )
-    return (
-        f"  0\nTEXT\n  8\n{lay}\n 10\n{x!r}\n 20\n{y!r}\n 30\n0.0\n"
-        f" 40\n{float(e.height)!r}\n  1\n{e.text}\n"
-    )
-
-
-def _emit_ezdxf(plan: DxfPlan) -> str:
-    """The same plan through ezdxf and its Gerber D6673 exporter (the reference the tests
-    hold :func:`_emit_r12` to; slow: an object per vertex)."""
-    import io
-
-    from ezdxf.addons import gerber_D6673
+def _document(plan: DxfPlan) -> Any:
+    """An ezdxf R12 document holding ``plan``'s blocks, INSERTs and style text."""
     from ezdxf.document import Drawing
 
     doc = Drawing.new("R12")  # not ezdxf.new: it sets $INSUNITS and warns that R12 has none
@@ -873,9 +807,7 @@ def _emit_ezdxf(plan: DxfPlan) -> str:
         msp.add_blockref(name, (0, 0), dxfattribs={"layer": L_BOUNDARY})
     for e in plan.texts:
         add(msp, e)
-    stream = io.StringIO()
-    gerber_D6673.export_stream(doc, stream)
-    return stream.getvalue()
+    return doc
 
 
 def _map_piece(p: Piece, scale: float, offset: np.ndarray) -> Piece:
