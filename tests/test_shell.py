@@ -127,7 +127,7 @@ def _adjust_parallel(tmp_path, env: dict) -> subprocess.CompletedProcess:
 def _check_adjust_parallel(tmp_path, r) -> None:
     assert r.returncode == 1, r.stderr
     out = tmp_path / "out"
-    assert sorted(p.name for p in out.iterdir()) == ["skirt", "sleeve", "tube"]
+    assert sorted(p.name for p in out.iterdir()) == ["skirt", "sleeve", "tube"], r.stderr
     for name in ("skirt", "sleeve", "tube"):
         rep = json.loads((out / name / "report.json").read_text())
         assert rep["panels"][0]["area_after"] > rep["panels"][0]["area_before"]
