@@ -1,6 +1,7 @@
 """Benchmark ``ptailor batch``: throughput and the overhead of the batch machinery.
 
-    python bench/bench_batch.py [--garments 100] [--jobs 2] [--no-reference] [--keep DIR]
+    python bench/bench_batch.py [--garments 100] [--jobs 2] [--no-reference] [--shell]
+                                [--keep DIR]
 
 Writes ``--garments`` lantern sleeves (``ptailor.samples.sample_for_triangles(n)``, n drawn
 from 5,000 to 30,000 triangles with a seeded RNG) once to a temporary folder, then runs
@@ -18,6 +19,9 @@ warm-up, dispatch, result collection, idle workers at the end):
   two adjustments sharing the machine (memory bandwidth, caches), not the machinery's;
 - **CPU time**: the CPU time of the batch's processes (``RUSAGE_CHILDREN``) against the
   in-process runs' CPU time (less sensitive to other load on the machine).
+
+``--shell`` also times ``cli/adjust-parallel`` (one ``ptailor adjust`` process per garment,
+``--jobs`` at a time) on the same garments, for comparison.
 
 Target (issue 6): overhead under 10 % of the total. Writes ``bench/results/batch.json``.
 """
@@ -83,6 +87,9 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=6)
     ap.add_argument("--no-reference", action="store_true", help="skip the in-process runs")
     ap.add_argument("--keep", default=None, help="work in this folder and keep it")
+    ap.add_argument(
+        "--shell", action="store_true", help="also time cli/adjust-parallel (a process each)"
+    )
     args = ap.parse_args()
 
     with tempfile.TemporaryDirectory(prefix="ptailor-bench-batch-") as td:
@@ -190,6 +197,25 @@ def main() -> None:
                 cpu_in_process_s=round(cpu_ref, 3),
                 cpu_overhead=round(over_cpu, 4),
             )
+        if args.shell:
+            script = Path(__file__).resolve().parents[1] / "cli" / "adjust-parallel"
+            env = dict(os.environ, JOBS=str(args.jobs), PTAILOR=f"{sys.executable} -m ptailor")
+            listing = "".join(f"{cat / f'g{k:03d}.obj'}\n" for k in range(n))
+            t0 = time.perf_counter()
+            subprocess.run(
+                [str(script), str(recipe), str(root / "shell")],
+                input=listing,
+                capture_output=True,
+                text=True,
+                env=env,
+                check=True,
+            )
+            t_shell = time.perf_counter() - t0
+            print(
+                f"cli/adjust-parallel (one ptailor adjust process per garment, {args.jobs} at a "
+                f"time): {t_shell:.1f} s, {60.0 * n / t_shell:.1f} garments/min"
+            )
+            result.update(shell_s=round(t_shell, 3))
         RESULTS.parent.mkdir(exist_ok=True)
         RESULTS.write_text(json.dumps(result, indent=2) + "\n")
         print(f"wrote {RESULTS}")

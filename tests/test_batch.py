@@ -135,8 +135,9 @@ def test_globs_folders_stdin_and_shared_stems(tmp_path, recipe):
     r = run("batch", recipe, cat, "-o", out3, "--json", *FAST)
     assert r.exit_code == 0, r.output
     assert len(r.stdout.splitlines()) == 5
-    r = run("batch", recipe, cat, "-o", out3, "--json", *FAST)
+    r = run("batch", recipe, cat, cat / "zz*.obj", "-o", out3, "--json", *FAST)
     assert [json.loads(ln)["status"] for ln in r.stdout.splitlines()] == ["skipped"] * 5
+    assert "zz*.obj: no garments found" in r.stderr  # a glob that finds nothing is a warning
 
 
 def test_bad_recipe_or_arguments_exit_2_and_write_nothing(tmp_path, recipe, catalogue):

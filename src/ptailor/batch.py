@@ -57,7 +57,11 @@ _GLOB_CHARS = re.compile(r"[*?\[]")
 
 
 def expand_garments(
-    specs: Sequence[str], *, stdin: IO[str] | None = None, exclude_under: str | Path | None = None
+    specs: Sequence[str],
+    *,
+    stdin: IO[str] | None = None,
+    exclude_under: str | Path | None = None,
+    warn: Callable[[str], None] | None = None,
 ) -> list[str]:
     """The garment paths that ``specs`` name, in order, each once.
 
@@ -72,6 +76,8 @@ def expand_garments(
     exclude_under : path, optional
         The output root: files below it found by a glob or a folder are left out (they are
         earlier outputs), paths given literally are kept.
+    warn : callable, optional
+        Called with a message for each glob or folder that finds no garment.
 
     Returns
     -------
@@ -97,12 +103,15 @@ def expand_garments(
                 raise PtailorError("'-' (garment paths on stdin) can be given once")
             read_stdin = True
             paths += [ln.strip() for ln in stdin.read().splitlines() if ln.strip()]
-        elif Path(spec).is_dir():
-            found = glob.glob(os.path.join(glob.escape(spec), "**", "*.obj"), recursive=True)
-            paths += [p for p in sorted(found) if Path(p).is_file() and outside(p)]
-        elif _GLOB_CHARS.search(spec) and not Path(spec).is_file():
-            found = glob.glob(spec, recursive=True)
-            paths += [p for p in sorted(found) if Path(p).is_file() and outside(p)]
+        elif Path(spec).is_dir() or (_GLOB_CHARS.search(spec) and not Path(spec).is_file()):
+            if Path(spec).is_dir():
+                found = glob.glob(os.path.join(glob.escape(spec), "**", "*.obj"), recursive=True)
+            else:
+                found = glob.glob(spec, recursive=True)
+            found = [p for p in sorted(found) if Path(p).is_file() and outside(p)]
+            if not found and warn is not None:
+                warn(f"{spec}: no garments found")
+            paths += found
         else:
             paths.append(spec)
     seen: set[str] = set()
@@ -438,8 +447,8 @@ def _unchanged(job: Job, stamp: dict) -> dict | None:
 def check_unchanged(job: Job) -> dict | None:
     """:func:`run_job`'s record when the job's folder is up to date, else None (cheap: the
     parent runs it first so that an up-to-date catalogue starts no workers)."""
-    if job.force:
-        return None
+    if job.force or not (Path(job.out_abs) / STAMP).is_file():
+        return None  # (no hashing when there is no stamp to compare with)
     t0 = time.perf_counter()
     try:
         rec = _unchanged(job, job_stamp(job))

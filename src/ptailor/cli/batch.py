@@ -165,7 +165,12 @@ def batch(
     allowance = None
     if seam_allowance is not None:
         allowance = parse_length(seam_allowance, to=rec.units, what="--seam-allowance")
-    paths = expand_garments(garments, stdin=sys.stdin, exclude_under=out)
+    paths = expand_garments(
+        garments,
+        stdin=sys.stdin,
+        exclude_under=out,
+        warn=lambda msg: click.echo(f"ptailor: warning: {msg}", err=True),
+    )
     if not paths:
         raise PtailorError(f"no garments: {' '.join(garments)} matched no files")
     todo = make_jobs(
