@@ -279,3 +279,81 @@ def test_dxf_pieces_of_a_real_garment_round_trip_through_adjust(tmp_path):
     sizes = np.array([pc.extent for pc in pf.pieces])
     assert sizes.max() < 2000 and sizes.min() > 50  # plausible garment pieces in mm
     assert Path(out / "pattern.dxf").read_text().count("Piece Name:") == 6
+
+
+def _flat_drape(pf, path: Path) -> None:
+    """A flat 'drape' OBJ triangulating a pattern file's pieces: v in cm, vt in file units.
+
+    Outline points plus an interior grid, Delaunay-triangulated, triangles whose centroid
+    falls outside the outline dropped: the mesh's boundary is close to, not equal to, the
+    DXF outline (as a simulator's mesh is).
+    """
+    from matplotlib.path import Path as MPath
+    from scipy.spatial import Delaunay
+
+    from ptailor.model.garment import Garment
+    from ptailor.model.units import CM_PER
+
+    k = CM_PER[pf.units]
+    V, F, group, names = [], [], [], []
+    n = 0
+    for i, pc in enumerate(pf.pieces):
+        P = pc.outline
+        step = 0.04 * float(pc.extent.max())
+        lo, hi = P.min(0), P.max(0)
+        gx, gy = np.meshgrid(np.arange(lo[0], hi[0], step), np.arange(lo[1], hi[1], step))
+        grid = np.stack([gx.ravel(), gy.ravel()], 1)
+        inside = MPath(P).contains_points(grid)
+        far = np.min(np.linalg.norm(grid[:, None] - P[None], axis=-1), axis=1) > 0.5 * step
+        pts = np.vstack([P, grid[inside & far]])
+        tri = Delaunay(pts).simplices
+        keep = MPath(P).contains_points(pts[tri].mean(axis=1))
+        tri = tri[keep]
+        V.append(pts)
+        F.append(tri + n)
+        group.append(np.full(len(tri), i))
+        names.append(pc.name)
+        n += len(pts)
+    V2 = np.vstack(V)
+    g = Garment(
+        V3=np.column_stack([V2 * k, np.zeros(len(V2))]),
+        F3=np.vstack(F),
+        V2=V2,
+        F2=np.vstack(F),
+        face_group=np.concatenate(group),
+        group_names=tuple(names),
+        units="cm",
+    )
+    write_garment(path, g, header=["flat drape of a DXF: v in cm, vt in the DXF's units"])
+
+
+CLO = Path(__file__).resolve().parents[2] / "shared" / "dxf" / "clo-pattern.dxf"
+
+
+@pytest.mark.skipif(not CLO.is_file(), reason="../shared/dxf is absent")
+def test_a_real_clo_pattern_through_identity_and_a_uniform_scale(tmp_path):
+    pf = read_dxf(CLO)
+    drape = tmp_path / "clo.obj"
+    _flat_drape(pf, drape)
+    before = _by_name(pf)
+    for name, text, k in (("id", IDENTITY, 1.0), ("up", UNIFORM, 1.1)):
+        out = tmp_path / name
+        r = run("adjust", CLO, _recipe(tmp_path, text), "--drape", drape, "-o", out,
+                "--formats", "dxf", "--no-baseline")  # fmt: skip
+        assert r.exit_code == 0, r.output
+        after = _by_name(read_dxf(out / "pattern.dxf"))
+        assert sorted(after) == sorted(before)
+        for pname, a in before.items():
+            b = after[pname]
+            size = float(np.linalg.norm(a.extent))
+            assert len(b.notches) == len(a.notches) and b.grain is not None
+            if k == 1.0:
+                _close(b.outline, a.outline, size)
+                _close(b.notches, a.notches, size)
+                _close(b.grain, a.grain, size)
+            else:
+                ratio = abs(signed_area(b.outline)) / abs(signed_area(a.outline))
+                assert ratio == pytest.approx(k * k, rel=1e-6)
+        report = json.loads((out / "report.json").read_text())
+        assert report["units"]["pattern"] == "mm"
+        assert all(p["source"] == "file" for p in report["pattern"]["pieces"])
