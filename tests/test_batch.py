@@ -101,6 +101,34 @@ def test_an_internal_error_is_one_garments_failure(tmp_path, recipe, catalogue, 
     assert visible(out) == ["a_sleeve"]
 
 
+@pytest.mark.skipif(
+    __import__("multiprocessing").get_start_method() != "fork",
+    reason="the patched run_adjust reaches the workers only when they are forked",
+)
+def test_a_garment_that_kills_its_worker_fails_alone(tmp_path, catalogue, monkeypatch):
+    import ptailor.job
+    from ptailor.recipe import parse_recipe
+
+    (catalogue / "c_bad.obj").unlink()
+    real = ptailor.job.run_adjust
+
+    def deadly(path, *args, **kw):  # a crash in a native library, the OOM killer
+        if "b_tube" in path:
+            os.kill(os.getpid(), signal.SIGKILL)
+        return real(path, *args, **kw)
+
+    monkeypatch.setattr(ptailor.job, "run_adjust", deadly)
+    out = tmp_path / "out"
+    paths = sorted(str(p) for p in catalogue.glob("*.obj"))
+    opts = {"formats": ("obj",), "baseline": False}
+    jobs = pb.make_jobs(paths, out, parse_recipe(WIDER), adjust_options=opts)
+    res = pb.run_batch(jobs, workers=2)
+    assert [r["status"] for r in res.records] == ["ok", "failed", "ok", "ok"]
+    assert "worker process died" in res.records[1]["reason"]
+    assert res.exit_status == 1
+    assert visible(out) == ["a_sleeve", "d_skirt", "e_sleeve"]
+
+
 def test_globs_folders_stdin_and_shared_stems(tmp_path, recipe):
     cat = tmp_path / "cat"
     (cat / "x" / "deep").mkdir(parents=True)

@@ -698,9 +698,43 @@ def _run_here(jobs: Sequence[Job], done) -> bool:
     return False
 
 
+#: a garment still unfinished after this many broken pools runs in a worker of its own
+_STRIKES = 2
+
+
 def _run_pool(jobs: Sequence[Job], n: int, done) -> bool:
+    """Run jobs in a pool of ``n`` worker processes; True when interrupted.
+
+    A worker that dies (killed, out of memory, a crash in a native library) breaks the
+    pool: the garments not finished go to a new pool, and one still unfinished after
+    :data:`_STRIKES` broken pools runs alone, so that a garment that kills its worker fails
+    by itself ("its worker process died") and the others finish.
+    """
+    strikes = dict.fromkeys((j.index for j in jobs), 0)
+    todo = list(jobs)
+    while todo:
+        shared = [j for j in todo if strikes[j.index] < _STRIKES]
+        rounds = ([shared] if shared else []) + [[j] for j in todo if j not in shared]
+        todo = []
+        for part in rounds:
+            interrupted, unfinished = _pool_round(part, min(n, len(part)), done)
+            if interrupted:
+                return True
+            for job in unfinished:
+                strikes[job.index] += 1
+                if strikes[job.index] > _STRIKES:
+                    reason = "internal error: its worker process died (killed, or out of memory?)"
+                    done(job, job.record("failed", failure="internal", reason=reason))
+                else:
+                    todo.append(job)
+    return False
+
+
+def _pool_round(jobs: Sequence[Job], n: int, done) -> tuple[bool, list[Job]]:
+    """One pool over ``jobs``: (interrupted, the jobs left unfinished by a broken pool)."""
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures.process import BrokenProcessPool
 
     ctx = mp.get_context()
     stop = ctx.Event()
@@ -708,13 +742,17 @@ def _run_pool(jobs: Sequence[Job], n: int, done) -> bool:
         max_workers=n, mp_context=ctx, initializer=init_worker, initargs=(stop,)
     )
     futures = {}
+    unfinished = []
     try:
         for job in largest_first(jobs):
             futures[ex.submit(run_job, job)] = job
         for fut in as_completed(futures):
             job = futures[fut]
             exc = fut.exception()
-            done(job, _failed_future(job, exc) if exc is not None else fut.result())
+            if isinstance(exc, BrokenProcessPool):
+                unfinished.append(job)
+            else:
+                done(job, _failed_future(job, exc) if exc is not None else fut.result())
     except KeyboardInterrupt:
         stop.set()
         for fut in futures:
@@ -735,10 +773,15 @@ def _run_pool(jobs: Sequence[Job], n: int, done) -> bool:
                 rec = fut.result()
                 if rec["status"] != "interrupted":
                     done(job, rec)
-        return True
+        return True, []
+    except BrokenProcessPool:  # submit() on a pool that broke meanwhile
+        unfinished = [j for f, j in futures.items() if not f.done() or f.exception()]
+        unfinished += [j for j in jobs if j not in futures.values()]
     finally:
         ex.shutdown(wait=True, cancel_futures=True)
-    return False
+    for job in unfinished:  # what a killed worker was writing
+        remove_staging(job.out_abs)
+    return False, sorted(unfinished, key=lambda j: j.index)
 
 
 def _run_dask(jobs: Sequence[Job], address: str, done) -> bool:
