@@ -131,14 +131,15 @@ def batch(
     arguments, 130 interrupted by Ctrl-C or SIGTERM (complete folders are kept: run again
     to finish).
     """
+    import contextlib
     import os
     import signal
     import sys
 
     workers = jobs or os.cpu_count() or 1
-    if scheduler is None and workers > 1:
-        # one BLAS thread per worker process (before numpy is imported): several workers
-        # with a thread per core each only oversubscribe the cores
+    if scheduler is None and workers > 1 and "numpy" not in sys.modules:
+        # one BLAS thread per worker process (read when numpy loads; forked workers inherit
+        # it): several workers with a thread per core each only oversubscribe the cores
         for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
             os.environ.setdefault(var, "1")
 
@@ -195,7 +196,10 @@ def batch(
         force=force,
     )
     old_term = None
-    logf = open(log, "w") if log else None  # noqa: SIM115 - closed below, written as records come
+    try:
+        logf = open(log, "w") if log else None  # noqa: SIM115 - closed below
+    except OSError as exc:
+        raise PtailorError(f"cannot write the log ({exc.strerror or exc})", path=log) from None
     try:
 
         def on_record(r: dict) -> None:
@@ -207,7 +211,8 @@ def batch(
                 click.echo(line)
 
         show_bar = not quiet and sys.stderr.isatty()
-        old_term = signal.signal(signal.SIGTERM, _interrupt)  # SIGTERM is Ctrl-C too
+        with contextlib.suppress(ValueError):  # (only the main thread can)
+            old_term = signal.signal(signal.SIGTERM, _interrupt)  # SIGTERM is Ctrl-C too
         if show_bar:
             with click.progressbar(
                 length=len(todo), label="adjusting", file=sys.stderr, show_pos=True
