@@ -38,7 +38,8 @@ class OutputContext:
         The input, with its file units.
     pieces : list of CarriedPiece or None
         The adjusted pieces (computation units), ``None`` for panels removed whole.
-    plan : PiecePlan
+    plan : PiecePlan or None
+        None when no DXF is read or written.
     errors : (m,) float array
         Intrinsic-scale error per adjusted triangle.
     seam_allowance : float or None
@@ -49,7 +50,7 @@ class OutputContext:
 
     loaded: LoadedGarment
     pieces: list[CarriedPiece | None]
-    plan: PiecePlan
+    plan: PiecePlan | None
     errors: np.ndarray
     seam_allowance: float | None = None
     title: str = ""
@@ -319,7 +320,12 @@ def run_adjust(
         size=size,
         dxf_units=dxf_units,
     )
-    plan = piece_plan(loaded.garment, panels(loaded.garment), pattern=loaded.pattern, up=options.up)
+    # pieces are matched (a DXF's, failing early) or drawn when a DXF is read or written
+    plan = (
+        piece_plan(loaded.garment, panels(loaded.garment), pattern=loaded.pattern, up=options.up)
+        if "dxf" in formats or loaded.pattern is not None
+        else None
+    )
     t1 = time.perf_counter()
     adj = adjust(
         loaded.garment,
@@ -349,7 +355,7 @@ def run_adjust(
         )
     t2 = time.perf_counter()
     errors = triangle_errors(adj)
-    carried = adjusted_pieces(adj, plan)
+    carried = adjusted_pieces(adj, plan) if plan is not None else []
     ctx = OutputContext(
         loaded=loaded,
         pieces=carried,
@@ -371,7 +377,7 @@ def run_adjust(
         timing = {"load": t1 - t0, **adj.timing_s, "write": t3 - t2}
         read = {**loaded.inputs, **({"body": body} if body else {})}
         shown = {**read, **(display_inputs or {})}
-        pattern_rec = {"pieces": pieces_record(plan, carried, names0)}
+        pattern_rec = {"pieces": pieces_record(plan, carried, names0) if plan else []}
         if loaded.pattern is not None:
             pf = loaded.pattern
             pattern_rec.update({"size": pf.size, "sizes": list(pf.sizes), "style": pf.style})
