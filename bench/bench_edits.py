@@ -11,13 +11,12 @@ and 4: each surgery edit and each deformation step within 2 s.
 from __future__ import annotations
 
 import argparse
-import statistics
-import time
 
 from ptailor.adjust import adjust, apply_steps
 from ptailor.edits import EditOptions
 from ptailor.recipe import parse_recipe
 from ptailor.samples import sample_for_triangles
+from timing import median_time
 
 RECIPES = {
     "shorten hem by 5": "steps: [{op: shorten, opening: hem, by: 5}]",
@@ -35,15 +34,6 @@ RECIPES = {
         "steps: [{op: scale_seam, seam: [sleeve, cuff], part: sleeve, factor: 1.3, fix: [waist]}]"
     ),
 }
-
-
-def median_time(fn, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
 
 
 def main() -> None:

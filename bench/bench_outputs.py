@@ -17,7 +17,6 @@ import statistics
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -28,17 +27,9 @@ from ptailor.model.garment import panels
 from ptailor.recipe import parse_recipe
 from ptailor.report.build import triangle_errors
 from ptailor.samples import sample_for_triangles
+from timing import median_time
 
 RECIPE = "steps: [{op: scale, region: all, direction: around, axis: auto, factor: 1.2}]"
-
-
-def median_time(fn, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
 
 
 def main() -> None:
