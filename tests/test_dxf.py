@@ -61,6 +61,7 @@ def bodice(x0=0.0, y0=0.0, n=120) -> Piece:
         ),
         drills=np.array([[10.0, 40.0]]) + off,
         sew=np.array([[1.0, 1.0], [39.0, 1.0], [39.0, 51.0], [1.0, 51.0]]) + off,
+        mirror=np.array([[0.0, 0.0], [0.0, 60.0]]) + off,
         quantity=2,
         size="M",
         annotations=("Category: FRONT", "Annotation: 1X FABRIC"),
@@ -173,6 +174,7 @@ def test_round_trip_in_inches(tmp_path):
     for x, y in zip(f0.internal, f1.internal, strict=True):
         np.testing.assert_allclose(y, x, atol=1e-6)
     np.testing.assert_allclose(f1.drills, f0.drills, atol=1e-6)
+    np.testing.assert_allclose(f1.mirror, f0.mirror, atol=1e-6)
     assert same_loop(f0.sew, f1.sew, 1e-6)
     assert f1.annotations == f0.annotations
 
@@ -561,6 +563,17 @@ def test_real_files_round_trip(tmp_path, path):
         np.testing.assert_allclose(b.outline, a.outline, atol=1e-6 * a.extent.max())
         np.testing.assert_array_equal(b.turn, a.turn)
         np.testing.assert_allclose(b.notches, a.notches, atol=1e-6 * a.extent.max())
+        if a.mirror is not None:
+            np.testing.assert_allclose(b.mirror, a.mirror, atol=1e-6 * a.extent.max())
+
+
+def test_real_tank_pieces_are_halves_with_their_fold_line():
+    pf = read_dxf(real(TANK))
+    for p in pf.pieces:
+        assert p.mirror is not None
+        # the fold runs along the outline (the centre front / back edge)
+        d = np.min(np.linalg.norm(p.outline[:, None] - p.mirror[None], axis=-1), axis=0)
+        assert d.max() < 1e-3 * p.extent.max()
 
 
 def test_inspect_real_tank_sizes():

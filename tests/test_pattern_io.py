@@ -43,6 +43,7 @@ def _marked_pieces(g) -> list[Piece]:
                 notches=np.vstack([pc.notches, mid]),
                 notch_angles=np.zeros(len(pc.notches) + 2),
                 drills=c[None] + [0.5, 0.5],
+                mirror=P[[0, 1]],  # along the first outline edge
                 internal=(np.stack([c - d, c + d]),),
                 quantity=1,
                 size="M",
@@ -125,6 +126,7 @@ def test_identity_on_a_dxf_and_its_drape_gives_back_outlines_and_marks(tmp_path,
         _close(b.grain, a.grain, size)
         _close(b.drills, a.drills, size)
         _close(b.internal[0], a.internal[0], size)
+        _close(b.mirror, a.mirror, size)
         assert b.size == "M"
     report = json.loads((tmp_path / "o" / "report.json").read_text())
     recs = report["pattern"]["pieces"]
@@ -141,8 +143,8 @@ def test_a_uniform_scale_scales_every_mark_and_keeps_the_grain_direction(tmp_pat
     for name, a in before.items():
         b = after[name]
         assert abs(signed_area(b.outline)) == pytest.approx(1.21 * abs(signed_area(a.outline)))
-        pa = np.vstack([a.notches, a.drills, a.grain])
-        pb = np.vstack([b.notches, b.drills, b.grain])
+        pa = np.vstack([a.notches, a.drills, a.grain, a.mirror])
+        pb = np.vstack([b.notches, b.drills, b.grain, b.mirror])
         da = np.linalg.norm(pa[:, None] - pa[None], axis=-1)
         db = np.linalg.norm(pb[:, None] - pb[None], axis=-1)
         np.testing.assert_allclose(db, 1.1 * da, atol=1e-6 * da.max())
@@ -155,16 +157,7 @@ def test_a_moved_piece_is_matched_by_shape_and_written_where_the_file_had_it(tmp
     R, t = np.array([[c, -s], [s, c]]), np.array([400.0, 50.0])
 
     def move(pc):
-        if pc.name != "cuff":
-            return pc
-        return replace(
-            pc,
-            outline=pc.outline @ R.T + t,
-            notches=pc.notches @ R.T + t,
-            grain=pc.grain @ R.T + t,
-            drills=pc.drills @ R.T + t,
-            internal=tuple(L @ R.T + t for L in pc.internal),
-        )
+        return pc if pc.name != "cuff" else pc.map_points(lambda a: a @ R.T + t)
 
     obj, dxf, _ = _setup(tmp_path, move=move)
     r = run("adjust", dxf, _recipe(tmp_path, IDENTITY), "--drape", obj, "-o", tmp_path / "o")
@@ -175,6 +168,7 @@ def test_a_moved_piece_is_matched_by_shape_and_written_where_the_file_had_it(tmp
     _close(b.outline, a.outline, size)
     _close(b.notches, a.notches, size)
     _close(b.grain, a.grain, size)
+    _close(b.mirror, a.mirror, size)
     recs = {p["name"]: p for p in json.loads((tmp_path / "o" / "report.json").read_text())[
         "pattern"]["pieces"]}  # fmt: skip
     assert recs["cuff"]["matched_by"] == "shape" and recs["sleeve"]["matched_by"] == "position"

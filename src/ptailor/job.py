@@ -191,6 +191,7 @@ def pieces_record(plan: PiecePlan, pieces: list[CarriedPiece | None], names: lis
                     "outline": cp.outline_from,
                     "notches": len(cp.piece.notches),
                     "grain_line": cp.piece.grain is not None,
+                    "fold_line": cp.piece.mirror is not None,
                     "internal_lines": len(cp.piece.internal),
                     "drill_holes": len(cp.piece.drills),
                     "marks_dropped": cp.dropped,

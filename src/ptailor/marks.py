@@ -512,6 +512,7 @@ def carry_piece(
         piece.notches,
         piece.drills,
         grain_pts,
+        piece.mirror if piece.mirror is not None else np.zeros((0, 2)),
         *piece.internal,
     ]
     # every point located at once (one search structure per piece), then split by group
@@ -536,7 +537,13 @@ def carry_piece(
     drills, keep_d_ = moved_g[3], kept_g[3]
     dropped += int((~keep_n).sum() + (~keep_d_).sum())
     internal = []
-    for L, keep in zip(moved_g[5:], kept_g[5:], strict=True):  # a piece's internal lines
+    mirror = None
+    if piece.mirror is not None:
+        if kept_g[5].all():
+            mirror = moved_g[5]
+        else:
+            dropped += 2
+    for L, keep in zip(moved_g[6:], kept_g[6:], strict=True):  # a piece's internal lines
         dropped += int((~keep).sum())
         if keep.sum() >= 2:
             internal.append(L[keep])
@@ -567,21 +574,14 @@ def carry_piece(
         internal=tuple(internal),
         drills=drills[keep_d_],
         sew=sew,
+        mirror=mirror,
     )
     return CarriedPiece(piece=new, outline_from=how, dropped=dropped)
 
 
 def scale_piece(piece: Piece, k: float) -> Piece:
     """Every coordinate of ``piece`` times ``k`` (a change of units)."""
-    return replace(
-        piece,
-        outline=piece.outline * k,
-        notches=piece.notches * k,
-        grain=None if piece.grain is None else piece.grain * k,
-        internal=tuple(L * k for L in piece.internal),
-        drills=piece.drills * k,
-        sew=None if piece.sew is None else piece.sew * k,
-    )
+    return piece.map_points(lambda a: a * k)
 
 
 def with_seam_allowance(piece: Piece, d: float) -> Piece:

@@ -15,7 +15,7 @@ from __future__ import annotations
 import datetime as _dt
 import os
 import re
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -32,6 +32,7 @@ _INSUNITS = {1: "in", 4: "mm", 5: "cm"}
 
 L_BOUNDARY, L_TURN, L_NOTCH, L_GRAIN, L_INTERNAL = "1", "2", "4", "7", "8"
 L_CUTOUT, L_DRILL, L_SEW, L_TEXT = "11", "13", "14", "15"
+L_MIRROR = "6"
 NOTCH_LAYERS = frozenset({"4", "80", "81", "82", "83"})
 LAYOUTS = ("auto", "keep", "row")
 
@@ -56,6 +57,7 @@ class _Marks:
     notch_angles: list[float] = field(default_factory=list)
     notch_lines: list[np.ndarray] = field(default_factory=list)
     grain: list[np.ndarray] = field(default_factory=list)
+    mirror: list[np.ndarray] = field(default_factory=list)
     internal: list[np.ndarray] = field(default_factory=list)
     drills: list[tuple[float, float]] = field(default_factory=list)
     sew: list[np.ndarray] = field(default_factory=list)
@@ -302,7 +304,7 @@ def _collect(entities: Any, T: tuple[np.ndarray, np.ndarray] | None) -> _Marks:
             elif layer == L_DRILL:
                 m.drills.append(_point(e, T))
             continue
-        if layer not in (L_BOUNDARY, L_GRAIN, L_INTERNAL, L_CUTOUT, L_SEW) and not (
+        if layer not in (L_BOUNDARY, L_GRAIN, L_MIRROR, L_INTERNAL, L_CUTOUT, L_SEW) and not (
             layer in NOTCH_LAYERS and kind == "LINE"
         ):
             continue
@@ -315,6 +317,8 @@ def _collect(entities: Any, T: tuple[np.ndarray, np.ndarray] | None) -> _Marks:
             m.notch_lines.append(pts[[0, -1]])
         elif layer == L_GRAIN:
             m.grain.append(pts[[0, -1]])
+        elif layer == L_MIRROR:
+            m.mirror.append(pts[[0, -1]])
         elif layer == L_SEW:
             m.sew.append(pts)
         elif layer in (L_INTERNAL, L_CUTOUT):
@@ -419,7 +423,7 @@ def _modelspace_candidates(m: _Marks, spath: str) -> list[_Candidate]:
             getattr(out[o], pts_name).append(pts[k])
             if ang_name:
                 getattr(out[o], ang_name).append(getattr(m, ang_name)[k])
-    for name in ("notch_lines", "grain", "sew"):
+    for name in ("notch_lines", "grain", "mirror", "sew"):
         for arr in getattr(m, name):
             getattr(out[int(owner(arr.mean(axis=0))[0])], name).append(arr)
     for arr, line in zip(m.internal, m.internal_is_line, strict=True):
@@ -553,6 +557,7 @@ def _build_piece(c: _Candidate, spath: str) -> Piece:
         notches=notches,
         notch_angles=angles,
         grain=m.grain[0].copy() if m.grain else None,
+        mirror=m.mirror[0].copy() if m.mirror else None,
         internal=tuple(internal),
         drills=np.array(m.drills, dtype=float).reshape(-1, 2),
         sew=sew,
@@ -751,6 +756,8 @@ def _piece_entities(p: Piece) -> tuple[DxfEntity, ...]:
     ]
     if p.grain is not None:
         out.append(DxfEntity("LINE", L_GRAIN, np.asarray(p.grain, dtype=float)[[0, -1]]))
+    if p.mirror is not None:
+        out.append(DxfEntity("LINE", L_MIRROR, np.asarray(p.mirror, dtype=float)[[0, -1]]))
     out += [
         DxfEntity("POLYLINE", L_INTERNAL, np.asarray(line, dtype=float))
         for line in p.internal
@@ -812,26 +819,14 @@ def _document(plan: DxfPlan) -> Any:
 
 def _map_piece(p: Piece, scale: float, offset: np.ndarray) -> Piece:
     """``p`` with every coordinate mapped ``x -> scale * x + offset`` (a new Piece)."""
-
-    def f(a: np.ndarray | None) -> np.ndarray | None:
-        return None if a is None else np.asarray(a, dtype=float) * scale + offset
-
-    return replace(
-        p,
-        outline=f(p.outline),
-        notches=f(p.notches),
-        grain=f(p.grain),
-        internal=tuple(f(a) for a in p.internal),
-        drills=f(p.drills),
-        sew=f(p.sew),
-    )
+    return p.map_points(lambda a: a * scale + offset)
 
 
 def piece_bounds(p: Piece) -> np.ndarray:
     """Bounding box of a piece and all its marks, ``(2, 2)``: ``[[xmin, ymin], [xmax, ymax]]``."""
     parts = [p.outline, np.asarray(p.notches).reshape(-1, 2), np.asarray(p.drills).reshape(-1, 2)]
     parts += [np.asarray(a).reshape(-1, 2) for a in p.internal]
-    parts += [np.asarray(a).reshape(-1, 2) for a in (p.grain, p.sew) if a is not None]
+    parts += [np.asarray(a).reshape(-1, 2) for a in (p.grain, p.sew, p.mirror) if a is not None]
     pts = np.vstack(parts)
     return np.array([pts.min(axis=0), pts.max(axis=0)])
 

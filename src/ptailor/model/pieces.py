@@ -8,7 +8,8 @@ units and style text. Coordinates are in ``PatternFile.units`` (``mm``, ``cm``, 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -41,6 +42,8 @@ class Piece:
         Drill holes (layer 13).
     sew : (k, 2) float array or None
         Sew line (layer 14), closed, when the file has one.
+    mirror : (2, 2) float array or None
+        Mirror (fold) line ends (layer 6): the piece is half of one cut on the fold.
     quantity : int
         How many to cut.
     size : str
@@ -58,6 +61,7 @@ class Piece:
     internal: tuple[np.ndarray, ...] = ()
     drills: np.ndarray = field(default_factory=_empty_points)
     sew: np.ndarray | None = None
+    mirror: np.ndarray | None = None
     quantity: int = 1
     size: str = ""
     annotations: tuple[str, ...] = ()
@@ -65,6 +69,27 @@ class Piece:
     def __post_init__(self) -> None:
         if self.turn is None:
             object.__setattr__(self, "turn", np.zeros(len(self.outline), dtype=bool))
+
+    def map_points(self, fn: Callable[[np.ndarray], np.ndarray]) -> Piece:
+        """A new piece with ``fn`` applied to every coordinate array (``(k, 2)`` -> ``(k, 2)``).
+
+        The one place that knows which fields hold coordinates: changes of units, layouts
+        and rigid maps go through it.
+        """
+
+        def f(a: np.ndarray | None) -> np.ndarray | None:
+            return None if a is None else fn(np.asarray(a, dtype=np.float64).reshape(-1, 2))
+
+        return replace(
+            self,
+            outline=f(self.outline),
+            notches=f(self.notches),
+            grain=f(self.grain),
+            internal=tuple(f(a) for a in self.internal),
+            drills=f(self.drills),
+            sew=f(self.sew),
+            mirror=f(self.mirror),
+        )
 
     @property
     def extent(self) -> np.ndarray:
