@@ -293,10 +293,11 @@ def grain_directions(
 ) -> np.ndarray:
     """Each panel's lengthwise grain in the pattern, read off the drape.
 
-    The grain runs along the body: the pattern direction each triangle maps onto the
-    drape's ``up`` axis (its least-squares preimage through the triangle's 2D-to-3D map),
-    averaged over the panel by area. A panel lying across the body (its longest 3D axis
-    nearer horizontal than ``up``: a sleeve in T-pose, a waistband) takes that axis instead.
+    The grain runs along the body part the panel wraps: the axis of a tube-like panel (a
+    sleeve, a torso or skirt panel: the direction its normals avoid, as ``axis: auto``
+    finds it), or the body's ``up`` for a panel too flat to have one. It is mapped into the
+    pattern through each triangle's 2D-to-3D map (the least-squares preimage) and averaged
+    over the panel by area, pointing up the body where the axis has an up component.
 
     Parameters
     ----------
@@ -318,19 +319,12 @@ def grain_directions(
     flab = panel_labels(panel_list, len(F2))
     u = np.asarray(up, dtype=np.float64)
     u = u / np.linalg.norm(u)
-    # each panel's longest 3D axis (PCA of its triangle centroids, area-weighted)
+    axes = np.empty((n, 3))
+    for p in panel_list:  # a loop over panels: each one's normal tensor
+        axes[p.index] = _panel_axis(V3, F3, p.faces, u)
+    target = axes[flab]  # (m, 3)
     e1, e2 = V3[F3[:, 1]] - V3[F3[:, 0]], V3[F3[:, 2]] - V3[F3[:, 0]]
     a3 = 0.5 * np.linalg.norm(np.cross(e1, e2), axis=1)
-    c3 = V3[F3].mean(axis=1)
-    w = np.bincount(flab, a3, n)
-    mean = np.stack([np.bincount(flab, a3 * c3[:, k], n) for k in range(3)], 1)
-    mean /= np.maximum(w, 1e-300)[:, None]
-    d = c3 - mean[flab]
-    cov = np.zeros((n, 3, 3))
-    np.add.at(cov, flab, a3[:, None, None] * d[:, :, None] * d[:, None, :])
-    axis = np.linalg.eigh(cov)[1][:, :, -1]  # (n, 3)
-    lying = np.abs(axis @ u) < np.sqrt(0.5)
-    target = np.where(lying[:, None], axis, u)[flab]  # (m, 3) per triangle
     # least-squares preimage of the target through J = E3 E2^-1 (3x2): (J^T J)^-1 J^T t
     E2 = np.stack([V2[F2[:, 1]] - V2[F2[:, 0]], V2[F2[:, 2]] - V2[F2[:, 0]]], axis=2)  # (m,2,2)
     E3 = np.stack([e1, e2], axis=2)  # (m, 3, 2)
@@ -354,21 +348,26 @@ def grain_directions(
     norm = np.linalg.norm(sol, axis=1)
     good &= norm > 0
     unit = np.where(good[:, None], sol / np.where(good, norm, 1.0)[:, None], 0.0)
-    # the direction only matters up to sign when target is a panel axis: align to the first
     g = np.stack([np.bincount(flab, a3 * unit[:, k], n) for k in range(2)], 1)
-    if lying.any():  # sign-free average for axes: the doubled-angle mean
-        ang = 2 * np.arctan2(unit[:, 1], unit[:, 0])
-        dbl = np.stack(
-            [np.bincount(flab, a3 * np.cos(ang) * good, n),
-             np.bincount(flab, a3 * np.sin(ang) * good, n)], 1
-        )  # fmt: skip
-        half = 0.5 * np.arctan2(dbl[:, 1], dbl[:, 0])
-        g = np.where(lying[:, None], np.stack([np.cos(half), np.sin(half)], 1), g)
     length = np.linalg.norm(g, axis=1)
     out = np.tile([0.0, 1.0], (n, 1))
     has = length > 0
     out[has] = g[has] / length[has, None]
     return out
+
+
+def _panel_axis(V3: np.ndarray, F3: np.ndarray, faces: np.ndarray, up: np.ndarray) -> np.ndarray:
+    """A panel's tube axis (the direction its normals avoid), else ``up``; pointing up."""
+    T = F3[faces]
+    cr = np.cross(V3[T[:, 1]] - V3[T[:, 0]], V3[T[:, 2]] - V3[T[:, 0]])
+    w = np.linalg.norm(cr, axis=1)
+    nrm = cr / np.maximum(w, 1e-300)[:, None]
+    N = (nrm * w[:, None]).T @ nrm
+    lam, vec = np.linalg.eigh(N / max(np.trace(N), 1e-300))
+    tube = lam[1] > tol.GRAIN_TUBE_MIN and lam[1] > tol.GRAIN_TUBE_RATIO * lam[0]
+    ax = vec[:, 0] if tube else up
+    s = float(ax @ up)
+    return ax * (-1.0 if s < -1e-9 else 1.0)
 
 
 def mesh_pieces(

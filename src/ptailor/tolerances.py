@@ -69,3 +69,8 @@ PIECE_AREA_REL = 0.1
 #: A construction mark further than this fraction of the piece diagonal (beyond the
 #: outline's own distance from the mesh) from every remaining triangle was cut away.
 MARK_KEEP_REL = 0.002
+#: A panel is tube-like (its grain follows its own axis, not the body's up) when the middle
+#: eigenvalue of its normalised normal tensor exceeds this ...
+GRAIN_TUBE_MIN = 0.1
+#: ... and this many times the smallest (the ``axis: auto`` rule of ``edits.region``).
+GRAIN_TUBE_RATIO = 4.0
