@@ -189,3 +189,13 @@ def test_grain_follows_the_body_up_axis_whatever_the_layout():
     pieces = mesh_pieces(g.V2 @ R.T, g.F2, plist, grain=turned)
     d = np.diff(pieces[0].grain, axis=0)[0]
     np.testing.assert_allclose(d / np.linalg.norm(d), R @ [0, 1], atol=1e-9)
+
+
+def test_a_sleeve_in_t_pose_keeps_its_grain_along_the_arm():
+    from ptailor.marks import grain_directions
+
+    g = lantern_sleeve()
+    plist = panels(g)
+    T = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # the arm along -x
+    got = grain_directions(g.V2, g.F2, g.V3 @ T.T, g.F3, plist, up=(0.0, 1.0, 0.0))
+    np.testing.assert_allclose(np.abs(got), [[0, 1], [0, 1]], atol=1e-6)
