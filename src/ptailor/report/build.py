@@ -239,10 +239,15 @@ def summary_lines(report: dict) -> list[str]:
         from_file = sum(p["source"] == "file" for p in pcs)
         moved = sum(p.get("matched_by") == "shape" for p in pcs)
         notches = sum(p.get("notches", 0) for p in pcs)
+        src = (
+            f"{from_file} from the pattern file, {len(pcs) - from_file} drawn from the mesh"
+            if from_file
+            else "drawn from the mesh"
+        )
         lines.append(
-            f"pieces: {len(pcs)} ({from_file} from the pattern file"
+            f"pieces: {len(pcs)} ({src}"
             + (f", {moved} matched by shape" if moved else "")
-            + f"), {notches} notches carried"
+            + f"), {notches} notches"
             + (f", size {pat['size']}" if pat.get("size") else "")
         )
     for w in report["warnings"]:
