@@ -351,3 +351,27 @@ def test_a_real_clo_pattern_through_identity_and_a_uniform_scale(tmp_path):
         report = json.loads((out / "report.json").read_text())
         assert report["units"]["pattern"] == "mm"
         assert all(p["source"] == "file" for p in report["pattern"]["pieces"])
+
+
+@pytest.mark.parametrize("sample", ["lantern_sleeve", "cone_skirt"])
+def test_cut_lines_with_a_seam_allowance_match_the_mesh_of_the_sew_line(tmp_path, sample):
+    """A CAD cut line 1 cm outside the drape's mesh (no sew line in the file) still matches,
+    and an identity edit gives it back; the report shows the 1 cm."""
+    from ptailor.model.polyline import corners, offset_closed
+
+    def allowance(pc):
+        cut = offset_closed(pc.outline, 1.0)
+        return replace(pc, outline=cut, turn=corners(cut))
+
+    obj, dxf, _ = _setup(tmp_path, sample, move=allowance)
+    r = run("adjust", dxf, _recipe(tmp_path, IDENTITY), "--drape", obj, "-o", tmp_path / "o",
+            "--formats", "dxf")  # fmt: skip
+    assert r.exit_code == 0, r.output
+    before = _by_name(read_dxf(dxf))
+    after = _by_name(read_dxf(tmp_path / "o" / "pattern.dxf"))
+    for name, a in before.items():
+        _close(after[name].outline, a.outline, float(np.linalg.norm(a.extent)))
+    recs = json.loads((tmp_path / "o" / "report.json").read_text())["pattern"]["pieces"]
+    for p in recs:
+        assert p["matched_by"] == "position"
+        assert p["match_distance"] == pytest.approx(1.0, rel=0.05)  # cm, the report's unit

@@ -182,6 +182,7 @@ def pieces_record(plan: PiecePlan, pieces: list[CarriedPiece | None], names: lis
         }
         if ff:
             rec["match_residual"] = round(m.residual, 6)
+            rec["match_distance"] = round(m.distance, 6)
             rec["mirrored"] = bool(np.linalg.det(m.R) < 0)
         if cp is None:
             rec["removed"] = True

@@ -49,6 +49,8 @@ class PieceMatch:
     t : (2,) float array
     residual : float
         Mean distance between the fitted outlines, relative to the piece's diagonal.
+    distance : float
+        The same mean distance, in the pattern's units (a seam allowance shows here).
     """
 
     piece: int
@@ -57,6 +59,7 @@ class PieceMatch:
     R: np.ndarray
     t: np.ndarray
     residual: float
+    distance: float = 0.0
 
     def to_panel(self, X: np.ndarray) -> np.ndarray:
         """Piece coordinates ``(k, 2)`` to panel coordinates."""
@@ -177,6 +180,7 @@ def match_pieces(
     panel_list: list[Panel],
     *,
     path: str = "",
+    allowance: float = 0.0,
 ) -> list[PieceMatch]:
     """Match each piece to the panel it outlines.
 
@@ -189,6 +193,11 @@ def match_pieces(
     panel_list : list of Panel
     path : str
         The pattern file, for the error message.
+    allowance : float
+        A seam allowance the pieces' outlines may have around the panels (a CAD cut line
+        over a mesh of the sew line), in the same units: a piece matches when the mean
+        distance between the outlines is below ``PIECE_MATCH_REL`` of its diagonal plus
+        this, and its area within ``PIECE_AREA_REL`` plus the panel's perimeter times this.
 
     Returns
     -------
@@ -211,21 +220,27 @@ def match_pieces(
     diag = np.array([float(np.linalg.norm(np.ptp(c, axis=0))) for c in curves])
     piece_area = np.array([abs(signed_area(_piece_curve(pc))) for pc in pieces])
     panel_area = np.array([abs(signed_area(V2[lp])) for lp in loops])
+    panel_perim = np.array(
+        [float(np.linalg.norm(V2[lp] - V2[np.roll(lp, -1)], axis=1).sum()) for lp in loops]
+    )
+    thr = tol.PIECE_MATCH_REL + allowance / np.maximum(diag, 1e-300)  # per piece, relative
     cost = np.full((n_pc, n_pn), np.inf)
     for i in range(n_pc):  # pieces x panels: a few dozen pairs
         for j in range(n_pn):
             lo, hi = panel_pts[j].min(axis=0), panel_pts[j].max(axis=0)
             clo, chi = curves[i].min(axis=0), curves[i].max(axis=0)
-            if np.any(clo > hi + 0.1 * diag[i]) or np.any(chi < lo - 0.1 * diag[i]):
+            reach = 0.1 * diag[i] + allowance
+            if np.any(clo > hi + reach) or np.any(chi < lo - reach):
                 continue
             d = _outline_distance(curves[i], piece_curves[i], panel_pts[j], panel_curves[j])
             cost[i, j] = d / diag[i]
     matches: dict[int, PieceMatch] = {}
-    ok = np.where(cost < tol.PIECE_MATCH_REL, cost, 1e6)
+    ok = np.where(cost < thr[:, None], cost, 1e6)
     rows, cols = linear_sum_assignment(ok)
     for i, j in zip(rows.tolist(), cols.tolist(), strict=True):
         if ok[i, j] < 1e6:
-            matches[i] = PieceMatch(i, j, "position", np.eye(2), np.zeros(2), float(cost[i, j]))
+            c = float(cost[i, j])
+            matches[i] = PieceMatch(i, j, "position", np.eye(2), np.zeros(2), c, c * diag[i])
     free_panels = [j for j in range(n_pn) if j not in {m.panel for m in matches.values()}]
     rest = [i for i in range(n_pc) if i not in matches]
     if rest and free_panels:
@@ -233,18 +248,19 @@ def match_pieces(
         shape_cost = np.full((len(rest), len(free_panels)), 1e6)
         for a, i in enumerate(rest):
             for b, j in enumerate(free_panels):
-                if abs(piece_area[i] / max(panel_area[j], 1e-300) - 1.0) > tol.PIECE_AREA_REL:
+                slack = tol.PIECE_AREA_REL * panel_area[j] + panel_perim[j] * allowance
+                if abs(piece_area[i] - panel_area[j]) > slack:
                     continue
                 R, t, res = _fit_shape(curves[i], panel_curves[j], panel_pts[j], diag[i])
                 fits[i, j] = (R, t, res)
-                if res < tol.PIECE_MATCH_REL:
+                if res < thr[i]:
                     shape_cost[a, b] = res
         rr, cc = linear_sum_assignment(shape_cost)
         for a, b in zip(rr.tolist(), cc.tolist(), strict=True):
             if shape_cost[a, b] < 1e6:
                 i, j = rest[a], free_panels[b]
                 R, t, res = fits[i, j]
-                matches[i] = PieceMatch(i, j, "shape", R, t, float(res))
+                matches[i] = PieceMatch(i, j, "shape", R, t, float(res), float(res) * diag[i])
     missing = [i for i in range(n_pc) if i not in matches]
     if missing:
         used = {m.panel for m in matches.values()}
@@ -654,7 +670,10 @@ def piece_plan(
     if pattern is not None:
         k = CM_PER[pattern.units] / CM_PER[garment.units]
         file_pieces = [scale_piece(pc, k) for pc in pattern.pieces]
-        matches = match_pieces(file_pieces, V2, F2, panel_list, path=pattern.path)
+        allowance = tol.PIECE_ALLOWANCE_CM / CM_PER[garment.units]
+        matches = match_pieces(
+            file_pieces, V2, F2, panel_list, path=pattern.path, allowance=allowance
+        )
         units = pattern.units
     used = {m.panel for m in matches}
     rest = [p for p in panel_list if p.index not in used]

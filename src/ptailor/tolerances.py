@@ -66,6 +66,9 @@ PIECE_MATCH_REL = 0.01
 #: ... and, when moved, after the best rigid fit (rotation, reflection, translation) when
 #: its area is within this fraction of the panel's.
 PIECE_AREA_REL = 0.1
+#: A DXF piece's cut line may lie this far (cm, on average) outside the drape's mesh of the
+#: sew line: a seam allowance (both thresholds above widen by it).
+PIECE_ALLOWANCE_CM = 2.5
 #: A construction mark further than this fraction of the piece diagonal (beyond the
 #: outline's own distance from the mesh) from every remaining triangle was cut away.
 MARK_KEEP_REL = 0.002
