@@ -369,6 +369,17 @@ def run_adjust(
     )
     names0 = [p.name for p in panels(adj.original if adj.original is not None else adj.state.base)]
     dropped = sum(cp.dropped for cp in carried if cp is not None)
+    if seam_allowance and plan is not None:
+        wide = [
+            plan.pieces[m.piece].name
+            for m, ff in zip(plan.matches, plan.from_file, strict=True)
+            if ff and m.distance > 0.25 * seam_allowance
+        ]
+        if wide:
+            warnings.append(
+                f"piece(s) {', '.join(wide)} already lie outside the drape's mesh (a cut line "
+                "with its allowance?): --seam-allowance added another"
+            )
     if dropped:
         warnings.append(f"{dropped} construction mark(s) lay on parts cut away and were dropped")
     with staged_dir(out) as tmp:
