@@ -14,6 +14,7 @@ gets the mesh's new outline; marks on the part cut away are dropped and counted.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -22,9 +23,12 @@ from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
 from ptailor.method.transfer import carry_points, locate_points
 from ptailor.model.boundary import boundary_loops
-from ptailor.model.garment import Panel, signed_areas_2d
-from ptailor.model.pieces import Piece
+from ptailor.model.garment import Garment, Panel, signed_areas_2d
+from ptailor.model.pieces import PatternFile, Piece
 from ptailor.model.polyline import corners, offset_closed, resample_closed, signed_area
+
+if TYPE_CHECKING:
+    from ptailor.adjust import Adjustment
 
 #: Points per outline when outlines are compared.
 _SAMPLES = 256
@@ -633,10 +637,10 @@ class PiecePlan:
 
 
 def piece_plan(
-    garment,
+    garment: Garment,
     panel_list: list[Panel],
     *,
-    pattern=None,
+    pattern: PatternFile | None = None,
     up: tuple[float, float, float] = (0.0, 1.0, 0.0),
 ) -> PiecePlan:
     """Match a pattern file's pieces to the garment's panels; draw the rest from the mesh.
@@ -692,7 +696,7 @@ def piece_plan(
     )
 
 
-def adjusted_pieces(adj, plan: PiecePlan) -> list[CarriedPiece | None]:
+def adjusted_pieces(adj: Adjustment, plan: PiecePlan) -> list[CarriedPiece | None]:
     """Carry every planned piece through an adjustment.
 
     Parameters
