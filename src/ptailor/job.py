@@ -46,6 +46,8 @@ class OutputContext:
         Computation units; the pattern's outline is then the sew line.
     title : str
         The previews' heading.
+    sheet : dict or None
+        What both previews draw (:func:`_sheet`), computed once when either is written.
     """
 
     loaded: LoadedGarment
@@ -54,6 +56,7 @@ class OutputContext:
     errors: np.ndarray
     seam_allowance: float | None = None
     title: str = ""
+    sheet: dict | None = None
 
 
 def output_obj(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
@@ -112,7 +115,7 @@ def output_svg(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
     """``pattern.svg``: adjusted outlines over the original ones (dashed), at 1:1."""
     from ptailor.formats.svg import pattern_svg
 
-    (tmp / "pattern.svg").write_text(pattern_svg(**_sheet(adj, ctx)))
+    (tmp / "pattern.svg").write_text(pattern_svg(**(ctx.sheet or _sheet(adj, ctx))))
     return "pattern.svg"
 
 
@@ -120,7 +123,7 @@ def output_png(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
     """``preview.png``: the same sheet as the SVG, as a picture."""
     from ptailor.formats.png import pattern_png
 
-    pattern_png(tmp / "preview.png", **_sheet(adj, ctx))
+    pattern_png(tmp / "preview.png", **(ctx.sheet or _sheet(adj, ctx)))
     return "preview.png"
 
 
@@ -167,6 +170,10 @@ def write_outputs(
     tmp: Path, adj: Adjustment, ctx: OutputContext, formats: tuple[str, ...]
 ) -> list[str]:
     """Write the adjusted garment in the requested formats into ``tmp``; return file names."""
+    from dataclasses import replace
+
+    if ctx.sheet is None and {"svg", "png"} & set(formats):
+        ctx = replace(ctx, sheet=_sheet(adj, ctx))
     return [OUTPUTS[f](tmp, adj, ctx) for f in FORMATS if f in formats]
 
 
