@@ -375,3 +375,29 @@ def test_cut_lines_with_a_seam_allowance_match_the_mesh_of_the_sew_line(tmp_path
     for p in recs:
         assert p["matched_by"] == "position"
         assert p["match_distance"] == pytest.approx(1.0, rel=0.05)  # cm, the report's unit
+
+
+def test_a_piece_cut_twice_matches_both_panels_and_is_written_as_two(tmp_path):
+    """The skirt's back is a copy of its front: a file holding only the front with
+    quantity 2 covers both panels; each instance is written with quantity 1."""
+    g = SAMPLES["cone_skirt"]()
+    obj = tmp_path / "skirt.obj"
+    write_garment(obj, g.with_pattern(g.V2 * 10.0), header=["v in cm, vt in mm"])
+    front = next(pc for pc in _marked_pieces(g) if pc.name == "front")
+    front = replace(front.map_points(lambda a: a * 10.0), quantity=2)
+    dxf = tmp_path / "skirt.dxf"
+    write_dxf(dxf, PatternFile(pieces=(front,), units="mm", size="M"), layout="keep")
+    r = run("adjust", dxf, _recipe(tmp_path, UNIFORM), "--drape", obj, "-o", tmp_path / "o",
+            "--formats", "dxf")  # fmt: skip
+    assert r.exit_code == 0, r.output
+    out = _by_name(read_dxf(tmp_path / "o" / "pattern.dxf"))
+    assert sorted(out) == ["front", "front-2"]
+    assert [p.quantity for p in out.values()] == [1, 1]
+    for p in out.values():
+        assert abs(signed_area(p.outline)) == pytest.approx(1.21 * abs(signed_area(front.outline)))
+        assert len(p.notches) == len(front.notches) and len(p.drills) == 1
+    recs = json.loads((tmp_path / "o" / "report.json").read_text())["pattern"]["pieces"]
+    assert {(p["name"], p["panel"], p["source"]) for p in recs} == {
+        ("front", "front", "file"),
+        ("front-2", "back", "file"),
+    }

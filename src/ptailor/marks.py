@@ -390,6 +390,56 @@ def _panel_axis(V3: np.ndarray, F3: np.ndarray, faces: np.ndarray, up: np.ndarra
     return ax * (-1.0 if s < -1e-9 else 1.0)
 
 
+def more_instances(
+    pieces: list[Piece] | tuple[Piece, ...],
+    matches: list[PieceMatch],
+    V2: np.ndarray,
+    F2: np.ndarray,
+    panel_list: list[Panel],
+    *,
+    allowance: float = 0.0,
+) -> list[PieceMatch]:
+    """Panels that are further copies of a piece cut more than once (``Quantity: 2``).
+
+    A CAD file draws a left/right pair once with quantity 2; the drape has both panels. For
+    each piece with ``quantity > 1``, the panels no piece matched are fitted by shape
+    (reflections allowed, as :func:`match_pieces` does), and up to ``quantity - 1`` that
+    fit become further instances of it.
+
+    Returns
+    -------
+    list of PieceMatch
+        The extra matches (``piece`` indexes ``pieces``), best fits first.
+    """
+    used = {m.panel for m in matches}
+    out: list[PieceMatch] = []
+    for i, pc in enumerate(pieces):  # a loop over pieces
+        if pc.quantity < 2:
+            continue
+        free = [p for p in panel_list if p.index not in used]
+        if not free:
+            break
+        curve = _piece_curve(pc)
+        A = resample_closed(curve, _SAMPLES)
+        diag = float(np.linalg.norm(np.ptp(A, axis=0)))
+        thr = tol.PIECE_MATCH_REL + allowance / max(diag, 1e-300)
+        fits = []
+        for p in free:  # a loop over the panels left
+            lp = outer_loop(F2, p.faces, V2)
+            P = V2[lp]
+            perim = float(np.linalg.norm(P - np.roll(P, -1, axis=0), axis=1).sum())
+            slack = tol.PIECE_AREA_REL * abs(signed_area(P)) + perim * allowance
+            if abs(abs(signed_area(curve)) - abs(signed_area(P))) > slack:
+                continue
+            R, t, res = _fit_shape(A, _Curve(P), resample_closed(P, _SAMPLES), diag)
+            if res < thr:
+                fits.append((res, p.index, R, t))
+        for res, j, R, t in sorted(fits, key=lambda f: f[0])[: pc.quantity - 1]:
+            out.append(PieceMatch(i, j, "shape", R, t, float(res), float(res) * diag))
+            used.add(j)
+    return out
+
+
 def mesh_pieces(
     V2: np.ndarray,
     F2: np.ndarray,
@@ -678,6 +728,18 @@ def piece_plan(
         matches = match_pieces(
             file_pieces, V2, F2, panel_list, path=pattern.path, allowance=allowance
         )
+        extra = more_instances(file_pieces, matches, V2, F2, panel_list, allowance=allowance)
+        # every instance becomes its own piece of quantity 1: a mirrored pair may be
+        # adjusted differently, and a cutter must not cut the first one twice
+        copies = {m.piece for m in extra}
+        count: dict[int, int] = {}
+        for m in extra:
+            count[m.piece] = count.get(m.piece, 1) + 1
+            pc = file_pieces[m.piece]
+            file_pieces.append(replace(pc, name=f"{pc.name}-{count[m.piece]}", quantity=1))
+            matches.append(replace(m, piece=len(file_pieces) - 1))
+        for i in copies:
+            file_pieces[i] = replace(file_pieces[i], quantity=1)
         units = pattern.units
     used = {m.panel for m in matches}
     rest = [p for p in panel_list if p.index not in used]
