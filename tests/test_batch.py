@@ -461,3 +461,38 @@ def test_worker_pool_isolates_failures_quietly(tmp_path, recipe, catalogue):
     # -q: no summary table, only the failure
     assert [ln.strip() for ln in r.stderr.splitlines() if ln.strip()] == [recs[2]["reason"]]
     assert "2 worker processes" not in r.stderr
+
+
+def test_dxf_patterns_with_their_drapes_in_a_folder(tmp_path):
+    """A folder of CAD exports (X.dxf + X.obj): each pair is one garment; a DXF without its
+    drape fails naming the missing file; the drape is stamped with the pattern."""
+    from tests.test_pattern_io import _setup
+
+    cat = tmp_path / "cat"
+    cat.mkdir()
+    for sample in ("lantern_sleeve", "cone_skirt"):
+        _setup(cat, sample)  # cat/SAMPLE.dxf (mm) + cat/SAMPLE.obj (vt in mm)
+    lone = cat / "lone.dxf"
+    lone.write_bytes((cat / "cone_skirt.dxf").read_bytes())
+    recipe = tmp_path / "r.yaml"
+    recipe.write_text("steps: [{op: scale, region: all, direction: uniform, factor: 1.1}]\n")
+    out = tmp_path / "out"
+    r = run("batch", recipe, cat, "-o", out, "-j", "1", "--json", "-q", "--formats", "dxf")
+    assert r.exit_code == 1
+    recs = {Path(x["garment"]).name: x for x in map(json.loads, r.stdout.splitlines())}
+    assert sorted(recs) == ["cone_skirt.dxf", "lantern_sleeve.dxf", "lone.dxf"]
+    assert recs["lone.dxf"]["status"] == "failed" and "lone.obj" in recs["lone.dxf"]["reason"]
+    assert sorted(p.name for p in out.iterdir()) == ["cone_skirt", "lantern_sleeve"]
+    for name in ("cone_skirt", "lantern_sleeve"):
+        rep = json.loads((out / name / "report.json").read_text())
+        assert set(rep["inputs"]) == {"pattern", "drape"}
+        assert all(p["source"] == "file" for p in rep["pattern"]["pieces"])
+    # unchanged -> skipped; a changed drape redoes its garment only
+    r = run("batch", recipe, cat, "-o", out, "-j", "1", "--json", "-q", "--formats", "dxf")
+    recs = {Path(x["garment"]).name: x["status"] for x in map(json.loads, r.stdout.splitlines())}
+    assert recs["cone_skirt.dxf"] == "skipped" and recs["lantern_sleeve.dxf"] == "skipped"
+    drape = cat / "cone_skirt.obj"
+    drape.write_text(drape.read_text() + "# touched\n")
+    r = run("batch", recipe, cat, "-o", out, "-j", "1", "--json", "-q", "--formats", "dxf")
+    recs = {Path(x["garment"]).name: x["status"] for x in map(json.loads, r.stdout.splitlines())}
+    assert recs["cone_skirt.dxf"] == "ok" and recs["lantern_sleeve.dxf"] == "skipped"

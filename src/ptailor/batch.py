@@ -105,7 +105,13 @@ def expand_garments(
             paths += [ln.strip() for ln in stdin.read().splitlines() if ln.strip()]
         elif Path(spec).is_dir() or (_GLOB_CHARS.search(spec) and not Path(spec).is_file()):
             if Path(spec).is_dir():
-                found = glob.glob(os.path.join(glob.escape(spec), "**", "*.obj"), recursive=True)
+                root = os.path.join(glob.escape(spec), "**")
+                found = [
+                    f
+                    for pat in ("*.obj", "*.OBJ", "*.dxf", "*.DXF")
+                    for f in glob.glob(os.path.join(root, pat), recursive=True)
+                ]
+                found = _without_drapes(found)
             else:
                 found = glob.glob(spec, recursive=True)
             found = [p for p in sorted(found) if Path(p).is_file() and outside(p)]
@@ -122,6 +128,25 @@ def expand_garments(
             seen.add(key)
             unique.append(p)
     return unique
+
+
+def drape_for(garment: str | Path) -> str | None:
+    """The drape OBJ a DXF pattern is paired with: the file beside it with the same stem
+    (``X.dxf`` -> ``X.obj``); None for an OBJ garment (it holds its own drape)."""
+    p = Path(garment)
+    if p.suffix.lower() != ".dxf":
+        return None
+    for ext in (".obj", ".OBJ"):
+        if p.with_suffix(ext).is_file():
+            return str(p.with_suffix(ext))
+    return str(p.with_suffix(".obj"))  # missing: the garment fails naming it
+
+
+def _without_drapes(paths: list[str]) -> list[str]:
+    """Drop the OBJs that are a listed DXF's drape (a folder holding ``X.dxf`` and
+    ``X.obj`` is one garment, the DXF pattern with its drape)."""
+    drapes = {os.path.realpath(d) for d in map(drape_for, paths) if d is not None}
+    return [p for p in paths if os.path.realpath(p) not in drapes]
 
 
 def output_names(paths: Sequence[str]) -> list[tuple[str, str | None]]:
@@ -339,6 +364,8 @@ class Job:
     gates : Gates
     force : bool
         Redo even when the folder's stamp matches.
+    drape_abs : str or None
+        For a DXF pattern: its drape OBJ (:func:`drape_for`), read and stamped with it.
     """
 
     index: int
@@ -352,6 +379,7 @@ class Job:
     adjust_options: dict = field(default_factory=dict)
     gates: Gates = Gates()
     force: bool = False
+    drape_abs: str | None = None
 
     def record(self, status: str, **values: Any) -> dict:
         """A record for this garment with every key of :data:`RECORD_KEYS`."""
@@ -388,6 +416,7 @@ def make_jobs(
                 adjust_options=dict(adjust_options or {}),
                 gates=gates or Gates(),
                 force=force,
+                drape_abs=None if (d := drape_for(g)) is None else os.path.abspath(d),
             )
         )
     return jobs
@@ -429,7 +458,10 @@ def job_stamp(job: Job) -> dict:
     """
     opts = {**job.adjust_options}
     opts["formats"] = sorted(opts.get("formats", ()))
-    return make_stamp(job.garment, file_digest(job.garment_abs), job.recipe_sha, opts)
+    digest = file_digest(job.garment_abs)
+    if job.drape_abs is not None:  # a DXF pattern: its drape is an input too
+        digest = hashlib.sha256(f"{digest}:{file_digest(job.drape_abs)}".encode()).hexdigest()
+    return make_stamp(job.garment, digest, job.recipe_sha, opts)
 
 
 def _unchanged(job: Job, stamp: dict) -> dict | None:
@@ -464,8 +496,9 @@ def _run_job(job: Job) -> dict:
 
     try:
         stamp = job_stamp(job)
-    except FileNotFoundError:
-        return job.record("failed", failure="input", reason=f"{job.garment}: no such file")
+    except FileNotFoundError as exc:
+        missing = job.garment if not Path(job.garment_abs).is_file() else exc.filename
+        return job.record("failed", failure="input", reason=_shown(job, f"{missing}: no such file"))
     except OSError as exc:
         reason = f"{job.garment}: cannot read ({exc.strerror or exc})"
         return job.record("failed", failure="input", reason=reason)
@@ -485,7 +518,12 @@ def _run_job(job: Job) -> dict:
             job.recipe,
             job.out_abs,
             **job.adjust_options,
-            display_inputs={"garment": job.garment},
+            drape=job.drape_abs,
+            display_inputs=(
+                {"garment": job.garment}
+                if job.drape_abs is None
+                else {"pattern": job.garment, "drape": drape_for(job.garment)}
+            ),
             extra_files={STAMP: json.dumps(stamp, indent=2) + "\n"},
             check=check,
         )

@@ -47,6 +47,15 @@ def _interrupt(signum, frame) -> None:
     "recipe's units).",
 )
 @click.option(
+    "--size", default=None, help="DXF patterns: the size to read [default: the sample size]."
+)
+@click.option(
+    "--dxf-units",
+    type=click.Choice(["mm", "cm", "in"]),
+    default=None,
+    help="DXF patterns: their unit [default: from each file's 'Units:' text].",
+)
+@click.option(
     "-j",
     "--jobs",
     type=click.IntRange(min=1),
@@ -106,6 +115,8 @@ def batch(
     no_baseline,
     formats,
     seam_allowance,
+    size,
+    dxf_units,
     jobs,
     scheduler,
     force,
@@ -119,10 +130,12 @@ def batch(
 ) -> None:
     """Apply RECIPE to every GARMENT, one output folder each under OUT.
 
-    GARMENT is an OBJ (v = drape, vt = pattern), a glob (quoted: '**/*.obj' is expanded
-    here, recursively), a folder (every *.obj below it) or '-' (paths on stdin, one per
-    line). RECIPE is validated first. Each garment is written all or nothing to OUT/NAME
-    (NAME is the file's stem; later garments with the same stem get NAME-2, NAME-3) with a
+    GARMENT is an OBJ (v = drape, vt = pattern) or a DXF pattern paired with the OBJ drape
+    beside it (X.dxf with X.obj), a glob (quoted: '**/*.obj' is expanded here,
+    recursively), a folder (every *.obj and *.dxf below it; an OBJ that is a DXF's drape is
+    not a garment of its own) or '-' (paths on stdin, one per line). RECIPE is validated
+    first. Each garment is written all or nothing to OUT/NAME (NAME is the file's stem;
+    later garments with the same stem get NAME-2, NAME-3) with a
     batch.json stamp: re-running skips garments whose file, recipe and options are
     unchanged. A garment that fails, or breaks a quality gate, gets no folder; the others
     go on.
@@ -186,6 +199,8 @@ def batch(
             "baseline": not no_baseline,
             "formats": fmts,
             "seam_allowance": allowance,
+            "size": size,
+            "dxf_units": dxf_units,
         },
         gates=Gates(
             max_area_change=max_area_change,
