@@ -69,8 +69,10 @@ def expand_garments(
     ----------
     specs : list of str
         Paths; globs (``*``, ``?``, ``[``, ``**`` recursive; expanded sorted, unless the
-        argument is an existing file); folders (every ``*.obj`` below, sorted); ``-``: the
-        paths listed on ``stdin``, one per line (blank lines ignored, no expansion).
+        argument is an existing file); folders (every ``*.obj`` and ``*.dxf`` below,
+        sorted); ``-``: the paths listed on ``stdin``, one per line (blank lines ignored, no
+        expansion). An OBJ that is the drape of a listed DXF (``X.obj`` beside ``X.dxf``)
+        is left out: the pair is one garment.
     stdin : text stream, optional
         Read for ``-``.
     exclude_under : path, optional
@@ -111,7 +113,6 @@ def expand_garments(
                     for pat in ("*.obj", "*.OBJ", "*.dxf", "*.DXF")
                     for f in glob.glob(os.path.join(root, pat), recursive=True)
                 ]
-                found = _without_drapes(found)
             else:
                 found = glob.glob(spec, recursive=True)
             found = [p for p in sorted(found) if Path(p).is_file() and outside(p)]
@@ -120,6 +121,7 @@ def expand_garments(
             paths += found
         else:
             paths.append(spec)
+    paths = _without_drapes(paths)
     seen: set[str] = set()
     unique = []
     for p in paths:
