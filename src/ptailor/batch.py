@@ -751,13 +751,22 @@ def _run_pool(jobs: Sequence[Job], n: int, done) -> bool:
     by itself ("its worker process died") and the others finish.
     """
     strikes = dict.fromkeys((j.index for j in jobs), 0)
+
+    def done_again(job: Job, rec: dict) -> None:
+        # up-to-date jobs never reach a pool (the parent skips them first), so a retried
+        # job found up to date was written in this run, by the pool that broke before its
+        # result came back: it is done, not skipped
+        if rec["status"] == "skipped" and strikes[job.index]:
+            rec = {**rec, "status": "ok", "reason": None}
+        done(job, rec)
+
     todo = list(jobs)
     while todo:
         shared = [j for j in todo if strikes[j.index] < _STRIKES]
         rounds = ([shared] if shared else []) + [[j] for j in todo if j not in shared]
         todo = []
         for part in rounds:
-            interrupted, unfinished = _pool_round(part, min(n, len(part)), done)
+            interrupted, unfinished = _pool_round(part, min(n, len(part)), done_again)
             if interrupted:
                 return True
             for job in unfinished:
