@@ -18,6 +18,7 @@ from ptailor.marks import mesh_pieces
 from ptailor.model.garment import panels
 from ptailor.model.pieces import PatternFile, Piece
 from ptailor.model.polyline import signed_area
+from ptailor.report.outline import point_segment_distance
 from ptailor.samples import SAMPLES
 from tests.conftest import real_path
 
@@ -401,3 +402,22 @@ def test_a_piece_cut_twice_matches_both_panels_and_is_written_as_two(tmp_path):
         ("front", "front", "file"),
         ("front-2", "back", "file"),
     }
+
+
+def test_extend_drops_the_notches_it_leaves_inside_the_piece(tmp_path):
+    obj, dxf, _ = _setup(tmp_path, "cone_skirt")
+    before = _by_name(read_dxf(dxf))
+    r = run("adjust", dxf, _recipe(tmp_path, "steps: [{op: extend, opening: hem, by: 5}]\n"),
+            "--drape", obj, "-o", tmp_path / "o", "--formats", "dxf")  # fmt: skip
+    assert r.exit_code == 0, r.output
+    after = _by_name(read_dxf(tmp_path / "o" / "pattern.dxf"))
+    report = json.loads((tmp_path / "o" / "report.json").read_text())
+    dropped = sum(p["marks_dropped"] for p in report["pattern"]["pieces"])
+    kept = sum(len(p.notches) for p in after.values())
+    assert kept + dropped == sum(len(p.notches) for p in before.values())
+    for name, b in after.items():
+        size = float(np.linalg.norm(b.extent))
+        assert abs(signed_area(b.outline)) > abs(signed_area(before[name].outline))
+        if len(b.notches):  # every notch left is on the new outline
+            A, B = b.outline, np.roll(b.outline, -1, axis=0)
+            assert point_segment_distance(b.notches, A, B).max() < 1e-3 * size

@@ -388,7 +388,10 @@ def run_adjust(
                 "with its allowance?): --seam-allowance added another"
             )
     if dropped:
-        warnings.append(f"{dropped} construction mark(s) lay on parts cut away and were dropped")
+        warnings.append(
+            f"{dropped} construction mark(s) dropped: on parts cut away, or notches the edit "
+            "left inside a piece (see pattern.pieces)"
+        )
     with staged_dir(out) as tmp:
         written = write_outputs(tmp, adj, ctx, formats)
         for name, text in (extra_files or {}).items():

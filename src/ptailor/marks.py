@@ -558,7 +558,8 @@ def carry_piece(
         The adjusted pattern (same ``F2``).
     unchanged : bool
         The panel kept all its triangles: the piece's own outline is carried; otherwise the
-        mesh's boundary is the new outline.
+        mesh's boundary is the new outline, and notches that no longer lie on it (left
+        inside the piece by an extension) are dropped.
     reach : float
         How far the piece's outline lies from the original panel's mesh (its chord error):
         marks further than that (plus ``MARK_KEEP_REL`` of the diagonal) from every
@@ -603,6 +604,11 @@ def carry_piece(
             outline = outline[::-1]
         turn, sew, how = corners(outline), None, "mesh"
     notches, keep_n = moved_g[2], kept_g[2]
+    if not unchanged and len(notches):
+        # a notch marks the outline: one the edit left inside the piece (the old hem of an
+        # extended skirt) no longer marks anything
+        scale = float(np.linalg.norm(np.ptp(outline, axis=0))) / max(diag, 1e-300)
+        keep_n = keep_n & (_Curve(outline).nearest(notches)[0] <= keep_d * max(scale, 1.0))
     drills, keep_d_ = moved_g[3], kept_g[3]
     dropped += int((~keep_n).sum() + (~keep_d_).sum())
     internal = []
