@@ -199,3 +199,22 @@ def test_a_sleeve_in_t_pose_keeps_its_grain_along_the_arm():
     T = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # the arm along -x
     got = grain_directions(g.V2, g.F2, g.V3 @ T.T, g.F3, plist, up=(0.0, 1.0, 0.0))
     np.testing.assert_allclose(np.abs(got), [[0, 1], [0, 1]], atol=1e-6)
+
+
+def test_balance_notches_of_both_sides_of_a_seam_meet_in_the_drape():
+    """The sleeve is 28 wide, the elastic cuff 40: the seam's middle notch sits at 14 on one
+    and at 20 on the other, the same point of the drape."""
+    g = lantern_sleeve()
+    plist = panels(g)
+    pieces = {pc.name: pc for pc in mesh_pieces(g.V2, g.F2, plist, F3=g.F3, V3=g.V3)}
+    sleeve, cuff = pieces["sleeve"], pieces["cuff"]
+    s_low = sleeve.notches[np.argmin(sleeve.notches[:, 1])]
+    c_top = cuff.notches[np.argmax(cuff.notches[:, 1])]
+    x0 = sleeve.outline[:, 0].min()
+    assert s_low[0] - x0 == pytest.approx(14.0) and c_top[0] == pytest.approx(20.0)
+
+    def on_drape(q):
+        loc = locate_points(g.V2, g.F2, q[None])
+        return np.einsum("ki,kij->kj", loc.bary, g.V3[g.F3[loc.face]])[0]
+
+    np.testing.assert_allclose(on_drape(s_low), on_drape(c_top), atol=1e-9)

@@ -446,6 +446,7 @@ def mesh_pieces(
     panel_list: list[Panel],
     *,
     F3: np.ndarray | None = None,
+    V3: np.ndarray | None = None,
     grain: np.ndarray | None = None,
 ) -> list[Piece]:
     """Pieces drawn from a triangulated pattern: outline, turn points, notches, grain line.
@@ -454,8 +455,10 @@ def mesh_pieces(
     lines (closed), turn points are where the outline turns by more than
     ``tolerances.CORNER_DEG``. With the drape's triangles ``F3``, a notch marks each point
     of the outline (other than a turn point) where the panel across the seam changes, or a
-    seam ends: the match points for sewing. The grain line runs through the panel's
-    centroid along ``grain`` (default the pattern's y axis), across half the panel.
+    seam ends: the match points for sewing; with the drape ``V3`` too, a balance notch marks
+    the middle of every seam (by length in the drape, so both sides' notches meet when
+    sewn). The grain line runs through the panel's centroid along ``grain`` (default the
+    pattern's y axis), across half the panel.
 
     Parameters
     ----------
@@ -464,6 +467,8 @@ def mesh_pieces(
     panel_list : list of Panel
     F3 : (m, 3) int array, optional
         The drape's triangles, for seam notches.
+    V3 : (n3, 3) float array, optional
+        The drape, for balance notches (with ``F3``).
     grain : (n_panels, 2) float array, optional
         Unit grain direction per panel (:func:`grain_directions`).
 
@@ -473,6 +478,9 @@ def mesh_pieces(
     """
     keys, partner = _edge_partners(F2, F3, panel_list)
     n_v = int(F2.max(initial=0)) + 1
+    to3 = np.zeros(n_v, dtype=np.int64)
+    if F3 is not None:
+        to3[F2.ravel()] = F3.ravel()  # pattern vertex -> drape vertex
     out = []
     areas = signed_areas_2d(V2, F2)
     for p in panel_list:  # a loop over panels
@@ -483,6 +491,9 @@ def mesh_pieces(
         ek = _edge_key(np.stack([outer, np.roll(outer, -1)], axis=1), n_v)
         across = partner[np.minimum(np.searchsorted(keys, ek), len(keys) - 1)]
         notch = (across != np.roll(across, 1)) & ~turn
+        balance = np.zeros((0, 2))
+        if V3 is not None and F3 is not None:
+            balance = _balance_notches(P, outer, across, to3, V3)
         a = np.abs(areas[p.faces])
         c = (V2[F2[p.faces]].mean(axis=1) * a[:, None]).sum(axis=0) / max(a.sum(), 1e-300)
         gd = np.array([0.0, 1.0]) if grain is None else grain[p.index]
@@ -493,13 +504,47 @@ def mesh_pieces(
                 name=p.name,
                 outline=P,
                 turn=turn,
-                notches=P[notch],
-                notch_angles=np.zeros(int(notch.sum())),
+                notches=np.vstack([P[notch], balance]),
+                notch_angles=np.zeros(int(notch.sum()) + len(balance)),
                 grain=np.stack([c - half * gd, c + half * gd]),
                 internal=holes,
             )
         )
     return out
+
+
+def _balance_notches(
+    P: np.ndarray, loop: np.ndarray, across: np.ndarray, to3: np.ndarray, V3: np.ndarray
+) -> np.ndarray:
+    """The middle (by drape length) of each seam run along an outline, ``(k, 2)``.
+
+    ``across[i]`` is the panel across outline edge ``i`` (``loop[i] -> loop[i + 1]``), -1
+    on a free edge; a run of one partner is one seam. Runs of fewer than
+    ``BALANCE_MIN_EDGES`` edges get none.
+    """
+    k = len(loop)
+    change = np.flatnonzero(across != np.roll(across, 1))
+    if len(change) == 0:
+        return np.zeros((0, 2))
+    order = np.roll(np.arange(k), -int(change[0]))  # start at a run boundary
+    lab = across[order]
+    run = np.cumsum(lab != np.roll(lab, 1)) - 1
+    run[0] = 0
+    a3, b3 = V3[to3[loop[order]]], V3[to3[loop[np.roll(order, -1)]]]
+    length = np.linalg.norm(b3 - a3, axis=1)
+    out = []
+    for r in np.unique(run[lab >= 0]).tolist():  # a loop over the seams of one panel
+        idx = np.flatnonzero(run == r)
+        if len(idx) < tol.BALANCE_MIN_EDGES:
+            continue
+        cum = np.cumsum(length[idx])
+        half = 0.5 * cum[-1]
+        j = int(np.searchsorted(cum, half))
+        before = cum[j] - length[idx[j]]
+        t = (half - before) / max(length[idx[j]], 1e-300)
+        e = order[idx[j]]
+        out.append((1 - t) * P[e] + t * P[(e + 1) % k])
+    return np.array(out).reshape(-1, 2)
 
 
 def _panel_rotation(X: np.ndarray, Y: np.ndarray) -> np.ndarray:
@@ -750,7 +795,7 @@ def piece_plan(
     used = {m.panel for m in matches}
     rest = [p for p in panel_list if p.index not in used]
     grain = grain_directions(V2, F2, garment.V3, garment.F3, panel_list, up=up)
-    drawn = mesh_pieces(V2, F2, rest, F3=garment.F3, grain=grain)
+    drawn = mesh_pieces(V2, F2, rest, F3=garment.F3, V3=garment.V3, grain=grain)
     pieces = file_pieces + drawn
     matches = matches + [
         PieceMatch(len(file_pieces) + a, p.index, "mesh", np.eye(2), np.zeros(2), 0.0)

@@ -77,3 +77,6 @@ MARK_KEEP_REL = 0.002
 GRAIN_TUBE_MIN = 0.1
 #: ... and this many times the smallest (the ``axis: auto`` rule of ``edits.region``).
 GRAIN_TUBE_RATIO = 4.0
+#: Seams of at least this many edges get a balance notch at their middle (pieces drawn
+#: from a mesh).
+BALANCE_MIN_EDGES = 4
