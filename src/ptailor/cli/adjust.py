@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ptailor.cli.options import axes_options, garment_options
+from ptailor.cli.options import axes_options, dxf_options, garment_options, output_options
 
 
 @click.command()
@@ -33,32 +33,8 @@ from ptailor.cli.options import axes_options, garment_options
 )
 @click.option("--body-units", default="cm", show_default=True, help="Unit of the body mesh.")
 @click.option("--no-baseline", is_flag=True, help="Skip the uniform-flattening comparison.")
-@click.option(
-    "--formats",
-    default="obj,dxf,svg,png",
-    show_default=True,
-    help="Outputs besides report.json: obj (garment.obj), dxf (pattern.dxf), svg "
-    "(pattern.svg), png (preview.png).",
-)
-@click.option(
-    "--size",
-    default=None,
-    help="DXF pattern: the size to read [default: the file's sample size].",
-)
-@click.option(
-    "--dxf-units",
-    type=click.Choice(["mm", "cm", "in"]),
-    default=None,
-    help="DXF pattern: its unit [default: from the file's 'Units:' text].",
-)
-@click.option(
-    "--seam-allowance",
-    default=None,
-    metavar="LENGTH",
-    help="Write pattern.dxf with this seam allowance: the cut line is the adjusted outline "
-    "offset outward (mitred corners), the outline becomes the sew line (layer 14). A number "
-    "in the recipe's units, or with a unit: 1cm, 10mm, 0.375in.",
-)
+@output_options
+@dxf_options
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON on stdout.")
 @click.option("-q", "--quiet", is_flag=True, help="Print nothing on success.")
 def adjust(
@@ -92,16 +68,13 @@ def adjust(
     import json
     from pathlib import Path
 
+    from ptailor.cli.options import parse_output_options
     from ptailor.job import run_adjust
     from ptailor.recipe import load_recipe
     from ptailor.report.build import summary_lines
 
     rec = load_recipe(recipe)
-    allowance = None
-    if seam_allowance is not None:
-        from ptailor.formats.garment import parse_length
-
-        allowance = parse_length(seam_allowance, to=rec.units, what="--seam-allowance")
+    fmts, allowance = parse_output_options(formats, seam_allowance, units=rec.units)
     report = run_adjust(
         garment,
         rec,
@@ -112,7 +85,7 @@ def adjust(
         method=method,
         intrinsic=intrinsic,
         baseline=not no_baseline,
-        formats=tuple(f for f in formats.split(",") if f),
+        formats=fmts,
         up=up,
         front=front,
         body=body,

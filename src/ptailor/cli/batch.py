@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ptailor.cli.options import UNIT_HELP, axes_options
+from ptailor.cli.options import UNIT_HELP, axes_options, dxf_options, output_options
 
 
 def _interrupt(signum, frame) -> None:
@@ -33,28 +33,8 @@ def _interrupt(signum, frame) -> None:
 )
 @axes_options
 @click.option("--no-baseline", is_flag=True, help="Skip the uniform-flattening comparison.")
-@click.option(
-    "--formats",
-    default="obj,dxf,svg,png",
-    show_default=True,
-    help="Outputs besides report.json: obj, dxf, svg, png.",
-)
-@click.option(
-    "--seam-allowance",
-    default=None,
-    metavar="LENGTH",
-    help="Seam allowance of pattern.dxf's cut line (1cm, 10mm, 0.375in, or a number in the "
-    "recipe's units).",
-)
-@click.option(
-    "--size", default=None, help="DXF patterns: the size to read [default: the sample size]."
-)
-@click.option(
-    "--dxf-units",
-    type=click.Choice(["mm", "cm", "in"]),
-    default=None,
-    help="DXF patterns: their unit [default: from each file's 'Units:' text].",
-)
+@output_options
+@dxf_options
 @click.option(
     "-j",
     "--jobs",
@@ -158,9 +138,9 @@ def batch(
 
     from ptailor.batch import Gates, expand_garments, make_jobs, record_line, run_batch
     from ptailor.batch import summary_lines as batch_summary
+    from ptailor.cli.options import parse_output_options
     from ptailor.errors import PtailorError
-    from ptailor.formats.garment import parse_length, parse_units
-    from ptailor.job import FORMATS
+    from ptailor.formats.garment import parse_units
     from ptailor.recipe import load_recipe
 
     if recipe == "-" and "-" in garments:
@@ -169,16 +149,7 @@ def batch(
     if pattern_units != "auto":
         parse_units(pattern_units, what="--pattern-units")
     parse_units(drape_units, what="--drape-units")
-    fmts = tuple(f for f in formats.split(",") if f)
-    unknown = [f for f in fmts if f not in FORMATS]
-    if unknown:
-        raise PtailorError(
-            f"--formats: unknown output format(s) {', '.join(unknown)} "
-            f"(known: {', '.join(FORMATS)})"
-        )
-    allowance = None
-    if seam_allowance is not None:
-        allowance = parse_length(seam_allowance, to=rec.units, what="--seam-allowance")
+    fmts, allowance = parse_output_options(formats, seam_allowance, units=rec.units)
     paths = expand_garments(
         garments,
         stdin=sys.stdin,

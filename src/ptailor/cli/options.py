@@ -58,6 +58,79 @@ def axes_options(fn):
     return fn
 
 
+def output_options(fn):
+    """``--formats`` and ``--seam-allowance``: what is written, and how the DXF is cut."""
+    for opt in reversed(
+        [
+            click.option(
+                "--formats",
+                default="obj,dxf,svg,png",
+                show_default=True,
+                help="Outputs besides report.json: obj (garment.obj), dxf (pattern.dxf), svg "
+                "(pattern.svg), png (preview.png).",
+            ),
+            click.option(
+                "--seam-allowance",
+                default=None,
+                metavar="LENGTH",
+                help="Write pattern.dxf with this seam allowance: the cut line is the adjusted "
+                "outline offset outward (mitred corners), the outline becomes the sew line "
+                "(layer 14). A number in the recipe's units, or with a unit: 1cm, 10mm, "
+                "0.375in.",
+            ),
+        ]
+    ):
+        fn = opt(fn)
+    return fn
+
+
+def dxf_options(fn):
+    """``--size`` and ``--dxf-units``: how a DXF pattern is read."""
+    for opt in reversed(
+        [
+            click.option(
+                "--size",
+                default=None,
+                help="DXF pattern: the size to read [default: the file's sample size].",
+            ),
+            click.option(
+                "--dxf-units",
+                type=click.Choice(["mm", "cm", "in"]),
+                default=None,
+                help="DXF pattern: its unit [default: from the file's 'Units:' text; METRIC "
+                "is mm or cm, judged from the drape].",
+            ),
+        ]
+    ):
+        fn = opt(fn)
+    return fn
+
+
+def parse_output_options(formats: str, seam_allowance: str | None, *, units: str):
+    """``--formats`` as a tuple (checked) and ``--seam-allowance`` in ``units`` (or None).
+
+    Raises
+    ------
+    PtailorError
+        An unknown format or a bad length (exit 2).
+    """
+    from ptailor.errors import PtailorError
+    from ptailor.formats.garment import parse_length
+    from ptailor.job import FORMATS
+
+    fmts = tuple(f for f in formats.split(",") if f)
+    unknown = [f for f in fmts if f not in FORMATS]
+    if unknown:
+        raise PtailorError(
+            f"--formats: unknown output format(s) {', '.join(unknown)} "
+            f"(known: {', '.join(FORMATS)})"
+        )
+    allowance = None
+    if seam_allowance is not None:
+        allowance = parse_length(seam_allowance, to=units, what="--seam-allowance")
+    return fmts, allowance
+
+
 AXES = ["x", "y", "z", "-x", "-y", "-z"]
 
 
