@@ -26,6 +26,7 @@ from ptailor.model.boundary import boundary_loops
 from ptailor.model.garment import Garment, Panel, signed_areas_2d
 from ptailor.model.pieces import PatternFile, Piece
 from ptailor.model.polyline import corners, offset_closed, resample_closed, signed_area
+from ptailor.model.seams import edge_keys
 
 if TYPE_CHECKING:
     from ptailor.adjust import Adjustment
@@ -279,18 +280,13 @@ def match_pieces(
     return [matches[i] for i in range(n_pc)]
 
 
-def _edge_key(E: np.ndarray, n: int) -> np.ndarray:
-    """One int64 key per undirected edge of vertices below ``n``."""
-    return np.minimum(E[:, 0], E[:, 1]).astype(np.int64) * n + np.maximum(E[:, 0], E[:, 1])
-
-
 def _edge_partners(F2: np.ndarray, F3: np.ndarray | None, panel_list: list[Panel]):
     """Sorted 2D edge keys of the pattern's half-edges and the panel across each (or -1)."""
     from ptailor.method.flatten import panel_labels
     from ptailor.model.seams import half_edges, seam_halfedges
 
     m = len(F2)
-    keys = _edge_key(half_edges(F2), int(F2.max(initial=0)) + 1)
+    keys = edge_keys(half_edges(F2), n=int(F2.max(initial=0)) + 1)
     partner = np.full(3 * m, -1, dtype=np.int64)
     if F3 is not None and m:
         face = np.repeat(np.arange(m), 3)
@@ -488,7 +484,7 @@ def mesh_pieces(
         outer = outer_loop(F2, p.faces, V2)
         P = V2[outer]
         turn = corners(P)
-        ek = _edge_key(np.stack([outer, np.roll(outer, -1)], axis=1), n_v)
+        ek = edge_keys(np.stack([outer, np.roll(outer, -1)], axis=1), n=n_v)
         across = partner[np.minimum(np.searchsorted(keys, ek), len(keys) - 1)]
         notch = (across != np.roll(across, 1)) & ~turn
         balance = np.zeros((0, 2))

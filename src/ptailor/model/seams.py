@@ -52,19 +52,23 @@ def half_edges(F: np.ndarray) -> np.ndarray:
     return np.stack([F, np.roll(F, -1, axis=1)], axis=2).reshape(-1, 2)
 
 
-def edge_keys(E: np.ndarray) -> np.ndarray:
+def edge_keys(E: np.ndarray, *, n: int | None = None) -> np.ndarray:
     """One int64 key per undirected edge, equal for ``(a, b)`` and ``(b, a)``.
 
     Parameters
     ----------
     E : (k, 2) int array
+    n : int, optional
+        A bound on the vertex indices (all below it). Keys of different edge lists are
+        comparable only when made with the same ``n``; default ``E.max() + 1``.
 
     Returns
     -------
     (k,) int64 array
     """
     lo, hi = np.minimum(E[:, 0], E[:, 1]), np.maximum(E[:, 0], E[:, 1])
-    return lo.astype(np.int64) * (int(E.max(initial=0)) + 1) + hi
+    base = int(E.max(initial=0)) + 1 if n is None else int(n)
+    return lo.astype(np.int64) * base + hi
 
 
 def seam_halfedges(F3: np.ndarray, F2: np.ndarray) -> np.ndarray:
