@@ -177,8 +177,9 @@ def write_outputs(
     return [OUTPUTS[f](tmp, adj, ctx) for f in FORMATS if f in formats]
 
 
-def pieces_record(plan: PiecePlan, pieces: list[CarriedPiece | None], names: list[str]) -> list:
+def pieces_record(plan: PiecePlan, pieces: list[CarriedPiece | None]) -> list:
     """The report's ``pieces``: each piece's panel, how it matched, what its marks did."""
+    names = [p.name for p in plan.panels]
     out = []
     for pc, m, ff, cp in zip(plan.pieces, plan.matches, plan.from_file, pieces, strict=True):
         rec = {
@@ -374,7 +375,6 @@ def run_adjust(
         title=f"{Path(garment_path).name}: {Path(recipe.source).name}"
         + (f", seam allowance {seam_allowance:g} {loaded.garment.units}" if seam_allowance else ""),
     )
-    names0 = [p.name for p in panels(adj.original if adj.original is not None else adj.state.base)]
     dropped = sum(cp.dropped for cp in carried if cp is not None)
     if seam_allowance and plan is not None:
         wide = [
@@ -400,7 +400,7 @@ def run_adjust(
         timing = {"load": t1 - t0, **adj.timing_s, "write": t3 - t2}
         read = {**loaded.inputs, **({"body": body} if body else {})}
         shown = {**read, **(display_inputs or {})}
-        pattern_rec = {"pieces": pieces_record(plan, carried, names0) if plan else []}
+        pattern_rec = {"pieces": pieces_record(plan, carried) if plan else []}
         if loaded.pattern is not None:
             pf = loaded.pattern
             pattern_rec.update({"size": pf.size, "sizes": list(pf.sizes), "style": pf.style})

@@ -725,12 +725,15 @@ class PiecePlan:
         Whether each piece came from the pattern file.
     units : str
         The unit pieces are written in (the pattern file's, else the computation unit).
+    panels : tuple of Panel
+        The input garment's panels, which ``matches`` index.
     """
 
     pieces: tuple[Piece, ...]
     matches: tuple[PieceMatch, ...]
     from_file: tuple[bool, ...]
     units: str
+    panels: tuple[Panel, ...]
 
 
 def piece_plan(
@@ -802,6 +805,7 @@ def piece_plan(
         matches=tuple(matches),
         from_file=tuple([True] * len(file_pieces) + [False] * len(drawn)),
         units=units,
+        panels=tuple(panel_list),
     )
 
 
@@ -819,11 +823,9 @@ def adjusted_pieces(adj: Adjustment, plan: PiecePlan) -> list[CarriedPiece | Non
     list of CarriedPiece or None
         One per piece; ``None`` where the piece's panel was removed whole.
     """
-    from ptailor.model.garment import panels
-
     g0 = adj.original if adj.original is not None else adj.state.base
     base = adj.state.base
-    orig = panels(g0)
+    orig = plan.panels
     now = {p.name: p for p in adj.state.panels}
     a0 = np.abs(signed_areas_2d(g0.V2, g0.F2))
     ab = np.abs(signed_areas_2d(base.V2, base.F2))
