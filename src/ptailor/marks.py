@@ -178,6 +178,46 @@ def _fit_shape(
     return best
 
 
+@dataclass(frozen=True)
+class _Outline:
+    """A closed outline ready for matching: samples, nearest-point queries, measures."""
+
+    P: np.ndarray
+    samples: np.ndarray
+    curve: _Curve
+    area: float
+    perimeter: float
+    diag: float
+
+    @classmethod
+    def of(cls, P: np.ndarray) -> _Outline:
+        samples = resample_closed(P, _SAMPLES)
+        return cls(
+            P=P,
+            samples=samples,
+            curve=_Curve(P),
+            area=abs(signed_area(P)),
+            perimeter=float(np.linalg.norm(P - np.roll(P, -1, axis=0), axis=1).sum()),
+            diag=float(np.linalg.norm(np.ptp(samples, axis=0))),
+        )
+
+    def threshold(self, allowance: float) -> float:
+        """The largest mean outline distance, relative to the diagonal, that still matches."""
+        return tol.PIECE_MATCH_REL + allowance / max(self.diag, 1e-300)
+
+
+def _shape_match(
+    piece: _Outline, panel: _Outline, allowance: float
+) -> tuple[np.ndarray, np.ndarray, float] | None:
+    """The rigid map fitting a piece onto a panel by shape, when its area is plausible and
+    the fit close enough (``(R, t, relative residual)``); None otherwise."""
+    slack = tol.PIECE_AREA_REL * panel.area + panel.perimeter * allowance
+    if abs(piece.area - panel.area) > slack:
+        return None
+    R, t, res = _fit_shape(piece.samples, panel.curve, panel.samples, piece.diag)
+    return (R, t, res) if res < piece.threshold(allowance) else None
+
+
 def match_pieces(
     pieces: list[Piece] | tuple[Piece, ...],
     V2: np.ndarray,
@@ -217,35 +257,26 @@ def match_pieces(
     from scipy.optimize import linear_sum_assignment
 
     n_pc, n_pn = len(pieces), len(panel_list)
-    curves = [resample_closed(_piece_curve(pc), _SAMPLES) for pc in pieces]
-    piece_curves = [_Curve(_piece_curve(pc)) for pc in pieces]
-    loops = [outer_loop(F2, p.faces, V2) for p in panel_list]
-    panel_pts = [resample_closed(V2[lp], _SAMPLES) for lp in loops]
-    panel_curves = [_Curve(V2[lp]) for lp in loops]
-    diag = np.array([float(np.linalg.norm(np.ptp(c, axis=0))) for c in curves])
-    piece_area = np.array([abs(signed_area(_piece_curve(pc))) for pc in pieces])
-    panel_area = np.array([abs(signed_area(V2[lp])) for lp in loops])
-    panel_perim = np.array(
-        [float(np.linalg.norm(V2[lp] - V2[np.roll(lp, -1)], axis=1).sum()) for lp in loops]
-    )
-    thr = tol.PIECE_MATCH_REL + allowance / np.maximum(diag, 1e-300)  # per piece, relative
+    outs = [_Outline.of(_piece_curve(pc)) for pc in pieces]
+    pans = [_Outline.of(V2[outer_loop(F2, p.faces, V2)]) for p in panel_list]
+    thr = np.array([o.threshold(allowance) for o in outs])  # per piece, relative
     cost = np.full((n_pc, n_pn), np.inf)
-    for i in range(n_pc):  # pieces x panels: a few dozen pairs
-        for j in range(n_pn):
-            lo, hi = panel_pts[j].min(axis=0), panel_pts[j].max(axis=0)
-            clo, chi = curves[i].min(axis=0), curves[i].max(axis=0)
-            reach = 0.1 * diag[i] + allowance
+    for i, po in enumerate(outs):  # pieces x panels: a few dozen pairs
+        for j, pn in enumerate(pans):
+            lo, hi = pn.samples.min(axis=0), pn.samples.max(axis=0)
+            clo, chi = po.samples.min(axis=0), po.samples.max(axis=0)
+            reach = 0.1 * po.diag + allowance
             if np.any(clo > hi + reach) or np.any(chi < lo - reach):
                 continue
-            d = _outline_distance(curves[i], piece_curves[i], panel_pts[j], panel_curves[j])
-            cost[i, j] = d / diag[i]
+            d = _outline_distance(po.samples, po.curve, pn.samples, pn.curve)
+            cost[i, j] = d / po.diag
     matches: dict[int, PieceMatch] = {}
     ok = np.where(cost < thr[:, None], cost, 1e6)
     rows, cols = linear_sum_assignment(ok)
     for i, j in zip(rows.tolist(), cols.tolist(), strict=True):
         if ok[i, j] < 1e6:
             c = float(cost[i, j])
-            matches[i] = PieceMatch(i, j, "position", np.eye(2), np.zeros(2), c, c * diag[i])
+            matches[i] = PieceMatch(i, j, "position", np.eye(2), np.zeros(2), c, c * outs[i].diag)
     free_panels = [j for j in range(n_pn) if j not in {m.panel for m in matches.values()}]
     rest = [i for i in range(n_pc) if i not in matches]
     if rest and free_panels:
@@ -253,19 +284,16 @@ def match_pieces(
         shape_cost = np.full((len(rest), len(free_panels)), 1e6)
         for a, i in enumerate(rest):
             for b, j in enumerate(free_panels):
-                slack = tol.PIECE_AREA_REL * panel_area[j] + panel_perim[j] * allowance
-                if abs(piece_area[i] - panel_area[j]) > slack:
-                    continue
-                R, t, res = _fit_shape(curves[i], panel_curves[j], panel_pts[j], diag[i])
-                fits[i, j] = (R, t, res)
-                if res < thr[i]:
-                    shape_cost[a, b] = res
+                fit = _shape_match(outs[i], pans[j], allowance)
+                if fit is not None:
+                    fits[i, j] = fit
+                    shape_cost[a, b] = fit[2]
         rr, cc = linear_sum_assignment(shape_cost)
         for a, b in zip(rr.tolist(), cc.tolist(), strict=True):
             if shape_cost[a, b] < 1e6:
                 i, j = rest[a], free_panels[b]
                 R, t, res = fits[i, j]
-                matches[i] = PieceMatch(i, j, "shape", R, t, float(res), float(res) * diag[i])
+                matches[i] = PieceMatch(i, j, "shape", R, t, res, res * outs[i].diag)
     missing = [i for i in range(n_pc) if i not in matches]
     if missing:
         used = {m.panel for m in matches.values()}
@@ -415,23 +443,15 @@ def more_instances(
         free = [p for p in panel_list if p.index not in used]
         if not free:
             break
-        curve = _piece_curve(pc)
-        A = resample_closed(curve, _SAMPLES)
-        diag = float(np.linalg.norm(np.ptp(A, axis=0)))
-        thr = tol.PIECE_MATCH_REL + allowance / max(diag, 1e-300)
+        po = _Outline.of(_piece_curve(pc))
         fits = []
         for p in free:  # a loop over the panels left
-            lp = outer_loop(F2, p.faces, V2)
-            P = V2[lp]
-            perim = float(np.linalg.norm(P - np.roll(P, -1, axis=0), axis=1).sum())
-            slack = tol.PIECE_AREA_REL * abs(signed_area(P)) + perim * allowance
-            if abs(abs(signed_area(curve)) - abs(signed_area(P))) > slack:
-                continue
-            R, t, res = _fit_shape(A, _Curve(P), resample_closed(P, _SAMPLES), diag)
-            if res < thr:
+            fit = _shape_match(po, _Outline.of(V2[outer_loop(F2, p.faces, V2)]), allowance)
+            if fit is not None:
+                R, t, res = fit
                 fits.append((res, p.index, R, t))
         for res, j, R, t in sorted(fits, key=lambda f: f[0])[: pc.quantity - 1]:
-            out.append(PieceMatch(i, j, "shape", R, t, float(res), float(res) * diag))
+            out.append(PieceMatch(i, j, "shape", R, t, float(res), float(res) * po.diag))
             used.add(j)
     return out
 
