@@ -21,7 +21,7 @@ from scipy.spatial import cKDTree
 
 from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
-from ptailor.method.transfer import carry_points, locate_points
+from ptailor.method.transfer import carry_points, locate_points, segment_feet
 from ptailor.model.boundary import boundary_loops
 from ptailor.model.garment import Garment, Panel, signed_areas_2d
 from ptailor.model.pieces import PatternFile, Piece
@@ -122,12 +122,7 @@ class _Curve:
         """Distance from each point ``(j, 2)`` to the curve, and the nearest points."""
         _, idx = self.tree.query(X, k=self.k)
         seg = self.sid[np.asarray(idx).reshape(len(X), self.k)]
-        A, B = self.A[seg], self.B[seg]
-        AB = B - A
-        L2 = np.maximum((AB * AB).sum(-1), 1e-300)
-        t = np.clip(((X[:, None, :] - A) * AB).sum(-1) / L2, 0.0, 1.0)
-        Q = A + t[..., None] * AB
-        d = np.linalg.norm(X[:, None, :] - Q, axis=-1)
+        d, Q = segment_feet(X[:, None, :], self.A[seg], self.B[seg])
         best = np.argmin(d, axis=1)
         r = np.arange(len(X))
         return d[r, best], Q[r, best]

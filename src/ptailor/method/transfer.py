@@ -31,13 +31,24 @@ class PointLocation:
     distance: np.ndarray
 
 
-def _segment_distance(P: np.ndarray, A: np.ndarray, B: np.ndarray) -> np.ndarray:
-    """Distance from points ``P`` to segments ``AB``; all ``(..., 2)``, broadcast."""
+def segment_feet(P: np.ndarray, A: np.ndarray, B: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The nearest point of each segment ``AB`` to each point ``P``, and the distance.
+
+    Parameters
+    ----------
+    P, A, B : (..., 2) float arrays
+        Broadcast against each other (a point and its candidate segments).
+
+    Returns
+    -------
+    distance : (...,) float array
+    foot : (..., 2) float array
+    """
     d = B - A
     dd = np.einsum("...i,...i->...", d, d)
     t = np.einsum("...i,...i->...", P - A, d) / np.where(dd > 0, dd, 1.0)
-    t = np.clip(t, 0.0, 1.0)
-    return np.linalg.norm(P - (A + t[..., None] * d), axis=-1)
+    foot = A + np.clip(t, 0.0, 1.0)[..., None] * d
+    return np.linalg.norm(P - foot, axis=-1), foot
 
 
 def barycentric_2d(P: np.ndarray, T: np.ndarray) -> np.ndarray:
@@ -100,7 +111,7 @@ def locate_points(
     inside = np.all(bary >= -1e-12, axis=-1)
     dist = np.min(
         np.stack(
-            [_segment_distance(Pc, Tc[..., i, :], Tc[..., (i + 1) % 3, :]) for i in range(3)],
+            [segment_feet(Pc, Tc[..., i, :], Tc[..., (i + 1) % 3, :])[0] for i in range(3)],
             axis=-1,
         ),
         axis=-1,
