@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from ptailor.cli.options import axes_options, axis_vector, garment_options
+from ptailor.cli.options import axes_options, axis_vector, dxf_options, garment_options
 
 
 @click.command()
@@ -21,17 +21,7 @@ from ptailor.cli.options import axes_options, axis_vector, garment_options
     type=click.Choice(["mm", "cm", "m", "in"]),
     help="Unit to report lengths in (garments; a DXF is shown in its own units and cm).",
 )
-@click.option(
-    "--size",
-    default=None,
-    help="DXF only: the size to show [default: the file's sample size, else its first].",
-)
-@click.option(
-    "--dxf-units",
-    default=None,
-    type=click.Choice(["mm", "cm", "in"]),
-    help="DXF only: unit of the coordinates [default: from the file].",
-)
+@dxf_options
 @click.option("--json", "as_json", is_flag=True, help="Print JSON instead of text.")
 def inspect(
     garment, drape, pattern_units, drape_units, up, front, units, size, dxf_units, as_json

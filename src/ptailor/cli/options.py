@@ -91,14 +91,15 @@ def dxf_options(fn):
             click.option(
                 "--size",
                 default=None,
-                help="DXF pattern: the size to read [default: the file's sample size].",
+                help="DXF pattern: the size to read [default: the file's sample size, else "
+                "its first].",
             ),
             click.option(
                 "--dxf-units",
                 type=click.Choice(["mm", "cm", "in"]),
                 default=None,
                 help="DXF pattern: its unit [default: from the file's 'Units:' text; METRIC "
-                "is mm or cm, judged from the drape].",
+                "is mm or cm, judged from the drape, or from the piece sizes without one].",
             ),
         ]
     ):
