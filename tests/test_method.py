@@ -160,18 +160,18 @@ def test_partial_region_follows_smoothly_and_keeps_seams_closed():
 
 
 @pytest.mark.parametrize("name", sorted(GARMENTS))
-def test_seam_springs_keep_the_invariants(name):
+def test_seam_ease_keeps_the_invariants(name):
     g = GARMENTS[name]()
     asap = np.ones(len(panels(g)), bool)
     size = np.ptp(g.V2, axis=0).max()
-    r = flatten(g, g.V3, asap_panels=asap, keep_seams=True)
+    r = flatten(g, g.V3, asap_panels=asap, seams="ease")
     assert np.abs(r.V2 - g.V2).max() < 1e-7 * size
-    r = flatten(g, rigid(g.V3) * 1.3, asap_panels=asap, keep_seams=True)
+    r = flatten(g, rigid(g.V3) * 1.3, asap_panels=asap, seams="ease")
     for p in panels(g):
         np.testing.assert_allclose(panel_size(r.V2, p), 1.3 * panel_size(g.V2, p), rtol=1e-6)
 
 
-def test_seam_springs_keep_the_lantern_exact():
+def test_seam_ease_keeps_the_lantern_exact():
     g = lantern_sleeve()
-    adj = adjust(g, parse_recipe(AROUND + "\nflatten: {seams: keep}"))
+    adj = adjust(g, parse_recipe(AROUND + "\nflatten: {seams: ease}"))
     np.testing.assert_allclose(panel_size(adj.result.V2, panels(g)[1]), [48.0, 8.0], rtol=1e-6)

@@ -110,13 +110,13 @@ def seam_mismatch(adj) -> float:
     return worst
 
 
-def test_tee6_seams_keep_matches_seam_lengths():
-    """flatten.seams: keep holds every seam's two sides at their original ratio."""
+def test_tee6_seams_ease_matches_seam_lengths():
+    """flatten.seams: ease (the default) holds every seam's two sides at their ratio."""
     g = load_garment(real_path("tee6")).garment
     step = (
         "steps: [{op: scale, region: {panels: [panel_0, panel_1]}, direction: around, factor: 1.2}]"
     )
-    free = adjust(g, parse_recipe(step), baseline=False)
-    keep = adjust(g, parse_recipe(step + "\nflatten: {seams: keep}"), baseline=False)
+    free = adjust(g, parse_recipe(step + "\nflatten: {seams: free}"), baseline=False)
+    keep = adjust(g, parse_recipe(step), baseline=False)
     assert seam_mismatch(free) > 0.01
     assert seam_mismatch(keep) < 0.002

@@ -120,6 +120,21 @@ def asap_mask(state: EditState, boundary: str) -> np.ndarray:
     return state.even.copy()
 
 
+def seam_mode(name: str) -> str:
+    """``flatten.seams`` to the solver's mode (``keep``, an older name, is ``ease``)."""
+    return "free" if name == "free" else "ease"
+
+
+def seam_factors(state: EditState) -> dict[tuple[int, int], float]:
+    """The steps' gathers as ``{(part index, other index): factor}`` (products if repeated)."""
+    idx = {p.name: p.index for p in state.panels}
+    out: dict[tuple[int, int], float] = {}
+    for part, other, f in state.gathers:  # a loop over steps
+        key = (idx[part], idx[other])
+        out[key] = out.get(key, 1.0) * f
+    return out
+
+
 def adjust(
     garment: Garment,
     recipe: Recipe,
@@ -150,6 +165,8 @@ def adjust(
         settings["method"] = method
     if intrinsic is not None:
         settings["intrinsic"] = intrinsic
+    if settings["method"] == "uniform":
+        settings["seams"] = "free"  # the paper's baseline: the drape alone decides
     t0 = time.perf_counter()
     state = apply_steps(garment, recipe, options=options or EditOptions())
     t1 = time.perf_counter()
@@ -160,13 +177,17 @@ def adjust(
         "frozen_panels": np.array([p.name in state.frozen for p in state.panels], dtype=bool),
         "w_pin": float(settings["w_pin"]),
         "w_asap": float(settings["w_asap"]),
-        "keep_seams": settings["seams"] == "keep",
-        "w_seam": float(settings["w_seam"]),
         "max_iter": int(settings["max_iter"]),
         "panel_list": state.panels,
     }
     result = flatten(
-        state.base, state.V3, method=settings["method"], intrinsic=settings["intrinsic"], **kw
+        state.base,
+        state.V3,
+        method=settings["method"],
+        intrinsic=settings["intrinsic"],
+        seams=seam_mode(settings["seams"]),
+        seam_factors=seam_factors(state),
+        **kw,
     )
     t2 = time.perf_counter()
     base = None
@@ -174,7 +195,7 @@ def adjust(
         base = (
             result
             if settings["method"] == "uniform"
-            else flatten(state.base, state.V3, method="uniform", **kw)
+            else flatten(state.base, state.V3, method="uniform", seams="free", **kw)
         )
     t3 = time.perf_counter()
     timing = {"edit": t1 - t0, "flatten": t2 - t1, "baseline": t3 - t2}

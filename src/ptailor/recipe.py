@@ -17,10 +17,9 @@ FLATTEN_PARAMS = {
     "method": (choice("scale-preserving", "uniform"), "scale-preserving"),
     "intrinsic": (choice("polar", "paper"), "polar"),
     "boundary": (choice("auto", "similar", "free"), "auto"),
-    "seams": (choice("keep", "free"), "free"),
+    "seams": (choice("ease", "free", "keep"), "ease"),
     "w_pin": (number(gt=0.0), tol.W_PIN),
     "w_asap": (number(gt=0.0), tol.W_ASAP),
-    "w_seam": (number(gt=0.0), tol.W_SEAM),
     "max_iter": (number(ge=1, le=10000), tol.ARAP_MAX_ITER),
 }
 TOP_KEYS = ("format", "units", "up", "front", "symmetric", "steps", "flatten")

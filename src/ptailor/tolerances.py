@@ -2,15 +2,18 @@
 
 #: Relative (to the panel's bounding-box diagonal) area below which a triangle is degenerate.
 ZERO_AREA_REL = 1e-12
-#: ARAP local/global iterations stop when the relative energy change falls below this.
-ARAP_REL_TOL = 1e-8
+#: Local/global stitching stops when no panel's last step moved a vertex (rigid motion
+#: removed) by more than this fraction of the panel's size ...
+ARAP_STEP_TOL = 1e-7
 #: ...or after this many iterations.
 ARAP_MAX_ITER = 100
 #: Default weights of the pinned-vertex and as-similar-as-possible terms (the paper's).
 W_PIN = 1000.0
 W_ASAP = 1000.0
-#: Weight of the seam springs that keep both sides of a seam at their original length ratio.
-W_SEAM = 1000.0
+#: Anderson acceleration history of the stitching iterations (0: plain local/global).
+ANDERSON_HISTORY = 5
+#: Right-hand sides per back-substitution batch when the seam block of ``A^-1`` is formed.
+SEAM_BLOCK_CHUNK = 64
 #: A 2D triangle whose signed area has the opposite sign of its panel's is flipped when
 #: its magnitude exceeds this fraction of the panel's mean triangle area.
 FLIP_REL = 1e-9

@@ -53,6 +53,10 @@ class EditState:
     frozen : frozenset of str
         Names of panels whose pattern is kept: their drape's change goes into their
         intrinsic scale (a cuff that gathers more when the sleeve above it widens).
+    gathers : tuple of (str, str, float)
+        ``(part, other, f)``: the seams between panels ``part`` and ``other`` change their
+        length ratio on purpose, the side on ``part`` ``f`` times longer relative to the
+        side on ``other`` (``scale_seam``'s gather); the flattening keeps that new ratio.
     """
 
     base: Garment
@@ -62,6 +66,7 @@ class EditState:
     log: tuple[dict, ...] = field(default_factory=tuple)
     outline_free: np.ndarray | None = None
     frozen: frozenset[str] = frozenset()
+    gathers: tuple[tuple[str, str, float], ...] = ()
 
 
 @dataclass(frozen=True)

@@ -94,7 +94,9 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
     that end, moving the seam and carrying the other panel with it. The rest of the garment
     follows by as-rigid-as-possible deformation; what ``fix`` names stays put. The other
     panel's pattern is kept (``frozen``): its drape's change goes into its intrinsic scale,
-    as a gathered cuff takes up a wider sleeve.
+    as a gathered cuff takes up a wider sleeve. ``around`` changes the seam's length ratio
+    by ``factor`` on purpose (the part's side grows, the other's is kept): the flattening
+    keeps the seam at that new ratio (``gathers``).
     """
     from ptailor.edits.opening import find_opening
     from ptailor.method.deform import arap_deform
@@ -162,11 +164,14 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
         "seam_vertices": len(ring),
         "fixed_vertices": len(fixed_v),
         "pattern_kept": other,
+        "seam_ratio_factor": f if step["direction"] == "around" else 1.0,
     }
+    gather = ((part, other, f),) if step["direction"] == "around" else ()
     return replace(
         state,
         V3=V_new,
         even=even,
         frozen=state.frozen | {other},
+        gathers=(*state.gathers, *gather),
         log=(*state.log, rec),
     )

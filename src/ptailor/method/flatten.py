@@ -8,12 +8,14 @@ from typing import Literal
 import numpy as np
 
 from ptailor import tolerances as tol
+from ptailor.method.ease import seam_ease
 from ptailor.method.intrinsic import Intrinsic, edge_matrices, intrinsic_targets
+from ptailor.method.rigid import rigid_fit
 from ptailor.method.stitch import StitchInfo, stitch
 from ptailor.model.garment import Garment, Panel, panels
-from ptailor.model.seams import seam_halfedges
 
 Method = Literal["scale-preserving", "uniform"]
+Seams = Literal["ease", "free"]
 
 
 @dataclass(frozen=True)
@@ -76,40 +78,6 @@ def central_vertices(V2: np.ndarray, vlab: np.ndarray, n_panels: int) -> np.ndar
     return used[order[first]]
 
 
-def rigid_fit(X: np.ndarray, Y: np.ndarray, vlab: np.ndarray, n_panels: int) -> np.ndarray:
-    """Move each panel of ``X`` by the rotation + translation that best fits it onto ``Y``.
-
-    Parameters
-    ----------
-    X, Y : (n, 2) float arrays
-        Moving and reference positions with the same vertices.
-    vlab : (n,) int array
-        Panel per vertex; vertices with -1 are returned unchanged.
-    n_panels : int
-
-    Returns
-    -------
-    (n, 2) float array
-    """
-    used = np.flatnonzero(vlab >= 0)
-    lab = vlab[used]
-    cnt = np.maximum(np.bincount(lab, minlength=n_panels), 1).astype(float)
-
-    def centroid(P: np.ndarray) -> np.ndarray:
-        return np.stack([np.bincount(lab, P[:, c], n_panels) for c in range(2)], 1) / cnt[:, None]
-
-    cx, cy = centroid(X[used]), centroid(Y[used])
-    a = X[used] - cx[lab]
-    b = Y[used] - cy[lab]
-    dot = np.bincount(lab, a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1], n_panels)
-    crs = np.bincount(lab, a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], n_panels)
-    ang = np.arctan2(crs, dot)
-    c, s = np.cos(ang)[lab], np.sin(ang)[lab]
-    out = X.copy()
-    out[used] = np.stack([c * a[:, 0] - s * a[:, 1], s * a[:, 0] + c * a[:, 1]], 1) + cy[lab]
-    return out
-
-
 def flatten(
     garment: Garment,
     V3_edit: np.ndarray,
@@ -119,12 +87,13 @@ def flatten(
     asap_panels: np.ndarray | None = None,
     outline_free: np.ndarray | None = None,
     frozen_panels: np.ndarray | None = None,
-    keep_seams: bool = False,
+    seams: Seams = "ease",
+    seam_factors: dict[tuple[int, int], float] | None = None,
     w_pin: float = tol.W_PIN,
     w_asap: float = tol.W_ASAP,
-    w_seam: float = tol.W_SEAM,
     max_iter: int = tol.ARAP_MAX_ITER,
-    rel_tol: float = tol.ARAP_REL_TOL,
+    step_tol: float = tol.ARAP_STEP_TOL,
+    history: int = tol.ANDERSON_HISTORY,
     panel_list: list[Panel] | None = None,
 ) -> FlattenResult:
     """Adjust a garment's pattern to an edited drape.
@@ -146,9 +115,15 @@ def flatten(
     frozen_panels : (n_panels,) bool array, optional
         Panels whose pattern triangles are kept as they were: the change of their drape is
         taken up by their intrinsic scale (the cuff a seam-line scale gathers into).
-    keep_seams : bool
-        Keep each seam's two sides at their original length ratio (seam springs).
-    w_pin, w_asap, w_seam, max_iter, rel_tol
+    seams : {"ease", "free"}
+        ``ease``: each seam edge's two sides keep the length ratio they have in the input
+        pattern, exactly (:mod:`ptailor.method.ease`); ``free``: panels are stitched each
+        on its own (the paper).
+    seam_factors : dict, optional
+        ``{(p, q): f}``: the seams between panels ``p`` and ``q`` change their ratio on
+        purpose, the side on ``p`` ``f`` times longer relative to the side on ``q``
+        (:func:`ptailor.method.ease.seam_ease`).
+    w_pin, w_asap, max_iter, step_tol, history
         Solver settings (see :func:`ptailor.method.stitch.stitch`).
     panel_list : list of Panel, optional
         ``panels(garment)``, when the caller already has it.
@@ -169,6 +144,11 @@ def flatten(
         targets[frozen] = edge_matrices(V2, garment.F2[frozen])
     vlab = vertex_labels(plist, n2)
     pins = central_vertices(V2, vlab, len(plist))
+    ease = None
+    if seams == "ease":
+        ease = seam_ease(
+            garment.F3, garment.F2, V2, face_panel=panel_labels(plist, m), factors=seam_factors
+        )
     asap_faces = None
     if asap_panels is not None and np.any(asap_panels):
         flab = panel_labels(plist, m)
@@ -178,14 +158,15 @@ def flatten(
         garment.F2,
         targets,
         pins=pins,
+        vertex_panel=vlab,
         asap_faces=asap_faces,
         asap_exclude=outline_free,
-        seam_pairs=seam_halfedges(garment.F3, garment.F2) if keep_seams else None,
+        ease=ease,
         w_pin=w_pin,
         w_asap=w_asap,
-        w_seam=w_seam,
         max_iter=max_iter,
-        rel_tol=rel_tol,
+        step_tol=step_tol,
+        history=history,
     )
     X = rigid_fit(X, V2, vlab, len(plist))
     X[:, 0] *= sign

@@ -14,13 +14,16 @@ The matrix never changes: it is factored once and each iteration back-substitute
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
 
 from ptailor import tolerances as tol
+from ptailor.method.anderson import Anderson
+from ptailor.method.ease import SeamEase
 from ptailor.method.intrinsic import det2, inv2
+from ptailor.method.rigid import rigid_fit
 from ptailor.model.boundary import boundary_loops
 
 
@@ -35,12 +38,19 @@ class StitchInfo:
     energy : float
         Final value of ``E``.
     converged : bool
-        True when the relative energy change fell below the tolerance.
+        True when every panel's last step fell below the tolerance.
+    panel_residual : (n_panels,) float array
+        Each panel's last step (largest vertex move, rigid motion removed) over its size.
+    seam_violation : float
+        Largest relative seam-length mismatch ``|L_b - r L_a| / L_b`` of the constraints
+        (0 without them).
     """
 
     iterations: int
     energy: float
     converged: bool
+    panel_residual: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    seam_violation: float = 0.0
 
 
 def gradient_operators(F: np.ndarray, targets: np.ndarray, n: int) -> tuple[sp.csr_matrix, ...]:
@@ -65,60 +75,6 @@ def gradient_operators(F: np.ndarray, targets: np.ndarray, n: int) -> tuple[sp.c
     rows = np.repeat(np.arange(m), 3)
     cols = F.ravel()
     return tuple(sp.csr_matrix((G[:, :, j].ravel(), (rows, cols)), shape=(m, n)) for j in range(2))
-
-
-@dataclass(frozen=True)
-class SeamSprings:
-    """Springs on both sides of each seam edge that keep the sides' length ratio.
-
-    Attributes
-    ----------
-    E : (2s, n) sparse matrix
-        Edge-difference operator: rows ``0..s-1`` the a-side edges, ``s..2s-1`` the b-side.
-    rho : (s,) float array
-        Original length ratio ``|e_b| / |e_a|`` (the ease).
-    target : (2s, 2) float array
-        Current target edge vectors.
-    """
-
-    E: sp.csr_matrix
-    rho: np.ndarray
-    target: np.ndarray
-
-    @staticmethod
-    def build(
-        V2: np.ndarray, F2: np.ndarray, targets: np.ndarray, pairs: np.ndarray
-    ) -> SeamSprings:
-        """Springs for half-edge ``pairs``, starting at the target triangles' edges."""
-        from ptailor.model.seams import half_edges
-
-        h2 = half_edges(F2)
-        ends = np.concatenate([h2[pairs[:, 0]], h2[pairs[:, 1]]])  # (2s, 2)
-        s2 = len(ends)
-        r = np.arange(s2)
-        E = sp.csr_matrix(
-            (np.concatenate([-np.ones(s2), np.ones(s2)]), (np.concatenate([r, r]), ends.T.ravel())),
-            shape=(s2, len(V2)),
-        )
-        length0 = np.linalg.norm(E @ V2, axis=1)
-        s = s2 // 2
-        rho = length0[s:] / np.maximum(length0[:s], 1e-300)
-        # start: the edge as its target triangle has it (corner positions 0, e01, e02)
-        P = np.concatenate([np.zeros((len(targets), 1, 2)), np.swapaxes(targets, 1, 2)], axis=1)
-        h = np.concatenate([pairs[:, 0], pairs[:, 1]])
-        f, c = h // 3, h % 3
-        start = P[f, (c + 1) % 3] - P[f, c]
-        return SeamSprings(E=E, rho=rho, target=start)
-
-    def local_step(self, X: np.ndarray) -> SeamSprings:
-        """Targets along the current edges, at the common length that best fits both sides."""
-        e = self.E @ X
-        length = np.maximum(np.linalg.norm(e, axis=1), 1e-300)
-        s = len(self.rho)
-        la, lb = length[:s], length[s:]
-        common = (la / self.rho + lb) / (1.0 / self.rho**2 + 1.0)  # the b-side length
-        want = np.concatenate([common / self.rho, common])
-        return SeamSprings(E=self.E, rho=self.rho, target=e * (want / length)[:, None])
 
 
 def laplacian(F: np.ndarray, targets: np.ndarray, area: np.ndarray, n: int) -> sp.csc_matrix:
@@ -220,22 +176,86 @@ def factor(A: sp.spmatrix):
     return lu.solve
 
 
+def seam_block(
+    solve_many, ease: SeamEase, vertex_panel: np.ndarray, n: int, *, coupled: bool
+) -> tuple[np.ndarray, sp.csr_matrix]:
+    """The seam vertices' block of ``A^-1``, computed once per factorisation.
+
+    ``A`` is block diagonal by panel (and by coordinate when x and y decouple), so one
+    right-hand side serves one seam unknown of every block at once: the number of
+    back-substitutions is the most seam unknowns any one block has, not their total.
+
+    Parameters
+    ----------
+    solve_many : callable
+        ``(2n, c) -> (2n, c)``: ``A^-1`` applied to columns over unknowns ``[x; y]``.
+    ease : SeamEase
+    vertex_panel : (n,) int array
+        Panel of each pattern vertex.
+    n : int
+    coupled : bool
+        Whether ``A`` couples x and y (the as-similar-as-possible term).
+
+    Returns
+    -------
+    U : (2q,) int array
+        The seam unknowns (indices into ``[x; y]``).
+    G : (2q, 2q) sparse matrix
+        ``A^-1`` restricted to them (zero across blocks).
+    """
+    verts = ease.vertices()
+    U = np.concatenate([verts, verts + n])
+    pan = vertex_panel[verts].astype(np.int64)
+    n_p = int(vertex_panel.max()) + 1
+    blk = np.concatenate([pan, pan]) if coupled else np.concatenate([pan, pan + n_p])
+    order = np.argsort(blk, kind="stable")
+    sb = blk[order]
+    start = np.searchsorted(sb, sb)  # first position of each block in sorted order
+    slot = np.empty(len(U), dtype=np.int64)
+    slot[order] = np.arange(len(U)) - start
+    # all (i, j) pairs within a block
+    cnt = np.bincount(sb)
+    first = np.concatenate([[0], np.cumsum(cnt)])[sb]  # per sorted position
+    rep = cnt[sb]
+    I_sorted = np.repeat(np.arange(len(U)), rep)
+    J_sorted = np.repeat(first, rep) + (np.arange(rep.sum()) - np.repeat(np.cumsum(rep) - rep, rep))
+    Ii, Jj = order[I_sorted], order[J_sorted]
+    vals = np.empty(len(Ii))
+    n_slots = int(slot.max()) + 1
+    for s0 in range(0, n_slots, tol.SEAM_BLOCK_CHUNK):  # chunks of right-hand sides
+        s1 = min(s0 + tol.SEAM_BLOCK_CHUNK, n_slots)
+        pick = (slot >= s0) & (slot < s1)
+        rhs = np.zeros((2 * n, s1 - s0))
+        rhs[U[pick], slot[pick] - s0] = 1.0
+        sol = solve_many(rhs)
+        mine = (slot[Jj] >= s0) & (slot[Jj] < s1)
+        vals[mine] = sol[U[Ii[mine]], slot[Jj[mine]] - s0]
+    G = sp.csr_matrix((vals, (Ii, Jj)), shape=(len(U), len(U)))
+    return U, G
+
+
 def stitch(
     V2: np.ndarray,
     F2: np.ndarray,
     targets: np.ndarray,
     *,
     pins: np.ndarray,
+    vertex_panel: np.ndarray | None = None,
     asap_faces: np.ndarray | None = None,
     asap_exclude: np.ndarray | None = None,
-    seam_pairs: np.ndarray | None = None,
+    ease: SeamEase | None = None,
     w_pin: float = tol.W_PIN,
     w_asap: float = tol.W_ASAP,
-    w_seam: float = tol.W_SEAM,
     max_iter: int = tol.ARAP_MAX_ITER,
-    rel_tol: float = tol.ARAP_REL_TOL,
+    step_tol: float = tol.ARAP_STEP_TOL,
+    history: int = tol.ANDERSON_HISTORY,
 ) -> tuple[np.ndarray, StitchInfo]:
     """Stitch per-triangle targets into continuous panels.
+
+    Local/global iterations (Liu et al. 2008) accelerated by Anderson mixing (Peng et al.
+    2018) with a safeguard: an accelerated iterate whose fixed-point residual does not
+    fall is dropped for the plain step. The result is always a plain step's output, so
+    the seam constraints hold exactly at the last linearisation.
 
     Parameters
     ----------
@@ -247,21 +267,25 @@ def stitch(
         Target edge matrices in the original pattern's frame.
     pins : (p,) int array
         One pinned vertex per panel.
+    vertex_panel : (n,) int array, optional
+        Panel of each vertex (-1 unused); default the connected components of ``F2``.
     asap_faces : (k,) int array, optional
         Triangles of the panels that keep their outline shape (as-similar-as-possible).
     asap_exclude : (n,) bool array, optional
         Outline vertices left free even on those panels.
-    seam_pairs : (s, 2) int array, optional
-        Half-edge pairs on the two sides of each seam edge
-        (:func:`ptailor.model.seams.seam_halfedges`). Each side gets a spring toward a
-        common length chosen in the local step so the two sides keep their original
-        length ratio (ease): ``w_seam sum |e_a - (l / rho) d_a|^2 + |e_b - l d_b|^2``.
-    w_pin, w_asap, w_seam : float
+    ease : SeamEase, optional
+        Seam-length constraints (:func:`ptailor.method.ease.seam_ease`), enforced exactly
+        with Lagrange multipliers: each global step solves the KKT system through a Schur
+        complement on the one factorisation.
+    w_pin, w_asap : float
         Term weights.
     max_iter : int
         Local/global iterations at most.
-    rel_tol : float
-        Stop when the relative energy change falls below this.
+    step_tol : float
+        Converged when no panel's last step moved a vertex (after removing the panel's
+        rigid motion) by more than this fraction of the panel's size.
+    history : int
+        Anderson history length; 0 for plain local/global.
 
     Returns
     -------
@@ -270,19 +294,24 @@ def stitch(
     info : StitchInfo
     """
     n = len(V2)
+    if vertex_panel is None:
+        from scipy.sparse.csgraph import connected_components
+
+        m = len(F2)
+        adj = sp.csr_matrix(
+            (np.ones(3 * m), (F2.ravel(), np.roll(F2, -1, axis=1).ravel())), shape=(n, n)
+        )
+        vertex_panel = connected_components(adj, directed=False)[1]
+    vlab = np.where(np.isin(np.arange(n), F2), vertex_panel, -1)
+    n_panels = int(vlab.max()) + 1 if n else 0
     D0, D1 = gradient_operators(F2, targets, n)
     area = 0.5 * np.abs(det2(targets))
-    used = np.zeros(n, dtype=bool)
-    used[F2.ravel()] = True
+    used = vlab >= 0
     # unused vertices: identity rows so the system stays non-singular and they stay put
     pin_w = np.zeros(n)
     pin_w[pins] = w_pin
     pin_w[~used] = 1.0
     L = laplacian(F2, targets, area, n) + sp.diags(pin_w)
-    seam = None
-    if seam_pairs is not None and len(seam_pairs):
-        seam = SeamSprings.build(V2, F2, targets, np.asarray(seam_pairs))
-        L = L + w_seam * (seam.E.T @ seam.E)
     B = None
     if asap_faces is not None and len(asap_faces):
         B = asap_rows(V2, F2, np.asarray(asap_faces), exclude=asap_exclude)
@@ -291,49 +320,108 @@ def stitch(
         B = None
         solve_L = factor(L)
 
-        def solve(rhs: np.ndarray) -> np.ndarray:
-            return solve_L(rhs.reshape(2, n).T).T.ravel()
+        def solve_many(rhs: np.ndarray) -> np.ndarray:
+            c = rhs.shape[1]
+            sol = solve_L(np.concatenate([rhs[:n], rhs[n:]], axis=1))
+            return np.concatenate([sol[:, :c], sol[:, c:]], axis=0)
 
     else:
-        solve = factor(sp.block_diag([L, L]) + w_asap * (B.T @ B))
+        solve_2n = factor(sp.block_diag([L, L]) + w_asap * (B.T @ B))
+
+        def solve_many(rhs: np.ndarray) -> np.ndarray:
+            return solve_2n(rhs)
+
+    def solve(rhs: np.ndarray) -> np.ndarray:
+        return solve_many(rhs[:, None])[:, 0]
+
+    if ease is not None and ease.n_rows:
+        U, G = seam_block(solve_many, ease, np.maximum(vlab, 0), n, coupled=B is not None)
+    else:
+        ease = None
     pin_rhs = pin_w[:, None] * V2
 
     def jacobians(X: np.ndarray) -> np.ndarray:
         return np.stack([D0 @ X, D1 @ X], axis=2)  # (m, 2, 2): J[:, c, j] = Dj @ X[:, c]
 
-    def energy(X: np.ndarray, J: np.ndarray, R: np.ndarray) -> float:
-        e = float(area @ ((J - R) ** 2).sum(axis=(1, 2)))
-        if seam is not None:
-            e += float(w_seam * ((seam.E @ X - seam.target) ** 2).sum())
+    def energy(X: np.ndarray) -> float:
+        J = jacobians(X)
+        e = float(area @ ((J - closest_rotations(J)) ** 2).sum(axis=(1, 2)))
         e += float(w_pin * ((X[pins] - V2[pins]) ** 2).sum())
         if B is not None:
             e += float(w_asap * ((B @ X.T.ravel()) ** 2).sum())
         return e
 
-    def global_step(R: np.ndarray) -> np.ndarray:
+    def global_step(R: np.ndarray, X_lin: np.ndarray | None) -> np.ndarray:
         rhs = np.empty((n, 2))
         for c in range(2):
             rhs[:, c] = D0.T @ (area * R[:, c, 0]) + D1.T @ (area * R[:, c, 1])
         rhs += pin_rhs
-        if seam is not None:
-            rhs += w_seam * (seam.E.T @ seam.target)
-        return solve(rhs.T.ravel()).reshape(2, n).T
+        y = solve(rhs.T.ravel())
+        if ease is not None and X_lin is not None:
+            C = ease.rows(X_lin)
+            Cs = C[:, U]
+            M = (Cs @ G @ Cs.T).toarray()
+            lam = _solve_spd(M, C @ y)
+            y = y - solve(C.T @ lam)
+        return y.reshape(2, n).T
 
-    R = np.broadcast_to(np.eye(2), (len(F2), 2, 2)).copy()
-    X = global_step(R)
-    scale = float(area.sum()) + 1e-300
-    e_prev = np.inf
+    def step(X: np.ndarray) -> np.ndarray:
+        return global_step(closest_rotations(jacobians(X)), X)
+
+    # panel sizes, for a scale-free convergence test
+    size = np.ones(max(n_panels, 1))
+    if n_panels:
+        lo = np.full((n_panels, 2), np.inf)
+        hi = np.full((n_panels, 2), -np.inf)
+        np.minimum.at(lo, vlab[used], V2[used])
+        np.maximum.at(hi, vlab[used], V2[used])
+        size = np.maximum(np.linalg.norm(hi - lo, axis=1), 1e-300)
+
+    def residual(X: np.ndarray, GX: np.ndarray) -> np.ndarray:
+        """Per panel: the largest vertex move of the step, rigid motion removed, / size."""
+        d = np.linalg.norm(rigid_fit(GX, X, vlab, n_panels) - X, axis=1)
+        out = np.zeros(n_panels)
+        np.maximum.at(out, vlab[used], d[used])
+        return out / size
+
+    R0 = np.broadcast_to(np.eye(2), (len(F2), 2, 2)).copy()
+    X = global_step(R0, V2)
+    GX = step(X)
+    res = residual(X, GX)
+    acc = Anderson(m=history)
     it, converged = 0, False
     for it in range(1, max_iter + 1):  # noqa: B007 - iterations, not triangles
-        J = jacobians(X)
-        R = closest_rotations(J)
-        if seam is not None:
-            seam = seam.local_step(X)
-        e = energy(X, J, R)
-        if e <= tol.ARAP_ZERO_ENERGY * scale or abs(e_prev - e) <= rel_tol * max(e, 1e-300):
+        if not len(res) or res.max() <= step_tol:
             converged = True
             break
-        X = global_step(R)
-        e_prev = e
+        if history:
+            Xa = acc.next(X.ravel(), GX.ravel()).reshape(n, 2)
+            GXa = step(Xa)
+            res_a = residual(Xa, GXa)
+            if np.linalg.norm(res_a) < np.linalg.norm(res):
+                X, GX, res = Xa, GXa, res_a
+                continue
+            acc.reset()
+        X = GX
+        GX = step(X)
+        res = residual(X, GX)
+    X = GX  # a plain step: the constraints hold at the last linearisation
     X[~used] = V2[~used]
-    return X, StitchInfo(iterations=it, energy=energy(X, jacobians(X), R), converged=converged)
+    viol = float(ease.violation(X).max()) if ease is not None else 0.0
+    return X, StitchInfo(
+        iterations=it,
+        energy=energy(X),
+        converged=converged,
+        panel_residual=res,
+        seam_violation=viol,
+    )
+
+
+def _solve_spd(M: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """Solve a small symmetric positive (semi-)definite system, least squares if singular."""
+    import scipy.linalg as sla
+
+    try:
+        return sla.solve(M, r, assume_a="pos")
+    except (sla.LinAlgError, ValueError):
+        return np.linalg.lstsq(M, r, rcond=None)[0]

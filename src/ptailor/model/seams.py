@@ -96,6 +96,32 @@ def seam_halfedges(F3: np.ndarray, F2: np.ndarray) -> np.ndarray:
     return np.stack([first[is_seam], second[is_seam]], axis=1)
 
 
+def _chain(e3: np.ndarray, key: np.ndarray) -> np.ndarray:
+    """Curve label of each seam edge: edges of one key sharing a drape vertex chain."""
+    k = len(e3)
+    node_key = np.repeat(key.astype(np.int64), 2) * (int(e3.max()) + 1) + e3.ravel()
+    _, kinv = np.unique(node_key, return_inverse=True)
+    B = sp.coo_matrix(
+        (np.ones(2 * k), (np.repeat(np.arange(k), 2), kinv.ravel())), shape=(k, kinv.max() + 1)
+    ).tocsr()
+    return connected_components(B @ B.T, directed=False)[1]
+
+
+def seam_curve_labels(F3: np.ndarray, pairs: np.ndarray, face_panel: np.ndarray) -> np.ndarray:
+    """Seam curve of each half-edge pair (:func:`seam_halfedges`), ``(s,)`` int from 0.
+
+    Pairs between the same two panels whose drape edges share a vertex form one curve,
+    as in :func:`seams`.
+    """
+    if len(pairs) == 0:
+        return np.zeros(0, dtype=np.int64)
+    e3 = half_edges(F3)[pairs[:, 0]]
+    pa, pb = face_panel[pairs[:, 0] // 3], face_panel[pairs[:, 1] // 3]
+    n_p = int(face_panel.max()) + 1
+    key = np.minimum(pa, pb) * n_p + np.maximum(pa, pb)
+    return np.unique(_chain(e3, key), return_inverse=True)[1].ravel()
+
+
 def seams(F3: np.ndarray, F2: np.ndarray, face_panel: np.ndarray) -> list[Seam]:
     """Find the seams of a garment.
 
@@ -133,13 +159,7 @@ def seams(F3: np.ndarray, F2: np.ndarray, face_panel: np.ndarray) -> list[Seam]:
         return []
     n_p = int(face_panel.max()) + 1
     pair = pa * n_p + pb
-    # chain: edges of one panel pair sharing a drape vertex belong to one curve
-    node_key = np.repeat(pair, 2) * (int(e3.max()) + 1) + e3.ravel()
-    _, kinv = np.unique(node_key, return_inverse=True)
-    B = sp.coo_matrix(
-        (np.ones(2 * k), (np.repeat(np.arange(k), 2), kinv.ravel())), shape=(k, kinv.max() + 1)
-    ).tocsr()
-    _, lab = connected_components(B @ B.T, directed=False)
+    lab = _chain(e3, pair)
     order = np.lexsort((e3.min(axis=1), pair, lab))
     out: list[Seam] = []
     lab_sorted = lab[order]

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from ptailor import __version__
-from ptailor.adjust import Adjustment, garment_structure
+from ptailor.adjust import Adjustment, garment_structure, seam_factors, seam_mode
 from ptailor.report.metrics import (
     boundary_deviation,
     flipped,
@@ -145,16 +145,25 @@ def build_report(
             rec["baseline_intrinsic_scale_error"] = {k: _r(v[i], 8) for k, v in errb.items()}
         panels_out.append(rec)
     names = [p.name for p in st.panels]
+    gathers = seam_factors(st)
     seams_out = []
-    for s in seam_list:
+    for s in seam_list:  # one record per seam
         la0, lb0 = s.lengths(g.V2)
         la1, lb1 = s.lengths(V2a)
+        pa, pb = s.panels
+        f = gathers.get((pa, pb), 1.0) / gathers.get((pb, pa), 1.0) if pa != pb else 1.0
+        r0 = la0 / max(lb0, 1e-300)
+        target = r0 * f
         seams_out.append(
             {
-                "panels": [names[s.panels[0]], names[s.panels[1]]],
+                "panels": [names[pa], names[pb]],
                 "edges": len(s.edges3),
                 "length_before": [_r(la0), _r(lb0)],
                 "length_after": [_r(la1), _r(lb1)],
+                "ratio_before": _r(r0, 6),
+                "ratio_after": _r(la1 / max(lb1, 1e-300), 6),
+                "ratio_target": _r(target, 6),
+                "mismatch": _r(la1 - target * lb1, 6),
             }
         )
     info = adj.result.info
@@ -172,8 +181,9 @@ def build_report(
             "energy": float(f"{info.energy:.6g}"),
             "w_pin": adj.settings["w_pin"],
             "w_asap": adj.settings["w_asap"],
-            "seams": adj.settings["seams"],
-            "w_seam": adj.settings["w_seam"],
+            "seams": seam_mode(adj.settings["seams"]),
+            "seam_violation": float(f"{info.seam_violation:.3g}"),
+            "residual": float(f"{max(info.panel_residual, default=0.0):.3g}"),
         },
         "panels": panels_out,
         "seams": seams_out,
@@ -216,16 +226,26 @@ def summary_lines(report: dict) -> list[str]:
         )
         lines.append(ln)
 
-    def ratio(ls: list[float]) -> float:
-        return ls[0] / max(ls[1], 1e-12)
-
+    seams = report["seams"]
     changed = [
-        s
-        for s in report["seams"]
-        if abs(ratio(s["length_after"]) - ratio(s["length_before"]))
-        > 1e-3 * ratio(s["length_before"])
+        s for s in seams if abs(s["ratio_target"] - s["ratio_before"]) > 1e-6 * s["ratio_before"]
     ]
-    lines.append(f"seams: {len(report['seams'])}, ease (length ratio) changed on {len(changed)}")
+    line = f"seams: {len(seams)}"
+    if changed:
+        line += f", {len(changed)} with a new ratio (gathered)"
+    if seams:
+        worst = max(seams, key=lambda s: abs(s["mismatch"]))
+        line += (
+            f", worst {' / '.join(worst['panels'])}: mismatch {abs(worst['mismatch']):.3g} {u}"
+            f" (ratio {worst['ratio_after']:.4f}, target {worst['ratio_target']:.4f})"
+        )
+    lines.append(line)
+    sol = report.get("solver", {})
+    if sol:
+        lines.append(
+            f"solver: {sol['iterations']} iterations, seams {sol['seams']}"
+            + ("" if sol["converged"] else f", NOT converged (residual {sol['residual']:.3g})")
+        )
     for st in report.get("steps", []):
         if st.get("op") == "symmetry":
             n = ", ".join(f"{x:.3f}" for x in st["plane"]["normal"])
