@@ -289,12 +289,17 @@ def test_gate_failures_reads_the_report_fields():
             },
             {"name": "q", "area_before": 10.0, "area_after": 10.0, "flipped_triangles": 0},
         ],
+        "seams": [
+            {"panels": ["p", "q"], "mismatch": -0.25},
+            {"panels": ["q", "q"], "mismatch": 0.001},
+        ],
     }
     assert pb.gate_failures(report, pb.Gates()) == []
     gates = pb.Gates(
         max_area_change=0.02,
         max_boundary_deviation=0.1,
         max_intrinsic_error=0.01,
+        max_seam_mismatch=0.1,
         fail_on_flips=True,
     )
     assert pb.gate_failures(report, gates) == [
@@ -302,14 +307,24 @@ def test_gate_failures_reads_the_report_fields():
         "p: boundary deviation 0.2 > 0.1 cm",
         "p: intrinsic-scale error p95 0.02 > 0.01",
         "p: 2 flipped triangles",
+        "seam p / q: mismatch 0.25 > 0.1 cm",
     ]
-    loose = pb.Gates(max_area_change=0.05, max_boundary_deviation=0.3, max_intrinsic_error=0.1)
+    loose = pb.Gates(
+        max_area_change=0.05,
+        max_boundary_deviation=0.3,
+        max_intrinsic_error=0.1,
+        max_seam_mismatch=0.3,
+    )
     assert pb.gate_failures(report, loose) == []
+    # a report without the field fails the gate instead of passing it silently
+    old = {**report, "seams": [{"panels": ["p", "q"], "length_after": [1.0, 1.0]}]}
+    assert pb.gate_failures(old, loose) == ["seam p / q: mismatch missing"]
     assert pb.key_numbers(report) == {
         "panels": 2,
         "max_area_change": 0.03,
         "max_boundary_deviation": 0.2,
         "max_intrinsic_error_p95": 0.02,
+        "max_seam_mismatch": 0.25,
         "flipped_triangles": 2,
         "warnings": 0,
     }

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.edits import OPERATIONS, EditOptions, EditState
 from ptailor.edits.mirror import apply_mirrored
 from ptailor.method.flatten import FlattenResult, flatten, panel_labels, vertex_labels
@@ -207,6 +208,34 @@ def adjust(
         timing_s=timing,
         original=garment,
     )
+
+
+def solver_warnings(adj: Adjustment) -> list[str]:
+    """Warnings about the stitching solve: panels it left unconverged, seams left open.
+
+    Returns
+    -------
+    list of str
+        One line naming the unconverged panels (worst first) with their last relative
+        step, and one when a seam constraint is met less well than ``tol.SEAM_WARN_REL``.
+    """
+    info = adj.result.info
+    out = []
+    res = np.asarray(info.panel_residual)
+    if not info.converged and len(res):
+        bad = np.argsort(-res)[: int(np.sum(res > tol.ARAP_STEP_TOL))]
+        names = ", ".join(f"{adj.state.panels[i].name} ({res[i]:.2g})" for i in bad[:5])
+        more = f" and {len(bad) - 5} more" if len(bad) > 5 else ""
+        out.append(
+            f"solver stopped at the {info.iterations}-iteration cap (flatten.max_iter) before"
+            f" converging: panel {names}{more} still moving (last step / panel size)"
+        )
+    if info.seam_violation > tol.SEAM_WARN_REL:
+        out.append(
+            f"seam ease met only to {100 * info.seam_violation:.2g} % (relative length"
+            " mismatch of the worst seam edge)"
+        )
+    return out
 
 
 def garment_structure(state: EditState) -> tuple[np.ndarray, np.ndarray, list]:

@@ -45,6 +45,7 @@ RECORD_KEYS = (
     "max_area_change",
     "max_boundary_deviation",
     "max_intrinsic_error_p95",
+    "max_seam_mismatch",
     "flipped_triangles",
     "warnings",
 )
@@ -258,6 +259,9 @@ class Gates:
     max_intrinsic_error : float, optional
         A panel whose ``intrinsic_scale_error.p95`` is above it fails (the 95th percentile
         over the panel's triangles, so a few triangles at a seam do not decide).
+    max_seam_mismatch : float, optional
+        In the report's units: a seam whose ``|mismatch|`` (its two sides' length difference
+        at the target ratio) is above it fails.
     fail_on_flips : bool
         A panel with ``flipped_triangles > 0`` fails.
     """
@@ -265,6 +269,7 @@ class Gates:
     max_area_change: float | None = None
     max_boundary_deviation: float | None = None
     max_intrinsic_error: float | None = None
+    max_seam_mismatch: float | None = None
     fail_on_flips: bool = False
 
 
@@ -297,7 +302,8 @@ def _p95(panel: dict) -> float | None:
 def gate_failures(report: dict, gates: Gates) -> list[str]:
     """Every gate the report breaks, one line per panel and gate."""
     probs = []
-    units = report.get("units", "")
+    units_rec = report.get("units")
+    units = units_rec.get("computation", "") if isinstance(units_rec, dict) else units_rec or ""
     for p in report.get("panels", []):  # a loop over panels
         name = p.get("name", "?")
         da = area_change(p)
@@ -316,7 +322,20 @@ def gate_failures(report: dict, gates: Gates) -> list[str]:
         flips = int(p.get("flipped_triangles") or 0)
         if gates.fail_on_flips and flips > 0:
             probs.append(f"{name}: {flips} flipped triangle{'s' if flips != 1 else ''}")
+    lim = gates.max_seam_mismatch
+    if lim is not None:
+        for s in report.get("seams", []):  # a loop over seams
+            mis = seam_mismatch(s)
+            if mis is None or mis > lim:
+                shown = "missing" if mis is None else f"{mis:.4g} > {lim:.4g} {units}".rstrip()
+                probs.append(f"seam {' / '.join(s.get('panels', ['?']))}: mismatch {shown}")
     return probs
+
+
+def seam_mismatch(seam: dict) -> float | None:
+    """``|mismatch|`` of a report seam, or None when the report lacks it."""
+    mis = _num(seam.get("mismatch"))
+    return None if mis is None else abs(mis)
 
 
 def key_numbers(report: dict) -> dict:
@@ -332,6 +351,7 @@ def key_numbers(report: dict) -> dict:
         "max_area_change": biggest(area_change(p) for p in panels),
         "max_boundary_deviation": biggest(_num(p.get("boundary_deviation")) for p in panels),
         "max_intrinsic_error_p95": biggest(_p95(p) for p in panels),
+        "max_seam_mismatch": biggest(seam_mismatch(s) for s in report.get("seams", [])),
         "flipped_triangles": sum(int(p.get("flipped_triangles") or 0) for p in panels),
         "warnings": len(report.get("warnings", [])),
     }

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ptailor.adjust import Adjustment, adjust
+from ptailor.adjust import Adjustment, adjust, solver_warnings
 from ptailor.edits import EditOptions
 from ptailor.errors import PtailorError
 from ptailor.formats.garment import LoadedGarment, load_garment
@@ -345,11 +345,7 @@ def run_adjust(
         baseline=baseline,
         options=options,
     )
-    warnings: list[str] = []
-    if not adj.result.info.converged:
-        warnings.append(
-            f"solver stopped after {adj.result.info.iterations} iterations without converging"
-        )
+    warnings: list[str] = solver_warnings(adj)
     units_note = {
         "computation": loaded.garment.units,
         "drape": drape_units,

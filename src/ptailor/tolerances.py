@@ -10,10 +10,14 @@ ARAP_MAX_ITER = 100
 #: Default weights of the pinned-vertex and as-similar-as-possible terms (the paper's).
 W_PIN = 1000.0
 W_ASAP = 1000.0
+#: A seam edge whose two sides miss their target ratio by more than this (relative) after
+#: the solve is reported as a warning.
+SEAM_WARN_REL = 1e-4
 #: Anderson acceleration history of the stitching iterations (0: plain local/global).
 ANDERSON_HISTORY = 5
-#: Right-hand sides per back-substitution batch when the seam block of ``A^-1`` is formed.
-SEAM_BLOCK_CHUNK = 64
+#: Right-hand sides per back-substitution batch when the seam block of ``A^-1`` is formed
+#: (SuperLU slows down twentyfold per column beyond about 32).
+SEAM_BLOCK_CHUNK = 16
 #: A 2D triangle whose signed area has the opposite sign of its panel's is flipped when
 #: its magnitude exceeds this fraction of the panel's mean triangle area.
 FLIP_REL = 1e-9

@@ -81,6 +81,14 @@ def _interrupt(signum, frame) -> None:
     metavar="E",
     help="Gate: fail a garment with a panel whose intrinsic-scale error p95 exceeds E.",
 )
+@click.option(
+    "--max-seam-mismatch",
+    type=click.FloatRange(min=0),
+    default=None,
+    metavar="D",
+    help="Gate: fail a garment with a seam whose two sides miss their target length ratio "
+    "by more than D (report's seams[].mismatch, recipe units).",
+)
 @click.option("--fail-on-flips", is_flag=True, help="Gate: fail a garment with flipped triangles.")
 @click.pass_context
 def batch(
@@ -106,6 +114,7 @@ def batch(
     max_area_change,
     max_boundary_deviation,
     max_intrinsic_error,
+    max_seam_mismatch,
     fail_on_flips,
 ) -> None:
     """Apply RECIPE to every GARMENT, one output folder each under OUT.
@@ -177,6 +186,7 @@ def batch(
             max_area_change=max_area_change,
             max_boundary_deviation=max_boundary_deviation,
             max_intrinsic_error=max_intrinsic_error,
+            max_seam_mismatch=max_seam_mismatch,
             fail_on_flips=fail_on_flips,
         ),
         force=force,

@@ -44,6 +44,8 @@ class StitchInfo:
     seam_violation : float
         Largest relative seam-length mismatch ``|L_b - r L_a| / L_b`` of the constraints
         (0 without them).
+    history : tuple of float
+        The largest panel residual before each iteration (convergence curve).
     """
 
     iterations: int
@@ -51,6 +53,7 @@ class StitchInfo:
     converged: bool
     panel_residual: np.ndarray = field(default_factory=lambda: np.zeros(0))
     seam_violation: float = 0.0
+    history: tuple[float, ...] = ()
 
 
 def gradient_operators(F: np.ndarray, targets: np.ndarray, n: int) -> tuple[sp.csr_matrix, ...]:
@@ -390,7 +393,9 @@ def stitch(
     res = residual(X, GX)
     acc = Anderson(m=history)
     it, converged = 0, False
+    hist: list[float] = []
     for it in range(1, max_iter + 1):  # noqa: B007 - iterations, not triangles
+        hist.append(float(res.max(initial=0.0)))
         if not len(res) or res.max() <= step_tol:
             converged = True
             break
@@ -414,6 +419,7 @@ def stitch(
         converged=converged,
         panel_residual=res,
         seam_violation=viol,
+        history=tuple(hist),
     )
 
 
@@ -422,6 +428,6 @@ def _solve_spd(M: np.ndarray, r: np.ndarray) -> np.ndarray:
     import scipy.linalg as sla
 
     try:
-        return sla.solve(M, r, assume_a="pos")
+        return sla.cho_solve(sla.cho_factor(M), r)
     except (sla.LinAlgError, ValueError):
         return np.linalg.lstsq(M, r, rcond=None)[0]
