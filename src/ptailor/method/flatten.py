@@ -78,6 +78,28 @@ def central_vertices(V2: np.ndarray, vlab: np.ndarray, n_panels: int) -> np.ndar
     return used[order[first]]
 
 
+def panel_strain(
+    V3: np.ndarray, V3_edit: np.ndarray, F3: np.ndarray, face_panel: np.ndarray, n_panels: int
+) -> np.ndarray:
+    """Per panel, the largest relative length change of a drape edge, ``(n_panels,)`` float.
+
+    Parameters
+    ----------
+    V3, V3_edit : (n3, 3) float arrays
+        The drape before and after the edits.
+    F3 : (m, 3) int array
+    face_panel : (m,) int array
+    n_panels : int
+    """
+    E = np.stack([F3, np.roll(F3, -1, axis=1)], axis=2)  # (m, 3, 2)
+    l0 = np.linalg.norm(V3[E[..., 1]] - V3[E[..., 0]], axis=2)
+    l1 = np.linalg.norm(V3_edit[E[..., 1]] - V3_edit[E[..., 0]], axis=2)
+    strain = (np.abs(l1 - l0) / np.maximum(l0, 1e-300)).max(axis=1)
+    out = np.zeros(n_panels)
+    np.maximum.at(out, face_panel, strain)
+    return out
+
+
 def flatten(
     garment: Garment,
     V3_edit: np.ndarray,
@@ -114,7 +136,10 @@ def flatten(
         Pattern vertices whose outline stays free even on those panels (an edited edge).
     frozen_panels : (n_panels,) bool array, optional
         Panels whose pattern triangles are kept as they were: the change of their drape is
-        taken up by their intrinsic scale (the cuff a seam-line scale gathers into).
+        taken up by their intrinsic scale (the cuff a seam-line scale gathers into). With
+        ``seams="ease"`` these, and the panels whose drape no edge of changed in length by
+        ``tol.KEPT_STRAIN``, are ``tol.KEPT_PANEL_WEIGHT`` times stiffer in the stitching:
+        the panels an edit touched take up what keeping the seams costs.
     seams : {"ease", "free"}
         ``ease``: each seam edge's two sides keep the length ratio they have in the input
         pattern, exactly (:mod:`ptailor.method.ease`); ``free``: panels are stitched each
@@ -144,11 +169,14 @@ def flatten(
         targets[frozen] = edge_matrices(V2, garment.F2[frozen])
     vlab = vertex_labels(plist, n2)
     pins = central_vertices(V2, vlab, len(plist))
-    ease = None
+    ease, weight = None, None
     if seams == "ease":
-        ease = seam_ease(
-            garment.F3, garment.F2, V2, face_panel=panel_labels(plist, m), factors=seam_factors
-        )
+        flab = panel_labels(plist, m)
+        ease = seam_ease(garment.F3, garment.F2, V2, face_panel=flab, factors=seam_factors)
+        kept = panel_strain(garment.V3, V3_edit, garment.F3, flab, len(plist)) < tol.KEPT_STRAIN
+        if frozen_panels is not None:
+            kept |= np.asarray(frozen_panels, dtype=bool)
+        weight = np.where(kept, tol.KEPT_PANEL_WEIGHT, 1.0)
     asap_faces = None
     if asap_panels is not None and np.any(asap_panels):
         flab = panel_labels(plist, m)
@@ -162,6 +190,7 @@ def flatten(
         asap_faces=asap_faces,
         asap_exclude=outline_free,
         ease=ease,
+        panel_weight=weight,
         w_pin=w_pin,
         w_asap=w_asap,
         max_iter=max_iter,

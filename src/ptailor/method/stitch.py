@@ -247,6 +247,7 @@ def stitch(
     asap_faces: np.ndarray | None = None,
     asap_exclude: np.ndarray | None = None,
     ease: SeamEase | None = None,
+    panel_weight: np.ndarray | None = None,
     w_pin: float = tol.W_PIN,
     w_asap: float = tol.W_ASAP,
     max_iter: int = tol.ARAP_MAX_ITER,
@@ -280,6 +281,10 @@ def stitch(
         Seam-length constraints (:func:`ptailor.method.ease.seam_ease`), enforced exactly
         with Lagrange multipliers: each global step solves the KKT system through a Schur
         complement on the one factorisation.
+    panel_weight : (n_panels,) float array, optional
+        Each panel's whole energy (ARAP, pin, as-similar-as-possible) is scaled by its
+        weight. A panel alone comes out the same; where seam constraints tie panels, a
+        heavier one takes less of the distortion. Default all 1.
     w_pin, w_asap : float
         Term weights.
     max_iter : int
@@ -308,16 +313,21 @@ def stitch(
     vlab = np.where(np.isin(np.arange(n), F2), vertex_panel, -1)
     n_panels = int(vlab.max()) + 1 if n else 0
     D0, D1 = gradient_operators(F2, targets, n)
-    area = 0.5 * np.abs(det2(targets))
     used = vlab >= 0
+    stiff = np.ones(max(n_panels, 1)) if panel_weight is None else np.asarray(panel_weight)
+    # each panel's whole energy scaled by its weight: alone, a panel's solution is the same;
+    # sewn to others by the seam constraints, a stiffer panel takes less of the distortion
+    area = 0.5 * np.abs(det2(targets)) * stiff[vlab[F2[:, 0]]]
     # unused vertices: identity rows so the system stays non-singular and they stay put
     pin_w = np.zeros(n)
-    pin_w[pins] = w_pin
+    pin_w[pins] = w_pin * stiff[vlab[pins]]
     pin_w[~used] = 1.0
     L = laplacian(F2, targets, area, n) + sp.diags(pin_w)
     B = None
     if asap_faces is not None and len(asap_faces):
         B = asap_rows(V2, F2, np.asarray(asap_faces), exclude=asap_exclude)
+        if panel_weight is not None and B.shape[0]:
+            B = sp.diags(np.sqrt(stiff[vlab[B.indices[B.indptr[:-1]] % n]])) @ B
     if B is None or B.shape[0] == 0:
         # x and y decouple: one n x n factor serves both coordinates
         B = None
@@ -349,7 +359,7 @@ def stitch(
     def energy(X: np.ndarray) -> float:
         J = jacobians(X)
         e = float(area @ ((J - closest_rotations(J)) ** 2).sum(axis=(1, 2)))
-        e += float(w_pin * ((X[pins] - V2[pins]) ** 2).sum())
+        e += float((pin_w[pins, None] * (X[pins] - V2[pins]) ** 2).sum())
         if B is not None:
             e += float(w_asap * ((B @ X.T.ravel()) ** 2).sum())
         return e
@@ -403,7 +413,7 @@ def stitch(
             Xa = acc.next(X.ravel(), GX.ravel()).reshape(n, 2)
             GXa = step(Xa)
             res_a = residual(Xa, GXa)
-            if np.linalg.norm(res_a) < np.linalg.norm(res):
+            if np.linalg.norm(res_a) < tol.ANDERSON_ACCEPT * np.linalg.norm(res):
                 X, GX, res = Xa, GXa, res_a
                 continue
             acc.reset()
