@@ -340,3 +340,125 @@ def test_tee6_hem_extend_is_valid_and_keeps_seams_equal():
     assert rec["achieved"]["3d"]["mean"] == pytest.approx(5.0, rel=0.01)
     # the drape near the hem is shorter than its pattern: the strip is longer in 2D
     assert all(5.0 < v["mean"] < 8.0 for v in rec["achieved"]["pattern"].values())
+
+
+# ---------------------------------------------------------------------------------------
+# measure: pattern
+# ---------------------------------------------------------------------------------------
+
+
+def pattern_recipe(opening: str, by: float) -> object:
+    return parse_recipe(f"steps: [{{op: extend, opening: {opening}, by: {by}, measure: pattern}}]")
+
+
+def test_pattern_measure_lays_a_straight_hem_exactly_by_below_on_a_stretched_tube():
+    from tests.test_shorten import new_edge_vertices, stretched_tube
+
+    g = stretched_tube()
+    adj = adjust(g, pattern_recipe("hem", 3))
+    b, X = adj.state.base, adj.result.V2
+    assert_valid(b, V2=X)
+    assert_seams_equal(b, X)
+    # hand-computed: the new hem is the pattern line y = -3, each column straight below
+    # its hem vertex (the tube's seam continues straight down at x = 0 and x = 30)
+    old = np.flatnonzero(np.isclose(g.V2[:, 1], 0.0))
+    new = new_edge_vertices(adj)
+    assert np.all(new >= len(g.V2))
+    np.testing.assert_allclose(X[new, 1], -3.0, atol=1e-9)
+    np.testing.assert_allclose(np.sort(X[new, 0]), np.sort(g.V2[old, 0]), atol=1e-9)
+    np.testing.assert_allclose(X[: len(g.V2)], g.V2, atol=1e-9)  # the tube is untouched
+    step = adj.state.log[-1]
+    assert step["measure"] == "pattern" and step["pattern_smoothing"] == 0
+    assert step["amount"]["pattern"]["tube"] == {"min": 3.0, "median": 3.0, "max": 3.0}
+    # the drape rows take each column's stretch: 3 (1 + 0.3 cos phi) long, 2.1 to 3.9
+    drape = step["amount"]["drape"]
+    assert drape["min"] == pytest.approx(2.1, abs=0.1) and drape["max"] > 3.8
+    assert adj.state.V3[len(g.V3) :, 1].max() < 0.0
+
+
+def test_drape_measure_lays_that_hem_unevenly():
+    from tests.test_shorten import new_edge_vertices, stretched_tube
+
+    g = stretched_tube()
+    adj = adjust(g, extend_recipe("hem", 3))
+    step = adj.state.log[-1]
+    assert step["measure"] == "drape"
+    assert np.ptp(adj.result.V2[new_edge_vertices(adj), 1]) > 1.5
+    assert step["amount"]["drape"]["min"] == pytest.approx(3.0, abs=1e-6)
+
+
+def test_pattern_measure_offsets_a_round_hole_to_a_smaller_circle():
+    g = annulus()
+    ops = openings(g.V3, g.F3)
+    hole = min(range(len(ops)), key=lambda i: ops[i].length)
+    adj = adjust(g, pattern_recipe(f"{{loop: {hole}}}", 0.5))
+    assert_valid(adj.state.base, V2=adj.result.V2)
+    # each new vertex 0.5 from the 32-gon of circumradius 1, on its vertex's bisector
+    r = np.linalg.norm(adj.state.base.V2[len(g.V2) :][-32:], axis=1)
+    np.testing.assert_allclose(r, 1.0 - 0.5 / np.cos(np.pi / 32), rtol=1e-9)
+    step = adj.state.log[-1]
+    assert all(
+        v == pytest.approx(0.5, abs=1e-9) for v in step["amount"]["pattern"]["panel_0"].values()
+    )
+
+
+def test_pattern_measure_refuses_an_offset_that_closes_the_opening():
+    g = annulus()
+    ops = openings(g.V3, g.F3)
+    hole = min(range(len(ops)), key=lambda i: ops[i].length)
+    with pytest.raises(PtailorError, match=r"by 1\.5: in the pattern of panel_0 the opening is"):
+        adjust(g, pattern_recipe(f"{{loop: {hole}}}", 1.5))
+
+
+def test_pattern_measure_at_a_concave_corner_is_exact_and_valid():
+    g = l_shape()
+    adj = adjust(g, pattern_recipe("{loop: 0}", 0.6))
+    assert_valid(adj.state.base, V2=adj.result.V2)
+    step = adj.state.log[-1]
+    assert all(v == pytest.approx(0.6, abs=1e-9) for v in step["amount"]["pattern"]["l"].values())
+
+
+@pytest.mark.parametrize("measure", ["pattern", "drape"])
+def test_tee6_hem_extended_by_5_in_the_output_pattern(measure):
+    """Acceptance: with ``measure: pattern`` every panel's new hem is 5 +- 0.05 away."""
+    from tests.test_shorten import output_edge_distances
+
+    g = load_garment(real_path("tee6")).garment
+    rec = parse_recipe(f"steps: [{{op: extend, opening: hem, by: 5, measure: {measure}}}]")
+    adj = adjust(g, rec, baseline=False)
+    assert_valid(adj.state.base, V2=adj.result.V2)
+    assert_seams_equal(adj.state.base, adj.result.V2)
+    dist = output_edge_distances(g, adj)
+    assert sorted(dist) == ["panel_4", "panel_5"]
+    if measure == "pattern":
+        for d in dist.values():
+            assert np.all(np.abs(d - 5.0) <= 0.05), (d.min(), d.max())
+    else:  # the paper's: 5 on the drape, 5.5 to 7.7 in the pattern
+        assert max(d.max() for d in dist.values()) > 7.0
+
+
+def test_dress_neckline_extended_by_8_in_the_pattern():
+    """A curved opening across five panels, two of them 1 cm straps."""
+    g = load_garment(real_path("dress"), pattern_units="auto").garment
+    st = apply_steps(g, pattern_recipe("neckline", 8), options=EditOptions())
+    assert_valid(st.base)
+    step = st.log[-1]
+    assert len(step["amount"]["pattern"]) == 5
+    for v in step["amount"]["pattern"].values():
+        assert v["min"] == pytest.approx(8.0, abs=1e-6) and v["max"] == pytest.approx(8.0, abs=1e-6)
+
+
+@pytest.mark.parametrize("measure", ["pattern", "drape"])
+def test_tee_cuff_extended_by_5_cm_exits_0(tmp_path, measure):
+    from click.testing import CliRunner
+
+    from ptailor.cli.main import cli
+
+    path = real_path("tee6")
+    rec = tmp_path / "r.yaml"
+    rec.write_text(f"steps: [{{op: extend, opening: cuff_left, by: 5, measure: {measure}}}]\n")
+    units = ["--pattern-units", "0.333333cm", "--drape-units", "0.333333cm"]  # 1/300 m
+    r = CliRunner().invoke(cli, ["adjust", str(path), str(rec), "-o", str(tmp_path / "o"), *units])
+    assert r.exit_code == 0, r.output
+    out = load_garment(tmp_path / "o" / "garment.obj").garment
+    assert_valid(out)

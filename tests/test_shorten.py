@@ -6,11 +6,12 @@ import numpy as np
 import pytest
 
 from ptailor.adjust import adjust
+from ptailor.errors import PtailorError
 from ptailor.formats.garment import load_garment
 from ptailor.job import run_adjust
 from ptailor.recipe import parse_recipe
 from ptailor.report.outline import point_segment_distance
-from ptailor.samples import cone_skirt, lantern_sleeve
+from ptailor.samples import cone_skirt, cylinder, lantern_sleeve
 from tests.conftest import REAL, real_path
 from tests.garment_checks import adjust_sample_cli, assert_seams_equal, assert_valid
 
@@ -125,3 +126,165 @@ def test_dress_hem_edits_are_valid_and_readjustable(op, tmp_path):
         pattern_units="auto",
     )
     assert len(again["panels"]) == len(rep["panels"])
+
+
+# ---------------------------------------------------------------------------------------
+# measure: pattern
+# ---------------------------------------------------------------------------------------
+
+
+def stretched_tube(amplitude: float = 0.3):
+    """A tube whose drape is stretched along by ``1 + amplitude cos(phi)`` around it.
+
+    The pattern is :func:`ptailor.samples.cylinder`'s rectangle (hem on ``y = 0``); each
+    drape column is taller than its pattern column by its own factor, so surface distance
+    from the hem and pattern distance from it differ column by column.
+    """
+    from dataclasses import replace
+
+    g = cylinder(circumference=30.0, height=20.0, n_around=40, n_along=16)
+    phi = np.arctan2(g.V3[:, 2], g.V3[:, 0])
+    V3 = g.V3.copy()
+    V3[:, 1] *= 1.0 + amplitude * np.cos(phi)
+    return replace(g, V3=V3)
+
+
+def new_edge_vertices(adj, name: str = "hem") -> np.ndarray:
+    """Pattern vertices of the adjusted garment's opening ``name``."""
+    from ptailor.edits.extend import opening_edges
+    from ptailor.model.openings import openings
+
+    b = adj.state.base
+    loop = next(o.loop for o in openings(adj.state.V3, b.F3) if o.name == name)
+    oe = opening_edges(b.F3, b.F2, loop)
+    return np.unique(np.r_[oe.a2, oe.b2])
+
+
+def output_edge_distances(g0, adj, name: str = "hem") -> dict:
+    """Per input panel: the new edge's distances from the old one in ``adj.result.V2``.
+
+    The old edge's pattern segments are carried into the output's frame by each panel's
+    rigid fit from the adjusted garment's own original pattern to the output.
+    """
+    from ptailor.edits.extend import opening_edges
+    from ptailor.model.garment import panels
+    from ptailor.model.openings import openings
+
+    def by_panel(g, V3):
+        loop = next(o.loop for o in openings(V3, g.F3) if o.name == name)
+        oe = opening_edges(g.F3, g.F2, loop)
+        plist = panels(g)
+        flab = np.empty(g.n_faces, dtype=np.int64)
+        for p in plist:
+            flab[p.faces] = p.index
+        return {
+            p.name: (oe.a2[flab[oe.face] == p.index], oe.b2[flab[oe.face] == p.index])
+            for p in plist
+            if np.any(flab[oe.face] == p.index)
+        }, {p.name: p for p in plist}
+
+    old, _ = by_panel(g0, g0.V3)
+    b, X = adj.state.base, adj.result.V2
+    new, plist = by_panel(b, adj.state.V3)
+    out = {}
+    for pname, (a0, b0) in old.items():
+        q = plist[pname]
+        Y, Z = b.V2[q.vertices], X[q.vertices]
+        cy, cz = Y.mean(0), Z.mean(0)
+        U, _, Vt = np.linalg.svd((Y - cy).T @ (Z - cz))
+        R = (U @ np.diag([1.0, np.sign(np.linalg.det(U @ Vt))]) @ Vt).T
+        assert np.abs((Y - cy) @ R.T + cz - Z).max() < 1e-6 * np.ptp(Y, axis=0).max()
+        A, B = (g0.V2[a0] - cy) @ R.T + cz, (g0.V2[b0] - cy) @ R.T + cz
+        pts = np.unique(np.r_[new[pname]])
+        out[pname] = point_segment_distance(X[pts], A, B)
+    return out
+
+
+def test_pattern_measure_cuts_a_straight_hem_exactly_by_up_on_a_stretched_tube():
+    g = stretched_tube()
+    rec = parse_recipe("steps: [{op: shorten, opening: hem, by: 3, measure: pattern}]")
+    adj = adjust(g, rec)
+    b, X = adj.state.base, adj.result.V2
+    assert_valid(b, V2=X)
+    assert_seams_equal(b, X)
+    # hand-computed: the new hem is the pattern line y = 3, across the whole width
+    hem = new_edge_vertices(adj)
+    np.testing.assert_allclose(X[hem, 1], 3.0, atol=1e-9)
+    np.testing.assert_allclose([X[hem, 0].min(), X[hem, 0].max()], [0.0, 30.0], atol=1e-9)
+    np.testing.assert_allclose(np.ptp(X[:, 1]), 17.0, atol=1e-9)  # 20 - 3, nothing else cut
+    step = adj.state.log[-1]
+    assert step["measure"] == "pattern"
+    assert step["amount"]["pattern"]["tube"] == {"min": 3.0, "median": 3.0, "max": 3.0}
+    # on the drape the strip is 3 (1 + 0.3 cos phi) wide: 2.1 to 3.9 (at the columns)
+    drape = step["amount"]["drape"]
+    assert drape["min"] == pytest.approx(2.1, abs=0.05) and drape["max"] > 3.8
+    assert drape["median"] == pytest.approx(3.0, abs=0.2)
+
+
+def test_drape_measure_is_the_default_and_leaves_that_hem_uneven():
+    g = stretched_tube()
+    adj = adjust(g, parse_recipe("steps: [{op: shorten, opening: hem, by: 3}]"))
+    step = adj.state.log[-1]
+    assert step["measure"] == "drape"
+    y = adj.result.V2[new_edge_vertices(adj), 1]
+    assert np.ptp(y) > 1.5  # 3 / 1.3 to 3 / 0.7 in the pattern
+    assert step["amount"]["pattern"]["tube"]["min"] == pytest.approx(3 / 1.3, abs=0.05)
+    assert step["amount"]["drape"] == {"min": 3.0, "median": 3.0, "max": 3.0}
+
+
+def test_pattern_measure_on_the_cone_skirt_keeps_the_side_seams_one():
+    g = cone_skirt(n_around=32, n_along=12)
+    adj = adjust(g, parse_recipe("steps: [{op: shorten, opening: hem, by: 4.3, measure: pattern}]"))
+    b, X = adj.state.base, adj.result.V2
+    assert_valid(b, V2=X)
+    assert_seams_equal(b, X)
+    for side in ("front", "back"):
+        d = output_edge_distances(g, adj)[side]
+        np.testing.assert_allclose(d, 4.3, atol=1e-9)
+
+
+def test_pattern_distance_is_carried_over_seams_into_the_next_panel():
+    """Shorten the lantern cuff (8 high) by 10.5: the cuff goes, the sleeve loses 2.5."""
+    g = lantern_sleeve()
+    rec = parse_recipe("steps: [{op: shorten, opening: hem, by: 10.5, measure: pattern}]")
+    adj = adjust(g, rec)
+    b, X = adj.state.base, adj.result.V2
+    assert_valid(b, V2=X)
+    assert [p.name for p in adj.state.panels] == ["sleeve"]
+    step = adj.state.log[-1]
+    assert step["amount"]["removed_panels"] == ["cuff"]
+    assert step["amount"]["pattern"] == {}  # no cuff edge is left to measure
+    hem = new_edge_vertices(adj)
+    np.testing.assert_allclose(X[hem, 1] - g.V2[:, 1].min(), 2.5, atol=1e-9)
+    np.testing.assert_allclose(np.ptp(X[:, 1]), 37.5, atol=1e-9)
+
+
+@pytest.mark.parametrize("measure", ["pattern", "drape"])
+def test_tee6_hem_shortened_by_5_in_the_output_pattern(measure):
+    """Acceptance: with ``measure: pattern`` every panel's new hem is 5 +- 0.05 away."""
+    g = load_garment(real_path("tee6"), pattern_units=REAL["tee6"][1]).garment
+    rec = parse_recipe(f"steps: [{{op: shorten, opening: hem, by: 5, measure: {measure}}}]")
+    adj = adjust(g, rec, baseline=False)
+    assert_valid(adj.state.base, V2=adj.result.V2)
+    dist = output_edge_distances(g, adj)
+    assert sorted(dist) == ["panel_4", "panel_5"]
+    amount = adj.state.log[-1]["amount"]
+    if measure == "pattern":
+        for d in dist.values():
+            assert np.all(np.abs(d - 5.0) <= 0.05), (d.min(), d.max())
+        assert all(abs(v[s] - 5.0) <= 0.05 for v in amount["pattern"].values() for s in v)
+        assert amount["drape"]["max"] < 4.8  # the hem's drape is shorter than its pattern
+    else:  # the paper's: 5 on the drape, 5.4 to 7.7 in the pattern (an S-shaped hem)
+        assert max(d.max() for d in dist.values()) > 6.5
+        assert amount["drape"]["min"] == pytest.approx(5.0, abs=0.01)
+
+
+def test_pattern_measure_refuses_a_strip_wider_than_the_garment():
+    rec = parse_recipe("steps: [{op: shorten, opening: hem, by: 500, measure: pattern}]")
+    with pytest.raises(PtailorError, match=r"nowhere farther than that from its hem \(in the"):
+        adjust(cone_skirt(), rec)
+
+
+def test_measure_is_a_checked_recipe_key():
+    with pytest.raises(PtailorError, match="measure"):
+        parse_recipe("steps: [{op: shorten, opening: hem, by: 5, measure: ruler}]")

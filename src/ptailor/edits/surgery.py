@@ -5,10 +5,16 @@ crosses is split on the crossing (new vertices on edges, linearly interpolated i
 original drape, the edited drape and the pattern alike), so the kept triangles are unchanged
 and the pattern follows by barycentric transfer, as the paper does. A crossing on a seam
 edge is one new drape vertex and one new pattern vertex per side.
+
+Distances measured in the pattern (``shorten`` and ``extend`` with ``measure: pattern``)
+live here too: :class:`PatternDistance` is the distance, in each panel's own 2D pattern,
+from an opening's pattern edges in that panel, carried across seams into panels the opening
+does not touch; :func:`refine_crossings` places a split exactly on one of its iso-lines.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -16,8 +22,16 @@ import numpy as np
 from ptailor import tolerances as tol
 from ptailor.edits import EditState
 from ptailor.errors import PtailorError
-from ptailor.model.garment import Garment, panels
-from ptailor.model.seams import edge_keys
+from ptailor.model.garment import Garment, Panel, panels
+from ptailor.model.seams import edge_keys, half_edges
+
+#: Point-segment pairs evaluated at once by :func:`weighted_segment_distance`.
+_PAIR_CHUNK = 1 << 21
+#: Bisection steps of :func:`refine_crossings` (the bracket shrinks to 2^-60 of an edge).
+_BISECTION_STEPS = 60
+
+#: ``crossing(a2, b2, t, face) -> t``, see :func:`split_keep`.
+Crossing = Callable[[np.ndarray, np.ndarray, np.ndarray, np.ndarray], np.ndarray]
 
 
 @dataclass(frozen=True)
@@ -38,6 +52,16 @@ class SplitResult:
         Input triangles wholly or partly removed.
     split_triangles : int
         Input triangles the zero level crossed.
+    edge3 : (k3, 2) int array
+        Input drape edge (ends in the input numbering, lower index first) each new drape
+        vertex lies on, row for row with ``new_vertices3``.
+    t3 : (k3,) float array
+        Where on that edge: ``V = (1 - t) V[edge3[:, 0]] + t V[edge3[:, 1]]``.
+    on_level3, on_level2 : (j3,) and (j2,) int arrays
+        Kept input vertices the zero level passes through (snapped onto it), in the new
+        numbering: with the new vertices, they make the new edge.
+    source3 : (j3,) int array
+        The input drape vertex of each of ``on_level3``.
     """
 
     state: EditState
@@ -46,6 +70,11 @@ class SplitResult:
     new_vertices3: np.ndarray
     removed_triangles: int
     split_triangles: int
+    edge3: np.ndarray
+    t3: np.ndarray
+    on_level3: np.ndarray
+    on_level2: np.ndarray
+    source3: np.ndarray
 
 
 def _edge_points(
@@ -57,12 +86,23 @@ def _edge_points(
     return base + inv, P
 
 
+def _group_mean(key: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Mean of ``x`` over the rows sharing each row's key, ``(k,)``."""
+    _, inv = np.unique(key, return_inverse=True)
+    return (np.bincount(inv, x) / np.bincount(inv))[inv]
+
+
 def _source_name(name: str, old: dict) -> str:
     """The input panel a kept panel came from (a panel cut in two gets a ``_k`` suffix)."""
     return name if name in old else name.rsplit("_", 1)[0]
 
 
-def split_keep(state: EditState, phi: np.ndarray) -> SplitResult:
+def split_keep(
+    state: EditState,
+    phi: np.ndarray,
+    *,
+    crossing: Crossing | None = None,
+) -> SplitResult:
     """Keep the part of the garment where ``phi >= 0``.
 
     Parameters
@@ -72,6 +112,14 @@ def split_keep(state: EditState, phi: np.ndarray) -> SplitResult:
         Field on the drape vertices; triangles it crosses are split on ``phi = 0``. Values
         within ``tol.SPLIT_SNAP_REL`` mean edge lengths of zero snap to zero, so no sliver is
         made next to a vertex.
+    crossing : callable, optional, keyword-only
+        ``crossing(a2, b2, t, face) -> t``: where each crossed edge is cut, given its
+        pattern ends ``a2, b2`` ``(r,)``, the linear estimate ``t`` ``(r,)`` (from ``a2``)
+        and the input triangle ``face`` ``(r,)`` it was found in (a field measured in the
+        pattern places the cut exactly on its own iso-line, see :func:`refine_crossings`).
+        A drape edge seen from two triangles (a seam, whose sides are two pattern edges)
+        is cut at the mean of its parameters, on both sides, so the drape and every side
+        of the pattern stay one split. Default: the linear estimate.
 
     Returns
     -------
@@ -118,9 +166,16 @@ def split_keep(state: EditState, phi: np.ndarray) -> SplitResult:
     key3 = edge_keys(np.stack([a3, b3], 1))
     # orient t from the lower vertex so duplicates of one edge give the same point
     lo3 = a3 < b3
+    if crossing is not None:
+        lim = tol.SPLIT_SNAP_REL  # no sliver next to a corner
+        t = np.clip(crossing(a2, b2, t, fs[rows]), lim, 1.0 - lim)
+        tm = _group_mean(key3, np.where(lo3, t, 1.0 - t))
+        t = np.where(lo3, tm, 1.0 - tm)
     tl = np.where(lo3, t, 1.0 - t)
     A3, B3 = np.where(lo3, a3, b3), np.where(lo3, b3, a3)
     idx3, Pbase = _edge_points(g.V3[A3], g.V3[B3], key3, tl, n3)
+    _, first3 = np.unique(key3, return_index=True)
+    edge3, t3 = np.stack([A3[first3], B3[first3]], 1), tl[first3]
     _, Pedit = _edge_points(state.V3[A3], state.V3[B3], key3, tl, n3)
     key2 = edge_keys(np.stack([a2, b2], 1))
     lo2 = a2 < b2
@@ -193,11 +248,283 @@ def split_keep(state: EditState, phi: np.ndarray) -> SplitResult:
         even=even,
         outline_free=free[used2],
     )
+    kept3 = used3[n3:]
+    zero3 = np.flatnonzero((s == 0.0) & used3[:n3])
+    zero2 = np.unique(F2n[np.isin(F3n, zero3)])  # their pattern copies
     return SplitResult(
         state=new_state,
         face_parent=parent,
         new_vertices2=map2[np.arange(n2, len(V2n))[used2[n2:]]],
-        new_vertices3=map3[np.arange(n3, len(V3b))[used3[n3:]]],
+        new_vertices3=map3[np.arange(n3, len(V3b))[kept3]],
         removed_triangles=int((~keep_whole).sum()),
         split_triangles=int(split.sum()),
+        edge3=edge3[kept3],
+        t3=t3[kept3],
+        on_level3=map3[zero3],
+        on_level2=map2[zero2],
+        source3=zero3,
     )
+
+
+# ---------------------------------------------------------------------------------------
+# distances measured in the pattern
+# ---------------------------------------------------------------------------------------
+
+
+def weighted_segment_distance(
+    P: np.ndarray, A: np.ndarray, B: np.ndarray, wa: np.ndarray, wb: np.ndarray
+) -> np.ndarray:
+    """Distance from points to segments that carry a linear head start.
+
+    Parameters
+    ----------
+    P : (p, 2) float array
+    A, B : (s, 2) float arrays
+        Segment ends.
+    wa, wb : (s,) float arrays
+        The value at ``A`` and at ``B``; in between it varies linearly (zero on a plain
+        segment, the distance already travelled on a seam a front crosses).
+
+    Returns
+    -------
+    (p,) float array
+        ``min over segments, over X on the segment, of w(X) + |P - X|`` (exact: the
+        function is convex along a segment), ``+inf`` when there are no segments.
+    """
+    out = np.full(len(P), np.inf)
+    if len(P) == 0 or len(A) == 0:
+        return out
+    AB = B - A
+    L = np.linalg.norm(AB, axis=1)
+    e = AB / np.where(L > 0, L, 1.0)[:, None]
+    # slope of the head start along the segment, kept inside (-1, 1): |g| >= 1 puts the
+    # minimum at an end, which the clipped optimum below then reaches
+    g = np.clip((wb - wa) / np.where(L > 0, L, 1.0), -1.0 + 1e-12, 1.0 - 1e-12)
+    lean = g / np.sqrt(1.0 - g * g)
+    step = max(1, _PAIR_CHUNK // len(A))
+    for i in range(0, len(P), step):  # chunks of points, not single points
+        AP = P[i : i + step, None, :] - A[None]
+        tau0 = np.einsum("psd,sd->ps", AP, e)
+        h = np.sqrt(np.maximum(np.einsum("psd,psd->ps", AP, AP) - tau0 * tau0, 0.0))
+        tau = np.clip(tau0 - lean[None] * h, 0.0, L[None])
+        val = wa[None] + g[None] * tau + np.sqrt((tau - tau0) ** 2 + h * h)
+        out[i : i + step] = val.min(axis=1)
+    return out
+
+
+@dataclass(frozen=True)
+class PatternDistance:
+    """Distance in the pattern from an opening's edges, panel by panel.
+
+    In a panel the opening runs along, the distance is the straight 2D distance from the
+    opening's pattern edges in that panel: what a ruler on that pattern piece measures.
+    A panel the opening does not run along but whose seams come within reach gets the
+    distance carried over its seams: the seam's distance on the other side plus the 2D
+    distance from the seam (segments with a linear head start, an upper bound of the exact
+    front through the seam).
+
+    Attributes
+    ----------
+    A, B : (s, 2) float arrays
+        Source segments in the pattern.
+    wa, wb : (s,) float arrays
+        Head start at each end (zero on the opening's own edges).
+    panel : (s,) int array
+        Panel index each segment measures in.
+    own : (s,) bool array
+        True for the opening's own edges (zero head start).
+    """
+
+    A: np.ndarray
+    B: np.ndarray
+    wa: np.ndarray
+    wb: np.ndarray
+    panel: np.ndarray
+    own: np.ndarray
+
+    def at(self, P: np.ndarray, panel: np.ndarray, *, own_only: bool = False) -> np.ndarray:
+        """Distance of points, each measured in its own panel.
+
+        Parameters
+        ----------
+        P : (p, 2) float array
+        panel : (p,) int array
+        own_only : bool, keyword-only
+            Only the opening's own edges (no distance carried over seams).
+
+        Returns
+        -------
+        (p,) float array
+            ``+inf`` in panels the distance does not reach.
+        """
+        out = np.full(len(P), np.inf)
+        for q in np.unique(panel):  # a loop over panels
+            sel = panel == q
+            seg = (self.panel == q) & (self.own | (not own_only))
+            out[sel] = weighted_segment_distance(
+                P[sel], self.A[seg], self.B[seg], self.wa[seg], self.wb[seg]
+            )
+        return out
+
+
+def edge_distance(
+    V2: np.ndarray, a2: np.ndarray, b2: np.ndarray, edge_panel: np.ndarray
+) -> PatternDistance:
+    """The pattern distance from some edges, in their own panels only (nothing carried).
+
+    Parameters
+    ----------
+    V2 : (n2, 2) float array
+    a2, b2 : (k,) int arrays
+        Edge ends.
+    edge_panel : (k,) int array
+
+    Returns
+    -------
+    PatternDistance
+    """
+    z = np.zeros(len(a2))
+    return PatternDistance(
+        A=V2[a2],
+        B=V2[b2],
+        wa=z,
+        wb=z,
+        panel=np.asarray(edge_panel, dtype=np.int64),
+        own=np.ones(len(a2), bool),
+    )
+
+
+def _boundary_halfedges(F2: np.ndarray) -> np.ndarray:
+    """Pattern half-edges without a twin (the panels' outlines), ``(b, 2)``."""
+    h = half_edges(F2)
+    n = int(F2.max(initial=0)) + 1
+    fwd = h[:, 0].astype(np.int64) * n + h[:, 1]
+    bwd = h[:, 1].astype(np.int64) * n + h[:, 0]
+    return h[~np.isin(fwd, bwd)]
+
+
+def opening_pattern_distance(
+    g: Garment,
+    plist: list[Panel],
+    a2: np.ndarray,
+    b2: np.ndarray,
+    edge_panel: np.ndarray,
+    *,
+    reach: float,
+) -> tuple[PatternDistance, np.ndarray]:
+    """The pattern distance from an opening, and its value at every pattern vertex.
+
+    Parameters
+    ----------
+    g : Garment
+    plist : list of Panel
+        ``panels(g)``.
+    a2, b2 : (k,) int arrays
+        The opening's pattern edges.
+    edge_panel : (k,) int array
+        Panel of each edge.
+    reach : float, keyword-only
+        The distance is carried over a seam into a further panel only where the seam is
+        nearer than this.
+
+    Returns
+    -------
+    field : PatternDistance
+    d : (n2,) float array
+        ``field`` at every pattern vertex, ``+inf`` in panels it does not reach.
+    """
+    V2, n2 = g.V2, len(g.V2)
+    vlab = np.full(n2, -1, dtype=np.int64)
+    for p in plist:  # a loop over panels
+        vlab[p.vertices] = p.index
+    v3of2 = np.zeros(n2, dtype=np.int64)
+    v3of2[g.F2.ravel()] = g.F3.ravel()
+    A, B = [V2[a2]], [V2[b2]]
+    wa, wb = [np.zeros(len(a2))], [np.zeros(len(a2))]
+    seg_panel, own = [np.asarray(edge_panel, dtype=np.int64)], [np.ones(len(a2), bool)]
+    d = np.full(n2, np.inf)
+    done = np.zeros(len(plist), bool)
+    wave = np.unique(edge_panel)
+    bnd = _boundary_halfedges(g.F2)
+    while wave.size:  # waves of panels, each reached over the seams of the ones before
+        field = PatternDistance(
+            A=np.concatenate(A),
+            B=np.concatenate(B),
+            wa=np.concatenate(wa),
+            wb=np.concatenate(wb),
+            panel=np.concatenate(seg_panel),
+            own=np.concatenate(own),
+        )
+        sel = np.isin(vlab, wave)
+        d[sel] = field.at(V2[sel], vlab[sel])
+        done[wave] = True
+        # the distance each drape vertex has reached so far, over its pattern copies
+        d3 = np.full(len(g.V3), np.inf)
+        fin = np.isfinite(d)
+        np.minimum.at(d3, v3of2[fin], d[fin])
+        carried = d3[v3of2]
+        near = (carried < reach) & ~done[np.maximum(vlab, 0)] & (vlab >= 0)
+        wave = np.unique(vlab[near])
+        if not wave.size:
+            break
+        # seam sources of the next wave: outline edges with both ends reached (segments)
+        # and reached outline vertices on no such edge (points)
+        on = np.isin(vlab[bnd[:, 0]], wave) & np.isfinite(carried[bnd]).all(1)
+        seg = bnd[on]
+        pts = np.flatnonzero(np.isin(vlab, wave) & np.isfinite(carried))
+        pts = pts[~np.isin(pts, seg)]
+        ends = np.concatenate([seg, np.stack([pts, pts], 1)])
+        A.append(V2[ends[:, 0]])
+        B.append(V2[ends[:, 1]])
+        wa.append(carried[ends[:, 0]])
+        wb.append(carried[ends[:, 1]])
+        seg_panel.append(vlab[ends[:, 0]])
+        own.append(np.zeros(len(ends), bool))
+    return field, d
+
+
+def refine_crossings(
+    field: PatternDistance,
+    V2: np.ndarray,
+    a2: np.ndarray,
+    b2: np.ndarray,
+    t: np.ndarray,
+    panel: np.ndarray,
+    level: float,
+) -> np.ndarray:
+    """Where pattern edges cross an iso-line of a pattern distance, by bisection.
+
+    Parameters
+    ----------
+    field : PatternDistance
+    V2 : (n2, 2) float array
+    a2, b2 : (r,) int arrays
+        Edge ends.
+    t : (r,) float array
+        A first estimate (from ``a2``), kept where the field does not change sign along
+        the edge (a seam vertex whose sides disagree).
+    panel : (r,) int array
+        The panel each edge measures in.
+    level : float
+        The iso-value.
+
+    Returns
+    -------
+    (r,) float array
+    """
+    A, B = V2[a2], V2[b2]
+    fa = field.at(A, panel) - level
+    fb = field.at(B, panel) - level
+    ok = (fa * fb < 0) & np.isfinite(fa) & np.isfinite(fb)
+    if not ok.any():
+        return t
+    lo, hi = np.zeros(ok.sum()), np.ones(ok.sum())
+    rising = fa[ok] < 0
+    A, B, pan = A[ok], B[ok], panel[ok]
+    for _ in range(_BISECTION_STEPS):  # iterations, vectorised over the edges
+        mid = 0.5 * (lo + hi)
+        below = (field.at(A + mid[:, None] * (B - A), pan) < level) == rising
+        lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
+    out = t.copy()
+    out[ok] = 0.5 * (lo + hi)
+    return out
