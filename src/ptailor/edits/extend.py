@@ -848,7 +848,8 @@ def _drape_rows(
     else:
         raise PtailorError(
             f"extend {name} by {by:g}: the new rows would cross (the opening turns too "
-            "sharply for that length); extend by less"
+            "sharply for that length); extend by less, or lay the rows out in the "
+            "pattern (measure: pattern)"
         )
     return Rows(new_e=new_e, new_b=new_b, new_2=new_2, use_b=use_b, smoothing=smoothing)
 

@@ -163,9 +163,9 @@ def shorten(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     removed, in 3D and 2D. ``measure: pattern``: a pattern vertex's distance is its 2D
     distance from the opening's pattern edges in its own panel, carried over seams into
     panels the opening does not run along (:func:`opening_pattern_distance`); each crossed
-    pattern edge is cut exactly on that panel's iso-line (:func:`refine_crossings`; the two
-    sides of a seam at the mean of theirs, so the seam stays one) and the drape by the same
-    split.
+    pattern edge is cut exactly on that panel's iso-line (:func:`refine_crossings`) and the
+    drape by the same split (a seam edge, whose two sides may meet the iso-line a little
+    apart, at the mean of the two).
 
     The log record's ``amount`` gives what was removed both ways: ``pattern``, per panel
     the opening runs along, the ``min``, ``median`` and ``max`` distance of the new edge's

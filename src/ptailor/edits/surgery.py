@@ -18,6 +18,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from ptailor import tolerances as tol
 from ptailor.edits import EditState
@@ -27,8 +28,8 @@ from ptailor.model.seams import edge_keys, half_edges
 
 #: Point-segment pairs evaluated at once by :func:`weighted_segment_distance`.
 _PAIR_CHUNK = 1 << 21
-#: Bisection steps of :func:`refine_crossings` (the bracket shrinks to 2^-60 of an edge).
-_BISECTION_STEPS = 60
+#: Most steps of :func:`refine_crossings` (regula falsi; a few are usual).
+_REFINE_STEPS = 100
 
 #: ``crossing(a2, b2, t, face) -> t``, see :func:`split_keep`.
 Crossing = Callable[[np.ndarray, np.ndarray, np.ndarray, np.ndarray], np.ndarray]
@@ -117,9 +118,11 @@ def split_keep(
         pattern ends ``a2, b2`` ``(r,)``, the linear estimate ``t`` ``(r,)`` (from ``a2``)
         and the input triangle ``face`` ``(r,)`` it was found in (a field measured in the
         pattern places the cut exactly on its own iso-line, see :func:`refine_crossings`).
-        A drape edge seen from two triangles (a seam, whose sides are two pattern edges)
-        is cut at the mean of its parameters, on both sides, so the drape and every side
-        of the pattern stay one split. Default: the linear estimate.
+        Each pattern edge is cut where ``crossing`` says; a drape edge seen from two
+        triangles (a seam, whose two sides are two pattern edges) is cut at the mean of
+        its sides' parameters (one new drape vertex, one new pattern vertex per side: the
+        sides differ only where their panels meet the iso-line at different angles or the
+        seam is eased). Default: the linear estimate, the same on every side.
 
     Returns
     -------
@@ -166,10 +169,11 @@ def split_keep(
     key3 = edge_keys(np.stack([a3, b3], 1))
     # orient t from the lower vertex so duplicates of one edge give the same point
     lo3 = a3 < b3
+    t2 = t  # where each side of the pattern is cut
     if crossing is not None:
         lim = tol.SPLIT_SNAP_REL  # no sliver next to a corner
-        t = np.clip(crossing(a2, b2, t, fs[rows]), lim, 1.0 - lim)
-        tm = _group_mean(key3, np.where(lo3, t, 1.0 - t))
+        t2 = np.clip(crossing(a2, b2, t, fs[rows]), lim, 1.0 - lim)
+        tm = _group_mean(key3, np.where(lo3, t2, 1.0 - t2))
         t = np.where(lo3, tm, 1.0 - tm)
     tl = np.where(lo3, t, 1.0 - t)
     A3, B3 = np.where(lo3, a3, b3), np.where(lo3, b3, a3)
@@ -180,7 +184,7 @@ def split_keep(
     key2 = edge_keys(np.stack([a2, b2], 1))
     lo2 = a2 < b2
     A2, B2 = np.where(lo2, a2, b2), np.where(lo2, b2, a2)
-    idx2, P2 = _edge_points(g.V2[A2], g.V2[B2], key2, np.where(lo2, t, 1.0 - t), n2)
+    idx2, P2 = _edge_points(g.V2[A2], g.V2[B2], key2, np.where(lo2, t2, 1.0 - t2), n2)
     # new vertex per (split row, edge 1|2)
     x3 = np.full((len(fs), 3), -1)
     x2 = np.full((len(fs), 3), -1)
@@ -431,7 +435,8 @@ def opening_pattern_distance(
     -------
     field : PatternDistance
     d : (n2,) float array
-        ``field`` at every pattern vertex, ``+inf`` in panels it does not reach.
+        ``field`` at the pattern vertices near the opening (all those nearer than
+        ``reach``, and some farther), ``+inf`` at the others.
     """
     V2, n2 = g.V2, len(g.V2)
     vlab = np.full(n2, -1, dtype=np.int64)
@@ -445,7 +450,7 @@ def opening_pattern_distance(
     d = np.full(n2, np.inf)
     done = np.zeros(len(plist), bool)
     wave = np.unique(edge_panel)
-    bnd = _boundary_halfedges(g.F2)
+    bnd = None
     while wave.size:  # waves of panels, each reached over the seams of the ones before
         field = PatternDistance(
             A=np.concatenate(A),
@@ -455,7 +460,13 @@ def opening_pattern_distance(
             panel=np.concatenate(seg_panel),
             own=np.concatenate(own),
         )
-        sel = np.isin(vlab, wave)
+        # only vertices that may lie within reach: near a source segment's midpoint
+        sel = np.flatnonzero(np.isin(vlab, wave))
+        src = np.isin(field.panel, wave)
+        mid = 0.5 * (field.A[src] + field.B[src])
+        half = 0.5 * float(np.linalg.norm(field.B[src] - field.A[src], axis=1).max(initial=0.0))
+        dq, _ = cKDTree(mid).query(V2[sel], distance_upper_bound=1.5 * reach + 4.0 * half)
+        sel = sel[np.isfinite(dq)]
         d[sel] = field.at(V2[sel], vlab[sel])
         done[wave] = True
         # the distance each drape vertex has reached so far, over its pattern copies
@@ -469,6 +480,8 @@ def opening_pattern_distance(
             break
         # seam sources of the next wave: outline edges with both ends reached (segments)
         # and reached outline vertices on no such edge (points)
+        if bnd is None:
+            bnd = _boundary_halfedges(g.F2)
         on = np.isin(vlab[bnd[:, 0]], wave) & np.isfinite(carried[bnd]).all(1)
         seg = bnd[on]
         pts = np.flatnonzero(np.isin(vlab, wave) & np.isfinite(carried))
@@ -492,7 +505,11 @@ def refine_crossings(
     panel: np.ndarray,
     level: float,
 ) -> np.ndarray:
-    """Where pattern edges cross an iso-line of a pattern distance, by bisection.
+    """Where pattern edges cross an iso-line of a pattern distance.
+
+    Regula falsi with the Illinois modification on each edge whose ends the iso-line
+    separates, vectorised over the edges, until the value is within ``1e-12 level`` (or
+    the bracket within ``1e-13`` of the edge).
 
     Parameters
     ----------
@@ -516,15 +533,32 @@ def refine_crossings(
     fa = field.at(A, panel) - level
     fb = field.at(B, panel) - level
     ok = (fa * fb < 0) & np.isfinite(fa) & np.isfinite(fb)
-    if not ok.any():
-        return t
-    lo, hi = np.zeros(ok.sum()), np.ones(ok.sum())
-    rising = fa[ok] < 0
-    A, B, pan = A[ok], B[ok], panel[ok]
-    for _ in range(_BISECTION_STEPS):  # iterations, vectorised over the edges
-        mid = 0.5 * (lo + hi)
-        below = (field.at(A + mid[:, None] * (B - A), pan) < level) == rising
-        lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
     out = t.copy()
-    out[ok] = 0.5 * (lo + hi)
+    if not ok.any():
+        return out
+    A, B, pan = A[ok], B[ok], panel[ok]
+    lo, hi = np.zeros(len(A)), np.ones(len(A))
+    flo, fhi = fa[ok], fb[ok]
+    x = np.clip(t[ok], 0.0, 1.0)
+    side = np.zeros(len(A), dtype=np.int8)  # which end was kept last (-1 lo, +1 hi)
+    todo = np.arange(len(A))
+    tol_f = 1e-12 * max(level, 1e-300)
+    for _ in range(_REFINE_STEPS):  # iterations, vectorised over the open edges
+        if not todo.size:
+            break
+        i = todo
+        fx = field.at(A[i] + x[i, None] * (B[i] - A[i]), pan[i]) - level
+        done = (np.abs(fx) <= tol_f) | (hi[i] - lo[i] <= 1e-13)
+        left = fx * flo[i] > 0  # the root lies in (x, hi)
+        # Illinois: halve the value of an end kept twice in a row
+        fhi[i] = np.where(left & (side[i] == 1), 0.5 * fhi[i], fhi[i])
+        flo[i] = np.where(~left & (side[i] == -1), 0.5 * flo[i], flo[i])
+        lo[i], flo[i] = np.where(left, x[i], lo[i]), np.where(left, fx, flo[i])
+        hi[i], fhi[i] = np.where(left, hi[i], x[i]), np.where(left, fhi[i], fx)
+        side[i] = np.where(left, 1, -1)
+        nxt = (lo[i] * fhi[i] - hi[i] * flo[i]) / (fhi[i] - flo[i])
+        bad = ~np.isfinite(nxt) | (nxt <= lo[i]) | (nxt >= hi[i])
+        x[i] = np.where(done, x[i], np.where(bad, 0.5 * (lo[i] + hi[i]), nxt))
+        todo = i[~done]
+    out[ok] = x
     return out
