@@ -25,8 +25,8 @@ from ptailor.model.seams import half_edges, seam_halfedges
 
 #: Smoothing passes of the row directions tried before giving up on crossing rows.
 _MAX_SMOOTHING = 200
-#: ``measure: pattern``: a seam reaching the opening is continued straight unless it runs
-#: within 75 degrees of the opening's edge (cos 75 deg).
+#: ``measure: pattern``: a seam reaching the opening is continued straight when its
+#: continuation is within 75 degrees of the end edge's outward normal (cos 75 deg) ...
 _SEAM_MIN_COS = float(np.cos(np.radians(75.0)))
 #: ... a column's offset is searched out to 2^8 ``by`` along its direction ...
 _REACH_DOUBLINGS = 8
@@ -446,7 +446,24 @@ def chain_order(oe: OpeningEdges) -> tuple[np.ndarray, np.ndarray, bool]:
 
 
 def _nearest_on(P: np.ndarray, A: np.ndarray, B: np.ndarray, cum: np.ndarray) -> tuple:
-    """Nearest point of a polyline to each point: (distance, arc length there, the point)."""
+    """Nearest point of a polyline to each point.
+
+    Parameters
+    ----------
+    P : (p, 2) float array
+    A, B : (s, 2) float arrays
+        The polyline's segments, in order.
+    cum : (s,) float array
+        Arc length at each segment's start.
+
+    Returns
+    -------
+    distance : (p,) float array
+    sigma : (p,) float array
+        Arc length of the nearest point.
+    foot : (p, 2) float array
+        The nearest point.
+    """
     d = B - A
     L2 = np.einsum("ij,ij->i", d, d)
     t = np.einsum("psd,sd->ps", P[:, None] - A[None], d) / np.where(L2 > 0, L2, 1.0)
@@ -643,11 +660,13 @@ def _pattern_rows(
     far as it takes to lie exactly ``by`` from the opening's edges in its panel
     (:func:`offset_lengths`): inside a chain of opening edges along the mean of its two
     edges' outward normals; at a chain's end (a seam) along the seam's own direction, so
-    the seam continues straight, unless that runs within 75 degrees of the opening's edge
-    (then along the end edge's normal). Where the rows would cross in the pattern (a
-    concave opening), the directions of the columns there are smoothed along the chain,
-    pass by pass (each column still placed exactly ``by`` away). Intermediate rows divide
-    each column evenly.
+    the seam continues straight, unless it runs within 15 degrees of the opening's edge or
+    along the opening instead of meeting the offset near the end (then along the end
+    edge's normal, a corner in the seam). Columns whose points come out crossed (a concave
+    opening, a seam continued over it) are re-placed along the iso-line
+    (:func:`place_offset_chain`); where the rows would still cross, the directions there
+    are smoothed along the chain, pass by pass. Intermediate rows divide each column
+    evenly.
 
     Drape: each opening vertex moves by its pattern offset mapped through the
     pattern-to-drape maps of its boundary triangles (the mean over its pattern copies'
