@@ -64,9 +64,11 @@ def rigid_fit(X: np.ndarray, Y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return R, cy - cx @ R.T
 
 
-def _edges_by_panel(g: Garment, name: str) -> tuple[dict, dict]:
-    """The opening's pattern edges per panel name, and the panels by name."""
-    loop = next(o.loop for o in openings(g.V3, g.F3) if o.name == name)
+def _edges_by_panel(g: Garment, V3: np.ndarray, name: str) -> tuple[dict, dict] | None:
+    """The opening's pattern edges per panel name, and the panels by name (None: no such)."""
+    loop = next((o.loop for o in openings(V3, g.F3) if o.name == name), None)
+    if loop is None:
+        return None
     oe = opening_edges(g.F3, g.F2, loop)
     plist = panels(g)
     flab = np.empty(g.n_faces, dtype=np.int64)
@@ -80,11 +82,18 @@ def _edges_by_panel(g: Garment, name: str) -> tuple[dict, dict]:
     return out, {p.name: p for p in plist}
 
 
-def output_distances(g0: Garment, adj, name: str) -> dict:
-    """Per input panel: new edge's distances from the old one in the output, and the fit."""
-    old, _ = _edges_by_panel(g0, name)
+def output_distances(g0: Garment, adj, name: str) -> dict | None:
+    """Per input panel: new edge's distances from the old one in the output, and the fit.
+
+    None when the adjusted garment has no opening of that name any more (the step merged
+    it with another: a shortened neckline that cut through the straps).
+    """
+    old, _ = _edges_by_panel(g0, g0.V3, name)
     st = adj.state
-    new, new_panels = _edges_by_panel(st.base, name)
+    found = _edges_by_panel(st.base, st.V3, name)
+    if found is None:
+        return None
+    new, new_panels = found
     X = adj.result.V2
     out = {}
     for pname, (a0, b0) in old.items():  # a loop over panels
@@ -141,7 +150,11 @@ def main() -> None:
                 sec = time.perf_counter() - t0
                 drape = adj.state.log[-1]["amount"]["drape"]
                 dtxt = f"{drape['min']:.3f}/{drape['median']:.3f}/{drape['max']:.3f}"
-                for pname, res in output_distances(g, adj, args.opening).items():
+                dist = output_distances(g, adj, args.opening)
+                if dist is None:
+                    print(f"{key:<14} {op:<8} {measure:<8} (no {args.opening} left to measure)")
+                    continue
+                for pname, res in dist.items():
                     if res is None:
                         print(f"{key:<14} {op:<8} {measure:<8} {pname:<10} (removed)")
                         continue
