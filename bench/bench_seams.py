@@ -79,7 +79,15 @@ def cases(g) -> dict[str, str]:
     sleeve = opening_panels(g, "cuff_left")
     torso = opening_panels(g, "hem")
     out: dict[str, str] = {}
+    out["all 20% wider around"] = (
+        "steps: [{op: scale, region: all, direction: around, axis: auto, factor: 1.2}]"
+    )
+    out["shorten hem 5"] = "steps: [{op: shorten, opening: hem, by: 5}]"
+    out["extend hem 5"] = "steps: [{op: extend, opening: hem, by: 5}]"
     if torso:
+        out["loosen torso 1"] = (
+            f"steps: [{{op: loosen, region: {{panels: {json.dumps(torso)}}}, by: 1}}]"
+        )
         out["loosen torso 2"] = (
             f"steps: [{{op: loosen, region: {{panels: {json.dumps(torso)}}}, by: 2}}]"
         )
@@ -99,7 +107,7 @@ def cases(g) -> dict[str, str]:
                     " factor: 1.2}]"
                 )
                 break
-    for k in list(out):
+    for k in [k for k in out if k.startswith(("loosen torso 2", "sleeve", "gather"))]:
         out[k + " (symmetric)"] = out[k].replace("}]", ", symmetric: true}]")
     return out
 

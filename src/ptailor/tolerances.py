@@ -20,9 +20,6 @@ KEPT_PANEL_WEIGHT = 100.0
 SEAM_WARN_REL = 1e-4
 #: Anderson acceleration history of the stitching iterations (0: plain local/global).
 ANDERSON_HISTORY = 10
-#: An accelerated iterate is kept when its residual is below this times the last one's
-#: (a little slack: measured on real garments, 1.0 rejects steps that pay off later).
-ANDERSON_ACCEPT = 1.5
 #: Right-hand sides per back-substitution batch when the seam block of ``A^-1`` is formed
 #: (SuperLU slows down twentyfold per column beyond about 32).
 SEAM_BLOCK_CHUNK = 16

@@ -257,9 +257,10 @@ def stitch(
     """Stitch per-triangle targets into continuous panels.
 
     Local/global iterations (Liu et al. 2008) accelerated by Anderson mixing (Peng et al.
-    2018) with a safeguard: an accelerated iterate whose fixed-point residual does not
-    fall is dropped for the plain step. The result is always a plain step's output, so
-    the seam constraints hold exactly at the last linearisation.
+    2018) with their safeguard: an accelerated iterate is kept only when the energy after
+    a plain step from it falls below the energy after the plain step it replaces (both
+    meet the seam constraints, so they compare); else the history restarts. The result
+    is always a plain step's output, so the constraints hold at the last linearisation.
 
     Parameters
     ----------
@@ -402,6 +403,7 @@ def stitch(
     GX = step(X)
     res = residual(X, GX)
     acc = Anderson(m=history)
+    e_gx = energy(GX) if history else 0.0
     it, converged = 0, False
     hist: list[float] = []
     for it in range(1, max_iter + 1):  # noqa: B007 - iterations, not triangles
@@ -410,16 +412,20 @@ def stitch(
             converged = True
             break
         if history:
+            # Peng et al.'s safeguard, on the plain steps' outputs: those meet the seam
+            # constraints, so their energies compare (mixed iterates' do not)
             Xa = acc.next(X.ravel(), GX.ravel()).reshape(n, 2)
             GXa = step(Xa)
-            res_a = residual(Xa, GXa)
-            if np.linalg.norm(res_a) < tol.ANDERSON_ACCEPT * np.linalg.norm(res):
-                X, GX, res = Xa, GXa, res_a
+            e_a = energy(GXa)
+            if e_a < e_gx:
+                X, GX, e_gx = Xa, GXa, e_a
+                res = residual(X, GX)
                 continue
             acc.reset()
         X = GX
         GX = step(X)
         res = residual(X, GX)
+        e_gx = energy(GX) if history else 0.0
     X = GX  # a plain step: the constraints hold at the last linearisation
     X[~used] = V2[~used]
     viol = float(ease.violation(X).max()) if ease is not None else 0.0
