@@ -311,3 +311,17 @@ def test_generated_hems_move_exactly_5_in_the_output_pattern(sample, op):
     assert_valid(adj.state.base, V2=adj.result.V2)
     for d in output_edge_distances(g, adj).values():
         np.testing.assert_allclose(d, 5.0, atol=1e-6)
+
+
+def test_a_cut_through_existing_vertices_reports_what_it_achieved():
+    """The bodice's rows lie 40/24 apart: 5 from the hem in the pattern hits no row, but
+    the record must measure the new edge whether the split made its vertices or found
+    them on the level."""
+    from ptailor.samples import bodice
+
+    for by in (5.0, 40.0 / 24 * 3):  # between rows, and exactly on a row
+        adj = adjust(bodice(), parse_recipe(f"steps: [{{op: shorten, opening: hem, by: {by}}}]"))
+        rec = adj.state.log[0]
+        assert rec["achieved"]["3d"]["mean"] == pytest.approx(by, rel=1e-3)
+        for side in ("front", "back"):
+            assert rec["achieved"]["pattern"][side]["min"] == pytest.approx(by, rel=1e-3)

@@ -247,6 +247,21 @@ def summary_lines(report: dict) -> list[str]:
             + ("" if sol["converged"] else f", NOT converged (residual {sol['residual']:.3g})")
         )
     for st in report.get("steps", []):
+        amount = st.get("amount")
+        if isinstance(amount, dict) and isinstance(amount.get("pattern"), dict):
+            lo = [v["min"] for v in amount["pattern"].values()]
+            hi = [v["max"] for v in amount["pattern"].values()]
+            drape = amount.get("drape") or {}
+            lines.append(
+                f"{st['op']} {st.get('opening', '')} by {st.get('by', 0):g}"
+                f" (measured on the {st.get('measure', 'drape')}):"
+                + (f" pattern {min(lo):.3f}-{max(hi):.3f}" if lo else "")
+                + (
+                    f", drape {drape['min']:.3f}-{drape['max']:.3f} {u}"
+                    if "min" in drape
+                    else f" {u}"
+                )
+            )
         if st.get("op") == "symmetry":
             n = ", ".join(f"{x:.3f}" for x in st["plane"]["normal"])
             lines.append(

@@ -80,7 +80,8 @@ def edge_offsets(before: EditState, res: SplitResult, loop: np.ndarray) -> dict:
     """
     g0 = before.base
     nxt = np.roll(loop, -1)
-    new3 = res.state.V3[res.new_vertices3]
+    # the new edge: vertices the split made, and those already on the level
+    new3 = res.state.V3[np.concatenate([res.new_vertices3, res.on_level3])]
     out = {"3d": distance_stats(point_segment_distance(new3, before.V3[loop], before.V3[nxt]))}
     he = opening_halfedges(g0.F3, loop)
     h2 = half_edges(g0.F2)
@@ -92,7 +93,7 @@ def edge_offsets(before: EditState, res: SplitResult, loop: np.ndarray) -> dict:
     for p in res.state.panels:
         vlab_new[p.vertices] = p.index
     pattern = {}
-    new2 = res.new_vertices2
+    new2 = np.concatenate([res.new_vertices2, res.on_level2])
     for p in before.panels:
         segs = he[flab_old[face_old] == p.index]
         if segs.size == 0:
