@@ -15,6 +15,11 @@ W_ASAP = 1000.0
 KEPT_STRAIN = 1e-3
 #: ... by this factor on their whole energy: the edited panels absorb the seams' cost.
 KEPT_PANEL_WEIGHT = 100.0
+#: Seam constraints switch on when the free stitching's last step falls below this
+#: (relative to the panel size) ...
+SEAM_START_STEP = 1e-4
+#: ... and only if a seam edge then misses its ratio by more than this (relative).
+SEAM_EXACT_REL = 1e-9
 #: A seam edge whose two sides miss their target ratio by more than this (relative) after
 #: the solve is reported as a warning.
 SEAM_WARN_REL = 1e-4
@@ -26,8 +31,6 @@ SEAM_BLOCK_CHUNK = 16
 #: A 2D triangle whose signed area has the opposite sign of its panel's is flipped when
 #: its magnitude exceeds this fraction of the panel's mean triangle area.
 FLIP_REL = 1e-9
-#: Energy (relative to the total target area) below which the targets are met exactly.
-ARAP_ZERO_ENERGY = 1e-18
 #: Boundary vertices where the outline turns by more than this are corners: the
 #: as-similar-as-possible term (a tangent direction) does not apply there.
 ASAP_CORNER_DEG = 30.0

@@ -281,7 +281,9 @@ def stitch(
     ease : SeamEase, optional
         Seam-length constraints (:func:`ptailor.method.ease.seam_ease`), enforced exactly
         with Lagrange multipliers: each global step solves the KKT system through a Schur
-        complement on the one factorisation.
+        complement on the one factorisation. They switch on once the free iterations
+        settle (last step below ``tol.SEAM_START_STEP``, or half of ``max_iter``) and
+        only when a seam misses its ratio by more than ``tol.SEAM_EXACT_REL``.
     panel_weight : (n_panels,) float array, optional
         Each panel's whole energy (ARAP, pin, as-similar-as-possible) is scaled by its
         weight. A panel alone comes out the same; where seam constraints tie panels, a
@@ -348,10 +350,11 @@ def stitch(
     def solve(rhs: np.ndarray) -> np.ndarray:
         return solve_many(rhs[:, None])[:, 0]
 
-    if ease is not None and ease.n_rows:
-        U, G = seam_block(solve_many, ease, np.maximum(vlab, 0), n, coupled=B is not None)
-    else:
+    if ease is not None and not ease.n_rows:
         ease = None
+    # the seam constraints switch on once the free iterations have settled and only if
+    # they miss a seam (an identity edit or a uniform scale never pays for them)
+    seam_block_: list = []
     pin_rhs = pin_w[:, None] * V2
 
     def jacobians(X: np.ndarray) -> np.ndarray:
@@ -371,7 +374,8 @@ def stitch(
             rhs[:, c] = D0.T @ (area * R[:, c, 0]) + D1.T @ (area * R[:, c, 1])
         rhs += pin_rhs
         y = solve(rhs.T.ravel())
-        if ease is not None and X_lin is not None:
+        if seam_block_ and X_lin is not None:
+            U, G = seam_block_
             C = ease.rows(X_lin)
             Cs = C[:, U]
             M = (Cs @ G @ Cs.T).toarray()
@@ -399,16 +403,33 @@ def stitch(
         return out / size
 
     R0 = np.broadcast_to(np.eye(2), (len(F2), 2, 2)).copy()
-    X = global_step(R0, V2)
+    X = global_step(R0, None)
     GX = step(X)
     res = residual(X, GX)
     acc = Anderson(m=history)
     e_gx = energy(GX) if history else 0.0
     it, converged = 0, False
     hist: list[float] = []
-    for it in range(1, max_iter + 1):  # noqa: B007 - iterations, not triangles
+    for it in range(1, max_iter + 1):
         hist.append(float(res.max(initial=0.0)))
-        if not len(res) or res.max() <= step_tol:
+        done = not len(res) or res.max() <= step_tol
+        settled = done or res.max() <= tol.SEAM_START_STEP or it > max_iter // 2
+        if (
+            settled
+            and ease is not None
+            and not seam_block_
+            and ease.violation(GX).max() > tol.SEAM_EXACT_REL
+        ):
+            seam_block_.extend(
+                seam_block(solve_many, ease, np.maximum(vlab, 0), n, coupled=B is not None)
+            )
+            acc.reset()
+            X = GX
+            GX = step(X)
+            res = residual(X, GX)
+            e_gx = energy(GX) if history else 0.0
+            continue
+        if done:
             converged = True
             break
         if history:
@@ -429,6 +450,8 @@ def stitch(
     X = GX  # a plain step: the constraints hold at the last linearisation
     X[~used] = V2[~used]
     viol = float(ease.violation(X).max()) if ease is not None else 0.0
+    if not seam_block_ and viol > tol.SEAM_EXACT_REL:
+        converged = False  # the cap came before the seams could be enforced
     return X, StitchInfo(
         iterations=it,
         energy=energy(X),
