@@ -202,7 +202,11 @@ def test_report_gives_each_seams_ratio_target_and_mismatch():
     assert by[("sleeve", "sleeve")]["ratio_target"] == pytest.approx(1.0)
     assert rep["solver"]["seams"] == "ease" and rep["solver"]["seam_violation"] < 1e-6
     lines = "\n".join(summary_lines({**rep, "units": {"computation": "cm"}}))
-    assert "1 with a new ratio (gathered)" in lines and "worst" in lines
+    assert "1 with a new ratio (gathered)" in lines
+    assert "every one at its target length ratio" in lines
+    worst = {**rep, "units": {"computation": "cm"}, "seams": [{**gather, "mismatch": 0.25}]}
+    lines = "\n".join(summary_lines(worst))
+    assert "worst sleeve / cuff: mismatch 0.25 cm" in lines
 
 
 def test_uniform_baseline_and_method_stay_free():

@@ -235,10 +235,14 @@ def summary_lines(report: dict) -> list[str]:
         line += f", {len(changed)} with a new ratio (gathered)"
     if seams:
         worst = max(seams, key=lambda s: abs(s["mismatch"]))
-        line += (
-            f", worst {' / '.join(worst['panels'])}: mismatch {abs(worst['mismatch']):.3g} {u}"
-            f" (ratio {worst['ratio_after']:.4f}, target {worst['ratio_target']:.4f})"
-        )
+        if abs(worst["mismatch"]) < 5e-4:
+            line += f", every one at its target length ratio (mismatch below 0.001 {u})"
+        else:
+            line += (
+                f", worst {' / '.join(worst['panels'])}: mismatch"
+                f" {abs(worst['mismatch']):.3g} {u} (ratio {worst['ratio_after']:.4f},"
+                f" target {worst['ratio_target']:.4f})"
+            )
     lines.append(line)
     sol = report.get("solver", {})
     if sol:
