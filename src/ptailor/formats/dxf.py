@@ -15,7 +15,7 @@ from __future__ import annotations
 import datetime as _dt
 import os
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -40,8 +40,11 @@ LAYOUTS = ("auto", "keep", "row")
 REL_TOL = 1e-3
 #: consecutive outline points closer than this (relative) are one point
 REL_DUP = 1e-9
-#: a METRIC piece larger than this many units is in millimetres (pieces are 5-200 cm)
-MM_THRESHOLD = 300.0
+#: a METRIC file whose largest piece is smaller than this many units is in centimetres
+#: (a pattern's largest piece is 5-200 cm: 50-2000 in mm); otherwise METRIC is millimetres
+CM_BELOW = 25.0
+#: a file that names no unit is in millimetres when its largest piece exceeds this
+MM_ABOVE = 300.0
 
 
 # --------------------------------------------------------------------------- reading
@@ -75,6 +78,36 @@ class _Candidate:
     size: str = ""
     quantity: int = 1
     annotations: tuple[str, ...] = ()
+    quantity_split: tuple[int, int] | None = None
+    has_quantity: bool = False
+
+
+_QUANTITY = re.compile(r"^\s*(\d+)\s*(?:[,;/]\s*(\d+)\s*)?$")
+
+
+def parse_quantity(text: str) -> tuple[int, tuple[int, int] | None] | None:
+    """A ``Quantity:`` value: ``"2"`` -> ``(2, None)``; ASTM D6673's ``"a,b"`` (``a`` cut
+    as drawn, ``b`` mirrored) -> ``(a + b, (a, b))``; anything else -> None."""
+    m = _QUANTITY.match(text)
+    if m is None:
+        try:  # "2.0"
+            f = float(text)
+        except ValueError:
+            return None
+        return (int(f), None) if f.is_integer() and f >= 0 else None
+    a = int(m.group(1))
+    if m.group(2) is None:
+        return a, None
+    b = int(m.group(2))
+    return a + b, (a, b)
+
+
+def quantity_text(p: Piece) -> str:
+    """``Quantity:`` text of a piece: ``a,b`` when it was read so, else the count."""
+    if p.quantity_split is not None and sum(p.quantity_split) == int(p.quantity):
+        a, b = p.quantity_split
+        return f"Quantity: {int(a)},{int(b)}"
+    return f"Quantity: {int(p.quantity)}"
 
 
 def read_dxf(path: str | Path, *, size: str | None = None, units: str | None = None) -> PatternFile:
@@ -122,9 +155,16 @@ def read_dxf(path: str | Path, *, size: str | None = None, units: str | None = N
     chosen = _choose_size(sizes, size, sample, spath)
     chosen_c = [c for c in cands if c.size in (chosen, "")]
     pieces = tuple(_build_piece(c, spath) for c in chosen_c)
+    warnings: tuple[str, ...] = ()
+    if sample and chosen != sample and sample in sizes:
+        sample_c = [c for c in cands if c.size == sample]
+        sample_p = [_build_piece(c, spath) for c in sample_c]
+        pieces, warnings = _fill_from_sample(pieces, chosen_c, sample_p, sample_c, chosen, sample)
 
     units_text = style_text.get("UNITS", "")
-    unit, note = _units(units, units_text, doc.header.get("$INSUNITS"), pieces)
+    unit, note = _units(
+        units, units_text, doc.header.get("$INSUNITS"), pieces, doc.header.get("$MEASUREMENT")
+    )
     return PatternFile(
         pieces=pieces,
         units=unit,
@@ -135,7 +175,119 @@ def read_dxf(path: str | Path, *, size: str | None = None, units: str | None = N
         sample_size=sample,
         path=spath,
         units_text=units_text,
+        warnings=warnings,
     )
+
+
+def _fill_from_sample(
+    pieces: tuple[Piece, ...],
+    cands: list[_Candidate],
+    sample_p: list[Piece],
+    sample_c: list[_Candidate],
+    size: str,
+    sample: str,
+) -> tuple[tuple[Piece, ...], tuple[str, ...]]:
+    """Give a graded size's pieces what their sample-size piece has and they lack.
+
+    Graded blocks often hold only the cut line. The quantity and annotations are copied;
+    turn points, notches, grain and fold lines, drill holes and internal lines are
+    carried when the two outlines have corresponding points (same count, an affine fit
+    from the sample outline to this one within ``GRADE_FIT_REL`` of its diagonal): turn
+    flags by index, notches at the same fraction of the same outline segment, the rest by
+    the affine fit. Each piece that lacked something gets a warning saying what was
+    carried and what could not be.
+
+    Returns
+    -------
+    pieces : tuple of Piece
+    warnings : tuple of str
+    """
+    by_name = {sp.name.casefold(): (sp, sc) for sp, sc in zip(sample_p, sample_c, strict=True)}
+    out, warns = [], []
+    for p, c in zip(pieces, cands, strict=True):  # a loop over pieces
+        hit = by_name.get(p.name.casefold())
+        if hit is None:
+            out.append(p)
+            continue
+        sp, sc = hit
+        ch: dict[str, Any] = {}
+        carried, lost = [], []
+        if not c.has_quantity and sc.has_quantity:
+            ch.update(quantity=sp.quantity, quantity_split=sp.quantity_split)
+            carried.append(f"quantity {quantity_text(sp).split(': ')[1]}")
+        if not p.annotations and sp.annotations:
+            ch["annotations"] = sp.annotations
+            carried.append("annotations")
+        A = _grade_fit(sp.outline, p.outline)
+        lacks = {
+            "turn points": bool(sp.turn.any()) and not p.turn.any(),
+            "notches": len(sp.notches) > 0 and len(p.notches) == 0,
+            "grain line": sp.grain is not None and p.grain is None,
+            "fold line": sp.mirror is not None and p.mirror is None,
+            "drill holes": len(sp.drills) > 0 and len(p.drills) == 0,
+            "internal lines": len(sp.internal) > 0 and len(p.internal) == 0,
+        }
+        for what, missing in lacks.items():  # six kinds of mark
+            if not missing:
+                continue
+            if A is None:
+                lost.append(what)
+                continue
+            carried.append(what)
+            if what == "turn points":
+                ch["turn"] = sp.turn.copy()
+            elif what == "notches":
+                ch["notches"] = _same_place(sp.outline, p.outline, sp.notches)
+                ch["notch_angles"] = np.asarray(sp.notch_angles, dtype=float).copy()
+            elif what == "grain line":
+                ch["grain"] = _apply(sp.grain, A)
+            elif what == "fold line":
+                ch["mirror"] = _apply(sp.mirror, A)
+            elif what == "drill holes":
+                ch["drills"] = _apply(sp.drills, A)
+            else:
+                ch["internal"] = tuple(_apply(a, A) for a in sp.internal)
+        if carried or lost:
+            msg = f"size {size}: piece {p.name!r} lacks what sample size {sample} has"
+            if carried:
+                msg += f"; carried from size {sample}: {', '.join(carried)}"
+            if lost:
+                msg += f"; not carried (outlines without corresponding points): {', '.join(lost)}"
+            warns.append(msg)
+        out.append(replace(p, **ch) if ch else p)
+    return tuple(out), tuple(warns)
+
+
+#: a graded outline corresponds to the sample's point by point when an affine fit between
+#: them leaves an RMS residual below this fraction of the diagonal
+GRADE_FIT_REL = 0.05
+
+
+def _grade_fit(src: np.ndarray, dst: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """The affine map (row vectors: ``x @ A + t``) from outline ``src`` to ``dst`` taken point
+    by point, or None when they do not correspond."""
+    if len(src) != len(dst) or len(src) < 3:
+        return None
+    X = np.c_[src, np.ones(len(src))]
+    M, *_ = np.linalg.lstsq(X, dst, rcond=None)  # (3, 2)
+    rms = float(np.sqrt(np.mean(np.sum((X @ M - dst) ** 2, axis=1))))
+    diag = float(np.hypot(*np.ptp(dst, axis=0)))
+    return (M[:2], M[2]) if rms <= GRADE_FIT_REL * max(diag, 1e-300) else None
+
+
+def _same_place(src: np.ndarray, dst: np.ndarray, pts: np.ndarray) -> np.ndarray:
+    """Points near outline ``src`` at the same segment and fraction on ``dst``, ``(k, 2)``
+    (the outlines correspond point by point)."""
+    pts = np.asarray(pts, dtype=float).reshape(-1, 2)
+    A, B = src, np.roll(src, -1, axis=0)
+    d = B - A  # (n, 2)
+    dd = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
+    t = np.clip(np.einsum("kij,ij->ki", pts[:, None] - A[None], d) / dd, 0.0, 1.0)  # (k, n)
+    foot = A[None] + t[..., None] * d[None]
+    seg = np.argmin(np.linalg.norm(pts[:, None] - foot, axis=2), axis=1)
+    tk = t[np.arange(len(pts)), seg]
+    A2, B2 = dst[seg], np.roll(dst, -1, axis=0)[seg]
+    return A2 + tk[:, None] * (B2 - A2)
 
 
 def _open(spath: str) -> Any:
@@ -447,11 +599,12 @@ def _parse_piece_text(c: _Candidate) -> None:
             c.name = v
         elif layer == L_BOUNDARY and k == "SIZE" and not c.size:
             c.size = v
-        elif layer == L_BOUNDARY and k == "QUANTITY":
-            try:
-                c.quantity = int(float(v))
-            except ValueError:
+        elif layer == L_BOUNDARY and k == "QUANTITY" and not c.has_quantity:
+            q = parse_quantity(v)
+            if q is None:
                 notes.append(text)
+            else:
+                c.quantity, c.quantity_split, c.has_quantity = q[0], q[1], True
         elif text and not (k and not v):  # skip empty "ANNOTATION:" fields
             notes.append(text)
     c.annotations = tuple(notes)
@@ -564,6 +717,7 @@ def _build_piece(c: _Candidate, spath: str) -> Piece:
         quantity=c.quantity,
         size=c.size,
         annotations=c.annotations,
+        quantity_split=c.quantity_split,
     )
 
 
@@ -578,9 +732,22 @@ def _nearest(ref: np.ndarray, query: np.ndarray) -> tuple[np.ndarray, np.ndarray
 
 
 def _units(
-    override: str | None, text: str, insunits: Any, pieces: tuple[Piece, ...]
+    override: str | None,
+    text: str,
+    insunits: Any,
+    pieces: tuple[Piece, ...],
+    measurement: Any = None,
 ) -> tuple[str, str]:
-    """The coordinates' unit and where it came from."""
+    """The coordinates' unit and where it came from.
+
+    In order: the caller's override; ``Units: ENGLISH`` (inches); ``$INSUNITS`` in the
+    header (mm, cm or in; an inch code under ``Units: METRIC`` is ignored); then, for
+    ``METRIC``, ``$MEASUREMENT = 1`` or nothing said, millimetres, as AAMA/ASTM exports
+    write metric patterns, unless the coordinates cannot be millimetres: a largest piece
+    under ``CM_BELOW`` units (under 2.5 cm in mm) is in centimetres. A file that says
+    nothing is in mm when its largest piece exceeds ``MM_ABOVE`` units, else cm. A drape, when there
+    is one, has the last word (:func:`ptailor.formats.garment._load_dxf_pair`).
+    """
     if override is not None:
         return override, f"{override} given by the caller"
     word = text.strip().upper()
@@ -592,13 +759,118 @@ def _units(
         src = f"{quoted}, " if word else ""
         return code, f"{src}$INSUNITS = {int(insunits)} ({code}) in the header"
     largest = max((float(p.extent.max()) for p in pieces), default=0.0)
-    unit = "mm" if largest > MM_THRESHOLD else "cm"
-    why = f"{unit} judged from the piece sizes (largest {largest:.4g})"
     if word == "METRIC":
-        return unit, f"{quoted}; {why}"
-    if word:
-        return unit, f"unknown {quoted}; {why}"
-    return unit, f"no units in the file; {why}"
+        src = quoted
+    elif word:
+        src = f"unknown {quoted}"
+    elif isinstance(measurement, int | float) and int(measurement) == 1:
+        src = "$MEASUREMENT = 1 (metric) in the header"
+    else:  # nothing said: pieces are 5-200 cm, 50-2000 mm
+        unit = "mm" if largest > MM_ABOVE else "cm"
+        return (
+            unit,
+            f"no units in the file; {unit} judged from the piece sizes (largest {largest:.4g})",
+        )
+    if 0 < largest < CM_BELOW:
+        return "cm", (
+            f"{src}; cm, as the coordinates are too small for mm (largest piece "
+            f"{largest:.4g} units)"
+        )
+    return "mm", f"{src}; mm, as AAMA/ASTM metric files are written (largest piece {largest:.4g})"
+
+
+#: a drape's ``vt`` is taken in a unit when its size, judged from the drape's area, is
+#: within this factor of it
+VT_UNIT_SLACK = 1.5
+_VT_HEADER = re.compile(r"\bvt:\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(mm|cm|m|in)\s+per unit")
+
+
+def reconcile_units(
+    pattern: PatternFile,
+    *,
+    v: np.ndarray,
+    fv: np.ndarray,
+    vt: np.ndarray,
+    fvt: np.ndarray,
+    header: tuple[str, ...] = (),
+    drape_cm: float = 1.0,
+    fixed: bool = False,
+) -> tuple[PatternFile, str, str]:
+    """The units of a DXF and of its drape's ``vt``, each decided on its own.
+
+    A DXF and the ``vt`` that triangulates its pieces need not share a unit (ptailor writes
+    the DXF in mm and the ``vt`` in the garment's unit, CLO 3D both in mm). A ``METRIC`` DXF
+    (unless ``fixed``: the caller gave its unit) is in mm or cm, whichever makes its pieces
+    (times their quantity, twice for a fold piece) the drape's area. The ``vt`` unit comes
+    from a ptailor header (``vt: 1 cm per unit``), else from the drape's area: the DXF's
+    unit when the ``vt`` is within ``VT_UNIT_SLACK`` of that size, else the nearest of mm,
+    cm, m and in, else the DXF's.
+
+    Parameters
+    ----------
+    pattern : PatternFile
+    v : (n, 3) float array
+        The drape, in its file unit.
+    fv : (m, 3) int array
+    vt : (k, 2) float array
+    fvt : (m, 3) int array
+    header : tuple of str
+        The drape OBJ's leading comments.
+    drape_cm : float
+        Centimetres per drape unit.
+    fixed : bool
+        The DXF's unit was given: keep it.
+
+    Returns
+    -------
+    pattern : PatternFile
+        With ``units`` and ``units_note`` decided.
+    vt_unit : str
+        For :func:`ptailor.formats.garment.load_garment`'s ``pattern_units`` (``cm``,
+        ``0.1cm``, ...).
+    note : str
+        Where the ``vt`` unit came from.
+    """
+    from ptailor.model.garment import areas_3d, signed_areas_2d
+
+    a3 = float(areas_3d(np.asarray(v, dtype=float) * drape_cm, fv).sum())  # cm^2
+    if not fixed and pattern.units_text.strip().upper() == "METRIC":
+        ap = sum(
+            p.area * max(int(p.quantity), 1) * (2.0 if p.mirror is not None else 1.0)
+            for p in pattern.pieces
+        )
+        ratio = float(np.sqrt(ap / a3)) if ap > 0 and a3 > 0 else 10.0  # file units per cm
+        unit = "mm" if abs(np.log(ratio / 10.0)) < abs(np.log(ratio)) else "cm"
+        note = (
+            f"'Units: METRIC' in the file; {unit} judged from the drape (the pieces are "
+            f"{ratio:.3g} file units per cm of drape)"
+        )
+        pattern = replace(pattern, units=unit, units_note=note)
+    for line in header:  # ptailor's own garment.obj says its vt unit
+        m = _VT_HEADER.search(line)
+        if m:
+            return (
+                pattern,
+                f"{m.group(1)}{m.group(2)}",
+                f"vt: {m.group(1)} {m.group(2)} per unit (the drape's header)",
+            )
+    a2 = float(np.abs(signed_areas_2d(np.asarray(vt, dtype=float), fvt)).sum())
+    if not (a2 > 0 and a3 > 0 and np.isfinite(a2) and np.isfinite(a3)):
+        return pattern, pattern.units, f"vt in the DXF's unit ({pattern.units})"
+    cm_per_vt = float(np.sqrt(a3 / a2))
+    off = {u: abs(np.log(cm_per_vt / CM_PER_UNIT_ALL[u])) for u in CM_PER_UNIT_ALL}
+    slack = np.log(VT_UNIT_SLACK)
+    why = f"judged from the drape: {cm_per_vt:.4g} cm of drape per vt unit"
+    if off.get(pattern.units, np.inf) <= slack:
+        return pattern, pattern.units, f"vt in {pattern.units}, the DXF's unit ({why})"
+    best = min(off, key=lambda u: off[u])
+    if off[best] <= slack:
+        return pattern, best, f"vt in {best}, unlike the DXF ({pattern.units}) ({why})"
+    return pattern, pattern.units, f"vt taken in the DXF's unit ({pattern.units}); {why}"
+
+
+#: centimetres per unit, for the ``vt`` of a drape (metres too)
+CM_PER_UNIT_ALL: dict[str, float] = {"mm": 0.1, "cm": 1.0, "in": 2.54, "m": 100.0}
 
 
 # --------------------------------------------------------------------------- writing
@@ -772,7 +1044,7 @@ def _piece_entities(p: Piece) -> tuple[DxfEntity, ...]:
 
     lo, hi = outline.min(axis=0), outline.max(axis=0)
     h = 0.015 * float((hi - lo).max())
-    texts = [f"Piece Name: {_clean(p.name)}", f"Quantity: {int(p.quantity)}"]
+    texts = [f"Piece Name: {_clean(p.name)}", quantity_text(p)]
     if p.size:
         texts.append(f"Size: {_clean(p.size)}")
     texts += [_clean(a) for a in p.annotations]

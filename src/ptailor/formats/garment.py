@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -12,6 +12,7 @@ from ptailor.errors import PtailorError
 from ptailor.formats import reader_for
 from ptailor.model.garment import Garment, areas_3d, signed_areas_2d
 from ptailor.model.pieces import PatternFile
+from ptailor.model.repair import check_units, intake, unit_ratios
 from ptailor.model.units import CM_PER, factor
 from ptailor.model.validate import check_garment
 
@@ -81,6 +82,29 @@ class LoadedGarment:
     inputs: dict[str, str]
     header: tuple[str, ...]
     pattern: PatternFile | None = None
+    intake: dict = field(default_factory=dict)
+
+
+def parse_weld(text: str | float, *, units: str) -> str | float:
+    """``--weld``: ``auto``, ``off``, or a distance (a length such as ``0.1mm``; a bare
+    number is in ``units``) returned in ``units``.
+
+    Raises
+    ------
+    PtailorError
+        Anything else (exit 2).
+    """
+    if not isinstance(text, str):
+        return float(text)
+    t = text.strip().lower()
+    if t in ("auto", "off"):
+        return t
+    try:
+        return parse_length(t, to=units, what="--weld")
+    except PtailorError:
+        raise PtailorError(
+            f"--weld: expected auto, off or a distance such as 0.1mm, not {text!r}"
+        ) from None
 
 
 def load_garment(
@@ -92,8 +116,9 @@ def load_garment(
     drape_units: str = "cm",
     size: str | None = None,
     dxf_units: str | None = None,
+    weld: str | float = "auto",
 ) -> LoadedGarment:
-    """Read and check a garment.
+    """Read, repair and check a garment.
 
     Parameters
     ----------
@@ -107,21 +132,42 @@ def load_garment(
     pattern_units, drape_units : str
         File units: ``mm``, ``cm``, ``m``, ``in``, a scaled unit such as ``0.3333cm``, or
         for the pattern ``auto`` (normalised atlas: scale estimated from the drape's area).
+    weld : str or float
+        ``auto``, ``off`` or a distance in ``units`` (:func:`parse_weld`,
+        :func:`ptailor.model.repair.intake`).
 
     Returns
     -------
     LoadedGarment
+        ``intake`` records the repairs (weld, duplicate and zero-area faces, non-manifold
+        edges), the pattern/drape length ratios and where each unit came from.
 
     Raises
     ------
     PtailorError
-        Naming the file and the problem.
+        Naming the file and the problem; a pattern/drape length ratio outside [0.5, 2]
+        (a unit mistake) names the unit options and the ratio.
     """
+    from ptailor.model.repair import UnitMismatchError
+
     spath = str(path)
+    weld = parse_weld(weld, units=units)
     if Path(path).suffix.lower() == ".dxf":
-        return _load_dxf_pair(
-            spath, drape, units=units, drape_units=drape_units, size=size, dxf_units=dxf_units
-        )
+        try:
+            loaded = _load_dxf_pair(
+                spath, drape, units=units, drape_units=drape_units, size=size, dxf_units=dxf_units
+            )
+        except UnitMismatchError as exc:
+            msg = exc.message.replace("check --pattern-units", "check --dxf-units")
+            raise UnitMismatchError(msg, path=exc.path) from None
+        pf = loaded.pattern
+        source = "command line" if dxf_units is not None else "file"
+        if pf is not None and dxf_units is None and "judged" in (pf.units_note or ""):
+            source = "estimate"
+        units_rec = {**loaded.intake.get("units", {}), "pattern_source": source}
+        if pf is not None:
+            units_rec["pattern"] = pf.units
+        return replace(loaded, intake={**loaded.intake, "units": units_rec})
     mesh = reader_for(path)(path)
     inputs = {"garment": spath}
     if drape is None:
@@ -156,6 +202,8 @@ def load_garment(
     to_units = 1.0 / CM_PER[units] if units in CM_PER else factor("cm", units)
     drape_scale = d_cm * to_units
     V3 = V3 * drape_scale
+    fixed = intake(V3, F3, V2, F2, weld=weld, path=err_path)
+    V3, F3, V2, F2 = fixed.V3, fixed.F3, fixed.V2, fixed.F2
     estimated = pattern_units == "auto"
     if estimated:
         if not (np.all(np.isfinite(V2)) and np.all(np.isfinite(V3))):
@@ -168,12 +216,31 @@ def load_garment(
             pattern_scale = float(np.sqrt(a3 / a2))
     else:
         pattern_scale = parse_units(pattern_units, what="--pattern-units") * to_units
+    ratio, per_panel = unit_ratios(V3, F3, V2 * pattern_scale, F2)
+    if not estimated:
+        check_units(ratio, path=err_path, pattern_units=pattern_units, drape_units=drape_units)
+    record = {
+        **fixed.record,
+        "faces_read": len(mesh.fv),
+        "warnings": list(fixed.warnings),
+        "units": {
+            "computation": units,
+            "pattern": pattern_units,
+            "pattern_source": "estimate" if estimated else "command line",
+            "drape": drape_units,
+            "drape_source": "command line",
+            "pattern_drape_ratio": round(ratio, 6) if np.isfinite(ratio) else None,
+            "pattern_drape_ratio_per_panel": [
+                round(float(x), 6) if np.isfinite(x) else None for x in per_panel
+            ],
+        },
+    }
     g = Garment(
         V3=np.ascontiguousarray(V3, dtype=np.float64),
         F3=np.ascontiguousarray(F3, dtype=np.int64),
         V2=np.ascontiguousarray(V2 * pattern_scale, dtype=np.float64),
         F2=np.ascontiguousarray(F2, dtype=np.int64),
-        face_group=mesh.face_group,
+        face_group=mesh.face_group[fixed.faces],
         group_names=mesh.group_names,
         units=units,
     )
@@ -185,16 +252,8 @@ def load_garment(
         pattern_units_estimated=estimated,
         inputs=inputs,
         header=mesh.header,
+        intake=record,
     )
-
-
-def _metric_unit(dmesh, *, drape_cm: float) -> tuple[str, float]:
-    """``mm`` or ``cm`` for a METRIC pattern's ``vt``, whichever makes it the drape's size."""
-    a2 = float(np.abs(signed_areas_2d(dmesh.vt, dmesh.fvt)).sum())
-    a3 = float(areas_3d(dmesh.v * drape_cm, dmesh.fv).sum())
-    ratio = np.sqrt(a2 / a3) if a2 > 0 and a3 > 0 else 1.0  # pattern units per cm
-    unit = "mm" if abs(np.log(ratio / 10.0)) < abs(np.log(ratio)) else "cm"
-    return unit, float(ratio)
 
 
 def _load_dxf_pair(
@@ -209,7 +268,7 @@ def _load_dxf_pair(
     """A DXF's pieces plus the drape OBJ whose ``vt`` triangulates them."""
     from dataclasses import replace
 
-    from ptailor.formats.dxf import read_dxf
+    from ptailor.formats.dxf import read_dxf, reconcile_units
 
     if drape is None:
         raise PtailorError(
@@ -225,12 +284,17 @@ def _load_dxf_pair(
             "the drape has no texture coordinates (vt): nothing ties it to the DXF's pieces",
             path=dpath,
         )
-    if dxf_units is None and pattern.units_text.upper() == "METRIC":
-        unit, ratio = _metric_unit(dmesh, drape_cm=parse_units(drape_units, what="--drape-units"))
-        note = (
-            f"'Units: METRIC' in the file; {unit} judged from the drape "
-            f"({ratio:.3g} pattern units per cm of drape)"
-        )
-        pattern = replace(pattern, units=unit, units_note=note)
-    loaded = load_garment(drape, units=units, pattern_units=pattern.units, drape_units=drape_units)
+    # the DXF's unit and the vt's, each on its own (ptailor writes mm and cm)
+    pattern, vt_unit, vt_note = reconcile_units(
+        pattern,
+        v=dmesh.v,
+        fv=dmesh.fv,
+        vt=dmesh.vt,
+        fvt=dmesh.fvt,
+        header=tuple(getattr(dmesh, "header", ()) or ()),
+        drape_cm=parse_units(drape_units, what="--drape-units"),
+        fixed=dxf_units is not None,
+    )
+    pattern = replace(pattern, units_note=f"{pattern.units_note}; {vt_note}")
+    loaded = load_garment(drape, units=units, pattern_units=vt_unit, drape_units=drape_units)
     return replace(loaded, inputs={"pattern": path, "drape": dpath}, pattern=pattern)

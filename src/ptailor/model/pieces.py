@@ -45,7 +45,10 @@ class Piece:
     mirror : (2, 2) float array or None
         Mirror (fold) line ends (layer 6): the piece is half of one cut on the fold.
     quantity : int
-        How many to cut.
+        How many to cut in all.
+    quantity_split : (2,) tuple of int or None
+        ASTM D6673's ``Quantity: a,b``: ``a`` cut as drawn and ``b`` mirrored (face up /
+        face down, left / right), ``quantity == a + b``; None for a plain ``Quantity: n``.
     size : str
         The size this piece is drawn in (``""`` when the file names none).
     annotations : tuple of str
@@ -65,6 +68,7 @@ class Piece:
     quantity: int = 1
     size: str = ""
     annotations: tuple[str, ...] = ()
+    quantity_split: tuple[int, int] | None = None
 
     def __post_init__(self) -> None:
         if self.turn is None:
@@ -129,6 +133,8 @@ class PatternFile:
     units_text : str
         The units word as the file writes it (``"ENGLISH"``, ``"METRIC"``), ``""`` when
         the file has none.
+    warnings : tuple of str
+        What the reader noticed (a size lacking marks the sample size has, ...).
     """
 
     pieces: tuple[Piece, ...]
@@ -140,3 +146,4 @@ class PatternFile:
     sample_size: str = ""
     path: str = ""
     units_text: str = ""
+    warnings: tuple[str, ...] = ()
