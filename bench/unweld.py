@@ -1,6 +1,6 @@
 """Unweld a garment OBJ the way per-piece CAD exports come: each panel's drape vertices apart.
 
-    python bench/unweld.py IN.obj OUT.obj [--shuffle SEED]
+    python bench/unweld.py IN.obj OUT.obj [--every-vertex] [--shuffle SEED]
 
 Every panel (a connected component of the pattern ``vt``) gets its own copy of each drape
 vertex it uses, so panels share no ``v`` and seams are only coincident positions. The
@@ -20,7 +20,12 @@ import numpy as np
 
 
 def unweld(
-    F3: np.ndarray, F2: np.ndarray, n2: int, *, shuffle: int | None = None
+    F3: np.ndarray,
+    F2: np.ndarray,
+    n2: int,
+    *,
+    every_vertex: bool = False,
+    shuffle: int | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Split the drape so that no two panels share a drape vertex.
 
@@ -32,6 +37,9 @@ def unweld(
         Pattern triangles (panels are its connected components).
     n2 : int
         Number of pattern vertices.
+    every_vertex : bool
+        Split further: one drape vertex per pattern vertex (a panel's seam with itself, a
+        dart, comes apart too).
     shuffle : int, optional
         Seed of a random permutation of the new drape vertices.
 
@@ -44,9 +52,9 @@ def unweld(
     """
     from ptailor.model.garment import face_components
 
-    lab = face_components(F2, n2)
+    lab = F2.ravel() if every_vertex else np.repeat(face_components(F2, n2), 3)
     # one new vertex per distinct (panel, old vertex) pair, in panel order
-    keys = np.stack([np.repeat(lab, 3), F3.ravel()], axis=1)
+    keys = np.stack([lab, F3.ravel()], axis=1)
     uniq, inv = np.unique(keys, axis=0, return_inverse=True)
     I = uniq[:, 1]
     G = inv.reshape(-1, 3)
@@ -58,13 +66,15 @@ def unweld(
     return I, G
 
 
-def unweld_obj(src: str | Path, dst: str | Path, *, shuffle: int | None = None) -> int:
+def unweld_obj(
+    src: str | Path, dst: str | Path, *, every_vertex: bool = False, shuffle: int | None = None
+) -> int:
     """Read ``src``, unweld its drape, write ``dst`` (one ``g`` group per panel kept as in the
     file when it has groups); return the number of drape vertices written."""
     from ptailor.formats.obj import read_obj, write_obj
 
     m = read_obj(src)
-    I, G = unweld(m.fv, m.fvt, len(m.vt), shuffle=shuffle)
+    I, G = unweld(m.fv, m.fvt, len(m.vt), every_vertex=every_vertex, shuffle=shuffle)
     grouped = bool(m.group_names) and bool(np.all(np.diff(m.face_group) >= 0))
     # write_obj groups triangles by face_panel: contiguous file groups keep the face order
     write_obj(
@@ -88,8 +98,9 @@ def main() -> None:
     ap.add_argument("src")
     ap.add_argument("dst")
     ap.add_argument("--shuffle", type=int, default=None, metavar="SEED")
+    ap.add_argument("--every-vertex", action="store_true", help="one v per vt")
     a = ap.parse_args()
-    n = unweld_obj(a.src, a.dst, shuffle=a.shuffle)
+    n = unweld_obj(a.src, a.dst, every_vertex=a.every_vertex, shuffle=a.shuffle)
     print(f"{a.dst}: {n} drape vertices")
 
 

@@ -243,6 +243,7 @@ def run_adjust(
     drape: str | None = None,
     pattern_units: str = "cm",
     drape_units: str = "cm",
+    weld: str | float = "auto",
     method: str | None = None,
     intrinsic: str | None = None,
     baseline: bool = True,
@@ -269,8 +270,9 @@ def run_adjust(
         A validated recipe, or the path of one (``-`` for stdin).
     out : str or Path
         Output folder, written all or nothing.
-    drape, pattern_units, drape_units
-        See :func:`ptailor.formats.garment.load_garment`.
+    drape, pattern_units, drape_units, weld
+        See :func:`ptailor.formats.garment.load_garment`; what the intake repaired goes
+        into the report's ``intake``.
     method, intrinsic : str, optional
         Override the recipe's flatten settings.
     baseline : bool
@@ -327,6 +329,7 @@ def run_adjust(
         units=recipe.units,
         pattern_units=pattern_units,
         drape_units=drape_units,
+        weld=weld,
         size=size,
         dxf_units=dxf_units,
     )
@@ -345,7 +348,7 @@ def run_adjust(
         baseline=baseline,
         options=options,
     )
-    warnings: list[str] = solver_warnings(adj)
+    warnings: list[str] = [*loaded.intake.get("warnings", []), *solver_warnings(adj)]
     units_note = {
         "computation": loaded.garment.units,
         "drape": drape_units,
@@ -409,7 +412,7 @@ def run_adjust(
             warnings=warnings,
             timing_s=timing,
             errors=errors,
-            extra={"pattern": pattern_rec},
+            extra={"pattern": pattern_rec, "intake": loaded.intake},
         )
         for role, path in shown.items():
             report["inputs"][role]["path"] = path

@@ -76,6 +76,7 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
         "seams": out_s,
         "openings": out_o,
         "units": units,
+        "intake": loaded.intake,
     }
 
 
@@ -87,6 +88,7 @@ def summary_text(info: dict) -> str:
         lines.append(
             f"pattern scale estimated: {info['units']['pattern_scale_estimate']} {u} per unit"
         )
+    lines.extend(intake_lines(info.get("intake") or {}))
     lines.append("panels:")
     for p in info["panels"]:
         lines.append(
@@ -178,3 +180,42 @@ def pattern_summary_text(info: dict) -> str:
         )
     lines.append(f"{n} piece{'s' if n != 1 else ''}")
     return "\n".join(lines)
+
+
+def intake_lines(intake: dict) -> list[str]:
+    """``inspect``'s lines on reading: units and where they came from, the pattern/drape
+    length ratio, repairs (weld, dropped faces) and the drape's topology."""
+    if not intake:
+        return []
+    lines = []
+    un = intake.get("units") or {}
+    if un:
+        ratio = un.get("pattern_drape_ratio")
+        lines.append(
+            f"units: pattern {un.get('pattern')} ({un.get('pattern_source')}), drape "
+            f"{un.get('drape')} ({un.get('drape_source')})"
+            + (f"; pattern/drape edge length ratio {ratio:.3f}" if ratio is not None else "")
+        )
+    weld = intake.get("weld")
+    welded = intake.get("welded_vertices", 0)
+    dist = intake.get("weld_distance")
+    if weld == "distance" and dist is not None:
+        weld = f"{dist:.3g}"
+    how = f"welded {welded} drape vertices (within {dist:.3g})" if welded else "no weld"
+    pieces = ""
+    if "pieces_before" in intake:
+        pieces = f", drape pieces {intake['pieces_before']} -> {intake['pieces_after']}"
+    lines.append(
+        f"repairs: --weld {weld}: {how}{pieces}; dropped {intake.get('duplicate_faces', 0)} "
+        f"duplicate, {intake.get('zero_area_faces_3d', 0)} zero-area 3D and "
+        f"{intake.get('zero_area_faces_2d', 0)} zero-area 2D triangles; "
+        f"{intake.get('non_manifold_edges', 0)} non-manifold edges"
+    )
+    topo = intake.get("topology")
+    if topo:
+        lines.append(
+            "drape topology (pymeshlab): "
+            + ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in topo.items() if v is not None)
+        )
+    lines.extend(f"warning: {w}" for w in intake.get("warnings", []))
+    return lines

@@ -44,6 +44,7 @@ def adjust(
     drape,
     pattern_units,
     drape_units,
+    weld,
     up,
     front,
     method,
@@ -68,13 +69,14 @@ def adjust(
     import json
     from pathlib import Path
 
-    from ptailor.cli.options import parse_output_options
+    from ptailor.cli.options import parse_output_options, parse_weld_option
     from ptailor.job import run_adjust
     from ptailor.recipe import load_recipe
     from ptailor.report.build import summary_lines
 
     rec = load_recipe(recipe)
     fmts, allowance = parse_output_options(formats, seam_allowance, units=rec.units)
+    parse_weld_option(weld, units=rec.units)
     report = run_adjust(
         garment,
         rec,
@@ -82,6 +84,7 @@ def adjust(
         drape=drape,
         pattern_units=pattern_units,
         drape_units=drape_units,
+        weld=weld,
         method=method,
         intrinsic=intrinsic,
         baseline=not no_baseline,

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ptailor.cli.options import UNIT_HELP, axes_options, dxf_options, output_options
+from ptailor.cli.options import UNIT_HELP, axes_options, dxf_options, output_options, weld_option
 
 
 def _interrupt(signum, frame) -> None:
@@ -31,6 +31,7 @@ def _interrupt(signum, frame) -> None:
 @click.option(
     "--drape-units", default="cm", show_default=True, help=f"Unit of the drape: {UNIT_HELP}."
 )
+@weld_option
 @axes_options
 @click.option("--no-baseline", is_flag=True, help="Skip the uniform-flattening comparison.")
 @output_options
@@ -98,6 +99,7 @@ def batch(
     out,
     pattern_units,
     drape_units,
+    weld,
     up,
     front,
     no_baseline,
@@ -147,7 +149,7 @@ def batch(
 
     from ptailor.batch import Gates, expand_garments, make_jobs, record_line, run_batch
     from ptailor.batch import summary_lines as batch_summary
-    from ptailor.cli.options import parse_output_options
+    from ptailor.cli.options import parse_output_options, parse_weld_option
     from ptailor.errors import PtailorError
     from ptailor.formats.garment import parse_units
     from ptailor.recipe import load_recipe
@@ -159,6 +161,7 @@ def batch(
         parse_units(pattern_units, what="--pattern-units")
     parse_units(drape_units, what="--drape-units")
     fmts, allowance = parse_output_options(formats, seam_allowance, units=rec.units)
+    parse_weld_option(weld, units=rec.units)
     paths = expand_garments(
         garments,
         stdin=sys.stdin,
@@ -174,6 +177,7 @@ def batch(
         adjust_options={
             "pattern_units": pattern_units,
             "drape_units": drape_units,
+            "weld": weld,
             "up": up,
             "front": front,
             "baseline": not no_baseline,

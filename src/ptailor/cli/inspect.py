@@ -24,7 +24,7 @@ from ptailor.cli.options import axes_options, axis_vector, dxf_options, garment_
 @dxf_options
 @click.option("--json", "as_json", is_flag=True, help="Print JSON instead of text.")
 def inspect(
-    garment, drape, pattern_units, drape_units, up, front, units, size, dxf_units, as_json
+    garment, drape, pattern_units, drape_units, weld, up, front, units, size, dxf_units, as_json
 ) -> None:
     """List GARMENT's panels, seams, openings and units.
 
@@ -33,8 +33,10 @@ def inspect(
     """
     import json
 
+    from ptailor.cli.options import parse_weld_option
     from ptailor.errors import PtailorError
 
+    weld = parse_weld_option(weld, units=units)
     if Path(garment).suffix.lower() == ".dxf":
         from ptailor.formats.dxf import read_dxf
         from ptailor.summary import pattern_summary, pattern_summary_text
@@ -53,9 +55,20 @@ def inspect(
     from ptailor.summary import garment_summary, summary_text
 
     loaded = load_garment(
-        garment, drape=drape, units=units, pattern_units=pattern_units, drape_units=drape_units
+        garment,
+        drape=drape,
+        units=units,
+        pattern_units=pattern_units,
+        drape_units=drape_units,
+        weld=weld,
     )
+    from ptailor.model.repair import topology
+
     info = garment_summary(loaded, up=axis_vector(up, "y"), front=axis_vector(front, "z"))
+    info["intake"] = {
+        **info.get("intake", {}),
+        "topology": topology(loaded.garment.V3, loaded.garment.F3),
+    }
     info["units"].update({"pattern": pattern_units, "drape": drape_units})
     if as_json:
         click.echo(json.dumps(info, indent=2))

@@ -6,9 +6,35 @@ import click
 
 UNIT_HELP = "mm, cm, m, in, or a scaled unit such as 0.3333cm"
 
+WELD_HELP = (
+    "Weld coincident drape vertices on reading: auto (when the panels' drapes touch only "
+    "through coincident vertices, as per-piece CAD exports do; within 0.1 % of the mean edge "
+    "length), off, or a distance (0.1mm; a bare number is in the computation units)."
+)
+
+
+def weld_option(fn):
+    """``--weld auto|off|DISTANCE``."""
+    return click.option(
+        "--weld", default="auto", show_default=True, metavar="auto|off|DISTANCE", help=WELD_HELP
+    )(fn)
+
+
+def parse_weld_option(weld: str, *, units: str):
+    """``--weld`` checked before any file is read: ``auto``, ``off`` or a distance in ``units``.
+
+    Raises
+    ------
+    PtailorError
+        Anything else (exit 2).
+    """
+    from ptailor.formats.garment import parse_weld
+
+    return parse_weld(weld, units=units)
+
 
 def garment_options(fn):
-    """``--drape``, ``--pattern-units``, ``--drape-units``, ``--units``."""
+    """``--drape``, ``--pattern-units``, ``--drape-units``, ``--weld``."""
     for opt in reversed(
         [
             click.option(
@@ -30,6 +56,7 @@ def garment_options(fn):
                 show_default=True,
                 help=f"Unit of the drape: {UNIT_HELP}.",
             ),
+            weld_option,
         ]
     ):
         fn = opt(fn)

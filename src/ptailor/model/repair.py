@@ -105,33 +105,40 @@ def weld_vertices(
     return V[I], J[F], I, J
 
 
-def weld_joins_pieces(F: np.ndarray, J: np.ndarray, n: int) -> int:
-    """How many old vertices a weld ``J`` merges into a vertex of another drape piece.
+def weld_joins_panels(F3: np.ndarray, face_panel: np.ndarray, J: np.ndarray) -> int:
+    """How many drape vertices a weld ``J`` merges with a vertex of another panel.
 
     Parameters
     ----------
-    F : (m, 3) int array
-        The triangles before the weld.
+    F3 : (m, 3) int array
+        The drape triangles before the weld.
+    face_panel : (m,) int array
+        Panel of each triangle (the connected components of ``F2``).
     J : (n,) int array
         New index of each old vertex (:func:`weld_vertices`).
-    n : int
-        Number of old vertices.
 
     Returns
     -------
     int
-        The referenced old vertices whose merged vertex also holds a vertex of another
-        connected component of ``F`` (0: the weld joins no two pieces).
+        The old vertices in merged groups (two or more old vertices) whose triangles lie on
+        two or more panels (0: the weld joins no two panels, as in a welded garment, where
+        seam vertices are already one vertex each).
     """
-    lab = np.full(n, -1, dtype=np.int64)
-    lab[F.ravel()] = np.repeat(face_components(F, n), 3)
-    used = np.flatnonzero(lab >= 0)
-    # the lowest component label found at each new vertex, compared with each old one's
-    low = np.full(int(J.max()) + 1 if n else 0, np.iinfo(np.int64).max, dtype=np.int64)
-    np.minimum.at(low, J[used], lab[used])
-    high = np.full_like(low, -1)
-    np.maximum.at(high, J[used], lab[used])
-    mixed = low != high
+    n = len(J)
+    big = np.iinfo(np.int64).max
+    corner_panel = np.repeat(face_panel, 3)
+    pmin = np.full(n, big, dtype=np.int64)
+    pmax = np.full(n, -1, dtype=np.int64)
+    np.minimum.at(pmin, F3.ravel(), corner_panel)
+    np.maximum.at(pmax, F3.ravel(), corner_panel)
+    used = np.flatnonzero(pmax >= 0)
+    k = int(J.max()) + 1 if n else 0
+    low = np.full(k, big, dtype=np.int64)
+    high = np.full(k, -1, dtype=np.int64)
+    np.minimum.at(low, J[used], pmin[used])
+    np.maximum.at(high, J[used], pmax[used])
+    size = np.bincount(J[used], minlength=k)
+    mixed = (low != high) & (size > 1)
     return int(mixed[J[used]].sum())
 
 
@@ -319,8 +326,9 @@ def intake(
     V2 : (n2, 2) float array
     F2 : (m, 3) int array
     weld : ``"auto"``, ``"off"`` or float
-        ``auto``: weld at ``WELD_REL`` times the mean drape edge length when that joins
-        separate drape pieces (panels that touch only through coincident vertices); a
+        ``auto``: weld at ``WELD_REL`` times the mean drape edge length when that merges
+        vertices of different panels (panels that touch only through coincident vertices,
+        as per-piece CAD exports come); then every coincident group is welded; a
         number: weld at that distance (drape units) in any case; ``off``: never (a warning
         says when ``auto`` would have welded).
     path : str, optional
@@ -354,7 +362,9 @@ def intake(
     n_pieces = int(face_components(F3, len(V3)).max()) + 1
     rec["pieces_before"] = n_pieces
     W, G, I2, J = weld_vertices(V3, F3, distance=dist)
-    joins = weld_joins_pieces(F3, J, len(V3)) if n_pieces > 1 and len(I2) < len(V3) else 0
+    joins = 0
+    if len(I2) < len(V3):
+        joins = weld_joins_panels(F3, face_components(F2, len(V2)), J)
     do_weld = weld != "off" and (weld != "auto" or joins > 0)
     if do_weld and len(I2) < len(V3):
         V3, F3, I = W, G, I2
@@ -365,8 +375,8 @@ def intake(
         rec["welded_vertices"] = 0
         if weld == "off" and joins:
             warnings.append(
-                f"{joins} drape vertices of separate pieces coincide (an unwelded export?): "
-                "--weld off keeps the pieces apart, so their seams are not seen"
+                f"{joins} drape vertices of different panels coincide (an unwelded export?): "
+                "--weld off keeps them apart, so the seams there are not seen"
             )
     rec["pieces_after"] = int(face_components(F3, len(V3)).max()) + 1
     z3 = zero_area_faces(V3, F3)
