@@ -26,6 +26,7 @@ __all__ = [
     "cylinder",
     "lantern_sleeve",
     "sample_for_triangles",
+    "tseam_tube",
 ]
 
 #: Gap between pattern panels laid out side by side, in cm.
@@ -447,6 +448,88 @@ def bodice(
         length=length,
         n_around=n_around,
         n_along=n_along,
+    )
+
+
+def tseam_tube(
+    *,
+    circumference: float = 60.0,
+    height: float = 40.0,
+    n_around: int = 24,
+    n_along: int = 16,
+    rows: tuple[int, int] = (4, 12),
+    strip_width: float = 3.0,
+    n_strip: int = 2,
+) -> Garment:
+    """A tube with a strip sewn onto its front along a line of interior edges (a T-seam).
+
+    The tube is :func:`cylinder` (seam at the back). The strip is a ``strip_width`` wide
+    rectangle whose one long edge is sewn onto the tube's front column of vertical grid
+    edges from grid row ``rows[0]`` to ``rows[1]`` (a placket, a pleat, a ruffle); it stands
+    out radially as a fin and its other long edge and both short ends are free. Each
+    drape edge of the sewn line is then used by three faces: two of the tube (one pattern
+    edge, inside the panel) and one of the strip. Both sides of the T-seam are
+    ``height (rows[1] - rows[0]) / n_along`` long, and every pattern triangle is congruent
+    to its drape triangle.
+
+    Parameters
+    ----------
+    circumference, height : float
+        The tube's circumference and height, cm.
+    n_around, n_along : int
+        Tube quads around (even, >= 4) and along (>= 2).
+    rows : (int, int)
+        First and last grid row of the sewn line, ``0 <= rows[0] < rows[1] <= n_along``; a
+        line touching row 0 or ``n_along`` ends on the tube's hem or top.
+    strip_width : float
+        Width of the strip, cm.
+    n_strip : int
+        Strip quads across its width (>= 1).
+
+    Returns
+    -------
+    Garment
+        Panels ``("tube", "strip")`` in cm; the strip's pattern lies right of the tube's.
+    """
+    _check_positive(circumference=circumference, height=height, strip_width=strip_width)
+    _check_count("n_around", n_around, 4)
+    _check_count("n_along", n_along, 2)
+    _check_count("n_strip", n_strip, 1)
+    if int(n_around) % 2:
+        raise ValueError(f"n_around must be even (the front column), got {n_around!r}")
+    r0, r1 = (int(r) for r in rows)
+    if not 0 <= r0 < r1 <= int(n_along):
+        raise ValueError(f"rows must satisfy 0 <= rows[0] < rows[1] <= n_along, got {rows!r}")
+    tube = cylinder(circumference=circumference, height=height, n_around=n_around, n_along=n_along)
+    n, na, ns = int(n_around), int(n_along), int(n_strip)
+    j0 = n // 2  # the front column: phi = 2 pi, +z
+    heights = height * np.arange(r0, r1 + 1) / na
+    radius = _polygon_radius(circumference, n)
+    off = strip_width * np.arange(1, ns + 1) / ns
+    # new drape vertices of the strip: radially out from the front column, row-major
+    Vs = np.stack(
+        [
+            np.zeros((len(heights), ns)),
+            np.broadcast_to(heights[:, None], (len(heights), ns)),
+            radius + np.broadcast_to(off[None, :], (len(heights), ns)),
+        ],
+        axis=-1,
+    ).reshape(-1, 3)
+    n3 = len(tube.V3)
+    line3 = (r0 + np.arange(r1 - r0 + 1)) * n + j0
+    idx3 = np.concatenate(
+        [line3[:, None], n3 + np.arange(len(Vs)).reshape(len(heights), ns)], axis=1
+    )
+    x0 = circumference + PANEL_GAP
+    V2s = _grid_2d(x0 + strip_width * np.arange(ns + 1) / ns, heights)
+    idx2 = len(tube.V2) + np.arange(len(V2s)).reshape(len(heights), ns + 1)
+    F3s, F2s = _grid_faces(idx3, idx2)
+    return _garment(
+        np.concatenate([tube.V3, Vs]),
+        [tube.F3, F3s],
+        [tube.V2, V2s],
+        [tube.F2, F2s],
+        ("tube", "strip"),
     )
 
 

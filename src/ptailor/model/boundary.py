@@ -1,76 +1,367 @@
-"""Boundary loops of a triangle mesh."""
+"""Boundary loops of a triangle mesh, traced deterministically on non-manifold meshes.
+
+Real garment exports are not always manifold: a placket or a pocket sewn onto the middle of
+a panel makes drape edges shared by three faces (T-seams), and panels touching at a single
+vertex make non-manifold boundary vertices. The rules here:
+
+- a *boundary edge* is an edge used by exactly one face (an edge used by two faces is
+  inside the cloth or a seam; one used by three or more faces is a T-seam, sewn, never
+  boundary); faces with a repeated vertex are ignored;
+- faces sharing an edge are *linked* into one surface across it: always for an edge of two
+  faces; for an edge of three or more faces only one pair is linked, the two faces that
+  use the same pattern edge (the panel the others are sewn onto) when the pattern is given,
+  else the two whose half-planes are the most nearly opposite (the flattest pair) when
+  positions are given; the other faces there are *fins* (a strip sewn on);
+- the faces around a vertex, linked across their edges, form *fans* (sectors); a fan is a
+  path or a cycle of corners, so it touches at most two boundary edges, and the boundary
+  continues from one to the other: each sector of a non-manifold (bow-tie) vertex is traced
+  separately;
+- a boundary edge ending in a fan with no second boundary edge (a fin's corner at a T-seam)
+  is *dangling*; dangling ends at one vertex are paired in order of their other vertex and
+  a leftover ends an open chain (the free edge of a strip sewn onto a panel's middle);
+- a loop visiting a vertex twice is split there into simple loops; loops of fewer than
+  three vertices (and chains of fewer than three) are dropped, and so are loops of zero
+  length when positions are given.
+
+Everything is a function of the mesh, not of the face order: loops start at their smallest
+vertex and run along the majority of their half-edges.
+"""
 
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import breadth_first_order, connected_components
 
 from ptailor.model.seams import edge_keys, half_edges
 
 
+def _proper(F: np.ndarray) -> np.ndarray:
+    """Triangles with three distinct vertices, ``(m', 3)`` int64."""
+    F = np.asarray(F, dtype=np.int64).reshape(-1, 3)
+    ok = (F[:, 0] != F[:, 1]) & (F[:, 1] != F[:, 2]) & (F[:, 2] != F[:, 0])
+    return F[ok]
+
+
 def boundary_edges(F: np.ndarray) -> np.ndarray:
-    """Directed boundary half-edges (those whose twin is missing).
+    """Directed boundary half-edges (edges used by exactly one face).
 
     Parameters
     ----------
     F : (m, 3) int array
+        Triangles; those with a repeated vertex are ignored.
 
     Returns
     -------
     (b, 2) int array
         Oriented as in their triangle, so a counter-clockwise 2D panel's outer loop runs
-        counter-clockwise.
+        counter-clockwise. Edges of three or more faces (T-seams) are not boundary.
     """
+    F = _proper(F)
+    h = half_edges(F)
+    if len(h) == 0:
+        return h
+    _, inv, cnt = np.unique(edge_keys(h), return_inverse=True, return_counts=True)
+    return h[cnt[inv.ravel()] == 1]
+
+
+def _multi_links(
+    h: np.ndarray,
+    idx: np.ndarray,
+    inv: np.ndarray,
+    F: np.ndarray,
+    V: np.ndarray | None,
+    F2: np.ndarray | None,
+) -> np.ndarray:
+    """The linked pair at each edge of three or more faces.
+
+    Parameters
+    ----------
+    h : (3m, 2) int array
+        Half-edges of ``F``.
+    idx : (q,) int array
+        Half-edge ids on edges used by three or more faces, sorted by edge.
+    inv : (3m,) int array
+        Edge id of each half-edge.
+    F : (m, 3) int array
+    V : (n, d) float array or None
+    F2 : (m, 3) int array or None
+
+    Returns
+    -------
+    (p, 2) int array
+        Half-edge pairs, at most one per edge.
+    """
+    if len(idx) == 0:
+        return np.zeros((0, 2), dtype=np.int64)
+    e = inv[idx]
+    opp = F[idx // 3, (idx % 3 + 2) % 3]  # the vertex of each face across the edge
+    start = np.flatnonzero(np.r_[True, e[1:] != e[:-1]])
+    size = np.diff(np.r_[start, len(idx)])
+    cmax = int(size.max())
+    # candidate pairs (i, j) of half-edges on one edge, i before j in the sorted list
+    ci, cj = [], []
+    for d in range(1, cmax):  # a loop over offsets (at most the largest edge degree)
+        i = np.arange(len(idx) - d)
+        same = e[i] == e[i + d]
+        ci.append(i[same])
+        cj.append(i[same] + d)
+    ci, cj = np.concatenate(ci), np.concatenate(cj)
+    score = np.zeros(len(ci))  # lower is better
+    if F2 is not None:
+        k2 = edge_keys(half_edges(F2)[idx], n=int(F2.max()) + 1)
+        score -= 4.0 * (k2[ci] == k2[cj])  # one pattern edge: the panel under a T-seam
+    if V is not None:
+        V = np.asarray(V, dtype=np.float64)
+        a, b = V[h[idx, 0]], V[h[idx, 1]]
+        t = b - a
+        t /= np.maximum(np.linalg.norm(t, axis=1), 1e-300)[:, None]
+        w = V[opp] - a
+        w -= (w * t).sum(axis=1)[:, None] * t
+        w /= np.maximum(np.linalg.norm(w, axis=1), 1e-300)[:, None]
+        score += (w[ci] * w[cj]).sum(axis=1)  # -1: the two half-planes are opposite (flat)
+    elif F2 is None:
+        return np.zeros((0, 2), dtype=np.int64)
+    # the best pair of each edge; ties by the faces' far vertices (not by face order)
+    lo, hi = np.minimum(opp[ci], opp[cj]), np.maximum(opp[ci], opp[cj])
+    order = np.lexsort((hi, lo, np.round(score, 12), e[ci]))
+    first = order[np.r_[True, e[ci][order][1:] != e[ci][order][:-1]]]
+    if F2 is not None and V is None:
+        first = first[score[first] < 0]  # without positions only a shared pattern edge links
+    return np.stack([idx[ci[first]], idx[cj[first]]], axis=1)
+
+
+def _pair_ends(ep_vert: np.ndarray, ep_fan: np.ndarray, ep_other: np.ndarray) -> np.ndarray:
+    """Partner of each boundary-edge end at its vertex (the next end of the loop), or -1.
+
+    Ends in one fan are partners; ends alone in their fan (dangling) are paired at their
+    vertex in the order of their edges' other vertices, a leftover one ends a chain.
+    """
+    n_ep = len(ep_vert)
+    partner = np.full(n_ep, -1, dtype=np.int64)
+    order = np.lexsort((ep_other, ep_fan))
+    f = ep_fan[order]
+    start = np.r_[True, f[1:] != f[:-1]]
+    size = np.diff(np.r_[np.flatnonzero(start), n_ep])
+    gsize = np.repeat(size, size)
+    two = order[(gsize == 2) & start]
+    partner[two] = order[np.flatnonzero((gsize == 2) & start) + 1]
+    partner[partner[two]] = two
+    lone = order[gsize == 1]
+    if len(lone):
+        o = lone[np.lexsort((ep_other[lone], ep_vert[lone]))]
+        v = ep_vert[o]
+        gstart = np.flatnonzero(np.r_[True, v[1:] != v[:-1]])
+        rank = np.arange(len(o)) - np.repeat(gstart, np.diff(np.r_[gstart, len(o)]))
+        nxt_same = np.r_[v[1:] == v[:-1], False]
+        a = np.flatnonzero((rank % 2 == 0) & nxt_same)
+        partner[o[a]] = o[a + 1]
+        partner[o[a + 1]] = o[a]
+    return partner
+
+
+def _split_simple(seq: np.ndarray) -> list[np.ndarray]:
+    """Split a closed vertex sequence at repeated vertices into simple loops."""
+    out: list[np.ndarray] = []
+    stack = [seq]
+    while stack:  # a loop over sub-loops
+        s = stack.pop()
+        _, first, cnt = np.unique(s, return_index=True, return_counts=True)
+        rep = first[cnt > 1]
+        if len(rep) == 0:
+            out.append(s)
+            continue
+        i = int(rep.min())
+        j = i + 1 + int(np.flatnonzero(s[i + 1 :] == s[i])[0])
+        stack.append(s[i:j])
+        stack.append(np.r_[s[:i], s[j:]])
+    return out
+
+
+def _canonical(seq: np.ndarray, fwd: np.ndarray, closed: bool) -> np.ndarray:
+    """Orient a curve along the majority of its half-edges and start it canonically.
+
+    Parameters
+    ----------
+    seq : (k,) int array
+        Vertices in walking order.
+    fwd : (k,) or (k - 1,) bool array
+        Whether each walked edge runs along its half-edge.
+    closed : bool
+        Closed loops start at their smallest vertex; chains at an end.
+    """
+    n_fwd, n_bwd = int(fwd.sum()), int((~fwd).sum())
+    if closed:
+        s = np.roll(seq, -int(np.argmin(seq)))
+        flip = n_bwd > n_fwd or (n_bwd == n_fwd and len(s) > 1 and s[-1] < s[1])
+        if flip:
+            s = np.roll(s[::-1], 1)
+        return s
+    flip = n_bwd > n_fwd or (n_bwd == n_fwd and seq[-1] < seq[0])
+    return seq[::-1] if flip else seq
+
+
+def boundary_curves(
+    F: np.ndarray,
+    *,
+    V: np.ndarray | None = None,
+    F2: np.ndarray | None = None,
+) -> tuple[list[np.ndarray], np.ndarray]:
+    """Boundary loops and open chains, traced deterministically (module notes).
+
+    Parameters
+    ----------
+    F : (m, 3) int array
+        Triangles, manifold or not.
+    V : (n, d) float array, optional
+        Vertex positions: choose the linked pair at edges of three or more faces by
+        flatness, and drop zero-length loops.
+    F2 : (m, 3) int array, optional
+        Pattern triangles (row ``i`` the same cloth as ``F[i]``): at an edge of three or
+        more faces, the two faces using one pattern edge are the panel, the others fins.
+
+    Returns
+    -------
+    curves : list of (k,) int arrays
+        Vertex indices in boundary half-edge order (majority), longest first (ties by
+        first vertex). A closed loop starts at its smallest vertex and is simple; an open
+        chain (the free edge of a strip sewn onto a panel, ending inside the cloth) runs
+        from one end to the other.
+    closed : (c,) bool array
+        Whether each curve is a closed loop.
+    """
+    F = np.asarray(F, dtype=np.int64).reshape(-1, 3)
+    ok = (F[:, 0] != F[:, 1]) & (F[:, 1] != F[:, 2]) & (F[:, 2] != F[:, 0])
+    F = F[ok]
+    if F2 is not None:
+        F2 = np.asarray(F2, dtype=np.int64).reshape(-1, 3)[ok]
+    m = len(F)
+    if m == 0:
+        return [], np.zeros(0, dtype=bool)
     h = half_edges(F)
     _, inv, cnt = np.unique(edge_keys(h), return_inverse=True, return_counts=True)
-    return h[cnt[inv] == 1]
+    inv = inv.ravel()
+    c = cnt[inv]
+    ids = np.arange(3 * m)
+    end_corner = 3 * (ids // 3) + (ids % 3 + 1) % 3  # the corner at a half-edge's end
+
+    # links: the two faces of a two-face edge; one pair at edges of three or more faces
+    two = ids[c == 2]
+    two = two[np.argsort(inv[two], kind="stable")]
+    multi = ids[c >= 3]
+    multi = multi[np.argsort(inv[multi], kind="stable")]
+    links = np.concatenate([two.reshape(-1, 2), _multi_links(h, multi, inv, F, V, F2)])
+    la, lb = links[:, 0], links[:, 1]
+
+    def corner_at(hh: np.ndarray, x: np.ndarray) -> np.ndarray:
+        return np.where(h[hh, 0] == x, hh, end_corner[hh])
+
+    a, b = h[la, 0], h[la, 1]
+    G = sp.coo_matrix(
+        (
+            np.ones(2 * len(la)),
+            (np.r_[corner_at(la, a), corner_at(la, b)], np.r_[corner_at(lb, a), corner_at(lb, b)]),
+        ),
+        shape=(3 * m, 3 * m),
+    )
+    fan = connected_components(G, directed=False)[1]
+
+    # boundary edge ends: end 2j at the start of boundary half-edge j, end 2j+1 at its end
+    bh = ids[c == 1]
+    nb = len(bh)
+    if nb == 0:
+        return [], np.zeros(0, dtype=bool)
+    E = h[bh]
+    ep_vert = E.ravel()
+    ep_fan = np.stack([fan[bh], fan[end_corner[bh]]], axis=1).ravel()
+    ep_other = E[:, ::-1].ravel()
+    partner = _pair_ends(ep_vert, ep_fan, ep_other)
+
+    # walk: entering an edge at end p, leave at p ^ 1 and enter the partner's edge
+    ep = np.arange(2 * nb)
+    succ = partner[ep ^ 1]
+    has = succ >= 0
+    W = sp.csr_matrix((np.ones(int(has.sum())), (ep[has], succ[has])), shape=(2 * nb, 2 * nb))
+    U = sp.csr_matrix((np.ones(int(has.sum())), (ep[has] // 2, succ[has] // 2)), shape=(nb, nb))
+    n_comp, comp = connected_components(U, directed=False)
+    dangling = partner < 0
+    comp_order = np.argsort(comp, kind="stable")
+    bounds = np.r_[0, np.cumsum(np.bincount(comp, minlength=n_comp))]
+
+    Vpos = None if V is None else np.asarray(V, dtype=np.float64)
+    curves: list[np.ndarray] = []
+    closed: list[bool] = []
+    for k in range(n_comp):  # a loop over boundary curves
+        edges = comp_order[bounds[k] : bounds[k + 1]]
+        ends = np.r_[2 * edges, 2 * edges + 1]
+        free = ends[dangling[ends]]
+        is_closed = len(free) == 0
+        start = int(free.min()) if len(free) else int(2 * edges.min())
+        walk = breadth_first_order(W, start, directed=True, return_predecessors=False)
+        seq = ep_vert[walk]
+        fwd = walk % 2 == 0
+        if is_closed:
+            parts = [(p, True) for p in _split_simple(seq)]
+            parts = [(_canonical(p, fwd, True), True) for p, _ in parts]
+        else:
+            seq = np.r_[seq, ep_vert[walk[-1] ^ 1]]
+            parts = [(_canonical(seq, fwd, False), False)]
+            if len(np.unique(seq)) < len(seq):  # a chain through a vertex twice: cut loops off
+                parts = _split_chain(seq, fwd)
+        for p, cl in parts:
+            if len(p) < 3:
+                continue
+            if Vpos is not None:
+                P = Vpos[p]
+                seg = np.linalg.norm(np.diff(P, axis=0, append=P[:1] if cl else P[-1:]), axis=1)
+                if not seg.sum() > 0.0:
+                    continue
+            curves.append(p)
+            closed.append(cl)
+    order = sorted(range(len(curves)), key=lambda i: (-len(curves[i]), int(curves[i][0])))
+    return [curves[i] for i in order], np.array([closed[i] for i in order], dtype=bool)
 
 
-def boundary_loops(F: np.ndarray) -> list[np.ndarray]:
+def _split_chain(seq: np.ndarray, fwd: np.ndarray) -> list[tuple[np.ndarray, bool]]:
+    """Cut the closed loops off an open chain that visits a vertex twice."""
+    out: list[tuple[np.ndarray, bool]] = []
+    s = seq
+    while True:  # a loop over sub-loops
+        _, first, cnt = np.unique(s, return_index=True, return_counts=True)
+        rep = first[cnt > 1]
+        if len(rep) == 0:
+            break
+        i = int(rep.min())
+        j = i + 1 + int(np.flatnonzero(s[i + 1 :] == s[i])[0])
+        for p in _split_simple(s[i:j]):
+            out.append((_canonical(p, fwd, True), True))
+        s = np.r_[s[:i], s[j:]]
+    out.append((_canonical(s, fwd, False), False))
+    return out
+
+
+def boundary_loops(
+    F: np.ndarray,
+    *,
+    V: np.ndarray | None = None,
+    F2: np.ndarray | None = None,
+) -> list[np.ndarray]:
     """Ordered boundary loops.
 
     Parameters
     ----------
     F : (m, 3) int array
-        A manifold (edge-manifold on the boundary) triangle mesh.
+        Triangles, manifold or not (see the module notes for non-manifold vertices and
+        edges of three or more faces).
+    V, F2 : arrays, optional
+        As in :func:`boundary_curves`.
 
     Returns
     -------
     list of (k,) int arrays
         Vertex indices of each loop in half-edge order, longest loop first; a loop starts at
-        its smallest vertex index so the result does not depend on face order.
+        its smallest vertex index so the result does not depend on face order. Open chains
+        (:func:`boundary_curves`) are included, read as closed by the chord between their
+        ends; they only arise at edges of three or more faces.
     """
-    E = boundary_edges(F)
-    if len(E) == 0:
-        return []
-    # successor map; a non-manifold boundary vertex keeps one successor (the first seen)
-    n = int(F.max()) + 1
-    nxt = np.full(n, -1, dtype=np.int64)
-    nxt[E[::-1, 0]] = E[::-1, 1]
-    # label loops by pointer jumping: each vertex learns the minimum vertex on its loop
-    on = np.zeros(n, dtype=bool)
-    on[E[:, 0]] = True
-    verts = np.flatnonzero(on)
-    succ = np.where(nxt[verts] >= 0, nxt[verts], verts)
-    pos = np.full(n, -1, dtype=np.int64)
-    pos[verts] = np.arange(len(verts))
-    succ_local = pos[succ]
-    succ_local = np.where(succ_local >= 0, succ_local, np.arange(len(verts)))
-    low = verts.copy()
-    jump = succ_local.copy()
-    for _ in range(int(np.ceil(np.log2(max(len(verts), 2)))) + 1):
-        low = np.minimum(low, low[jump])
-        jump = jump[jump]
-    # list ranking: steps from the loop's smallest vertex, by pointer jumping on predecessors
-    pred = np.empty(len(verts), dtype=np.int64)
-    pred[succ_local] = np.arange(len(verts))
-    is_start = low == verts
-    pred = np.where(is_start, np.arange(len(verts)), pred)
-    rank = np.where(is_start, 0, 1).astype(np.int64)
-    for _ in range(int(np.ceil(np.log2(max(len(verts), 2)))) + 1):
-        rank = rank + rank[pred]
-        pred = pred[pred]
-    order = np.lexsort((rank, low))
-    cuts = np.flatnonzero(np.diff(low[order])) + 1
-    loops = [verts[g] for g in np.split(order, cuts)]
-    loops.sort(key=lambda a: (-len(a), int(a[0])))
-    return loops
+    return boundary_curves(F, V=V, F2=F2)[0]

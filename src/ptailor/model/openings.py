@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ptailor.model.boundary import boundary_loops
+from ptailor.model.boundary import boundary_curves
 
 #: A loop shorter than this fraction of the longest loop is a mesh defect, never named.
 _MIN_REL_LENGTH = 0.05
@@ -36,12 +36,17 @@ class Opening:
         3D perimeter of the closed loop.
     centroid : (3,) float array
         Length-weighted centroid of the loop (its edges' midpoints weighted by their length).
+    closed : bool
+        False for an open chain: the free edge of a piece sewn onto the middle of another
+        (a T-seam: placket, pocket, strip), whose ends lie inside the cloth; its ``length``
+        and ``centroid`` are those of the chain itself, without the chord between its ends.
     """
 
     name: str
     loop: np.ndarray
     length: float
     centroid: np.ndarray
+    closed: bool = True
 
 
 def body_frame(up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> np.ndarray:
@@ -69,10 +74,20 @@ def body_frame(up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> np.ndarray:
     return np.stack([np.cross(u, f), u, f])
 
 
-def _loop_geometry(P: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
-    """Perimeter, length-weighted centroid and best-fit plane normal of a closed polyline."""
+def _loop_geometry(P: np.ndarray, closed: bool = True) -> tuple[float, np.ndarray, np.ndarray]:
+    """Length, length-weighted centroid and best-fit plane normal of a polyline.
+
+    Parameters
+    ----------
+    P : (k, 3) float array
+        The polyline's points.
+    closed : bool
+        Whether the last point joins the first.
+    """
     Q = np.roll(P, -1, axis=0)
     seg = np.linalg.norm(Q - P, axis=1)
+    if not closed:
+        seg[-1] = 0.0  # no chord between the ends
     length = float(seg.sum())
     if length > 0.0:
         centroid = ((P + Q) * 0.5 * seg[:, None]).sum(axis=0) / length
@@ -86,7 +101,7 @@ def _loop_geometry(P: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
     return length, centroid, normal
 
 
-def openings(V3, F3, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> list[Opening]:
+def openings(V3, F3, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0), F2=None) -> list[Opening]:
     """The openings (boundary loops of the drape) with names from geometry.
 
     Parameters
@@ -97,12 +112,21 @@ def openings(V3, F3, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> list[Openi
         Drape triangles.
     up, front : 3-vectors
         The body's up and front directions (``front`` is orthogonalised against ``up``).
+    F2 : (m, 3) int array, optional
+        Pattern triangles. At a drape edge of three or more faces (a T-seam) they tell the
+        panel (two faces on one pattern edge) from the piece sewn onto it; without them the
+        flattest pair of faces is taken for the panel
+        (:func:`ptailor.model.boundary.boundary_curves`).
 
     Returns
     -------
     list of Opening
-        In :func:`ptailor.model.boundary.boundary_loops` order (longest loop first, ties by
-        smallest vertex index); names are unique.
+        In :func:`ptailor.model.boundary.boundary_curves` order (longest loop first, ties by
+        first vertex); names are unique. Loops are traced deterministically on non-manifold
+        drapes: edges of three or more faces are sewn (never boundary), each sector of a
+        non-manifold vertex is traced on its own, loops are simple, and no loop has zero
+        length. The free edge of a strip sewn onto a panel's middle is an open chain
+        (``closed`` False).
 
     Notes
     -----
@@ -142,7 +166,9 @@ def openings(V3, F3, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> list[Openi
     V3 = np.asarray(V3, dtype=np.float64)
     F3 = np.asarray(F3, dtype=np.int64).reshape(-1, 3)
     frame = body_frame(up, front)
-    loops = boundary_loops(F3) if len(F3) else []
+    if not len(F3):
+        return []
+    loops, closed = boundary_curves(F3, V=V3, F2=F2)
     if not loops:
         return []
 
@@ -158,7 +184,7 @@ def openings(V3, F3, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> list[Openi
     s0 = float((area * face_s).sum() / area.sum()) if area.sum() > 0 else float(S[used].mean())
 
     n = len(loops)
-    geo = [_loop_geometry(V3[L]) for L in loops]
+    geo = [_loop_geometry(V3[L], bool(c)) for L, c in zip(loops, closed, strict=True)]
     length = np.array([g[0] for g in geo])
     cen = np.array([g[1] for g in geo]).reshape(n, 3)
     nrm = np.array([g[2] for g in geo]).reshape(n, 3)
@@ -232,6 +258,7 @@ def openings(V3, F3, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> list[Openi
             loop=loops[i],
             length=float(length[i]),
             centroid=cen[i],
+            closed=bool(closed[i]),
         )
         for i in range(n)
     ]

@@ -82,18 +82,102 @@ def seam_halfedges(F3: np.ndarray, F2: np.ndarray) -> np.ndarray:
     Returns
     -------
     (k, 2) int array
-        Half-edge ids (``3 * face + corner``, see :func:`half_edges`) of the two triangles
-        sharing a drape edge whose pattern edges differ, ordered by drape edge.
+        Half-edge ids (``3 * face + corner``, see :func:`half_edges`), the smaller id first,
+        ordered by drape edge (then by the pattern edges of the sewn-on side).
+
+    Notes
+    -----
+    A drape edge of two faces whose pattern edges differ gives one pair. A drape edge of
+    ``k > 2`` faces (a T-seam: a placket, pocket or strip sewn onto the middle of a panel,
+    or a piece inserted into a seam) is split into its *sides*: the half-edges that use one
+    pattern edge (the panel's two faces at an interior edge of that panel are one side: one
+    2D edge, so no seam between them). The side with the most half-edges (ties: the
+    smallest pattern edge) is the *base*; every other side is a seam with it, one pair
+    each, so ``k - 1`` sides give ``k - 2`` or ``k - 1`` independent pairs and never a
+    cycle (a cycle would make the seam-ease constraints redundant). Each side is
+    represented by its smallest half-edge id, the base by one of its half-edges that runs
+    against the other side's (so the pair is consistently oriented where the cloth is),
+    else its smallest. Faces with a repeated drape vertex are ignored.
     """
+    F3 = np.asarray(F3, dtype=np.int64).reshape(-1, 3)
+    F2 = np.asarray(F2, dtype=np.int64).reshape(-1, 3)
     h3, h2 = half_edges(F3), half_edges(F2)
-    _, inv, cnt = np.unique(edge_keys(h3), return_inverse=True, return_counts=True)
-    idx = np.flatnonzero(cnt[inv] == 2)
+    if len(h3) == 0:
+        return np.zeros((0, 2), dtype=np.int64)
+    proper = np.repeat((F3[:, 0] != F3[:, 1]) & (F3[:, 1] != F3[:, 2]) & (F3[:, 2] != F3[:, 0]), 3)
+    k3 = np.where(proper, edge_keys(h3), -1)
+    _, inv, cnt = np.unique(k3, return_inverse=True, return_counts=True)
+    inv = inv.ravel()
+    c = np.where(proper, cnt[inv], 0)
+    idx = np.flatnonzero(c == 2)
     idx = idx[np.argsort(inv[idx], kind="stable")]
     first, second = idx[0::2], idx[1::2]
     same_dir = h3[first, 0] == h3[second, 0]
     e2_second = np.where(same_dir[:, None], h2[second], h2[second][:, ::-1])
     is_seam = np.any(h2[first] != e2_second, axis=1)
-    return np.stack([first[is_seam], second[is_seam]], axis=1)
+    pairs = np.stack([first[is_seam], second[is_seam]], axis=1)
+    multi = np.flatnonzero(c >= 3)
+    if len(multi):
+        tp = _multi_seam_pairs(h3, h2, inv, multi, int(F2.max()) + 1)
+        pairs = np.concatenate([pairs, tp])
+        edge = inv[pairs[:, 0]]
+        k2 = edge_keys(h2[pairs.max(axis=1)], n=int(F2.max()) + 1)
+        pairs = pairs[np.lexsort((k2, edge))]
+    return pairs
+
+
+def _multi_seam_pairs(
+    h3: np.ndarray, h2: np.ndarray, inv: np.ndarray, multi: np.ndarray, n2: int
+) -> np.ndarray:
+    """Seam pairs at drape edges of three or more faces (:func:`seam_halfedges` notes).
+
+    Parameters
+    ----------
+    h3, h2 : (3m, 2) int arrays
+        Drape and pattern half-edges.
+    inv : (3m,) int array
+        Drape edge id of each half-edge.
+    multi : (q,) int array
+        Half-edge ids on drape edges of three or more faces.
+    n2 : int
+        Bound on the pattern vertex indices.
+
+    Returns
+    -------
+    (p, 2) int array
+        Half-edge pairs, the smaller id first.
+    """
+    e = inv[multi]
+    k2 = edge_keys(h2[multi], n=n2)
+    # sides: (drape edge, pattern edge) groups
+    o = np.lexsort((multi, k2, e))
+    s_e, s_k, s_h = e[o], k2[o], multi[o]
+    new_side = np.r_[True, (s_e[1:] != s_e[:-1]) | (s_k[1:] != s_k[:-1])]
+    side = np.cumsum(new_side) - 1
+    side_size = np.bincount(side)
+    side_rep = s_h[new_side]  # smallest half-edge id of each side
+    side_e, side_k = s_e[new_side], s_k[new_side]
+    # the base side of each drape edge: most half-edges, then smallest pattern edge
+    so = np.lexsort((side_k, -side_size, side_e))
+    is_base = np.zeros(len(side_rep), dtype=bool)
+    is_base[so[np.r_[True, side_e[so][1:] != side_e[so][:-1]]]] = True
+    # the base's representatives for each direction (drape half-edge runs low -> high)
+    fwd = h3[s_h, 0] < h3[s_h, 1]
+    n_e = int(inv.max()) + 1
+    big = np.iinfo(np.int64).max
+    rep_dir = np.full((n_e, 2), big, dtype=np.int64)
+    on_base = is_base[side]
+    np.minimum.at(rep_dir, (s_e[on_base], fwd[on_base].astype(np.int64)), s_h[on_base])
+    others = ~is_base
+    if not others.any():
+        return np.zeros((0, 2), dtype=np.int64)
+    oh = side_rep[others]
+    oe = side_e[others]
+    ofwd = (h3[oh, 0] < h3[oh, 1]).astype(np.int64)
+    against = rep_dir[oe, 1 - ofwd]
+    along = rep_dir[oe, ofwd]
+    base_h = np.where(against != big, against, along)
+    return np.sort(np.stack([base_h, oh], axis=1), axis=1)
 
 
 def _chain(e3: np.ndarray, key: np.ndarray) -> np.ndarray:
