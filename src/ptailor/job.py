@@ -180,11 +180,14 @@ def write_outputs(
 def pieces_record(plan: PiecePlan, pieces: list[CarriedPiece | None]) -> list:
     """The report's ``pieces``: each piece's panel, how it matched, what its marks did."""
     names = [p.name for p in plan.panels]
+    now = plan.panel_names or tuple(names[m.panel] for m in plan.matches)
     out = []
-    for pc, m, ff, cp in zip(plan.pieces, plan.matches, plan.from_file, pieces, strict=True):
+    for pc, m, ff, cp, pn in zip(
+        plan.pieces, plan.matches, plan.from_file, pieces, now, strict=True
+    ):
         rec = {
             "name": pc.name,
-            "panel": names[m.panel],
+            "panel": pn,
             "source": "file" if ff else "mesh",
             "matched_by": m.how,
         }
@@ -302,7 +305,7 @@ def run_adjust(
     dict
         The report.
     """
-    from ptailor.marks import adjusted_pieces, piece_plan
+    from ptailor.marks import carry_plan, piece_plan
     from ptailor.model.garment import panels
     from ptailor.report.build import triangle_errors
 
@@ -356,6 +359,7 @@ def run_adjust(
     }
     if loaded.pattern is not None:
         units_note["pattern_note"] = loaded.pattern.units_note
+        warnings += list(loaded.pattern.warnings)
     if loaded.pattern_units_estimated:
         units_note["pattern_scale_estimate"] = round(loaded.pattern_scale, 6)
         warnings.append(
@@ -364,7 +368,9 @@ def run_adjust(
         )
     t2 = time.perf_counter()
     errors = triangle_errors(adj)
-    carried = adjusted_pieces(adj, plan) if plan is not None else []
+    carried: list = []
+    if plan is not None:  # every adjusted panel gets a piece (a split panel one per part)
+        plan, carried = carry_plan(adj, plan, up=options.up)
     ctx = OutputContext(
         loaded=loaded,
         pieces=carried,

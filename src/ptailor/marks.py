@@ -580,12 +580,17 @@ class CarriedPiece:
         ``carried`` (the piece's own outline points) or ``mesh`` (the panel's triangles
         changed: the adjusted mesh boundary).
     dropped : int
-        Marks (notches, drill holes, internal-line points, grain ends) cut away.
+        Marks (notches, drill holes, internal-line points, fold-line ends) cut away; a
+        grain line on the part cut away is drawn again through the piece's middle.
+    kept : (q,) bool array or None
+        Per mark point located (notches, drill holes, grain ends and middle, fold-line
+        ends, internal-line points, in that order), whether it was kept.
     """
 
     piece: Piece
     outline_from: str
     dropped: int
+    kept: np.ndarray | None = None
 
 
 def carry_piece(
@@ -598,6 +603,7 @@ def carry_piece(
     V2_new: np.ndarray,
     unchanged: bool,
     reach: float = 0.0,
+    original: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
 ) -> CarriedPiece:
     """Carry one piece's outline and marks to the adjusted pattern.
 
@@ -618,8 +624,14 @@ def carry_piece(
         inside the piece by an extension) are dropped.
     reach : float
         How far the piece's outline lies from the original panel's mesh (its chord error):
-        marks further than that (plus ``MARK_KEEP_REL`` of the diagonal) from every
-        remaining triangle were cut away.
+        without ``original``, marks further than that (plus ``MARK_KEEP_REL`` of the
+        diagonal) from every remaining triangle were cut away.
+    original : (V2_0, F2_0, faces_0), optional
+        The input pattern and the panel's triangles in it. A mark is then cut away when it
+        lies further from the remaining triangles than from the original panel (plus
+        ``MARK_KEEP_REL`` of the diagonal): marks drawn outside the cut line (a hem's
+        turn-back line, a seam allowance's notches) are kept, carried by their nearest
+        triangle's extended map. A panel that kept all its triangles keeps every mark.
 
     Returns
     -------
@@ -645,7 +657,13 @@ def carry_piece(
     X = np.vstack([np.asarray(g, dtype=np.float64).reshape(-1, 2) for g in groups])
     loc = locate_points(V2, F2, match.to_panel(X), faces=faces)
     moved = match.to_piece(carry_points(V2_new, F2, loc)) if len(X) else np.zeros((0, 2))
-    kept = loc.distance <= keep_d
+    if unchanged:
+        kept = np.ones(len(X), dtype=bool)
+    elif original is not None:
+        d_orig = locate_points(original[0], original[1], match.to_panel(X), faces=original[2])
+        kept = loc.distance <= d_orig.distance + tol.MARK_KEEP_REL * diag
+    else:
+        kept = loc.distance <= keep_d
     cuts = np.cumsum([len(g) for g in groups])[:-1]
     moved_g, kept_g = np.split(moved, cuts), np.split(kept, cuts)
 
@@ -692,7 +710,14 @@ def carry_piece(
             length = float(np.linalg.norm(ends[1] - ends[0]))
             grain = np.stack([mid - 0.5 * length * u, mid + 0.5 * length * u])
         else:
-            dropped += 2
+            # the grain line lay on the part cut away: a cutter needs one, so it is drawn
+            # again through the piece's middle, in the same direction (turned with the
+            # panel), across half the piece
+            d0 = piece.grain[1] - piece.grain[0]
+            u = Rq @ (d0 / max(np.linalg.norm(d0), 1e-300))
+            c = outline.mean(axis=0)
+            half = 0.25 * float(np.ptp(outline @ u))
+            grain = np.stack([c - half * u, c + half * u])
     angles = piece.notch_angles if len(piece.notch_angles) == len(keep_n) else np.zeros(len(keep_n))
     angles = np.mod(angles[keep_n] + turn_deg, 360.0)
     new = replace(
@@ -707,7 +732,11 @@ def carry_piece(
         sew=sew,
         mirror=mirror,
     )
-    return CarriedPiece(piece=new, outline_from=how, dropped=dropped)
+    n_fixed = sum(len(g) for g in groups[:2])
+    marks_kept = kept.copy()
+    g0 = int(cuts[3]) if len(cuts) > 3 else len(kept)
+    marks_kept[g0 : g0 + len(grain_pts)] = True  # a grain line is never lost (drawn again)
+    return CarriedPiece(piece=new, outline_from=how, dropped=dropped, kept=marks_kept[n_fixed:])
 
 
 def scale_piece(piece: Piece, k: float) -> Piece:
@@ -741,7 +770,11 @@ class PiecePlan:
     units : str
         The unit pieces are written in (the pattern file's, else the computation unit).
     panels : tuple of Panel
-        The input garment's panels, which ``matches`` index.
+        The input garment's panels, which ``matches`` index (``-1``: a panel the
+        adjustment made, see ``panel_names``).
+    panel_names : tuple of str
+        After :func:`carry_plan`: per piece, the adjusted garment's panel it is; empty
+        before.
     """
 
     pieces: tuple[Piece, ...]
@@ -749,6 +782,7 @@ class PiecePlan:
     from_file: tuple[bool, ...]
     units: str
     panels: tuple[Panel, ...]
+    panel_names: tuple[str, ...] = ()
 
 
 def piece_plan(
@@ -824,8 +858,163 @@ def piece_plan(
     )
 
 
+def _source_panels(adj: Adjustment, orig: tuple[Panel, ...]) -> dict[str, int]:
+    """Adjusted panel name to the input panel it came from (index into ``orig``).
+
+    A panel keeps its name through the edits; a panel a cut split in two is ``NAME``,
+    ``NAME_1``, ... Panels whose name says nothing are located by a point of theirs in the
+    input pattern (the kept part of a panel keeps its pattern coordinates).
+    """
+    g0 = adj.original if adj.original is not None else adj.state.base
+    base = adj.state.base
+    names = {p.name: p.index for p in orig}
+    out: dict[str, int] = {}
+    unknown = []
+    for p in adj.state.panels:  # a loop over panels
+        if p.name in names:
+            out[p.name] = names[p.name]
+        elif p.name.rsplit("_", 1)[0] in names and p.name.rsplit("_", 1)[-1].isdigit():
+            out[p.name] = names[p.name.rsplit("_", 1)[0]]
+        else:
+            unknown.append(p)
+    if unknown and len(g0.F2):
+        from ptailor.method.flatten import panel_labels
+
+        flab = panel_labels(list(orig), len(g0.F2))
+        a = np.abs(signed_areas_2d(base.V2, base.F2))
+        for p in unknown:  # a loop over panels
+            f = p.faces[int(np.argmax(a[p.faces]))]
+            loc = locate_points(g0.V2, g0.F2, base.V2[base.F2[f]].mean(axis=0, keepdims=True))
+            if loc.distance[0] <= 1e-9 * max(float(np.ptp(g0.V2)), 1e-300):
+                out[p.name] = int(flab[loc.face[0]])
+    return out
+
+
+def carry_plan(
+    adj: Adjustment, plan: PiecePlan, *, up: tuple[float, float, float] = (0.0, 1.0, 0.0)
+) -> tuple[PiecePlan, list[CarriedPiece | None]]:
+    """Carry every planned piece through an adjustment; every adjusted panel gets a piece.
+
+    A panel a cut split in two (a V-neck through a neckband) gets a piece per part: the
+    first part keeps the piece's name, the others take the panel's suffix (``NECKBAND_1``);
+    each part's outline is the mesh's, and each mark goes to the part it lies on (a mark on
+    neither part counts once as dropped). A panel that no piece outlines (a panel the
+    adjustment made) gets a piece drawn from the adjusted mesh.
+
+    Parameters
+    ----------
+    adj : Adjustment
+    plan : PiecePlan
+        Made on ``adj.original`` (the input garment).
+    up : (3,) sequence of float
+        The drape's up axis, for the grain of pieces drawn from the mesh.
+
+    Returns
+    -------
+    plan : PiecePlan
+        ``plan`` with the parts' pieces added and ``panel_names`` filled in.
+    pieces : list of CarriedPiece or None
+        One per piece of the returned plan; ``None`` where the piece's panel was removed
+        whole.
+    """
+    new_plan, carried, _ = _carry(adj, plan, up=up)
+    return new_plan, carried
+
+
+def _carry(
+    adj: Adjustment, plan: PiecePlan, *, up: tuple[float, float, float]
+) -> tuple[PiecePlan, list[CarriedPiece | None], list[int]]:
+    """:func:`carry_plan`, and per planned piece the index of its (first) carried piece."""
+    g0 = adj.original if adj.original is not None else adj.state.base
+    base = adj.state.base
+    orig = plan.panels
+    source = _source_panels(adj, orig)
+    first: list[int] = []
+    parts: dict[int, list[Panel]] = {}
+    for p in adj.state.panels:  # a loop over panels
+        if p.name in source:
+            parts.setdefault(source[p.name], []).append(p)
+    a0 = np.abs(signed_areas_2d(g0.V2, g0.F2))
+    ab = np.abs(signed_areas_2d(base.V2, base.F2))
+    pieces: list[Piece] = []
+    matches: list[PieceMatch] = []
+    from_file: list[bool] = []
+    names: list[str] = []
+    out: list[CarriedPiece | None] = []
+    covered: set[str] = set()
+    for piece, m, ff in zip(plan.pieces, plan.matches, plan.from_file, strict=True):  # pieces
+        p0 = orig[m.panel]
+        now = parts.get(m.panel, [])
+        first.append(len(out))
+        if not now:
+            pieces.append(piece)
+            matches.append(m)
+            from_file.append(ff)
+            names.append(p0.name)
+            out.append(None)
+            continue
+        s0 = float(a0[p0.faces].sum())
+        reach = 0.0
+        group = []
+        for k, p in enumerate(now):  # the parts of one panel (one unless a cut split it)
+            sb = float(ab[p.faces].sum())
+            unchanged = (
+                len(now) == 1 and len(p.faces) == len(p0.faces) and abs(sb - s0) <= 1e-9 * s0
+            )
+            if not unchanged and not reach:
+                loc = locate_points(g0.V2, g0.F2, m.to_panel(_piece_curve(piece)), faces=p0.faces)
+                reach = float(loc.distance.max(initial=0.0))
+            cp = carry_piece(
+                piece,
+                m,
+                V2=base.V2,
+                F2=base.F2,
+                faces=p.faces,
+                V2_new=adj.result.V2,
+                unchanged=unchanged,
+                reach=reach,
+                original=(g0.V2, g0.F2, p0.faces),
+            )
+            if k:
+                suffix = p.name[len(p0.name) :] if p.name.startswith(p0.name) else f"_{k}"
+                cp = replace(cp, piece=replace(cp.piece, name=f"{piece.name}{suffix}"))
+            group.append(cp)
+            pieces.append(replace(piece, name=cp.piece.name) if k else piece)
+            matches.append(m)
+            from_file.append(ff)
+            names.append(p.name)
+            covered.add(p.name)
+        if len(group) > 1 and all(c.kept is not None for c in group):
+            # a mark is dropped only when no part keeps it
+            lost = ~np.logical_or.reduce([c.kept for c in group])
+            group = [
+                replace(c, dropped=int(lost.sum()) if k == 0 else 0) for k, c in enumerate(group)
+            ]
+        out += group
+    rest = [p for p in adj.state.panels if p.name not in covered]
+    if rest:
+        g = adj.garment
+        grain = grain_directions(g.V2, g.F2, g.V3, g.F3, list(adj.state.panels), up=up)
+        drawn = mesh_pieces(g.V2, g.F2, rest, F3=g.F3, V3=g.V3, grain=grain)
+        for p, pc in zip(rest, drawn, strict=True):  # a loop over panels
+            pieces.append(pc)
+            matches.append(PieceMatch(len(pieces) - 1, -1, "mesh", np.eye(2), np.zeros(2), 0.0))
+            from_file.append(False)
+            names.append(p.name)
+            out.append(CarriedPiece(piece=pc, outline_from="mesh", dropped=0))
+    matches = [replace(mm, piece=i) for i, mm in enumerate(matches)]
+    new_plan = replace(
+        plan,
+        pieces=tuple(pieces),
+        matches=tuple(matches),
+        from_file=tuple(from_file),
+        panel_names=tuple(names),
+    )
+    return new_plan, out, first
+
+
 def adjusted_pieces(adj: Adjustment, plan: PiecePlan) -> list[CarriedPiece | None]:
-    """Carry every planned piece through an adjustment.
+    """Carry every planned piece through an adjustment (one per planned piece).
 
     Parameters
     ----------
@@ -836,37 +1025,8 @@ def adjusted_pieces(adj: Adjustment, plan: PiecePlan) -> list[CarriedPiece | Non
     Returns
     -------
     list of CarriedPiece or None
-        One per piece; ``None`` where the piece's panel was removed whole.
+        One per piece of ``plan`` (a split panel's first part); ``None`` where the piece's
+        panel was removed whole. :func:`carry_plan` gives every part its piece.
     """
-    g0 = adj.original if adj.original is not None else adj.state.base
-    base = adj.state.base
-    orig = plan.panels
-    now = {p.name: p for p in adj.state.panels}
-    a0 = np.abs(signed_areas_2d(g0.V2, g0.F2))
-    ab = np.abs(signed_areas_2d(base.V2, base.F2))
-    out: list[CarriedPiece | None] = []
-    for piece, m in zip(plan.pieces, plan.matches, strict=True):  # a loop over pieces
-        p0 = orig[m.panel]
-        p = now.get(p0.name)
-        if p is None:
-            out.append(None)
-            continue
-        s0, sb = float(a0[p0.faces].sum()), float(ab[p.faces].sum())
-        unchanged = len(p.faces) == len(p0.faces) and abs(sb - s0) <= 1e-9 * s0
-        reach = 0.0
-        if not unchanged:
-            loc = locate_points(g0.V2, g0.F2, m.to_panel(_piece_curve(piece)), faces=p0.faces)
-            reach = float(loc.distance.max(initial=0.0))
-        out.append(
-            carry_piece(
-                piece,
-                m,
-                V2=base.V2,
-                F2=base.F2,
-                faces=p.faces,
-                V2_new=adj.result.V2,
-                unchanged=unchanged,
-                reach=reach,
-            )
-        )
-    return out
+    _, carried, first = _carry(adj, plan, up=(0.0, 1.0, 0.0))
+    return [carried[k] for k in first]

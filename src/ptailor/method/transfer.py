@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.spatial import cKDTree
 
-#: Candidate triangles examined per point (nearest by centroid).
-_CANDIDATES = 32
+#: Triangles (nearest by centroid) examined per point for a first guess.
+_CANDIDATES = 8
 
 
 @dataclass(frozen=True)
@@ -74,10 +75,43 @@ def barycentric_2d(P: np.ndarray, T: np.ndarray) -> np.ndarray:
     return np.stack([1.0 - s - t, s, t], axis=-1)
 
 
+def _pair_distance(P: np.ndarray, T: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Distance from points to triangles (0 inside) and the barycentric coordinates.
+
+    Parameters
+    ----------
+    P : (..., 2) float array
+    T : (..., 3, 2) float array
+
+    Returns
+    -------
+    distance : (...,) float array
+    bary : (..., 3) float array
+    """
+    bary = barycentric_2d(P, T)
+    inside = np.all(bary >= -1e-12, axis=-1)
+    dist = np.min(
+        np.stack(
+            [segment_feet(P, T[..., i, :], T[..., (i + 1) % 3, :])[0] for i in range(3)],
+            axis=-1,
+        ),
+        axis=-1,
+    )
+    return np.where(inside, 0.0, dist), bary
+
+
 def locate_points(
     V: np.ndarray, F: np.ndarray, P: np.ndarray, *, faces: np.ndarray | None = None
 ) -> PointLocation:
     """The triangle each point lies in (or is nearest to), with barycentric coordinates.
+
+    Exact for any mix of triangle sizes: a first guess among the triangles with the
+    nearest centroids bounds each point's distance to the mesh by ``d``; then every
+    triangle that can be within ``d`` is examined. Triangles are grouped by size (their
+    centroid-to-corner radius ``r``, in powers of two), one k-d tree of centroids per
+    group, queried within ``d + r_max`` of the group: a triangle at distance ``<= d`` has
+    its centroid within ``d + r``. Points found inside a triangle by the first guess are
+    done (distance 0).
 
     Parameters
     ----------
@@ -91,6 +125,8 @@ def locate_points(
     Returns
     -------
     PointLocation
+        Ties (a point on an edge shared by two triangles) go to the triangle whose
+        centroid is nearest.
     """
     P = np.asarray(P, dtype=np.float64).reshape(-1, 2)
     cand_faces = np.arange(len(F)) if faces is None else np.asarray(faces, dtype=np.int64)
@@ -102,28 +138,47 @@ def locate_points(
             distance=np.full(k, np.inf),
         )
     T = V[F[cand_faces]]  # (j, 3, 2)
+    C = T.mean(axis=1)  # (j, 2)
+    # first guess: the triangles with the nearest centroids
     kk = min(_CANDIDATES, len(cand_faces))
-    _, idx = cKDTree(T.mean(axis=1)).query(P, k=kk)
+    _, idx = cKDTree(C).query(P, k=kk)
     idx = np.asarray(idx).reshape(k, kk)
-    Tc = T[idx]  # (k, kk, 3, 2)
-    Pc = np.broadcast_to(P[:, None, :], (k, kk, 2))
-    bary = barycentric_2d(Pc, Tc)
-    inside = np.all(bary >= -1e-12, axis=-1)
-    dist = np.min(
-        np.stack(
-            [segment_feet(Pc, Tc[..., i, :], Tc[..., (i + 1) % 3, :])[0] for i in range(3)],
-            axis=-1,
-        ),
-        axis=-1,
-    )
-    dist = np.where(inside, 0.0, dist)
-    best = np.argmin(dist, axis=1)
+    d0, b0 = _pair_distance(np.broadcast_to(P[:, None, :], (k, kk, 2)), T[idx])
+    best0 = np.argmin(d0, axis=1)
     rows = np.arange(k)
-    return PointLocation(
-        face=cand_faces[idx[rows, best]],
-        bary=bary[rows, best],
-        distance=dist[rows, best],
-    )
+    face = idx[rows, best0]
+    dist = d0[rows, best0]
+    bary = b0[rows, best0]
+    todo = np.flatnonzero(dist > 0)
+    if len(todo):
+        # exact: every triangle whose centroid is within d + r of the point, by size group
+        r = np.linalg.norm(T - C[:, None, :], axis=2).max(axis=1)  # (j,)
+        group = np.floor(np.log2(np.maximum(r, 1e-300) / max(float(r.max()), 1e-300)))
+        group = np.maximum(group, -60.0).astype(np.int64)
+        pt_parts, tri_parts = [], []
+        for g in np.unique(group).tolist():  # a loop over size groups (a few dozen at most)
+            members = np.flatnonzero(group == g)
+            lists = cKDTree(C[members]).query_ball_point(
+                P[todo], r=dist[todo] + float(r[members].max()) * (1 + 1e-9)
+            )
+            counts = np.fromiter((len(a) for a in lists), dtype=np.int64, count=len(todo))
+            flat = np.fromiter(
+                itertools.chain.from_iterable(lists), dtype=np.int64, count=int(counts.sum())
+            )
+            pt_parts.append(np.repeat(todo, counts))
+            tri_parts.append(members[flat])
+        pt = np.concatenate(pt_parts)
+        tri = np.concatenate(tri_parts)
+        dp, bp = _pair_distance(P[pt], T[tri])
+        dc = np.linalg.norm(P[pt] - C[tri], axis=1)
+        order = np.lexsort((dc, dp, pt))
+        first = order[np.unique(pt[order], return_index=True)[1]]
+        better = dp[first] < dist[pt[first]]
+        sel = first[better]
+        face[pt[sel]] = tri[sel]
+        dist[pt[sel]] = dp[sel]
+        bary[pt[sel]] = bp[sel]
+    return PointLocation(face=cand_faces[face], bary=bary, distance=dist)
 
 
 def carry_points(V_new: np.ndarray, F: np.ndarray, loc: PointLocation) -> np.ndarray:
