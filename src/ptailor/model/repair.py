@@ -64,9 +64,10 @@ def weld_vertices(
     """Merge the referenced vertices closer than ``distance`` (transitively).
 
     Clusters are the connected components of the "closer than ``distance``" graph, so they
-    do not depend on the vertex order. Each cluster keeps the position of its lowest-indexed
-    vertex (no averaging: coincident seams stay exactly where the file put them); new
-    vertices keep the order of the old ones. Unreferenced vertices are kept, never merged.
+    do not depend on the vertex order. Each cluster keeps the lexicographically smallest
+    position of its vertices (no averaging: coincident seams stay exactly where the file put
+    them, and the result does not depend on the vertex order); new vertices keep the order
+    of the old ones. Unreferenced vertices are kept, never merged.
 
     Parameters
     ----------
@@ -95,9 +96,14 @@ def weld_vertices(
     pairs = used[pairs] if len(pairs) else np.zeros((0, 2), dtype=np.int64)
     A = sp.coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
     _, lab = connected_components(A, directed=False)
-    # representative: the lowest index in each cluster
-    rep = np.full(lab.max() + 1 if n else 0, n, dtype=np.int64)
-    np.minimum.at(rep, lab, np.arange(n))
+    # representative: the lexicographically smallest position in each cluster (then the
+    # lowest index), so that the kept positions do not depend on the vertex order either
+    order = np.lexsort((np.arange(n), V[:, 2], V[:, 1], V[:, 0]))
+    rank = np.empty(n, dtype=np.int64)
+    rank[order] = np.arange(n)
+    best = np.full(lab.max() + 1 if n else 0, n, dtype=np.int64)
+    np.minimum.at(best, lab, rank)
+    rep = order[best]
     I = np.unique(rep)
     new_of_rep = np.empty(n, dtype=np.int64)
     new_of_rep[I] = np.arange(len(I))
