@@ -785,6 +785,14 @@ class PiecePlan:
     panel_names: tuple[str, ...] = ()
 
 
+def _one_side(pc: Piece, m: PieceMatch) -> tuple[int, int] | None:
+    """An instance of a ``Quantity: a,b`` piece: ``1,0`` cut as drawn, ``0,1`` mirrored
+    (its panel is the piece reflected); None for a plain quantity."""
+    if pc.quantity_split is None:
+        return None
+    return (0, 1) if np.linalg.det(m.R) < 0 else (1, 0)
+
+
 def piece_plan(
     garment: Garment,
     panel_list: list[Panel],
@@ -835,10 +843,18 @@ def piece_plan(
         for m in extra:
             count[m.piece] = count.get(m.piece, 1) + 1
             pc = file_pieces[m.piece]
-            file_pieces.append(replace(pc, name=f"{pc.name}-{count[m.piece]}", quantity=1))
+            file_pieces.append(
+                replace(
+                    pc,
+                    name=f"{pc.name}-{count[m.piece]}",
+                    quantity=1,
+                    quantity_split=_one_side(pc, m),
+                )
+            )
             matches.append(replace(m, piece=len(file_pieces) - 1))
         for i in copies:
-            file_pieces[i] = replace(file_pieces[i], quantity=1)
+            pc = file_pieces[i]
+            file_pieces[i] = replace(pc, quantity=1, quantity_split=_one_side(pc, matches[i]))
         units = pattern.units
     used = {m.panel for m in matches}
     rest = [p for p in panel_list if p.index not in used]
