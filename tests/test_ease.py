@@ -221,7 +221,7 @@ def test_real_sleeve_widened_keeps_every_seam(key):
     from tests.conftest import REAL
 
     g = load_garment(real_path(key), pattern_units=REAL[key][1]).garment
-    sleeve = {"tee6": "[panel_0, panel_1]", "tshirt": "[panel_0]"}[key]
+    sleeve = {"tee6": "[sleeve_left_back, sleeve_left_front]", "tshirt": "[sleeve_left]"}[key]
     text = (
         f"steps: [{{op: scale, region: {{panels: {sleeve}}}, direction: around, axis: auto,"
         " factor: 1.1}]"

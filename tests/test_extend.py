@@ -397,16 +397,15 @@ def test_pattern_measure_offsets_a_round_hole_to_a_smaller_circle():
     r = np.linalg.norm(adj.state.base.V2[len(g.V2) :][-32:], axis=1)
     np.testing.assert_allclose(r, 1.0 - 0.5 / np.cos(np.pi / 32), rtol=1e-9)
     step = adj.state.log[-1]
-    assert all(
-        v == pytest.approx(0.5, abs=1e-9) for v in step["amount"]["pattern"]["panel_0"].values()
-    )
+    (name,) = step["amount"]["pattern"]  # the one panel, named from geometry
+    assert all(v == pytest.approx(0.5, abs=1e-9) for v in step["amount"]["pattern"][name].values())
 
 
 def test_pattern_measure_refuses_an_offset_that_closes_the_opening():
     g = annulus()
     ops = openings(g.V3, g.F3)
     hole = min(range(len(ops)), key=lambda i: ops[i].length)
-    with pytest.raises(PtailorError, match=r"by 1\.5: in the pattern of panel_0 the opening is"):
+    with pytest.raises(PtailorError, match=r"by 1\.5: in the pattern of front the opening is"):
         adjust(g, pattern_recipe(f"{{loop: {hole}}}", 1.5))
 
 

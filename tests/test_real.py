@@ -78,8 +78,8 @@ def test_tee6_one_sleeve_wider_body_follows():
     adj = adjust(
         g,
         parse_recipe(
-            "steps: [{op: scale, region: {panels: [panel_0, panel_1]}, direction: around, "
-            "factor: 1.2}]"
+            "steps: [{op: scale, region: {panels: [sleeve_left_back, sleeve_left_front]},"
+            " direction: around, factor: 1.2}]"
         ),
     )
     plist = panels(g)
@@ -87,10 +87,10 @@ def test_tee6_one_sleeve_wider_body_follows():
         p.name: np.ptp(adj.result.V2[p.vertices], axis=0) / np.ptp(g.V2[p.vertices], axis=0)
         for p in plist
     }
-    for name in ("panel_0", "panel_1"):
+    for name in ("sleeve_left_back", "sleeve_left_front"):
         assert 1.17 < w[name][0] < 1.21  # around the arm
         assert 0.98 < w[name][1] < 1.05
-    for name in ("panel_2", "panel_3"):
+    for name in ("sleeve_right_back", "sleeve_right_front"):
         np.testing.assert_allclose(w[name], 1.0, atol=5e-3)
     assert list(adj.state.even) == [True, True, False, False, False, False]
     for p in plist:
@@ -114,7 +114,8 @@ def test_tee6_seams_ease_matches_seam_lengths():
     """flatten.seams: ease (the default) holds every seam's two sides at their ratio."""
     g = load_garment(real_path("tee6")).garment
     step = (
-        "steps: [{op: scale, region: {panels: [panel_0, panel_1]}, direction: around, factor: 1.2}]"
+        "steps: [{op: scale, region: {panels: [sleeve_left_back, sleeve_left_front]},"
+        " direction: around, factor: 1.2}]"
     )
     free = adjust(g, parse_recipe(step + "\nflatten: {seams: free}"), baseline=False)
     keep = adjust(g, parse_recipe(step), baseline=False)

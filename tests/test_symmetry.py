@@ -372,7 +372,7 @@ def test_tee6_plane_and_mirror_panels():
     assert abs(pl.point[0]) < 1.0
     assert 0.5 < pl.rms < 2.0 and pl.max < 12.0
     mm = panel_mirror_map(g, pl)
-    # panel_0..3 are sleeve halves (0, 1 on the left), 4 and 5 the back and front
+    # sleeve halves (0, 1 on the left), then the back and front
     np.testing.assert_array_equal(mm, [2, 3, 0, 1, 4, 5])
     assert np.all(mm[mm] == np.arange(6))
 

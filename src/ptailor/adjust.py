@@ -11,7 +11,7 @@ from ptailor import tolerances as tol
 from ptailor.edits import OPERATIONS, EditOptions, EditState
 from ptailor.edits.mirror import apply_mirrored
 from ptailor.method.flatten import FlattenResult, flatten, panel_labels, vertex_labels
-from ptailor.model.garment import Garment, panels
+from ptailor.model.garment import Garment, panels, with_panel_names
 from ptailor.model.seams import seams
 from ptailor.model.symmetry import sagittal_plane
 from ptailor.recipe import Recipe
@@ -35,6 +35,8 @@ class Adjustment:
         Seconds per stage.
     original : Garment or None
         The input garment, before any step (surgery changes ``state.base``'s triangles).
+    axes : tuple of two 3-tuples
+        The run's ``(up, front)`` axes (for names from geometry).
     """
 
     state: EditState
@@ -43,6 +45,7 @@ class Adjustment:
     settings: dict
     timing_s: dict = field(default_factory=dict)
     original: Garment | None = None
+    axes: tuple = ((0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
 
     def original_panels(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         """Panel name to ``(faces, vertices)`` in the input garment."""
@@ -169,7 +172,10 @@ def adjust(
     if settings["method"] == "uniform":
         settings["seams"] = "free"  # the paper's baseline: the drape alone decides
     t0 = time.perf_counter()
-    state = apply_steps(garment, recipe, options=options or EditOptions())
+    options = options or EditOptions()
+    # panel names (from the file, else from the drape in the run's axes) fixed once
+    garment = with_panel_names(garment, up=options.up, front=options.front)
+    state = apply_steps(garment, recipe, options=options)
     t1 = time.perf_counter()
     asap = asap_mask(state, settings["boundary"])
     kw = {
@@ -207,6 +213,7 @@ def adjust(
         settings=settings,
         timing_s=timing,
         original=garment,
+        axes=(tuple(options.up), tuple(options.front)),
     )
 
 

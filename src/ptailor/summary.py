@@ -8,6 +8,7 @@ import numpy as np
 from ptailor.formats.garment import LoadedGarment
 from ptailor.method.flatten import panel_labels, vertex_labels
 from ptailor.model.garment import panels, signed_areas_2d
+from ptailor.model.names import panel_layout, seam_names
 from ptailor.model.openings import openings
 from ptailor.model.pieces import PatternFile
 from ptailor.model.seams import seams
@@ -27,11 +28,14 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
     Returns
     -------
     dict
-        ``panels``, ``seams``, ``openings``, ``units``, ``triangles``.
+        ``panels`` (with ``position``, a phrase, and ``centroid`` in the wearer's frame
+        ``(left, up, front)`` from the centre line and the lowest point), ``seams`` (with a
+        ``name`` from where they run), ``openings``, ``units``, ``triangles``.
     """
     g = loaded.garment
-    plist = panels(g)
+    plist = panels(g, up=up, front=front)
     flab = panel_labels(plist, g.n_faces)
+    layout = panel_layout(g.V3, g.F3, g.F2, flab, len(plist), up=up, front=front)
     vlab = vertex_labels(plist, len(g.V2))
     n = len(plist)
     sizes = panel_sizes(g.V2, vlab, n)
@@ -44,14 +48,18 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
             "size": [round(float(sizes[p.index, 0]), 3), round(float(sizes[p.index, 1]), 3)],
             "area": round(float(area[p.index]), 3),
             "orientation": "mirrored (clockwise)" if p.mirrored else "counter-clockwise",
+            "position": layout.position(p.index),
+            "centroid": [round(float(x), 3) for x in layout.centroid[p.index]],
         }
         for p in plist
     ]
     out_s = []
-    for s in seams(g.F3, g.F2, flab):
+    seam_list = seams(g.F3, g.F2, flab)
+    for s, sname in zip(seam_list, seam_names(g.V3, seam_list, layout, names), strict=True):
         la, lb = s.lengths(g.V2)
         out_s.append(
             {
+                "name": sname,
                 "panels": [names[s.panels[0]], names[s.panels[1]]],
                 "edges": len(s.edges3),
                 "lengths": [round(la, 3), round(lb, 3)],
@@ -92,14 +100,15 @@ def summary_text(info: dict) -> str:
     lines.append("panels:")
     for p in info["panels"]:
         lines.append(
-            f"  {p['name']:<16} {p['triangles']:>7} tris  {p['size'][0]:8.2f} x {p['size'][1]:8.2f}"
-            f"  {p['orientation']}"
+            f"  {p['name']:<24} {p['triangles']:>7} tris  {p['size'][0]:8.2f} x {p['size'][1]:8.2f}"
+            f"  {p['orientation']:<20}  {p['position']}"
         )
     lines.append("seams:")
     for s in info["seams"]:
         a, b = s["panels"]
         lines.append(
-            f"  {a} / {b}: {s['lengths'][0]:.2f} / {s['lengths'][1]:.2f} ({s['edges']} edges)"
+            f"  {s['name']:<24} {a} / {b}: {s['lengths'][0]:.2f} / {s['lengths'][1]:.2f}"
+            f" ({s['edges']} edges)"
         )
     lines.append("openings:")
     for o in info["openings"]:

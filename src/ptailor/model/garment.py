@@ -140,20 +140,25 @@ def face_components(F: np.ndarray, n: int) -> np.ndarray:
     return remap[flab]
 
 
-def panels(garment: Garment) -> list[Panel]:
+def panels(garment: Garment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> list[Panel]:
     """The panels of a garment: connected components of ``F2``.
 
     Parameters
     ----------
     garment : Garment
+    up, front : 3-vectors
+        The wearer's axes, for panels named from geometry.
 
     Returns
     -------
     list of Panel
         In order of each panel's first triangle. Names come from the OBJ group shared by
-        most of the panel's triangles, else ``panel_<index>`` (also when one group covers
-        every panel: it names the mesh); a group over several panels names them
-        ``name``, ``name_1``, ... (a panel a cut split in two keeps its name that way).
+        most of the panel's triangles; a panel no group names (every panel, when one group
+        covers them all: it names the mesh) is named from the drape's geometry by
+        :func:`ptailor.model.names.panel_layout` (``front``, ``sleeve_left``, ...; a
+        geometric name a group already uses gets ``_2``...); a group over several panels
+        names them ``name``, ``name_1``, ... (a panel a cut split in two keeps its name
+        that way).
     """
     F2 = garment.F2
     lab = face_components(F2, len(garment.V2))
@@ -164,19 +169,30 @@ def panels(garment: Garment) -> list[Panel]:
     # majority group per panel, vectorised through a (panel, group) count table
     g = garment.face_group
     n_g = len(garment.group_names)
-    names: list[str] = []
+    names: list[str | None] = [None] * n_p
     if n_g:
         valid = g >= 0
         table = np.zeros((n_p, n_g), dtype=np.int64)
         np.add.at(table, (lab[valid], g[valid]), 1)
         best = table.argmax(axis=1)
         # one group over every panel names the whole mesh, not a panel
-        whole_mesh = int((table.sum(axis=0) > 0).sum()) == 1 and n_p > 1
+        covered = table[np.arange(n_p), best] > 0
+        whole_mesh = int((table.sum(axis=0) > 0).sum()) == 1 and n_p > 1 and bool(covered.all())
         for p in range(n_p):
-            ok = table[p, best[p]] > 0 and not whole_mesh
-            names.append(garment.group_names[best[p]] if ok else f"panel_{p}")
-    else:
-        names = [f"panel_{p}" for p in range(n_p)]
+            if table[p, best[p]] > 0 and not whole_mesh:
+                names[p] = garment.group_names[best[p]]
+    if any(n is None for n in names):
+        from ptailor.model.names import panel_layout
+
+        geo = panel_layout(garment.V3, garment.F3, F2, lab, n_p, up=up, front=front).names
+        taken = {n for n in names if n is not None}
+        for p in range(n_p):
+            if names[p] is None:
+                name, k = geo[p], 2
+                while name in taken:
+                    name, k = f"{geo[p]}_{k}", k + 1
+                taken.add(name)
+                names[p] = name
     seen: dict[str, int] = {}
     out: list[Panel] = []
     for p in range(n_p):
@@ -198,3 +214,32 @@ def panels(garment: Garment) -> list[Panel]:
             )
         )
     return out
+
+
+def with_panel_names(
+    garment: Garment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0), plist: list[Panel] | None = None
+) -> Garment:
+    """The garment with every panel's name written into its groups.
+
+    Geometric names depend on the drape and the axes; once written as groups they stay put
+    whatever later steps do to the drape, and later :func:`panels` calls read them cheaply.
+
+    Parameters
+    ----------
+    garment : Garment
+    up, front : 3-vectors
+        The wearer's axes for panels named from geometry.
+    plist : list of Panel, optional
+        ``panels(garment, up=up, front=front)``, when the caller already has it.
+
+    Returns
+    -------
+    Garment
+        ``face_group`` is each triangle's panel index and ``group_names`` the panel names, so
+        ``panels`` of the result lists the same panels under the same names.
+    """
+    pl = panels(garment, up=up, front=front) if plist is None else plist
+    lab = np.full(garment.n_faces, -1, dtype=np.int64)
+    for p in pl:  # a loop over panels
+        lab[p.faces] = p.index
+    return replace(garment, face_group=lab, group_names=tuple(p.name for p in pl))

@@ -9,6 +9,7 @@ import numpy as np
 
 from ptailor import __version__
 from ptailor.adjust import Adjustment, garment_structure, seam_factors, seam_mode
+from ptailor.model.names import panel_layout, seam_names
 from ptailor.report.metrics import (
     boundary_deviation,
     flipped,
@@ -147,7 +148,10 @@ def build_report(
     names = [p.name for p in st.panels]
     gathers = seam_factors(st)
     seams_out = []
-    for s in seam_list:  # one record per seam
+    up, front = adj.axes
+    layout = panel_layout(g.V3, g.F3, g.F2, flab, n, up=up, front=front)
+    seam_name = seam_names(g.V3, seam_list, layout, names)
+    for si, s in enumerate(seam_list):  # one record per seam
         la0, lb0 = s.lengths(g.V2)
         la1, lb1 = s.lengths(V2a)
         pa, pb = s.panels
@@ -156,6 +160,7 @@ def build_report(
         target = r0 * f
         seams_out.append(
             {
+                "name": seam_name[si],
                 "panels": [names[pa], names[pb]],
                 "edges": len(s.edges3),
                 "length_before": [_r(la0), _r(lb0)],

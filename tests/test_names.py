@@ -1,0 +1,348 @@
+"""Panels and seams named from the drape's geometry (issue 11, named panels)."""
+
+from __future__ import annotations
+
+import json
+import re
+from dataclasses import replace
+from functools import cache
+
+import numpy as np
+import pytest
+
+from ptailor.adjust import adjust
+from ptailor.method.flatten import panel_labels
+from ptailor.model.garment import Garment, areas_3d, panels, signed_areas_2d, with_panel_names
+from ptailor.model.names import panel_layout, seam_names
+from ptailor.model.seams import seams
+from ptailor.model.symmetry import panel_mirror_map, sagittal_plane
+from ptailor.recipe import parse_recipe
+from ptailor.samples import cone_skirt, lantern_sleeve
+from tests.conftest import REAL, real_path
+
+#: geometric names of the shared garments, in panel order (first triangle)
+EXPECTED = {
+    "tee6": [
+        "sleeve_left_back",
+        "sleeve_left_front",
+        "sleeve_right_back",
+        "sleeve_right_front",
+        "back",
+        "front",
+    ],
+    "tshirt": ["sleeve_left", "sleeve_right", "front", "back"],
+    "longsleeve": ["front", "back", "sleeve_left", "sleeve_right", "collar_front", "collar_back"],
+    "dress": [
+        "bodice_back_left_side",
+        "bodice_back_left",
+        "bodice_back_right_side",
+        "bodice_back_right",
+        "strap_right",
+        "strap_left",
+        "bodice_front",
+        "bodice_front_right",
+        "bodice_front_left",
+        "bodice_front_upper",
+        "skirt_back_right",
+        "skirt_front",
+        "skirt_back_left",
+    ],
+}
+
+
+@cache
+def real(key: str) -> Garment:
+    from ptailor.formats.garment import load_garment
+
+    return load_garment(real_path(key), pattern_units=REAL[key][1]).garment
+
+
+def names_of(g: Garment, **axes) -> list[str]:
+    return [p.name for p in panels(g, **axes)]
+
+
+def layout_and_seams(g: Garment, **axes):
+    plist = panels(g, **axes)
+    flab = panel_labels(plist, g.n_faces)
+    lay = panel_layout(g.V3, g.F3, g.F2, flab, len(plist), **axes)
+    sl = seams(g.F3, g.F2, flab)
+    return plist, lay, sl, seam_names(g.V3, sl, lay, [p.name for p in plist])
+
+
+def swap_sides(name: str) -> str:
+    return re.sub(r"left|right", lambda m: "right" if m.group(0) == "left" else "left", name)
+
+
+def mirrored(g: Garment) -> Garment:
+    """The garment reflected across x = 0 (the wearer's left and right swapped)."""
+    return replace(
+        g,
+        V3=g.V3 * np.array([-1.0, 1.0, 1.0]),
+        F3=np.ascontiguousarray(g.F3[:, ::-1]),
+        V2=g.V2 * np.array([-1.0, 1.0]),
+        F2=np.ascontiguousarray(g.F2[:, ::-1]),
+    )
+
+
+# ---------------------------------------------------------------------------------------
+# the shared garments
+# ---------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("key", sorted(EXPECTED))
+def test_real_garments_get_geometric_names(key):
+    g = real(key)
+    assert len(g.group_names) == 0 or key != "tee6"
+    got = names_of(g)
+    assert got == EXPECTED[key]
+    assert len(set(got)) == len(got)
+
+
+def test_tee6_names_match_its_specification():
+    """Each panel lies where the GarmentCode spec placed the panel of that name."""
+    p = real_path("tee6").with_name("tee6_specification.json")
+    spec = json.loads(p.read_text())
+    spec = spec.get("pattern", spec)["panels"]
+    true_name = {
+        "front": "front",
+        "back": "back",
+        "lfsleeve": "sleeve_left_front",
+        "lbsleeve": "sleeve_left_back",
+        "rfsleeve": "sleeve_right_front",
+        "rbsleeve": "sleeve_right_back",
+    }
+    g = real("tee6")
+    plist = panels(g)
+    a = np.abs(signed_areas_2d(g.V2, g.F2))  # any weights will do for a centroid
+    mid = g.V3[g.F3].mean(axis=1)
+    c = np.array([(mid[p.faces] * a[p.faces, None]).sum(0) / a[p.faces].sum() for p in plist])
+    keys = sorted(spec)
+    t = np.array([spec[k]["translation"] for k in keys], dtype=float)
+    # the spec's initial placement and the drape share the frame (x left, z front): match
+    # panels to spec panels by their (x, z) places, each axis scaled to its largest value
+    cx, tx = c[:, [0, 2]] - c[:, [0, 2]].mean(0), t[:, [0, 2]] - t[:, [0, 2]].mean(0)
+    cx, tx = cx / np.abs(cx).max(0), tx / np.abs(tx).max(0)
+    from scipy.optimize import linear_sum_assignment
+
+    rows, cols = linear_sum_assignment(np.linalg.norm(cx[:, None] - tx[None], axis=2))
+    got = {plist[r].name: true_name[keys[k]] for r, k in zip(rows, cols, strict=True)}
+    assert got == {n: n for n in got}
+
+
+def test_tee6_seam_names():
+    _, _, sl, names = layout_and_seams(real("tee6"))
+    assert sorted(names) == sorted(
+        [
+            *(f"sleeve_{s}_{w}" for s in ("left", "right") for w in ("upper", "lower")),
+            *(f"armhole_{s}_{w}" for s in ("left", "right") for w in ("front", "back")),
+            "side_left",
+            "side_right",
+            "shoulder_left",
+            "shoulder_right",
+        ]
+    )
+    by_name = dict(zip(names, sl, strict=True))
+    # the side seams are long, the shoulders short, the underarm shorter than the overarm
+    assert len(by_name["side_left"].edges3) > 3 * len(by_name["shoulder_left"].edges3)
+    assert len(by_name["sleeve_left_upper"].edges3) > len(by_name["sleeve_left_lower"].edges3)
+
+
+@pytest.mark.parametrize(
+    ("key", "expected"),
+    [
+        (
+            "tshirt",
+            {
+                "sleeve_left",
+                "sleeve_right",
+                "armhole_left_front",
+                "armhole_left_back",
+                "armhole_right_front",
+                "armhole_right_back",
+                "side_left",
+                "side_right",
+                "shoulder_left",
+                "shoulder_right",
+            },
+        ),
+        (
+            "longsleeve",
+            {
+                "sleeve_left",
+                "sleeve_right",
+                "armhole_left_front",
+                "armhole_left_back",
+                "armhole_right_front",
+                "armhole_right_back",
+                "side_left",
+                "side_right",
+                "shoulder_left",
+                "shoulder_right",
+                "neckline_front",
+                "neckline_back",
+                "collar_left",
+                "collar_right",
+            },
+        ),
+    ],
+)
+def test_real_seam_names(key, expected):
+    _, _, _, names = layout_and_seams(real(key))
+    assert set(names) == expected and len(names) == len(expected)
+
+
+def test_dress_seam_names_are_unique_and_find_the_waist():
+    plist, _, sl, names = layout_and_seams(real("dress"))
+    assert len(set(names)) == len(names) == len(sl)
+    waist = [n for n in names if n.startswith("waist")]
+    assert len(waist) == 7  # every bodice panel above the skirt
+    for n in ("skirt_center_back", "skirt_side_left", "skirt_side_right", "bodice_center_back"):
+        assert n in names
+    for n, s in zip(names, sl, strict=True):
+        a, b = (plist[i].name for i in s.panels)
+        if n.startswith("waist"):
+            assert {a.split("_")[0], b.split("_")[0]} == {"bodice", "skirt"}
+
+
+# ---------------------------------------------------------------------------------------
+# rules: the file wins, the frame, mirror images, determinism
+# ---------------------------------------------------------------------------------------
+
+
+def test_names_from_the_file_win():
+    g = lantern_sleeve()
+    assert names_of(g) == ["sleeve", "cuff"]
+    # a panel the groups leave unnamed gets a geometric name, the other keeps the file's
+    fg = g.face_group.copy()
+    fg[fg == 1] = -1
+    assert names_of(replace(g, face_group=fg))[0] == "sleeve"
+    assert names_of(replace(g, face_group=fg))[1] != "cuff"
+    assert names_of(cone_skirt()) == ["front", "back"]
+
+
+def test_a_skirt_without_groups_is_named_as_a_skirt():
+    g = cone_skirt()
+    g = replace(g, face_group=np.full(g.n_faces, -1), group_names=())
+    assert names_of(g) == ["skirt_front", "skirt_back"]
+
+
+@pytest.mark.parametrize("key", ["tee6", "dress"])
+def test_names_follow_the_axes_not_the_coordinates(key):
+    """Rotated (z up, -y front), moved and scaled, the garment keeps its names."""
+    g = real(key)
+    R = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])  # y -> z, z -> -y
+    V3 = 2.5 * g.V3 @ R.T + np.array([10.0, -3.0, 7.0])
+    h = replace(g, V3=V3)
+    assert names_of(h, up=(0, 0, 1), front=(0, -1, 0)) == EXPECTED[key]
+    assert names_of(h) != EXPECTED[key]  # the default axes do not fit
+
+
+@pytest.mark.parametrize("key", sorted(EXPECTED))
+def test_mirror_image_swaps_left_and_right(key):
+    got = names_of(mirrored(real(key)))
+    assert got == [swap_sides(n) for n in EXPECTED[key]]
+
+
+def test_names_do_not_depend_on_face_order():
+    g = real("tshirt")
+    perm = np.random.default_rng(0).permutation(g.n_faces)
+    h = replace(g, F3=g.F3[perm], F2=g.F2[perm])
+    by_faces = {p.name: frozenset(perm[p.faces].tolist()) for p in panels(h)}
+    assert by_faces == {p.name: frozenset(p.faces.tolist()) for p in panels(g)}
+
+
+def test_with_panel_names_keeps_them_through_edits():
+    g = real("tshirt")
+    named = with_panel_names(g)
+    assert names_of(named) == EXPECTED["tshirt"]
+    # a drape moved out of recognition keeps the written names
+    assert names_of(replace(named, V3=named.V3[:, ::-1].copy())) == EXPECTED["tshirt"]
+
+
+# ---------------------------------------------------------------------------------------
+# recipes use the names
+# ---------------------------------------------------------------------------------------
+
+
+def pattern_areas(V2, F2, plist) -> dict[str, float]:
+    a = np.abs(signed_areas_2d(V2, F2))
+    return {p.name: float(a[p.faces].sum()) for p in plist}
+
+
+def test_tshirt_recipe_scales_the_left_sleeve_by_its_name():
+    g = real("tshirt")
+    adj = adjust(
+        g,
+        parse_recipe(
+            "steps: [{op: scale, region: {panels: [sleeve_left]}, direction: around,"
+            " axis: auto, factor: 1.2}]"
+        ),
+        baseline=False,
+    )
+    plist = adj.state.panels
+    assert [p.name for p in plist] == EXPECTED["tshirt"]
+    a0 = pattern_areas(g.V2, g.F2, plist)
+    a1 = pattern_areas(adj.result.V2, adj.state.base.F2, plist)
+    assert a1["sleeve_left"] / a0["sleeve_left"] > 1.1
+    assert a1["sleeve_right"] / a0["sleeve_right"] == pytest.approx(1.0, abs=0.01)
+    # the adjusted garment keeps the names (written as groups), whatever its drape
+    assert names_of(adj.garment) == EXPECTED["tshirt"]
+
+
+def test_tee6_symmetric_recipe_by_names_grows_both_sleeves():
+    g = real("tee6")
+    plist = panels(g)
+    mm = panel_mirror_map(g, sagittal_plane(g.V3, g.F3))
+    mirror = {p.name: plist[int(mm[p.index])].name for p in plist}
+    assert mirror["sleeve_left_front"] == "sleeve_right_front"
+    assert mirror["sleeve_left_back"] == "sleeve_right_back"
+    assert mirror["front"] == "front" and mirror["back"] == "back"
+    adj = adjust(
+        g,
+        parse_recipe(
+            "symmetric: true\n"
+            "steps: [{op: scale, region: {panels: [sleeve_left_front, sleeve_left_back]},"
+            " direction: around, factor: 1.2}]"
+        ),
+        baseline=False,
+    )
+    a0 = pattern_areas(g.V2, g.F2, plist)
+    a1 = pattern_areas(adj.result.V2, adj.state.base.F2, adj.state.panels)
+    for side in ("front", "back"):
+        left, right = f"sleeve_left_{side}", f"sleeve_right_{side}"
+        assert a1[left] / a0[left] > 1.1
+        assert a1[right] / a0[right] == pytest.approx(a1[left] / a0[left], rel=0.01)
+
+
+def test_dress_skirt_by_names():
+    """A recipe region by geometric names picks the skirt (the edit alone: no flattening)."""
+    from ptailor.adjust import apply_steps
+    from ptailor.edits import EditOptions
+
+    g = real("dress")
+    skirt = [n for n in EXPECTED["dress"] if n.startswith("skirt_")]
+    text = "steps: [{op: scale, region: {panels: [" + ", ".join(skirt) + "]}, factor: 1.1}]"
+    st = apply_steps(g, parse_recipe(text), options=EditOptions())
+    a0, a1 = areas_3d(g.V3, g.F3), areas_3d(st.V3, g.F3)
+    growth = {p.name: a1[p.faces].sum() / a0[p.faces].sum() for p in st.panels}
+    for n in skirt:
+        assert growth[n] == pytest.approx(1.21, abs=0.02)  # 1.1 in every direction
+    assert abs(growth["bodice_front"] - 1.0) < 0.1
+
+
+# ---------------------------------------------------------------------------------------
+# inspect and report.json
+# ---------------------------------------------------------------------------------------
+
+
+def test_inspect_shows_positions_and_seam_names():
+    from ptailor.formats.garment import load_garment
+    from ptailor.summary import garment_summary, summary_text
+
+    info = garment_summary(load_garment(real_path("tee6")))
+    pos = {p["name"]: p["position"] for p in info["panels"]}
+    assert pos["sleeve_left_back"].startswith("left, back")
+    assert pos["front"].startswith("centre, front")
+    assert {s["name"] for s in info["seams"]} >= {"side_left", "shoulder_right"}
+    text = summary_text(info)
+    assert "armhole_left_front" in text and "centre, back" in text
