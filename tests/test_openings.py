@@ -286,3 +286,83 @@ def test_tee6_mirrored_and_rotated(garment):
     for name in o:
         np.testing.assert_array_equal(r[name].loop, o[name].loop)
         np.testing.assert_allclose(r[name].centroid, R @ o[name].centroid, atol=1e-9)
+
+
+# ---------------------------------------------------------------- non-manifold drapes
+
+
+def sew_strip(V, F, line, width, *, flat, n_w=2):
+    """Sew a strip onto the drape along ``line`` (a path of mesh edges): a T-seam.
+
+    The strip's long edge is ``line`` itself (its drape edges are then used by three faces);
+    it stands out along the surface normal (a fin) or, ``flat``, lies on the surface
+    towards +x (a placket), 0.3 above it.
+    """
+    P = V[line]
+    nrm = P / np.linalg.norm(P, axis=1, keepdims=True)
+    w = width * np.arange(1, n_w + 1) / n_w
+    if flat:
+        new = P[:, None, :] + w[None, :, None] * np.array([1.0, 0, 0]) + 0.3 * nrm[:, None, :]
+    else:
+        new = P[:, None, :] + w[None, :, None] * nrm[:, None, :]
+    k = len(line)
+    idx = np.c_[line, len(V) + np.arange(k * n_w).reshape(k, n_w)]
+    a, b, c, d = idx[:-1, :-1], idx[:-1, 1:], idx[1:, 1:], idx[1:, :-1]
+    S = np.concatenate(
+        [np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)]
+    )
+    return np.vstack([V, new.reshape(-1, 3)]), np.vstack([F, S])
+
+
+@pytest.mark.parametrize("flat", [False, True])
+@pytest.mark.parametrize("from_neck", [True, False])
+def test_placket_keeps_the_neckline(flat, from_neck):
+    """A strip sewn down the front (edges of three faces) adds one open opening only."""
+    V, F = holey_ellipsoid((20, 35, 12), _armholes([((0, -1, 0), 45)]))
+    base = openings(V, F)
+    nu = 96
+    col = np.arange(63) * nu + nu // 4  # the front meridian (+z)
+    col = col[np.isin(col, F)]
+    line = col[:12] if from_neck else col[4:14]
+    V2, F2 = sew_strip(V, F, line, 3.0, flat=flat)
+    ref = None
+    for seed in range(4):
+        p = np.random.default_rng(seed).permutation(len(F2))
+        ops = openings(V2, F2[p])
+        got = [(o.name, o.loop.tolist(), o.closed) for o in ops]
+        ref = got if ref is None else ref
+        assert got == ref
+    o = by_name(ops)
+    for b in base:  # the garment's own openings are unchanged
+        assert o[b.name].loop.tolist() == b.loop.tolist()
+        assert o[b.name].length == pytest.approx(b.length)
+    extra = [x for x in ops if x.name not in by_name(base)]
+    assert len(extra) == 1 and not extra[0].closed and extra[0].name.startswith("opening_")
+    # its length is the strip's free edge: both ends and the far long edge
+    k = len(line)
+    new = V2[len(V) :].reshape(k, 2, 3)
+    chain = np.vstack([V[line[0]], new[0], new[1:-1, 1], new[-1, ::-1], V[line[-1]]])
+    free = np.linalg.norm(np.diff(chain, axis=0), axis=1).sum()
+    assert extra[0].length == pytest.approx(free, rel=1e-12)
+    assert {int(extra[0].loop[0]), int(extra[0].loop[-1])} == {int(line[0]), int(line[-1])}
+    assert all(x.length > 0 for x in ops)
+
+
+def test_bow_tie_openings_are_simple_and_nonzero():
+    """Two tubes touching at one rim vertex: a non-manifold boundary vertex."""
+    V1, F1 = tube([10, 10], [0, 20], n=16)
+    V2, F2 = tube([10, 10], [20, 40], n=16)
+    V2 = V2 + (V1[16 + 8] - V2[0])  # tube 2's bottom vertex 0 on tube 1's top vertex 24
+    remap = np.r_[16 + 8, len(V1) + np.arange(len(V2) - 1)]
+    V = np.vstack([V1, V2[1:]])
+    F = np.vstack([F1, remap[F2]])
+    ref = None
+    for seed in range(4):
+        p = np.random.default_rng(seed).permutation(len(F))
+        ops = openings(V, F[p])
+        got = [(o.name, o.loop.tolist()) for o in ops]
+        ref = got if ref is None else ref
+        assert got == ref
+        assert len(ops) == 4
+        for o in ops:
+            assert o.closed and o.length > 0 and len(np.unique(o.loop)) == len(o.loop) == 16

@@ -224,7 +224,7 @@ def boundary_curves(
     -------
     curves : list of (k,) int arrays
         Vertex indices in boundary half-edge order (majority), longest first (ties by
-        first vertex). A closed loop starts at its smallest vertex and is simple; an open
+        their vertex sequences). A closed loop starts at its smallest vertex and is simple; an open
         chain (the free edge of a strip sewn onto a panel, ending inside the cloth) runs
         from one end to the other.
     closed : (c,) bool array
@@ -318,7 +318,7 @@ def boundary_curves(
                     continue
             curves.append(p)
             closed.append(cl)
-    order = sorted(range(len(curves)), key=lambda i: (-len(curves[i]), int(curves[i][0])))
+    order = sorted(range(len(curves)), key=lambda i: (-len(curves[i]), curves[i].tolist()))
     return [curves[i] for i in order], np.array([closed[i] for i in order], dtype=bool)
 
 

@@ -178,10 +178,13 @@ def openings(V3, F3, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0), F2=None) -> l
     h_min, h_max = float(Hc[used].min()), float(Hc[used].max())
     H = h_max - h_min
 
-    a, b, c = V3[F3[:, 0]], V3[F3[:, 1]], V3[F3[:, 2]]
+    # sums in an order that depends on the cloth, not on the face order or corner rotation
+    Fs = np.sort(F3, axis=1)
+    a, b, c = V3[Fs[:, 0]], V3[Fs[:, 1]], V3[Fs[:, 2]]
     area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
-    face_s = (S[F3[:, 0]] + S[F3[:, 1]] + S[F3[:, 2]]) / 3.0
-    s0 = float((area * face_s).sum() / area.sum()) if area.sum() > 0 else float(S[used].mean())
+    face_s = np.sort(S[Fs], axis=1).sum(axis=1) / 3.0
+    tot = np.sort(area).sum()
+    s0 = float(np.sort(area * face_s).sum() / tot) if tot > 0 else float(S[used].mean())
 
     n = len(loops)
     geo = [_loop_geometry(V3[L], bool(c)) for L, c in zip(loops, closed, strict=True)]
