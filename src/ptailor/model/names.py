@@ -10,11 +10,13 @@ Panel rules (see :func:`panel_layout` for the details):
 
 - *limbs*: panels that touch no centred opening (neckline, hem, waist, armholes), joined by
   seams into a group that touches ``cuff_left`` (``cuff_right``), form the left (right)
-  sleeve. A limb panel seamed to the body is a sleeve, one touching the cuff opening that is
-  not seamed to the body (while the limb has a panel that is) is a cuff: ``sleeve_left``,
-  ``cuff_left``. A two-piece sleeve is split front/back (``sleeve_left_front``,
-  ``sleeve_left_back``) or, when its halves sit above each other rather than before and
-  behind, upper/lower (``sleeve_left_upper``, ``sleeve_left_lower``).
+  sleeve (a panel joins only from that side of the centre line, not straddling it, its
+  centroid at least half as far out as those of the panels at the cuff). A limb panel
+  seamed to the body is a sleeve, one touching the cuff opening that is not seamed to the
+  body (while the limb has a panel that is) is a cuff: ``sleeve_left``, ``cuff_left``. A
+  two-piece sleeve is split front/back (``sleeve_left_front``, ``sleeve_left_back``) or,
+  when its halves sit above each other rather than before and behind, upper/lower
+  (``sleeve_left_upper``, ``sleeve_left_lower``).
 - *strips*: narrow panels (length / width >= 3.5 for the rectangle with the panel's 3D area
   and perimeter) whose long side runs along an opening: along the neckline ``collar``, along
   a ``waist`` opening ``waistband``; a strip on one side touching an armhole is a ``strap``.
@@ -25,9 +27,12 @@ Panel rules (see :func:`panel_layout` for the details):
   A body panel is ``front`` or ``back`` by its centroid's front coordinate against its tier's
   area-weighted mean, and ``_left``/``_right`` unless it straddles the centre line (the
   smaller of its two reaches across it is at least a third of the larger).
-- Several panels with one name: the largest keeps it, the others get ``_upper``/``_lower``
-  (stacked) or ``_side``/``_centre`` (outward/inward of it), whichever offset dominates
-  (measured against the largest's extent); names still equal get ``_2``, ``_3``, ...
+- Strips or cuffs sharing a name but not a face are ``_front``/``_back`` (``collar_front``,
+  ``collar_back``). Other panels sharing a name: the largest keeps it, the others get
+  ``_upper``/``_lower`` (stacked) or ``_side``/``_centre`` (outward/inward of it), whichever
+  offset dominates (measured against the largest's extent); of two side by side, the inner
+  keeps the name and the outer is ``_side`` (``bodice_back_left``,
+  ``bodice_back_left_side``); names still equal get ``_2``, ``_3``, ...
 
 Everything is vectorised over triangles; loops run over panels, openings and seams only.
 """
@@ -153,8 +158,14 @@ def _per_panel_extent(X: np.ndarray, lab: np.ndarray, n_p: int) -> tuple[np.ndar
     """
     lo = np.full((n_p, 3), np.inf)
     hi = np.full((n_p, 3), -np.inf)
-    np.minimum.at(lo, lab, X.min(axis=1))
-    np.maximum.at(hi, lab, X.max(axis=1))
+    if len(lab) == 0:
+        return lo, hi
+    order = np.argsort(lab, kind="stable")
+    sl = lab[order]
+    starts = np.flatnonzero(np.r_[True, sl[1:] != sl[:-1]])
+    present = sl[starts]
+    lo[present] = np.minimum.reduceat(X.min(axis=1)[order], starts, axis=0)
+    hi[present] = np.maximum.reduceat(X.max(axis=1)[order], starts, axis=0)
     return lo, hi
 
 
@@ -265,7 +276,7 @@ def panel_layout(
     lo_abs, hi_abs = _per_panel_extent(Xc, lab, n_p)
     s0 = float((area * fc[:, 0]).sum() / Atot)
     f0 = float((area * fc[:, 2]).sum() / Atot)
-    used = np.unique(F3)
+    used = np.flatnonzero(np.bincount(F3.ravel(), minlength=len(V3)) > 0)
     h0 = float(X[used, 1].min()) if used.size else 0.0
     H = float(X[used, 1].max()) - h0 if used.size else 0.0
 
@@ -342,11 +353,15 @@ def panel_layout(
     for sname in ("left", "right"):
         tc = touches(f"cuff_{sname}")
         grp = set(np.flatnonzero(free & (tc > 0)).tolist())
+        # a limb panel sits out on its side: at least half as far out as the cuff's panels
+        far = 0.5 * float(np.mean(np.abs(s_rel[sorted(grp)]))) if grp else 0.0
         frontier = list(grp)
         while frontier:  # a walk over panels
             p = frontier.pop()
             for q in np.flatnonzero((W[p] > 0) & free).tolist():
-                on_side = not centred[q] and (s_rel[q] > 0) == (sname == "left")
+                on_side = (
+                    not centred[q] and (s_rel[q] > 0) == (sname == "left") and abs(s_rel[q]) >= far
+                )
                 if q not in grp and not limb_side[q] and on_side:
                     grp.add(q)
                     frontier.append(q)
