@@ -389,3 +389,79 @@ def test_location_equals_brute_force_on_uneven_triangles_inside_and_out():
     strip = np.arange(1, len(F))
     loc2 = locate_points(V, F, np.array([[10.0, 10.0]]), faces=strip)
     assert loc2.face[0] != 0 and loc2.distance[0] > 50.0
+
+
+# ------------------------------------------------------------------ (c) pieces cut on the fold
+
+
+def _fold_setup(tmp_path):
+    """The lantern sleeve with its cuff drawn as a half cut on the fold (x = its middle)."""
+    from ptailor.model.polyline import clip_half_plane, dedupe_closed
+
+    g = SAMPLES["lantern_sleeve"]()
+    obj = tmp_path / "s.obj"
+    write_garment(obj, g.with_pattern(g.V2 * 10.0), header=["v in cm, vt in mm"])
+    pieces = []
+    for pc in mesh_pieces(g.V2, g.F2, panels(g), F3=g.F3):
+        if pc.name == "cuff":
+            lo, hi = pc.outline.min(axis=0), pc.outline.max(axis=0)
+            xm = 0.5 * (lo[0] + hi[0])
+            a, b = np.array([xm, hi[1]]), np.array([xm, lo[1]])  # keeps x < xm
+            half = clip_half_plane(pc.outline, a, b, -1.0)
+            half = half[dedupe_closed(half, rel=1e-9)]
+            keep = pc.notches[:, 0] < xm - 1e-6
+            pc = replace(pc, outline=half, turn=np.zeros(len(half), bool), mirror=np.stack([a, b]),
+                         notches=pc.notches[keep], notch_angles=pc.notch_angles[keep])  # fmt: skip
+        pieces.append(pc)
+    dxf = tmp_path / "s.dxf"
+    write_dxf(dxf, PatternFile(pieces=tuple(pieces), units="cm"), layout="keep")
+    return obj, dxf
+
+
+@pytest.mark.parametrize("recipe", [IDENTITY, UNIFORM], ids=["identity", "uniform"])
+def test_a_fold_piece_matches_its_unfolded_panel_and_is_written_back_as_a_fold_piece(
+    tmp_path, recipe
+):
+    obj, dxf = _fold_setup(tmp_path)
+    r = run("adjust", dxf, _recipe(tmp_path, recipe), "--drape", obj, "-o", tmp_path / "o",
+            "--formats", "dxf")  # fmt: skip
+    assert r.exit_code == 0, r.output
+    recs = {p["name"]: p for p in _report(tmp_path / "o")["pattern"]["pieces"]}
+    assert recs["cuff"]["source"] == "file" and recs["cuff"]["unfolded"] is True
+    assert len(recs) == 2  # no cuff drawn from the mesh besides
+    src = {p.name: p for p in read_dxf(dxf).pieces}["cuff"]
+    out = {p.name: p for p in read_dxf(tmp_path / "o" / "pattern.dxf").pieces}["cuff"]
+    assert out.mirror is not None and len(out.notches) == len(src.notches)
+    k = 1.0 if recipe == IDENTITY else 1.21
+    assert out.area == pytest.approx(k * src.area, rel=1e-3)
+    if recipe == IDENTITY:
+        _same_pieces(read_dxf(dxf), read_dxf(tmp_path / "o" / "pattern.dxf"), rel=1e-6)
+
+
+def test_a_fold_piece_cut_by_an_edit_is_the_new_panels_half(tmp_path):
+    obj, dxf = _fold_setup(tmp_path)
+    shorten = "steps: [{op: shorten, opening: hem, by: 3}]\n"  # the cuff loses a strip
+    r = run("adjust", dxf, _recipe(tmp_path, shorten), "--drape", obj, "-o", tmp_path / "o",
+            "--formats", "dxf")  # fmt: skip
+    assert r.exit_code == 0, r.output
+    src = {p.name: p for p in read_dxf(dxf).pieces}["cuff"]
+    out = {p.name: p for p in read_dxf(tmp_path / "o" / "pattern.dxf").pieces}["cuff"]
+    rec = {p["name"]: p for p in _report(tmp_path / "o")["pattern"]["pieces"]}["cuff"]
+    assert rec["outline"] == "mesh" and rec["unfolded"] is True
+    # still a half with its fold line along its edge, smaller than before
+    assert out.mirror is not None
+    assert 0.3 * src.area < out.area < 0.95 * src.area
+    d = np.min(np.linalg.norm(out.outline[:, None] - out.mirror[None], axis=-1), axis=0)
+    assert d.max() < 1e-6 * out.extent.max()
+    assert out.extent[0] == pytest.approx(src.extent[0], rel=0.02)  # half the width still
+
+
+def test_a_fold_piece_that_matches_nothing_is_an_error_naming_the_fold(tmp_path):
+    obj, dxf = _fold_setup(tmp_path)
+    pf = read_dxf(dxf)
+    moved = tuple(p.map_points(lambda a: a * 0.1) if p.name == "cuff" else p for p in pf.pieces)
+    write_dxf(tmp_path / "bad.dxf", replace(pf, pieces=moved), layout="keep")
+    args = ["adjust", tmp_path / "bad.dxf", _recipe(tmp_path, IDENTITY), "--drape", obj]
+    r = CliRunner().invoke(cli, [str(a) for a in [*args, "-o", tmp_path / "o"]])
+    assert r.exit_code == 2
+    assert "'cuff'" in r.output and "fold" in r.output

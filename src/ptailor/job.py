@@ -195,6 +195,7 @@ def pieces_record(plan: PiecePlan, pieces: list[CarriedPiece | None]) -> list:
             rec["match_residual"] = round(m.residual, 6)
             rec["match_distance"] = round(m.distance, 6)
             rec["mirrored"] = bool(np.linalg.det(m.R) < 0)
+            rec["unfolded"] = bool(m.fold)
         if cp is None:
             rec["removed"] = True
         else:

@@ -25,7 +25,15 @@ from ptailor.method.transfer import carry_points, locate_points, segment_feet
 from ptailor.model.boundary import boundary_loops
 from ptailor.model.garment import Garment, Panel, signed_areas_2d
 from ptailor.model.pieces import PatternFile, Piece
-from ptailor.model.polyline import corners, offset_closed, resample_closed, signed_area
+from ptailor.model.polyline import (
+    clip_half_plane,
+    corners,
+    dedupe_closed,
+    offset_closed,
+    resample_closed,
+    signed_area,
+    unfold,
+)
 from ptailor.model.seams import edge_keys
 
 if TYPE_CHECKING:
@@ -56,6 +64,9 @@ class PieceMatch:
         Mean distance between the fitted outlines, relative to the piece's diagonal.
     distance : float
         The same mean distance, in the pattern's units (a seam allowance shows here).
+    fold : bool
+        The piece is cut on the fold: its unfolded whole (mirrored across the fold line)
+        is what matched the panel; it is carried and written back as the half.
     """
 
     piece: int
@@ -65,6 +76,7 @@ class PieceMatch:
     t: np.ndarray
     residual: float
     distance: float = 0.0
+    fold: bool = False
 
     def to_panel(self, X: np.ndarray) -> np.ndarray:
         """Piece coordinates ``(k, 2)`` to panel coordinates."""
@@ -688,10 +700,26 @@ def carry_piece(
     internal = []
     mirror = None
     if piece.mirror is not None:
-        if kept_g[5].all():
+        if kept_g[5].all() or match.fold:  # a fold line is a line: its ends extend
             mirror = moved_g[5]
         else:
             dropped += 2
+    if match.fold and not unchanged and mirror is not None:
+        # the mesh outlines the whole panel: a fold piece is its half on the piece's side
+        # of the carried fold line
+        a0, b0 = np.asarray(piece.mirror, dtype=float)[[0, -1]]
+        d0 = b0 - a0
+        side = float(np.sign(np.mean((piece.outline - a0) @ np.array([-d0[1], d0[0]]))))
+        half = clip_half_plane(outline, mirror[0], mirror[-1], side or 1.0)
+        half = half[dedupe_closed(half, rel=1e-9)]
+        if len(half) >= 3:
+            u = mirror[-1] - mirror[0]
+            u = u / max(float(np.linalg.norm(u)), 1e-300)
+            on = np.abs((half - mirror[0]) @ np.array([-u[1], u[0]])) <= 1e-9 * diag + 1e-12
+            if on.sum() >= 2:
+                t = (half[on] - mirror[0]) @ u
+                mirror = mirror[0] + np.outer([t.min(), t.max()], u)
+            outline, turn = half, corners(half)
     for L, keep in zip(moved_g[6:], kept_g[6:], strict=True):  # a piece's internal lines
         dropped += int((~keep).sum())
         if keep.sum() >= 2:
@@ -785,6 +813,62 @@ class PiecePlan:
     panel_names: tuple[str, ...] = ()
 
 
+def unfolded(piece: Piece) -> Piece | None:
+    """A piece cut on the fold as the whole it cuts: its outline (or sew line) and its
+    mirror image across the fold line (layer 6) joined; None when it has no fold line
+    along its outline."""
+    if piece.mirror is None:
+        return None
+    a, b = np.asarray(piece.mirror, dtype=float)[[0, -1]]
+    whole = unfold(piece.outline, a, b)
+    if whole is None:
+        return None
+    sew = unfold(piece.sew, a, b) if piece.sew is not None else None
+    return replace(piece, outline=whole, turn=np.zeros(len(whole), dtype=bool), sew=sew)
+
+
+def _match_with_folds(
+    pieces: list[Piece],
+    V2: np.ndarray,
+    F2: np.ndarray,
+    panel_list: list[Panel],
+    *,
+    path: str,
+    allowance: float,
+) -> tuple[list[PieceMatch], list[Piece]]:
+    """Match pieces to panels, pieces cut on the fold by their unfolded whole.
+
+    A drape holds the whole panel that a fold piece (a half with a fold line on layer 6)
+    cuts. Pieces are matched unfolded first, then, when that fails, as drawn (a fold line
+    that is not the piece's edge of symmetry); the error names the fold pieces.
+
+    Returns
+    -------
+    matches : list of PieceMatch
+        ``fold`` set where the unfolded piece matched.
+    pieces : list of Piece
+        What was matched (the unfolded pieces where they matched).
+    """
+    whole = [unfolded(pc) for pc in pieces]
+    if not any(w is not None for w in whole):
+        return match_pieces(pieces, V2, F2, panel_list, path=path, allowance=allowance), pieces
+    src = [w if w is not None else pc for pc, w in zip(pieces, whole, strict=True)]
+    try:
+        ms = match_pieces(src, V2, F2, panel_list, path=path, allowance=allowance)
+        return [replace(m, fold=whole[m.piece] is not None) for m in ms], src
+    except PtailorError as first:
+        try:
+            ms = match_pieces(pieces, V2, F2, panel_list, path=path, allowance=allowance)
+            return ms, pieces
+        except PtailorError:
+            names = ", ".join(repr(pc.name) for pc, w in zip(pieces, whole, strict=True) if w)
+            raise PtailorError(
+                f"{first.message}; piece(s) {names} are cut on the fold (a fold line on "
+                "layer 6) and matched neither as drawn nor unfolded across the fold line",
+                path=first.path,
+            ) from None
+
+
 def _one_side(pc: Piece, m: PieceMatch) -> tuple[int, int] | None:
     """An instance of a ``Quantity: a,b`` piece: ``1,0`` cut as drawn, ``0,1`` mirrored
     (its panel is the piece reflected); None for a plain quantity."""
@@ -832,10 +916,11 @@ def piece_plan(
         k = CM_PER[pattern.units] / CM_PER[garment.units]
         file_pieces = [scale_piece(pc, k) for pc in pattern.pieces]
         allowance = tol.PIECE_ALLOWANCE_CM / CM_PER[garment.units]
-        matches = match_pieces(
+        matches, src = _match_with_folds(
             file_pieces, V2, F2, panel_list, path=pattern.path, allowance=allowance
         )
-        extra = more_instances(file_pieces, matches, V2, F2, panel_list, allowance=allowance)
+        extra = more_instances(src, matches, V2, F2, panel_list, allowance=allowance)
+        extra = [replace(m, fold=matches[m.piece].fold) for m in extra]
         # every instance becomes its own piece of quantity 1: a mirrored pair may be
         # adjusted differently, and a cutter must not cut the first one twice
         copies = {m.piece for m in extra}

@@ -128,3 +128,86 @@ def offset_closed(P: np.ndarray, d: float, *, miter_limit: float = tol.MITER_LIM
     out[bi & first] = P[idx][bi & first] + d * n_in[idx][bi & first]
     out[bi & ~first] = P[idx][bi & ~first] + d * n[idx][bi & ~first]
     return out
+
+
+def _line_side(P: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Signed distance of points ``(k, 2)`` from the line through ``a`` and ``b`` (left > 0)."""
+    d = np.asarray(b, dtype=float) - np.asarray(a, dtype=float)
+    n = np.array([-d[1], d[0]]) / max(float(np.hypot(*d)), 1e-300)
+    return (np.asarray(P, dtype=float) - a) @ n
+
+
+def reflect(P: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Points ``(k, 2)`` mirrored across the line through ``a`` and ``b``."""
+    d = np.asarray(b, dtype=float) - np.asarray(a, dtype=float)
+    u = d / max(float(np.hypot(*d)), 1e-300)
+    q = np.asarray(P, dtype=float) - a
+    return a + 2.0 * np.outer(q @ u, u) - q
+
+
+def unfold(P: np.ndarray, a: np.ndarray, b: np.ndarray, *, rel: float = 1e-3) -> np.ndarray | None:
+    """The whole outline of a piece cut on the fold: the half and its mirror image.
+
+    Parameters
+    ----------
+    P : (k, 2) float array
+        The half's closed outline (first point not repeated), counter-clockwise.
+    a, b : (2,) float arrays
+        The fold (mirror) line's ends.
+    rel : float
+        Outline points closer to the line than this fraction of the outline's diagonal lie
+        on the fold.
+
+    Returns
+    -------
+    (j, 2) float array or None
+        The unfolded outline, counter-clockwise; None when the fold line does not run
+        along the outline (two or more consecutive outline points on it).
+    """
+    P = np.asarray(P, dtype=float)
+    k = len(P)
+    diag = float(np.hypot(*np.ptp(P, axis=0)))
+    on = np.abs(_line_side(P, a, b)) <= rel * max(diag, 1e-300)
+    if on.all() or on.sum() < 2:
+        return None
+    # the longest cyclic run of points on the line: the fold edge, from i to j
+    start = int(np.flatnonzero(~on)[0])
+    order = np.roll(np.arange(k), -start)  # begins off the line
+    o = on[order]
+    edges = np.diff(np.r_[0, o.astype(np.int8), 0])
+    s, e = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)  # run [s, e)
+    r = int(np.argmax(e - s))
+    if e[r] - s[r] < 2:
+        return None
+    i, j = int(order[s[r]]), int(order[e[r] - 1])  # the fold edge runs i -> j
+    chain = P[np.roll(np.arange(k), -j)[: (i - j) % k + 1]]  # j ... i, off the fold
+    mirrored = reflect(chain[1:-1], a, b)[::-1]
+    whole = np.vstack([chain, mirrored])
+    return whole if signed_area(whole) > 0 else whole[::-1].copy()
+
+
+def clip_half_plane(P: np.ndarray, a: np.ndarray, b: np.ndarray, side: float) -> np.ndarray:
+    """The part of a closed outline on one side of the line through ``a`` and ``b``.
+
+    Parameters
+    ----------
+    P : (k, 2) float array
+    a, b : (2,) float arrays
+    side : float
+        Keep where the signed distance (left of ``a -> b`` positive) has this sign.
+
+    Returns
+    -------
+    (j, 2) float array
+        The clipped outline (one convex cut: Sutherland-Hodgman against one line).
+    """
+    P = np.asarray(P, dtype=float)
+    s = _line_side(P, a, b) * np.sign(side)
+    Q, sq = np.roll(P, -1, axis=0), np.roll(s, -1)
+    inside = s >= 0
+    cross = (s >= 0) != (sq >= 0)
+    t = s / np.where(cross, s - sq, 1.0)
+    X = P + t[:, None] * (Q - P)
+    pts = np.stack([P, X], axis=1).reshape(-1, 2)
+    keep = np.stack([inside, cross], axis=1).reshape(-1)
+    return pts[keep]
