@@ -18,7 +18,7 @@ from ptailor.cli.main import cli
 from ptailor.formats.obj import read_obj, write_garment
 from ptailor.method.ease import seam_ease
 from ptailor.method.flatten import panel_labels
-from ptailor.model.boundary import boundary_curves, boundary_loops
+from ptailor.model.boundary import boundary_curves, boundary_edges, boundary_loops
 from ptailor.model.garment import panels
 from ptailor.model.openings import openings
 from ptailor.model.seams import half_edges, seam_halfedges, seams
@@ -293,3 +293,40 @@ def test_cli_inspect_and_adjust_on_a_tseam(tseam_obj, tmp_path):
     rep = json.loads((out / "report.json").read_text())
     t = [x for x in rep["seams"] if sorted(x["panels"]) == ["strip", "tube"]]
     assert len(t) == 1 and t[0]["ratio_after"] == pytest.approx(1.0, abs=1e-6)
+
+
+def _fuzz_mesh(seed):
+    """A grid with random vertices merged, faces dropped and reversed copies added."""
+    rng = np.random.default_rng(seed)
+    _, F = _grid(6, 5)
+    n = int(F.max()) + 1
+    m = np.arange(n)
+    for _ in range(rng.integers(0, 6)):
+        a, b = rng.integers(0, n, 2)
+        m[m == a] = m[b]
+    F = m[F]
+    F = F[rng.random(len(F)) > 0.2]
+    F = np.vstack([F, F[rng.integers(0, len(F), rng.integers(0, 4))][:, ::-1]])
+    V = np.c_[rng.random((n, 2)), np.zeros(n)]
+    return V, F
+
+
+@pytest.mark.parametrize("seed", range(0, 120, 3))
+def test_fuzzed_non_manifold_meshes_trace_simple_boundary_curves(seed):
+    """Merged vertices, holes and doubled faces: simple curves of boundary edges, always."""
+    V, F = _fuzz_mesh(seed)
+    ref = {}
+    for s in range(3):
+        rng = np.random.default_rng(s)
+        p = rng.permutation(len(F))
+        cols = (np.arange(3)[None, :] + rng.integers(0, 3, len(p))[:, None]) % 3
+        G = F[p][np.arange(len(p))[:, None], cols]
+        be = {tuple(e) for e in np.sort(boundary_edges(G), axis=1).tolist()}
+        for key, VV in (("topology", None), ("geometry", V)):
+            loops, closed = boundary_curves(G, V=VV)
+            got = ([lp.tolist() for lp in loops], closed.tolist())
+            assert ref.setdefault(key, got) == got
+            for lp, c in zip(loops, closed, strict=True):
+                assert len(lp) >= 3 and len(np.unique(lp)) == len(lp)
+                e = np.c_[lp, np.roll(lp, -1)][: len(lp) if c else len(lp) - 1]
+                assert {tuple(x) for x in np.sort(e, axis=1).tolist()} <= be

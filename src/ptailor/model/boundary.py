@@ -160,45 +160,96 @@ def _pair_ends(ep_vert: np.ndarray, ep_fan: np.ndarray, ep_other: np.ndarray) ->
     return partner
 
 
-def _split_simple(seq: np.ndarray) -> list[np.ndarray]:
-    """Split a closed vertex sequence at repeated vertices into simple loops."""
-    out: list[np.ndarray] = []
-    stack = [seq]
-    while stack:  # a loop over sub-loops
-        s = stack.pop()
-        _, first, cnt = np.unique(s, return_index=True, return_counts=True)
-        rep = first[cnt > 1]
-        if len(rep) == 0:
-            out.append(s)
-            continue
-        i = int(rep.min())
-        j = i + 1 + int(np.flatnonzero(s[i + 1 :] == s[i])[0])
-        stack.append(s[i:j])
-        stack.append(np.r_[s[:i], s[j:]])
-    return out
-
-
-def _canonical(seq: np.ndarray, fwd: np.ndarray, closed: bool) -> np.ndarray:
-    """Orient a curve along the majority of its half-edges and start it canonically.
+def _orient(seq: np.ndarray, fwd: np.ndarray, closed: bool) -> tuple[np.ndarray, np.ndarray]:
+    """A curve in its canonical direction and, closed, its canonical rotation.
 
     Parameters
     ----------
     seq : (k,) int array
         Vertices in walking order.
-    fwd : (k,) or (k - 1,) bool array
-        Whether each walked edge runs along its half-edge.
+    fwd : (k,) bool array for a loop, (k - 1,) for a chain
+        Whether the walked edge from ``seq[i]`` to the next vertex runs along its
+        half-edge.
     closed : bool
-        Closed loops start at their smallest vertex; chains at an end.
+
+    Returns
+    -------
+    seq, fwd : arrays as above
+        Running along the majority of the half-edges (ties: the lexicographically smaller
+        sequence); a loop starts at its smallest vertex (a loop through it twice: the
+        lexicographically smallest such rotation). Independent of where the walk started.
     """
+
+    def rev(s: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        if closed:  # s0 s_{k-1} ... s1; edge i of the reversed loop is edge k-1-i reversed
+            return np.roll(s[::-1], 1), ~f[::-1]
+        return s[::-1], ~f[::-1]
+
+    def rot(s: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        if not closed:
+            return s, f
+        at = np.flatnonzero(s == s.min())
+        if len(at) > 1:  # the lexicographically smallest rotation among those
+            R = s[(at[:, None] + np.arange(len(s))[None, :]) % len(s)]
+            at = at[np.lexsort(R.T[::-1])[:1]]
+        return np.roll(s, -int(at[0])), np.roll(f, -int(at[0]))
+
     n_fwd, n_bwd = int(fwd.sum()), int((~fwd).sum())
-    if closed:
-        s = np.roll(seq, -int(np.argmin(seq)))
-        flip = n_bwd > n_fwd or (n_bwd == n_fwd and len(s) > 1 and s[-1] < s[1])
-        if flip:
-            s = np.roll(s[::-1], 1)
-        return s
-    flip = n_bwd > n_fwd or (n_bwd == n_fwd and seq[-1] < seq[0])
-    return seq[::-1] if flip else seq
+    a = rot(seq, fwd)
+    if n_fwd > n_bwd:
+        return a
+    b = rot(*rev(seq, fwd))
+    if n_bwd > n_fwd:
+        return b
+    d = np.flatnonzero(a[0] != b[0])
+    return b if len(d) and b[0][d[0]] < a[0][d[0]] else a
+
+
+def _simple_parts(seq: np.ndarray, fwd: np.ndarray, closed: bool) -> list[tuple[np.ndarray, bool]]:
+    """Split a canonical curve at repeated vertices into simple loops (and one chain).
+
+    Parameters
+    ----------
+    seq, fwd, closed
+        As returned by :func:`_orient`.
+
+    Returns
+    -------
+    list of (vertices, closed)
+        Each canonical (:func:`_orient`). The loop between two visits of a vertex is cut
+        off at the first repeated vertex, again and again.
+    """
+    out: list[tuple[np.ndarray, bool]] = []
+    s, f = seq, fwd
+    while True:  # a loop over sub-loops
+        _, first, cnt = np.unique(s, return_index=True, return_counts=True)
+        rep = first[cnt > 1]
+        if len(rep) == 0:
+            break
+        i = int(rep.min())
+        j = i + 1 + int(np.flatnonzero(s[i + 1 :] == s[i])[0])
+        out.extend((*x, True) for x in _cut(s[i:j], f[i:j]))
+        s, f = np.r_[s[:i], s[j:]], np.r_[f[:i], f[j:]]
+    out.append((*_orient(s, f, closed), closed))
+    return [(p, c) for p, _, c in out]
+
+
+def _cut(s: np.ndarray, f: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """A closed piece cut off a curve, itself split into simple canonical loops."""
+    return [_orient(p, fp, True) for p, fp in _loop_pieces(*_orient(s, f, True))]
+
+
+def _loop_pieces(s: np.ndarray, f: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Split a canonical closed loop at repeated vertices (before canonical ordering)."""
+    _, first, cnt = np.unique(s, return_index=True, return_counts=True)
+    rep = first[cnt > 1]
+    if len(rep) == 0:
+        return [(s, f)]
+    i = int(rep.min())
+    j = i + 1 + int(np.flatnonzero(s[i + 1 :] == s[i])[0])
+    inner = _loop_pieces(*_orient(s[i:j], f[i:j], True))
+    outer = _loop_pieces(*_orient(np.r_[s[:i], s[j:]], np.r_[f[:i], f[j:]], True))
+    return inner + outer
 
 
 def boundary_curves(
@@ -300,14 +351,9 @@ def boundary_curves(
         walk = breadth_first_order(W, start, directed=True, return_predecessors=False)
         seq = ep_vert[walk]
         fwd = walk % 2 == 0
-        if is_closed:
-            parts = [(p, True) for p in _split_simple(seq)]
-            parts = [(_canonical(p, fwd, True), True) for p, _ in parts]
-        else:
+        if not is_closed:
             seq = np.r_[seq, ep_vert[walk[-1] ^ 1]]
-            parts = [(_canonical(seq, fwd, False), False)]
-            if len(np.unique(seq)) < len(seq):  # a chain through a vertex twice: cut loops off
-                parts = _split_chain(seq, fwd)
+        parts = _simple_parts(*_orient(seq, fwd, is_closed), is_closed)
         for p, cl in parts:
             if len(p) < 3:
                 continue
@@ -320,24 +366,6 @@ def boundary_curves(
             closed.append(cl)
     order = sorted(range(len(curves)), key=lambda i: (-len(curves[i]), curves[i].tolist()))
     return [curves[i] for i in order], np.array([closed[i] for i in order], dtype=bool)
-
-
-def _split_chain(seq: np.ndarray, fwd: np.ndarray) -> list[tuple[np.ndarray, bool]]:
-    """Cut the closed loops off an open chain that visits a vertex twice."""
-    out: list[tuple[np.ndarray, bool]] = []
-    s = seq
-    while True:  # a loop over sub-loops
-        _, first, cnt = np.unique(s, return_index=True, return_counts=True)
-        rep = first[cnt > 1]
-        if len(rep) == 0:
-            break
-        i = int(rep.min())
-        j = i + 1 + int(np.flatnonzero(s[i + 1 :] == s[i])[0])
-        for p in _split_simple(s[i:j]):
-            out.append((_canonical(p, fwd, True), True))
-        s = np.r_[s[:i], s[j:]]
-    out.append((_canonical(s, fwd, False), False))
-    return out
 
 
 def boundary_loops(
