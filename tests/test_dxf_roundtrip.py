@@ -465,3 +465,23 @@ def test_a_fold_piece_that_matches_nothing_is_an_error_naming_the_fold(tmp_path)
     r = CliRunner().invoke(cli, [str(a) for a in [*args, "-o", tmp_path / "o"]])
     assert r.exit_code == 2
     assert "'cuff'" in r.output and "fold" in r.output
+
+
+def test_a_dxf_naming_no_unit_takes_it_from_the_drape(tmp_path):
+    """Small pieces in mm, no ``Units:`` text: the file alone says cm (largest piece
+    240), the drape says mm."""
+    g = SAMPLES["lantern_sleeve"]()
+    g = replace(g, V3=g.V3 * 0.5, V2=g.V2 * 0.5)
+    obj = tmp_path / "s.obj"
+    write_garment(obj, g.with_pattern(g.V2 * 10.0), header=["v in cm, vt in mm"])
+    pieces = tuple(mesh_pieces(g.V2, g.F2, panels(g), F3=g.F3))
+    dxf = tmp_path / "s.dxf"
+    write_dxf(dxf, PatternFile(pieces=pieces, units="cm"), layout="keep")
+    dxf.write_text(dxf.read_text().replace("Units: METRIC", "Note: none"))
+    alone = read_dxf(dxf)
+    assert alone.units == "cm" and alone.units_text == ""
+    r = run("adjust", dxf, _recipe(tmp_path, IDENTITY), "--drape", obj, "-o", tmp_path / "o",
+            "--formats", "dxf")  # fmt: skip
+    assert r.exit_code == 0, r.output
+    u = _report(tmp_path / "o")["units"]
+    assert u["pattern"] == "mm" and "judged from the drape" in u["pattern_note"]

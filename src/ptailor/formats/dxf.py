@@ -800,8 +800,9 @@ def reconcile_units(
 
     A DXF and the ``vt`` that triangulates its pieces need not share a unit (ptailor writes
     the DXF in mm and the ``vt`` in the garment's unit, CLO 3D both in mm). A ``METRIC`` DXF
-    (unless ``fixed``: the caller gave its unit) is in mm or cm, whichever makes its pieces
-    (times their quantity, twice for a fold piece) the drape's area. The ``vt`` unit comes
+    (unless ``fixed``: the caller gave its unit, or ``$INSUNITS`` did) is in mm or cm,
+    one that names no unit in mm, cm or in, whichever makes its pieces (times their
+    quantity, twice for a fold piece) the drape's area. The ``vt`` unit comes
     from a ptailor header (``vt: 1 cm per unit``), else from the drape's area: the DXF's
     unit when the ``vt`` is within ``VT_UNIT_SLACK`` of that size, else the nearest of mm,
     cm, m and in, else the DXF's.
@@ -834,16 +835,20 @@ def reconcile_units(
     from ptailor.model.garment import areas_3d, signed_areas_2d
 
     a3 = float(areas_3d(np.asarray(v, dtype=float) * drape_cm, fv).sum())  # cm^2
-    if not fixed and pattern.units_text.strip().upper() == "METRIC":
+    word = pattern.units_text.strip().upper()
+    said = "$INSUNITS" in pattern.units_note  # the header named the unit
+    choices = ("mm", "cm") if word == "METRIC" else ("mm", "cm", "in") if not word else ()
+    if not fixed and not said and choices:
         ap = sum(
             p.area * max(int(p.quantity), 1) * (2.0 if p.mirror is not None else 1.0)
             for p in pattern.pieces
         )
         ratio = float(np.sqrt(ap / a3)) if ap > 0 and a3 > 0 else 10.0  # file units per cm
-        unit = "mm" if abs(np.log(ratio / 10.0)) < abs(np.log(ratio)) else "cm"
+        unit = min(choices, key=lambda u: abs(np.log(ratio * CM_PER_UNIT[u])))
+        src = "'Units: METRIC' in the file" if word else "no units in the file"
         note = (
-            f"'Units: METRIC' in the file; {unit} judged from the drape (the pieces are "
-            f"{ratio:.3g} file units per cm of drape)"
+            f"{src}; {unit} judged from the drape (the pieces are {ratio:.3g} file units "
+            "per cm of drape)"
         )
         pattern = replace(pattern, units=unit, units_note=note)
     for line in header:  # ptailor's own garment.obj says its vt unit
