@@ -1,4 +1,10 @@
-"""Seams: 3D edges whose two triangles use different 2D edges, chained into curves."""
+"""Seams: 3D edges whose triangles use different 2D edges, chained into curves.
+
+A drape edge of two triangles is a seam when their pattern edges differ. A drape edge of
+three or more triangles is a T-seam (a placket, pocket or strip sewn onto the middle of a
+panel, or a piece inserted into a seam): each piece sewn on is a seam with the panel it is
+sewn to, see :func:`seam_halfedges`.
+"""
 
 from __future__ import annotations
 
@@ -207,7 +213,7 @@ def seam_curve_labels(F3: np.ndarray, pairs: np.ndarray, face_panel: np.ndarray)
 
 
 def seams(F3: np.ndarray, F2: np.ndarray, face_panel: np.ndarray) -> list[Seam]:
-    """Find the seams of a garment.
+    """Find the seams of a garment, T-seams included (:func:`seam_halfedges`).
 
     Parameters
     ----------
