@@ -346,3 +346,43 @@ def test_inspect_shows_positions_and_seam_names():
     assert {s["name"] for s in info["seams"]} >= {"side_left", "shoulder_right"}
     text = summary_text(info)
     assert "armhole_left_front" in text and "centre, back" in text
+
+
+def with_cuffs(g: Garment, depth: float = 4.0) -> Garment:
+    """The garment with a band ``depth`` deep at each cuff opening cut off as its own panel.
+
+    The band's triangles get their own copies of their pattern vertices: the drape is
+    unchanged, the pattern splits, and the band is sewn to the sleeve by a new seam.
+    """
+    from ptailor.model.openings import openings
+
+    sleeve = np.zeros(g.n_faces, dtype=bool)
+    for p in panels(g):
+        sleeve[p.faces] = p.name.startswith("sleeve_")
+    cuff = np.zeros(g.n_faces, dtype=bool)
+    mid = g.V3[g.F3].mean(axis=1)
+    for o in openings(g.V3, g.F3):
+        if o.name.startswith("cuff_"):
+            P = g.V3[o.loop]
+            n = np.linalg.svd(P - P.mean(0))[2][-1]
+            near = np.linalg.norm(mid - o.centroid, axis=1) < 0.5 * o.length
+            cuff |= sleeve & near & (np.abs((mid - o.centroid) @ n) < depth)
+    used = np.unique(g.F2[cuff])
+    remap = np.full(len(g.V2), -1, dtype=np.int64)
+    remap[used] = len(g.V2) + np.arange(len(used))
+    F2 = g.F2.copy()
+    F2[cuff] = remap[g.F2[cuff]]
+    return replace(g, V2=np.concatenate([g.V2, g.V2[used]]), F2=F2)
+
+
+def test_a_band_at_the_cuff_opening_is_a_cuff():
+    g = with_cuffs(real("tshirt"))
+    plist, lay, sl, seam_name = layout_and_seams(g)
+    assert sorted(p.name for p in plist) == sorted(
+        ["sleeve_left", "sleeve_right", "front", "back", "cuff_left", "cuff_right"]
+    )
+    assert sorted(lay.role) == ["body", "body", "cuff", "cuff", "sleeve", "sleeve"]
+    pair = {n: {plist[i].name for i in s.panels} for n, s in zip(seam_name, sl, strict=True)}
+    assert pair["cuff_left"] == {"cuff_left", "sleeve_left"}
+    assert pair["cuff_right_end"] == {"cuff_right"}
+    assert pair["sleeve_left"] == {"sleeve_left"}

@@ -135,7 +135,8 @@ def face_components(F: np.ndarray, n: int) -> np.ndarray:
     # renumber by first appearance so labels are stable under vertex renumbering
     _, first = np.unique(flab, return_index=True)
     order = np.argsort(first)
-    remap = np.empty(order.size, dtype=np.int64)
+    # sized for every vertex component: unused vertices make components no face has
+    remap = np.empty(int(vlab.max()) + 1, dtype=np.int64)
     remap[flab[first[order]]] = np.arange(order.size)
     return remap[flab]
 

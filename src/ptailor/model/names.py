@@ -44,7 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ptailor.model.openings import Opening, body_frame, openings
-from ptailor.model.seams import edge_keys, half_edges, seam_halfedges
+from ptailor.model.seams import edge_keys, half_edges
 
 #: A strip is at least this long for its width (rectangle with the panel's area and perimeter).
 _STRIP_ASPECT = 3.5
@@ -284,9 +284,23 @@ def panel_layout(
     h3 = half_edges(F3)
     hlen = np.linalg.norm(V3[h3[:, 1]] - V3[h3[:, 0]], axis=1)
     hpan = np.repeat(lab, 3)
-    _, inv, cnt = np.unique(edge_keys(h3), return_inverse=True, return_counts=True)
-    bnd = np.flatnonzero(cnt[inv] % 2 == 1)
-    pairs = seam_halfedges(F3, F2)
+    # one sort of the drape's edges: runs of one are boundary, runs of two interior edges
+    # (a seam when the two pattern edges differ); T-seams (3+ faces) only count as boundary
+    # for an odd run, and give no adjacency (enough to name panels)
+    h2 = half_edges(np.asarray(F2, dtype=np.int64).reshape(-1, 3))
+    key = edge_keys(h3)
+    order = np.argsort(key, kind="stable")
+    ks = key[order]
+    start = np.r_[True, ks[1:] != ks[:-1]] if len(ks) else np.zeros(0, dtype=bool)
+    run_id = np.cumsum(start) - 1
+    run_len = np.bincount(run_id)[run_id] if len(ks) else np.zeros(0, dtype=np.int64)
+    bnd = np.sort(order[run_len % 2 == 1])
+    two = np.flatnonzero(start & (run_len == 2))
+    first, second = order[two], order[two + 1]
+    same_dir = h3[first, 0] == h3[second, 0]
+    e2 = np.where(same_dir[:, None], h2[second], h2[second][:, ::-1])
+    is_seam = np.any(h2[first] != e2, axis=1)
+    pairs = np.stack([first[is_seam], second[is_seam]], axis=1)
     sh = pairs.ravel()
     perim = np.bincount(hpan[bnd], hlen[bnd], minlength=n_p) + np.bincount(
         hpan[sh], hlen[sh], minlength=n_p
@@ -479,9 +493,10 @@ def seam_names(
         Unique names, one per seam:
 
         - sleeve and body: ``armhole_<side>``; cuff and sleeve: ``cuff_<side>``; within one
-          limb (a sleeve's own seam): ``sleeve_<side>``; strap and body: ``strap_<side>``;
-          collar and body: ``neckline``; within the collar: ``collar``; waistband and body:
-          ``waist``, within it ``waistband``;
+          limb (a sleeve's own seam): ``sleeve_<side>``, the cuff's own
+          ``cuff_<side>_end``; strap and body: ``strap_<side>``; collar and body:
+          ``neckline``; within the collar: ``collar``; waistband and body: ``waist``, within
+          it ``waistband``;
         - two body panels of different tiers: ``waist_<bodice panel's name without
           bodice_>``;
         - two body panels of one tier (prefixed ``bodice_``/``skirt_`` on a two-tier
@@ -533,7 +548,7 @@ def _seam_base(
     if roles == {"cuff", "sleeve"}:
         return f"cuff_{lay.side[a]}"
     if roles <= {"sleeve", "cuff"} and lay.side[a] == lay.side[b]:
-        return f"{'cuff' if roles == {'cuff'} else 'sleeve'}_{lay.side[a]}"
+        return f"cuff_{lay.side[a]}_end" if roles == {"cuff"} else f"sleeve_{lay.side[a]}"
     if "strap" in roles and roles <= {"strap", "body", "collar"}:
         return f"strap_{lay.side[a] if ra == 'strap' else lay.side[b]}"
     if roles == {"collar", "body"}:
