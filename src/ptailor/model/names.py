@@ -26,7 +26,9 @@ Panel rules (see :func:`panel_layout` for the details):
   ``skirt_*``; a garment with a waist opening and no neckline is a skirt (``skirt_*``).
   A body panel is ``front`` or ``back`` by its centroid's front coordinate against its tier's
   area-weighted mean, and ``_left``/``_right`` unless it straddles the centre line (the
-  smaller of its two reaches across it is at least a third of the larger).
+  smaller of its two reaches across it is at least a third of the larger). A panel that
+  straddles both the centre line and, the same way, the tier's mean front coordinate goes
+  around the body (a tube): it is named by its tier alone (``skirt``), else ``body``.
 - Strips or cuffs sharing a name but not a face are ``_front``/``_back`` (``collar_front``,
   ``collar_back``). Other panels sharing a name: the largest keeps it, the others get
   ``_upper``/``_lower`` (stacked) or ``_side``/``_centre`` (outward/inward of it), whichever
@@ -77,7 +79,7 @@ class PanelLayout:
     side : list of str
         ``left``, ``right`` or ``centre``.
     face : list of str
-        ``front`` or ``back``.
+        ``front`` or ``back``; ``""`` for a body panel around the body (a tube).
     tier : list of str
         ``""`` (one-tier garment, limbs and strips), ``bodice`` or ``skirt``.
     centroid : (n_p, 3) float array
@@ -137,7 +139,7 @@ class PanelLayout:
             else "bottom"
         )
         depth = float(self.hi[:, 2].max() - self.lo[:, 2].min()) if len(self.hi) else 0.0
-        if abs(c[2]) < 0.1 * depth:
+        if abs(c[2]) < 0.1 * depth or not self.face[p]:
             return f"{self.side[p]}, {band}"
         return f"{self.side[p]}, {self.face[p]}, {band}"
 
@@ -412,8 +414,12 @@ def panel_layout(
         if not members.any():
             continue
         ft = float((cen_abs[members, 2] * At[members]).sum() / max(At[members].sum(), 1e-300))
+        fwd, bwd = hi_abs[:, 2] - ft, ft - lo_abs[:, 2]
+        wraps = centred & (np.minimum(fwd, bwd) > 0)
+        wraps &= np.minimum(fwd, bwd) >= _CENTRED * np.maximum(fwd, bwd)
         for p in np.flatnonzero(members).tolist():
-            face[p] = "front" if cen_abs[p, 2] >= ft else "back"
+            # a panel around the body (a tube) is neither front nor back
+            face[p] = "" if wraps[p] else "front" if cen_abs[p, 2] >= ft else "back"
     for p in np.flatnonzero(~body).tolist():
         face[p] = "front" if cen_abs[p, 2] >= f0 else "back"
 
@@ -422,7 +428,9 @@ def panel_layout(
     for p in range(n_p):
         r = role[p]
         sd = "" if side[p] == "centre" else f"_{side[p]}"
-        if r == "body":
+        if r == "body" and not face[p]:
+            base.append(tier[p] or "body")
+        elif r == "body":
             pre = f"{tier[p]}_" if tier[p] else ""
             base.append(f"{pre}{face[p]}{sd}")
         elif r in ("sleeve", "cuff", "strap"):
@@ -505,6 +513,9 @@ def seam_names(
           ``yoke_front`` (``yoke_back``) when the seam is not vertical, else ``center_front``
           (``center_back``) when its midpoint is near the centre line, else
           ``princess_front_<side>`` (``princess_back_<side>``);
+        - a body panel around the body (a tube) and another: a vertical seam is
+          ``side_<side>`` or ``center_front``/``center_back`` by where its midpoint sits,
+          any other ``<panel a>_<panel b>``;
         - anything else: ``<panel a>_<panel b>``.
 
         Equal names get ``_front``/``_back``, ``_upper``/``_lower`` or ``_left``/``_right``
@@ -572,6 +583,12 @@ def _seam_base(
         t_lo = float(lay.lo[members, 1].min())
         t_hi = float(lay.hi[members, 1].max())
         half_w = max(float(np.abs(np.r_[lay.lo[members, 0], lay.hi[members, 0]]).max()), 1e-12)
+        if not fa or not fb:  # a panel around the body
+            if not vertical:
+                return f"{pn[a]}_{pn[b]}" if a != b else pn[a]
+            if abs(mid[0]) >= abs(mid[2]):
+                return f"{pre}side_{sd}"
+            return f"{pre}center_{'front' if mid[2] > 0 else 'back'}"
         if fa != fb:
             top = (mid[1] - t_lo) >= _SHOULDER * max(t_hi - t_lo, 1e-12)
             return f"{pre}{'shoulder' if top and not vertical else 'side'}_{sd}"
