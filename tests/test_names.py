@@ -386,3 +386,47 @@ def test_a_band_at_the_cuff_opening_is_a_cuff():
     assert pair["cuff_left"] == {"cuff_left", "sleeve_left"}
     assert pair["cuff_right_end"] == {"cuff_right"}
     assert pair["sleeve_left"] == {"sleeve_left"}
+
+
+# ---------------------------------------------------------------------------------------
+# the command line: a recipe by names, report.json seam names, outputs keep the names
+# ---------------------------------------------------------------------------------------
+
+
+def test_cli_adjust_by_names_reports_named_seams(tmp_path):
+    from click.testing import CliRunner
+
+    from ptailor.cli.main import cli
+    from ptailor.formats.garment import load_garment
+
+    src = real_path("tshirt")
+    recipe = tmp_path / "r.yaml"
+    recipe.write_text(
+        "symmetric: true\n"
+        "steps: [{op: scale, region: {panels: [sleeve_left]}, direction: around, factor: 1.1}]\n"
+    )
+    out = tmp_path / "out"
+    args = ["adjust", src, recipe, "-o", out, "--pattern-units", "auto", "--formats", "obj"]
+    r = CliRunner().invoke(cli, [str(a) for a in args], catch_exceptions=False)
+    assert r.exit_code == 0, r.output
+    rep = json.loads((out / "report.json").read_text())
+    assert [p["name"] for p in rep["panels"]] == EXPECTED["tshirt"]
+    seams_by = {s["name"]: s["panels"] for s in rep["seams"]}
+    assert seams_by["armhole_left_front"] == ["sleeve_left", "front"]
+    assert seams_by["sleeve_right"] == ["sleeve_right", "sleeve_right"]
+    grow = {p["name"]: p["area_after"] / p["area_before"] for p in rep["panels"]}
+    assert (
+        grow["sleeve_right"] == pytest.approx(grow["sleeve_left"], rel=0.01)
+        and grow["sleeve_left"] > 1.05
+    )
+    # the adjusted garment.obj names its panels as groups: read back, same names
+    back = load_garment(out / "garment.obj", pattern_units="auto").garment
+    assert set(back.group_names) == set(EXPECTED["tshirt"])
+    assert [p.name for p in panels(back)] == EXPECTED["tshirt"]
+
+    r = CliRunner().invoke(
+        cli, ["inspect", str(src), "--pattern-units", "auto", "--json"], catch_exceptions=False
+    )
+    info = json.loads(r.output)
+    assert {p["name"]: p["position"] for p in info["panels"]}["sleeve_left"] == "left, upper"
+    assert {s["name"] for s in info["seams"]} == set(seams_by)
