@@ -330,3 +330,24 @@ def test_fuzzed_non_manifold_meshes_trace_simple_boundary_curves(seed):
                 assert len(lp) >= 3 and len(np.unique(lp)) == len(lp)
                 e = np.c_[lp, np.roll(lp, -1)][: len(lp) if c else len(lp) - 1]
                 assert {tuple(x) for x in np.sort(e, axis=1).tolist()} <= be
+
+
+@pytest.mark.parametrize("rows", [(4, 12), (8, 16)])
+def test_cli_inspect_same_for_shuffled_faces(rows, tmp_path):
+    import dataclasses
+
+    g = tseam_tube(rows=rows)
+    F3, F2, p = _shuffled(g, 7)
+    write_garment(tmp_path / "a.obj", g)
+    write_garment(
+        tmp_path / "b.obj", dataclasses.replace(g, F3=F3, F2=F2, face_group=g.face_group[p])
+    )
+    runner = CliRunner()
+    out = []
+    for name in ("a.obj", "b.obj"):
+        r = runner.invoke(cli, ["inspect", str(tmp_path / name), "--json"], catch_exceptions=False)
+        assert r.exit_code == 0, r.output
+        out.append(json.loads(r.output))
+    for key in ("panels", "seams", "openings"):
+        assert out[0][key] == out[1][key]
+    assert [o["name"] for o in out[0]["openings"]][:2] == ["hem", "waist"]
