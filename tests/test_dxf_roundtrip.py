@@ -485,3 +485,69 @@ def test_a_dxf_naming_no_unit_takes_it_from_the_drape(tmp_path):
     assert r.exit_code == 0, r.output
     u = _report(tmp_path / "o")["units"]
     assert u["pattern"] == "mm" and "judged from the drape" in u["pattern_note"]
+
+
+def _inside(X, P):
+    """Even-odd point-in-polygon, ``(k,)`` bool."""
+    A, B = P, np.roll(P, -1, axis=0)
+    y = X[:, 1:2]
+    crosses = (A[None, :, 1] > y) != (B[None, :, 1] > y)
+    t = (y - A[None, :, 1]) / np.where(crosses, B[None, :, 1] - A[None, :, 1], 1.0)
+    xc = A[None, :, 0] + t * (B[None, :, 0] - A[None, :, 0])
+    return (np.sum(crosses & (X[:, :1] < xc), axis=1) % 2) == 1
+
+
+def _triangulated(P, h):
+    """A triangulation of polygon ``P`` (its points on the boundary, a grid of spacing ``h``
+    inside), ``(V, F)``."""
+    from scipy.spatial import Delaunay
+
+    lo, hi = P.min(axis=0), P.max(axis=0)
+    gx, gy = np.meshgrid(np.arange(lo[0], hi[0], h), np.arange(lo[1], hi[1], h))
+    G = np.c_[gx.ravel(), gy.ravel()]
+    A, B = P, np.roll(P, -1, axis=0)
+    from ptailor.method.transfer import segment_feet
+
+    d = segment_feet(G[:, None, :], A[None], B[None])[0].min(axis=1)
+    G = G[_inside(G, P) & (d > 0.3 * h)]
+    V = np.vstack([P, G])
+    tri = Delaunay(V).simplices
+    F = tri[_inside(V[tri].mean(axis=1), P)]
+    return V, F
+
+
+def test_the_gerber_tanks_fold_pieces_round_trip_with_a_drape_of_their_wholes(tmp_path):
+    """WM_SLIM_TANK's two pieces are halves cut on the fold: a (flat) drape triangulating
+    their unfolded wholes takes them back, matched unfolded, and identity writes them as the
+    same fold pieces, with every mark and quantity."""
+    from ptailor.marks import unfolded
+    from ptailor.model.garment import Garment
+
+    src = read_dxf(real(TANK))
+    Vs, Fs, groups, off = [], [], [], 0
+    for k, pc in enumerate(src.pieces):
+        w = unfolded(pc)
+        assert w is not None and w.area == pytest.approx(2 * pc.area, rel=1e-9)
+        V, F = _triangulated(w.outline, 0.6)
+        Vs.append(V)
+        Fs.append(F + off)
+        groups.append(np.full(len(F), k))
+        off += len(V)
+    V2, F2 = np.vstack(Vs), np.vstack(Fs)
+    V3 = np.c_[V2 * 2.54, np.zeros(len(V2))]  # a flat drape, in cm
+    names = tuple(p.name for p in src.pieces)
+    g = Garment(V3=V3, F3=F2, V2=V2, F2=F2, face_group=np.concatenate(groups), group_names=names)
+    obj = tmp_path / "tank.obj"
+    write_garment(obj, g, header=["flat drape: v in cm, vt in inches"])
+    out = tmp_path / "o"
+    r = run("adjust", TANK, _recipe(tmp_path, IDENTITY), "--drape", obj, "-o", out,
+            "--formats", "dxf", "--no-baseline")  # fmt: skip
+    assert r.exit_code == 0, r.output
+    rep = _report(out)
+    assert rep["units"]["pattern"] == "in"
+    recs = rep["pattern"]["pieces"]
+    assert [(p["name"], p["source"], p["unfolded"]) for p in recs] == [
+        (n, "file", True) for n in names
+    ]
+    back = read_dxf(out / "pattern.dxf")
+    _same_pieces(src, back, rel=1e-6)
