@@ -258,10 +258,14 @@ def topology(V: np.ndarray, F: np.ndarray) -> dict:
     Returns
     -------
     dict
-        ``non_manifold_edges``, ``non_manifold_vertices``, ``faces_on_non_manifold_edges``
-        (pymeshlab's ``compute_selection_by_non_manifold_edges_per_face``),
-        ``boundary_edges``, ``holes``, ``components``, ``genus`` (``None`` where pymeshlab
-        leaves it undefined: a non-manifold mesh), ``unreferenced_vertices``.
+        ``non_manifold_edges`` (counted here, :func:`non_manifold_edges`: pymeshlab's
+        ``non_two_manifold_edges`` depends on what the process measured before, measured
+        with pymeshlab 2025.7: one T-seam edge counts 1 in a fresh process and 3 after a
+        manifold mesh was measured), ``non_manifold_vertices``,
+        ``faces_on_non_manifold_edges`` (pymeshlab's
+        ``compute_selection_by_non_manifold_edges_per_face``), ``boundary_edges``,
+        ``holes``, ``components``, ``genus`` (``None`` where pymeshlab leaves it undefined:
+        a non-manifold mesh), ``unreferenced_vertices``.
     """
     import pymeshlab
 
@@ -272,7 +276,7 @@ def topology(V: np.ndarray, F: np.ndarray) -> dict:
     sel = int(ms.current_mesh().selected_face_number())
     manifold = bool(t["is_mesh_two_manifold"])
     return {
-        "non_manifold_edges": int(t["non_two_manifold_edges"]),
+        "non_manifold_edges": len(non_manifold_edges(F)),
         "non_manifold_vertices": int(t["non_two_manifold_vertices"]),
         "faces_on_non_manifold_edges": sel,
         "boundary_edges": int(t["boundary_edges"]),
