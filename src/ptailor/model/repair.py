@@ -180,8 +180,9 @@ def zero_area_faces(V: np.ndarray, F: np.ndarray) -> np.ndarray:
     -------
     (m,) bool array
     """
-    used = np.unique(F)
-    d = float(np.ptp(V[used], axis=0).max()) if used.size else 0.0
+    used = np.zeros(len(V), dtype=bool)
+    used[F.ravel()] = True
+    d = float(np.ptp(V[used], axis=0).max()) if used.any() else 0.0
     area = np.abs(signed_areas_2d(V, F)) if V.shape[1] == 2 else areas_3d(V, F)
     repeated = (F[:, 0] == F[:, 1]) | (F[:, 1] == F[:, 2]) | (F[:, 2] == F[:, 0])
     return repeated | (area <= tol.ZERO_AREA_REL * max(d, 1e-300) ** 2)
@@ -201,8 +202,14 @@ def non_manifold_edges(F: np.ndarray) -> np.ndarray:
     """
     E = np.sort(np.stack([F, np.roll(F, -1, axis=1)], axis=2).reshape(-1, 2), axis=1)
     E = E[E[:, 0] != E[:, 1]]
-    uniq, count = np.unique(E, axis=0, return_counts=True)
-    return uniq[count > 2]
+    if not len(E):
+        return np.zeros((0, 2), dtype=np.int64)
+    n = int(E.max()) + 1
+    key = np.sort(E[:, 0].astype(np.int64) * n + E[:, 1])  # one integer per edge: fast sort
+    starts = np.flatnonzero(np.r_[True, key[1:] != key[:-1]])
+    count = np.diff(np.r_[starts, len(key)])
+    many = key[starts[count > 2]]
+    return np.stack([many // n, many % n], axis=1)
 
 
 def unit_ratios(
