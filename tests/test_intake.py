@@ -357,3 +357,33 @@ def test_weld_distance_and_batch_stamp(runner, tmp_path):
     stamp = json.loads((folder / "batch.json").read_text())
     assert stamp["options"]["weld"] == "off"
     assert json.loads((folder / "report.json").read_text())["intake"]["welded_vertices"] == 0
+
+
+def test_dxf_pattern_reports_where_its_units_came_from(runner, tmp_path):
+    demo = tmp_path / "demo"
+    assert run(runner, "demo", demo).exit_code == 0
+    out = tmp_path / "out"
+    dxf, drape = demo / "pattern.dxf", demo / "garment.obj"
+    r = run(runner, "adjust", dxf, demo / "recipe.yaml", "--drape", drape, "-o", out)
+    assert r.exit_code == 0, r.output
+    u = json.loads((out / "report.json").read_text())["intake"]["units"]
+    assert u["pattern"] == "mm" and u["pattern_source"] in ("file", "estimate")
+    assert u["vt_source"] in ("file", "estimate") and 0.9 < u["pattern_drape_ratio"] < 1.1
+    out2 = tmp_path / "out2"
+    r = run(
+        runner,
+        "adjust",
+        dxf,
+        demo / "recipe.yaml",
+        "--drape",
+        drape,
+        "-o",
+        out2,
+        "--dxf-units",
+        "mm",
+        "--formats",
+        "obj",
+    )
+    assert r.exit_code == 0, r.output
+    u = json.loads((out2 / "report.json").read_text())["intake"]["units"]
+    assert u["pattern_source"] == "command line"

@@ -161,10 +161,15 @@ def load_garment(
             msg = exc.message.replace("check --pattern-units", "check --dxf-units")
             raise UnitMismatchError(msg, path=exc.path) from None
         pf = loaded.pattern
+        # the DXF's unit: given, from the file, or judged; the drape's vt: its own unit
+        dxf_note, _, vt_note = (pf.units_note if pf is not None else "").partition("; vt")
         source = "command line" if dxf_units is not None else "file"
-        if pf is not None and dxf_units is None and "judged" in (pf.units_note or ""):
+        if dxf_units is None and "judged" in dxf_note:
             source = "estimate"
-        units_rec = {**loaded.intake.get("units", {}), "pattern_source": source}
+        units_rec = dict(loaded.intake.get("units", {}))
+        units_rec["vt"] = units_rec.pop("pattern", None)
+        units_rec["vt_source"] = "estimate" if "judged" in vt_note else "file"
+        units_rec.update(pattern_source=source, pattern_note=dxf_note)
         if pf is not None:
             units_rec["pattern"] = pf.units
         return replace(loaded, intake={**loaded.intake, "units": units_rec})
