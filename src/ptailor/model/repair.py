@@ -395,7 +395,6 @@ def intake(
                 f"{joins} drape vertices of different panels coincide (an unwelded export?): "
                 "--weld off keeps them apart, so the seams there are not seen"
             )
-    rec["pieces_after"] = int(face_components(F3, len(V3)).max()) + 1
     z3 = zero_area_faces(V3, F3)
     z2 = zero_area_faces(V2, F2) if np.all(np.isfinite(V2[np.unique(F2)])) else np.zeros(m, bool)
     dup = duplicate_faces(F3, F2) & ~(z3 | z2)
@@ -408,6 +407,7 @@ def intake(
         raise PtailorError(f"every triangle is zero-area in {what}: nothing to adjust", path=path)
     keep = np.flatnonzero(~drop)
     F3, F2 = F3[keep], F2[keep]
+    rec["pieces_after"] = int(face_components(F3, len(V3)).max()) + 1  # welded, repaired
     rec["non_manifold_edges"] = len(non_manifold_edges(F3))
     if drop.any():
         warnings.append(
