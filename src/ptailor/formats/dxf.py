@@ -43,6 +43,8 @@ REL_DUP = 1e-9
 #: a METRIC file whose largest piece is smaller than this many units is in centimetres
 #: (a pattern's largest piece is 5-200 cm: 50-2000 in mm); otherwise METRIC is millimetres
 CM_BELOW = 25.0
+#: a pattern's largest piece, in cm, outside this range means the units are wrong
+PLAUSIBLE_CM = (2.0, 500.0)
 #: a file that names no unit is in millimetres when its largest piece exceeds this
 MM_ABOVE = 300.0
 
@@ -165,6 +167,12 @@ def read_dxf(path: str | Path, *, size: str | None = None, units: str | None = N
     unit, note = _units(
         units, units_text, doc.header.get("$INSUNITS"), pieces, doc.header.get("$MEASUREMENT")
     )
+    largest = max((float(p.extent.max()) for p in pieces), default=0.0) * CM_PER_UNIT[unit]
+    if pieces and not PLAUSIBLE_CM[0] <= largest <= PLAUSIBLE_CM[1]:
+        warnings += (
+            f"the largest piece is {largest:.4g} cm read in {unit} ({note}): check the units "
+            "(--dxf-units)",
+        )
     return PatternFile(
         pieces=pieces,
         units=unit,
@@ -850,7 +858,8 @@ def reconcile_units(
             f"{src}; {unit} judged from the drape (the pieces are {ratio:.3g} file units "
             "per cm of drape)"
         )
-        pattern = replace(pattern, units=unit, units_note=note)
+        kept = tuple(w for w in pattern.warnings if not w.startswith("the largest piece is"))
+        pattern = replace(pattern, units=unit, units_note=note, warnings=kept)
     for line in header:  # ptailor's own garment.obj says its vt unit
         m = _VT_HEADER.search(line)
         if m:
