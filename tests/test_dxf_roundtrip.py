@@ -557,3 +557,43 @@ def test_implausible_piece_sizes_are_a_warning():
     pf = read_dxf(real(CLO), units="cm")  # mm read as cm: a 7 m piece
     assert any("729 cm" in w and "--dxf-units" in w for w in pf.warnings)
     assert read_dxf(CLO).warnings == ()
+
+
+SKIRT_SPLIT = (
+    "units: cm\nsteps:\n  - op: cut\n    view: front\n"
+    "    sketch: [[-6, 80], [0, -40], [6, 80]]\n    remove: above\n    layers: near\n"
+)
+
+
+def test_a_cut_splitting_the_generated_skirts_front_writes_both_parts(tmp_path):
+    """No shared data needed: a V from waist to hem splits the cone skirt's front; the DXF
+    (from the mesh, and from a DXF of marked pieces) has a piece for each of the 3 panels."""
+    g = SAMPLES["cone_skirt"]()
+    obj = tmp_path / "skirt.obj"
+    write_garment(obj, g.with_pattern(g.V2 * 10.0), header=["v in cm, vt in mm"])
+    rec = _recipe(tmp_path, SKIRT_SPLIT)
+    r = run("adjust", obj, rec, "--pattern-units", "mm", "-o", tmp_path / "a", "--no-baseline")
+    assert r.exit_code == 0, r.output
+    assert _groups(tmp_path / "a" / "garment.obj") == ["front", "front_1", "back"]
+    assert [p.name for p in read_dxf(tmp_path / "a" / "pattern.dxf").pieces] == [
+        "front", "front_1", "back"
+    ]  # fmt: skip
+    # a DXF with a drill hole on each side of the front's middle
+    pieces = []
+    for pc in mesh_pieces(g.V2, g.F2, panels(g), F3=g.F3):
+        c = pc.outline.mean(axis=0)
+        w = 0.25 * pc.extent[0]
+        drills = np.array([[c[0] - w, c[1]], [c[0] + w, c[1]], c])  # left, right, middle
+        pieces.append(replace(pc, name=pc.name.upper(), drills=drills))
+    dxf = tmp_path / "skirt.dxf"
+    write_dxf(dxf, PatternFile(pieces=tuple(pieces), units="cm"), layout="keep")
+    r = run("adjust", dxf, rec, "--drape", obj, "-o", tmp_path / "b", "--no-baseline")
+    assert r.exit_code == 0, r.output
+    out = {p.name: p for p in read_dxf(tmp_path / "b" / "pattern.dxf").pieces}
+    assert sorted(out) == ["BACK", "FRONT", "FRONT_1"]
+    assert len(out["FRONT"].drills) == len(out["FRONT_1"].drills) == 1  # one each side
+    recs = {p["name"]: p for p in _report(tmp_path / "b")["pattern"]["pieces"]}
+    assert recs["FRONT_1"]["panel"] == "front_1" and recs["FRONT_1"]["source"] == "file"
+    # the middle drill hole was on the wedge cut away: dropped once, not once per part
+    assert recs["FRONT"]["marks_dropped"] + recs["FRONT_1"]["marks_dropped"] == 1
+    assert len(out["BACK"].drills) == 3
