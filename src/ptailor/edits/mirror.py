@@ -102,13 +102,12 @@ class _Renamer:
         from ptailor.model.openings import openings
 
         k = spec["loop"]
-        ops0 = openings(
-            self.before.V3, self.before.base.F3, up=self.options.up, front=self.options.front
-        )
+        b = self.before
+        ops0 = openings(b.V3, b.base.F3, up=self.options.up, front=self.options.front, F2=b.base.F2)
         if k >= len(ops0):
             return spec  # the step's own lookup reports it
         m = self.mirrored
-        ops1 = openings(m.V3, m.base.F3, up=self.options.up, front=self.options.front)
+        ops1 = openings(m.V3, m.base.F3, up=self.options.up, front=self.options.front, F2=m.base.F2)
         # on the mirrored garment, the mirror loop sits where loop k sat before the step
         cen = np.array([o.centroid for o in ops1]).reshape(-1, 3)
         d = np.linalg.norm(cen - ops0[k].centroid, axis=1)

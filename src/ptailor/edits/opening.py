@@ -58,7 +58,7 @@ def find_opening(state: EditState, spec: Any, *, options: EditOptions) -> tuple[
     PtailorError
         An unknown name or loop index, listing what this garment has.
     """
-    ops = openings(state.V3, state.base.F3, up=options.up, front=options.front)
+    ops = openings(state.V3, state.base.F3, up=options.up, front=options.front, F2=state.base.F2)
     if isinstance(spec, dict):
         k = spec["loop"]
         if k >= len(ops):
