@@ -430,3 +430,12 @@ def test_cli_adjust_by_names_reports_named_seams(tmp_path):
     info = json.loads(r.output)
     assert {p["name"]: p["position"] for p in info["panels"]}["sleeve_left"] == "left, upper"
     assert {s["name"] for s in info["seams"]} == set(seams_by)
+
+
+@pytest.mark.parametrize("key", sorted(EXPECTED))
+def test_mirror_image_swaps_the_seam_names(key):
+    _, _, _, names = layout_and_seams(real(key))
+    _, _, _, mirror = layout_and_seams(mirrored(real(key)))
+    assert sorted(mirror) == sorted(swap_sides(n) for n in names)
+    # and the garment's own names are left/right symmetric (the drapes are nearly so)
+    assert sorted(names) == sorted(swap_sides(n) for n in names)

@@ -55,8 +55,11 @@ _STRIP_TOUCH = 0.4
 #: A panel straddles the centre line when its shorter reach across it is this fraction of
 #: its longer one.
 _CENTRED = 1.0 / 3.0
-#: A seam is vertical when its principal direction is within ~45 degrees of up.
-_VERTICAL = 0.7
+#: A seam is vertical when the up component of its principal direction is at least this
+#: (37 degrees from up), level when at most ``_LEVEL`` (53 degrees); in between (a diagonal
+#: seam, where a mirror pair could fall on both sides of one threshold) it is neither.
+_VERTICAL = 0.8
+_LEVEL = 0.6
 #: A front/back seam in this top fraction of its tier, not vertical, is a shoulder seam.
 _SHOULDER = 0.75
 #: A seam between two fronts (backs) is a centre seam when its midpoint is this close to the
@@ -510,9 +513,11 @@ def seam_names(
         - two body panels of one tier (prefixed ``bodice_``/``skirt_`` on a two-tier
           garment), front and back: ``shoulder_<side>`` when the seam is not vertical and in
           the top quarter of the tier, else ``side_<side>``; both front (back):
-          ``yoke_front`` (``yoke_back``) when the seam is not vertical, else ``center_front``
-          (``center_back``) when its midpoint is near the centre line, else
-          ``princess_front_<side>`` (``princess_back_<side>``);
+          ``yoke_front`` (``yoke_back``) when the seam is level, ``<panel a>_<panel b>``
+          when it is diagonal, else ``center_front`` (``center_back``) when its midpoint is
+          near the centre line, else ``princess_front_<side>`` (``princess_back_<side>``);
+          (vertical: the up component of the seam's principal direction >= 0.8; level:
+          <= 0.6);
         - a body panel around the body (a tube) and another: a vertical seam is
           ``side_<side>`` or ``center_front``/``center_back`` by where its midpoint sits,
           any other ``<panel a>_<panel b>``;
@@ -534,11 +539,11 @@ def seam_names(
         pts = np.concatenate([P, Q])
         if len(pts) > 1:
             _, _, vt = np.linalg.svd(pts - pts.mean(0), full_matrices=False)
-            vertical = abs(vt[0, 1]) >= _VERTICAL
+            upc = abs(float(vt[0, 1]))
         else:
-            vertical = False
+            upc = 0.5
         mids.append(mid)
-        base.append(_seam_base(s.panels, mid, vertical, layout, pn))
+        base.append(_seam_base(s.panels, mid, upc, layout, pn))
     return _qualify(base, np.array(mids).reshape(-1, 3))
 
 
@@ -547,9 +552,11 @@ def _side_of(x: float) -> str:
 
 
 def _seam_base(
-    pp: tuple[int, int], mid: np.ndarray, vertical: bool, lay: PanelLayout, pn: list[str]
+    pp: tuple[int, int], mid: np.ndarray, upc: float, lay: PanelLayout, pn: list[str]
 ) -> str:
-    """The name of one seam before equal names are told apart."""
+    """The name of one seam before equal names are told apart (``upc``: the up component of
+    its principal direction)."""
+    vertical, level = upc >= _VERTICAL, upc <= _LEVEL
     a, b = int(pp[0]), int(pp[1])
     ra, rb = lay.role[a], lay.role[b]
     roles = {ra, rb}
@@ -592,8 +599,10 @@ def _seam_base(
         if fa != fb:
             top = (mid[1] - t_lo) >= _SHOULDER * max(t_hi - t_lo, 1e-12)
             return f"{pre}{'shoulder' if top and not vertical else 'side'}_{sd}"
-        if not vertical:
+        if level:
             return f"{pre}yoke_{fa}"
+        if not vertical:  # diagonal: named by its panels
+            return f"{pn[a]}_{pn[b]}"
         if abs(mid[0]) <= _CENTRE_SEAM * half_w:
             return f"{pre}center_{fa}"
         return f"{pre}princess_{fa}_{sd}"
