@@ -597,3 +597,35 @@ def test_a_cut_splitting_the_generated_skirts_front_writes_both_parts(tmp_path):
     # the middle drill hole was on the wedge cut away: dropped once, not once per part
     assert recs["FRONT"]["marks_dropped"] + recs["FRONT_1"]["marks_dropped"] == 1
     assert len(out["BACK"].drills) == 3
+
+
+def test_a_graded_size_with_other_outline_points_gets_marks_by_length_along_it(tmp_path):
+    """The graded block has another number of outline points than the sample's: turn
+    points and notches go to the same fraction of the way round, with a warning."""
+    doc = ezdxf.new("R2000")
+    m = np.array([[0, 0], [400, 0], [400, 600], [0, 600]], float)
+    t = np.linspace(0.0, 1.0, 3, endpoint=False)[:, None]
+    big = m * 1.1  # 440 x 660, three points per side
+    graded = np.vstack([big[i] + t * (big[(i + 1) % 4] - big[i]) for i in range(4)])
+    for size, outline in (("M", m), ("L", graded)):
+        blk = doc.blocks.new(f"FRONT_{size}")
+        blk.add_lwpolyline(outline.tolist(), close=True, dxfattribs={"layer": "1"})
+        blk.add_text("Piece Name: FRONT", dxfattribs={"layer": "1", "insert": (10, 300)})
+        blk.add_text(f"Size: {size}", dxfattribs={"layer": "1", "insert": (10, 280)})
+        if size == "M":
+            for q in m:
+                blk.add_point(q.tolist(), dxfattribs={"layer": "2"})
+            blk.add_point((200, 0), dxfattribs={"layer": "4"})
+            blk.add_point((400, 150), dxfattribs={"layer": "4"})
+            blk.add_text("Quantity: 1,1", dxfattribs={"layer": "1", "insert": (10, 260)})
+        doc.modelspace().add_blockref(f"FRONT_{size}", (0, 0))
+    doc.modelspace().add_text("Sample Size: M", dxfattribs={"layer": "1"})
+    doc.modelspace().add_text("Units: METRIC", dxfattribs={"layer": "1"})
+    doc.saveas(tmp_path / "g.dxf")
+    pf = read_dxf(tmp_path / "g.dxf", size="L")
+    pc = pf.pieces[0]
+    assert len(pc.outline) == 12 and pc.turn.sum() == 4
+    np.testing.assert_allclose(np.sort(pc.outline[pc.turn], axis=0), np.sort(big, axis=0))
+    np.testing.assert_allclose(np.sort(pc.notches, axis=0), [[220, 0], [440, 165]], atol=1e-9)
+    assert (pc.quantity, pc.quantity_split) == (2, (1, 1))
+    assert len(pf.warnings) == 1 and "by length along them" in pf.warnings[0]

@@ -227,6 +227,9 @@ def _fill_from_sample(
             ch["annotations"] = sp.annotations
             carried.append("annotations")
         A = _grade_fit(sp.outline, p.outline)
+        arc = _ArcMap.fit(sp.outline, p.outline) if A is None else None
+        if arc is not None:
+            A = arc.box
         lacks = {
             "turn points": bool(sp.turn.any()) and not p.turn.any(),
             "notches": len(sp.notches) > 0 and len(p.notches) == 0,
@@ -243,9 +246,13 @@ def _fill_from_sample(
                 continue
             carried.append(what)
             if what == "turn points":
-                ch["turn"] = sp.turn.copy()
+                ch["turn"] = sp.turn.copy() if arc is None else arc.turn(sp.turn)
             elif what == "notches":
-                ch["notches"] = _same_place(sp.outline, p.outline, sp.notches)
+                ch["notches"] = (
+                    _same_place(sp.outline, p.outline, sp.notches)
+                    if arc is None
+                    else arc.points(sp.notches)
+                )
                 ch["notch_angles"] = np.asarray(sp.notch_angles, dtype=float).copy()
             elif what == "grain line":
                 ch["grain"] = _apply(sp.grain, A)
@@ -259,8 +266,10 @@ def _fill_from_sample(
             msg = f"size {size}: piece {p.name!r} lacks what sample size {sample} has"
             if carried:
                 msg += f"; carried from size {sample}: {', '.join(carried)}"
+            if arc is not None:
+                msg += " (outlines matched by length along them, not point by point)"
             if lost:
-                msg += f"; not carried (outlines without corresponding points): {', '.join(lost)}"
+                msg += f"; not carried (outlines that do not correspond): {', '.join(lost)}"
             warns.append(msg)
         out.append(replace(p, **ch) if ch else p)
     return tuple(out), tuple(warns)
@@ -281,6 +290,79 @@ def _grade_fit(src: np.ndarray, dst: np.ndarray) -> tuple[np.ndarray, np.ndarray
     rms = float(np.sqrt(np.mean(np.sum((X @ M - dst) ** 2, axis=1))))
     diag = float(np.hypot(*np.ptp(dst, axis=0)))
     return (M[:2], M[2]) if rms <= GRADE_FIT_REL * max(diag, 1e-300) else None
+
+
+def _arc_params(P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each point's arc-length parameter along closed outline ``P`` (0 at ``P[0]``, total
+    1), ``(k,)``, and each segment's length as a fraction, ``(k,)``."""
+    seg = np.linalg.norm(np.roll(P, -1, axis=0) - P, axis=1)
+    total = max(float(seg.sum()), 1e-300)
+    return np.r_[0.0, np.cumsum(seg)[:-1]] / total, seg / total
+
+
+def _at_params(P: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """Points at arc-length parameters ``u`` (``(q,)``, modulo 1) along closed outline ``P``."""
+    cum, frac = _arc_params(P)
+    u = np.mod(u, 1.0)
+    i = np.clip(np.searchsorted(cum, u, side="right") - 1, 0, len(P) - 1)
+    t = (u - cum[i]) / np.maximum(frac[i], 1e-300)
+    return P[i] + np.clip(t, 0.0, 1.0)[:, None] * (np.roll(P, -1, axis=0)[i] - P[i])
+
+
+@dataclass(frozen=True)
+class _ArcMap:
+    """A graded outline matched to the sample's by length along them (point counts differ).
+
+    ``S`` is the sample outline put into the graded one's bounding box (``box``, row
+    vectors ``x @ A + t``), ``D`` the graded outline started at the point nearest ``S[0]``
+    (``j0``); a parameter ``u`` in ``[0, 1)`` is the same fraction of the way round both.
+    """
+
+    box: tuple[np.ndarray, np.ndarray]
+    S: np.ndarray
+    D: np.ndarray
+    j0: int
+
+    @classmethod
+    def fit(cls, src: np.ndarray, dst: np.ndarray) -> _ArcMap | None:
+        """The map, or None when the outlines, so matched, lie further apart on average than
+        ``GRADE_FIT_REL`` of the graded outline's diagonal."""
+        if len(src) < 3 or len(dst) < 3:
+            return None
+        lo_s, lo_d = src.min(axis=0), dst.min(axis=0)
+        k = np.ptp(dst, axis=0) / np.maximum(np.ptp(src, axis=0), 1e-300)
+        box = (np.diag(k), lo_d - lo_s * k)
+        S = _apply(src, box)
+        j0 = int(np.argmin(np.linalg.norm(dst - S[0], axis=1)))
+        D = np.roll(dst, -j0, axis=0)
+        u = np.linspace(0.0, 1.0, 256, endpoint=False)
+        gap = float(np.linalg.norm(_at_params(S, u) - _at_params(D, u), axis=1).mean())
+        diag = float(np.hypot(*np.ptp(dst, axis=0)))
+        return cls(box, S, D, j0) if gap <= GRADE_FIT_REL * max(diag, 1e-300) else None
+
+    def points(self, pts: np.ndarray) -> np.ndarray:
+        """Points on (or near) the sample outline, at the same parameter on the graded one."""
+        pts = _apply(np.asarray(pts, dtype=float).reshape(-1, 2), self.box)
+        A, B = self.S, np.roll(self.S, -1, axis=0)
+        d = B - A
+        dd = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
+        t = np.clip(np.einsum("kij,ij->ki", pts[:, None] - A[None], d) / dd, 0.0, 1.0)
+        foot = A[None] + t[..., None] * d[None]
+        seg = np.argmin(np.linalg.norm(pts[:, None] - foot, axis=2), axis=1)
+        cum, frac = _arc_params(self.S)
+        u = cum[seg] + t[np.arange(len(pts)), seg] * frac[seg]
+        return _at_params(self.D, u)
+
+    def turn(self, flags: np.ndarray) -> np.ndarray:
+        """Turn flags of the sample outline's points as flags of the graded outline's points
+        nearest them by parameter, ``(len(dst),)``."""
+        cu, _ = _arc_params(self.S)
+        cd, _ = _arc_params(self.D)
+        diff = np.abs(cd[None, :] - cu[np.asarray(flags, dtype=bool)][:, None])
+        near = np.argmin(np.minimum(diff, 1.0 - diff), axis=1)
+        out = np.zeros(len(self.D), dtype=bool)
+        out[(near + self.j0) % len(self.D)] = True
+        return out
 
 
 def _same_place(src: np.ndarray, dst: np.ndarray, pts: np.ndarray) -> np.ndarray:
