@@ -72,7 +72,7 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
             "length": round(float(o.length), 3),
             "centroid": [round(float(x), 3) for x in o.centroid],
         }
-        for o in openings(g.V3, g.F3, up=up, front=front)
+        for o in openings(g.V3, g.F3, up=up, front=front, F2=g.F2)
     ]
     units = {"computation": g.units}
     if loaded.pattern_units_estimated:

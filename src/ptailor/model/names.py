@@ -290,8 +290,8 @@ def panel_layout(
     hlen = np.linalg.norm(V3[h3[:, 1]] - V3[h3[:, 0]], axis=1)
     hpan = np.repeat(lab, 3)
     # one sort of the drape's edges: runs of one are boundary, runs of two interior edges
-    # (a seam when the two pattern edges differ); T-seams (3+ faces) only count as boundary
-    # for an odd run, and give no adjacency (enough to name panels)
+    # (a seam when the two pattern edges differ); T-seams (3+ faces) are sewn, never
+    # boundary (as openings() has them), and give no adjacency (enough to name panels)
     h2 = half_edges(np.asarray(F2, dtype=np.int64).reshape(-1, 3))
     key = edge_keys(h3)
     order = np.argsort(key, kind="stable")
@@ -299,7 +299,7 @@ def panel_layout(
     start = np.r_[True, ks[1:] != ks[:-1]] if len(ks) else np.zeros(0, dtype=bool)
     run_id = np.cumsum(start) - 1
     run_len = np.bincount(run_id)[run_id] if len(ks) else np.zeros(0, dtype=np.int64)
-    bnd = np.sort(order[run_len % 2 == 1])
+    bnd = np.sort(order[run_len == 1])
     two = np.flatnonzero(start & (run_len == 2))
     first, second = order[two], order[two + 1]
     same_dir = h3[first, 0] == h3[second, 0]
@@ -317,7 +317,7 @@ def panel_layout(
     W = W + W.T
 
     # touch[k, p]: length of opening k's loop on panel p
-    ops = openings(V3, F3, up=up, front=front)
+    ops = openings(V3, F3, up=up, front=front, F2=F2)
     n_o = len(ops)
     vid = np.full(len(V3), -1, dtype=np.int64)
     for k, o in enumerate(ops):  # a loop over openings
