@@ -339,7 +339,12 @@ def run_adjust(
     )
     # pieces are matched (a DXF's, failing early) or drawn when a DXF is read or written
     plan = (
-        piece_plan(loaded.garment, panels(loaded.garment), pattern=loaded.pattern, up=options.up)
+        piece_plan(
+            loaded.garment,
+            panels(loaded.garment, up=options.up, front=options.front),
+            pattern=loaded.pattern,
+            up=options.up,
+        )
         if "dxf" in formats or loaded.pattern is not None
         else None
     )
