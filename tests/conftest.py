@@ -35,3 +35,21 @@ def real_garment(request):
 
     p = real_path(request.param)
     return request.param, load_garment(p, pattern_units=REAL[request.param][1])
+
+
+# Property-based fuzzing (Hypothesis): short and seeded in CI, longer on demand:
+#   PTAILOR_FUZZ=long python -m pytest tests/test_fuzz_*.py
+try:
+    from hypothesis import HealthCheck, settings
+
+    _fuzz_common = {
+        "deadline": None,
+        "derandomize": True,  # seeded: the same cases every run
+        "suppress_health_check": [HealthCheck.too_slow, HealthCheck.data_too_large],
+        "database": None,
+    }
+    settings.register_profile("ci", max_examples=60, **_fuzz_common)
+    settings.register_profile("long", max_examples=2000, **_fuzz_common)
+    settings.load_profile(os.environ.get("PTAILOR_FUZZ", "ci"))
+except ImportError:  # hypothesis comes with the test extra
+    pass
