@@ -95,3 +95,46 @@ GRAIN_TUBE_RATIO = 4.0
 #: Seams of at least this many edges get a balance notch at their middle (pieces drawn
 #: from a mesh).
 BALANCE_MIN_EDGES = 4
+
+# Input bounds: the OBJ reader, garment checks, options (ptailor.formats.obj, .garment)
+#: Largest OBJ file read, bytes (a 5-million-triangle garment is about 300 MB).
+OBJ_MAX_BYTES = 1 << 30
+#: Longest OBJ line, bytes (a polygon of a few thousand corners fits).
+OBJ_MAX_LINE = 1 << 16
+#: Most triangles read from an OBJ (after fan triangulation of its polygons).
+OBJ_MAX_TRIANGLES = 5_000_000
+#: Longest ``g``/``o`` group name, characters: longer ones are refused (a name is a label,
+#: not data; CAD tools cap names at about 255).
+OBJ_MAX_NAME = 200
+#: Largest |coordinate| in an OBJ (``v`` and ``vt``), in the file's units: 1e6 (10 km in
+#: mm, 10,000 km in m) is beyond any garment, and keeps every squared length and area finite.
+OBJ_COORD_MAX = 1e6
+#: Centimetres per unit of a scaled unit (``--pattern-units 0.5cm``): from 1 micrometre
+#: to 1 kilometre.
+UNIT_CM_RANGE = (1e-4, 1e5)
+#: Largest length given as an option (``--seam-allowance``, ``--weld``), centimetres.
+LENGTH_MAX_CM = 1e4
+#: Longest panel name drawn in a preview (longer ones are shortened with an ellipsis).
+PREVIEW_NAME_MAX = 60
+
+# Numeric safety of the method and the edits (issue 12)
+#: A step may not leave any drape triangle with an area below this fraction of its area
+#: before the step (a collapsing scale, a subnormal factor): the step is refused.
+EDIT_COLLAPSE_REL = 1e-9
+#: An edit may create at most this many times the input's triangles ...
+EDIT_NEW_TRIANGLES_FACTOR = 4.0
+#: ... and never more than this many in all (checked before anything is allocated).
+EDIT_MAX_TRIANGLES = 2_000_000
+#: A ``shorten`` / ``extend`` ``by`` below this fraction of the opening's mean edge length
+#: changes nothing measurable: the step is refused as too small.
+EDIT_MIN_BY_REL = 1e-3
+#: Flatten weights (``w_pin``, ``w_asap``) outside this range make the stitching matrix
+#: overflow or lose the panel's shape: refused when the run starts.
+FLATTEN_WEIGHT_RANGE = (1e-6, 1e9)
+#: A panel whose intrinsic-scale error p95 exceeds this (relative) gets a report warning.
+INTRINSIC_ERROR_WARN = 0.5
+#: ``--seam-allowance`` at most this many times the largest piece's bounding-box diagonal.
+SEAM_ALLOWANCE_MAX_REL = 0.5
+#: Largest extent of a garment's drape or pattern in its computation unit (any unit): a
+#: garment checked by ``check_garment`` has squared lengths and areas far from overflow.
+GARMENT_SIZE_MAX = 1e12

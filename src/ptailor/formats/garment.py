@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
 from ptailor.formats import reader_for
 from ptailor.model.garment import Garment, areas_3d, signed_areas_2d
@@ -31,7 +32,14 @@ def parse_units(text: str, *, what: str) -> float:
     if not m:
         known = ", ".join(CM_PER)
         raise PtailorError(f"{what}: unknown unit {text!r} (use {known}, auto, or e.g. 0.5cm)")
-    return float(m.group(1) or 1.0) * CM_PER[m.group(2)]
+    cm = float(m.group(1) or 1.0) * CM_PER[m.group(2)]
+    lo, hi = tol.UNIT_CM_RANGE
+    if not (np.isfinite(cm) and lo <= cm <= hi):
+        raise PtailorError(
+            f"{what}: {text!r} is {cm:g} cm per unit, outside the sane range "
+            f"[{lo:g}, {hi:g}] cm (1 micrometre to 1 kilometre)"
+        )
+    return cm
 
 
 def parse_length(text: str, *, to: str, what: str) -> float:
@@ -52,6 +60,12 @@ def parse_length(text: str, *, to: str, what: str) -> float:
         value = float(m.group(1)) * CM_PER[m.group(2)] / CM_PER[to]
     if not np.isfinite(value) or value < 0:
         raise PtailorError(f"{what}: must be a length >= 0, not {text!r}")
+    limit = tol.LENGTH_MAX_CM / CM_PER[to] if to in CM_PER else None
+    if limit is not None and value > limit:
+        raise PtailorError(
+            f"{what}: {text!r} is longer than {tol.LENGTH_MAX_CM:g} cm, the longest length "
+            "ptailor takes"
+        )
     return value
 
 

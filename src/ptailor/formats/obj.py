@@ -7,6 +7,7 @@ vectorised: each record kind is joined and converted by numpy in one call.
 from __future__ import annotations
 
 import re
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -14,6 +15,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
 
 if TYPE_CHECKING:
@@ -58,6 +60,10 @@ def _records(raw: bytes, tag: bytes) -> list[bytes]:
     return re.findall(rb"^" + tag + rb"[ \t]+([^\r\n]*)", raw, re.M)
 
 
+class _IndexOverflowError(Exception):
+    """A face index too large for a 64-bit integer."""
+
+
 def _numbers(bodies: list[bytes], dtype: type) -> np.ndarray | None:
     """Parse equal-length records in one call; None when they are ragged."""
     ncol = len(bodies[0].split())
@@ -66,6 +72,8 @@ def _numbers(bodies: list[bytes], dtype: type) -> np.ndarray | None:
         vals = np.array(joined.split(), dtype=dtype)
     except ValueError:
         return None
+    except OverflowError:  # an integer beyond int64: an index no file can hold
+        raise _IndexOverflowError from None
     if ncol == 0 or vals.size != ncol * len(bodies):
         return None
     return vals.reshape(len(bodies), ncol)
@@ -88,7 +96,19 @@ def _floats(bodies: list[bytes], path: str, what: str, width: int) -> np.ndarray
         raise PtailorError(f"'{what}' records need at least 2 coordinates", path=path)
     if arr.shape[1] < width:
         arr = np.hstack([arr, np.zeros((len(arr), width - arr.shape[1]))])
-    return arr[:, :width]
+    arr = arr[:, :width]
+    with np.errstate(invalid="ignore"):
+        bad = ~(np.abs(arr) <= tol.OBJ_COORD_MAX)  # NaN compares False: caught too
+    if bad.any():
+        row, col = (int(i[0]) for i in np.nonzero(bad))
+        x = float(arr[row, col])
+        what_x = "not a finite number" if not np.isfinite(x) else f"beyond {tol.OBJ_COORD_MAX:g}"
+        raise PtailorError(
+            f"'{what}' record {row + 1}: coordinate {x:g} is {what_x} "
+            f"(coordinates must be finite, |x| <= {tol.OBJ_COORD_MAX:g} file units)",
+            path=path,
+        )
+    return arr
 
 
 def _faces(
@@ -99,25 +119,46 @@ def _faces(
     if k > 2:
         raise PtailorError("unreadable 'f' record (more than two '/' in a corner)", path=path)
     flat = [b.replace(b"//", b"/0/").replace(b"/", b" ") for b in bodies]
-    nums = _numbers(flat, np.int64)
+    try:
+        nums = _numbers(flat, np.int64)
+    except _IndexOverflowError:
+        raise PtailorError(
+            "face refers to a missing vertex (index beyond any file's size)", path=path
+        ) from None
     if nums is not None and nums.shape[1] % (k + 1) == 0:
         corners_per = np.full(len(bodies), nums.shape[1] // (k + 1), dtype=np.int64)
         nums = nums.reshape(-1, k + 1)
     else:
         corners_per = np.array([len(b.split()) for b in bodies], dtype=np.int64)
-        nums = _numbers([b" ".join(flat)], np.int64)
+        try:
+            nums = _numbers([b" ".join(flat)], np.int64)
+        except _IndexOverflowError:
+            raise PtailorError(
+                "face refers to a missing vertex (index beyond any file's size)", path=path
+            ) from None
         if nums is None or nums.size != corners_per.sum() * (k + 1):
             raise PtailorError("faces mix corner formats (v, v/vt, v/vt/vn, v//vn)", path=path)
         nums = nums.reshape(-1, k + 1)
     if np.any(corners_per < 3):
         bad = int(np.flatnonzero(corners_per < 3)[0])
         raise PtailorError(f"face {bad + 1} has fewer than 3 corners", path=path)
+    n_tri = int((corners_per - 2).sum())
+    if n_tri > tol.OBJ_MAX_TRIANGLES:
+        raise PtailorError(
+            f"{n_tri} triangles: more than the {tol.OBJ_MAX_TRIANGLES} ptailor reads", path=path
+        )
     has_vt = k >= 1 and not np.all(nums[:, 1] == 0)
 
     def resolve(idx: np.ndarray, count: int, what: str) -> np.ndarray:
         out = np.where(idx < 0, idx + count, idx - 1)
-        if np.any((out < 0) | (out >= count)) or np.any(idx == 0):
-            raise PtailorError(f"face refers to a missing '{what}' (index out of range)", path=path)
+        bad = (out < 0) | (out >= count) | (idx == 0)
+        if np.any(bad):
+            first = int(idx[np.flatnonzero(bad)[0]])
+            raise PtailorError(
+                f"face refers to a missing '{what}' (index {first}; the file has {count} "
+                f"'{what}' records, indices 1..{count} or -{count}..-1)",
+                path=path,
+            )
         return out
 
     cv = resolve(nums[:, 0], nv, "v")
@@ -150,13 +191,48 @@ def read_obj(path: str | Path) -> ObjMesh:
     """
     spath = str(path)
     try:
+        size = Path(path).stat().st_size
+        if size > tol.OBJ_MAX_BYTES:
+            raise PtailorError(
+                f"file of {size} bytes: larger than the {tol.OBJ_MAX_BYTES} bytes ptailor reads",
+                path=spath,
+            )
         raw = Path(path).read_bytes()
     except FileNotFoundError:
         raise PtailorError("no such file", path=spath) from None
+    except IsADirectoryError:
+        raise PtailorError("is a folder, not an OBJ file", path=spath) from None
     except OSError as exc:
         raise PtailorError(f"cannot read file ({exc.strerror})", path=spath) from None
-    if b"\0" in raw[:4096]:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # no library warning is printed before the error line
+        with np.errstate(all="ignore"):
+            return _parse(raw, spath)
+
+
+def _check_text(raw: bytes, spath: str) -> bytes:
+    """The file's bytes without a UTF-8 BOM, with \\n line ends; line lengths checked."""
+    if raw.startswith(b"\xef\xbb\xbf"):
+        raw = raw[3:]
+    if b"\0" in raw:
         raise PtailorError("not an OBJ file (binary content)", path=spath)
+    if b"\n" not in raw and b"\r" in raw:  # classic Mac line ends
+        raw = raw.replace(b"\r", b"\n")
+    ends = np.flatnonzero(np.frombuffer(raw, dtype=np.uint8) == 10)
+    bounds = np.concatenate([[-1], ends, [len(raw)]])
+    lengths = np.diff(bounds) - 1
+    if lengths.size and int(lengths.max()) > tol.OBJ_MAX_LINE:
+        line = int(np.argmax(lengths))
+        raise PtailorError(
+            f"line {line + 1} is {int(lengths[line])} bytes long: longer than the "
+            f"{tol.OBJ_MAX_LINE} bytes an OBJ line may have",
+            path=spath,
+        )
+    return raw
+
+
+def _parse(raw: bytes, spath: str) -> ObjMesh:
+    raw = _check_text(raw, spath)
     header: list[str] = []
     for ln in raw[:4096].decode("utf-8", errors="replace").splitlines():
         ln = ln.strip()
@@ -178,6 +254,13 @@ def read_obj(path: str | Path) -> ObjMesh:
     v = _floats(v_b, spath, "v", 3)
     vt = _floats(_records(raw, b"vt"), spath, "vt", 2)
     fv, fvt, poly = _faces(f_b, len(v), len(vt), spath)
+    long_names = [n for n in gnames if len(n) > tol.OBJ_MAX_NAME]
+    if long_names:
+        raise PtailorError(
+            f"a group name ('g'/'o' record) is {len(long_names[0])} characters long: longer "
+            f"than the {tol.OBJ_MAX_NAME} ptailor reads ({long_names[0][:24]!r}...)",
+            path=spath,
+        )
     names = tuple(dict.fromkeys(n for n in gnames if n))
     name_idx = {n: i for i, n in enumerate(names)}
     chunk_group = np.array([-1] + [name_idx.get(n, -1) for n in gnames], dtype=np.int64)
@@ -188,9 +271,16 @@ def read_obj(path: str | Path) -> ObjMesh:
     )
 
 
-def _block(prefix: str, X: np.ndarray) -> str:
+def _block(prefix: str, X: np.ndarray, path: str | Path = "") -> str:
     if len(X) == 0:
         return ""
+    if not np.all(np.isfinite(X)):
+        # never write NaN or infinity: fail the run (exit 2) rather than corrupt the file
+        n = int((~np.isfinite(X)).any(axis=1).sum())
+        raise PtailorError(
+            f"refusing to write {n} non-finite '{prefix}' coordinate row(s)",
+            path=Path(path).name or None,
+        )
     # one formatting call over the whole array (no Python loop over vertices)
     fmt = prefix + " " + " ".join(["%.9g"] * X.shape[1]) + "\n"
     return (fmt * len(X)) % tuple(X.ravel().tolist())
@@ -223,7 +313,7 @@ def write_obj(
         Comment lines written first.
     """
     order = np.argsort(face_panel, kind="stable")
-    parts = ["".join(f"# {h}\n" for h in header), _block("v", V3), _block("vt", V2)]
+    parts = ["".join(f"# {h}\n" for h in header), _block("v", V3, path), _block("vt", V2, path)]
     fp = face_panel[order]
     cuts = np.flatnonzero(np.diff(fp)) + 1
     for grp in np.split(order, cuts) if len(order) else []:

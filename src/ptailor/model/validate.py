@@ -42,10 +42,19 @@ def check_garment(g: Garment, *, path: str | None = None) -> None:
             "pattern and drape have different faces (a pattern vertex maps to two drape vertices)",
             path=path,
         )
-    diag3 = float(np.ptp(g.V3[used3], axis=0).max())
-    diag2 = float(np.ptp(g.V2[used2], axis=0).max())
-    a3 = areas_3d(g.V3, g.F3)
-    a2 = np.abs(signed_areas_2d(g.V2, g.F2))
+    with np.errstate(all="ignore"):
+        diag3 = float(np.ptp(g.V3[used3], axis=0).max())
+        diag2 = float(np.ptp(g.V2[used2], axis=0).max())
+    for name, d in (("drape coordinates (v)", diag3), ("pattern coordinates (vt)", diag2)):
+        # squared sizes and areas must stay finite (an overflow here is no garment)
+        if not (np.isfinite(d) and d <= tol.GARMENT_SIZE_MAX):
+            raise PtailorError(
+                f"{name} span {d:g} {g.units}: beyond {tol.GARMENT_SIZE_MAX:g}, no garment",
+                path=path,
+            )
+    with np.errstate(all="ignore"):
+        a3 = areas_3d(g.V3, g.F3)
+        a2 = np.abs(signed_areas_2d(g.V2, g.F2))
     for name, a, d in (("3D (drape)", a3, diag3), ("2D (pattern)", a2, diag2)):
         bad = np.flatnonzero(a <= tol.ZERO_AREA_REL * max(d, 1e-300) ** 2)
         if bad.size:
