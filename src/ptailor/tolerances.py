@@ -138,3 +138,28 @@ SEAM_ALLOWANCE_MAX_REL = 0.5
 #: Largest extent of a garment's drape or pattern in its computation unit (any unit): a
 #: garment checked by ``check_garment`` has squared lengths and areas far from overflow.
 GARMENT_SIZE_MAX = 1e12
+
+# DXF pattern files (ptailor.formats.dxf): a reader that fails closed
+#: A DXF larger than this many bytes is refused before it is parsed (a graded Gerber
+#: export of a whole style is a few MB).
+DXF_MAX_BYTES = 200 * 1024 * 1024
+#: A DXF with more entities than this (modelspace and blocks, vertices included) is refused.
+DXF_MAX_ENTITIES = 2_000_000
+#: A polyline (or a flattened curve) with more vertices than this is refused.
+DXF_MAX_VERTICES = 200_000
+#: A piece whose cut line (layer 1) comes in more parts than this is refused (chaining the
+#: parts end to end is quadratic in their count).
+DXF_MAX_BOUNDARY_PARTS = 5_000
+#: A text (piece name, annotation, style text) longer than this many characters is refused.
+DXF_MAX_TEXT = 1_000
+#: Every coordinate read (after the block's INSERT transform) lies within this many file
+#: units of the origin (1e7 mm is 10 km): beyond it, or not finite, the file is refused.
+DXF_MAX_COORD = 1e7
+#: A piece's outline must span at least this many file units (its bounding box's larger
+#: side) ...
+DXF_MIN_EXTENT = 1e-3
+#: ... and enclose at least this fraction of its bounding box's area: below, it is a line
+#: or a point, not a piece.
+DXF_MIN_AREA_REL = 1e-6
+#: A ``Quantity:`` above this is refused (a piece is cut a few times per garment).
+DXF_MAX_QUANTITY = 1_000
