@@ -133,3 +133,92 @@ def push_out(V: np.ndarray, body, *, clearance: float) -> np.ndarray:
     N /= np.linalg.norm(N, axis=1)[:, None]
     out[move] = Qm + float(clearance) * N
     return out
+
+
+def read_body(path: str, *, units: str, to: str):
+    """Read a ``--body`` mesh, checked, scaled from ``units`` to ``to``.
+
+    OBJ bodies go through ptailor's own OBJ reader (:func:`ptailor.formats.obj.read_obj`:
+    the same bounds and messages as a garment); other formats (STL, PLY, OFF, ...) through
+    trimesh, whose failures are reported by kind only (its messages can name missing
+    optional modules rather than the file's problem).
+
+    Parameters
+    ----------
+    path : str
+    units : str
+        The body's unit (``--body-units``).
+    to : str
+        The computation unit.
+
+    Returns
+    -------
+    trimesh.Trimesh
+
+    Raises
+    ------
+    PtailorError
+        Naming the file: missing, unreadable, no triangles, non-finite or out-of-range
+        coordinates, or not closed (push-out needs inside and outside: a watertight body).
+    """
+    import warnings
+    from pathlib import Path
+
+    import trimesh
+
+    from ptailor import tolerances as tol
+    from ptailor.errors import PtailorError
+    from ptailor.formats.garment import parse_units
+    from ptailor.model.units import CM_PER
+
+    scale = parse_units(units, what="--body-units") / CM_PER[to]
+    p = Path(path)
+    if not p.is_file():
+        raise PtailorError("no such file", path=path)
+    if p.stat().st_size > tol.OBJ_MAX_BYTES:
+        raise PtailorError(f"body file larger than {tol.OBJ_MAX_BYTES} bytes", path=path)
+    ext = p.suffix.lower().lstrip(".")
+    if ext == "obj":
+        from ptailor.formats.obj import read_obj
+
+        mesh = read_obj(path)  # its errors already name the file
+        V, F = mesh.v, mesh.fv
+    else:
+        try:
+            with warnings.catch_warnings(), np.errstate(all="ignore"):
+                warnings.simplefilter("ignore")
+                tm = trimesh.load(path, file_type=ext or None, force="mesh", process=False)
+            V = np.asarray(tm.vertices, dtype=np.float64)
+            F = np.asarray(tm.faces, dtype=np.int64)
+        except Exception as exc:  # trimesh raises many kinds for bad files
+            kind = "unsupported format" if "not supported" in str(exc) else "unreadable"
+            raise PtailorError(
+                f"not a readable body mesh ({kind} {ext.upper() or 'file'}: a body must be a "
+                "closed triangle mesh in OBJ, STL, PLY or OFF)",
+                path=path,
+            ) from None
+        if V.ndim != 2 or V.shape[1:] != (3,) or F.ndim != 2 or F.shape[1:] != (3,):
+            raise PtailorError("body mesh has no triangles", path=path)
+        if len(F) and (F.min() < 0 or F.max() >= len(V)):
+            raise PtailorError("body mesh has faces referring to missing vertices", path=path)
+    if len(F) == 0:
+        raise PtailorError("body mesh has no triangles", path=path)
+    with np.errstate(invalid="ignore"):
+        if not np.all(np.abs(V) <= tol.OBJ_COORD_MAX):
+            raise PtailorError(
+                f"body coordinates must be finite with |x| <= {tol.OBJ_COORD_MAX:g}", path=path
+            )
+    # exactly coincident vertices are one (STL stores each triangle's corners apart)
+    V, inv = np.unique(V, axis=0, return_inverse=True)
+    F = inv.reshape(-1)[F]
+    # closed: no edge used once (push-out tells inside from outside by winding numbers)
+    E = np.sort(np.stack([F, np.roll(F, -1, axis=1)], axis=2).reshape(-1, 2), axis=1)
+    _, count = np.unique(E, axis=0, return_counts=True)
+    open_edges = int((count == 1).sum())
+    if open_edges:
+        raise PtailorError(
+            f"body mesh is not closed ({open_edges} boundary edge(s)): keeping cloth outside "
+            "a body needs a watertight body",
+            path=path,
+        )
+    return trimesh.Trimesh(vertices=V * scale, faces=F, process=False)

@@ -196,7 +196,16 @@ def check_inputs(
         meshes = [_mesh(t, e, p) for p, (t, e) in enumerate(zip(triangles, errors, strict=True))]
         tris = [(V, F) for V, F, _ in meshes]
         bins = [b for _, _, b in meshes]
-    return Pattern(before, after, [str(s) for s in names], tris, bins)
+    return Pattern(before, after, [_short(str(s)) for s in names], tris, bins)
+
+
+def _short(name: str) -> str:
+    """A panel name as drawn: at most ``PREVIEW_NAME_MAX`` characters (an ellipsis ends a
+    shortened one), so that a long name cannot blow up the text layout."""
+    from ptailor import tolerances as tol
+
+    k = tol.PREVIEW_NAME_MAX
+    return name if len(name) <= k else name[: k - 1] + "\u2026"
 
 
 def nice(x: float) -> float:
