@@ -50,6 +50,7 @@ def test_adjust_writes_outputs_and_can_adjust_its_own_output(runner, sleeve, rec
     r = run(runner, "adjust", sleeve, recipe, "-o", out)
     assert r.exit_code == 0, r.output
     assert sorted(p.name for p in out.iterdir()) == [
+        ".ptailor",
         "garment.obj",
         "pattern.dxf",
         "pattern.svg",

@@ -90,7 +90,14 @@ def test_adjust_writes_every_format_by_default(tmp_path):
     r = run("adjust", obj, _recipe(tmp_path, UNIFORM), "-o", tmp_path / "o", "-q")
     assert r.exit_code == 0, r.output
     names = sorted(p.name for p in (tmp_path / "o").iterdir())
-    assert names == ["garment.obj", "pattern.dxf", "pattern.svg", "preview.png", "report.json"]
+    assert names == [
+        ".ptailor",
+        "garment.obj",
+        "pattern.dxf",
+        "pattern.svg",
+        "preview.png",
+        "report.json",
+    ]
     pf = read_dxf(tmp_path / "o" / "pattern.dxf")
     assert sorted(pc.name for pc in pf.pieces) == ["cuff", "sleeve"]
     report = json.loads((tmp_path / "o" / "report.json").read_text())
@@ -102,7 +109,8 @@ def test_formats_option_writes_only_those(tmp_path):
     obj.write_text(sample_obj_text("lantern_sleeve"))
     r = run("adjust", obj, _recipe(tmp_path, IDENTITY), "-o", tmp_path / "o", "--formats", "dxf")
     assert r.exit_code == 0, r.output
-    assert sorted(p.name for p in (tmp_path / "o").iterdir()) == ["pattern.dxf", "report.json"]
+    names = sorted(p.name for p in (tmp_path / "o").iterdir())
+    assert names == [".ptailor", "pattern.dxf", "report.json"]
     r = CliRunner().invoke(
         cli, ["adjust", str(obj), str(tmp_path / "r.yaml"), "-o", str(tmp_path / "o2"),
               "--formats", "obj,pdf"]

@@ -36,3 +36,18 @@ class RecipeError(PtailorError):
         n = len(self.problems)
         head = f"{n} problem{'s' if n != 1 else ''} in recipe"
         super().__init__(head + ": " + "; ".join(self.problems), path=path)
+
+
+class Interrupted(KeyboardInterrupt):
+    """SIGINT or SIGTERM during a command (a ``KeyboardInterrupt``, so that every clean-up
+    that handles Ctrl-C handles SIGTERM too).
+
+    Parameters
+    ----------
+    signum : int
+        The signal; the CLI exits with 128 + it.
+    """
+
+    def __init__(self, signum: int) -> None:
+        self.signum = signum
+        super().__init__(signum)

@@ -1,68 +1,391 @@
-"""Writing an output folder: all or nothing, never over an input."""
+"""Writing an output folder: all or nothing, never over an input, never over user files.
+
+An output folder is written into a hidden staging folder beside it and moved into place
+when complete. Every output folder holds a marker, :data:`MARKER` (JSON: the ptailor
+version and the files written); an existing folder is replaced only when it is empty, or
+holds that marker and nothing else than the files it lists (or is an output of a ptailor
+from before the marker: :func:`legacy_files`). A symbolic link given as the output folder
+is followed: the folder it points to is replaced under the same rules and the link kept;
+a link to nothing is refused. The inputs are never inside what gets replaced.
+"""
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
+import hashlib
 import json
+import logging
+import os
+import re
 import shutil
+import signal
 import tempfile
-from collections.abc import Callable
+import threading
+import warnings
+from collections.abc import Callable, Iterable
 from contextlib import contextmanager
 from pathlib import Path
 
 from ptailor.errors import PtailorError
 
+#: the marker file every output folder gets (hidden; lists the files ptailor wrote there)
+MARKER = ".ptailor"
+#: the files a ptailor from before the marker wrote into an output folder
+LEGACY_NAMES = frozenset(
+    {"report.json", "garment.obj", "pattern.dxf", "pattern.svg", "preview.png", "batch.json"}
+)
+#: staging folders carry at most this many bytes of the output folder's name (a longer
+#: name is cut and a hash of it added, so that ``.NAME.old-.NAME.XXXXXXXX.tmp`` fits 255)
+STAGING_NAME_BYTES = 96
+#: the longest file name most file systems take (bytes)
+NAME_MAX = 255
+_MARKER_MAX_BYTES = 1 << 20
 
-def check_output_dir(out: str | Path, inputs: list[str]) -> Path:
-    """Refuse an output folder that holds an input or unrelated files.
 
-    An existing folder is accepted when it is empty or holds a previous ptailor output
-    (a ``report.json``), which is then replaced whole.
+# --------------------------------------------------------------------------- names
+
+
+def staging_stem(name: str) -> str:
+    """The part of an output folder's name its staging folders carry (``.STEM.*.tmp``)."""
+    raw = os.fsencode(name)
+    if len(raw) <= STAGING_NAME_BYTES:
+        return name
+    cut = raw[: STAGING_NAME_BYTES - 9].decode("utf-8", "ignore")
+    return f"{cut}~{hashlib.sha256(raw).hexdigest()[:8]}"
+
+
+def staging_pattern(name: str) -> re.Pattern:
+    """Matches the staging folders of an output folder named ``name``: group 1 is set for
+    ``.NAME.old-...`` (the previous output, moved aside while being replaced)."""
+    s = re.escape(staging_stem(name))
+    return re.compile(f"^\\.{s}\\.(old-\\.{s}\\.)?[a-z0-9_]{{8}}\\.tmp$")
+
+
+_ANY_STAGING = re.compile(r"(?:^|(?<=/))\.([^/]+?)\.(?:old-\.[^/]+?\.)?[a-z0-9_]{8}\.tmp(?=/|$)")
+
+
+def hide_staging(text: str) -> str:
+    """``text`` with staging folder names replaced by the output folder's (messages)."""
+    return _ANY_STAGING.sub(lambda m: m.group(1), text)
+
+
+def _real(out: Path, shown: str) -> Path:
+    """The folder that is written for ``out``: symbolic links followed (a link to nothing
+    refused), the name's length checked."""
+    if len(os.fsencode(out.name)) > NAME_MAX:
+        raise PtailorError(
+            f"output folder name is too long ({len(os.fsencode(out.name))} bytes; a file "
+            f"name holds at most {NAME_MAX})",
+            path=shown,
+        )
+    real = Path(os.path.realpath(out))
+    if out.is_symlink() and not real.exists():
+        raise PtailorError(
+            f"output folder is a symbolic link to {os.readlink(out)}, which does not exist "
+            "(ptailor does not create a link's target: create it, or give another folder)",
+            path=shown,
+        )
+    if not real.name:  # "/"
+        raise PtailorError("the root folder cannot be an output folder", path=shown)
+    return real
+
+
+def _os_error(exc: OSError, shown: str, what: str = "cannot write the output folder"):
+    reason = exc.strerror or type(exc).__name__
+    return PtailorError(f"{what} ({reason})", path=shown)
+
+
+# --------------------------------------------------------------------------- markers
+
+
+def read_marker(folder: Path) -> list[str] | None:
+    """The files the folder's marker lists, or None when it has none ptailor could have
+    written (missing, not a plain file, not ptailor's JSON)."""
+    p = folder / MARKER
+    try:
+        if not p.is_file() or p.is_symlink() or p.stat().st_size > _MARKER_MAX_BYTES:
+            return None
+        data = json.loads(p.read_text())
+    except (OSError, ValueError):
+        return None
+    if not isinstance(data, dict) or data.get("written_by") != "ptailor":
+        return None
+    files = data.get("files")
+    if not isinstance(files, list):
+        return None
+    if not all(isinstance(f, str) and f and "/" not in f and f not in (".", "..") for f in files):
+        return None
+    return files
+
+
+def marker_text(files: Iterable[str]) -> str:
+    """The marker's JSON for an output folder holding ``files``."""
+    from ptailor import __version__
+
+    data = {"written_by": "ptailor", "version": __version__, "files": sorted(files)}
+    return json.dumps(data, indent=2) + "\n"
+
+
+def legacy_files(folder: Path) -> set[str] | None:
+    """The files of an output written by a ptailor from before the marker, or None.
+
+    Accepted only when ``report.json`` is a ptailor report (its ``outputs``, ``inputs``,
+    ``panels`` and ``solver``) and every file is one of :data:`LEGACY_NAMES` that the
+    report lists (``batch.json`` a ptailor stamp).
+    """
+    rp = folder / "report.json"
+    try:
+        if rp.is_symlink() or not rp.is_file() or rp.stat().st_size > 64 * _MARKER_MAX_BYTES:
+            return None
+        rep = json.loads(rp.read_text())
+    except (OSError, ValueError):
+        return None
+    if not isinstance(rep, dict) or not all(k in rep for k in ("inputs", "panels", "solver")):
+        return None
+    outputs = rep.get("outputs")
+    if not isinstance(outputs, list) or "report.json" not in outputs:
+        return None
+    names = {n for n in outputs if isinstance(n, str) and n in LEGACY_NAMES}
+    with contextlib.suppress(OSError, ValueError):
+        stamp = json.loads((folder / "batch.json").read_text())
+        if isinstance(stamp, dict) and "key" in stamp and "ptailor_version" in stamp:
+            names.add("batch.json")
+    return names
+
+
+def _entries(folder: Path) -> dict[str, bool]:
+    """Name -> is a plain file (not a link, folder, ...)."""
+    with os.scandir(folder) as it:
+        return {e.name: e.is_file(follow_symlinks=False) for e in it}
+
+
+def check_replaceable(folder: Path, shown: str) -> None:
+    """Raise unless ``folder`` (existing) may be replaced whole: empty, or ptailor's only.
+
+    Raises
+    ------
+    PtailorError
+        The folder holds files ptailor did not write (they are named), or cannot be read.
+    """
+    try:
+        entries = _entries(folder)
+    except OSError as exc:
+        raise _os_error(exc, shown, "cannot read the output folder") from None
+    if not entries:
+        return
+    listed = read_marker(folder) if MARKER in entries else None
+    if listed is not None:
+        allowed, how = {*listed, MARKER}, "its .ptailor marker lists"
+    elif MARKER in entries:
+        allowed, how = set(), "ptailor writes"
+    else:
+        legacy = legacy_files(folder)
+        allowed, how = (legacy or set()), "ptailor writes"
+    foreign = sorted(n for n, plain in entries.items() if n not in allowed or not plain)
+    if not foreign:
+        return
+    shown_names = ", ".join(foreign[:3]) + (
+        f" and {len(foreign) - 3} more" if len(foreign) > 3 else ""
+    )
+    if listed is None and MARKER not in entries and legacy_files(folder) is None:
+        raise PtailorError(
+            f"output folder exists and is not an earlier ptailor output (it holds {shown_names});"
+            " choose another folder, or empty it",
+            path=shown,
+        )
+    raise PtailorError(
+        f"output folder holds files other than those {how} ({shown_names}); move them "
+        "or choose another folder",
+        path=shown,
+    )
+
+
+def check_output_dir(out: str | Path, inputs: Iterable[str | Path | None] = ()) -> Path:
+    """Refuse an output folder that holds an input or files ptailor did not write.
+
+    An existing folder is accepted when it is empty or an earlier ptailor output
+    (:func:`check_replaceable`); a symbolic link is followed (one to nothing refused).
+    ``inputs`` that are no files (``-``, ``<stdin>``, None) are ignored.
 
     Raises
     ------
     PtailorError
     """
+    shown = str(out)
     out = Path(out)
-    if out.exists() and not out.is_dir():
-        raise PtailorError("output exists and is not a folder", path=str(out))
-    res = out.resolve()
-    for p in inputs:
-        rp = Path(p).resolve()
-        if res == rp or res in rp.parents:
-            raise PtailorError(f"output folder would hold the input {p}", path=str(out))
-    if out.is_dir() and any(out.iterdir()) and not (out / "report.json").is_file():
-        raise PtailorError(
-            "output folder exists, is not empty and holds no earlier ptailor output", path=str(out)
-        )
+    try:
+        real = _real(out, shown)
+        if real.exists() and not real.is_dir():
+            raise PtailorError("output exists and is not a folder", path=shown)
+        for p in inputs:
+            if p is None or str(p) in ("", "-") or not os.path.lexists(p):
+                continue
+            rp = Path(os.path.realpath(p))
+            if rp == real or real in rp.parents:
+                raise PtailorError(
+                    f"output folder holds the input {p}, which replacing it would delete; "
+                    "choose another output folder",
+                    path=shown,
+                )
+        if real.is_dir():
+            check_replaceable(real, shown)
+    except OSError as exc:
+        raise _os_error(exc, shown, "cannot use the output folder") from None
     return out
+
+
+# --------------------------------------------------------------------------- staging
+
+
+@contextmanager
+def deferred_signals():
+    """Hold SIGINT and SIGTERM back (main thread only) while a folder is swapped: they are
+    delivered, once, when the block ends."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    got: list[int] = []
+    old = {}
+    for s in (signal.SIGINT, signal.SIGTERM):
+        with contextlib.suppress(ValueError, OSError):
+            old[s] = signal.signal(s, lambda n, f: got.append(n))
+    try:
+        yield
+    finally:
+        for s, h in old.items():
+            signal.signal(s, h)
+        if got:
+            signal.raise_signal(got[0])
+
+
+def _default_mode() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o777 & ~mask
+
+
+def _commit(tmp: Path, real: Path, shown: str) -> None:
+    names = [p.name for p in tmp.iterdir()]
+    (tmp / MARKER).write_text(marker_text(names))
+    with deferred_signals():
+        if real.exists():
+            check_replaceable(real, shown)  # again: the folder may have changed meanwhile
+            tmp.chmod(real.stat().st_mode & 0o7777)
+            old = real.with_name(f".{staging_stem(real.name)}.old-{tmp.name}")
+            real.rename(old)
+            try:
+                tmp.rename(real)
+            except BaseException:
+                old.rename(real)
+                raise
+            shutil.rmtree(old, ignore_errors=True)
+        else:
+            tmp.chmod(_default_mode())
+            tmp.rename(real)
 
 
 @contextmanager
 def staged_dir(out: str | Path):
     """Yield a temporary folder beside ``out``; on success it replaces ``out`` atomically.
 
-    On any exception the temporary folder is removed and ``out`` is left as it was.
+    On any exception (``KeyboardInterrupt`` and the SIGTERM the CLI turns into one too)
+    the temporary folder is removed and ``out`` is left as it was; an ``OSError`` becomes
+    a :class:`PtailorError` naming ``out`` (never the staging folder). A symbolic link
+    ``out`` is followed (:func:`check_output_dir`); the marker is written last.
     """
+    shown = str(out)
     out = Path(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
+    real = _real(out, shown)
+    try:
+        real.parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(
+            tempfile.mkdtemp(prefix=f".{staging_stem(real.name)}.", suffix=".tmp", dir=real.parent)
+        )
+    except OSError as exc:
+        raise _os_error(exc, shown, "cannot create the output folder") from None
     try:
         yield tmp
-        old = None
-        if out.exists():
-            old = out.with_name(f".{out.name}.old-{tmp.name}")
-            out.rename(old)
-        tmp.rename(out)
-        if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
+        _commit(tmp, real, shown)
+    except BaseException as exc:
+        with deferred_signals():
+            shutil.rmtree(tmp, ignore_errors=True)
+        if isinstance(exc, OSError):
+            raise _os_error(exc, shown) from None
+        if isinstance(exc, PtailorError) and str(tmp) in str(exc):
+            raise PtailorError(str(exc).replace(str(tmp), shown)) from None
         raise
 
 
 def write_json(path: Path, data: dict) -> None:
-    """Write JSON with sorted-insertion order and a trailing newline."""
+    """Write JSON with sorted-insertion order and a trailing newline.
+
+    A ``report.json`` written while :func:`capture_library_warnings` is active gets the
+    library warnings captured so far added to its ``warnings``.
+    """
+    if path.name == "report.json" and isinstance(data.get("warnings"), list):
+        seen = _CAPTURED.get()
+        if seen:
+            data["warnings"].extend(w for w in seen if w not in data["warnings"])
     path.write_text(json.dumps(data, indent=2) + "\n")
 
 
 Writer = Callable[[Path], None]
+
+
+# --------------------------------------------------------------------------- library noise
+
+_CAPTURED: contextvars.ContextVar[list[str] | None] = contextvars.ContextVar(
+    "ptailor_library_warnings", default=None
+)
+#: at most this many distinct library warnings are kept for a run
+LIBRARY_WARNINGS_MAX = 20
+#: warnings meant for developers, not for the report (dropped)
+_DEVELOPER_WARNINGS = (
+    DeprecationWarning,
+    PendingDeprecationWarning,
+    FutureWarning,
+    ImportWarning,
+    ResourceWarning,
+)
+
+
+class _Collect(logging.Handler):
+    def __init__(self, sink: list[str]) -> None:
+        super().__init__(logging.WARNING)
+        self.sink = sink
+
+    def emit(self, record: logging.LogRecord) -> None:
+        with contextlib.suppress(Exception):
+            _add(self.sink, f"{record.name}: {record.getMessage()}")
+
+
+def _add(sink: list[str], text: str) -> None:
+    line = "library warning: " + hide_staging(" ".join(str(text).split()))[:300]
+    if line not in sink and len(sink) < LIBRARY_WARNINGS_MAX:
+        sink.append(line)
+
+
+@contextmanager
+def capture_library_warnings():
+    """Capture Python warnings (numpy ``RuntimeWarning``...) and logging records of
+    WARNING and above (ezdxf...) instead of printing them; yields the list of one-line
+    texts, which a ``report.json`` written meanwhile also gets (:func:`write_json`)."""
+    sink: list[str] = []
+    token = _CAPTURED.set(sink)
+    root = logging.getLogger()
+    handler = _Collect(sink)
+    saved = root.handlers[:]
+    root.handlers = [handler]
+    try:
+        with warnings.catch_warnings():  # (restores showwarning and the filters)
+
+            def show(message, category, *args, **kwargs) -> None:
+                if not issubclass(category, _DEVELOPER_WARNINGS):
+                    _add(sink, f"{category.__name__}: {message}")
+
+            warnings.showwarning = show
+            yield sink
+    finally:
+        root.handlers = saved
+        _CAPTURED.reset(token)

@@ -71,9 +71,12 @@ def adjust(
 
     from ptailor.cli.options import parse_output_options, parse_weld_option
     from ptailor.job import run_adjust
+    from ptailor.output import check_output_dir
     from ptailor.recipe import load_recipe
     from ptailor.report.build import summary_lines
 
+    # every input (the recipe too) is checked against the output folder before any is read
+    check_output_dir(out, [garment, recipe, drape, body])
     rec = load_recipe(recipe)
     fmts, allowance = parse_output_options(formats, seam_allowance, units=rec.units)
     parse_weld_option(weld, units=rec.units)

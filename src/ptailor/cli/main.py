@@ -1,4 +1,13 @@
-"""``ptailor``: the command group. Library errors map to exit status 2, here and only here."""
+"""``ptailor``: the command group. Library errors map to exit codes here and only here.
+
+- :class:`~ptailor.errors.PtailorError` and ``OSError`` (a file that cannot be read or
+  written: permissions, a name too long, a full disk) exit 2 with one line on stderr,
+  naming the file (never a hidden staging folder);
+- SIGINT and SIGTERM raise :class:`~ptailor.errors.Interrupted` (a ``KeyboardInterrupt``:
+  staging folders are removed on the way out) and exit 128 + the signal;
+- Python warnings and logging records from libraries (numpy, ezdxf) are captured for the
+  run (``adjust`` puts them into the report's warnings) instead of being printed.
+"""
 
 from __future__ import annotations
 
@@ -12,15 +21,56 @@ from ptailor.cli.inspect import inspect
 from ptailor.cli.validate import validate
 
 
+def one_line(text: str) -> str:
+    """A message on one line, staging folder names replaced by their output folder's."""
+    from ptailor.output import hide_staging
+
+    return hide_staging(" ".join(str(text).split()))
+
+
+def os_error_message(exc: OSError) -> str:
+    """``FILE: problem`` for an ``OSError``."""
+    reason = exc.strerror or str(exc) or type(exc).__name__
+    name = exc.filename if exc.filename is not None else exc.filename2
+    return f"{name}: {reason}" if name is not None else reason
+
+
+def _on_signal(signum, frame) -> None:
+    from ptailor.errors import Interrupted
+
+    raise Interrupted(signum)
+
+
 class _Group(click.Group):
     def invoke(self, ctx: click.Context):
-        from ptailor.errors import PtailorError
+        import contextlib
+        import signal
 
+        from ptailor.errors import Interrupted, PtailorError
+        from ptailor.output import capture_library_warnings
+
+        saved = {}
+        for s in (signal.SIGINT, signal.SIGTERM):
+            with contextlib.suppress(ValueError, OSError):  # (only the main thread can)
+                saved[s] = signal.signal(s, _on_signal)
         try:
-            return super().invoke(ctx)
+            with capture_library_warnings():
+                return super().invoke(ctx)
         except PtailorError as exc:
-            click.echo(f"ptailor: error: {exc}", err=True)
+            click.echo(f"ptailor: error: {one_line(exc)}", err=True)
             ctx.exit(2)
+        except OSError as exc:
+            click.echo(f"ptailor: error: {one_line(os_error_message(exc))}", err=True)
+            ctx.exit(2)
+        except KeyboardInterrupt as exc:
+            signum = exc.signum if isinstance(exc, Interrupted) else signal.SIGINT
+            name = signal.Signals(signum).name
+            click.echo(f"ptailor: interrupted ({name}): no output folder written", err=True)
+            ctx.exit(128 + signum)
+        finally:
+            for s, h in saved.items():
+                with contextlib.suppress(ValueError, OSError, TypeError):
+                    signal.signal(s, h)
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
