@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import time
+import warnings as _warnings
+from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -10,6 +12,7 @@ import numpy as np
 from ptailor import tolerances as tol
 from ptailor.edits import OPERATIONS, EditOptions, EditState
 from ptailor.edits.mirror import apply_mirrored
+from ptailor.errors import PtailorError
 from ptailor.method.flatten import FlattenResult, flatten, panel_labels, vertex_labels
 from ptailor.model.garment import Garment, panels, with_panel_names
 from ptailor.model.seams import seams
@@ -37,6 +40,8 @@ class Adjustment:
         The input garment, before any step (surgery changes ``state.base``'s triangles).
     axes : tuple of two 3-tuples
         The run's ``(up, front)`` axes (for names from geometry).
+    notes : tuple of str
+        Library warnings (numpy, scipy) caught during the run, for the report.
     """
 
     state: EditState
@@ -46,6 +51,7 @@ class Adjustment:
     timing_s: dict = field(default_factory=dict)
     original: Garment | None = None
     axes: tuple = ((0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+    notes: tuple[str, ...] = ()
 
     def original_panels(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         """Panel name to ``(faces, vertices)`` in the input garment."""
@@ -106,12 +112,129 @@ def apply_steps(garment: Garment, recipe: Recipe, *, options: EditOptions) -> Ed
                 },
             ),
         )
-    for step in recipe.steps:
-        if step.get("symmetric") and plane is not None:
-            state = apply_mirrored(state, step, options=options, plane=plane)
-        else:
-            state = OPERATIONS[step["op"]].apply(state, step, options=options)
+    for i, step in enumerate(recipe.steps, start=1):
+        where = f"steps[{i}] ({step['op']})"
+        try:
+            with numeric_failures(where):
+                if step.get("symmetric") and plane is not None:
+                    state = apply_mirrored(state, step, options=options, plane=plane)
+                else:
+                    state = OPERATIONS[step["op"]].apply(state, step, options=options)
+        except PtailorError as exc:
+            if exc.path is not None or str(exc).startswith("steps["):
+                raise
+            raise PtailorError(f"{where}: {exc}") from None
+        check_drape(state, where)
     return state
+
+
+#: Messages of numpy/scipy exceptions that are numeric failures, not programming errors.
+_NUMERIC_VALUE_ERRORS = (
+    "Maximum allowed size exceeded",
+    "array must not contain infs or NaNs",
+    "array is too big",
+    "cannot convert float NaN",
+    "cannot convert float infinity",
+)
+
+
+@contextmanager
+def numeric_failures(where: str):
+    """Turn a numeric failure of a solver (singular factor, overflow) into a PtailorError.
+
+    SuperLU's ``RuntimeError`` ("Factor is exactly singular"), ``LinAlgError``,
+    ``FloatingPointError``, ``OverflowError``, ``MemoryError`` and numpy's size and
+    non-finite ``ValueError``s become one line naming ``where``.
+    """
+    try:
+        yield
+    except PtailorError:
+        raise
+    except (RuntimeError, np.linalg.LinAlgError, FloatingPointError, OverflowError) as exc:
+        raise PtailorError(
+            f"{where}: numeric failure ({type(exc).__name__}: {exc}); the edit or the "
+            "flatten settings leave a degenerate problem"
+        ) from None
+    except MemoryError:
+        raise PtailorError(f"{where}: out of memory (the edit is too large)") from None
+    except ValueError as exc:
+        if any(m in str(exc) for m in _NUMERIC_VALUE_ERRORS):
+            raise PtailorError(
+                f"{where}: numeric failure ({exc}); the edit is too large or degenerate"
+            ) from None
+        raise
+
+
+def triangle_areas(V: np.ndarray, F: np.ndarray) -> np.ndarray:
+    """Areas of 3D triangles, ``(m,)``, computed without overflow for finite input."""
+    a = V[F[:, 1]] - V[F[:, 0]]
+    b = V[F[:, 2]] - V[F[:, 0]]
+    s = np.maximum(np.abs(a).max(axis=1), np.abs(b).max(axis=1))
+    s = np.where(s > 0, s, 1.0)
+    return 0.5 * np.linalg.norm(np.cross(a / s[:, None], b / s[:, None]), axis=1) * s * s
+
+
+def check_drape(state: EditState, where: str) -> None:
+    """Refuse a step that leaves the drape non-finite or collapses its triangles.
+
+    A triangle whose area falls below ``tol.EDIT_COLLAPSE_REL`` of its area on the
+    original drape (``state.base.V3``) is collapsed: the stitching would be singular.
+    """
+    g = state.base
+    V = state.V3
+    used = np.unique(g.F3)
+    if not np.all(np.isfinite(V[used])):
+        raise PtailorError(f"{where}: the edited drape has non-finite coordinates")
+    if not len(g.F3):
+        return
+    with np.errstate(all="ignore"):
+        a0 = triangle_areas(g.V3, g.F3)
+        a1 = triangle_areas(V, g.F3)
+        bad = (a0 > 0) & ~(a1 >= tol.EDIT_COLLAPSE_REL * a0)
+    if np.any(bad):
+        flab = panel_labels(state.panels, g.n_faces)
+        names = sorted({state.panels[i].name for i in flab[bad] if i >= 0})
+        worst = float(np.min(a1[bad] / a0[bad])) if np.any(bad) else 0.0
+        raise PtailorError(
+            f"{where}: collapses {int(bad.sum())} drape triangle(s) of panel(s) "
+            f"{', '.join(names[:5]) or '?'} (area down to {worst:.3g} of the original, below "
+            f"{tol.EDIT_COLLAPSE_REL:g}): the pattern cannot follow"
+        )
+
+
+def check_flatten_settings(settings: dict) -> None:
+    """Refuse flatten weights outside ``tol.FLATTEN_WEIGHT_RANGE`` (the matrix overflows)."""
+    lo, hi = tol.FLATTEN_WEIGHT_RANGE
+    for k in ("w_pin", "w_asap"):
+        w = float(settings[k])
+        if not lo <= w <= hi:
+            raise PtailorError(
+                f"flatten.{k}: must lie in [{lo:g}, {hi:g}] (relative to the shape term), got {w:g}"
+            )
+
+
+@contextmanager
+def caught_warnings(notes: list[str]):
+    """Silence numpy's floating-point warnings and collect library warnings into ``notes``."""
+    with np.errstate(all="ignore"), _warnings.catch_warnings(record=True) as caught:
+        _warnings.simplefilter("always")
+        try:
+            yield
+        finally:
+            seen: dict[str, int] = {}
+            for w in caught:
+                if not (
+                    issubclass(w.category, RuntimeWarning)
+                    or w.category.__module__.split(".")[0] in ("numpy", "scipy")
+                ):
+                    _warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+                    continue
+                key = f"{w.category.__name__}: {str(w.message).splitlines()[0][:160]}"
+                seen[key] = seen.get(key, 0) + 1
+            notes.extend(
+                f"library warning during the method ({k})" + (f" x{c}" if c > 1 else "")
+                for k, c in seen.items()
+            )
 
 
 def asap_mask(state: EditState, boundary: str) -> np.ndarray:
@@ -171,6 +294,21 @@ def adjust(
         settings["intrinsic"] = intrinsic
     if settings["method"] == "uniform":
         settings["seams"] = "free"  # the paper's baseline: the drape alone decides
+    check_flatten_settings(settings)
+    notes: list[str] = []
+    with caught_warnings(notes):
+        adj = _adjust(garment, recipe, settings, baseline, options)
+    return replace(adj, notes=tuple(notes))
+
+
+def _adjust(
+    garment: Garment,
+    recipe: Recipe,
+    settings: dict,
+    baseline: bool,
+    options: EditOptions | None,
+) -> Adjustment:
+    """:func:`adjust` once its settings are resolved."""
     t0 = time.perf_counter()
     options = options or EditOptions()
     # panel names (from the file, else from the drape in the run's axes) fixed once
@@ -187,23 +325,25 @@ def adjust(
         "max_iter": int(settings["max_iter"]),
         "panel_list": state.panels,
     }
-    result = flatten(
-        state.base,
-        state.V3,
-        method=settings["method"],
-        intrinsic=settings["intrinsic"],
-        seams=seam_mode(settings["seams"]),
-        seam_factors=seam_factors(state),
-        **kw,
-    )
+    with numeric_failures("flatten"):
+        result = flatten(
+            state.base,
+            state.V3,
+            method=settings["method"],
+            intrinsic=settings["intrinsic"],
+            seams=seam_mode(settings["seams"]),
+            seam_factors=seam_factors(state),
+            **kw,
+        )
     t2 = time.perf_counter()
     base = None
     if baseline:
-        base = (
-            result
-            if settings["method"] == "uniform"
-            else flatten(state.base, state.V3, method="uniform", seams="free", **kw)
-        )
+        with numeric_failures("flatten (the uniform baseline)"):
+            base = (
+                result
+                if settings["method"] == "uniform"
+                else flatten(state.base, state.V3, method="uniform", seams="free", **kw)
+            )
     t3 = time.perf_counter()
     timing = {"edit": t1 - t0, "flatten": t2 - t1, "baseline": t3 - t2}
     return Adjustment(
@@ -242,6 +382,7 @@ def solver_warnings(adj: Adjustment) -> list[str]:
             f"seam ease met only to {100 * info.seam_violation:.2g} % (relative length"
             " mismatch of the worst seam edge)"
         )
+    out.extend(adj.notes)
     return out
 
 

@@ -8,7 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ptailor.adjust import Adjustment, adjust, solver_warnings
+from ptailor import tolerances as tol
+from ptailor.adjust import Adjustment, adjust, check_flatten_settings, solver_warnings
 from ptailor.edits import EditOptions
 from ptailor.errors import PtailorError
 from ptailor.formats.garment import LoadedGarment, load_garment
@@ -239,6 +240,79 @@ def load_body(path: str, *, units: str, to: str):
     return trimesh.Trimesh(vertices=mesh.vertices * scale, faces=mesh.faces, process=False)
 
 
+def check_seam_allowance(garment, allowance: float) -> None:
+    """Refuse a seam allowance above ``tol.SEAM_ALLOWANCE_MAX_REL`` of the largest piece."""
+    from ptailor.model.garment import panels
+
+    diag = 0.0
+    for p in panels(garment):  # a loop over panels
+        P = garment.V2[p.vertices]
+        diag = max(diag, float(np.linalg.norm(P.max(axis=0) - P.min(axis=0))))
+    if not allowance <= tol.SEAM_ALLOWANCE_MAX_REL * diag:
+        raise PtailorError(
+            f"--seam-allowance {allowance:g} {garment.units} is larger than "
+            f"{tol.SEAM_ALLOWANCE_MAX_REL:g} of the largest piece's diagonal "
+            f"({diag:.4g} {garment.units})"
+        )
+
+
+def check_finite_result(adj: Adjustment, errors: np.ndarray, *, path: str) -> None:
+    """The final guard: refuse to write a drape, pattern or errors that are not finite.
+
+    Raises
+    ------
+    PtailorError
+        Naming the array and the solver step that produced it.
+    """
+    g = adj.garment
+    used3 = np.unique(g.F3)
+    used2 = np.unique(g.F2)
+    checks = [
+        ("the edited drape (the recipe's steps)", g.V3[used3]),
+        ("the adjusted pattern (the flatten solver)", g.V2[used2]),
+        ("the intrinsic-scale errors (the flatten solver)", errors),
+    ]
+    if adj.baseline is not None:
+        checks.append(("the uniform baseline (flatten)", adj.baseline.V2[used2]))
+    for what, arr in checks:  # a handful of arrays
+        if not np.all(np.isfinite(arr)):
+            raise PtailorError(
+                f"{what} has non-finite values: a numeric failure; nothing written", path=path
+            )
+
+
+def intrinsic_error_warnings(adj: Adjustment, errors: np.ndarray) -> list[str]:
+    """A warning naming the panels whose intrinsic-scale error p95 exceeds the bound."""
+    bad = []
+    for p in adj.state.panels:  # a loop over panels
+        e = errors[p.faces]
+        if len(e) and np.percentile(e, 95) > tol.INTRINSIC_ERROR_WARN:
+            bad.append(f"{p.name} ({np.percentile(e, 95):.3g})")
+    if not bad:
+        return []
+    return [
+        f"intrinsic-scale error p95 above {tol.INTRINSIC_ERROR_WARN:g} on panel(s) "
+        f"{', '.join(bad[:5])}{' and more' if len(bad) > 5 else ''}: the edit distorts the "
+        "pattern far beyond what it can absorb; check the recipe"
+    ]
+
+
+def non_finite_numbers(obj, where: str = "report") -> list[str]:
+    """Paths of the NaN or infinite numbers in a JSON-like object (report guard)."""
+    out: list[str] = []
+    if isinstance(obj, dict):
+        for k, v in obj.items():
+            out += non_finite_numbers(v, f"{where}.{k}")
+    elif isinstance(obj, (list, tuple)):
+        for i, v in enumerate(obj):
+            out += non_finite_numbers(v, f"{where}[{i}]")
+    elif isinstance(obj, (float, np.floating, np.ndarray)):
+        arr = np.asarray(obj)
+        if arr.dtype.kind == "f" and not np.all(np.isfinite(arr)):
+            out.append(where)
+    return out
+
+
 def run_adjust(
     garment_path: str,
     recipe: Recipe | str,
@@ -319,8 +393,13 @@ def run_adjust(
         raise PtailorError(
             f"unknown output format(s) {', '.join(unknown)} (known: {', '.join(FORMATS)})"
         )
+    try:
+        check_flatten_settings({**recipe.flatten})
+    except PtailorError as exc:
+        raise PtailorError(exc.message, path=recipe.source) from None
     inputs = [garment_path] + ([drape] if drape else []) + ([body] if body else [])
     check_output_dir(out, inputs)
+    shown_garment = (display_inputs or {}).get("garment", garment_path)
     options = EditOptions(
         up=axis_vector(up or recipe.up or "y"),
         front=axis_vector(front or recipe.front or "z"),
@@ -348,15 +427,23 @@ def run_adjust(
         if "dxf" in formats or loaded.pattern is not None
         else None
     )
+    if seam_allowance:
+        check_seam_allowance(loaded.garment, seam_allowance)
     t1 = time.perf_counter()
-    adj = adjust(
-        loaded.garment,
-        recipe,
-        method=method,
-        intrinsic=intrinsic,
-        baseline=baseline,
-        options=options,
-    )
+    try:
+        adj = adjust(
+            loaded.garment,
+            recipe,
+            method=method,
+            intrinsic=intrinsic,
+            baseline=baseline,
+            options=options,
+        )
+    except PtailorError as exc:
+        if exc.path is not None:
+            raise
+        # the garment decides (an opening it lacks, an edit it cannot take): name it
+        raise PtailorError(exc.message, path=shown_garment) from None
     warnings: list[str] = [*loaded.intake.get("warnings", []), *solver_warnings(adj)]
     units_note = {
         "computation": loaded.garment.units,
@@ -373,7 +460,10 @@ def run_adjust(
             f"{loaded.garment.units} per pattern unit"
         )
     t2 = time.perf_counter()
-    errors = triangle_errors(adj)
+    with np.errstate(all="ignore"):
+        errors = triangle_errors(adj)
+    check_finite_result(adj, errors, path=shown_garment)
+    warnings += intrinsic_error_warnings(adj, errors)
     carried: list = []
     if plan is not None:  # every adjusted panel gets a piece (a split panel one per part)
         plan, carried = carry_plan(adj, plan, up=options.up)
@@ -429,6 +519,13 @@ def run_adjust(
         for role, path in shown.items():
             report["inputs"][role]["path"] = path
         report["outputs"] = sorted(["report.json", *written])
+        bad = non_finite_numbers(report)
+        if bad:
+            raise PtailorError(
+                f"the report would hold non-finite numbers (at {', '.join(bad[:3])}): "
+                "a numeric failure in the method; nothing written",
+                path=shown_garment,
+            )
         if check is not None:
             check(report)
         write_json(tmp / "report.json", report)

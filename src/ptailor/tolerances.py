@@ -121,9 +121,11 @@ PREVIEW_NAME_MAX = 60
 #: A step may not leave any drape triangle with an area below this fraction of its area
 #: before the step (a collapsing scale, a subnormal factor): the step is refused.
 EDIT_COLLAPSE_REL = 1e-9
-#: An edit may create at most this many times the input's triangles ...
+#: An edit may create at most this many times the garment's triangles (or the floor
+#: below, for small garments) ...
 EDIT_NEW_TRIANGLES_FACTOR = 4.0
-#: ... and never more than this many in all (checked before anything is allocated).
+EDIT_NEW_TRIANGLES_FLOOR = 100_000
+#: ... and never more than this many (checked before anything is allocated).
 EDIT_MAX_TRIANGLES = 2_000_000
 #: A ``shorten`` / ``extend`` ``by`` below this fraction of the opening's mean edge length
 #: changes nothing measurable: the step is refused as too small.

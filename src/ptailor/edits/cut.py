@@ -105,7 +105,9 @@ def view_frame(view: Any, *, up: tuple, front: tuple) -> np.ndarray:
     if isinstance(view, str):
         d, img_up = dirs[view]
     else:
-        d = np.asarray(view, float) / np.linalg.norm(view)
+        from ptailor.edits.region import unit_vector
+
+        d = unit_vector(view, "view")
         img_up = u - d * (u @ d)
         if np.linalg.norm(img_up) < 1e-9:
             img_up = f - d * (f @ d)
@@ -155,6 +157,29 @@ def polyline_side(P: np.ndarray, Q: np.ndarray) -> np.ndarray:
     return np.where(side >= 0, 1.0, -1.0) * dist[r, j]
 
 
+def segments_meet_box(Q: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> bool:
+    """Whether any segment of a 2D polyline meets an axis-aligned box (Liang-Barsky).
+
+    Parameters
+    ----------
+    Q : (k, 2) float array
+    lo, hi : (2,) float arrays
+    """
+    A, D = Q[:-1], Q[1:] - Q[:-1]
+    t0 = np.zeros(len(A))
+    t1 = np.ones(len(A))
+    ok = np.ones(len(A), dtype=bool)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        for c in range(2):  # the two coordinates
+            flat = D[:, c] == 0
+            ok &= ~(flat & ((A[:, c] < lo[c]) | (A[:, c] > hi[c])))
+            ta = (lo[c] - A[:, c]) / D[:, c]
+            tb = (hi[c] - A[:, c]) / D[:, c]
+            t0 = np.where(flat, t0, np.maximum(t0, np.minimum(ta, tb)))
+            t1 = np.where(flat, t1, np.minimum(t1, np.maximum(ta, tb)))
+    return bool(np.any(ok & (t0 <= t1)))
+
+
 def sketch_field(V: np.ndarray, step: dict, *, options: EditOptions) -> np.ndarray:
     """Field whose negative side is what a sketch cut removes."""
     frame = view_frame(step["view"], up=options.up, front=options.front)
@@ -202,10 +227,12 @@ def cut(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     V = state.V3
     if step.get("plane") is not None:
         p = np.asarray(step["plane"]["point"], float)
-        nrm = np.asarray(step["plane"]["normal"], float)
+        from ptailor.edits.region import unit_vector
+
+        nrm = unit_vector(step["plane"]["normal"], "plane normal")
 
         def field(X: np.ndarray) -> np.ndarray:
-            return -(X - p) @ (nrm / np.linalg.norm(nrm))
+            return -(X - p) @ nrm
 
         what = "plane"
     else:
@@ -214,6 +241,18 @@ def cut(state: EditState, step: dict, *, options: EditOptions) -> EditState:
             return sketch_field(X, step, options=options)
 
         what = "sketch"
+        used = np.unique(state.base.F3)
+        frame = view_frame(step["view"], up=options.up, front=options.front)
+        X2 = V[used] @ frame[:2].T
+        lo, hi = X2.min(axis=0), X2.max(axis=0)
+        pad = 1e-9 * max(float(np.max(hi - lo)), 1e-300)
+        if not segments_meet_box(np.asarray(step["sketch"], float), lo - pad, hi + pad):
+            raise PtailorError(
+                "the cut's sketch misses the garment: it does not overlap the garment in its "
+                f"view (the garment spans "
+                f"{lo[0]:.4g}..{hi[0]:.4g} across and {lo[1]:.4g}..{hi[1]:.4g} up): "
+                "nothing to cut"
+            )
     phi = field(V)
     if step["symmetric"]:
         # remove what the cut removes and what its mirror image removes

@@ -14,6 +14,7 @@ import numpy as np
 
 from ptailor.edits import EditOptions, EditState, Param, register
 from ptailor.edits.checks import number
+from ptailor.edits.limits import check_by, check_new_triangles
 from ptailor.edits.opening import find_opening, opening_spec
 from ptailor.edits.shorten import MEASURE_PARAM, pattern_amounts, spread_stats
 from ptailor.edits.surgery import PatternDistance, edge_distance
@@ -947,7 +948,10 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         mean_edge = float(np.linalg.norm(V2[Fo2] - V2[np.roll(Fo2, -1, axis=1)], axis=2).mean())
     else:
         mean_edge = float(np.linalg.norm(Ve[Fo] - Ve[np.roll(Fo, -1, axis=1)], axis=2).mean())
-    rows = max(1, int(np.rint(by / mean_edge)))
+    check_by(by, mean_edge, what=f"extend {name}")
+    rows_f = max(1.0, float(np.rint(by / mean_edge)))
+    check_new_triangles(2.0 * rows_f * k, m, what=f"extend {name} by {by:g}")
+    rows = int(rows_f)
     make = _pattern_rows if measure == "pattern" else _drape_rows
     built = make(state, oe, geo, name=name, by=by, rows=rows)
     new_e, new_b, new_2 = built.new_e, built.new_b, built.new_2

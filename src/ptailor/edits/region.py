@@ -10,6 +10,25 @@ from ptailor.errors import PtailorError
 from ptailor.model.garment import Garment, Panel
 
 
+def unit_vector(v: Any, what: str = "axis") -> np.ndarray:
+    """A 3-vector scaled to unit length without overflow or underflow.
+
+    Dividing by the largest absolute component first keeps ``[1e308, 1e308, 1e308]``
+    (whose norm overflows) and ``[5e-324, 0, 0]`` (whose norm underflows) what they mean.
+
+    Raises
+    ------
+    PtailorError
+        A vector with a non-finite or no non-zero component.
+    """
+    a = np.asarray(v, dtype=float).reshape(-1)
+    big = float(np.max(np.abs(a))) if a.size else 0.0
+    if not np.all(np.isfinite(a)) or big == 0.0:
+        raise PtailorError(f"{what} {list(np.asarray(v).tolist())} has no direction")
+    a = a / big
+    return a / np.linalg.norm(a)
+
+
 def region_faces(region: Any, garment: Garment, V3: np.ndarray, plist: list[Panel]) -> np.ndarray:
     """Triangles a recipe region selects.
 

@@ -8,7 +8,7 @@ import numpy as np
 
 from ptailor.edits import EditOptions, EditState, Param, register
 from ptailor.edits.checks import axis, choice, number, region
-from ptailor.edits.region import region_axis, region_centroid, region_faces
+from ptailor.edits.region import region_axis, region_centroid, region_faces, unit_vector
 
 
 def scale_matrix(direction: str, ax: np.ndarray, factor: float) -> np.ndarray:
@@ -55,8 +55,7 @@ def scale(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     if step["axis"] == "auto":
         ax = region_axis(V3, g.F3, faces, body=options.body)
     else:
-        ax = np.asarray(step["axis"], dtype=float)
-        ax = ax / np.linalg.norm(ax)
+        ax = unit_vector(step["axis"], "axis")
     c = region_centroid(V3, g.F3, faces)
     A = scale_matrix(step["direction"], ax, float(step["factor"]))
     handles = np.unique(g.F3[faces])

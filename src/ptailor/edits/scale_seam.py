@@ -112,7 +112,9 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
         ax = body_axis(P, np.asarray(options.body.vertices, dtype=float))
     else:
         ax = np.linalg.eigh((P - c).T @ (P - c))[1][:, 0]  # the seam plane's normal
-    ax = ax / np.linalg.norm(ax)
+    from ptailor.edits.region import unit_vector
+
+    ax = unit_vector(ax, "the seam's axis")
     f = float(step["factor"])
     by_name = {p.name: p for p in state.panels}
     part_v = np.unique(g.F3[by_name[part].faces])

@@ -14,6 +14,7 @@ import numpy as np
 
 from ptailor.edits import EditOptions, EditState, Param, register
 from ptailor.edits.checks import choice, number
+from ptailor.edits.limits import check_by
 from ptailor.edits.opening import find_opening, opening_spec
 from ptailor.edits.surgery import (
     PatternDistance,
@@ -179,6 +180,14 @@ def shorten(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     measure = step.get("measure") or "drape"
     g = state.base
     used = np.unique(g.F3)
+    lv = state.V3 if measure != "pattern" else None
+    if lv is not None:
+        ring = lv[loop]
+        edge = float(np.linalg.norm(ring - np.roll(ring, -1, axis=0), axis=1).mean())
+    else:
+        Fp = g.F2
+        edge = float(np.linalg.norm(g.V2[Fp] - g.V2[np.roll(Fp, -1, axis=1)], axis=2).mean())
+    check_by(by, edge, what=f"shorten {name}")
     d = None
     if measure == "pattern":
         field, d3, flab = _pattern_field(state, loop, by)

@@ -58,12 +58,17 @@ class Anderson:
         dF = np.diff(F, axis=1)
         dG = np.diff(G, axis=1)
         # least squares min |f_k - dF gamma|, scaled columns and a tiny ridge for stability
-        s = np.maximum(np.linalg.norm(dF, axis=0), 1e-300)
-        A = dF / s
-        H = A.T @ A
-        H[np.diag_indices_from(H)] += 1e-10
-        gamma = np.linalg.solve(H, A.T @ F[:, -1]) / s
-        if not np.all(np.isfinite(gamma)):
-            self.reset()
+        with np.errstate(all="ignore"):
+            s = np.maximum(np.linalg.norm(dF, axis=0), 1e-300)
+            A = dF / s
+            H = A.T @ A
+            H[np.diag_indices_from(H)] += 1e-10
+            try:
+                gamma = np.linalg.solve(H, A.T @ F[:, -1]) / s
+            except (np.linalg.LinAlgError, ValueError):
+                gamma = np.full(len(s), np.nan)
+            out = gx - dG @ gamma if np.all(np.isfinite(gamma)) else gx
+        if out is gx or not np.all(np.isfinite(out)):
+            self.reset()  # a non-finite mix: fall back to the plain step
             return gx
-        return gx - dG @ gamma
+        return out

@@ -100,6 +100,36 @@ def panel_strain(
     return out
 
 
+def check_targets(targets: np.ndarray, E2: np.ndarray, plist: list[Panel], m: int) -> None:
+    """Refuse non-finite or collapsed target triangles before anything is factored.
+
+    A target whose area is below ``tol.EDIT_COLLAPSE_REL`` of its pattern triangle's (or
+    not finite) would make the stitching matrix singular or overflow.
+
+    Raises
+    ------
+    PtailorError
+        Naming the panels.
+    """
+    from ptailor.errors import PtailorError
+    from ptailor.method.intrinsic import det2
+
+    with np.errstate(all="ignore"):
+        a0 = np.abs(det2(E2))
+        a1 = np.abs(det2(targets))
+        ok = np.all(np.isfinite(targets), axis=(1, 2)) & (
+            (a0 == 0) | (a1 >= tol.EDIT_COLLAPSE_REL * a0)
+        )
+    if np.all(ok):
+        return
+    lab = panel_labels(plist, m)
+    names = sorted({plist[i].name for i in lab[~ok] if i >= 0})
+    raise PtailorError(
+        f"flatten: {int((~ok).sum())} target triangle(s) of panel(s) {', '.join(names[:5])} "
+        "are degenerate or not finite (the edit collapses or blows up the drape there)"
+    )
+
+
 def flatten(
     garment: Garment,
     V3_edit: np.ndarray,
@@ -167,6 +197,7 @@ def flatten(
     if frozen_panels is not None and np.any(frozen_panels):
         frozen = np.asarray(frozen_panels)[panel_labels(plist, m)]
         targets[frozen] = edge_matrices(V2, garment.F2[frozen])
+    check_targets(targets, edge_matrices(V2, garment.F2), plist, m)
     vlab = vertex_labels(plist, n2)
     pins = central_vertices(V2, vlab, len(plist))
     ease, weight = None, None

@@ -170,12 +170,26 @@ def factor(A: sp.spmatrix):
     """Factor a sparse symmetric positive definite matrix once; return a solve function."""
     from scipy.sparse.linalg import splu
 
-    lu = splu(
-        sp.csc_matrix(A),
-        permc_spec="MMD_AT_PLUS_A",
-        diag_pivot_thresh=0.0,
-        options={"SymmetricMode": True},
-    )
+    from ptailor.errors import PtailorError
+
+    A = sp.csc_matrix(A)
+    if not np.all(np.isfinite(A.data)):
+        raise PtailorError(
+            "flatten: the stitching matrix has non-finite entries (degenerate target "
+            "triangles or extreme flatten weights)"
+        )
+    try:
+        lu = splu(
+            A,
+            permc_spec="MMD_AT_PLUS_A",
+            diag_pivot_thresh=0.0,
+            options={"SymmetricMode": True},
+        )
+    except RuntimeError as exc:  # SuperLU: "Factor is exactly singular"
+        raise PtailorError(
+            f"flatten: the stitching matrix cannot be factored ({exc}): degenerate target "
+            "triangles or extreme flatten weights"
+        ) from None
     return lu.solve
 
 
@@ -380,7 +394,10 @@ def stitch(
             Cs = C[:, U]
             M = (Cs @ G @ Cs.T).toarray()
             lam = _solve_spd(M, C @ y)
-            y = y - solve(C.T @ lam)
+            if lam is not None:
+                y_c = y - solve(C.T @ lam)
+                if np.all(np.isfinite(y_c)):
+                    y = y_c  # else the constraints are skipped this step (reported)
         return y.reshape(2, n).T
 
     def step(X: np.ndarray) -> np.ndarray:
@@ -402,9 +419,19 @@ def stitch(
         np.maximum.at(out, vlab[used], d[used])
         return out / size
 
+    def finite_or_fail(Y: np.ndarray) -> np.ndarray:
+        if not np.all(np.isfinite(Y)):
+            from ptailor.errors import PtailorError
+
+            raise PtailorError(
+                "flatten: the stitching solver diverged (non-finite positions); check the "
+                "flatten weights and the edit"
+            )
+        return Y
+
     R0 = np.broadcast_to(np.eye(2), (len(F2), 2, 2)).copy()
-    X = global_step(R0, None)
-    GX = step(X)
+    X = finite_or_fail(global_step(R0, None))
+    GX = finite_or_fail(step(X))
     res = residual(X, GX)
     acc = Anderson(m=history)
     e_gx = energy(GX) if history else 0.0
@@ -425,7 +452,7 @@ def stitch(
             )
             acc.reset()
             X = GX
-            GX = step(X)
+            GX = finite_or_fail(step(X))
             res = residual(X, GX)
             e_gx = energy(GX) if history else 0.0
             continue
@@ -436,15 +463,15 @@ def stitch(
             # Peng et al.'s safeguard, on the plain steps' outputs: those meet the seam
             # constraints, so their energies compare (mixed iterates' do not)
             Xa = acc.next(X.ravel(), GX.ravel()).reshape(n, 2)
-            GXa = step(Xa)
-            e_a = energy(GXa)
+            GXa = step(Xa) if np.all(np.isfinite(Xa)) else Xa
+            e_a = energy(GXa) if np.all(np.isfinite(GXa)) else np.inf
             if e_a < e_gx:
                 X, GX, e_gx = Xa, GXa, e_a
                 res = residual(X, GX)
                 continue
             acc.reset()
         X = GX
-        GX = step(X)
+        GX = finite_or_fail(step(X))
         res = residual(X, GX)
         e_gx = energy(GX) if history else 0.0
     X = GX  # a plain step: the constraints hold at the last linearisation
@@ -462,11 +489,21 @@ def stitch(
     )
 
 
-def _solve_spd(M: np.ndarray, r: np.ndarray) -> np.ndarray:
-    """Solve a small symmetric positive (semi-)definite system, least squares if singular."""
+def _solve_spd(M: np.ndarray, r: np.ndarray) -> np.ndarray | None:
+    """Solve a small symmetric positive (semi-)definite system, least squares if singular.
+
+    None when there is no finite solution (the caller skips the constraints).
+    """
     import scipy.linalg as sla
 
+    if not (np.all(np.isfinite(M)) and np.all(np.isfinite(r))):
+        return None
     try:
         return sla.cho_solve(sla.cho_factor(M), r)
     except (sla.LinAlgError, ValueError):
-        return np.linalg.lstsq(M, r, rcond=None)[0]
+        pass
+    try:
+        out = np.linalg.lstsq(M, r, rcond=None)[0]
+    except (np.linalg.LinAlgError, ValueError):
+        return None
+    return out if np.all(np.isfinite(out)) else None
