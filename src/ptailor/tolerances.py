@@ -165,3 +165,33 @@ DXF_MIN_EXTENT = 1e-3
 DXF_MIN_AREA_REL = 1e-6
 #: A ``Quantity:`` above this is refused (a piece is cut a few times per garment).
 DXF_MAX_QUANTITY = 1_000
+
+# Recipes (ptailor.recipe): read and validated whole, with bounded work, before any garment
+#: A recipe file larger than this (bytes) is refused before it is parsed (real recipes are
+#: a few hundred bytes; YAML parsing is linear, but 50 MB of comments is not a recipe).
+RECIPE_MAX_BYTES = 1_000_000
+#: Nesting deeper than this (mappings and lists) is refused before composing (a recipe is
+#: at most about 6 deep: steps, a step, region, box, min, a point).
+RECIPE_MAX_DEPTH = 32
+#: At most this many YAML aliases (``*name``) per recipe: anchors let a recipe reuse a
+#: region or a step, but a "billion laughs" document needs many.
+RECIPE_MAX_ALIASES = 100
+#: The document, with every alias expanded, may hold at most this many values (scalars,
+#: lists and mappings); checked on the event stream, before anything is built.
+RECIPE_MAX_NODES = 20_000
+#: A number written with more characters than this is refused by the reader (an int of
+#: 10^4000 digits, or sexagesimal ``1:2:3:...`` with a quadratic cost).
+RECIPE_MAX_NUMBER_CHARS = 40
+#: Every recipe number (lengths, coordinates, factors, weights) lies within +-this.
+RECIPE_NUMBER_MAX = 1e6
+#: A parameter that must be > 0 (a factor, a length, a weight) must be at least this.
+RECIPE_POSITIVE_MIN = 1e-6
+#: A direction (axis, plane normal, view) needs a component at least this large.
+RECIPE_DIRECTION_MIN = 1e-6
+#: Lengths an edit adds or removes (``by`` of extend, shorten, loosen, tighten; extend's
+#: ``clearance``) are at most this many centimetres (converted to the recipe's units).
+RECIPE_MAX_LENGTH_CM = 1000.0
+#: A value quoted in a message is cut to this many characters.
+RECIPE_SHOW_CHARS = 80
+#: A recipe holds at most this many steps (each is checked, by the rules and the schema).
+RECIPE_MAX_STEPS = 200

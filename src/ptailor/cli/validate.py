@@ -20,24 +20,20 @@ def validate(recipes, as_json, quiet) -> None:
     """
     import json
     import sys
-    from pathlib import Path
 
-    from ptailor.recipe import Problem, recipe_problems
+    from ptailor.errors import PtailorError
+    from ptailor.recipe import Problem, read_recipe_text, recipe_problems
 
     problems: list[Problem] = []
     for path in recipes:  # a loop over files
-        if path == "-":
-            problems += recipe_problems(sys.stdin.read(), source="<stdin>")
-            continue
+        source = "<stdin>" if path == "-" else path
         try:
-            text = Path(path).read_text()
-        except FileNotFoundError:
-            problems.append(Problem(path, None, "no such file"))
+            # the size limit is checked before anything is parsed
+            text = read_recipe_text(path)
+        except PtailorError as exc:
+            problems.append(Problem(source, None, exc.message))
             continue
-        except (OSError, UnicodeDecodeError) as exc:
-            problems.append(Problem(path, None, f"cannot read recipe ({exc})"))
-            continue
-        problems += recipe_problems(text, source=path)
+        problems += recipe_problems(text, source=source)
     if as_json:
         records = [{"file": p.source, "line": p.line, "message": p.message} for p in problems]
         click.echo(json.dumps(records, indent=2))

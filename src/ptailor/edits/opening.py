@@ -6,8 +6,9 @@ from typing import Any
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.edits import EditOptions, EditState
-from ptailor.edits.checks import with_schema
+from ptailor.edits.checks import show, with_schema
 from ptailor.errors import PtailorError
 from ptailor.model.openings import openings
 
@@ -16,7 +17,9 @@ OPENING_SCHEMA = {
         {"type": "string", "minLength": 1},
         {
             "type": "object",
-            "properties": {"loop": {"type": "integer", "minimum": 0}},
+            "properties": {
+                "loop": {"type": "integer", "minimum": 0, "maximum": tol.RECIPE_NUMBER_MAX}
+            },
             "required": ["loop"],
             "additionalProperties": False,
         },
@@ -29,9 +32,13 @@ def opening_spec(x: Any, where: str) -> list[str]:
     """Recipe check: an opening name or ``{loop: k}``."""
     if isinstance(x, str) and x:
         return []
-    if isinstance(x, dict) and set(x) == {"loop"} and isinstance(x["loop"], int) and x["loop"] >= 0:
-        return []
-    return [f"{where}: expected an opening name (hem, neckline, ...) or {{loop: k}}, got {x!r}"]
+    if isinstance(x, dict) and set(x) == {"loop"}:
+        k = x["loop"]
+        # bool is an int in Python, not in the schema (nor in a recipe): one rule for both
+        if isinstance(k, int) and not isinstance(k, bool) and 0 <= k <= tol.RECIPE_NUMBER_MAX:
+            return []
+        return [f"{where}.loop: expected a loop number 0, 1, 2, ..., got {show(k)}"]
+    return [f"{where}: expected an opening name (hem, neckline, ...) or {{loop: k}}, got {show(x)}"]
 
 
 def find_opening(state: EditState, spec: Any, *, options: EditOptions) -> tuple[str, np.ndarray]:
