@@ -21,7 +21,7 @@ from ptailor.samples import cone_skirt, cylinder, lantern_sleeve, sample_for_tri
 
 WIDER = "steps: [{op: scale, region: all, direction: around, axis: auto, factor: 1.2}]\n"
 FAST = ("--formats", "obj", "--no-baseline")
-ALL_OUTPUTS = {"batch.json", "garment.obj", "pattern.dxf", "pattern.svg", "preview.png"}
+ALL_OUTPUTS = {".ptailor", "batch.json", "garment.obj", "pattern.dxf", "pattern.svg", "preview.png"}
 
 
 def run(*args, input=None):
@@ -444,7 +444,7 @@ def test_same_bytes_from_one_two_workers_and_dask(tmp_path, recipe, monkeypatch)
         assert r.returncode == 0, r.stderr
         assert "Dask scheduler" in r.stderr
     ref = _outputs(outs["j1"])
-    assert len(ref) == 5 * 6
+    assert len(ref) == 5 * 7
     assert {k.split("/")[1] for k in ref} == ALL_OUTPUTS | {"report.json"}
     for name in ("j2", "dask"):
         got = _outputs(outs[name])

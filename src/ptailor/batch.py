@@ -20,6 +20,7 @@ import os
 import re
 import shutil
 import signal
+import threading
 import time
 import uuid
 from collections.abc import Callable, Iterable, Sequence
@@ -388,6 +389,8 @@ class Job:
         Redo even when the folder's stamp matches.
     drape_abs : str or None
         For a DXF pattern: its drape OBJ (:func:`drape_for`), read and stamped with it.
+    timeout : float or None
+        Seconds the garment may take in its worker process (``failure: timeout`` past it).
     """
 
     index: int
@@ -402,6 +405,7 @@ class Job:
     gates: Gates = Gates()
     force: bool = False
     drape_abs: str | None = None
+    timeout: float | None = None
 
     def record(self, status: str, **values: Any) -> dict:
         """A record for this garment with every key of :data:`RECORD_KEYS`."""
@@ -419,6 +423,7 @@ def make_jobs(
     adjust_options: dict | None = None,
     gates: Gates | None = None,
     force: bool = False,
+    timeout: float | None = None,
 ) -> list[Job]:
     """One :class:`Job` per garment, output folders named by :func:`output_names`."""
     digest = recipe_digest(recipe)
@@ -439,6 +444,7 @@ def make_jobs(
                 gates=gates or Gates(),
                 force=force,
                 drape_abs=None if (d := drape_for(g)) is None else os.path.abspath(d),
+                timeout=timeout,
             )
         )
     return jobs
@@ -446,21 +452,75 @@ def make_jobs(
 
 #: set in worker processes by :func:`init_worker`
 _STOP = None
+_TIMED_OUT = None
 _IN_JOB = False
+#: a garment past its ``--timeout`` that does not stop (stuck in native code) has its
+#: worker killed this much later: max(this, a quarter of the timeout) seconds
+TIMEOUT_GRACE_S = 5.0
+
+
+class JobTimeoutError(BaseException):
+    """Raised in a worker when its garment runs past ``--timeout`` (a BaseException, so that
+    no ``except Exception`` swallows it; staging folders are removed on the way out)."""
+
+
+def _on_alarm(signum, frame) -> None:
+    if _IN_JOB:
+        raise JobTimeoutError
+
+
+def _timeout_record(job: Job) -> dict:
+    return job.record(
+        "failed",
+        failure="timeout",
+        reason=f"timeout: not done in {job.timeout:g} s (--timeout)",
+    )
+
+
+def _watchdog(job: Job, finished: threading.Event) -> None:
+    """Kill this worker when the garment neither finished nor stopped at its timeout."""
+    if finished.wait(job.timeout + max(TIMEOUT_GRACE_S, 0.25 * job.timeout)):
+        return
+    if _TIMED_OUT is not None:
+        _TIMED_OUT[job.index] = 1
+    os.kill(os.getpid(), signal.SIGKILL)
 
 
 def run_job(job: Job) -> dict:
     """Adjust one garment into its folder (or skip it); return its record. Never raises for
-    a bad garment (only ``KeyboardInterrupt`` / ``SystemExit`` pass)."""
+    a bad garment (only ``KeyboardInterrupt`` / ``SystemExit`` pass).
+
+    With ``job.timeout`` in a worker process (:func:`init_worker`), SIGALRM stops the
+    garment at its timeout (``failure: timeout``); a watchdog thread kills the worker when
+    the garment is stuck where a signal cannot reach it (the parent records the timeout).
+    Library warnings go to the garment's report, not to the terminal.
+    """
+    from ptailor.output import capture_library_warnings
+
     global _IN_JOB
     if _STOP is not None and _STOP.is_set():
         return job.record("interrupted", reason="interrupted before it started")
     t0 = time.perf_counter()
+    timed = (
+        job.timeout is not None
+        and _TIMED_OUT is not None
+        and threading.current_thread() is threading.main_thread()
+    )
+    finished = threading.Event()
     _IN_JOB = True
     try:
-        rec = _run_job(job)
+        if timed:
+            threading.Thread(target=_watchdog, args=(job, finished), daemon=True).start()
+            signal.setitimer(signal.ITIMER_REAL, job.timeout)
+        with capture_library_warnings():
+            rec = _run_job(job)
+    except JobTimeoutError:
+        rec = _timeout_record(job)
     finally:
         _IN_JOB = False
+        if timed:
+            signal.setitimer(signal.ITIMER_REAL, 0)
+        finished.set()
     rec["seconds"] = round(time.perf_counter() - t0, 4)
     return rec
 
@@ -515,6 +575,7 @@ def check_unchanged(job: Job) -> dict | None:
 
 def _run_job(job: Job) -> dict:
     from ptailor.job import run_adjust
+    from ptailor.output import check_output_dir
 
     try:
         stamp = job_stamp(job)
@@ -535,6 +596,7 @@ def _run_job(job: Job) -> dict:
             raise GateFailedError(probs, report)
 
     try:
+        check_output_dir(job.out_abs, [job.recipe.source])  # the recipe is never replaced
         report = run_adjust(
             job.garment_abs,
             job.recipe,
@@ -589,12 +651,15 @@ def warm_up() -> None:
         run_adjust(str(g), rec, Path(td) / "out")
 
 
-def init_worker(stop) -> None:
-    """Pool initializer: SIGINT handling, the shared stop flag, imports paid once."""
-    global _STOP
+def init_worker(stop, timed_out=None) -> None:
+    """Pool initializer: SIGINT and SIGALRM handling, the shared stop flag and timed-out
+    flags, imports paid once."""
+    global _STOP, _TIMED_OUT
     _STOP = stop
+    _TIMED_OUT = timed_out
     signal.signal(signal.SIGINT, _on_sigint)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)  # terminate() ends a worker at once
+    signal.signal(signal.SIGALRM, _on_alarm)
     warm_up()
 
 
@@ -709,13 +774,13 @@ def run_batch(
         where = f"Dask scheduler {scheduler}"
         if todo:
             interrupted = _run_dask(todo, scheduler, done)
-    elif workers <= 1 or len(todo) <= 1:
+    elif (workers <= 1 or len(todo) <= 1) and not any(j.timeout for j in todo):
         where = "in-process"
         if todo:
             interrupted = _run_here(todo, done)
     else:
-        n = min(workers, len(todo))
-        where = f"{n} worker processes"
+        n = max(1, min(workers, len(todo)))
+        where = f"{n} worker process{'es' if n > 1 else ''}"
         interrupted = _run_pool(todo, n, done)
     final = []
     for j, r in zip(jobs, records, strict=True):
@@ -724,7 +789,7 @@ def run_batch(
         final.append(r)
     if scheduler is None:  # the workers are gone: what a killed one left is garbage
         for j, r in zip(jobs, final, strict=True):
-            if r["status"] == "interrupted" or r["failure"] == "internal":
+            if r["status"] == "interrupted" or r["failure"] in ("internal", "timeout"):
                 remove_staging(j.out_abs)
     order.finish(final)
     return BatchResult(
@@ -770,7 +835,11 @@ def _run_pool(jobs: Sequence[Job], n: int, done) -> bool:
     :data:`_STRIKES` broken pools runs alone, so that a garment that kills its worker fails
     by itself ("its worker process died") and the others finish.
     """
+    import multiprocessing as mp
+
     strikes = dict.fromkeys((j.index for j in jobs), 0)
+    # set by a worker's watchdog before it kills its worker for a garment past --timeout
+    timed_out = mp.get_context().Array("b", max(j.index for j in jobs) + 1, lock=False)
 
     def done_again(job: Job, rec: dict) -> None:
         # up-to-date jobs never reach a pool (the parent skips them first), so a retried
@@ -786,11 +855,16 @@ def _run_pool(jobs: Sequence[Job], n: int, done) -> bool:
         rounds = ([shared] if shared else []) + [[j] for j in todo if j not in shared]
         todo = []
         for part in rounds:
-            interrupted, unfinished = _pool_round(part, min(n, len(part)), done_again)
+            interrupted, unfinished = _pool_round(part, min(n, len(part)), done_again, timed_out)
             if interrupted:
                 return True
+            killer = any(timed_out[j.index] for j in unfinished)
             for job in unfinished:
-                strikes[job.index] += 1
+                if timed_out[job.index]:
+                    done(job, _timeout_record(job))
+                    continue
+                if not killer:  # a worker killed for a timeout is no strike for the others
+                    strikes[job.index] += 1
                 if strikes[job.index] > _STRIKES:
                     reason = "internal error: its worker process died (killed, or out of memory?)"
                     done(job, job.record("failed", failure="internal", reason=reason))
@@ -799,7 +873,7 @@ def _run_pool(jobs: Sequence[Job], n: int, done) -> bool:
     return False
 
 
-def _pool_round(jobs: Sequence[Job], n: int, done) -> tuple[bool, list[Job]]:
+def _pool_round(jobs: Sequence[Job], n: int, done, timed_out=None) -> tuple[bool, list[Job]]:
     """One pool over ``jobs``: (interrupted, the jobs left unfinished by a broken pool)."""
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -808,7 +882,7 @@ def _pool_round(jobs: Sequence[Job], n: int, done) -> tuple[bool, list[Job]]:
     ctx = mp.get_context()
     stop = ctx.Event()
     ex = ProcessPoolExecutor(
-        max_workers=n, mp_context=ctx, initializer=init_worker, initargs=(stop,)
+        max_workers=n, mp_context=ctx, initializer=init_worker, initargs=(stop, timed_out)
     )
     futures = {}
     unfinished = []
@@ -895,9 +969,6 @@ def _run_dask(jobs: Sequence[Job], address: str, done) -> bool:
     return False
 
 
-_STAGING = "^\\.{name}\\.(old-\\.{name}\\.)?[a-z0-9_]{{8}}\\.tmp$"
-
-
 def remove_staging(out: str | Path) -> list[str]:
     """Remove the staging folders a killed writer of ``out`` left beside it.
 
@@ -905,10 +976,12 @@ def remove_staging(out: str | Path) -> list[str]:
     output, moved aside for the replacement) is moved back when ``out`` is missing, else
     removed. Returns the names handled.
     """
+    from ptailor.output import staging_pattern
+
     out = Path(out)
     if not out.parent.is_dir():
         return []
-    pat = re.compile(_STAGING.format(name=re.escape(out.name)))
+    pat = staging_pattern(out.name)
     handled = []
     for p in sorted(out.parent.iterdir()):
         m = pat.match(p.name)

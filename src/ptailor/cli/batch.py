@@ -50,6 +50,15 @@ def _interrupt(signum, frame) -> None:
     help="Run on a Dask distributed cluster (tcp://host:8786); its workers must see the "
     "same files. Needs pip install 'ptailor[dask]'.",
 )
+@click.option(
+    "--timeout",
+    type=click.FloatRange(min=0, min_open=True),
+    default=None,
+    metavar="SECONDS",
+    help="Per garment: one still running after SECONDS is stopped and failed (failure: "
+    "timeout), its staging folder removed. Garments then always run in worker processes "
+    "(with -j 1 too).",
+)
 @click.option("--force", is_flag=True, help="Redo every garment, even unchanged ones.")
 @click.option(
     "--log",
@@ -109,6 +118,7 @@ def batch(
     dxf_units,
     jobs,
     scheduler,
+    timeout,
     force,
     log,
     as_json,
@@ -128,8 +138,8 @@ def batch(
     first. Each garment is written all or nothing to OUT/NAME (NAME is the file's stem;
     later garments with the same stem get NAME-2, NAME-3) with a
     batch.json stamp: re-running skips garments whose file, recipe and options are
-    unchanged. A garment that fails, or breaks a quality gate, gets no folder; the others
-    go on.
+    unchanged. A garment that fails, breaks a quality gate or runs past --timeout gets no
+    folder; the others go on.
 
     Exit status: 0 every garment done or unchanged, 1 some failed, 2 bad recipe or
     arguments, 130 interrupted by Ctrl-C or SIGTERM (complete folders are kept: run again
@@ -154,6 +164,8 @@ def batch(
     from ptailor.formats.garment import parse_units
     from ptailor.recipe import load_recipe
 
+    if timeout is not None and scheduler is not None:
+        raise PtailorError("--timeout cannot be used with --scheduler (Dask cannot stop a task)")
     if recipe == "-" and "-" in garments:
         raise PtailorError("the recipe and the garment list cannot both come from stdin")
     rec = load_recipe(recipe)
@@ -194,6 +206,7 @@ def batch(
             fail_on_flips=fail_on_flips,
         ),
         force=force,
+        timeout=timeout,
     )
     old_term = None
     try:
