@@ -12,15 +12,20 @@ The writer produces DXF R12 in the flavour Gerber AccuMark imports (no TABLES se
 
 from __future__ import annotations
 
+import contextlib
 import datetime as _dt
+import io
+import logging
 import os
 import re
+import warnings
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from ptailor import tolerances as _tol
 from ptailor.errors import PtailorError
 from ptailor.model.pieces import PatternFile, Piece
 from ptailor.model.polyline import dedupe_closed, signed_area
@@ -68,6 +73,9 @@ class _Marks:
     sew: list[np.ndarray] = field(default_factory=list)
     internal_is_line: list[bool] = field(default_factory=list)
     texts: list[tuple[str, str, tuple[float, float]]] = field(default_factory=list)
+    #: entities that could not be used: ``"boundary POLYLINE 3 (layer 1): vertex 2 is not a
+    #: number"``; a piece built from these marks is refused with the first
+    problems: list[str] = field(default_factory=list)
 
 
 @dataclass
@@ -96,7 +104,8 @@ def parse_quantity(text: str) -> tuple[int, tuple[int, int] | None] | None:
             f = float(text)
         except ValueError:
             return None
-        return (int(f), None) if f.is_integer() and f >= 0 else None
+        ok = np.isfinite(f) and f.is_integer() and 0 <= f <= 1e9
+        return (int(f), None) if ok else None
     a = int(m.group(1))
     if m.group(2) is None:
         return a, None
@@ -139,9 +148,32 @@ def read_dxf(path: str | Path, *, size: str | None = None, units: str | None = N
     spath = str(path)
     if units is not None and units not in CM_PER_UNIT:
         raise PtailorError(f"unknown DXF units {units!r} (known: mm, cm, in)", path=spath)
-    doc = _open(spath)
+    with _quiet() as log:
+        try:
+            return _read(spath, size, units, log)
+        except PtailorError:
+            raise
+        except (ArithmeticError, LookupError, TypeError, ValueError, RecursionError) as exc:
+            # fail closed: a file this reader's checks did not foresee is refused, not a crash
+            raise PtailorError(
+                f"not a usable DXF pattern ({type(exc).__name__}: {_one_line(exc)})", path=spath
+            ) from exc
+        except Exception as exc:
+            from ezdxf.lldxf.const import DXFError
+
+            if not isinstance(exc, DXFError):
+                raise
+            raise PtailorError(
+                f"not a usable DXF pattern ({type(exc).__name__}: {_one_line(exc)})", path=spath
+            ) from exc
+
+
+def _read(spath: str, size: str | None, units: str | None, log: list[str]) -> PatternFile:
+    """:func:`read_dxf`'s work, ezdxf's log going to ``log``."""
+    doc = _open(spath, log)
+    _check_counts(doc, spath)
     msp = doc.modelspace()
-    style_text = _style_text(msp)
+    style_text = _style_text(msp, spath)
     cands = _candidates(doc, spath)
     if not cands:
         raise PtailorError(
@@ -149,7 +181,7 @@ def read_dxf(path: str | Path, *, size: str | None = None, units: str | None = N
             path=spath,
         )
     for c in cands:
-        _parse_piece_text(c)
+        _parse_piece_text(c, spath)
     _sizes_from_block_names(cands)
 
     sizes = tuple(dict.fromkeys(c.size for c in cands if c.size))
@@ -157,15 +189,22 @@ def read_dxf(path: str | Path, *, size: str | None = None, units: str | None = N
     chosen = _choose_size(sizes, size, sample, spath)
     chosen_c = [c for c in cands if c.size in (chosen, "")]
     pieces = tuple(_build_piece(c, spath) for c in chosen_c)
-    warnings: tuple[str, ...] = ()
+    warnings: tuple[str, ...] = _recover_warning(log)
     if sample and chosen != sample and sample in sizes:
         sample_c = [c for c in cands if c.size == sample]
         sample_p = [_build_piece(c, spath) for c in sample_c]
-        pieces, warnings = _fill_from_sample(pieces, chosen_c, sample_p, sample_c, chosen, sample)
+        pieces, filled = _fill_from_sample(pieces, chosen_c, sample_p, sample_c, chosen, sample)
+        for p in pieces:
+            _check_piece(p, spath)
+        warnings += filled
 
     units_text = style_text.get("UNITS", "")
     unit, note = _units(
-        units, units_text, doc.header.get("$INSUNITS"), pieces, doc.header.get("$MEASUREMENT")
+        units,
+        units_text,
+        _header_number(doc, "$INSUNITS"),
+        pieces,
+        _header_number(doc, "$MEASUREMENT"),
     )
     largest = max((float(p.extent.max()) for p in pieces), default=0.0) * CM_PER_UNIT[unit]
     if pieces and not PLAUSIBLE_CM[0] <= largest <= PLAUSIBLE_CM[1]:
@@ -380,36 +419,172 @@ def _same_place(src: np.ndarray, dst: np.ndarray, pts: np.ndarray) -> np.ndarray
     return A2 + tk[:, None] * (B2 - A2)
 
 
-def _open(spath: str) -> Any:
-    """The ezdxf document; strict reader first, then recover mode (CLO's group codes)."""
+class _Captured(logging.Handler):
+    """Collects ezdxf's log records (recover mode's repairs) instead of printing them."""
+
+    def __init__(self) -> None:
+        super().__init__(level=logging.DEBUG)
+        self.messages: list[str] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        if record.levelno >= logging.WARNING and len(self.messages) < 1000:
+            with contextlib.suppress(Exception):  # a record that cannot be formatted is dropped
+                self.messages.append(" ".join(str(record.getMessage()).split())[:200])
+
+
+@contextlib.contextmanager
+def _quiet() -> Any:
+    """ezdxf's log records captured (yielded), its prints and Python/numpy warnings
+    swallowed: nothing reaches stdout or stderr while a DXF is read."""
+    log = logging.getLogger("ezdxf")
+    handler = _Captured()
+    old = log.propagate, log.level
+    log.addHandler(handler)
+    log.propagate = False
+    log.setLevel(logging.WARNING)
+    sink = io.StringIO()
+    try:
+        with (
+            contextlib.redirect_stdout(sink),
+            contextlib.redirect_stderr(sink),
+            warnings.catch_warnings(),
+            np.errstate(all="ignore"),
+        ):
+            warnings.simplefilter("ignore")
+            yield handler.messages
+    finally:
+        log.removeHandler(handler)
+        log.propagate, log.level = old[0], old[1]
+
+
+def _recover_warning(messages: list[str]) -> tuple[str, ...]:
+    """Recover mode's repairs as one report warning (the first few quoted)."""
+    if not messages:
+        return ()
+    shown = "; ".join(messages[:3])
+    more = f" (and {len(messages) - 3} more)" if len(messages) > 3 else ""
+    return (f"read in ezdxf's recover mode, {len(messages)} repair(s): {shown}{more}",)
+
+
+def _open(spath: str, log: list[str] | None = None) -> Any:
+    """The ezdxf document; strict reader first, then recover mode (CLO's group codes).
+
+    Files over ``DXF_MAX_BYTES`` are refused unread; recover mode's repairs go to ``log``.
+    """
     import ezdxf
     from ezdxf import recover
 
-    if not Path(spath).is_file():
+    p = Path(spath)
+    if not p.is_file():
         raise PtailorError("no such file", path=spath)
     try:
-        return ezdxf.readfile(spath)
+        nbytes = p.stat().st_size
+    except OSError as exc:
+        raise PtailorError(f"cannot read: {exc.strerror or exc}", path=spath) from exc
+    if nbytes > _tol.DXF_MAX_BYTES:
+        raise PtailorError(
+            f"the file is {nbytes} bytes, over the limit of {_tol.DXF_MAX_BYTES} for a DXF pattern",
+            path=spath,
+        )
+    try:
+        doc = ezdxf.readfile(spath)
     except Exception as strict_exc:  # any parse failure: retry leniently
         try:
             doc, _auditor = recover.readfile(spath)
         except Exception as exc:
             raise PtailorError(
-                f"not a readable DXF file ({exc or strict_exc})", path=spath
+                f"not a readable DXF file ({_one_line(exc or strict_exc)})", path=spath
             ) from exc
-        return doc
+    else:
+        if log is not None:
+            log.clear()  # the strict reader's notes are not repairs
+    return doc
+
+
+def _one_line(exc: BaseException | str) -> str:
+    """An exception's text on one line, at most 200 characters."""
+    text = " ".join(str(exc).split()) or type(exc).__name__
+    return text if len(text) <= 200 else text[:197] + "..."
+
+
+class _BadEntityError(ValueError):
+    """An entity this reader cannot use; the message says why (no file or piece named)."""
 
 
 def _xy(v: Any) -> tuple[float, float]:
-    return float(v[0]), float(v[1])
+    """A point's x and y as floats (a missing point or coordinate is a :class:`_BadEntityError`)."""
+    if v is None:
+        raise _BadEntityError("has no coordinates")
+    try:
+        return float(v[0]), float(v[1])
+    except (TypeError, IndexError, ValueError) as exc:
+        raise _BadEntityError("has no x or y coordinate") from exc
+
+
+def _bad_coordinate(pts: np.ndarray, what: str = "vertex") -> str | None:
+    """Why ``(n, 2)`` points are unusable: ``"vertex 3 is not a number"``, ``"vertex 0 is
+    infinite"``, ``"vertex 2 lies 1e+300 units from the origin (limit 1e+07)"``; None when
+    every coordinate is finite and within ``DXF_MAX_COORD``."""
+    pts = np.asarray(pts, dtype=float).reshape(-1, 2)
+    nan = np.isnan(pts).any(axis=1)
+    if nan.any():
+        return f"{what} {int(np.flatnonzero(nan)[0])} is not a number"
+    inf = np.isinf(pts).any(axis=1)
+    if inf.any():
+        return f"{what} {int(np.flatnonzero(inf)[0])} is infinite"
+    far = np.abs(pts).max(axis=1) > _tol.DXF_MAX_COORD if len(pts) else np.zeros(0, bool)
+    if far.any():
+        i = int(np.flatnonzero(far)[0])
+        return (
+            f"{what} {i} lies {float(np.abs(pts[i]).max()):.3g} units from the origin "
+            f"(limit {_tol.DXF_MAX_COORD:.3g})"
+        )
+    return None
+
+
+def _header_number(doc: Any, name: str) -> int | None:
+    """An integer header variable, or None when absent or not a sane integer."""
+    try:
+        v = doc.header.get(name)
+    except Exception:  # a header that cannot be read says nothing
+        return None
+    if isinstance(v, bool) or not isinstance(v, int | float):
+        return None
+    if not np.isfinite(v) or abs(v) > 1e6:
+        return None
+    return int(v)
+
+
+def _check_counts(doc: Any, spath: str) -> None:
+    """Refuse more than ``DXF_MAX_ENTITIES`` entities (modelspace and blocks)."""
+    try:
+        n = len(doc.entitydb)
+    except Exception:  # no database size: the file-size limit still holds
+        return
+    if n > _tol.DXF_MAX_ENTITIES:
+        raise PtailorError(
+            f"{n} entities, over the limit of {_tol.DXF_MAX_ENTITIES} for a DXF pattern",
+            path=spath,
+        )
 
 
 _DXF_UNICODE = re.compile(r"\\U\+([0-9A-Fa-f]{4})")
 
 
 def _text_of(e: Any) -> str:
-    """An entity's text, ``\\U+XXXX`` escapes decoded."""
-    t = e.plain_text() if e.dxftype() == "MTEXT" else e.dxf.get("text", "")
-    return _DXF_UNICODE.sub(lambda m: chr(int(m.group(1), 16)), str(t)).strip()
+    """An entity's text, ``\\U+XXXX`` escapes decoded (over ``DXF_MAX_TEXT`` characters:
+    a :class:`_BadEntityError`)."""
+    if e.dxftype() == "MTEXT":
+        raw = str(getattr(e, "text", ""))
+        if len(raw) > 8 * _tol.DXF_MAX_TEXT:
+            raise _BadEntityError(f"has {len(raw)} characters of text (limit {_tol.DXF_MAX_TEXT})")
+        t = e.plain_text()
+    else:
+        t = e.dxf.get("text", "")
+    t = _DXF_UNICODE.sub(lambda m: chr(int(m.group(1), 16)), str(t)).strip()
+    if len(t) > _tol.DXF_MAX_TEXT:
+        raise _BadEntityError(f"has {len(t)} characters of text (limit {_tol.DXF_MAX_TEXT})")
+    return t
 
 
 def _key_value(text: str) -> tuple[str, str]:
@@ -420,11 +595,27 @@ def _key_value(text: str) -> tuple[str, str]:
     return " ".join(key.split()).upper(), value.strip()
 
 
-def _style_text(msp: Any) -> dict[str, str]:
+def _describe(e: Any, index: int | None = None) -> str:
+    """``"POLYLINE 12 (layer 1)"``: an entity as messages name it (with its place in its
+    block or in modelspace)."""
+    try:
+        kind = str(e.dxftype())
+        layer = " ".join(str(e.dxf.get("layer", "0")).split())[:40]
+    except Exception:
+        return "an entity" if index is None else f"entity {index}"
+    where = "" if index is None else f" {index}"
+    return f"{kind}{where} (layer {layer or '0'})"
+
+
+def _style_text(msp: Any, spath: str = "") -> dict[str, str]:
     """Modelspace ``KEY: value`` texts, keys upper-cased (first occurrence wins)."""
     out: dict[str, str] = {}
     for e in msp.query("TEXT MTEXT"):
-        k, v = _key_value(_text_of(e))
+        try:
+            text = _text_of(e)
+        except _BadEntityError as exc:
+            raise PtailorError(f"modelspace: {_describe(e)} {exc}", path=spath) from exc
+        k, v = _key_value(text)
         if k and k not in out:
             out[k] = v
     return out
@@ -445,7 +636,7 @@ def _apply(pts: np.ndarray, T: tuple[np.ndarray, np.ndarray] | None) -> np.ndarr
 
 def _has_boundary(entities: Any) -> bool:
     return any(
-        e.dxf.get("layer", "").strip() == L_BOUNDARY
+        str(e.dxf.get("layer", "")).strip() == L_BOUNDARY
         and e.dxftype() not in ("TEXT", "MTEXT", "POINT", "INSERT")
         for e in entities
     )
@@ -457,14 +648,27 @@ def _candidates(doc: Any, spath: str) -> list[_Candidate]:
     out = []
     boundary_blocks: dict[str, bool] = {}
     for ins in msp.query("INSERT"):
-        name = ins.dxf.name
-        if name.startswith("*") or name not in doc.blocks:
+        name = str(ins.dxf.get("name", "") or "")
+        if not name or name.startswith("*") or name not in doc.blocks:
             continue
         blk = doc.blocks[name]
         if name not in boundary_blocks:
             boundary_blocks[name] = _has_boundary(blk)
         if boundary_blocks[name]:
-            out.append(_Candidate(name, _collect(blk, _affine(ins.matrix44()))))
+            try:
+                T = _affine(ins.matrix44())
+            except Exception as exc:  # ezdxf cannot build the transform
+                raise PtailorError(
+                    f"the INSERT of block {name!r} has an unusable transform ({_one_line(exc)})",
+                    path=spath,
+                ) from exc
+            if T is not None and not (np.all(np.isfinite(T[0])) and np.all(np.isfinite(T[1]))):
+                raise PtailorError(
+                    f"the INSERT of block {name!r}: its position, scale or rotation is not a "
+                    "finite number",
+                    path=spath,
+                )
+            out.append(_Candidate(name, _collect(blk, T)))
     if out:
         return out
     for blk in doc.blocks:
@@ -481,92 +685,171 @@ def _entity_points(e: Any, T: tuple[np.ndarray, np.ndarray] | None) -> np.ndarra
     """Vertices of a curve entity in modelspace, ``(n, 2)``; closed ones repeat the first."""
     kind = e.dxftype()
     if kind == "LINE":
-        pts = np.array([_xy(e.dxf.start), _xy(e.dxf.end)], dtype=float)
+        pts = np.array([_xy(e.dxf.get("start")), _xy(e.dxf.get("end"))], dtype=float)
     elif kind in ("POLYLINE", "LWPOLYLINE"):
         if kind == "POLYLINE" and (e.is_poly_face_mesh or e.is_polygon_mesh):
             return None
-        if e.has_arc:
-            pts = _flatten(e)
-        elif kind == "POLYLINE":
-            pts = np.array([_xy(v.dxf.location) for v in e.vertices], dtype=float)
+        count = len(e.vertices) if kind == "POLYLINE" else len(e)
+        if count > _tol.DXF_MAX_VERTICES:
+            raise _BadEntityError(f"has {count} vertices (limit {_tol.DXF_MAX_VERTICES})")
+        if kind == "POLYLINE":
+            raw = np.array([_xy(v.dxf.get("location")) for v in e.vertices], dtype=float)
         else:
-            pts = np.array(e.get_points("xy"), dtype=float).reshape(-1, 2)
+            raw = np.array(e.get_points("xy"), dtype=float).reshape(-1, 2)
+        bad = _bad_coordinate(raw)
+        if bad:
+            raise _BadEntityError(bad)
+        pts = _flatten(e) if e.has_arc else raw.reshape(-1, 2)
         if e.is_closed and len(pts) > 2:
             pts = np.vstack([pts, pts[:1]])
     elif kind in ("ARC", "CIRCLE", "ELLIPSE", "SPLINE"):
         pts = _flatten(e)
     else:
         return None
-    return _apply(pts, T) if len(pts) else None
+    if not len(pts):
+        return None
+    bad = _bad_coordinate(pts)
+    if bad:
+        raise _BadEntityError(bad)
+    out = _apply(pts, T)
+    bad = _bad_coordinate(out)  # the INSERT's transform may take it out of range
+    if bad:
+        raise _BadEntityError(f"placed by its INSERT: {bad}")
+    return out
 
 
 def _flatten(e: Any) -> np.ndarray:
-    """Curves (arcs, bulges, splines) as polylines, sagitta 0.1 % of their size."""
+    """Curves (arcs, bulges, splines) as polylines, sagitta 0.1 % of their size.
+
+    The control points are checked (finite, in range) before flattening, and the result's
+    size is bounded by ``DXF_MAX_VERTICES``.
+    """
     from ezdxf import path as ezpath
 
     p = ezpath.make_path(e)
     ctrl = np.array([_xy(v) for v in p.control_vertices()], dtype=float).reshape(-1, 2)
+    bad = _bad_coordinate(ctrl, "control point")
+    if bad:
+        raise _BadEntityError(bad)
     size = float(np.ptp(ctrl, axis=0).max()) if len(ctrl) > 1 else 1.0
-    pts = np.array([_xy(v) for v in p.flattening(distance=max(size, 1e-9) * 1e-3)], dtype=float)
-    return pts.reshape(-1, 2)
+    dist = max(size, 1e-9) * 1e-3
+    out = []
+    for v in p.flattening(distance=dist):
+        out.append(_xy(v))
+        if len(out) > _tol.DXF_MAX_VERTICES:
+            raise _BadEntityError(f"flattens to over {_tol.DXF_MAX_VERTICES} vertices")
+    return np.array(out, dtype=float).reshape(-1, 2)
 
 
 def _point(e: Any, T: tuple[np.ndarray, np.ndarray] | None) -> tuple[float, float]:
-    loc = e.dxf.location if e.dxftype() == "POINT" else e.dxf.center
-    p = _apply(np.array([_xy(loc)], dtype=float), T)[0]
+    loc = e.dxf.get("location") if e.dxftype() == "POINT" else e.dxf.get("center")
+    raw = np.array([_xy(loc)], dtype=float)
+    bad = _bad_coordinate(raw, "point")
+    if bad:
+        raise _BadEntityError(bad.replace("point 0 ", "its point "))
+    p = _apply(raw, T)[0]
+    bad = _bad_coordinate(p[None], "point")
+    if bad:
+        raise _BadEntityError("placed by its INSERT: " + bad.replace("point 0 ", "its point "))
     return float(p[0]), float(p[1])
 
 
 def _angle(deg: float, T: tuple[np.ndarray, np.ndarray] | None) -> float:
+    deg = float(deg)
+    if not np.isfinite(deg):
+        raise _BadEntityError("has an angle that is not a finite number")
+    deg = deg % 360.0
     if T is None:
-        return float(deg)
+        return deg
     a = np.radians(deg)
     d = np.array([np.cos(a), np.sin(a)]) @ T[0]
     return float(np.degrees(np.arctan2(d[1], d[0])) % 360.0)
 
 
+_LAYER_NAMES = {
+    L_BOUNDARY: "boundary",
+    L_TURN: "turn point",
+    L_GRAIN: "grain line",
+    L_MIRROR: "fold line",
+    L_INTERNAL: "internal line",
+    L_CUTOUT: "cutout",
+    L_DRILL: "drill hole",
+    L_SEW: "sew line",
+    L_TEXT: "text",
+}
+
+
 def _collect(entities: Any, T: tuple[np.ndarray, np.ndarray] | None) -> _Marks:
-    """Sort a block's (or modelspace's) entities into marks by layer."""
+    """Sort a block's (or modelspace's) entities into marks by layer.
+
+    An entity that cannot be used (a vertex without x, a coordinate that is not a finite
+    number in range, an attribute ezdxf cannot give) is left out and described in
+    ``problems``; a piece built from these marks is refused with the first.
+    """
     m = _Marks()
-    for e in entities:
-        kind = e.dxftype()
-        layer = e.dxf.get("layer", "0").strip()
-        if kind in ("TEXT", "MTEXT"):
-            if layer in (L_BOUNDARY, L_TEXT):
-                pos = _apply(np.array([_xy(e.dxf.insert)], dtype=float), T)[0]
-                m.texts.append((_text_of(e), layer, (float(pos[0]), float(pos[1]))))
-            continue
-        if kind == "POINT" or (kind == "CIRCLE" and layer == L_DRILL):
-            if layer == L_TURN:
-                m.turn.append(_point(e, T))
-            elif layer in NOTCH_LAYERS:
-                m.notches.append(_point(e, T))
-                has = e.dxf.hasattr("angle")
-                m.notch_angles.append(_angle(e.dxf.angle, T) if has else 0.0)
-            elif layer == L_DRILL:
-                m.drills.append(_point(e, T))
-            continue
-        if layer not in (L_BOUNDARY, L_GRAIN, L_MIRROR, L_INTERNAL, L_CUTOUT, L_SEW) and not (
-            layer in NOTCH_LAYERS and kind == "LINE"
-        ):
-            continue
-        pts = _entity_points(e, T)
-        if pts is None or len(pts) < 2:
-            continue
-        if layer == L_BOUNDARY:
-            m.boundary.append(pts)
-        elif layer in NOTCH_LAYERS:
-            m.notch_lines.append(pts[[0, -1]])
-        elif layer == L_GRAIN:
-            m.grain.append(pts[[0, -1]])
-        elif layer == L_MIRROR:
-            m.mirror.append(pts[[0, -1]])
-        elif layer == L_SEW:
-            m.sew.append(pts)
-        elif layer in (L_INTERNAL, L_CUTOUT):
-            m.internal.append(pts)
-            m.internal_is_line.append(kind == "LINE" and layer == L_INTERNAL)
+    for i, e in enumerate(entities):
+        try:
+            _collect_one(m, e, T)
+        except (_BadEntityError, ValueError, TypeError, AttributeError, IndexError) as exc:
+            # ezdxf's DXFAttributeError, DXFValueError, ... are among these
+            layer = ""
+            with contextlib.suppress(Exception):
+                layer = str(e.dxf.get("layer", "0")).strip()
+            what = _LAYER_NAMES.get(layer, "notch" if layer in NOTCH_LAYERS else "")
+            msg = (
+                str(exc)
+                if isinstance(exc, _BadEntityError)
+                else f"cannot be read ({_one_line(exc)})"
+            )
+            m.problems.append(f"{what + ' ' if what else ''}{_describe(e, i)}: {msg}")
     return m
+
+
+def _collect_one(m: _Marks, e: Any, T: tuple[np.ndarray, np.ndarray] | None) -> None:
+    """Sort one entity into ``m`` (raises on an entity that cannot be used)."""
+    kind = e.dxftype()
+    layer = str(e.dxf.get("layer", "0")).strip()
+    if kind in ("TEXT", "MTEXT"):
+        if layer in (L_BOUNDARY, L_TEXT):
+            text = _text_of(e)
+            pos = np.array([_xy(e.dxf.get("insert", (0.0, 0.0)))], dtype=float)
+            # where a text sits only matters in modelspace-only files
+            pos = _apply(pos, T)[0] if _bad_coordinate(pos) is None else np.zeros(2)
+            m.texts.append((text, layer, (float(pos[0]), float(pos[1]))))
+        return
+    if kind == "POINT" or (kind == "CIRCLE" and layer == L_DRILL):
+        if layer == L_TURN:
+            m.turn.append(_point(e, T))
+        elif layer in NOTCH_LAYERS:
+            q = _point(e, T)
+            has = e.dxf.hasattr("angle")
+            m.notch_angles.append(_angle(e.dxf.angle, T) if has else 0.0)
+            m.notches.append(q)
+        elif layer == L_DRILL:
+            m.drills.append(_point(e, T))
+        return
+    if layer not in (L_BOUNDARY, L_GRAIN, L_MIRROR, L_INTERNAL, L_CUTOUT, L_SEW) and not (
+        layer in NOTCH_LAYERS and kind == "LINE"
+    ):
+        return
+    pts = _entity_points(e, T)
+    if pts is None or len(pts) < 2:
+        if layer == L_BOUNDARY and pts is not None:
+            raise _BadEntityError(f"has {len(pts)} vertex, a cut line needs 2 or more")
+        return
+    if layer == L_BOUNDARY:
+        m.boundary.append(pts)
+    elif layer in NOTCH_LAYERS:
+        m.notch_lines.append(pts[[0, -1]])
+    elif layer == L_GRAIN:
+        m.grain.append(pts[[0, -1]])
+    elif layer == L_MIRROR:
+        m.mirror.append(pts[[0, -1]])
+    elif layer == L_SEW:
+        m.sew.append(pts)
+    elif layer in (L_INTERNAL, L_CUTOUT):
+        m.internal.append(pts)
+        m.internal_is_line.append(kind == "LINE" and layer == L_INTERNAL)
 
 
 def _join_lines(lines: list[np.ndarray], is_line: list[bool], tol: float) -> list[np.ndarray]:
@@ -633,13 +916,69 @@ def _chain(segments: list[np.ndarray], tol: float) -> tuple[list[np.ndarray], li
 
 
 def _diag(arrays: list[np.ndarray]) -> float:
+    """Bounding-box diagonal of the points of ``arrays`` (0 for none)."""
+    arrays = [np.asarray(a, dtype=float).reshape(-1, 2) for a in arrays]
+    if not arrays or not sum(len(a) for a in arrays):
+        return 0.0
     pts = np.vstack(arrays)
     return float(np.hypot(*np.ptp(pts, axis=0)))
+
+
+def _check_parts(m: _Marks, who: str, spath: str) -> None:
+    """Refuse marks with an unusable entity, no cut line, or too many cut-line parts;
+    ``who`` (``"piece 'FRONT'"``, ``"modelspace"``) starts the message."""
+    if m.problems:
+        more = f" (and {len(m.problems) - 1} more)" if len(m.problems) > 1 else ""
+        raise PtailorError(f"{who}: {m.problems[0]}{more}", path=spath)
+    if not m.boundary:
+        raise PtailorError(
+            f"{who}: the boundary (layer 1) has no line or polyline of 2 or more points",
+            path=spath,
+        )
+    if len(m.boundary) > _tol.DXF_MAX_BOUNDARY_PARTS:
+        raise PtailorError(
+            f"{who}: the boundary (layer 1) comes in {len(m.boundary)} parts (limit "
+            f"{_tol.DXF_MAX_BOUNDARY_PARTS})",
+            path=spath,
+        )
+
+
+def _check_piece(p: Piece, spath: str) -> None:
+    """A piece's outline spans at least ``DXF_MIN_EXTENT`` and encloses an area (at least
+    ``DXF_MIN_AREA_REL`` of its bounding box); every mark is finite and in range."""
+    who = f"piece {p.name!r}"
+    ext = p.extent
+    if float(ext.max()) < _tol.DXF_MIN_EXTENT:
+        raise PtailorError(
+            f"{who}: the boundary spans {float(ext.max()):.3g} units, under "
+            f"{_tol.DXF_MIN_EXTENT:g}: not a piece",
+            path=spath,
+        )
+    if p.area < _tol.DXF_MIN_AREA_REL * float(ext[0]) * float(ext[1]) or p.area <= 0:
+        raise PtailorError(
+            f"{who}: the boundary encloses no area (its {len(p.outline)} points lie on a line)",
+            path=spath,
+        )
+    named = {"notch": p.notches, "drill hole": p.drills}
+    named.update(
+        {k: v for k, v in (("grain line", p.grain), ("fold line", p.mirror)) if v is not None}
+    )
+    if p.sew is not None:
+        named["sew line"] = p.sew
+    for j, a in enumerate(p.internal):
+        named[f"internal line {j}"] = a
+    for what, arr in named.items():
+        bad = _bad_coordinate(arr, "point")
+        if bad:
+            raise PtailorError(f"{who}: {what}: {bad}", path=spath)
+    if not np.all(np.isfinite(p.notch_angles)):
+        raise PtailorError(f"{who}: a notch angle is not a finite number", path=spath)
 
 
 def _modelspace_candidates(m: _Marks, spath: str) -> list[_Candidate]:
     """Files without blocks: one piece per closed layer-1 loop, marks go to the piece
     whose bounding box holds them (the smallest such), else the nearest."""
+    _check_parts(m, "modelspace", spath)
     tol = REL_TOL * max(_diag(m.boundary), 1e-12)
     loops, opens = _chain(m.boundary, tol)
     if opens:
@@ -680,9 +1019,13 @@ def _modelspace_candidates(m: _Marks, spath: str) -> list[_Candidate]:
     return [_Candidate(f"PIECE_{i + 1}", mk) for i, mk in enumerate(out)]
 
 
-def _parse_piece_text(c: _Candidate) -> None:
+def _parse_piece_text(c: _Candidate, spath: str = "") -> None:
     """Name, size, quantity and annotations from the piece's text (keys any case)."""
     notes = []
+    if len(c.block) > _tol.DXF_MAX_TEXT:
+        raise PtailorError(
+            f"a block name of {len(c.block)} characters (limit {_tol.DXF_MAX_TEXT})", path=spath
+        )
     for text, layer, _pos in c.marks.texts:
         k, v = _key_value(text)
         if layer == L_BOUNDARY and k == "PIECE NAME" and not c.name:
@@ -693,6 +1036,12 @@ def _parse_piece_text(c: _Candidate) -> None:
             q = parse_quantity(v)
             if q is None:
                 notes.append(text)
+            elif q[0] > _tol.DXF_MAX_QUANTITY:
+                raise PtailorError(
+                    f"piece {c.name or c.block!r}: 'Quantity: {v}' is over the limit of "
+                    f"{_tol.DXF_MAX_QUANTITY}",
+                    path=spath,
+                )
             else:
                 c.quantity, c.quantity_split, c.has_quantity = q[0], q[1], True
         elif text and not (k and not v):  # skip empty "ANNOTATION:" fields
@@ -744,6 +1093,7 @@ def _choose_size(sizes: tuple[str, ...], size: str | None, sample: str, spath: s
 def _build_piece(c: _Candidate, spath: str) -> Piece:
     """Chain the boundary, orient it counter-clockwise, attach the marks."""
     m = c.marks
+    _check_parts(m, f"piece {c.name!r}", spath)
     diag = max(_diag(m.boundary), 1e-12)
     tol = REL_TOL * diag
     loops, opens = _chain(m.boundary, tol)
@@ -752,6 +1102,8 @@ def _build_piece(c: _Candidate, spath: str) -> Piece:
         if opens:
             longest = max(opens, key=len)
             gap = f", its ends {float(np.hypot(*(longest[-1] - longest[0]))):.4g} apart"
+            if len(longest) < 3:
+                gap += f" (a chain of {len(longest)} points)"
         raise PtailorError(
             f"piece {c.name!r}: the boundary (layer 1) does not close{gap}", path=spath
         )
@@ -793,14 +1145,16 @@ def _build_piece(c: _Candidate, spath: str) -> Piece:
             sew = max(sloops, key=lambda s: abs(signed_area(s)))
             if signed_area(sew) < 0:
                 sew = sew[::-1].copy()
-    return Piece(
+    grain = next((g.copy() for g in m.grain if np.hypot(*(g[-1] - g[0])) > 1e-9 * diag), None)
+    mirror = next((g.copy() for g in m.mirror if np.hypot(*(g[-1] - g[0])) > 1e-9 * diag), None)
+    piece = Piece(
         name=c.name,
         outline=outline,
         turn=turn,
         notches=notches,
         notch_angles=angles,
-        grain=m.grain[0].copy() if m.grain else None,
-        mirror=m.mirror[0].copy() if m.mirror else None,
+        grain=grain,
+        mirror=mirror,
         internal=tuple(internal),
         drills=np.array(m.drills, dtype=float).reshape(-1, 2),
         sew=sew,
@@ -809,6 +1163,8 @@ def _build_piece(c: _Candidate, spath: str) -> Piece:
         annotations=c.annotations,
         quantity_split=c.quantity_split,
     )
+    _check_piece(piece, spath)
+    return piece
 
 
 def _nearest(ref: np.ndarray, query: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -842,7 +1198,8 @@ def _units(
         return override, f"{override} given by the caller"
     word = text.strip().upper()
     quoted = f"'Units: {text.strip()}' in the file"
-    code = _INSUNITS.get(int(insunits)) if isinstance(insunits, int | float) else None
+    ok = isinstance(insunits, int | float) and np.isfinite(insunits) and abs(insunits) < 1e6
+    code = _INSUNITS.get(int(insunits)) if ok else None
     if word == "ENGLISH":
         return "in", quoted
     if code is not None and (word != "METRIC" or code != "in"):
@@ -853,7 +1210,7 @@ def _units(
         src = quoted
     elif word:
         src = f"unknown {quoted}"
-    elif isinstance(measurement, int | float) and int(measurement) == 1:
+    elif isinstance(measurement, int | float) and measurement == 1:
         src = "$MEASUREMENT = 1 (metric) in the header"
     else:  # nothing said: pieces are 5-200 cm, 50-2000 mm
         unit = "mm" if largest > MM_ABOVE else "cm"
