@@ -687,11 +687,14 @@ def _problems_and_data(text: str, *, source: str) -> tuple[list[Problem], Any]:
         ], None
     _, rule_msgs = validate(data)
     found = []
+    unknown_at: set[tuple] = set()  # mappings where the rules found unknown keys
     seen: set[tuple] = set()  # the places the rules reported
     above: set[tuple] = set()  # ... and every place above them
     index: dict = {}
     for msg in rule_msgs:
         path, key = _path_of(msg)
+        if key is not None:  # the schema's "Additional properties" there says the same
+            unknown_at.add(tuple(path))
         if path:
             seen.add(tuple(path))
             above.update(tuple(path[:i]) for i in range(1, len(path) + 1))
@@ -701,8 +704,10 @@ def _problems_and_data(text: str, *, source: str) -> tuple[list[Problem], Any]:
         if isinstance(doc.get("steps"), list) and len(doc["steps"]) > tol.RECIPE_MAX_STEPS:
             doc = {k: v for k, v in doc.items() if k != "steps"}  # reported by the rules
         for path, msg in _schema_problems(doc):
-            covered = tuple(path) in above or any(
-                tuple(path[:i]) in seen for i in range(1, len(path) + 1)
+            covered = (
+                (tuple(path) in unknown_at and "Additional properties" in msg)
+                or tuple(path) in above
+                or any(tuple(path[:i]) in seen for i in range(1, len(path) + 1))
             )
             if not covered:
                 found.append(Problem(source, _line_of(root, path, None, index), msg))
