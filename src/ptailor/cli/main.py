@@ -65,7 +65,7 @@ class _Group(click.Group):
         except KeyboardInterrupt as exc:
             signum = exc.signum if isinstance(exc, Interrupted) else signal.SIGINT
             name = signal.Signals(signum).name
-            click.echo(f"ptailor: interrupted ({name}): no output folder written", err=True)
+            click.echo(f"ptailor: interrupted ({name}): no partial output left", err=True)
             ctx.exit(128 + signum)
         finally:
             for s, h in saved.items():
