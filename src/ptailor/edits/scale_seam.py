@@ -104,6 +104,11 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
     g, V3 = state.base, state.V3
     a, b = step["seam"]
     part = step["part"]
+    if a == b:
+        raise PtailorError(
+            f"seam [{a}, {b}]: a panel's seam with itself (a tube's closing seam) cannot be "
+            "scaled on one side; name two different panels"
+        )
     other = b if part == a else a
     ring = seam_vertices(state, [a, b])
     P = V3[ring]
