@@ -634,10 +634,25 @@ def _apply(pts: np.ndarray, T: tuple[np.ndarray, np.ndarray] | None) -> np.ndarr
     return pts if T is None else pts @ T[0] + T[1]
 
 
+#: entity types the reader uses; others (ezdxf keeps unknown ones as tag storage) are
+#: skipped, as CAD importers skip what they do not know
+_USED = frozenset(
+    {"LINE", "POLYLINE", "LWPOLYLINE", "ARC", "CIRCLE", "ELLIPSE", "SPLINE", "POINT", "TEXT"}
+    | {"MTEXT"}
+)
+
+
+def _layer(e: Any) -> str:
+    """An entity's layer name, stripped (``""`` when it has none that can be read)."""
+    try:
+        return str(e.dxf.get("layer", "0")).strip()
+    except Exception:  # an entity ezdxf does not know may have no layer attribute
+        return ""
+
+
 def _has_boundary(entities: Any) -> bool:
     return any(
-        str(e.dxf.get("layer", "")).strip() == L_BOUNDARY
-        and e.dxftype() not in ("TEXT", "MTEXT", "POINT", "INSERT")
+        _layer(e) == L_BOUNDARY and e.dxftype() in _USED - {"TEXT", "MTEXT", "POINT"}
         for e in entities
     )
 
@@ -693,7 +708,12 @@ def _entity_points(e: Any, T: tuple[np.ndarray, np.ndarray] | None) -> np.ndarra
         if count > _tol.DXF_MAX_VERTICES:
             raise _BadEntityError(f"has {count} vertices (limit {_tol.DXF_MAX_VERTICES})")
         if kind == "POLYLINE":
-            raw = np.array([_xy(v.dxf.get("location")) for v in e.vertices], dtype=float)
+            raw = np.zeros((count, 2))
+            for j, v in enumerate(e.vertices):  # a loop over vertices: which one is bad
+                try:
+                    raw[j] = _xy(v.dxf.get("location"))
+                except _BadEntityError as exc:
+                    raise _BadEntityError(f"vertex {j} {exc}") from exc
         else:
             raw = np.array(e.get_points("xy"), dtype=float).reshape(-1, 2)
         bad = _bad_coordinate(raw)
@@ -792,9 +812,7 @@ def _collect(entities: Any, T: tuple[np.ndarray, np.ndarray] | None) -> _Marks:
             _collect_one(m, e, T)
         except (_BadEntityError, ValueError, TypeError, AttributeError, IndexError) as exc:
             # ezdxf's DXFAttributeError, DXFValueError, ... are among these
-            layer = ""
-            with contextlib.suppress(Exception):
-                layer = str(e.dxf.get("layer", "0")).strip()
+            layer = _layer(e)
             what = _LAYER_NAMES.get(layer, "notch" if layer in NOTCH_LAYERS else "")
             msg = (
                 str(exc)
@@ -808,7 +826,9 @@ def _collect(entities: Any, T: tuple[np.ndarray, np.ndarray] | None) -> _Marks:
 def _collect_one(m: _Marks, e: Any, T: tuple[np.ndarray, np.ndarray] | None) -> None:
     """Sort one entity into ``m`` (raises on an entity that cannot be used)."""
     kind = e.dxftype()
-    layer = str(e.dxf.get("layer", "0")).strip()
+    if kind not in _USED:
+        return
+    layer = _layer(e)
     if kind in ("TEXT", "MTEXT"):
         if layer in (L_BOUNDARY, L_TEXT):
             text = _text_of(e)
