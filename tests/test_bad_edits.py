@@ -1,0 +1,334 @@
+"""Numeric failures inside the method and the edits (issue 12): one regression per signature.
+
+Each bad edit ends as a ``PtailorError`` (exit 2) naming the garment and the step, with
+nothing written, or as exit 0 with finite outputs and, where the result is poor, a report
+warning. The recipes are built past the validator (``raw``) where the validator's own
+bounds would refuse them first: the edits must hold on their own.
+"""
+
+from __future__ import annotations
+
+import json
+import warnings
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from ptailor import samples
+from ptailor.errors import PtailorError
+from ptailor.formats.obj import write_garment
+from ptailor.job import run_adjust
+from ptailor.recipe import parse_recipe
+
+SMALL = {
+    "sleeve": ("lantern_sleeve", {"n_around": 16, "n_sleeve": 8, "n_cuff": 3}),
+    "skirt": ("cone_skirt", {"n_around": 16, "n_along": 8}),
+    "bodice": ("bodice", {"n_around": 16, "n_along": 8}),
+}
+
+
+@pytest.fixture(scope="module")
+def garments(tmp_path_factory) -> dict[str, Path]:
+    d = tmp_path_factory.mktemp("bad_edits")
+    out = {}
+    for key, (name, kw) in SMALL.items():
+        p = d / f"{key}.obj"
+        write_garment(p, getattr(samples, name)(**kw), header=["units: cm"])
+        out[key] = p
+    return out
+
+
+def raw_recipe(text: str, **values):
+    """A recipe validated with benign values, then given the extreme ones (past the checks).
+
+    ``values``: ``step1_factor=5e-324`` sets steps[1].factor; ``flatten_w_pin=...``.
+    """
+    r = parse_recipe(text)
+    steps = [dict(s) for s in r.steps]
+    fl = dict(r.flatten)
+    for key, v in values.items():
+        where, name = key.split("_", 1)
+        if where == "flatten":
+            fl[name] = v
+        else:
+            steps[int(where[4:]) - 1][name] = v
+    return replace(r, steps=steps, flatten=fl)
+
+
+def refused(garment: Path, recipe, tmp_path: Path, **kw) -> str:
+    out = tmp_path / "out"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)  # nothing may print
+        with pytest.raises(PtailorError) as ei:
+            run_adjust(str(garment), recipe, out, formats=("obj",), **kw)
+    assert not out.exists()
+    msg = str(ei.value)
+    assert "\n" not in msg
+    return msg
+
+
+def finite_run(garment: Path, recipe, tmp_path: Path, **kw) -> dict:
+    out = tmp_path / "out"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        rep = run_adjust(str(garment), recipe, out, formats=("obj", "dxf"), **kw)
+    json.loads((out / "report.json").read_text(), parse_constant=pytest.fail)
+    obj = (out / "garment.obj").read_text().lower()
+    assert " nan" not in obj and " inf" not in obj
+    return rep
+
+
+@pytest.mark.parametrize("factor", [5e-324, 1e-320, 1e-300, 1e-12])
+@pytest.mark.parametrize("direction", ["uniform", "around"])
+def test_collapsing_scale_is_refused_before_factoring(garments, tmp_path, factor, direction):
+    """SuperLU 'Factor is exactly singular' for a factor of 5e-324."""
+    r = raw_recipe(
+        f"steps: [{{op: scale, direction: {direction}, factor: 0.5}}]", step1_factor=factor
+    )
+    msg = refused(garments["sleeve"], r, tmp_path)
+    assert msg.startswith(str(garments["sleeve"]))
+    assert "steps[1] (scale)" in msg and "collapses" in msg
+
+
+@pytest.mark.parametrize(
+    "axis", [[5e-324, 0.0, 0.0], [1e-320, 1e-320, 0.0], [1e308, 1e308, 1e308], [-1e308, 0, 1e300]]
+)
+def test_subnormal_and_huge_axes_keep_their_direction(garments, tmp_path, axis):
+    """A subnormal axis made SuperLU singular; [1e308]*3 silently became a uniform scale."""
+    r = raw_recipe(
+        "steps: [{op: scale, direction: along, axis: [1, 0, 0], factor: 1.2}]", step1_axis=axis
+    )
+    rep = finite_run(garments["sleeve"], r, tmp_path)
+    ax = np.asarray(rep["steps"][0]["axis"] if "steps" in rep else _logged_axis(rep))
+    want = np.asarray(axis, float) / np.max(np.abs(axis))
+    want /= np.linalg.norm(want)
+    assert np.allclose(ax, want, atol=1e-6)
+
+
+def _logged_axis(rep: dict) -> list[float]:
+    for key in ("log", "edits"):
+        if key in rep:
+            return next(s for s in rep[key] if s.get("op") == "scale")["axis"]
+    raise AssertionError(f"no step log in the report: {sorted(rep)}")
+
+
+def test_zero_and_non_finite_axis_refused_at_apply_time(garments, tmp_path):
+    for axis in ([0.0, 0.0, 0.0], [float("nan"), 0.0, 1.0], [float("inf"), 0.0, 0.0]):
+        r = raw_recipe(
+            "steps: [{op: scale, direction: along, axis: [1, 0, 0], factor: 1.2}]",
+            step1_axis=axis,
+        )
+        assert "has no direction" in refused(garments["sleeve"], r, tmp_path)
+
+
+@pytest.mark.parametrize("by", [1e300, 99999.0, 1e12])
+def test_extend_bounded_before_allocating(garments, tmp_path, by):
+    """'Maximum allowed size exceeded' for by 1e300; 656k triangles for 99999."""
+    r = raw_recipe("steps: [{op: extend, opening: hem, by: 5}]", step1_by=by)
+    msg = refused(garments["skirt"], r, tmp_path)
+    assert "steps[1] (extend)" in msg and "would create" in msg and "triangles" in msg
+
+
+@pytest.mark.parametrize("op", ["shorten", "extend"])
+@pytest.mark.parametrize("by", [1e-9, 1e-12, 5e-324])
+def test_by_too_small_is_said_so(garments, tmp_path, op, by):
+    """shorten by 1e-9 was reported as 'the cut does not reach the garment'."""
+    r = raw_recipe(f"steps: [{{op: {op}, opening: hem, by: 5}}]", step1_by=by)
+    msg = refused(garments["skirt"], r, tmp_path)
+    assert "too small" in msg and "does not reach" not in msg
+
+
+@pytest.mark.parametrize("weight", ["w_pin", "w_asap"])
+@pytest.mark.parametrize("value", [1e300, 1e-300, 1e12])
+def test_extreme_flatten_weights_refused_naming_the_recipe(garments, tmp_path, weight, value):
+    """Weights of 1e300 with seams: keep wrote NaN into garment.obj and report.json."""
+    r = raw_recipe(
+        "steps: [{op: extend, opening: hem, by: 5}]\nflatten: {seams: keep}",
+        **{f"flatten_{weight}": value},
+    )
+    r = replace(r, source="fuzz.yaml")
+    msg = refused(garments["skirt"], r, tmp_path)
+    assert msg.startswith("fuzz.yaml: flatten." + weight)
+
+
+def test_weights_at_the_bounds_stay_finite(garments, tmp_path):
+    from ptailor import tolerances as tol
+
+    lo, hi = tol.FLATTEN_WEIGHT_RANGE
+    for w_pin, w_asap in ((hi, hi), (lo, lo), (hi, lo)):
+        r = raw_recipe(
+            "steps: [{op: extend, opening: hem, by: 5}]\nflatten: {seams: keep}",
+            flatten_w_pin=w_pin,
+            flatten_w_asap=w_asap,
+        )
+        finite_run(garments["skirt"], r, tmp_path)
+
+
+def test_stitch_never_returns_non_finite(garments):
+    """The solver itself: an overflowing matrix is refused, not solved into NaN."""
+    from ptailor.adjust import adjust
+    from ptailor.formats.garment import load_garment
+
+    g = load_garment(str(garments["skirt"])).garment
+    r = raw_recipe("steps: [{op: scale, factor: 1.1}]", flatten_w_pin=1e300, flatten_w_asap=1e300)
+    with pytest.raises(PtailorError, match=r"flatten\.w_pin"):
+        adjust(g, r)
+
+
+def test_cut_sketch_far_from_the_garment_is_refused(garments, tmp_path):
+    """A sketch far away still cut the garment (its end segments extend to infinity)."""
+    r = parse_recipe("steps: [{op: cut, view: front, sketch: [[1000, 30], [1010, 30]]}]")
+    msg = refused(garments["bodice"], r, tmp_path)
+    assert "steps[1] (cut)" in msg and "does not overlap" in msg
+
+
+def test_cut_sketch_across_the_garment_still_cuts(garments, tmp_path):
+    r = parse_recipe("steps: [{op: cut, view: front, sketch: [[-100, 30], [100, 30]]}]")
+    rep = finite_run(garments["bodice"], r, tmp_path)
+    assert rep["warnings"] is not None
+
+
+def test_seam_allowance_bounded_by_the_piece_size(garments, tmp_path):
+    """--seam-allowance 1e300 wrote coordinates of 4e301."""
+    r = parse_recipe("steps: [{op: scale, factor: 1.1}]")
+    for sa in (1e300, 1e6):
+        msg = refused(garments["sleeve"], r, tmp_path, seam_allowance=sa)
+        assert "--seam-allowance" in msg and "diagonal" in msg
+    rep = finite_run(garments["sleeve"], r, tmp_path, seam_allowance=1.0)
+    assert rep["pattern"]["seam_allowance"] == 1.0
+
+
+def test_garment_errors_name_the_file_and_the_step(garments, tmp_path):
+    """'no opening named hem' named no file."""
+    r = parse_recipe("steps: [{op: scale, factor: 1.1}, {op: extend, opening: neckline, by: 5}]")
+    msg = refused(garments["skirt"], r, tmp_path)
+    assert msg.startswith(f"{garments['skirt']}: steps[2] (extend): no opening named 'neckline'")
+    assert "this garment has" in msg or "it has" in msg
+
+
+def test_garment_errors_through_the_cli_name_the_file(garments, tmp_path):
+    from click.testing import CliRunner
+
+    from ptailor.cli.main import cli
+
+    rec = tmp_path / "r.yaml"
+    rec.write_text("steps: [{op: extend, opening: hem, by: 5}]\n")
+    res = CliRunner().invoke(
+        cli, ["adjust", str(garments["sleeve"]), str(rec), "-o", str(tmp_path / "o")]
+    )
+    assert res.exit_code in (0, 2)
+    rec.write_text("steps: [{op: extend, opening: nope, by: 5}]\n")
+    res = CliRunner().invoke(
+        cli, ["adjust", str(garments["sleeve"]), str(rec), "-o", str(tmp_path / "o2")]
+    )
+    assert res.exit_code == 2
+    err = res.stderr if hasattr(res, "stderr") else res.output
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert len(lines) == 1 and str(garments["sleeve"]) in lines[0] and "steps[1]" in lines[0]
+    assert not (tmp_path / "o2").exists()
+
+
+def test_scale_around_tiny_factor_warns_or_refuses(garments, tmp_path):
+    """scale around 1e-6 gave an intrinsic error p95 of 6e5 with no warning."""
+    from ptailor import tolerances as tol
+
+    for region in ("all", "{panels: [sleeve]}"):
+        r = raw_recipe(
+            f"steps: [{{op: scale, region: {region}, direction: around, factor: 0.5}}]",
+            step1_factor=1e-6,
+        )
+        out = tmp_path / "out"
+        try:
+            rep = run_adjust(str(garments["sleeve"]), r, out, formats=("obj",))
+        except PtailorError as exc:
+            assert "\n" not in str(exc) and not out.exists()
+            continue
+        worst = max(p["intrinsic_scale_error"]["p95"] for p in rep["panels"])
+        if worst > tol.INTRINSIC_ERROR_WARN:
+            assert any("intrinsic-scale error" in w for w in rep["warnings"])
+
+
+def test_intrinsic_error_warning_names_the_panel():
+    from types import SimpleNamespace
+
+    from ptailor.job import intrinsic_error_warnings
+
+    panels = [
+        SimpleNamespace(name="sleeve", faces=np.arange(0, 10)),
+        SimpleNamespace(name="cuff", faces=np.arange(10, 20)),
+    ]
+    adj = SimpleNamespace(state=SimpleNamespace(panels=panels))
+    err = np.concatenate([np.full(10, 1e-3), np.full(10, 6e5)])
+    (w,) = intrinsic_error_warnings(adj, err)
+    assert "cuff" in w and "sleeve" not in w
+
+
+def test_final_guard_refuses_non_finite_results(garments, tmp_path, monkeypatch):
+    """Whatever the solver does, NaN never reaches the disk: exit 2 naming the solver."""
+    import ptailor.job as job
+    from ptailor.method import flatten as fl
+
+    real = fl.flatten
+
+    def poisoned(*a, **kw):
+        res = real(*a, **kw)
+        V2 = res.V2.copy()
+        V2[0] = np.nan
+        return replace(res, V2=V2)
+
+    monkeypatch.setattr("ptailor.adjust.flatten", poisoned)
+    r = parse_recipe("steps: [{op: scale, factor: 1.1}]")
+    msg = refused(garments["sleeve"], r, tmp_path)
+    assert "non-finite" in msg and "flatten" in msg
+    assert job  # the guard lives in job.run_adjust
+
+
+def test_solver_failure_maps_to_exit_2(garments, tmp_path, monkeypatch):
+    """A SuperLU RuntimeError anywhere in the method is exit 2 naming where."""
+
+    def singular(*a, **kw):
+        raise RuntimeError("Factor is exactly singular")
+
+    monkeypatch.setattr("ptailor.adjust.flatten", singular)
+    r = parse_recipe("steps: [{op: scale, factor: 1.1}]")
+    msg = refused(garments["sleeve"], r, tmp_path)
+    assert "flatten" in msg and "exactly singular" in msg
+
+
+def test_factor_refuses_singular_and_non_finite_matrices():
+    import scipy.sparse as sp
+
+    from ptailor.method.stitch import factor
+
+    with pytest.raises(PtailorError, match="cannot be factored"):
+        factor(sp.csc_matrix(np.zeros((3, 3))))
+    with pytest.raises(PtailorError, match="non-finite"):
+        factor(sp.csc_matrix(np.diag([1.0, np.inf, 1.0])))
+
+
+def test_anderson_falls_back_on_non_finite_history():
+    from ptailor.method.anderson import Anderson
+
+    acc = Anderson(m=3)
+    x = np.zeros(4)
+    acc.next(x, np.ones(4))
+    out = acc.next(np.full(4, np.inf), np.full(4, 2.0))
+    assert np.all(np.isfinite(out))
+
+
+def test_library_warnings_go_to_the_report_not_the_terminal(garments, tmp_path, monkeypatch):
+    from ptailor import adjust as adj_mod
+
+    real = adj_mod.flatten
+
+    def noisy(*a, **kw):
+        np.log(np.zeros(1))  # divide by zero: a RuntimeWarning outside errstate
+        warnings.warn("something numeric", RuntimeWarning, stacklevel=1)
+        return real(*a, **kw)
+
+    monkeypatch.setattr("ptailor.adjust.flatten", noisy)
+    r = parse_recipe("steps: [{op: scale, factor: 1.1}]")
+    rep = finite_run(garments["sleeve"], r, tmp_path)
+    assert any("something numeric" in w for w in rep["warnings"])
