@@ -1,0 +1,208 @@
+"""Property-based fuzzing of the DXF reader (issue 12): mutants of small valid DXF
+patterns (ptailor's own ``pattern.dxf`` from ``ptailor demo``, and the shared fixtures when
+present) keep the contract of ``ptailor inspect`` and ``ptailor adjust``: exit 0 or exit 2
+with one line naming the file, no traceback, nothing written on exit 2, no NaN or inf
+written on exit 0.
+
+The Hypothesis profile comes from tests/conftest.py: ``ci`` (seeded, 60 examples per
+property) by default, ``PTAILOR_FUZZ=long`` for 2,000. ``bench/fuzz_dxf.py`` runs a longer
+campaign outside pytest with time limits per case.
+"""
+
+from __future__ import annotations
+
+import re
+import shutil
+from pathlib import Path
+
+import pytest
+
+hypothesis = pytest.importorskip("hypothesis")
+from hypothesis import given  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from ptailor.cli.main import cli  # noqa: E402
+
+from .conftest import SHARED  # noqa: E402
+
+EXTREMES = [
+    "nan",
+    "NaN",
+    "inf",
+    "-inf",
+    "1e300",
+    "-1e300",
+    "1e308",
+    "1.8e308",
+    "5e-324",
+    "-0",
+    "99999999999999999999",
+    "-99999999999999999999",
+    "2147483648",
+    "",
+    " ",
+    "garbage",
+    "1e",
+    "0x10",
+    "1,5",
+    "0.0abc",
+    "1" * 400,
+]
+ENTITY_NAMES = [
+    "LINE",
+    "POLYLINE",
+    "LWPOLYLINE",
+    "VERTEX",
+    "SEQEND",
+    "POINT",
+    "TEXT",
+    "MTEXT",
+    "INSERT",
+    "BLOCK",
+    "ENDBLK",
+    "CIRCLE",
+    "ARC",
+    "SPLINE",
+    "HATCH",
+    "FOO",
+    "ENDSEC",
+    "EOF",
+    "",
+]
+#: group codes worth hitting with extreme values: coordinates, radius/height, angle,
+#: flags, text, layer, name
+HOT_CODES = {"10", "20", "11", "21", "40", "41", "42", "50", "66", "70", "1", "8", "2"}
+
+pos = st.floats(0.0, 1.0, exclude_max=True)
+value = st.sampled_from(EXTREMES) | st.text(max_size=12)
+MUTATION = st.one_of(
+    st.tuples(st.just("hot"), pos, value),
+    st.tuples(st.just("value"), pos, value),
+    st.tuples(st.just("layer"), pos, st.sampled_from(["1", "2", "4", "6", "7", "8", "13", "14"])),
+    st.tuples(st.just("drop"), pos, st.integers(1, 40)),
+    st.tuples(st.just("dup"), pos, st.integers(1, 40)),
+    st.tuples(st.just("swap"), pos, pos),
+    st.tuples(st.just("name"), pos, st.sampled_from(ENTITY_NAMES)),
+    st.tuples(st.just("trunc"), pos, st.just(0)),
+    st.tuples(st.just("bytes"), pos, st.binary(min_size=1, max_size=16)),
+)
+MUTATIONS = st.lists(MUTATION, min_size=1, max_size=3)
+
+
+def mutate(data: bytes, mutations: list[tuple]) -> bytes:
+    """Apply ``MUTATIONS`` to a DXF's bytes (lines: group code, value, ...)."""
+    lines = data.decode("latin-1").splitlines()
+    for op, at, arg in mutations:
+        if not lines:
+            break
+        n = len(lines)
+        pair = int(at * max(n // 2, 1)) * 2
+        if op == "hot":
+            hot = [i for i in range(0, n - 1, 2) if lines[i].strip() in HOT_CODES]
+            if hot:
+                lines[hot[int(at * len(hot))] + 1] = arg
+        elif op in ("value", "layer") and pair + 1 < n:
+            if op == "layer":
+                lay = [i for i in range(0, n - 1, 2) if lines[i].strip() == "8"]
+                if lay:
+                    lines[lay[int(at * len(lay))] + 1] = arg
+            else:
+                lines[pair + 1] = arg
+        elif op == "drop":
+            del lines[pair : pair + arg]
+        elif op == "dup":
+            lines[pair:pair] = lines[pair : pair + arg]
+        elif op == "swap":
+            other = int(arg * max(n // 2, 1)) * 2
+            a, b = lines[pair : pair + 2], lines[other : other + 2]
+            if len(a) == len(b):
+                lines[pair : pair + 2], lines[other : other + 2] = b, a
+        elif op == "name":
+            zeros = [i for i in range(0, n - 1, 2) if lines[i].strip() == "0"]
+            if zeros:
+                lines[zeros[int(at * len(zeros))] + 1] = arg
+        elif op == "trunc":
+            del lines[int(at * n) :]
+        elif op == "bytes":
+            text = "\n".join(lines)
+            k = int(at * (len(text) + 1))
+            text = text[:k] + arg.decode("latin-1") + text[k + len(arg) :]
+            lines = text.split("\n")
+    return ("\n".join(lines) + "\n").encode("latin-1", errors="replace")
+
+
+#: "nan"/"inf" as a number in a written file (not inside a word such as "infinite")
+BAD_NUMBER = re.compile(rb"(?i)(?<![a-z_])(nan|inf|infinity)(?![a-z_])")
+
+
+@pytest.fixture(scope="module")
+def demo(tmp_path_factory) -> Path:
+    """``ptailor demo``'s folder: pattern.dxf with its drape garment.obj and recipe.yaml."""
+    from click.testing import CliRunner
+
+    out = tmp_path_factory.mktemp("fuzz_dxf") / "demo"
+    r = CliRunner().invoke(cli, ["demo", str(out)])
+    assert r.exit_code == 0, r.output
+    return out
+
+
+def seeds(demo: Path) -> list[Path]:
+    found = [demo / "pattern.dxf"]
+    for name in ("clo-pattern.dxf", "WM_SLIM_TANK.DXF"):
+        p = SHARED / "dxf" / name
+        if p.is_file():
+            found.append(p)
+    return found
+
+
+def check(args: list[str], path: Path, out: Path | None = None) -> int:
+    """Run the CLI; assert the contract; return the exit code."""
+    from click.testing import CliRunner
+
+    r = CliRunner().invoke(cli, args)
+    if r.exception is not None and not isinstance(r.exception, SystemExit):
+        import traceback
+
+        tb = "".join(traceback.format_exception(r.exception))
+        raise AssertionError(f"traceback on {args[0]}:\n{tb}")
+    assert r.exit_code in (0, 2), (r.exit_code, r.output)
+    text = r.output.strip()
+    if r.exit_code == 2:
+        assert len(text.splitlines()) == 1, text
+        assert str(path) in text, text
+        if out is not None:
+            assert not out.exists(), f"exit 2 left {out} behind"
+    elif out is not None:
+        for f in out.iterdir():
+            if f.suffix in (".obj", ".dxf", ".json", ".svg"):
+                m = BAD_NUMBER.search(f.read_bytes())
+                assert m is None, f"{f.name} holds {m.group(0)!r}"
+    return r.exit_code
+
+
+@given(which=st.integers(0, 2), mutations=MUTATIONS)
+def test_inspect_mutated_dxf_fails_closed(demo, tmp_path_factory, which, mutations):
+    src = seeds(demo)
+    src = src[which % len(src)]
+    d = tmp_path_factory.mktemp("m")
+    p = d / f"mutant{src.suffix}"
+    p.write_bytes(mutate(src.read_bytes(), mutations))
+    check(["inspect", str(p)], p)
+    shutil.rmtree(d)
+
+
+@given(mutations=MUTATIONS)
+def test_adjust_mutated_dxf_fails_closed(demo, tmp_path_factory, mutations):
+    d = tmp_path_factory.mktemp("m")
+    p = d / "pattern.dxf"
+    p.write_bytes(mutate((demo / "pattern.dxf").read_bytes(), mutations))
+    out = d / "out"
+    args = ["adjust", str(p), str(demo / "recipe.yaml"), "--drape", str(demo / "garment.obj")]
+    check([*args, "-o", str(out)], p, out)
+    shutil.rmtree(d)
+
+
+def test_mutate_is_deterministic_and_changes_the_file(demo):
+    data = (demo / "pattern.dxf").read_bytes()
+    muts = [("hot", 0.5, "nan"), ("drop", 0.1, 2)]
+    assert mutate(data, muts) == mutate(data, muts) != data
