@@ -1,5 +1,6 @@
 """``ptailor``: the command group. Library errors map to exit codes here and only here.
 
+- bad arguments (click's usage errors) exit 2 with one line too;
 - :class:`~ptailor.errors.PtailorError` and ``OSError`` (a file that cannot be read or
   written: permissions, a name too long, a full disk) exit 2 with one line on stderr,
   naming the file (never a hidden staging folder);
@@ -58,6 +59,11 @@ class _Group(click.Group):
                 return super().invoke(ctx)
         except PtailorError as exc:
             click.echo(f"ptailor: error: {one_line(exc)}", err=True)
+            ctx.exit(2)
+        except click.UsageError as exc:  # one line too (not click's usage block)
+            where = f" {exc.ctx.info_name}" if exc.ctx is not None and exc.ctx is not ctx else ""
+            hint = f" (ptailor{where} --help)"
+            click.echo(f"ptailor{where}: error: {one_line(exc.format_message())}{hint}", err=True)
             ctx.exit(2)
         except OSError as exc:
             click.echo(f"ptailor: error: {one_line(os_error_message(exc))}", err=True)

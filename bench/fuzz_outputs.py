@@ -1,0 +1,346 @@
+"""Seeded fuzzing campaign over output paths and folder states (issue 12).
+
+Each case builds a folder state (an output folder missing, empty, an earlier ptailor
+output, one with the user's files, another tool's report.json, links, long names, inputs
+inside it, a file in its place, ...), runs ``ptailor adjust`` on a small garment, sometimes
+sends SIGTERM or SIGINT at a random time, and asserts the contract:
+
+- exit 0 or 2 (or, when a signal was sent, 128 + it, or death by it where it lands
+  before ptailor's handler is installed), never a traceback otherwise;
+- exit 2: exactly one line on stderr, naming no staging folder;
+- no user file lost or changed (every file the case made that is not part of an earlier
+  ptailor output), every symbolic link still a link;
+- no staging folder (``.NAME.XXXXXXXX.tmp``) left anywhere;
+- exit 0: the output folder holds a marker and a report.
+
+Cases without a signal run in this process (click's test runner), those with one as a
+subprocess. Usage::
+
+    python bench/fuzz_outputs.py [--cases 500] [--seed 12] [--keep DIR]
+
+Prints one line per failing case and the totals per state and outcome; exits 1 on any
+violation.
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import json
+import os
+import random
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from click.testing import CliRunner
+
+from ptailor.cli.main import cli
+from ptailor.formats.obj import write_garment
+from ptailor.output import MARKER, read_marker
+from ptailor.samples import lantern_sleeve, sample_for_triangles
+
+RECIPE = "steps: [{op: scale, region: all, direction: around, axis: auto, factor: 1.2}]\n"
+FAST = ["--formats", "obj,svg", "--no-baseline"]
+STAGING = re.compile(r"^\..+\.[a-z0-9_]{8}\.tmp$")
+STATES = (
+    "missing",
+    "missing-deep",
+    "empty",
+    "ptailor",
+    "ptailor+user",
+    "ptailor+subfolder",
+    "foreign-report",
+    "symlink-report",
+    "legacy",
+    "legacy+user",
+    "forged-marker",
+    "file",
+    "link-empty",
+    "link-ptailor",
+    "link-foreign",
+    "link-dangling",
+    "link-loop",
+    "parent-is-file",
+    "long-200",
+    "long-256",
+    "long-300",
+    "unicode",
+    "recipe-inside",
+    "garment-inside",
+    "drape-inside",
+    "link-to-input",
+    "out-is-cwd",
+    "out-is-input",
+    "out-above-input",
+)
+
+
+class Case:
+    def __init__(self, root: Path, garment: Path, rng: random.Random, state: str) -> None:
+        self.root = root
+        self.state = state
+        self.rng = rng
+        self.garment = garment
+        self.recipe = root / "r.yaml"
+        self.recipe.write_text(RECIPE)
+        self.out: Path = root / "out"
+        self.extra: list[str] = []
+        self.cwd: Path | None = None
+        self.ptailor_files: set[Path] = set()  # what ptailor wrote: may be replaced
+
+    def make_output(self, folder: Path, legacy: bool = False) -> None:
+        src = self.root.parent / "_ref"
+        shutil.copytree(src, folder)
+        if legacy:
+            (folder / MARKER).unlink()
+        self.ptailor_files |= {p for p in folder.rglob("*")}
+
+    def user(self, path: Path, text: str = "user data") -> None:
+        path.write_text(text)
+
+    def build(self) -> None:
+        s, root, out = self.state, self.root, self.out
+        if s == "missing":
+            pass
+        elif s == "missing-deep":
+            self.out = root / "a" / "b" / "out"
+        elif s == "empty":
+            out.mkdir()
+        elif s.startswith("ptailor"):
+            self.make_output(out)
+            if s == "ptailor+user":
+                self.user(out / self.rng.choice(["notes.txt", "garment.obj.bak", ".hidden"]))
+            elif s == "ptailor+subfolder":
+                (out / "sub").mkdir()
+                self.user(out / "sub" / "keep.txt")
+        elif s == "foreign-report":
+            out.mkdir()
+            self.user(out / "report.json", '{"outputs": ["report.json"]}')
+            self.user(out / "data.csv")
+        elif s == "symlink-report":
+            self.make_output(root / "elsewhere")
+            out.mkdir()
+            (out / "report.json").symlink_to(root / "elsewhere" / "report.json")
+            self.user(out / "mine.txt")
+        elif s.startswith("legacy"):
+            self.make_output(out, legacy=True)
+            if s == "legacy+user":
+                self.user(out / "recipe.yaml")
+        elif s == "forged-marker":
+            out.mkdir()
+            self.user(out / MARKER, "{}")
+            self.user(out / "report.json", "{}")
+        elif s == "file":
+            self.user(out)
+        elif s.startswith("link-") and s not in ("link-to-input",):
+            target = root / "target"
+            if s == "link-empty":
+                target.mkdir()
+            elif s == "link-ptailor":
+                self.make_output(target)
+            elif s == "link-foreign":
+                target.mkdir()
+                self.user(target / "drawing.dxf")
+            elif s == "link-loop":
+                target.symlink_to(out)
+            out.symlink_to(target)
+        elif s == "parent-is-file":
+            self.user(root / "plain")
+            self.out = root / "plain" / "out"
+        elif s.startswith("long-"):
+            self.out = root / ("n" * int(s.split("-")[1]))
+        elif s == "unicode":
+            self.out = root / "sortie-é-☃-𝄞"
+        elif s == "recipe-inside":
+            self.make_output(out)
+            self.recipe = out / "r.yaml"
+            self.user(self.recipe, RECIPE)
+        elif s == "garment-inside":
+            self.make_output(out)
+            g = out / "in.obj"
+            shutil.copy(self.garment, g)
+            self.garment = g
+        elif s == "drape-inside":
+            self.make_output(out)
+            d = out / "drape.obj"
+            shutil.copy(self.garment, d)
+            self.extra = ["--drape", str(d)]
+        elif s == "link-to-input":
+            self.make_output(out)
+            self.user(out / "r.yaml", RECIPE)
+            link = root / "link.yaml"
+            link.symlink_to(out / "r.yaml")
+            self.recipe = link
+        elif s == "out-is-cwd":
+            self.make_output(out)
+            self.user(out / "r.yaml", RECIPE)
+            self.cwd = out
+            self.out = Path(".")
+            self.recipe = Path("r.yaml")
+        elif s == "out-is-input":
+            self.out = self.recipe
+        elif s == "out-above-input":
+            self.out = root
+        else:
+            raise AssertionError(s)
+
+    def args(self) -> list[str]:
+        return ["adjust", str(self.garment), str(self.recipe), "-o", str(self.out), "-q"]
+
+
+def snapshot(root: Path) -> dict[str, object]:
+    """Every path under root: bytes for files, the target for links, None for folders."""
+    snap: dict[str, object] = {}
+    for dirpath, dirs, files in os.walk(root):
+        for name in dirs + files:
+            p = Path(dirpath) / name
+            rel = str(p.relative_to(root))
+            if p.is_symlink():
+                snap[rel] = ("link", os.readlink(p))
+            elif p.is_file():
+                snap[rel] = p.read_bytes()
+            else:
+                snap[rel] = None
+    return snap
+
+
+def staging_under(root: Path) -> list[str]:
+    return [
+        str(Path(d) / n)
+        for d, dirs, files in os.walk(root)
+        for n in dirs + files
+        if STAGING.match(n)
+    ]
+
+
+def run_case(case: Case, sig: int | None, delay: float) -> tuple[int, str]:
+    if sig is None:
+        old = os.getcwd()
+        try:
+            if case.cwd is not None:
+                os.chdir(case.cwd)
+            r = CliRunner().invoke(cli, case.args() + case.extra + FAST)
+        finally:
+            os.chdir(old)
+        if r.exception is not None and not isinstance(r.exception, SystemExit):
+            return 1, f"exception {type(r.exception).__name__}: {r.exception}"
+        return r.exit_code, r.stderr
+    cmd = [sys.executable, "-m", "ptailor", *case.args(), *case.extra, *FAST]
+    proc = subprocess.Popen(
+        cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, cwd=case.cwd
+    )
+    time.sleep(delay)
+    if proc.poll() is None:
+        proc.send_signal(sig)
+    _, err = proc.communicate(timeout=300)
+    return proc.returncode, err
+
+
+def check(case: Case, before: dict, code: int, err: str, sig: int | None) -> list[str]:
+    probs = []
+    # a signal may also land before ptailor installs its handler (while Python imports)
+    # or after the command restored the default one: then the process dies of it (-sig)
+    ok_codes = {0, 2} | ({128 + sig, -sig} if sig else set())
+    if code not in ok_codes:
+        probs.append(f"exit {code}: {err.strip()[-300:]}")
+    if code == 2:
+        lines = err.splitlines()
+        if len(lines) != 1:
+            probs.append(f"{len(lines)} lines on stderr: {lines[:3]}")
+        if ".tmp" in err:
+            probs.append(f"message names a staging folder: {err.strip()}")
+    after = snapshot(case.root)
+    replaceable = {str(p.relative_to(case.root)) for p in case.ptailor_files}
+    for rel, val in before.items():
+        if rel in replaceable:
+            continue
+        if rel not in after:
+            probs.append(f"lost {rel}")
+        elif after[rel] != val and val is not None:
+            probs.append(f"changed {rel}")
+    left = staging_under(case.root)
+    if left:
+        probs.append(f"staging left: {left}")
+    if code == 0:
+        real = Path(os.path.realpath(case.cwd / case.out if case.cwd else case.out))
+        if read_marker(real) is None or not (real / "report.json").is_file():
+            probs.append("exit 0 without a marker and report")
+    return probs
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--cases", type=int, default=500)
+    ap.add_argument("--seed", type=int, default=12)
+    ap.add_argument("--signal-rate", type=float, default=0.1)
+    ap.add_argument("--keep", type=Path, default=None, help="work here and keep it")
+    a = ap.parse_args(argv)
+    rng = random.Random(a.seed)
+    work = Path(tempfile.mkdtemp(prefix="ptailor-fuzz-")) if a.keep is None else a.keep
+    work.mkdir(parents=True, exist_ok=True)
+    small = work / "small.obj"
+    write_garment(small, lantern_sleeve(n_around=8, n_sleeve=3, n_cuff=1))
+    medium = work / "medium.obj"
+    write_garment(medium, sample_for_triangles(8000))
+    (work / "r.yaml").write_text(RECIPE)
+    r = CliRunner().invoke(
+        cli, ["adjust", str(small), str(work / "r.yaml"), "-o", str(work / "_ref"), *FAST]
+    )
+    assert r.exit_code == 0, r.output
+    tally: collections.Counter = collections.Counter()
+    failures = 0
+    t0 = time.perf_counter()
+    for i in range(a.cases):
+        state = rng.choice(STATES)
+        sig = None
+        if rng.random() < a.signal_rate:
+            sig = rng.choice([signal.SIGTERM, signal.SIGINT])
+        delay = rng.uniform(0.0, 2.5)
+        root = work / f"c{i:04d}"
+        root.mkdir()
+        case = Case(root, medium if sig else small, rng, state)
+        case.build()
+        before = snapshot(root)
+        code, err = run_case(case, sig, delay)
+        probs = check(case, before, code, err, sig)
+        kind = f"{state}{'+' + signal.Signals(sig).name if sig else ''}"
+        tally[(kind, code)] += 1
+        if probs:
+            failures += 1
+            print(f"FAIL case {i} seed {a.seed} {kind}: {'; '.join(probs)}", flush=True)
+        elif a.keep is None:
+            for p in root.rglob("*"):  # (a read-only or odd tree must still go)
+                if p.is_dir() and not p.is_symlink():
+                    p.chmod(0o755)
+            shutil.rmtree(root)
+    secs = time.perf_counter() - t0
+    by_code = collections.Counter()
+    for (_, code), n in tally.items():
+        by_code[code] += n
+    print(
+        json.dumps(
+            {
+                "seed": a.seed,
+                "cases": a.cases,
+                "failing_cases": failures,
+                "exit_codes": {str(k): v for k, v in sorted(by_code.items())},
+                "signals_sent": sum(n for (k, _), n in tally.items() if "+SIG" in k),
+                "seconds": round(secs, 1),
+            }
+        )
+    )
+    for (kind, code), n in sorted(tally.items()):
+        print(f"  {kind:<28} exit {code:>3}: {n}")
+    if a.keep is None and not failures:
+        shutil.rmtree(work, ignore_errors=True)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
