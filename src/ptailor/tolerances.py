@@ -195,3 +195,14 @@ RECIPE_MAX_LENGTH_CM = 1000.0
 RECIPE_SHOW_CHARS = 80
 #: A recipe holds at most this many steps (each is checked, by the rules and the schema).
 RECIPE_MAX_STEPS = 200
+
+# Output folders and batch (ptailor.output, ptailor.batch)
+#: Staging folders (``.NAME.XXXXXXXX.tmp``, ``.NAME.old-.NAME.XXXXXXXX.tmp``) carry at most
+#: this many bytes of the output folder's name; a longer name is cut and an 8-digit hash of
+#: it added, so that both fit the 255 bytes of a file name.
+STAGING_NAME_BYTES = 96
+#: At most this many distinct library warnings (numpy, ezdxf) are kept for one run's report.
+LIBRARY_WARNINGS_MAX = 20
+#: ``batch --timeout``: a garment past its timeout that does not stop (stuck in native code)
+#: has its worker killed max(this, a quarter of the timeout) seconds later.
+TIMEOUT_GRACE_S = 5.0
