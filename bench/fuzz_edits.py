@@ -175,13 +175,15 @@ def draw_flatten(src) -> dict:
     if src.pick([True, False, False, False, False]):
         fl["w_asap"] = magnitude(src)
     if src.pick([True, False, False]):
-        fl["max_iter"] = src.pick([1, 2, 3, 50, 100, 500])
+        fl["max_iter"] = src.pick([1, 2, 3, 50, 100, 500, 10000])
     if src.pick([True, False, False]):
         fl["seams"] = src.pick(["ease", "keep", "free"])
     if src.pick([True, False, False]):
         fl["boundary"] = src.pick(["auto", "similar", "free"])
     if src.pick([True, False, False, False]):
         fl["method"] = "uniform"
+    if src.pick([True, False, False, False]):
+        fl["intrinsic"] = "paper"
     return fl
 
 
@@ -189,6 +191,9 @@ def draw_case(src) -> dict:
     """A case: ``{"garment", "steps", "flatten", "raw", "seam_allowance"}``."""
     garment = src.pick(sorted(GARMENTS))
     steps = [draw_step(src, garment) for _ in range(src.pick([1, 1, 2]))]
+    for st in steps:
+        if src.pick([True, False, False, False]):
+            st["symmetric"] = True
     return {
         "garment": garment,
         "steps": steps,

@@ -328,3 +328,19 @@ def test_library_warnings_go_to_the_report_not_the_terminal(garments, tmp_path, 
     r = parse_recipe("steps: [{op: scale, factor: 1.1}]")
     rep = finite_run(garments["sleeve"], r, tmp_path)
     assert any("something numeric" in w for w in rep["warnings"])
+
+
+def test_gather_on_a_panel_a_later_cut_removes(garments, tmp_path):
+    """Campaign seed 12 case 770: KeyError in seam_factors after the cut removed 'back'."""
+    r = raw_recipe(
+        "steps: [{op: scale_seam, seam: [front, back], part: front, direction: around,"
+        " factor: 1.5}, {op: cut, plane: {point: [0, 0, 0], normal: [0, 0, -1]}}]\n"
+        "flatten: {method: uniform}"
+    )
+    out = tmp_path / "out"
+    try:
+        rep = run_adjust(str(garments["bodice"]), r, out, formats=("obj",))
+    except PtailorError as exc:
+        assert "\n" not in str(exc) and not out.exists()
+    else:
+        assert "back" not in [p["name"] for p in rep["panels"]] or rep

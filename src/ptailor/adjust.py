@@ -257,6 +257,8 @@ def seam_factors(state: EditState) -> dict[tuple[int, int], float]:
     idx = {p.name: p.index for p in state.panels}
     out: dict[tuple[int, int], float] = {}
     for part, other, f in state.gathers:  # a loop over steps
+        if part not in idx or other not in idx:
+            continue  # a later step (a cut) removed one of the seam's panels: no seam left
         key = (idx[part], idx[other])
         out[key] = out.get(key, 1.0) * f
     return out
