@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+import warnings
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -162,6 +163,33 @@ def load_garment(
         Naming the file and the problem; a pattern/drape length ratio outside [0.5, 2]
         (a unit mistake) names the unit options and the ratio.
     """
+    # numeric warnings of the repairs and checks are not printed: every value they concern
+    # is checked (check_garment), and a failure is one line naming the file
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore", RuntimeWarning)
+        return _load_garment(
+            path,
+            drape=drape,
+            units=units,
+            pattern_units=pattern_units,
+            drape_units=drape_units,
+            size=size,
+            dxf_units=dxf_units,
+            weld=weld,
+        )
+
+
+def _load_garment(
+    path: str | Path,
+    *,
+    drape: str | Path | None,
+    units: str,
+    pattern_units: str,
+    drape_units: str,
+    size: str | None,
+    dxf_units: str | None,
+    weld: str | float,
+) -> LoadedGarment:
     from ptailor.model.repair import UnitMismatchError
 
     spath = str(path)

@@ -14,6 +14,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ptailor.errors import PtailorError
+
 #: Colours of the outlines and text.
 BEFORE = "#5c5c5c"  # the original outline, dashed
 FRAME = "#8a8a8a"  # legend boxes
@@ -103,6 +105,11 @@ class Pattern:
         return np.unique(np.concatenate(self.bins)).tolist()
 
 
+class NonFiniteOutputError(PtailorError, ValueError):
+    """NaN or infinity in what a preview would draw: the run fails (exit 2), nothing is
+    written (a ``ValueError`` too, as the other input errors of the previews)."""
+
+
 def _loops(loops, what: str, p: int) -> list[np.ndarray]:
     out = []
     for j, L in enumerate(loops):
@@ -110,7 +117,9 @@ def _loops(loops, what: str, p: int) -> list[np.ndarray]:
         if A.ndim != 2 or A.shape[1] != 2 or len(A) < 2:
             raise ValueError(f"{what}[{p}][{j}]: expected a (k, 2) array with k >= 2")
         if not np.all(np.isfinite(A)):
-            raise ValueError(f"{what}[{p}][{j}]: non-finite coordinates")
+            raise NonFiniteOutputError(
+                f"pattern preview: non-finite coordinates in {what}[{p}][{j}] (nothing written)"
+            )
         out.append(A)
     return out
 
@@ -132,7 +141,9 @@ def _mesh(tri, err, p: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     if len(F) and (F.min() < 0 or F.max() >= len(V)):
         raise ValueError(f"triangles[{p}]: F indexes outside V (n = {len(V)})")
     if len(F) and not np.all(np.isfinite(V[F])):
-        raise ValueError(f"triangles[{p}]: non-finite vertices")
+        raise NonFiniteOutputError(
+            f"pattern preview: non-finite vertices in triangles[{p}] (nothing written)"
+        )
     E = np.asarray(err, dtype=np.float64)
     if E.shape != (len(F),):
         raise ValueError(f"errors[{p}]: expected shape ({len(F)},), got {E.shape}")
