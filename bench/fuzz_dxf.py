@@ -161,6 +161,9 @@ def run_case(path: Path, demo: Path | None, out: Path) -> dict:
             continue
         text = r.output.strip()
         if code == 2:
+            res.setdefault("messages", []).append(
+                f"{args[0]}: " + re.sub(r"-?\d[\d.e+-]*", "N", text.replace(str(path), "FILE"))[:90]
+            )
             if len(text.splitlines()) != 1 or str(path) not in text:
                 res["problems"].append(("message", f"{args[0]}: {text[:200]!r}"))
             if args[0] == "adjust" and out.exists():
@@ -242,6 +245,7 @@ def main(argv: list[str] | None = None) -> int:
     codes: Counter = Counter()
     kinds: Counter = Counter()
     sigs: Counter = Counter()
+    messages: Counter = Counter()
     cases = []
     t0 = time.monotonic()
     for i in range(a.cases):
@@ -251,6 +255,8 @@ def main(argv: list[str] | None = None) -> int:
         case.write_bytes(mutate(src.read_bytes(), rng))
         res = in_child(lambda c=case, d=drape, i=i: run_case(c, d, work / f"out{i:05d}"), a.timeout)
         codes[tuple(res["codes"]) or ("hang",)] += 1
+        for msg in res.get("messages", []):
+            messages[msg] += 1
         for kind, what in res["problems"]:
             kinds[kind] += 1
             sigs[f"{kind}: {what}"] += 1
@@ -273,6 +279,7 @@ def main(argv: list[str] | None = None) -> int:
         "exit_codes": {"/".join(map(str, k)): v for k, v in sorted(codes.items(), key=str)},
         "problems": dict(kinds),
         "signatures": dict(sigs.most_common()),
+        "exit_2_messages": dict(messages.most_common(40)),
     }
     print(json.dumps(summary, indent=2))
     if a.json:

@@ -365,3 +365,18 @@ def test_shared_fixture_with_an_extreme_coordinate(tmp_path, fixture, value):
         out = r.output.strip()
         assert len(out.splitlines()) == 1 and str(p) in out
         assert "piece" in out or "modelspace" in out, out
+
+
+def test_locate_points_refuses_non_finite_points():
+    """The k-d tree behind mark transfer (cKDTree: 'data must be finite') never sees NaN."""
+    import numpy as np
+
+    from ptailor.method.transfer import locate_points
+
+    V = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+    F = np.array([[0, 1, 2]])
+    assert locate_points(V, F, np.array([[0.2, 0.2]])).distance[0] == 0.0
+    with pytest.raises(PtailorError, match="point 1 is not a finite number"):
+        locate_points(V, F, np.array([[0.2, 0.2], [np.inf, 0.0]]))
+    with pytest.raises(PtailorError, match="vertex that is not a finite number"):
+        locate_points(np.array([[0.0, 0.0], [np.nan, 0.0], [0.0, 1.0]]), F, np.zeros((1, 2)))

@@ -8,6 +8,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
+from ptailor.errors import PtailorError
+
 #: Triangles (nearest by centroid) examined per point for a first guess.
 _CANDIDATES = 8
 
@@ -127,9 +129,22 @@ def locate_points(
     PointLocation
         Ties (a point on an edge shared by two triangles) go to the triangle whose
         centroid is nearest.
+
+    Raises
+    ------
+    PtailorError
+        A point, or a vertex of a candidate triangle, that is not a finite number (a k-d
+        tree cannot hold it).
     """
     P = np.asarray(P, dtype=np.float64).reshape(-1, 2)
     cand_faces = np.arange(len(F)) if faces is None else np.asarray(faces, dtype=np.int64)
+    if not np.isfinite(P).all():
+        bad = int(np.flatnonzero(~np.isfinite(P).all(axis=1))[0])
+        raise PtailorError(f"cannot place marks: point {bad} is not a finite number")
+    if len(cand_faces) and not np.isfinite(V[F[cand_faces]]).all():
+        raise PtailorError(
+            "cannot place marks: the pattern has a vertex that is not a finite number"
+        )
     k = len(P)
     if k == 0 or len(cand_faces) == 0:
         return PointLocation(
