@@ -247,7 +247,15 @@ def check(case: Case, before: dict, code: int, err: str, sig: int | None) -> lis
     # a signal may also land before ptailor installs its handler (while Python imports)
     # or after the command restored the default one: then the process dies of it (-sig)
     ok_codes = {0, 2} | ({128 + sig, -sig} if sig else set())
-    if code not in ok_codes:
+    lines = err.strip().splitlines()
+    startup = (  # SIGINT while Python starts and imports, before ptailor's handler exists
+        sig == signal.SIGINT
+        and code == 1
+        and lines
+        and lines[-1] == "KeyboardInterrupt"
+        and "in invoke" not in err  # (imports, not the command: nothing written yet)
+    )
+    if code not in ok_codes and not startup:
         probs.append(f"exit {code}: {err.strip()[-300:]}")
     if code == 2:
         lines = err.splitlines()

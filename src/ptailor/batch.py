@@ -28,7 +28,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import IO, Any
 
-from ptailor import __version__
+from ptailor import __version__, tolerances
 from ptailor.errors import PtailorError
 
 #: the stamp file written into each garment's output folder
@@ -456,7 +456,7 @@ _TIMED_OUT = None
 _IN_JOB = False
 #: a garment past its ``--timeout`` that does not stop (stuck in native code) has its
 #: worker killed this much later: max(this, a quarter of the timeout) seconds
-TIMEOUT_GRACE_S = 5.0
+TIMEOUT_GRACE_S = tolerances.TIMEOUT_GRACE_S
 
 
 class JobTimeoutError(BaseException):

@@ -27,6 +27,7 @@ from collections.abc import Callable, Iterable
 from contextlib import contextmanager
 from pathlib import Path
 
+from ptailor import tolerances
 from ptailor.errors import PtailorError
 
 #: the marker file every output folder gets (hidden; lists the files ptailor wrote there)
@@ -35,9 +36,8 @@ MARKER = ".ptailor"
 LEGACY_NAMES = frozenset(
     {"report.json", "garment.obj", "pattern.dxf", "pattern.svg", "preview.png", "batch.json"}
 )
-#: staging folders carry at most this many bytes of the output folder's name (a longer
-#: name is cut and a hash of it added, so that ``.NAME.old-.NAME.XXXXXXXX.tmp`` fits 255)
-STAGING_NAME_BYTES = 96
+#: see :data:`ptailor.tolerances.STAGING_NAME_BYTES`
+STAGING_NAME_BYTES = tolerances.STAGING_NAME_BYTES
 #: the longest file name most file systems take (bytes)
 NAME_MAX = 255
 _MARKER_MAX_BYTES = 1 << 20
@@ -240,14 +240,14 @@ def check_output_dir(out: str | Path, inputs: Iterable[str | Path | None] = ()) 
 
 @contextmanager
 def deferred_signals():
-    """Hold SIGINT and SIGTERM back (main thread only) while a folder is swapped: they are
-    delivered, once, when the block ends."""
+    """Hold SIGINT, SIGTERM and SIGALRM back (main thread only) while a folder is swapped:
+    the first is delivered when the block ends."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
     got: list[int] = []
     old = {}
-    for s in (signal.SIGINT, signal.SIGTERM):
+    for s in (signal.SIGINT, signal.SIGTERM, signal.SIGALRM):  # (alarm: batch --timeout)
         with contextlib.suppress(ValueError, OSError):
             old[s] = signal.signal(s, lambda n, f: got.append(n))
     try:
@@ -338,8 +338,7 @@ Writer = Callable[[Path], None]
 _CAPTURED: contextvars.ContextVar[list[str] | None] = contextvars.ContextVar(
     "ptailor_library_warnings", default=None
 )
-#: at most this many distinct library warnings are kept for a run
-LIBRARY_WARNINGS_MAX = 20
+LIBRARY_WARNINGS_MAX = tolerances.LIBRARY_WARNINGS_MAX
 #: warnings meant for developers, not for the report (dropped)
 _DEVELOPER_WARNINGS = (
     DeprecationWarning,

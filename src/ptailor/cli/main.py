@@ -42,7 +42,34 @@ def _on_signal(signum, frame) -> None:
     raise Interrupted(signum)
 
 
+def _die(signum, frame) -> None:
+    """Before and after the command: a signal ends the process at once with 128 + it (the
+    output is complete or not written; no "Aborted!" and no exit 1 from click)."""
+    import os
+    import sys
+
+    for f in (sys.stdout, sys.stderr):
+        with __import__("contextlib").suppress(Exception):
+            f.flush()
+    os._exit(128 + signum)
+
+
 class _Group(click.Group):
+    #: True when run as the program (``ptailor ...``: click reads sys.argv), not called with
+    #: arguments (tests): then signals after the command end the process (:func:`_die`)
+    _process = False
+
+    def main(self, args=None, *rest, **kwargs):
+        import contextlib
+        import signal
+
+        self._process = args is None
+        if self._process:  # before the command starts nothing is written: end at once
+            for s in (signal.SIGINT, signal.SIGTERM):
+                with contextlib.suppress(ValueError, OSError):
+                    signal.signal(s, _die)
+        return super().main(args, *rest, **kwargs)
+
     def invoke(self, ctx: click.Context):
         import contextlib
         import signal
@@ -76,7 +103,7 @@ class _Group(click.Group):
         finally:
             for s, h in saved.items():
                 with contextlib.suppress(ValueError, OSError, TypeError):
-                    signal.signal(s, h)
+                    signal.signal(s, _die if self._process else h)
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
