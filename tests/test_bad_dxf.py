@@ -380,3 +380,31 @@ def test_locate_points_refuses_non_finite_points():
         locate_points(V, F, np.array([[0.2, 0.2], [np.inf, 0.0]]))
     with pytest.raises(PtailorError, match="vertex that is not a finite number"):
         locate_points(np.array([[0.0, 0.0], [np.nan, 0.0], [0.0, 1.0]]), F, np.zeros((1, 2)))
+
+
+def test_many_shuffled_boundary_parts_chain_in_linear_time(tmp_path):
+    """Chaining looked at every remaining part for each join (quadratic: 74 s for 5,000
+    shuffled LINEs); ends are now found on a grid of cells."""
+    import random
+    import time
+
+    import numpy as np
+    from ezdxf.document import Drawing
+
+    n = 3000
+    t = np.linspace(0, 2 * np.pi, n + 1)
+    pts = np.c_[100 * np.cos(t), 80 * np.sin(t)]
+    order = list(range(n))
+    random.Random(1).shuffle(order)
+    doc = Drawing.new("R12")
+    blk = doc.blocks.new("OVAL")
+    for i in order:
+        a, b = pts[i].tolist(), pts[i + 1].tolist()
+        blk.add_line(*((b, a) if i % 3 == 0 else (a, b)), dxfattribs={"layer": "1"})
+    doc.modelspace().add_blockref("OVAL", (0, 0))
+    p = tmp_path / "oval.dxf"
+    doc.saveas(p)
+    t0 = time.perf_counter()
+    (piece,) = read_dxf(p).pieces
+    assert time.perf_counter() - t0 < 30.0
+    assert len(piece.outline) == n

@@ -144,14 +144,14 @@ GARMENT_SIZE_MAX = 1e12
 # DXF pattern files (ptailor.formats.dxf): a reader that fails closed
 #: A DXF larger than this many bytes is refused before it is parsed (a graded Gerber
 #: export of a whole style is a few MB).
-DXF_MAX_BYTES = 200 * 1024 * 1024
+DXF_MAX_BYTES = 64 * 1024 * 1024
 #: A DXF with more entities than this (modelspace and blocks, vertices included) is refused.
-DXF_MAX_ENTITIES = 2_000_000
+DXF_MAX_ENTITIES = 500_000
 #: A polyline (or a flattened curve) with more vertices than this is refused.
 DXF_MAX_VERTICES = 200_000
-#: A piece whose cut line (layer 1) comes in more parts than this is refused (chaining the
-#: parts end to end is quadratic in their count).
-DXF_MAX_BOUNDARY_PARTS = 5_000
+#: A piece whose cut line (layer 1), or sew line (layer 14), comes in more parts than this
+#: is refused (each part is a Python object chained end to end: about 0.4 ms a part).
+DXF_MAX_BOUNDARY_PARTS = 20_000
 #: A text (piece name, annotation, style text) longer than this many characters is refused.
 DXF_MAX_TEXT = 1_000
 #: Every coordinate read (after the block's INSERT transform) lies within this many file

@@ -902,33 +902,64 @@ def _chain(segments: list[np.ndarray], tol: float) -> tuple[list[np.ndarray], li
     opens : list of (k, 2) float arrays
         Chains that do not close.
     """
-    remaining = [s for s in segments if len(s) >= 2]
+    segs = [s for s in segments if len(s) >= 2]
     loops: list[np.ndarray] = []
     opens: list[np.ndarray] = []
+    if not segs:
+        return loops, opens
+    # ends on a grid of cells of size tol: the ends within tol of a point lie in its cell
+    # or the 8 around it, so each join looks at a few ends, not all (linear, not quadratic)
+    ends = np.array([[s[0], s[-1]] for s in segs], dtype=float)  # (n, 2, 2)
+    cell = max(float(tol), 1e-300)
+    keys = np.floor(ends / cell).astype(np.int64)
+    grid: dict[tuple[int, int], list[tuple[int, int]]] = {}
+    for i, j in np.ndindex(len(segs), 2):  # a loop over segment ends, once
+        grid.setdefault((int(keys[i, j, 0]), int(keys[i, j, 1])), []).append((i, j))
+    alive = np.ones(len(segs), dtype=bool)
 
-    def closed(parts: list[np.ndarray]) -> bool:
-        n = sum(len(p) for p in parts)
-        return n >= 4 and float(np.hypot(*(parts[-1][-1] - parts[0][0]))) <= tol
+    def nearest(q: np.ndarray) -> tuple[float, int, int] | None:
+        """The remaining end within tol of ``q``: the nearest, ties to the earliest segment."""
+        kx, ky = (int(v) for v in np.floor(q / cell))
+        best: tuple[float, int, int] | None = None
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                for i, j in grid.get((kx + dx, ky + dy), ()):
+                    if alive[i]:
+                        d = float(np.hypot(*(ends[i, j] - q)))
+                        if d <= tol and (best is None or (d, i, j) < best):
+                            best = (d, i, j)
+        return best
 
-    while remaining:
-        parts = [remaining.pop(0)]
-        while remaining and not closed(parts):
-            ends = np.array([[s[0], s[-1]] for s in remaining])  # (r, 2, 2)
-            d_end = np.linalg.norm(ends - parts[-1][-1], axis=2)
-            d_start = np.linalg.norm(ends - parts[0][0], axis=2)
-            i, j = np.unravel_index(np.argmin(d_end), d_end.shape)
-            if d_end[i, j] <= tol:
-                seg = remaining.pop(int(i))
-                parts.append((seg if j == 0 else seg[::-1])[1:])
+    nxt = 0
+    while True:
+        while nxt < len(segs) and not alive[nxt]:
+            nxt += 1
+        if nxt == len(segs):
+            break
+        alive[nxt] = False
+        parts = [segs[nxt]]
+        count = len(segs[nxt])
+        while True:
+            gap = float(np.hypot(*(parts[-1][-1] - parts[0][0])))
+            hit = nearest(parts[-1][-1])
+            if count >= 4 and gap <= tol and (hit is None or gap <= hit[0]):
+                break  # closed (unless a part continues it more closely: dense outlines)
+            if hit is not None:
+                _, i, j = hit
+                alive[i] = False
+                parts.append((segs[i] if j == 0 else segs[i][::-1])[1:])
+                count += len(parts[-1])
                 continue
-            i, j = np.unravel_index(np.argmin(d_start), d_start.shape)
-            if d_start[i, j] <= tol:
-                seg = remaining.pop(int(i))
-                parts.insert(0, (seg[::-1] if j == 0 else seg)[:-1])
+            hit = nearest(parts[0][0])
+            if hit is not None:
+                _, i, j = hit
+                alive[i] = False
+                parts.insert(0, (segs[i][::-1] if j == 0 else segs[i])[:-1])
+                count += len(parts[0])
                 continue
             break
         pts = np.vstack(parts)
-        if closed(parts):
+        if count >= 4 and float(np.hypot(*(parts[-1][-1] - parts[0][0]))) <= tol:
             loops.append(pts[:-1])
         else:
             opens.append(pts)
@@ -955,12 +986,12 @@ def _check_parts(m: _Marks, who: str, spath: str) -> None:
             f"{who}: the boundary (layer 1) has no line or polyline of 2 or more points",
             path=spath,
         )
-    if len(m.boundary) > _tol.DXF_MAX_BOUNDARY_PARTS:
-        raise PtailorError(
-            f"{who}: the boundary (layer 1) comes in {len(m.boundary)} parts (limit "
-            f"{_tol.DXF_MAX_BOUNDARY_PARTS})",
-            path=spath,
-        )
+    for what, parts in (("the boundary (layer 1)", m.boundary), ("the sew line (layer 14)", m.sew)):
+        if len(parts) > _tol.DXF_MAX_BOUNDARY_PARTS:
+            raise PtailorError(
+                f"{who}: {what} comes in {len(parts)} parts (limit {_tol.DXF_MAX_BOUNDARY_PARTS})",
+                path=spath,
+            )
 
 
 def _check_piece(p: Piece, spath: str) -> None:
