@@ -450,3 +450,24 @@ def test_a_garment_stuck_past_its_timeout_has_its_worker_killed(tmp_path, monkey
     assert [r["status"] for r in res.records] == ["ok", "failed", "ok"]
     assert res.records[1]["failure"] == "timeout"
     assert sorted(p.name for p in out.iterdir()) == ["a", "c"]
+
+
+def test_a_batch_folder_from_before_the_marker_is_redone(tmp_path, garment, recipe):
+    out = tmp_path / "out"
+    args = ["batch", str(recipe), str(garment), "-o", str(out), "-j", "1", "-q", *FAST]
+    assert CliRunner().invoke(cli, args).exit_code == 0
+    (out / "g" / MARKER).unlink()  # as a ptailor before the marker wrote it (batch.json too)
+    r = CliRunner().invoke(cli, [*args, "--force"])
+    assert r.exit_code == 0, r.stderr
+    assert set(read_marker(out / "g")) == {"batch.json", "garment.obj", "report.json"}
+
+
+def test_usage_errors_are_one_line(tmp_path, garment, recipe):
+    (tmp_path / "f").write_text("a file")
+    r = CliRunner().invoke(cli, ["adjust", str(garment), str(recipe), "-o", str(tmp_path / "f")])
+    assert r.exit_code == 2 and len(r.stderr.splitlines()) == 1
+    assert str(tmp_path / "f") in r.stderr
+    r = CliRunner().invoke(cli, ["adjust", str(garment)])
+    assert r.exit_code == 2 and r.stderr.splitlines() == [
+        "ptailor adjust: error: Missing argument 'RECIPE'. (ptailor adjust --help)"
+    ]
