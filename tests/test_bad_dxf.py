@@ -408,3 +408,21 @@ def test_many_shuffled_boundary_parts_chain_in_linear_time(tmp_path):
     (piece,) = read_dxf(p).pieces
     assert time.perf_counter() - t0 < 30.0
     assert len(piece.outline) == n
+
+
+def test_writer_refuses_non_finite_marks(tmp_path):
+    """No NaN on disk: a piece whose marks went non-finite is refused before writing."""
+    from dataclasses import replace
+
+    import numpy as np
+
+    from ptailor.formats.dxf import write_dxf
+    from ptailor.model.pieces import PatternFile
+
+    (piece,) = read_dxf(square(tmp_path)).pieces
+    bad = PatternFile(pieces=(piece,), units="mm")
+    write_dxf(tmp_path / "ok.dxf", bad)
+    bad = replace(bad, pieces=(replace(piece, notches=np.array([[np.nan, 0.0]])),))
+    with pytest.raises(PtailorError, match=r"'FRONT': a mark .* is not a finite number"):
+        write_dxf(tmp_path / "bad.dxf", bad)
+    assert not (tmp_path / "bad.dxf").exists()

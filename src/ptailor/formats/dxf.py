@@ -1459,6 +1459,14 @@ def dxf_plan(pattern: PatternFile, *, layout: str = "auto", path: str | None = N
             raise PtailorError(
                 f"piece {p.name!r}: the outline needs 3 or more finite points", path=path
             )
+        marks = [p.notches, p.notch_angles, p.drills, *p.internal]
+        marks += [a for a in (p.grain, p.sew, p.mirror) if a is not None]
+        if not all(np.all(np.isfinite(np.asarray(a, dtype=float))) for a in marks):
+            raise PtailorError(
+                f"piece {p.name!r}: a mark (notch, grain line, internal line, drill hole, sew "
+                "or fold line) is not a finite number: nothing written",
+                path=path,
+            )
     pieces = layout_pieces(pattern.pieces, layout=layout)
     if pattern.units == "cm":
         pieces = tuple(_map_piece(p, 10.0, np.zeros(2)) for p in pieces)
