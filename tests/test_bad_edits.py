@@ -344,3 +344,17 @@ def test_gather_on_a_panel_a_later_cut_removes(garments, tmp_path):
         assert "\n" not in str(exc) and not out.exists()
     else:
         assert "back" not in [p["name"] for p in rep["panels"]] or rep
+
+
+def test_a_large_max_iter_that_cannot_converge_stops_early(garments, tmp_path):
+    """Campaign seed 12 case 1200: max_iter 10000 on a limit cycle ran 62 s (time limit 20)."""
+    import time
+
+    r = raw_recipe(
+        "steps: [{op: loosen, region: {panels: [sleeve]}, by: 4.86}]\n"
+        "flatten: {w_asap: 2.72, max_iter: 10000, boundary: similar}"
+    )
+    t0 = time.perf_counter()
+    rep = finite_run(garments["sleeve"], r, tmp_path)
+    assert time.perf_counter() - t0 < 15
+    assert any("without progress" in w or "converg" in w for w in rep["warnings"])

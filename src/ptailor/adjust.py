@@ -375,8 +375,13 @@ def solver_warnings(adj: Adjustment) -> list[str]:
         bad = np.argsort(-res)[: int(np.sum(res > tol.ARAP_STEP_TOL))]
         names = ", ".join(f"{adj.state.panels[i].name} ({res[i]:.2g})" for i in bad[:5])
         more = f" and {len(bad) - 5} more" if len(bad) > 5 else ""
+        why = (
+            f"after {info.iterations} iterations without progress"
+            if getattr(info, "stalled", False)
+            else f"at the {info.iterations}-iteration cap (flatten.max_iter)"
+        )
         out.append(
-            f"solver stopped at the {info.iterations}-iteration cap (flatten.max_iter) before"
+            f"solver stopped {why} before"
             f" converging: panel {names}{more} still moving (last step / panel size)"
         )
     if info.seam_violation > tol.SEAM_WARN_REL:

@@ -137,6 +137,11 @@ FLATTEN_WEIGHT_RANGE = (1e-6, 1e9)
 INTRINSIC_ERROR_WARN = 0.5
 #: ``--seam-allowance`` at most this many times the largest piece's bounding-box diagonal.
 SEAM_ALLOWANCE_MAX_REL = 0.5
+#: Past twice this many iterations, the stitching stops when the largest residual of the
+#: last this many iterations is not below (1 - ARAP_STALL_GAIN) of the best before them
+#: (a large ``max_iter`` on a problem that no longer converges; the default cap is 100).
+ARAP_STALL_ITER = 200
+ARAP_STALL_GAIN = 0.01
 #: Largest extent of a garment's drape or pattern in its computation unit (any unit): a
 #: garment checked by ``check_garment`` has squared lengths and areas far from overflow.
 GARMENT_SIZE_MAX = 1e12

@@ -46,6 +46,9 @@ class StitchInfo:
         (0 without them).
     history : tuple of float
         The largest panel residual before each iteration (convergence curve).
+    stalled : bool
+        The iterations stopped before ``max_iter`` because the largest residual made no
+        progress over ``tol.ARAP_STALL_ITER`` iterations (not converged).
     """
 
     iterations: int
@@ -54,6 +57,7 @@ class StitchInfo:
     panel_residual: np.ndarray = field(default_factory=lambda: np.zeros(0))
     seam_violation: float = 0.0
     history: tuple[float, ...] = ()
+    stalled: bool = False
 
 
 def gradient_operators(F: np.ndarray, targets: np.ndarray, n: int) -> tuple[sp.csr_matrix, ...]:
@@ -437,10 +441,20 @@ def stitch(
     e_gx = energy(GX) if history else 0.0
     it, converged = 0, False
     hist: list[float] = []
+    stalled, since = False, 0
     for it in range(1, max_iter + 1):
         hist.append(float(res.max(initial=0.0)))
+        w, h = tol.ARAP_STALL_ITER, hist[since:]
+        stall = len(h) > 2 * w and min(h[-w:]) > (1.0 - tol.ARAP_STALL_GAIN) * min(h[:-w])
         done = not len(res) or res.max() <= step_tol
-        settled = done or res.max() <= tol.SEAM_START_STEP or it > max_iter // 2
+        settled = done or stall or res.max() <= tol.SEAM_START_STEP or it > max_iter // 2
+        if stall and (
+            seam_block_ or ease is None or ease.violation(GX).max() <= tol.SEAM_EXACT_REL
+        ):
+            stalled = True  # a long run that no longer improves: stop (deterministically)
+            break
+        if stall:
+            since = len(hist)  # the seams switch on below; give them their own window
         if (
             settled
             and ease is not None
@@ -486,6 +500,7 @@ def stitch(
         panel_residual=res,
         seam_violation=viol,
         history=tuple(hist),
+        stalled=stalled,
     )
 
 
