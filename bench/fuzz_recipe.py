@@ -7,7 +7,8 @@ FILE`` in process through click's CliRunner under a per-case time limit (SIGALRM
 when validate says 0, ``parse_recipe`` (the path ``adjust`` takes). Counted: exit codes,
 tracebacks (by signature: exception type and innermost ptailor frame), hangs, and contract
 breaks (an exit-2 output that is not one line per problem naming the file, validate and
-parse_recipe disagreeing, a non-finite number in a recipe validate accepted).
+parse_recipe disagreeing, a non-finite number in a recipe validate accepted), and exit-2
+cases where only the JSON Schema (not the operations' rules) saw a problem.
 
     python bench/fuzz_recipe.py --cases 3000 --seed 12 [--timeout 10] [--json out.json]
 """
@@ -80,6 +81,11 @@ def run_case(text: str, path: Path, timeout: float) -> tuple[str, str | None]:
             return "contract", "validate 2 but parse_recipe accepted"
         except RecipeError:
             pass
+        if any(ln.endswith("(schema)") for ln in lines):
+            # the schema caught what the operations' rules did not: they disagree
+            return "exit2-schema-only", next(
+                ln.split(": ", 1)[1] for ln in lines if ln.endswith("(schema)")
+            )
         return "exit2", lines[0].split(": ", 1)[1][:60]
     except HangError:
         return "hang", None
@@ -145,7 +151,7 @@ def main() -> None:
             slowest = max(slowest, time.perf_counter() - t)
             outcomes[outcome] += 1
             by_kind[(kind, outcome)] += 1
-            if outcome in ("traceback", "contract", "hang"):
+            if outcome in ("traceback", "contract", "hang", "exit2-schema-only"):
                 details[f"{outcome}: {detail}"] += 1
                 (Path(tmp).parent / f"fuzz_recipe_bad_{i}.yaml").write_text(text)
     total = time.perf_counter() - t0

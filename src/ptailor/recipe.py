@@ -218,7 +218,9 @@ def validate(data: Any) -> tuple[Recipe | None, list[str]]:
         if op.check is not None and len(probs) == start:
             probs += op.check(full, where)
         steps.append(full)
-    fl_in = data.get("flatten", {}) or {}
+    fl_in = data.get("flatten")
+    if fl_in is None:  # absent or null; 0, false, '' and [] are not mappings
+        fl_in = {}
     flatten: dict = {}
     if not isinstance(fl_in, dict):
         probs.append("flatten: expected a mapping")
@@ -693,7 +695,7 @@ def _problems_and_data(text: str, *, source: str) -> tuple[list[Problem], Any]:
     index: dict = {}
     for msg in rule_msgs:
         path, key = _path_of(msg)
-        if key is not None:  # the schema's "Additional properties" there says the same
+        if "unknown key" in msg:  # the schema's "Additional properties" there says the same
             unknown_at.add(tuple(path))
         if path:
             seen.add(tuple(path))
