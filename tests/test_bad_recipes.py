@@ -36,7 +36,7 @@ EXPECTED = {
     "nested-block-40.yaml": (33, "nested more than 32 deep"),
     "python-object.yaml": (1, "could not determine a constructor"),
     "opening-loop-true.yaml": (3, "steps[1].opening.loop: expected a loop number"),
-    "up-front-parallel.yaml": (2, "front: front -y is parallel to up y"),
+    "up-front-parallel.yaml": (2, "front: -y is parallel to up y"),
     "up-z-default-front.yaml": (1, "front z (the default) is parallel to up z"),
     "axis-1e308.yaml": (4, "steps[1].axis: component 1: 1e+308 is out of range"),
     "axis-subnormal.yaml": (4, "steps[1].axis: [5e-324, 0, 0] is too short"),

@@ -165,7 +165,8 @@ def validate(data: Any) -> tuple[Recipe | None, list[str]]:
     bad_axes = axes_problem(data.get("up"), data.get("front"))
     if bad_axes:
         # on the key the recipe set (front when it set both, or only front)
-        probs.append(("up: " if "front" not in data else "front: ") + bad_axes)
+        key = "front" if "front" in data else "up"
+        probs.append(f"{key}: " + bad_axes.removeprefix(f"{key} "))
     symmetric = data.get("symmetric", False)
     probs += boolean(symmetric, "symmetric")
     steps_in = data.get("steps", [])
