@@ -60,6 +60,9 @@ def _records(raw: bytes, tag: bytes) -> list[bytes]:
     return re.findall(rb"^" + tag + rb"[ \t]+([^\r\n]*)", raw, re.M)
 
 
+_HUGE_INDEX = "face refers to a missing vertex (index out of range: beyond any file's size)"
+
+
 class _IndexOverflowError(Exception):
     """A face index too large for a 64-bit integer."""
 
@@ -102,7 +105,7 @@ def _floats(bodies: list[bytes], path: str, what: str, width: int) -> np.ndarray
     if bad.any():
         row, col = (int(i[0]) for i in np.nonzero(bad))
         x = float(arr[row, col])
-        what_x = "not a finite number" if not np.isfinite(x) else f"beyond {tol.OBJ_COORD_MAX:g}"
+        what_x = "NaN or infinite" if not np.isfinite(x) else f"beyond {tol.OBJ_COORD_MAX:g}"
         raise PtailorError(
             f"'{what}' record {row + 1}: coordinate {x:g} is {what_x} "
             f"(coordinates must be finite, |x| <= {tol.OBJ_COORD_MAX:g} file units)",
@@ -122,9 +125,7 @@ def _faces(
     try:
         nums = _numbers(flat, np.int64)
     except _IndexOverflowError:
-        raise PtailorError(
-            "face refers to a missing vertex (index beyond any file's size)", path=path
-        ) from None
+        raise PtailorError(_HUGE_INDEX, path=path) from None
     if nums is not None and nums.shape[1] % (k + 1) == 0:
         corners_per = np.full(len(bodies), nums.shape[1] // (k + 1), dtype=np.int64)
         nums = nums.reshape(-1, k + 1)
@@ -133,9 +134,7 @@ def _faces(
         try:
             nums = _numbers([b" ".join(flat)], np.int64)
         except _IndexOverflowError:
-            raise PtailorError(
-                "face refers to a missing vertex (index beyond any file's size)", path=path
-            ) from None
+            raise PtailorError(_HUGE_INDEX, path=path) from None
         if nums is None or nums.size != corners_per.sum() * (k + 1):
             raise PtailorError("faces mix corner formats (v, v/vt, v/vt/vn, v//vn)", path=path)
         nums = nums.reshape(-1, k + 1)
@@ -155,8 +154,8 @@ def _faces(
         if np.any(bad):
             first = int(idx[np.flatnonzero(bad)[0]])
             raise PtailorError(
-                f"face refers to a missing '{what}' (index {first}; the file has {count} "
-                f"'{what}' records, indices 1..{count} or -{count}..-1)",
+                f"face refers to a missing '{what}' (index {first} out of range: the file has "
+                f"{count} '{what}' records, indices 1..{count} or -{count}..-1)",
                 path=path,
             )
         return out
