@@ -471,3 +471,41 @@ def test_usage_errors_are_one_line(tmp_path, garment, recipe):
     assert r.exit_code == 2 and r.stderr.splitlines() == [
         "ptailor adjust: error: Missing argument 'RECIPE'. (ptailor adjust --help)"
     ]
+
+
+@pytest.mark.parametrize("when", ["mkdtemp", "writing", "swap"])
+def test_a_signal_at_each_step_of_staging_leaves_no_staging(tmp_path, monkeypatch, when):
+    """Deterministic: SIGINT as the staging folder is created, while it is written, and
+    while the folders are swapped (held back until the swap is done)."""
+    import tempfile
+
+    import ptailor.output as po
+
+    out = tmp_path / "out"
+    real_mkdtemp = tempfile.mkdtemp
+
+    def mkdtemp(*a, **k):
+        path = real_mkdtemp(*a, **k)
+        if when == "mkdtemp":
+            signal.raise_signal(signal.SIGINT)
+        return path
+
+    monkeypatch.setattr(po.tempfile, "mkdtemp", mkdtemp)
+    if when == "swap":
+        real_check = po.check_replaceable
+
+        def check(folder, shown):
+            signal.raise_signal(signal.SIGINT)  # in the middle of the swap
+            real_check(folder, shown)
+
+        monkeypatch.setattr(po, "check_replaceable", check)
+        out.mkdir()
+    with pytest.raises(KeyboardInterrupt), po.staged_dir(out) as tmp:
+        (tmp / "report.json").write_text("{}")
+        if when == "writing":
+            signal.raise_signal(signal.SIGINT)
+    assert staging_left(tmp_path) == []
+    if when == "swap":  # the swap was finished first
+        assert read_marker(out) == ["report.json"]
+    else:
+        assert not out.exists()

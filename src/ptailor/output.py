@@ -297,17 +297,19 @@ def staged_dir(out: str | Path):
     shown = str(out)
     out = Path(out)
     real = _real(out, shown)
+    tmp = None
     try:
-        real.parent.mkdir(parents=True, exist_ok=True)
-        tmp = Path(
-            tempfile.mkdtemp(prefix=f".{staging_stem(real.name)}.", suffix=".tmp", dir=real.parent)
-        )
-    except OSError as exc:
-        raise _os_error(exc, shown, "cannot create the output folder") from None
-    try:
+        with deferred_signals():  # a signal as mkdtemp returns must not orphan the folder
+            real.parent.mkdir(parents=True, exist_ok=True)
+            stem = staging_stem(real.name)
+            tmp = Path(tempfile.mkdtemp(prefix=f".{stem}.", suffix=".tmp", dir=real.parent))
         yield tmp
         _commit(tmp, real, shown)
     except BaseException as exc:
+        if tmp is None:
+            if isinstance(exc, OSError):
+                raise _os_error(exc, shown, "cannot create the output folder") from None
+            raise
         with deferred_signals():
             shutil.rmtree(tmp, ignore_errors=True)
         if isinstance(exc, OSError):
