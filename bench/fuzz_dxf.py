@@ -8,6 +8,11 @@ exception type and the innermost ptailor frame), hangs, exit-2 messages that are
 line naming the file, output left behind on exit 2, NaN/inf text written on exit 0.
 
     python bench/fuzz_dxf.py --cases 2000 --seed 12 [--timeout 60] [--json out.json]
+
+Seed 12, 2,000 cases (2026-11-30, after the issue-12 reader changes; 1,099 s on 2 shared
+cores): exit codes inspect/adjust 0/0 330, 0/2 16, inspect-only 0 273, 2 1,381; no
+traceback, no hang (60 s limit), no exit-2 message that was not one line naming the file,
+no output left on exit 2, no NaN or inf written.
 """
 
 from __future__ import annotations
