@@ -356,11 +356,6 @@ def test_body_option_garbage_exits_2(tmp_path):
         assert not out.exists()
 
 
-@pytest.mark.xfail(
-    reason="job.load_body (job.py, not this part's file) must delegate to "
-    "ptailor.edits.body.read_body for clear messages and the closed/finite checks",
-    strict=False,
-)
 def test_body_option_messages_are_clear(tmp_path):
     for name, _p, out, r in _body_cli(tmp_path, ["junk.obj", "junk.stl", "nan.obj", "open.obj"]):
         assert r.exit_code == 2, (name, r.output)

@@ -210,11 +210,6 @@ def test_command_line_axes_and_recipe_axes_combine():
     assert resolve_axes("x", None, rec) == ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0))
 
 
-@pytest.mark.xfail(
-    reason="cli adjust/inspect resolve --up/--front in job.py / cli/inspect.py (not owned "
-    "here): they must call ptailor.recipe.resolve_axes",
-    strict=False,
-)
 def test_parallel_axes_on_the_command_line_exit_2(tmp_path):
     from ptailor.demo import sample_obj_text
 

@@ -16,7 +16,7 @@ from ptailor.formats.garment import LoadedGarment, load_garment
 from ptailor.marks import CarriedPiece, PiecePlan
 from ptailor.model.boundary import boundary_loops
 from ptailor.output import check_output_dir, staged_dir, write_json
-from ptailor.recipe import Recipe, axis_vector, load_recipe
+from ptailor.recipe import Recipe, load_recipe, resolve_axes
 from ptailor.report.build import build_report
 
 
@@ -216,28 +216,10 @@ def pieces_record(plan: PiecePlan, pieces: list[CarriedPiece | None]) -> list:
 
 
 def load_body(path: str, *, units: str, to: str):
-    """Read a body mesh with trimesh, scaled from ``units`` to ``to``.
+    """Read a ``--body`` mesh (:func:`ptailor.edits.body.read_body`)."""
+    from ptailor.edits.body import read_body
 
-    Raises
-    ------
-    PtailorError
-        A missing or unreadable file, or one with no triangles.
-    """
-    import trimesh
-
-    from ptailor.formats.garment import parse_units
-    from ptailor.model.units import CM_PER
-
-    if not Path(path).is_file():
-        raise PtailorError("no such file", path=path)
-    try:
-        mesh = trimesh.load(path, force="mesh", process=False)
-    except Exception as exc:  # trimesh raises many kinds for bad files
-        raise PtailorError(f"not a readable body mesh ({exc})", path=path) from None
-    if not hasattr(mesh, "faces") or len(mesh.faces) == 0:
-        raise PtailorError("body mesh has no triangles", path=path)
-    scale = parse_units(units, what="--body-units") / CM_PER[to]
-    return trimesh.Trimesh(vertices=mesh.vertices * scale, faces=mesh.faces, process=False)
+    return read_body(path, units=units, to=to)
 
 
 def check_seam_allowance(garment, allowance: float) -> None:
@@ -400,9 +382,10 @@ def run_adjust(
     inputs = [garment_path] + ([drape] if drape else []) + ([body] if body else [])
     check_output_dir(out, inputs)
     shown_garment = (display_inputs or {}).get("garment", garment_path)
+    up_v, front_v = resolve_axes(up, front, recipe)
     options = EditOptions(
-        up=axis_vector(up or recipe.up or "y"),
-        front=axis_vector(front or recipe.front or "z"),
+        up=up_v,
+        front=front_v,
         body=load_body(body, units=body_units, to=recipe.units) if body else None,
     )
     t0 = time.perf_counter()

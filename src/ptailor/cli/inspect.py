@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from ptailor.cli.options import axes_options, axis_vector, dxf_options, garment_options
+from ptailor.cli.options import axes_options, dxf_options, garment_options
 
 
 @click.command()
@@ -63,8 +63,10 @@ def inspect(
         weld=weld,
     )
     from ptailor.model.repair import topology
+    from ptailor.recipe import resolve_axes
 
-    info = garment_summary(loaded, up=axis_vector(up, "y"), front=axis_vector(front, "z"))
+    up_v, front_v = resolve_axes(up, front)
+    info = garment_summary(loaded, up=up_v, front=front_v)
     info["intake"] = {
         **info.get("intake", {}),
         "topology": topology(loaded.garment.V3, loaded.garment.F3),
