@@ -426,3 +426,13 @@ def test_writer_refuses_non_finite_marks(tmp_path):
     with pytest.raises(PtailorError, match=r"'FRONT': a mark .* is not a finite number"):
         write_dxf(tmp_path / "bad.dxf", bad)
     assert not (tmp_path / "bad.dxf").exists()
+
+
+def test_text_utf8_cannot_carry_is_made_printable():
+    """Campaign seed 31 (fuzz_dxf): a piece name decoded with lone surrogates crashed
+    ``inspect``'s printing (UnicodeEncodeError); such text is read as ``?``."""
+    from ptailor.formats.dxf import _printable
+
+    assert _printable("cu\udcff\udcfeff") == "cu??ff"
+    assert _printable("Ärmel – links") == "Ärmel – links"
+    "".join(_printable("x\ud800y")).encode("utf-8")  # encodable now

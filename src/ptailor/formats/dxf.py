@@ -571,6 +571,12 @@ def _check_counts(doc: Any, spath: str) -> None:
 _DXF_UNICODE = re.compile(r"\\U\+([0-9A-Fa-f]{4})")
 
 
+def _printable(text: str) -> str:
+    """``text`` with what UTF-8 cannot carry (lone surrogates from undecodable bytes)
+    replaced by ``?``, so it can be printed and written back."""
+    return text.encode("utf-8", "replace").decode("utf-8")
+
+
 def _text_of(e: Any) -> str:
     """An entity's text, ``\\U+XXXX`` escapes decoded (over ``DXF_MAX_TEXT`` characters:
     a :class:`_BadEntityError`)."""
@@ -581,7 +587,7 @@ def _text_of(e: Any) -> str:
         t = e.plain_text()
     else:
         t = e.dxf.get("text", "")
-    t = _DXF_UNICODE.sub(lambda m: chr(int(m.group(1), 16)), str(t)).strip()
+    t = _printable(_DXF_UNICODE.sub(lambda m: chr(int(m.group(1), 16)), str(t)).strip())
     if len(t) > _tol.DXF_MAX_TEXT:
         raise _BadEntityError(f"has {len(t)} characters of text (limit {_tol.DXF_MAX_TEXT})")
     return t
@@ -688,7 +694,7 @@ def _candidates(doc: Any, spath: str) -> list[_Candidate]:
         return out
     for blk in doc.blocks:
         if not blk.name.startswith("*") and _has_boundary(blk):
-            out.append(_Candidate(blk.name, _collect(blk, None)))
+            out.append(_Candidate(_printable(blk.name), _collect(blk, None)))
     if out:
         return out
     if _has_boundary(msp):
