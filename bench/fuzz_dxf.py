@@ -58,6 +58,7 @@ EXTREMES = [
     "--1",
     "100000000",
     "1" * 400,
+    "0.0abc",
 ]
 ENTITY_NAMES = [
     "LINE",

@@ -11,6 +11,7 @@ campaign outside pytest with time limits per case.
 
 from __future__ import annotations
 
+import importlib.util
 import re
 import shutil
 from pathlib import Path
@@ -25,50 +26,15 @@ from ptailor.cli.main import cli  # noqa: E402
 
 from .conftest import SHARED  # noqa: E402
 
-EXTREMES = [
-    "nan",
-    "NaN",
-    "inf",
-    "-inf",
-    "1e300",
-    "-1e300",
-    "1e308",
-    "1.8e308",
-    "5e-324",
-    "-0",
-    "99999999999999999999",
-    "-99999999999999999999",
-    "2147483648",
-    "",
-    " ",
-    "garbage",
-    "1e",
-    "0x10",
-    "1,5",
-    "0.0abc",
-    "1" * 400,
-]
-ENTITY_NAMES = [
-    "LINE",
-    "POLYLINE",
-    "LWPOLYLINE",
-    "VERTEX",
-    "SEQEND",
-    "POINT",
-    "TEXT",
-    "MTEXT",
-    "INSERT",
-    "BLOCK",
-    "ENDBLK",
-    "CIRCLE",
-    "ARC",
-    "SPLINE",
-    "HATCH",
-    "FOO",
-    "ENDSEC",
-    "EOF",
-    "",
-]
+# one mutation vocabulary for these properties and the campaign (bench/fuzz_dxf.py)
+_spec = importlib.util.spec_from_file_location(
+    "fuzz_dxf", Path(__file__).resolve().parents[1] / "bench" / "fuzz_dxf.py"
+)
+_bench = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(_bench)
+
+EXTREMES = _bench.EXTREMES
+ENTITY_NAMES = _bench.ENTITY_NAMES
 #: group codes worth hitting with extreme values: coordinates, radius/height, angle,
 #: flags, text, layer, name
 HOT_CODES = {"10", "20", "11", "21", "40", "41", "42", "50", "66", "70", "1", "8", "2"}
