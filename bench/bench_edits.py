@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import argparse
 
-from ptailor.adjust import adjust, apply_steps
 from ptailor.edits import EditOptions
+from ptailor.pipeline import adjustment, apply_steps
 from ptailor.recipe import parse_recipe
 from ptailor.samples import sample_for_triangles
 from timing import median_time
@@ -46,7 +46,7 @@ def main() -> None:
     for name, text in RECIPES.items():
         rec = parse_recipe(text)
         t_edit = median_time(lambda r=rec: apply_steps(g, r, options=EditOptions()), args.repeat)
-        t_all = median_time(lambda r=rec: adjust(g, r), args.repeat)
+        t_all = median_time(lambda r=rec: adjustment(g, r), args.repeat)
         flag = "ok" if t_edit <= 2.0 else "OVER 2 s"
         print(f"{name:<22} edit {t_edit:6.3f} s  adjust {t_all:6.3f} s  [{flag}]")
 

@@ -25,10 +25,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ptailor.adjust import adjust
 from ptailor.edits.extend import opening_edges
 from ptailor.model.garment import Garment, panels
 from ptailor.model.openings import openings
+from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
 from ptailor.report.outline import point_segment_distance
 from ptailor.samples import SAMPLES
@@ -143,7 +143,7 @@ def main() -> None:
                 )
                 t0 = time.perf_counter()
                 try:
-                    adj = adjust(g, parse_recipe(text), baseline=False)
+                    adj = adjustment(g, parse_recipe(text), baseline=False)
                 except Exception as exc:  # report and go on with the next one
                     print(f"{key:<14} {op:<8} {measure:<8} FAILED: {exc}")
                     continue

@@ -143,13 +143,13 @@ def run_cli(path: Path, text: str, pu: str, du: str) -> tuple[int, int | None, f
 
 
 def measure(key: str, region_kind: str, d: float, op: str, shared: Path, cli: bool) -> dict:
-    from ptailor.adjust import adjust, apply_steps
     from ptailor.edits import EditOptions
     from ptailor.edits.loosen import FALLOFF_BY, FALLOFF_EDGES, falloff_weights
     from ptailor.edits.region import region_faces
     from ptailor.errors import PtailorError
     from ptailor.formats.garment import load_garment
     from ptailor.model.garment import panels
+    from ptailor.pipeline import adjustment, apply_steps
     from ptailor.recipe import parse_recipe
 
     rel, pu, du, torso, heights, (y0, y1) = GARMENTS[key]
@@ -173,7 +173,7 @@ def measure(key: str, region_kind: str, d: float, op: str, shared: Path, cli: bo
         row.update(edit_s=round(time.perf_counter() - t0, 3), error=str(e))
         return row
     row["edit_s"] = round(time.perf_counter() - t0, 3)
-    adj = adjust(g, recipe)
+    adj = adjustment(g, recipe)
     pl = panels(g)
     faces = region_faces(region, g, g.V3, pl)
     T = g.F3[faces]

@@ -20,10 +20,10 @@ import tempfile
 from pathlib import Path
 from types import SimpleNamespace
 
-from ptailor.adjust import adjust
 from ptailor.job import OutputContext, output_dxf, output_png, output_svg
-from ptailor.marks import adjusted_pieces, piece_plan
 from ptailor.model.garment import panels
+from ptailor.pieces import adjusted_pieces, piece_plan
+from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
 from ptailor.report.build import triangle_errors
 from ptailor.samples import sample_for_triangles
@@ -40,8 +40,8 @@ def main() -> None:
     g = sample_for_triangles(args.triangles)
     rec = parse_recipe(RECIPE)
     print(f"lantern sleeve, {g.n_faces} triangles; medians of {args.repeat} runs")
-    t_adjust = median_time(lambda: adjust(g, rec), args.repeat)
-    adj = adjust(g, rec)
+    t_adjust = median_time(lambda: adjustment(g, rec), args.repeat)
+    adj = adjustment(g, rec)
     plan = piece_plan(g, panels(g))
     carried = adjusted_pieces(adj, plan)
     errors = triangle_errors(adj)

@@ -113,15 +113,15 @@ def cases(g) -> dict[str, str]:
 
 
 def measure(g, text: str, seams_mode: str) -> dict:
-    from ptailor.adjust import adjust
     from ptailor.errors import PtailorError
+    from ptailor.pipeline import adjustment
     from ptailor.recipe import parse_recipe
     from ptailor.report.build import build_report
 
     recipe = parse_recipe(text + f"\nflatten: {{seams: {seams_mode}}}")
     t0 = time.perf_counter()
     try:
-        adj = adjust(g, recipe, baseline=False)
+        adj = adjustment(g, recipe, baseline=False)
     except PtailorError as e:
         return {"error": str(e)}
     secs = time.perf_counter() - t0

@@ -168,13 +168,13 @@ def test_weights_at_the_bounds_stay_finite(garments, tmp_path):
 
 def test_stitch_never_returns_non_finite(garments):
     """The solver itself: an overflowing matrix is refused, not solved into NaN."""
-    from ptailor.adjust import adjust
     from ptailor.formats.garment import load_garment
+    from ptailor.pipeline import adjustment
 
     g = load_garment(str(garments["skirt"])).garment
     r = raw_recipe("steps: [{op: scale, factor: 1.1}]", flatten_w_pin=1e300, flatten_w_asap=1e300)
     with pytest.raises(PtailorError, match=r"flatten\.w_pin"):
-        adjust(g, r)
+        adjustment(g, r)
 
 
 def test_cut_sketch_far_from_the_garment_is_refused(garments, tmp_path):
@@ -274,7 +274,7 @@ def test_final_guard_refuses_non_finite_results(garments, tmp_path, monkeypatch)
         V2[0] = np.nan
         return replace(res, V2=V2)
 
-    monkeypatch.setattr("ptailor.adjust.flatten", poisoned)
+    monkeypatch.setattr("ptailor.pipeline.flatten", poisoned)
     r = parse_recipe("steps: [{op: scale, factor: 1.1}]")
     msg = refused(garments["sleeve"], r, tmp_path)
     assert "non-finite" in msg and "flatten" in msg
@@ -287,7 +287,7 @@ def test_solver_failure_maps_to_exit_2(garments, tmp_path, monkeypatch):
     def singular(*a, **kw):
         raise RuntimeError("Factor is exactly singular")
 
-    monkeypatch.setattr("ptailor.adjust.flatten", singular)
+    monkeypatch.setattr("ptailor.pipeline.flatten", singular)
     r = parse_recipe("steps: [{op: scale, factor: 1.1}]")
     msg = refused(garments["sleeve"], r, tmp_path)
     assert "flatten" in msg and "exactly singular" in msg
@@ -315,7 +315,7 @@ def test_anderson_falls_back_on_non_finite_history():
 
 
 def test_library_warnings_go_to_the_report_not_the_terminal(garments, tmp_path, monkeypatch):
-    from ptailor import adjust as adj_mod
+    from ptailor import pipeline as adj_mod
 
     real = adj_mod.flatten
 
@@ -324,7 +324,7 @@ def test_library_warnings_go_to_the_report_not_the_terminal(garments, tmp_path, 
         warnings.warn("something numeric", RuntimeWarning, stacklevel=1)
         return real(*a, **kw)
 
-    monkeypatch.setattr("ptailor.adjust.flatten", noisy)
+    monkeypatch.setattr("ptailor.pipeline.flatten", noisy)
     r = parse_recipe("steps: [{op: scale, factor: 1.1}]")
     rep = finite_run(garments["sleeve"], r, tmp_path)
     assert any("something numeric" in w for w in rep["warnings"])

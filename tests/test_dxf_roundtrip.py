@@ -14,10 +14,10 @@ from click.testing import CliRunner
 from ptailor.cli.main import cli
 from ptailor.formats.dxf import parse_quantity, quantity_text, read_dxf, write_dxf
 from ptailor.formats.obj import write_garment
-from ptailor.marks import mesh_pieces
 from ptailor.method.transfer import _pair_distance, locate_points
 from ptailor.model.garment import panels
 from ptailor.model.pieces import PatternFile, Piece
+from ptailor.pieces import mesh_pieces
 from ptailor.samples import SAMPLES
 from tests.conftest import SHARED, real_path
 
@@ -520,8 +520,8 @@ def test_the_gerber_tanks_fold_pieces_round_trip_with_a_drape_of_their_wholes(tm
     """WM_SLIM_TANK's two pieces are halves cut on the fold: a (flat) drape triangulating
     their unfolded wholes takes them back, matched unfolded, and identity writes them as the
     same fold pieces, with every mark and quantity."""
-    from ptailor.marks import unfolded
     from ptailor.model.garment import Garment
+    from ptailor.pieces import unfolded
 
     src = read_dxf(real(TANK))
     Vs, Fs, groups, off = [], [], [], 0

@@ -7,12 +7,12 @@ import json
 import numpy as np
 import pytest
 
-from ptailor.adjust import adjust, garment_structure, solver_warnings
 from ptailor.method.ease import SeamEase, seam_ease
 from ptailor.method.flatten import flatten, panel_labels
 from ptailor.method.intrinsic import edge_matrices
 from ptailor.method.stitch import stitch
 from ptailor.model.garment import panels
+from ptailor.pipeline import adjustment, garment_structure, solver_warnings
 from ptailor.recipe import parse_recipe
 from ptailor.report.build import build_report, summary_lines
 from ptailor.samples import bodice, lantern_sleeve
@@ -142,8 +142,8 @@ def seam_sides(adj) -> list[tuple[float, float]]:
 def test_a_tube_widened_on_one_side_keeps_its_side_seams():
     """Bodice front 10 % wider: its side seams stay equal (free stitching lets them drift)."""
     g = bodice()
-    free = adjust(g, parse_recipe(SLEEVE_WIDER + "\nflatten: {seams: free}"), baseline=False)
-    ease = adjust(g, parse_recipe(SLEEVE_WIDER), baseline=False)
+    free = adjustment(g, parse_recipe(SLEEVE_WIDER + "\nflatten: {seams: free}"), baseline=False)
+    ease = adjustment(g, parse_recipe(SLEEVE_WIDER), baseline=False)
     assert ease.settings["seams"] == "ease"
     gaps_free = [abs(a - b) / b for a, b in seam_sides(free)]
     assert min(gaps_free) > 1e-4  # the drift the constraint removes
@@ -160,7 +160,7 @@ def test_a_tube_widened_on_one_side_keeps_its_side_seams():
 
 def test_anderson_converges_in_fewer_iterations_to_the_same_pattern():
     g = bodice()
-    adj = adjust(g, parse_recipe(SLEEVE_WIDER), baseline=False)
+    adj = adjustment(g, parse_recipe(SLEEVE_WIDER), baseline=False)
     st = adj.state
     kw = {"panel_list": st.panels, "asap_panels": st.even}
     plain = flatten(st.base, st.V3, history=0, max_iter=1000, **kw)
@@ -174,7 +174,7 @@ def test_anderson_converges_in_fewer_iterations_to_the_same_pattern():
 
 def test_a_cap_that_stops_the_solver_is_a_warning_naming_the_panel():
     g = bodice()
-    adj = adjust(g, parse_recipe(SLEEVE_WIDER + "\nflatten: {max_iter: 1}"), baseline=False)
+    adj = adjustment(g, parse_recipe(SLEEVE_WIDER + "\nflatten: {max_iter: 1}"), baseline=False)
     assert not adj.result.info.converged
     (w,) = solver_warnings(adj)
     assert "1-iteration cap" in w and "front (" in w
@@ -188,7 +188,7 @@ def test_report_gives_each_seams_ratio_target_and_mismatch():
     text = (
         "steps: [{op: scale_seam, seam: [sleeve, cuff], part: sleeve, factor: 1.3, fix: [waist]}]"
     )
-    adj = adjust(g, parse_recipe(text), baseline=False)
+    adj = adjustment(g, parse_recipe(text), baseline=False)
     rep = build_report(adj, inputs={}, units_note={"computation": "cm"}, warnings=[], timing_s={})
     json.dumps(rep)
     by = {tuple(s["panels"]): s for s in rep["seams"]}
@@ -211,7 +211,7 @@ def test_report_gives_each_seams_ratio_target_and_mismatch():
 
 def test_uniform_baseline_and_method_stay_free():
     g = lantern_sleeve()
-    adj = adjust(g, parse_recipe("steps: []"), method="uniform")
+    adj = adjustment(g, parse_recipe("steps: []"), method="uniform")
     assert adj.settings["seams"] == "free"
 
 
@@ -226,8 +226,8 @@ def test_real_sleeve_widened_keeps_every_seam(key):
         f"steps: [{{op: scale, region: {{panels: {sleeve}}}, direction: around, axis: auto,"
         " factor: 1.1}]"
     )
-    free = adjust(g, parse_recipe(text + "\nflatten: {seams: free}"), baseline=False)
-    ease = adjust(g, parse_recipe(text), baseline=False)
+    free = adjustment(g, parse_recipe(text + "\nflatten: {seams: free}"), baseline=False)
+    ease = adjustment(g, parse_recipe(text), baseline=False)
     _, _, sl = garment_structure(ease.state)
 
     def worst(adj) -> float:

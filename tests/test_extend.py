@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 
 import ptailor.edits.extend  # noqa: F401  (registers the op until _load_all does)
-from ptailor.adjust import adjust, apply_steps
 from ptailor.edits import OPERATIONS, EditOptions
 from ptailor.edits.body import closest_points, push_out, winding_numbers
 from ptailor.edits.extend import opening_edges
@@ -19,6 +18,7 @@ from ptailor.job import run_adjust
 from ptailor.method.flatten import panel_labels
 from ptailor.model.garment import panels
 from ptailor.model.openings import openings
+from ptailor.pipeline import adjustment, apply_steps
 from ptailor.recipe import parse_recipe
 from ptailor.report.outline import point_segment_distance
 from ptailor.samples import cone_skirt, cylinder, lantern_sleeve
@@ -59,7 +59,7 @@ def fit_circle(P):
 
 def test_cone_skirt_hem_moves_5_outward_waist_and_side_seams_kept():
     g = cone_skirt()
-    adj = adjust(g, extend_recipe("hem", 5))
+    adj = adjustment(g, extend_recipe("hem", 5))
     b, X = adj.state.base, adj.result.V2
     assert_valid(b, V2=X)
     assert [p.name for p in adj.state.panels] == ["front", "back"]
@@ -130,7 +130,7 @@ def strip_size(g0, adj):
 def test_lantern_cuff_strip_follows_the_cuff_intrinsic_scale():
     g = lantern_sleeve()
     name = min(openings(g.V3, g.F3), key=lambda o: o.centroid[1]).name
-    adj = adjust(g, extend_recipe(name, 2))
+    adj = adjustment(g, extend_recipe(name, 2))
     assert_valid(adj.state.base, V2=adj.result.V2)
     # the cuff's own back seam continues into the strip with equal sides; the eased
     # sleeve-to-cuff seam (28 against 40) keeps its ease
@@ -148,7 +148,7 @@ def test_extend_after_a_scale_follows_the_scaled_cuff():
     """The strip grows on the original drape too, so it follows earlier edits: 1.2 x 40."""
     g = lantern_sleeve()
     before = "{op: scale, direction: around, axis: [0, 1, 0], factor: 1.2}, "
-    adj = adjust(g, extend_recipe("hem", 2, before))
+    adj = adjustment(g, extend_recipe("hem", 2, before))
     assert adj.state.log[-1]["opening"] == "hem"
     width, height = strip_size(g, adj)
     assert width == pytest.approx(48.0, rel=0.01)
@@ -157,7 +157,7 @@ def test_extend_after_a_scale_follows_the_scaled_cuff():
 
 def test_mirrored_panel_strip_keeps_its_orientation():
     g = cylinder(circumference=30.0, stretch=0.75, mirrored=True)
-    adj = adjust(g, extend_recipe("hem", 3))
+    adj = adjustment(g, extend_recipe("hem", 3))
     b, X = adj.state.base, adj.result.V2
     assert [p.mirrored for p in adj.state.panels] == [True]
     assert_valid(b, V2=X)
@@ -194,13 +194,13 @@ def l_shape(step: float = 0.25):
 
 def test_rows_at_a_concave_corner_are_smoothed_apart_or_refused():
     g = l_shape()
-    adj = adjust(g, parse_recipe("steps: [{op: extend, opening: {loop: 0}, by: 1}]"))
+    adj = adjustment(g, parse_recipe("steps: [{op: extend, opening: {loop: 0}, by: 1}]"))
     rec = adj.state.log[-1]
     assert rec["smoothing"] > 0  # straight rows would cross at the inner corner
     assert_valid(adj.state.base, V2=adj.result.V2)
     assert rec["achieved"]["3d"]["mean"] == pytest.approx(1.0, rel=0.1)
     # an outward L offsets to a rounded shape however far: the rows fan out at the corner
-    far = adjust(g, parse_recipe("steps: [{op: extend, opening: {loop: 0}, by: 6}]"))
+    far = adjustment(g, parse_recipe("steps: [{op: extend, opening: {loop: 0}, by: 6}]"))
     assert_valid(far.state.base, V2=far.result.V2)
 
 
@@ -225,13 +225,13 @@ def test_extending_into_a_hole_further_than_it_is_wide_is_refused():
     g = annulus()
     ops = openings(g.V3, g.F3)
     hole = min(range(len(ops)), key=lambda i: ops[i].length)
-    ok = adjust(g, parse_recipe(f"steps: [{{op: extend, opening: {{loop: {hole}}}, by: 0.5}}]"))
+    ok = adjustment(g, parse_recipe(f"steps: [{{op: extend, opening: {{loop: {hole}}}, by: 0.5}}]"))
     assert_valid(ok.state.base, V2=ok.result.V2)
     assert ok.state.log[-1]["achieved"]["3d"]["mean"] == pytest.approx(0.5, rel=0.01)
     n = len(g.V3)
     np.testing.assert_allclose(np.linalg.norm(ok.state.V3[n:], axis=1)[-32:], 0.5, rtol=0.02)
     with pytest.raises(PtailorError, match="would cross"):
-        adjust(g, parse_recipe(f"steps: [{{op: extend, opening: {{loop: {hole}}}, by: 1.5}}]"))
+        adjustment(g, parse_recipe(f"steps: [{{op: extend, opening: {{loop: {hole}}}, by: 1.5}}]"))
 
 
 # ---------------------------------------------------------------------------------------
@@ -241,7 +241,7 @@ def test_extending_into_a_hole_further_than_it_is_wide_is_refused():
 
 def test_unknown_opening_lists_the_garment_openings():
     with pytest.raises(PtailorError, match=r"hem.*waist|waist.*hem"):
-        adjust(cone_skirt(), extend_recipe("neckline", 2))
+        adjustment(cone_skirt(), extend_recipe("neckline", 2))
 
 
 def test_bad_by_is_a_recipe_error():
@@ -327,7 +327,7 @@ def test_tee6_hem_extend_is_valid_and_keeps_seams_equal():
     g = load_garment(real_path("tee6")).garment
     before = seam_sides(g, g.V2)
     assert all(abs(a - b) <= 1e-6 * max(a, b) for a, b in before)  # tee6 seams are equal
-    adj = adjust(g, extend_recipe("hem", 5))
+    adj = adjustment(g, extend_recipe("hem", 5))
     b, X = adj.state.base, adj.result.V2
     assert b.n_faces > g.n_faces
     assert_valid(b, V2=X)
@@ -355,7 +355,7 @@ def test_pattern_measure_lays_a_straight_hem_exactly_by_below_on_a_stretched_tub
     from tests.test_shorten import new_edge_vertices, stretched_tube
 
     g = stretched_tube()
-    adj = adjust(g, pattern_recipe("hem", 3))
+    adj = adjustment(g, pattern_recipe("hem", 3))
     b, X = adj.state.base, adj.result.V2
     assert_valid(b, V2=X)
     assert_seams_equal(b, X)
@@ -380,7 +380,7 @@ def test_drape_measure_lays_that_hem_unevenly():
     from tests.test_shorten import new_edge_vertices, stretched_tube
 
     g = stretched_tube()
-    adj = adjust(g, extend_recipe("hem", 3))
+    adj = adjustment(g, extend_recipe("hem", 3))
     step = adj.state.log[-1]
     assert step["measure"] == "drape"
     assert np.ptp(adj.result.V2[new_edge_vertices(adj), 1]) > 1.5
@@ -391,7 +391,7 @@ def test_pattern_measure_offsets_a_round_hole_to_a_smaller_circle():
     g = annulus()
     ops = openings(g.V3, g.F3)
     hole = min(range(len(ops)), key=lambda i: ops[i].length)
-    adj = adjust(g, pattern_recipe(f"{{loop: {hole}}}", 0.5))
+    adj = adjustment(g, pattern_recipe(f"{{loop: {hole}}}", 0.5))
     assert_valid(adj.state.base, V2=adj.result.V2)
     # each new vertex 0.5 from the 32-gon of circumradius 1, on its vertex's bisector
     r = np.linalg.norm(adj.state.base.V2[len(g.V2) :][-32:], axis=1)
@@ -406,12 +406,12 @@ def test_pattern_measure_refuses_an_offset_that_closes_the_opening():
     ops = openings(g.V3, g.F3)
     hole = min(range(len(ops)), key=lambda i: ops[i].length)
     with pytest.raises(PtailorError, match=r"by 1\.5: in the pattern of front the opening is"):
-        adjust(g, pattern_recipe(f"{{loop: {hole}}}", 1.5))
+        adjustment(g, pattern_recipe(f"{{loop: {hole}}}", 1.5))
 
 
 def test_pattern_measure_at_a_concave_corner_is_exact_and_valid():
     g = l_shape()
-    adj = adjust(g, pattern_recipe("{loop: 0}", 0.6))
+    adj = adjustment(g, pattern_recipe("{loop: 0}", 0.6))
     assert_valid(adj.state.base, V2=adj.result.V2)
     step = adj.state.log[-1]
     assert all(v == pytest.approx(0.6, abs=1e-9) for v in step["amount"]["pattern"]["l"].values())
@@ -424,7 +424,7 @@ def test_real_hem_extended_by_5_in_the_output_pattern(key):
 
     g = load_garment(real_path(key), pattern_units=REAL[key][1]).garment
     rec = parse_recipe("steps: [{op: extend, opening: hem, by: 5, measure: pattern}]")
-    adj = adjust(g, rec, baseline=False)
+    adj = adjustment(g, rec, baseline=False)
     assert_valid(adj.state.base, V2=adj.result.V2)
     dist = output_edge_distances(g, adj)
     assert len(dist) >= 2
@@ -438,7 +438,7 @@ def test_tee6_hem_extended_keeps_its_seams_and_the_drape_measure_does_not_the_he
     g = load_garment(real_path("tee6")).garment
     for measure in ("pattern", "drape"):
         rec = parse_recipe(f"steps: [{{op: extend, opening: hem, by: 5, measure: {measure}}}]")
-        adj = adjust(g, rec, baseline=False)
+        adj = adjustment(g, rec, baseline=False)
         assert_seams_equal(adj.state.base, adj.result.V2)
         dist = output_edge_distances(g, adj)
         worst = max(np.abs(d - 5.0).max() for d in dist.values())

@@ -10,7 +10,6 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from ptailor.adjust import adjust
 from ptailor.cli.main import cli
 from ptailor.demo import sample_obj_text
 from ptailor.formats.garment import load_garment, parse_weld
@@ -26,6 +25,7 @@ from ptailor.model.repair import (
     weld_vertices,
     zero_area_faces,
 )
+from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
 from tests.conftest import REAL, real_path
 
@@ -154,7 +154,7 @@ def _assert_same_structure(a: dict, b: dict) -> None:
 
 def _adjusted(path, recipe: str, **load) -> np.ndarray:
     g = load_garment(path, **load).garment
-    return adjust(g, parse_recipe(recipe), baseline=False).result.V2
+    return adjustment(g, parse_recipe(recipe), baseline=False).result.V2
 
 
 @pytest.mark.parametrize("name", ["lantern_sleeve", "cone_skirt"])

@@ -11,7 +11,6 @@ import pytest
 import yaml
 
 import ptailor.edits.loosen  # noqa: F401  (registers the ops until _load_all does)
-from ptailor.adjust import adjust, apply_steps
 from ptailor.edits import EditOptions
 from ptailor.edits.loosen import (
     falloff_weights,
@@ -24,6 +23,7 @@ from ptailor.edits.region import region_faces
 from ptailor.errors import PtailorError, RecipeError
 from ptailor.formats.garment import load_garment
 from ptailor.model.garment import Garment, panels, signed_areas_2d
+from ptailor.pipeline import adjustment, apply_steps
 from ptailor.recipe import parse_recipe
 from ptailor.samples import cone_skirt, cylinder, lantern_sleeve
 from tests.conftest import real_path
@@ -54,7 +54,7 @@ def test_cylinder_pattern_width_grows_by_2_pi_d_over_s(s, op, sign):
     d = 2.0
     g = cylinder(stretch=s)
     W = width(g.V2)
-    adj = adjust(g, recipe({"op": op, "region": "all", "by": d}))
+    adj = adjustment(g, recipe({"op": op, "region": "all", "by": d}))
     # every vertex moved radially by d (the normals of the tube are radial)
     np.testing.assert_allclose(radii(adj.state.V3) - radii(g.V3), sign * d, atol=1e-9)
     np.testing.assert_allclose(adj.state.V3[:, 1], g.V3[:, 1], atol=1e-9)
@@ -108,7 +108,7 @@ LANTERN_BOX = {"box": {"min": [-50, 18, -50], "max": [50, 38, 50]}}
 def test_lantern_middle_ring_grows_by_by_and_the_ends_stay():
     by = 2.0
     g = lantern_sleeve()  # sleeve y 8..48, cuff y 0..8, rows 1 cm apart
-    adj = adjust(g, recipe({"op": "loosen", "region": LANTERN_BOX, "by": by}))
+    adj = adjustment(g, recipe({"op": "loosen", "region": LANTERN_BOX, "by": by}))
     V0, V1, y = g.V3, adj.state.V3, g.V3[:, 1]
     dr = radii(V1) - radii(V0)
     middle = np.abs(y - 28.0) < 1e-9
@@ -224,7 +224,7 @@ def test_wrinkly_cylinder_premise():
 def test_wrinkles_ride_along_and_the_girth_grows_by_2_pi_d(op, d):
     g, r = wrinkly_cylinder()
     sign = 1.0 if op == "loosen" else -1.0
-    adj = adjust(g, recipe({"op": op, "region": "all", "by": d}))
+    adj = adjustment(g, recipe({"op": op, "region": "all", "by": d}))
     V0, V1 = g.V3, adj.state.V3
     assert not turned_faces(V0, V1, g.F3).any()
     assert_valid(adj.state.base, V2=adj.result.V2)
@@ -263,7 +263,7 @@ def test_silhouette_tightens_the_skirt_onto_the_sketch():
     change = 3.0
     outline = R[upper, right, :2]
     sketch = (outline - [change, 0.0])[::-1].tolist()  # the right outline, 3 cm in
-    adj = adjust(g, recipe({"op": "tighten", "view": "front", "silhouette": sketch}))
+    adj = adjustment(g, recipe({"op": "tighten", "view": "front", "silhouette": sketch}))
     R1 = skirt_rings(adj.state.V3)
     # every ring's outline in the sketch's rows lies on the sketch, within 2 % of the change
     got = R1[upper, :, 0].max(axis=1)
@@ -356,7 +356,9 @@ def test_recipe_checks(step, message):
 
 def test_tee6_loosen_all_is_valid():
     g = load_garment(real_path("tee6")).garment
-    adj = adjust(g, recipe({"op": "loosen", "region": "all", "by": 1.0}, flatten={"seams": "keep"}))
+    adj = adjustment(
+        g, recipe({"op": "loosen", "region": "all", "by": 1.0}, flatten={"seams": "keep"})
+    )
     assert_valid(adj.state.base, V2=adj.result.V2)
     for la, lb in seam_sides(adj.state.base, adj.result.V2):
         assert abs(la - lb) <= 1e-3 * max(la, lb)
@@ -463,7 +465,7 @@ def test_real_torso_loosen_2cm_widens_the_pattern_by_2_pi_d_over_s(key):
     g = torso_garment(key)
     d = 2.0
     region, heights = torso_region(key, "panels")
-    adj = adjust(g, recipe({"op": "loosen", "region": region, "by": d}))
+    adj = adjustment(g, recipe({"op": "loosen", "region": region, "by": d}))
     assert not turned_faces(g.V3, adj.state.V3, g.F3).any()
     assert_valid(adj.state.base, V2=adj.result.V2)  # no flipped pattern triangle
     faces = region_faces(region, g, g.V3, panels(g))

@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ptailor.adjust import adjust
 from ptailor.method.flatten import flatten
 from ptailor.method.intrinsic import edge_matrices, intrinsic_targets, local_frames, sqrt_spd2
 from ptailor.model.garment import panels
+from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
 from ptailor.samples import cone_skirt, cylinder, lantern_sleeve
 
@@ -90,7 +90,7 @@ def test_uniform_scale_scales_every_panel(name, k):
 
 
 def scaled(recipe_text: str, g):
-    return adjust(g, parse_recipe(recipe_text))
+    return adjustment(g, parse_recipe(recipe_text))
 
 
 AROUND = "steps: [{op: scale, region: all, direction: around, axis: [0, 1, 0], factor: 1.2}]"
@@ -112,7 +112,7 @@ def test_lantern_around_is_exact_and_uniform_shrinks_cuff():
 
 def test_lantern_paper_intrinsic_is_slightly_off():
     g = lantern_sleeve()
-    adj = adjust(g, parse_recipe(AROUND + "\nflatten: {intrinsic: paper}"))
+    adj = adjustment(g, parse_recipe(AROUND + "\nflatten: {intrinsic: paper}"))
     w, h = panel_size(adj.result.V2, panels(g)[1])
     off = max(abs(w / 48.0 - 1), abs(h / 8.0 - 1))
     assert 1e-3 < off < 2e-2  # the designated-edge frame shears anisotropic targets
@@ -120,8 +120,8 @@ def test_lantern_paper_intrinsic_is_slightly_off():
 
 def test_axis_auto_finds_tube_axis():
     g = lantern_sleeve()
-    a = adjust(g, parse_recipe(AROUND.replace("[0, 1, 0]", "auto")))
-    b = adjust(g, parse_recipe(AROUND))
+    a = adjustment(g, parse_recipe(AROUND.replace("[0, 1, 0]", "auto")))
+    b = adjustment(g, parse_recipe(AROUND))
     np.testing.assert_allclose(a.result.V2, b.result.V2, atol=1e-9)
 
 
@@ -173,5 +173,5 @@ def test_seam_ease_keeps_the_invariants(name):
 
 def test_seam_ease_keeps_the_lantern_exact():
     g = lantern_sleeve()
-    adj = adjust(g, parse_recipe(AROUND + "\nflatten: {seams: ease}"))
+    adj = adjustment(g, parse_recipe(AROUND + "\nflatten: {seams: ease}"))
     np.testing.assert_allclose(panel_size(adj.result.V2, panels(g)[1]), [48.0, 8.0], rtol=1e-6)

@@ -10,12 +10,12 @@ from functools import cache
 import numpy as np
 import pytest
 
-from ptailor.adjust import adjust
 from ptailor.method.flatten import panel_labels
 from ptailor.model.garment import Garment, areas_3d, panels, signed_areas_2d, with_panel_names
 from ptailor.model.names import panel_layout, seam_names
 from ptailor.model.seams import seams
 from ptailor.model.symmetry import panel_mirror_map, sagittal_plane
+from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
 from ptailor.samples import cone_skirt, lantern_sleeve
 from tests.conftest import REAL, real_path
@@ -271,7 +271,7 @@ def pattern_areas(V2, F2, plist) -> dict[str, float]:
 
 def test_tshirt_recipe_scales_the_left_sleeve_by_its_name():
     g = real("tshirt")
-    adj = adjust(
+    adj = adjustment(
         g,
         parse_recipe(
             "steps: [{op: scale, region: {panels: [sleeve_left]}, direction: around,"
@@ -297,7 +297,7 @@ def test_tee6_symmetric_recipe_by_names_grows_both_sleeves():
     assert mirror["sleeve_left_front"] == "sleeve_right_front"
     assert mirror["sleeve_left_back"] == "sleeve_right_back"
     assert mirror["front"] == "front" and mirror["back"] == "back"
-    adj = adjust(
+    adj = adjustment(
         g,
         parse_recipe(
             "symmetric: true\n"
@@ -316,8 +316,8 @@ def test_tee6_symmetric_recipe_by_names_grows_both_sleeves():
 
 def test_dress_skirt_by_names():
     """A recipe region by geometric names picks the skirt (the edit alone: no flattening)."""
-    from ptailor.adjust import apply_steps
     from ptailor.edits import EditOptions
+    from ptailor.pipeline import apply_steps
 
     g = real("dress")
     skirt = [n for n in EXPECTED["dress"] if n.startswith("skirt_")]

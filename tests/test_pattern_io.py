@@ -14,10 +14,10 @@ from ptailor.cli.main import cli
 from ptailor.demo import sample_obj_text
 from ptailor.formats.dxf import read_dxf, write_dxf
 from ptailor.formats.obj import write_garment
-from ptailor.marks import mesh_pieces
 from ptailor.model.garment import panels
 from ptailor.model.pieces import PatternFile, Piece
 from ptailor.model.polyline import signed_area
+from ptailor.pieces import mesh_pieces
 from ptailor.report.outline import point_segment_distance
 from ptailor.samples import SAMPLES
 from tests.conftest import real_path

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ptailor.adjust import adjust
 from ptailor.formats.garment import load_garment
 from ptailor.model.garment import panels, signed_areas_2d
+from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
 from tests.conftest import real_path
 
@@ -19,7 +19,7 @@ def panel_area(V2, F2, p) -> float:
 def test_identity_returns_every_vt(real_garment):
     _, lg = real_garment
     g = lg.garment
-    adj = adjust(g, parse_recipe("steps: []"), baseline=False)
+    adj = adjustment(g, parse_recipe("steps: []"), baseline=False)
     for p in panels(g):
         size = np.ptp(g.V2[p.vertices], axis=0).max()
         assert np.abs(adj.result.V2[p.vertices] - g.V2[p.vertices]).max() < 1e-7 * size
@@ -31,9 +31,9 @@ def test_rigid_motion_and_uniform_scale(real_garment):
     th = 0.7
     R = np.array([[np.cos(th), 0, np.sin(th)], [0, 1, 0], [-np.sin(th), 0, np.cos(th)]])
     moved = g.with_drape(g.V3 @ R.T + [5.0, -3.0, 2.0])
-    a = adjust(moved, parse_recipe("steps: []"), baseline=False)
+    a = adjustment(moved, parse_recipe("steps: []"), baseline=False)
     k = 1.25
-    b = adjust(g, parse_recipe(f"steps: [{{op: scale, factor: {k}}}]"), baseline=False)
+    b = adjustment(g, parse_recipe(f"steps: [{{op: scale, factor: {k}}}]"), baseline=False)
     for p in panels(g):
         size = np.ptp(g.V2[p.vertices], axis=0).max()
         assert np.abs(a.result.V2[p.vertices] - g.V2[p.vertices]).max() < 1e-7 * size
@@ -48,7 +48,7 @@ def test_rigid_motion_and_uniform_scale(real_garment):
 def test_tee6_uniform_flattening_is_larger_ours_is_exact():
     """The paper's first figure: flattening the drape gives panels larger than the pattern."""
     g = load_garment(real_path("tee6")).garment
-    adj = adjust(g, parse_recipe("steps: []\nflatten: {boundary: free}"))
+    adj = adjustment(g, parse_recipe("steps: []\nflatten: {boundary: free}"))
     ratios = np.array(
         [panel_area(adj.baseline.V2, g.F2, p) / panel_area(g.V2, g.F2, p) for p in panels(g)]
     )
@@ -63,7 +63,7 @@ def test_tshirt_mirrored_panel_scales_and_keeps_orientation():
     g = load_garment(real_path("tshirt"), pattern_units="auto").garment
     plist = panels(g)
     assert sum(p.mirrored for p in plist) == 1
-    adj = adjust(
+    adj = adjustment(
         g, parse_recipe("steps: [{op: scale, direction: around, axis: [0,1,0], factor: 1.1}]")
     )
     for p in plist:
@@ -75,7 +75,7 @@ def test_tshirt_mirrored_panel_scales_and_keeps_orientation():
 def test_tee6_one_sleeve_wider_body_follows():
     """Scaling one sleeve (two panels) around its axis: that sleeve widens, the other stays."""
     g = load_garment(real_path("tee6")).garment
-    adj = adjust(
+    adj = adjustment(
         g,
         parse_recipe(
             "steps: [{op: scale, region: {panels: [sleeve_left_back, sleeve_left_front]},"
@@ -99,7 +99,7 @@ def test_tee6_one_sleeve_wider_body_follows():
 
 
 def seam_mismatch(adj) -> float:
-    from ptailor.adjust import garment_structure
+    from ptailor.pipeline import garment_structure
 
     _, _, seam_list = garment_structure(adj.state)
     worst = 0.0
@@ -117,7 +117,7 @@ def test_tee6_seams_ease_matches_seam_lengths():
         "steps: [{op: scale, region: {panels: [sleeve_left_back, sleeve_left_front]},"
         " direction: around, factor: 1.2}]"
     )
-    free = adjust(g, parse_recipe(step + "\nflatten: {seams: free}"), baseline=False)
-    keep = adjust(g, parse_recipe(step), baseline=False)
+    free = adjustment(g, parse_recipe(step + "\nflatten: {seams: free}"), baseline=False)
+    keep = adjustment(g, parse_recipe(step), baseline=False)
     assert seam_mismatch(free) > 0.01
     assert seam_mismatch(keep) < 0.002

@@ -7,9 +7,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ptailor.adjust import adjust
 from ptailor.demo import bundled_recipe
 from ptailor.model.seams import half_edges
+from ptailor.pipeline import adjustment
 from ptailor.recipe import load_recipe, parse_recipe
 from ptailor.samples import SAMPLES, cone_skirt
 
@@ -35,7 +35,7 @@ def test_recipe_validates_and_runs(path):
         "lantern_sleeve",
     )
     g = SAMPLES[sample]()
-    adj = adjust(g, rec)
+    adj = adjustment(g, rec)
     assert np.all(np.isfinite(adj.result.V2))
     F2 = adj.state.base.F2
     E = adj.result.V2[F2[:, 1:]] - adj.result.V2[F2[:, :1]]
@@ -53,7 +53,9 @@ def edge_ratio(adj, g, V2):
 def test_fuller_cone_skirt_pattern_is_the_exact_development():
     """A developable garment stays developable: the new pattern is isometric to the new drape."""
     g = cone_skirt()
-    adj = adjust(g, load_recipe(Path(__file__).resolve().parents[1] / "recipes/fuller-skirt.yaml"))
+    adj = adjustment(
+        g, load_recipe(Path(__file__).resolve().parents[1] / "recipes/fuller-skirt.yaml")
+    )
     assert np.abs(edge_ratio(adj, g, adj.result.V2) - 1).max() < 1e-5
     # waist and hem arcs of each panel grow by the factor
     ys = g.V3[:, 1]
@@ -69,14 +71,14 @@ def test_fuller_cone_skirt_pattern_is_the_exact_development():
 def test_keeping_the_outline_trades_intrinsic_scale():
     """boundary: similar keeps the skirt's arcs' tangents, so its triangles must stretch."""
     g = cone_skirt()
-    free = adjust(
+    free = adjustment(
         g,
         parse_recipe(
             "steps: [{op: scale, direction: around, axis: [0,1,0], factor: 1.15}]\n"
             "flatten: {boundary: free}"
         ),
     )
-    similar = adjust(
+    similar = adjustment(
         g,
         parse_recipe(
             "steps: [{op: scale, direction: around, axis: [0,1,0], factor: 1.15}]\n"
@@ -106,7 +108,7 @@ def _edge_length_2d(adj, V2, select3):
 
 def test_loosen_waist_adds_the_offset_circumference_to_the_pattern_waist():
     g = SAMPLES["bodice"]()
-    adj = adjust(g, _recipe("loosen-waist"))
+    adj = adjustment(g, _recipe("loosen-waist"))
     low = adj.state.V3[:, 1] < 1e-9
     before = _edge_length_2d(adj, adj.state.base.V2, low)
     after = _edge_length_2d(adj, adj.result.V2, low)
@@ -119,7 +121,7 @@ def test_lengthen_bodice_adds_4_cm_to_both_panels():
     from ptailor.report.metrics import panel_sizes
 
     g = SAMPLES["bodice"]()
-    adj = adjust(g, _recipe("lengthen-bodice"))
+    adj = adjustment(g, _recipe("lengthen-bodice"))
     h0 = panel_sizes(g.V2, vertex_labels(panels(g), len(g.V2)), 2)[:, 1]
     st = adj.state
     h1 = panel_sizes(adj.result.V2, vertex_labels(st.panels, len(adj.result.V2)), 2)[:, 1]
@@ -130,7 +132,7 @@ def test_deeper_neckline_cuts_the_front_only_down_to_the_sketch():
     from ptailor.model.garment import panels, signed_areas_2d
 
     g = SAMPLES["bodice"]()
-    adj = adjust(g, _recipe("deeper-neckline"))
+    adj = adjustment(g, _recipe("deeper-neckline"))
     st = adj.state
     area = {
         p.name: abs(signed_areas_2d(adj.result.V2, st.base.F2[p.faces]).sum()) for p in st.panels

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ptailor.adjust import adjust
 from ptailor.errors import PtailorError
 from ptailor.formats.garment import load_garment
+from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
 from ptailor.samples import lantern_sleeve
 from tests.conftest import real_path
@@ -30,7 +30,7 @@ def step(direction: str, factor: float = 1.3, fix: str = "[waist]") -> str:
 
 def test_around_widens_the_sleeve_bottom_keeps_the_top_and_the_cuff():
     g = lantern_sleeve()  # openings: hem (cuff bottom) and waist (sleeve top, the armhole)
-    adj = adjust(g, parse_recipe(step("around")))
+    adj = adjustment(g, parse_recipe(step("around")))
     sleeve, cuff = adj.state.panels
     V, V0 = adj.result.V2, g.V2
     assert edge_length(V, V0, sleeve.vertices, np.max) == pytest.approx(28.0, rel=1e-3)
@@ -48,7 +48,7 @@ def test_around_widens_the_sleeve_bottom_keeps_the_top_and_the_cuff():
 
 def test_along_lengthens_the_sleeve_and_carries_the_cuff():
     g = lantern_sleeve()
-    adj = adjust(g, parse_recipe(step("along")))
+    adj = adjustment(g, parse_recipe(step("along")))
     sleeve, cuff = adj.state.panels
     np.testing.assert_allclose(np.ptp(adj.result.V2[sleeve.vertices], axis=0), [28, 52], rtol=1e-6)
     np.testing.assert_allclose(np.ptp(adj.result.V2[cuff.vertices], axis=0), [40, 8], rtol=1e-9)
@@ -77,7 +77,7 @@ def test_recipe_errors(text, message):
 def test_panels_without_a_seam():
     g = lantern_sleeve()
     with pytest.raises(PtailorError, match="no panel named"):
-        adjust(
+        adjustment(
             g,
             parse_recipe(
                 "steps: [{op: scale_seam, seam: [sleeve, collar], part: sleeve, factor: 1.2}]"
@@ -87,7 +87,7 @@ def test_panels_without_a_seam():
 
 def test_tee6_armhole_seam_stays_valid():
     g = load_garment(real_path("tee6")).garment
-    adj = adjust(
+    adj = adjustment(
         g,
         parse_recipe(
             "steps: [{op: scale_seam, seam: [sleeve_left_back, back], part: sleeve_left_back,"
@@ -117,7 +117,7 @@ def test_body_axis_drives_auto_axes():
     arm = trimesh.creation.cylinder(radius=2.0, height=80.0, sections=32, transform=T)
     ax = region_axis(g.V3, g.F3, faces, body=arm)
     assert abs(ax @ d) > 0.99
-    adj = adjust(
+    adj = adjustment(
         g,
         parse_recipe("steps: [{op: scale, direction: along, factor: 1.1}]"),
         options=EditOptions(body=arm),

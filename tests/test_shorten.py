@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ptailor.adjust import adjust
 from ptailor.errors import PtailorError
 from ptailor.formats.garment import load_garment
 from ptailor.job import run_adjust
+from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
 from ptailor.report.outline import point_segment_distance
 from ptailor.samples import cone_skirt, cylinder, lantern_sleeve
@@ -23,7 +23,7 @@ def ring(V: np.ndarray, used: np.ndarray, which) -> np.ndarray:
 
 def test_cone_skirt_hem_moves_exactly_inward_waist_untouched():
     g = cone_skirt()
-    adj = adjust(g, parse_recipe("steps: [{op: shorten, opening: hem, by: 5}]"))
+    adj = adjustment(g, parse_recipe("steps: [{op: shorten, opening: hem, by: 5}]"))
     b = adj.state.base
     assert_valid(b, V2=adj.result.V2)
     assert_seams_equal(b, adj.result.V2)
@@ -50,7 +50,7 @@ def test_cone_skirt_hem_moves_exactly_inward_waist_untouched():
 
 def test_shorten_then_extend_bookkeeping_on_the_elastic_cuff():
     g = lantern_sleeve()
-    adj = adjust(g, parse_recipe("steps: [{op: shorten, opening: hem, by: 3}]"))
+    adj = adjustment(g, parse_recipe("steps: [{op: shorten, opening: hem, by: 3}]"))
     b = adj.state.base
     assert_valid(b, V2=adj.result.V2)
     # the cuff (8 high) lost 3 in 3D and 3 in the pattern (height is isometric there)
@@ -65,7 +65,7 @@ def test_shorten_hem_on_real_garments(key, tmp_path):
     path = real_path(key)
     g = load_garment(path, pattern_units=REAL[key][1]).garment
     by = 5.0 if key == "tee6" else 0.05 * np.ptp(g.V3[:, 1])
-    adj = adjust(
+    adj = adjustment(
         g, parse_recipe(f"steps: [{{op: shorten, opening: hem, by: {by}}}]"), baseline=False
     )
     b = adj.state.base
@@ -203,7 +203,7 @@ def output_edge_distances(g0, adj, name: str = "hem") -> dict:
 def test_pattern_measure_cuts_a_straight_hem_exactly_by_up_on_a_stretched_tube():
     g = stretched_tube()
     rec = parse_recipe("steps: [{op: shorten, opening: hem, by: 3, measure: pattern}]")
-    adj = adjust(g, rec)
+    adj = adjustment(g, rec)
     b, X = adj.state.base, adj.result.V2
     assert_valid(b, V2=X)
     assert_seams_equal(b, X)
@@ -223,7 +223,7 @@ def test_pattern_measure_cuts_a_straight_hem_exactly_by_up_on_a_stretched_tube()
 
 def test_drape_measure_is_the_default_and_leaves_that_hem_uneven():
     g = stretched_tube()
-    adj = adjust(g, parse_recipe("steps: [{op: shorten, opening: hem, by: 3}]"))
+    adj = adjustment(g, parse_recipe("steps: [{op: shorten, opening: hem, by: 3}]"))
     step = adj.state.log[-1]
     assert step["measure"] == "drape"
     y = adj.result.V2[new_edge_vertices(adj), 1]
@@ -234,7 +234,9 @@ def test_drape_measure_is_the_default_and_leaves_that_hem_uneven():
 
 def test_pattern_measure_on_the_cone_skirt_keeps_the_side_seams_one():
     g = cone_skirt(n_around=32, n_along=12)
-    adj = adjust(g, parse_recipe("steps: [{op: shorten, opening: hem, by: 4.3, measure: pattern}]"))
+    adj = adjustment(
+        g, parse_recipe("steps: [{op: shorten, opening: hem, by: 4.3, measure: pattern}]")
+    )
     b, X = adj.state.base, adj.result.V2
     assert_valid(b, V2=X)
     assert_seams_equal(b, X)
@@ -247,7 +249,7 @@ def test_pattern_distance_is_carried_over_seams_into_the_next_panel():
     """Shorten the lantern cuff (8 high) by 10.5: the cuff goes, the sleeve loses 2.5."""
     g = lantern_sleeve()
     rec = parse_recipe("steps: [{op: shorten, opening: hem, by: 10.5, measure: pattern}]")
-    adj = adjust(g, rec)
+    adj = adjustment(g, rec)
     b, X = adj.state.base, adj.result.V2
     assert_valid(b, V2=X)
     assert [p.name for p in adj.state.panels] == ["sleeve"]
@@ -264,7 +266,7 @@ def test_real_hem_shortened_by_5_in_the_output_pattern(key):
     """Acceptance: with ``measure: pattern`` every panel's new hem is 5 +- 0.05 away."""
     g = load_garment(real_path(key), pattern_units=REAL[key][1]).garment
     rec = parse_recipe("steps: [{op: shorten, opening: hem, by: 5, measure: pattern}]")
-    adj = adjust(g, rec, baseline=False)
+    adj = adjustment(g, rec, baseline=False)
     assert_valid(adj.state.base, V2=adj.result.V2)
     dist = output_edge_distances(g, adj)
     assert len(dist) >= 2
@@ -280,7 +282,7 @@ def test_tee6_hem_shortened_by_5_on_the_drape_is_uneven_in_the_pattern():
     g = load_garment(real_path("tee6"), pattern_units=REAL["tee6"][1]).garment
     for measure, drape_max in (("drape", 5.01), ("pattern", 4.8)):
         rec = parse_recipe(f"steps: [{{op: shorten, opening: hem, by: 5, measure: {measure}}}]")
-        adj = adjust(g, rec, baseline=False)
+        adj = adjustment(g, rec, baseline=False)
         dist = output_edge_distances(g, adj)
         amount = adj.state.log[-1]["amount"]
         assert amount["drape"]["max"] < drape_max
@@ -292,7 +294,7 @@ def test_tee6_hem_shortened_by_5_on_the_drape_is_uneven_in_the_pattern():
 def test_pattern_measure_refuses_a_strip_wider_than_the_garment():
     rec = parse_recipe("steps: [{op: shorten, opening: hem, by: 500, measure: pattern}]")
     with pytest.raises(PtailorError, match=r"nowhere farther than that from its hem \(in the"):
-        adjust(cone_skirt(), rec)
+        adjustment(cone_skirt(), rec)
 
 
 def test_measure_is_a_checked_recipe_key():
@@ -307,7 +309,7 @@ def test_generated_hems_move_exactly_5_in_the_output_pattern(sample, op):
 
     g = SAMPLES[sample]()
     rec = parse_recipe(f"steps: [{{op: {op}, opening: hem, by: 5, measure: pattern}}]")
-    adj = adjust(g, rec, baseline=False)
+    adj = adjustment(g, rec, baseline=False)
     assert_valid(adj.state.base, V2=adj.result.V2)
     for d in output_edge_distances(g, adj).values():
         np.testing.assert_allclose(d, 5.0, atol=1e-6)
@@ -320,7 +322,9 @@ def test_a_cut_through_existing_vertices_reports_what_it_achieved():
     from ptailor.samples import bodice
 
     for by in (5.0, 40.0 / 24 * 3):  # between rows, and exactly on a row
-        adj = adjust(bodice(), parse_recipe(f"steps: [{{op: shorten, opening: hem, by: {by}}}]"))
+        adj = adjustment(
+            bodice(), parse_recipe(f"steps: [{{op: shorten, opening: hem, by: {by}}}]")
+        )
         rec = adj.state.log[0]
         assert rec["achieved"]["3d"]["mean"] == pytest.approx(by, rel=1e-3)
         for side in ("front", "back"):

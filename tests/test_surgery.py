@@ -5,12 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ptailor.adjust import adjust
 from ptailor.errors import PtailorError
 from ptailor.formats.garment import load_garment
 from ptailor.job import run_adjust
 from ptailor.model.garment import panels
 from ptailor.model.seams import half_edges
+from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
 from ptailor.samples import cone_skirt, lantern_sleeve
 from tests.conftest import real_path
@@ -21,7 +21,7 @@ PLANE = "steps: [{op: cut, plane: {point: [0, 20, 0], normal: [0, -1, 0]}}]"
 
 def test_plane_cut_splits_exactly_and_transfers_the_pattern():
     g = cone_skirt()
-    adj = adjust(g, parse_recipe(PLANE))
+    adj = adjustment(g, parse_recipe(PLANE))
     b = adj.state.base
     assert_valid(b, V2=adj.result.V2)
     # everything below y = 20 is gone, the new edge lies on the plane
@@ -42,7 +42,7 @@ def test_plane_cut_splits_exactly_and_transfers_the_pattern():
 
 def test_cut_through_a_seam_gives_one_drape_vertex_and_two_pattern_vertices():
     g = lantern_sleeve()  # the sleeve's closing seam runs along y
-    adj = adjust(
+    adj = adjustment(
         g, parse_recipe("steps: [{op: cut, plane: {point: [0, 30.3, 0], normal: [0, 1, 0]}}]")
     )
     b = adj.state.base
@@ -55,13 +55,13 @@ def test_cut_through_a_seam_gives_one_drape_vertex_and_two_pattern_vertices():
 
 def test_sketch_cut_both_layers_and_near_layer():
     g = cone_skirt()
-    both = adjust(
+    both = adjustment(
         g,
         parse_recipe(
             "steps: [{op: cut, view: front, sketch: [[-50, 15], [0, 25], [50, 15]], remove: below}]"
         ),
     )
-    near = adjust(
+    near = adjustment(
         g,
         parse_recipe(
             "steps: [{op: cut, view: front, sketch: [[-50, 15], [0, 25], [50, 15]], remove: below,"
@@ -81,7 +81,7 @@ def test_sketch_cut_both_layers_and_near_layer():
 
 def test_symmetric_cut_mirrors_the_sketch():
     g = cone_skirt()
-    adj = adjust(
+    adj = adjustment(
         g,
         parse_recipe(
             "steps: [{op: cut, view: front, sketch: [[10, 0], [10, 60]], remove: right,"
@@ -120,7 +120,9 @@ def test_cut_errors(tmp_path, step, message):
     assert r.exit_code == 2 and message in r.output
     assert not (tmp_path / "o").exists()
     with pytest.raises(PtailorError):
-        adjust(load_garment(tmp_path / "cone_skirt.obj").garment, parse_recipe(f"steps: [{step}]"))
+        adjustment(
+            load_garment(tmp_path / "cone_skirt.obj").garment, parse_recipe(f"steps: [{step}]")
+        )
 
 
 @pytest.mark.parametrize("key", ["tee6", "dress"])
@@ -134,7 +136,7 @@ def test_plane_cut_on_real_garments(key, tmp_path):
     y0, y1 = g.V3[used, 1].min(), g.V3[used, 1].max()
     y = y0 + 0.3 * (y1 - y0)
     rec = parse_recipe(f"steps: [{{op: cut, plane: {{point: [0, {y}, 0], normal: [0, -1, 0]}}}}]")
-    adj = adjust(g, rec, baseline=False)
+    adj = adjustment(g, rec, baseline=False)
     b = adj.state.base
     assert_valid(b, V2=adj.result.V2)
     assert adj.state.V3[np.unique(b.F3), 1].min() >= y - 1e-6
@@ -166,7 +168,7 @@ def test_polyline_side_at_a_shared_vertex_uses_the_pseudo_normal():
 
 def test_near_layer_v_notch_removes_only_the_notch():
     g = cone_skirt()
-    adj = adjust(
+    adj = adjustment(
         g,
         parse_recipe(
             "steps: [{op: cut, view: front, sketch: [[-8, 60], [0, 50], [8, 60]], remove: above,"

@@ -5,12 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ptailor.adjust import adjust, apply_steps
 from ptailor.edits import EditOptions
 from ptailor.edits.mirror import mirror_state, mirror_step
 from ptailor.errors import PtailorError, RecipeError
 from ptailor.model.garment import Garment, areas_3d, panels, signed_areas_2d
 from ptailor.model.symmetry import SagittalPlane, mirror_points, panel_mirror_map, sagittal_plane
+from ptailor.pipeline import adjustment, apply_steps
 from ptailor.recipe import parse_recipe
 from ptailor.samples import cone_skirt, cylinder, lantern_sleeve
 from tests.conftest import real_path
@@ -245,8 +245,8 @@ def test_step_symmetric_overrides_the_recipe():
 def test_recipe_level_symmetric_turns_on_cuts_own_mirror():
     g = cone_skirt()
     cut = "{op: cut, view: front, sketch: [[10, 0], [10, 60]], remove: right}"
-    one = adjust(g, parse_recipe(f"steps: [{cut}]"), baseline=False)
-    both = adjust(g, parse_recipe(f"symmetric: true\nsteps: [{cut}]"), baseline=False)
+    one = adjustment(g, parse_recipe(f"steps: [{cut}]"), baseline=False)
+    both = adjustment(g, parse_recipe(f"symmetric: true\nsteps: [{cut}]"), baseline=False)
     X1 = one.state.V3[np.unique(one.state.base.F3), 0]
     X2 = both.state.V3[np.unique(both.state.base.F3), 0]
     assert X1.min() < -25 and X1.max() == pytest.approx(10, abs=1e-3)
@@ -276,8 +276,8 @@ def test_symmetric_scale_seam_renames_seam_part_and_fixed_loop():
         "{op: scale_seam, seam: [sleeve, cuff], part: sleeve, direction: around, "
         "factor: 1.3, fix: [{loop: 1}]}"
     )
-    one = adjust(g, parse_recipe(f"steps: [{step}]"), baseline=False)
-    both = adjust(g, parse_recipe(f"symmetric: true\nsteps: [{step}]"), baseline=False)
+    one = adjustment(g, parse_recipe(f"steps: [{step}]"), baseline=False)
+    both = adjustment(g, parse_recipe(f"symmetric: true\nsteps: [{step}]"), baseline=False)
     used = np.unique(g.F3)
     assert mirror_gap(one.state.V3, used) > 1.0
     assert mirror_gap(both.state.V3, used) < 1e-6  # disjoint sleeves: exactly mirrored
@@ -393,7 +393,7 @@ def tee6_runs():
         ("overridden", "symmetric: true\n", ", symmetric: false"),
     ):
         text = f"{top}steps: [{SLEEVE % (*left, extra)}]"
-        runs[key] = adjust(g, parse_recipe(text), baseline=False)
+        runs[key] = adjustment(g, parse_recipe(text), baseline=False)
     return g, left, runs
 
 
@@ -436,7 +436,7 @@ def test_centred_step_is_applied_once():
     """region: all is its own mirror image: symmetric must not scale it twice."""
     import numpy as _np
 
-    from ptailor.adjust import adjust as _adjust
+    from ptailor.pipeline import adjustment as _adjust
     from ptailor.recipe import parse_recipe as _parse
     from ptailor.samples import lantern_sleeve
 

@@ -9,13 +9,13 @@ from pathlib import Path
 import numpy as np
 
 from ptailor import tolerances as tol
-from ptailor.adjust import Adjustment, adjust, check_flatten_settings, solver_warnings
 from ptailor.edits import EditOptions
 from ptailor.errors import PtailorError
 from ptailor.formats.garment import LoadedGarment, load_garment
-from ptailor.marks import CarriedPiece, PiecePlan
 from ptailor.model.boundary import boundary_loops
 from ptailor.output import check_output_dir, staged_dir, write_json
+from ptailor.pieces import CarriedPiece, PiecePlan
+from ptailor.pipeline import Adjustment, adjustment, check_flatten_settings, solver_warnings
 from ptailor.recipe import Recipe, load_recipe, resolve_axes
 from ptailor.report.build import build_report
 
@@ -133,9 +133,9 @@ def output_dxf(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
     from dataclasses import replace
 
     from ptailor.formats.dxf import write_dxf
-    from ptailor.marks import scale_piece, with_seam_allowance
     from ptailor.model.pieces import PatternFile
     from ptailor.model.units import CM_PER
+    from ptailor.pieces import scale_piece, with_seam_allowance
 
     units = ctx.plan.units
     k = CM_PER[adj.garment.units] / CM_PER[units]
@@ -362,8 +362,8 @@ def run_adjust(
     dict
         The report.
     """
-    from ptailor.marks import carry_plan, piece_plan
     from ptailor.model.garment import panels
+    from ptailor.pieces import carry_plan, piece_plan
     from ptailor.report.build import triangle_errors
 
     if not isinstance(recipe, Recipe):
@@ -414,7 +414,7 @@ def run_adjust(
         check_seam_allowance(loaded.garment, seam_allowance)
     t1 = time.perf_counter()
     try:
-        adj = adjust(
+        adj = adjustment(
             loaded.garment,
             recipe,
             method=method,

@@ -69,7 +69,7 @@ GEODESIC_BAND_MARGIN_EDGES = 2.0
 #: Vertices propagate in order of distance, this many mean edge lengths at a time.
 GEODESIC_STEP_EDGES = 2.0
 
-# Pattern pieces (ptailor.marks, ptailor.model.polyline)
+# Pattern pieces (ptailor.pieces, ptailor.model.polyline)
 #: An outline point where the outline turns by more than this is a turn point (corner).
 CORNER_DEG = 30.0
 #: A seam-allowance corner is mitred unless the mitre would reach further than this many

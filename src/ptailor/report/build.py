@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 
 from ptailor import __version__
-from ptailor.adjust import Adjustment, garment_structure, seam_factors, seam_mode
 from ptailor.model.names import panel_layout, seam_names
+from ptailor.pipeline import Adjustment, garment_structure, seam_factors, seam_mode
 from ptailor.report.metrics import (
     boundary_deviation,
     flipped,

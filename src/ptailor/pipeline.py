@@ -264,7 +264,7 @@ def seam_factors(state: EditState) -> dict[tuple[int, int], float]:
     return out
 
 
-def adjust(
+def adjustment(
     garment: Garment,
     recipe: Recipe,
     *,

@@ -37,7 +37,7 @@ from ptailor.model.polyline import (
 from ptailor.model.seams import edge_keys
 
 if TYPE_CHECKING:
-    from ptailor.adjust import Adjustment
+    from ptailor.pipeline import Adjustment
 
 #: Points per outline when outlines are compared.
 _SAMPLES = 256
