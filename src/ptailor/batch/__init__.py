@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import contextlib
 import glob
-import hashlib
 import json
 import os
 import re
@@ -29,6 +28,7 @@ from pathlib import Path
 from typing import IO, Any
 
 from ptailor import __version__, tolerances
+from ptailor.digest import file_sha256, text_sha256
 from ptailor.errors import PtailorError
 
 #: the stamp file written into each garment's output folder
@@ -195,16 +195,7 @@ def recipe_digest(recipe) -> str:
     data = asdict(recipe)
     data.pop("source", None)
     text = json.dumps(data, sort_keys=True, separators=(",", ":"), default=str)
-    return hashlib.sha256(text.encode()).hexdigest()
-
-
-def file_digest(path: str | Path) -> str:
-    """SHA-256 of a file's bytes."""
-    h = hashlib.sha256()
-    with open(path, "rb") as f:
-        for block in iter(lambda: f.read(1 << 20), b""):
-            h.update(block)
-    return h.hexdigest()
+    return text_sha256(text)
 
 
 def make_stamp(garment: str, garment_sha: str, recipe_sha: str, options: dict) -> dict:
@@ -219,7 +210,7 @@ def make_stamp(garment: str, garment_sha: str, recipe_sha: str, options: dict) -
         "recipe_sha256": recipe_sha,
         "options": options,
     }
-    key = hashlib.sha256(json.dumps(keyed, sort_keys=True).encode()).hexdigest()
+    key = text_sha256(json.dumps(keyed, sort_keys=True))
     return {
         "key": key,
         "ptailor_version": __version__,
@@ -540,9 +531,9 @@ def job_stamp(job: Job) -> dict:
     """
     opts = {**job.adjust_options}
     opts["formats"] = sorted(opts.get("formats", ()))
-    digest = file_digest(job.garment_abs)
+    digest = file_sha256(job.garment_abs)
     if job.drape_abs is not None:  # a DXF pattern: its drape is an input too
-        digest = hashlib.sha256(f"{digest}:{file_digest(job.drape_abs)}".encode()).hexdigest()
+        digest = text_sha256(f"{digest}:{file_sha256(job.drape_abs)}")
     return make_stamp(job.garment, digest, job.recipe_sha, opts)
 
 
