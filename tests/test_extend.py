@@ -9,6 +9,7 @@ import pytest
 
 import ptailor.edits.extend  # noqa: F401  (registers the op until _load_all does)
 from ptailor.edits import OPERATIONS, EditOptions
+from ptailor.edits.achieved import point_segment_distance
 from ptailor.edits.body import closest_points, push_out, winding_numbers
 from ptailor.edits.extend import opening_edges
 from ptailor.errors import PtailorError
@@ -20,7 +21,6 @@ from ptailor.model.garment import panels
 from ptailor.model.openings import openings
 from ptailor.pipeline import adjustment, apply_steps
 from ptailor.recipe import parse_recipe
-from ptailor.report.outline import point_segment_distance
 from ptailor.samples import cone_skirt, cylinder, lantern_sleeve
 from tests.conftest import REAL, real_path
 from tests.garment_checks import assert_seams_equal, assert_valid, seam_sides

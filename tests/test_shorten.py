@@ -5,12 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from ptailor.edits.achieved import point_segment_distance
 from ptailor.errors import PtailorError
 from ptailor.formats.garment import load_garment
 from ptailor.job import run_adjust
 from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
-from ptailor.report.outline import point_segment_distance
 from ptailor.samples import cone_skirt, cylinder, lantern_sleeve
 from tests.conftest import REAL, real_path
 from tests.garment_checks import adjust_sample_cli, assert_seams_equal, assert_valid

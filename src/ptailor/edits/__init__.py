@@ -1,129 +1,26 @@
 """Recipe operations: one module per edit, registered by name.
 
-Each operation is an :class:`Operation`: a parameter spec, checked when the recipe is
-validated (before any garment is read), and a pure function applying the step::
+Each operation is an :class:`Operation` (:mod:`ptailor.edits.registry`): a parameter spec,
+checked when the recipe is validated (before any garment is read), and a pure function
+applying the step::
 
     apply(state: EditState, step: dict, *, options: EditOptions) -> EditState
+
+Importing this package registers every operation in :data:`OPERATIONS`.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass, field
-from typing import Any
+from ptailor.edits import cut, extend, loosen, scale, scale_seam, shorten  # noqa: F401  (register)
+from ptailor.edits.registry import OPERATIONS, Check, Operation, Param, register
+from ptailor.edits.state import EditOptions, EditState
 
-import numpy as np
-
-from ptailor.model.garment import Garment, Panel
-
-#: validate(value, where) -> list of problems
-Check = Callable[[Any, str], list[str]]
-
-
-@dataclass(frozen=True)
-class Param:
-    """One step parameter: its check, whether it is required, its default."""
-
-    check: Check
-    required: bool = False
-    default: Any = None
-    doc: str = ""
-
-
-@dataclass(frozen=True)
-class EditState:
-    """The garment as the recipe's steps go.
-
-    Attributes
-    ----------
-    base : Garment
-        The original drape and pattern (on the current topology).
-    V3 : (n3, 3) float array
-        The edited drape so far.
-    panels : list of Panel
-        ``panels(base)``.
-    even : (n_panels,) bool array
-        Panels every step so far moved by one affine map (or not at all): with
-        ``boundary: auto`` they keep their outline shape (as-similar-as-possible).
-    log : tuple of dict
-        One record per applied step, for the report.
-    outline_free : (n2,) bool array or None
-        Pattern vertices of ``base`` whose outline is free even on ``even`` panels (an edge
-        a step created, such as an extended hem); None for none.
-    frozen : frozenset of str
-        Names of panels whose pattern is kept: their drape's change goes into their
-        intrinsic scale (a cuff that gathers more when the sleeve above it widens).
-    gathers : tuple of (str, str, float)
-        ``(part, other, f)``: the seams between panels ``part`` and ``other`` change their
-        length ratio on purpose, the side on ``part`` ``f`` times longer relative to the
-        side on ``other`` (``scale_seam``'s gather); the flattening keeps that new ratio.
-    """
-
-    base: Garment
-    V3: np.ndarray
-    panels: list[Panel]
-    even: np.ndarray
-    log: tuple[dict, ...] = field(default_factory=tuple)
-    outline_free: np.ndarray | None = None
-    frozen: frozenset[str] = frozenset()
-    gathers: tuple[tuple[str, str, float], ...] = ()
-
-
-@dataclass(frozen=True)
-class EditOptions:
-    """Garment-independent settings of a run.
-
-    Attributes
-    ----------
-    up, front : (3,) tuple of float
-        The garment's axes (openings, views, the sagittal plane).
-    body : trimesh.Trimesh or None
-        A watertight body in the computation unit: extended rows are pushed out of it.
-    """
-
-    up: tuple[float, float, float] = (0.0, 1.0, 0.0)
-    front: tuple[float, float, float] = (0.0, 0.0, 1.0)
-    body: Any = None
-
-
-@dataclass(frozen=True)
-class Operation:
-    """A registered recipe operation."""
-
-    name: str
-    params: dict[str, Param]
-    apply: Callable[..., EditState]
-    doc: str = ""
-    check: Callable[[dict, str], list[str]] | None = None
-
-
-OPERATIONS: dict[str, Operation] = {}
-
-
-def register(
-    name: str,
-    params: dict[str, Param],
-    doc: str = "",
-    *,
-    check: Callable[[dict, str], list[str]] | None = None,
-) -> Callable:
-    """Decorator registering ``apply`` as the recipe operation ``name``.
-
-    ``check(step, where)``, when given, validates the step as a whole (rules that tie
-    parameters together) after each parameter passed its own check.
-    """
-
-    def deco(fn: Callable[..., EditState]) -> Callable[..., EditState]:
-        OPERATIONS[name] = Operation(
-            name=name, params=params, apply=fn, doc=doc or fn.__doc__ or "", check=check
-        )
-        return fn
-
-    return deco
-
-
-def _load_all() -> None:
-    from ptailor.edits import cut, extend, loosen, scale, scale_seam, shorten  # noqa: F401
-
-
-_load_all()
+__all__ = [
+    "OPERATIONS",
+    "Check",
+    "EditOptions",
+    "EditState",
+    "Operation",
+    "Param",
+    "register",
+]

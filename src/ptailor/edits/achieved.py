@@ -1,4 +1,4 @@
-"""How far an edited edge moved: distances from new edge vertices to the old opening."""
+"""What an edit achieved: how far an edited edge moved from the opening it replaced."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import numpy as np
 from ptailor.model.seams import half_edges
 
 if TYPE_CHECKING:
-    from ptailor.edits import EditState
+    from ptailor.edits.state import EditState
     from ptailor.edits.surgery import SplitResult
 
 

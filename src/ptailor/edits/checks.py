@@ -11,7 +11,7 @@ from collections.abc import Callable
 from typing import Any
 
 from ptailor import tolerances as tol
-from ptailor.edits import Check
+from ptailor.edits.registry import Check
 
 #: Every recipe number lies within +-this (:data:`ptailor.tolerances.RECIPE_NUMBER_MAX`).
 BIG = tol.RECIPE_NUMBER_MAX

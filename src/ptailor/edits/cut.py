@@ -7,8 +7,9 @@ from typing import Any
 
 import numpy as np
 
-from ptailor.edits import EditOptions, EditState, Param, register
 from ptailor.edits.checks import VEC3, boolean, choice, is_number, vector3, with_schema
+from ptailor.edits.registry import Param, register
+from ptailor.edits.state import EditOptions, EditState
 from ptailor.edits.surgery import split_keep
 from ptailor.errors import PtailorError
 

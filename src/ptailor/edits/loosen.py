@@ -29,10 +29,11 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from scipy.sparse.csgraph import breadth_first_order, connected_components
 
-from ptailor.edits import EditOptions, EditState, Param, register
 from ptailor.edits.checks import number, region
 from ptailor.edits.cut import sketch_spec, view_frame, view_spec
 from ptailor.edits.region import region_axis, region_centroid, region_faces
+from ptailor.edits.registry import Param, register
+from ptailor.edits.state import EditOptions, EditState
 from ptailor.errors import PtailorError
 from ptailor.method.deform import arap_deform, cotangent_weights
 from ptailor.method.geodesic import geodesic_distance

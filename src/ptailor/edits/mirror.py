@@ -26,7 +26,8 @@ from typing import Any
 
 import numpy as np
 
-from ptailor.edits import OPERATIONS, EditOptions, EditState
+from ptailor.edits.registry import OPERATIONS
+from ptailor.edits.state import EditOptions, EditState
 from ptailor.errors import PtailorError
 from ptailor.model.symmetry import SagittalPlane, mirror_points, panel_mirror_map
 

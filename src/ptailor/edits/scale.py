@@ -6,9 +6,10 @@ from dataclasses import replace
 
 import numpy as np
 
-from ptailor.edits import EditOptions, EditState, Param, register
 from ptailor.edits.checks import axis, choice, number, region
 from ptailor.edits.region import region_axis, region_centroid, region_faces, unit_vector
+from ptailor.edits.registry import Param, register
+from ptailor.edits.state import EditOptions, EditState
 
 
 def scale_matrix(direction: str, ax: np.ndarray, factor: float) -> np.ndarray:

@@ -7,9 +7,10 @@ from typing import Any
 
 import numpy as np
 
-from ptailor.edits import EditOptions, EditState, Param, register
 from ptailor.edits.checks import choice, number, with_schema
 from ptailor.edits.region import body_axis
+from ptailor.edits.registry import Param, register
+from ptailor.edits.state import EditOptions, EditState
 from ptailor.errors import PtailorError
 from ptailor.method.flatten import panel_labels
 from ptailor.model.seams import seams

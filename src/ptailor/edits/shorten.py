@@ -12,10 +12,12 @@ from dataclasses import replace
 
 import numpy as np
 
-from ptailor.edits import EditOptions, EditState, Param, register
+from ptailor.edits.achieved import edge_offsets
 from ptailor.edits.checks import choice, number
 from ptailor.edits.limits import check_by
-from ptailor.edits.opening import find_opening, opening_spec
+from ptailor.edits.opening import find_opening, opening_edges, opening_spec
+from ptailor.edits.registry import Param, register
+from ptailor.edits.state import EditOptions, EditState
 from ptailor.edits.surgery import (
     PatternDistance,
     SplitResult,
@@ -25,7 +27,6 @@ from ptailor.edits.surgery import (
     split_keep,
 )
 from ptailor.errors import PtailorError
-from ptailor.report.outline import edge_offsets
 
 #: Where ``by`` is measured.
 MEASURES = ("drape", "pattern")
@@ -86,7 +87,6 @@ def drape_value(v3: np.ndarray, values: np.ndarray, n3: int) -> np.ndarray:
 
 def _pattern_field(state: EditState, loop: np.ndarray, by: float) -> tuple:
     """The pattern distance from an opening, its value per drape vertex, face panels."""
-    from ptailor.edits.extend import opening_edges
     from ptailor.method.flatten import panel_labels
 
     g = state.base
@@ -234,7 +234,6 @@ def _amounts(
 ) -> dict:
     """The record's ``amount``: removed width in the pattern (per panel) and on the drape."""
     if field is None:
-        from ptailor.edits.extend import opening_edges
         from ptailor.method.flatten import panel_labels
 
         g = state.base

@@ -21,7 +21,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ptailor import tolerances as tol
-from ptailor.edits import EditState
+from ptailor.edits.state import EditState
 from ptailor.errors import PtailorError
 from ptailor.model.garment import Garment, Panel, panels
 from ptailor.model.seams import edge_keys, half_edges

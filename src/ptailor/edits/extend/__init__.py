@@ -1,0 +1,190 @@
+"""``extend``: add rows of cloth beyond an opening (the paper's Extend, after Brouet et al.).
+
+The rows continue the surface along the tangent planes of the triangles at the opening; the
+new pattern strip takes the intrinsic scale of the triangles it grows from, and the final
+flattening glues it to its panels (outline free along the new cloth).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from ptailor.edits.achieved import distance_stats, point_segment_distance
+from ptailor.edits.checks import number
+from ptailor.edits.extend.drape import drape_rows, pattern_maps
+from ptailor.edits.extend.pattern import pattern_rows
+from ptailor.edits.extend.rows import face_normals, quad_rows
+from ptailor.edits.limits import check_by, check_new_triangles
+from ptailor.edits.opening import OpeningEdges, find_opening, opening_edges, opening_spec
+from ptailor.edits.registry import Param, register
+from ptailor.edits.shorten import MEASURE_PARAM, pattern_amounts, spread_stats
+from ptailor.edits.state import EditOptions, EditState
+from ptailor.edits.surgery import edge_distance
+from ptailor.method.flatten import panel_labels
+from ptailor.model.garment import Garment, panels
+
+__all__ = ["OpeningEdges", "extend", "opening_edges", "pattern_maps"]
+
+
+def _default_clearance(options: EditOptions, mean_edge: float) -> float:
+    c = getattr(options, "clearance", None)
+    return 0.5 * mean_edge if c is None else float(c)
+
+
+@register(
+    "extend",
+    {
+        "opening": Param(opening_spec, required=True, doc="hem | neckline | ... | {loop: k}"),
+        "by": Param(number(gt=0.0), required=True, doc="length added, recipe units (see measure)"),
+        "clearance": Param(
+            number(ge=0.0),
+            default=None,
+            doc="distance kept from the body (with a body); default half an edge",
+        ),
+        "measure": MEASURE_PARAM,
+    },
+)
+def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
+    """Add rows of triangles beyond an opening, continuing the surface, ``by`` long.
+
+    ``measure: drape`` (the paper's): each opening vertex grows a straight line of new
+    vertices along the unit direction tangent to the surface and across the boundary,
+    ``by`` long on the drape (:func:`drape_rows`); the pattern columns follow with the
+    intrinsic scale of the triangles they grow from (``J+ dir``, :func:`pattern_maps`,
+    original drape), the copies of a seam vertex in their seam's length ratio
+    (:func:`match_seam_steps`). ``measure: pattern``: the new edge is laid out in each
+    panel's pattern exactly ``by`` from the old one (the offset of the opening's pattern
+    edges, seams continued straight where they meet it) and the drape rows are built to
+    match through the pattern-to-drape maps of the triangles they grow from
+    (:func:`pattern_rows`).
+
+    There are ``rows`` rows, about the opening's mean edge length apart; where rows would
+    cross (a concave opening) the directions there are smoothed, pass by pass, and after
+    ``MAX_SMOOTHING`` passes the step fails naming where; an opening whose offset closes
+    on itself is refused. The edited drape ``state.V3`` grows from its own opening; the
+    original drape ``state.base.V3`` grows the same rows from its opening, so the new cloth
+    follows earlier edits like the cloth it continues (after a first step both are the
+    same). With a body (``options.body``, a ``trimesh.Trimesh``), new edited vertices
+    inside it or within ``clearance`` of it are pushed out
+    (:func:`ptailor.edits.body.push_out`). The new pattern vertices are the new
+    triangles' original pattern (the final flattening glues them) and are outline-free;
+    panels keep their ``even`` flag.
+
+    The log record's ``amount`` gives the length added both ways: ``pattern``, per panel
+    the opening runs along, the ``min``, ``median`` and ``max`` distance of the new edge's
+    pattern vertices from the old edge; ``drape``, the same of their surface distance from
+    the old opening.
+    """
+    name, loop = find_opening(state, step["opening"], options=options)
+    by = float(step["by"])
+    measure = step.get("measure") or "drape"
+    g = state.base
+    Ve, Vb, V2 = state.V3, g.V3, g.V2
+    n2, m = len(V2), g.n_faces
+    oe = opening_edges(g.F3, g.F2, loop)
+    k = len(oe.a3)
+    Fo = g.F3[oe.face]
+    flab = panel_labels(state.panels, m)
+    cols, inv = np.unique(np.concatenate([oe.a2, oe.b2]), return_inverse=True)
+    nc = len(cols)
+    ca, cb = inv[:k], inv[k:]
+    field = edge_distance(V2, oe.a2, oe.b2, flab[oe.face])
+    geo = {
+        "cols": cols,
+        "inv": inv,
+        "ca": ca,
+        "cb": cb,
+        "nc": nc,
+        "flab": flab,
+        "orient": np.where([p.mirrored for p in state.panels], -1.0, 1.0)[flab[oe.face]],
+        "n_src": face_normals(Ve, Fo),
+        "field": field,
+    }
+    if measure == "pattern":
+        Fo2 = g.F2[oe.face]
+        mean_edge = float(np.linalg.norm(V2[Fo2] - V2[np.roll(Fo2, -1, axis=1)], axis=2).mean())
+    else:
+        mean_edge = float(np.linalg.norm(Ve[Fo] - Ve[np.roll(Fo, -1, axis=1)], axis=2).mean())
+    check_by(by, mean_edge, what=f"extend {name}")
+    rows_f = max(1.0, float(np.rint(by / mean_edge)))
+    check_new_triangles(2.0 * rows_f * k, m, what=f"extend {name} by {by:g}")
+    rows = int(rows_f)
+    make = pattern_rows if measure == "pattern" else drape_rows
+    built = make(state, oe, geo, name=name, by=by, rows=rows)
+    new_e, new_b, new_2 = built.new_e, built.new_b, built.new_2
+    grid3 = np.vstack([oe.a3[None], len(Vb) + np.arange(rows * k).reshape(rows, k)])
+    grid2 = np.vstack([cols[None], n2 + np.arange(rows * nc).reshape(rows, nc)])
+    F3_new = quad_rows(grid3, grid3[:, np.roll(np.arange(k), -1)], built.use_b)
+    F2_new = quad_rows(grid2[:, ca], grid2[:, cb], built.use_b)
+    body = getattr(options, "body", None)
+    if body is not None:
+        from ptailor.edits.body import push_out
+
+        clearance = step.get("clearance")
+        if clearance is None:
+            clearance = _default_clearance(options, mean_edge)
+        new_e = push_out(new_e, body, clearance=float(clearance))
+
+    lab_new = np.broadcast_to(flab[oe.face][None, :, None], (rows, k, 2)).reshape(-1)
+    base = Garment(
+        V3=np.concatenate([Vb, new_b]),
+        F3=np.concatenate([g.F3, F3_new]),
+        V2=np.concatenate([V2, new_2]),
+        F2=np.concatenate([g.F2, F2_new]),
+        face_group=np.concatenate([flab, lab_new]),
+        group_names=tuple(p.name for p in state.panels),
+        units=g.units,
+    )
+    new_panels = panels(base)
+    old_even = {p.name: bool(state.even[p.index]) for p in state.panels}
+    even = np.array([old_even.get(q.name, False) for q in new_panels], dtype=bool)
+    free = np.ones(len(base.V2), dtype=bool)
+    free[:n2] = False if state.outline_free is None else state.outline_free
+    V3_new = np.concatenate([Ve, new_e])
+
+    # achieved lengths: the new edge's distance from the old opening, in 3D and per panel
+    from ptailor.method.geodesic import geodesic_distance
+
+    top3 = new_e[(rows - 1) * k :]
+    d3 = point_segment_distance(top3, Ve[oe.a3], Ve[oe.b3])
+    col_panel = np.empty(nc, dtype=np.int64)
+    col_panel[ca], col_panel[cb] = flab[oe.face], flab[oe.face]
+    top2 = new_2[(rows - 1) * nc :]
+    edge_panel = flab[oe.face]
+    achieved_pattern = {}
+    for p in state.panels:  # a loop over panels
+        sel = edge_panel == p.index
+        if sel.any():
+            d2 = point_segment_distance(top2[col_panel == p.index], V2[oe.a2[sel]], V2[oe.b2[sel]])
+            achieved_pattern[p.name] = distance_stats(d2)
+    names = {p.index: p.name for p in state.panels}
+    top_ids = len(Vb) + (rows - 1) * k + np.arange(k)
+    surf = geodesic_distance(V3_new, base.F3, loop, limit=3.0 * by)[top_ids]
+    if not np.all(surf < 3.0 * by):  # pushed far out by the body: measure all the way
+        surf = geodesic_distance(V3_new, base.F3, loop)[top_ids]
+    rec = {
+        "op": "extend",
+        "opening": name,
+        "by": by,
+        "rows": rows,
+        "new_triangles": len(F3_new),
+        "smoothing": built.smoothing,
+        "achieved": {"3d": distance_stats(d3), "pattern": achieved_pattern},
+        "measure": measure,
+        "pattern_smoothing": built.pattern_smoothing,
+        "amount": {
+            "pattern": pattern_amounts(field, top2, np.arange(nc), col_panel, names),
+            "drape": spread_stats(surf[np.isfinite(surf)]),
+        },
+    }
+    return replace(
+        state,
+        base=base,
+        V3=V3_new,
+        panels=new_panels,
+        even=even,
+        log=(*state.log, rec),
+        outline_free=free,
+    )

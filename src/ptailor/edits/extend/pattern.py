@@ -1,0 +1,279 @@
+"""``extend`` with ``measure: pattern``: the new edge exactly ``by`` from the opening in the
+pattern, the drape rows built to match."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ptailor.edits.extend.chain import chain_order, nearest_fn, place_offset_chain
+from ptailor.edits.extend.rows import MAX_SMOOTHING, Rows, crossing_error, face_normals, quad_rows
+from ptailor.edits.opening import OpeningEdges
+from ptailor.edits.state import EditState
+from ptailor.edits.surgery import PatternDistance
+from ptailor.errors import PtailorError
+from ptailor.method.intrinsic import edge_matrices, inv2
+from ptailor.model.garment import signed_areas_2d
+from ptailor.model.seams import half_edges
+
+#: ``measure: pattern``: a seam reaching the opening is continued straight when its
+#: continuation is within 75 degrees of the end edge's outward normal (cos 75 deg) ...
+_SEAM_MIN_COS = float(np.cos(np.radians(75.0)))
+
+
+#: ... a column's offset is searched out to 2^8 ``by`` along its direction ...
+_REACH_DOUBLINGS = 8
+
+
+#: ... and placed by this many bisection steps.
+_BISECTION_STEPS = 60
+
+
+def edge_normals_2d(V2: np.ndarray, F2: np.ndarray, oe: OpeningEdges) -> np.ndarray:
+    """Unit outward normals of an opening's pattern edges, ``(k, 2)``.
+
+    Perpendicular to ``a2 -> b2``, away from the edge's triangle (its pattern corner
+    opposite the edge), so mirrored panels need no special case.
+    """
+    F = F2[oe.face]
+    corner = np.argmax(oe.a2[:, None] == F, axis=1)
+    opp = F[np.arange(len(F)), (corner + 2) % 3]
+    t = V2[oe.b2] - V2[oe.a2]
+    n = np.stack([t[:, 1], -t[:, 0]], 1)
+    n *= np.where(np.einsum("ij,ij->i", n, V2[opp] - V2[oe.a2]) > 0, -1.0, 1.0)[:, None]
+    return n / np.maximum(np.linalg.norm(n, axis=1), 1e-300)[:, None]
+
+
+def outline_neighbours(F2: np.ndarray, n2: int) -> tuple[np.ndarray, np.ndarray]:
+    """Previous and next vertex along the pattern outlines.
+
+    Parameters
+    ----------
+    F2 : (m, 3) int array
+    n2 : int
+
+    Returns
+    -------
+    prev, nxt : (n2,) int arrays
+        For an outline half-edge ``u -> v`` (no twin, oriented like its triangle),
+        ``prev[v] = u`` and ``nxt[u] = v``; -1 off the outline.
+    """
+    h = half_edges(F2)
+    fwd = h[:, 0].astype(np.int64) * n2 + h[:, 1]
+    bwd = h[:, 1].astype(np.int64) * n2 + h[:, 0]
+    b = h[~np.isin(fwd, bwd)]
+    prev = np.full(n2, -1, dtype=np.int64)
+    nxt = np.full(n2, -1, dtype=np.int64)
+    prev[b[:, 1]], nxt[b[:, 0]] = b[:, 0], b[:, 1]
+    return prev, nxt
+
+
+def offset_lengths(
+    field: PatternDistance, P: np.ndarray, U: np.ndarray, panel: np.ndarray, by: float
+) -> np.ndarray:
+    """How far along each direction a point reaches distance ``by`` from the opening.
+
+    Parameters
+    ----------
+    field : PatternDistance
+        Its own edges (the opening's, per panel) are measured.
+    P : (c, 2) float array
+        Points on the opening.
+    U : (c, 2) float array
+        Unit directions.
+    panel : (c,) int array
+    by : float
+
+    Returns
+    -------
+    (c,) float array
+        ``s`` with ``distance(P + s U) = by`` (by bisection; ``s >= by`` since the distance
+        from ``P`` itself is at most ``s``); NaN where the distance stays below ``by`` out
+        to ``_MAX_REACH * by`` (an opening narrower than that in the pattern).
+    """
+
+    def dist(s: np.ndarray) -> np.ndarray:
+        return field.at(P + s[:, None] * U, panel, own_only=True)
+
+    lo = np.zeros(len(P))
+    hi = np.full(len(P), by)
+    short = dist(hi) < by
+    for _ in range(_REACH_DOUBLINGS):  # iterations, vectorised over the columns
+        if not short.any():
+            break
+        lo = np.where(short, hi, lo)
+        hi = np.where(short, 2.0 * hi, hi)
+        short = dist(hi) < by
+    for _ in range(_BISECTION_STEPS):
+        mid = 0.5 * (lo + hi)
+        below = dist(mid) < by
+        lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
+    out = 0.5 * (lo + hi)
+    out[short] = np.nan
+    return out
+
+
+def _smooth_masked(
+    D: np.ndarray, prev: np.ndarray, nxt: np.ndarray, mask: np.ndarray
+) -> np.ndarray:
+    """One ``[1, 2, 1] / 4`` pass of vectors along chains, on the masked entries only."""
+    S = 0.25 * (D[prev] + 2.0 * D + D[nxt])
+    return np.where(mask[:, None], S, D)
+
+
+def pattern_rows(
+    state: EditState,
+    oe: OpeningEdges,
+    geo: dict,
+    *,
+    name: str,
+    by: float,
+    rows: int,
+) -> Rows:
+    """Rows laid out in the pattern exactly ``by`` beyond the opening, the drape to match.
+
+    Pattern: every column (a pattern vertex on the opening) moves along a direction, as
+    far as it takes to lie exactly ``by`` from the opening's edges in its panel
+    (:func:`offset_lengths`): inside a chain of opening edges along the mean of its two
+    edges' outward normals; at a chain's end (a seam) along the seam's own direction, so
+    the seam continues straight, unless it runs within 15 degrees of the opening's edge or
+    along the opening instead of meeting the offset near the end (then along the end
+    edge's normal, a corner in the seam). Columns whose points come out crossed (a concave
+    opening, a seam continued over it) are re-placed along the iso-line
+    (:func:`place_offset_chain`); where the rows would still cross, the directions there
+    are smoothed along the chain, pass by pass. Intermediate rows divide each column
+    evenly.
+
+    Drape: each opening vertex moves by its pattern offset mapped through the
+    pattern-to-drape maps of its boundary triangles (the mean over its pattern copies'
+    triangles, on the edited and on the original drape alike), so the new cloth continues
+    the tangent planes with the intrinsic scale of the cloth it grows from; where the rows
+    would fold over in the drape, those offsets are smoothed along the opening.
+    """
+    g = state.base
+    V2, Ve, Vb = g.V2, state.V3, g.V3
+    k = len(oe.a3)
+    cols, ca, cb, nc = geo["cols"], geo["ca"], geo["cb"], geo["nc"]
+    flab, orient, n_src = geo["flab"], geo["orient"], geo["n_src"]
+    col_panel = np.empty(nc, dtype=np.int64)
+    col_panel[ca], col_panel[cb] = flab[oe.face], flab[oe.face]
+    names = {p.index: p.name for p in state.panels}
+    field = geo["field"]
+
+    # chains of opening edges per panel: each column's edges before and after it
+    n_e = edge_normals_2d(V2, g.F2, oe)
+    e_in = np.full(nc, -1, dtype=np.int64)
+    e_out = np.full(nc, -1, dtype=np.int64)
+    e_in[cb], e_out[ca] = np.arange(k), np.arange(k)
+    inner = (e_in >= 0) & (e_out >= 0)
+    prev_c = np.where(e_in >= 0, ca[np.maximum(e_in, 0)], np.arange(nc))
+    next_c = np.where(e_out >= 0, cb[np.maximum(e_out, 0)], np.arange(nc))
+    U = np.zeros((nc, 2))
+    U[inner] = n_e[e_in[inner]] + n_e[e_out[inner]]
+    cusp = inner & (np.linalg.norm(U, axis=1) < 1e-6)
+    U[cusp] = n_e[e_out[cusp]]
+    # chain ends: continue the seam (the outline edge before the start / after the end)
+    o_prev, o_next = outline_neighbours(g.F2, len(V2))
+    start = e_in < 0
+    n_end = np.where(start[:, None], n_e[np.maximum(e_out, 0)], n_e[np.maximum(e_in, 0)])
+    other = np.where(start, o_prev[cols], o_next[cols])
+    seam_dir = V2[cols] - V2[np.maximum(other, 0)]
+    seam_dir /= np.maximum(np.linalg.norm(seam_dir, axis=1), 1e-300)[:, None]
+    along = (other >= 0) & (np.einsum("ij,ij->i", seam_dir, n_end) >= _SEAM_MIN_COS)
+    U[~inner] = np.where(along[~inner, None], seam_dir[~inner], n_end[~inner])
+    U /= np.maximum(np.linalg.norm(U, axis=1), 1e-300)[:, None]
+    # where a continued seam runs along the opening instead of meeting its offset near the
+    # end, the end goes along the end edge's normal (a corner in the seam)
+    Q_end = V2[cols] + offset_lengths(field, V2[cols], n_end, col_panel, by)[:, None] * n_end
+
+    # triangles of the rows, in the pattern and the drape
+    grid3 = np.vstack([oe.a3[None], len(Vb) + np.arange(rows * k).reshape(rows, k)])
+    grid2 = np.vstack([cols[None], len(V2) + np.arange(rows * nc).reshape(rows, nc)])
+    A3, B3 = grid3, grid3[:, np.roll(np.arange(k), -1)]
+    A2, B2 = grid2[:, ca], grid2[:, cb]
+    frac = (np.arange(1, rows + 1) / rows)[:, None, None]
+    src = np.broadcast_to(np.arange(k)[None, :, None], (rows, k, 2)).reshape(-1)
+    odd = (np.arange(rows)[:, None] + np.arange(k)[None, :]) % 2 == 1
+
+    order, chain, closed = chain_order(oe)
+    seqs = []
+    for ch in range(int(chain.max()) + 1):  # a loop over chains (a few per panel)
+        E = order[chain == ch]
+        seq = ca[E] if closed else np.append(ca[E], cb[E[-1]])
+        own = field.own & (field.panel == flab[oe.face[E[0]]])
+        seqs.append((seq, nearest_fn(field.A[own], field.B[own])))
+
+    mask = np.zeros(nc, bool)
+    for p_pass in range(MAX_SMOOTHING + 1):  # iterations, not vertices
+        if p_pass:
+            U = _smooth_masked(U, prev_c, next_c, mask & inner)
+            U /= np.maximum(np.linalg.norm(U, axis=1), 1e-300)[:, None]
+        s_len = offset_lengths(field, V2[cols], U, col_panel, by)
+        Q = V2[cols] + s_len[:, None] * U
+        for seq, near in seqs:  # a loop over chains
+            Q[seq] = place_offset_chain(
+                V2[cols[seq]], Q[seq], by, near=near, closed=closed, ends=Q_end[seq[[0, -1]]]
+            )
+        if np.isnan(Q).any():
+            bad = np.unique(col_panel[np.isnan(Q).any(axis=1)])
+            raise PtailorError(
+                f"extend {name} by {by:g}: in the pattern of "
+                f"{', '.join(names[int(q)] for q in bad)} the opening is narrower than "
+                f"twice that: offset by {by:g} its edge closes on itself; extend by less"
+            )
+        D2 = Q - V2[cols]
+        new_2 = (V2[cols][None] + frac * D2[None]).reshape(-1, 2)
+        V2all = np.concatenate([V2, new_2])
+        dA = np.linalg.norm(V2all[A2[1:]] - V2all[B2[:-1]], axis=2)
+        dB = np.linalg.norm(V2all[A2[:-1]] - V2all[B2[1:]], axis=2)
+        tie = np.abs(dA - dB) <= 1e-9 * (dA + dB)
+        use_b = np.where(tie, odd, dB < dA)
+        F2_new = quad_rows(A2, B2, use_b)
+        h2 = by / rows
+        ok2 = signed_areas_2d(V2all, F2_new) * orient[src] > 1e-9 * h2 * h2
+        if ok2.all():
+            break
+        bad_cols = np.unique(np.concatenate([ca[src[~ok2]], cb[src[~ok2]]]))
+        mask[bad_cols] = True
+        mask |= mask[prev_c] | mask[next_c]
+    else:
+        bad = np.unique(flab[oe.face[src[~ok2]]])
+        raise crossing_error(name, by, "in the pattern of " + ", ".join(names[int(q)] for q in bad))
+
+    # the drape: each opening vertex's pattern offset through its triangles' maps
+    Fo, Fo2 = g.F3[oe.face], g.F2[oe.face]
+    E2inv = inv2(edge_matrices(V2, Fo2))
+    Je, Jb = edge_matrices(Ve, Fo) @ E2inv, edge_matrices(Vb, Fo) @ E2inv  # (k, 3, 2)
+
+    def lift(J: np.ndarray) -> np.ndarray:
+        at_a = (J @ D2[ca][:, :, None])[:, :, 0]  # edge i's map at its start a3[i]
+        at_b = (J @ D2[cb][:, :, None])[:, :, 0]  # ... at its end a3[i + 1]
+        return 0.5 * (at_a + np.roll(at_b, 1, axis=0))
+
+    D3e, D3b = lift(Je), lift(Jb)
+    F3_new = quad_rows(A3, B3, use_b)
+    ring = np.arange(k)
+    r_prev, r_next = np.roll(ring, 1), np.roll(ring, -1)
+    mask3 = np.zeros(k, bool)
+    for smoothing in range(MAX_SMOOTHING + 1):  # iterations, not vertices
+        if smoothing:
+            D3e = _smooth_masked(D3e, r_prev, r_next, mask3)
+            D3b = _smooth_masked(D3b, r_prev, r_next, mask3)
+        new_e = (Ve[oe.a3][None] + frac * D3e[None]).reshape(-1, 3)
+        Vall = np.concatenate([Ve, new_e])
+        fold = np.einsum("ij,ij->i", face_normals(Vall, F3_new), n_src[src])
+        if np.all(fold > 0.0):
+            break
+        bad = np.unique(np.concatenate([src[fold <= 0.0], (src[fold <= 0.0] + 1) % k]))
+        mask3[bad] = True
+        mask3 |= mask3[r_prev] | mask3[r_next]
+    else:
+        raise crossing_error(name, by, "in the drape")
+    new_b = (Vb[oe.a3][None] + frac * D3b[None]).reshape(-1, 3)
+    return Rows(
+        new_e=new_e,
+        new_b=new_b,
+        new_2=new_2,
+        use_b=use_b,
+        smoothing=smoothing,
+        pattern_smoothing=p_pass,
+    )
