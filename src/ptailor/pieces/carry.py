@@ -1,0 +1,234 @@
+"""Carrying one piece's outline and marks through an adjustment.
+
+Every point of the piece is located in its panel's triangles and carried to the adjusted
+pattern with the same barycentric coordinates (points just off the mesh keep their offset:
+the triangle's affine map is extended). A grain line keeps its direction relative to the
+piece: its middle is carried, its direction turns with the panel's best-fit rotation, its
+length follows the carried ends. A panel that lost or gained triangles (shorten, cut,
+extend) gets the mesh's new outline; marks on the part cut away are dropped and counted.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ptailor import tolerances as tol
+from ptailor.method.transfer import carry_points, locate_points
+from ptailor.model.pieces import Piece
+from ptailor.model.polyline import clip_half_plane, corners, dedupe_closed, offset_closed
+from ptailor.pieces.draw import outer_loop
+from ptailor.pieces.match import ClosedCurve, PieceMatch
+
+
+def _panel_rotation(X: np.ndarray, Y: np.ndarray) -> np.ndarray:
+    """The rotation best taking points ``X`` onto ``Y`` (both ``(k, 2)``)."""
+    a, b = X - X.mean(axis=0), Y - Y.mean(axis=0)
+    ang = np.arctan2(
+        (a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]).sum(), (a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1]).sum()
+    )
+    c, s = np.cos(ang), np.sin(ang)
+    return np.array([[c, -s], [s, c]])
+
+
+@dataclass(frozen=True)
+class CarriedPiece:
+    """A piece after the adjustment, and what happened to its marks.
+
+    Attributes
+    ----------
+    piece : Piece
+        In the original piece's coordinates (the panel's rigid map undone).
+    outline_from : str
+        ``carried`` (the piece's own outline points) or ``mesh`` (the panel's triangles
+        changed: the adjusted mesh boundary).
+    dropped : int
+        Marks (notches, drill holes, internal-line points, fold-line ends) cut away; a
+        grain line on the part cut away is drawn again through the piece's middle.
+    kept : (q,) bool array or None
+        Per mark point located (notches, drill holes, grain ends and middle, fold-line
+        ends, internal-line points, in that order), whether it was kept.
+    """
+
+    piece: Piece
+    outline_from: str
+    dropped: int
+    kept: np.ndarray | None = None
+
+
+def carry_piece(
+    piece: Piece,
+    match: PieceMatch,
+    *,
+    V2: np.ndarray,
+    F2: np.ndarray,
+    faces: np.ndarray,
+    V2_new: np.ndarray,
+    unchanged: bool,
+    reach: float = 0.0,
+    original: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+) -> CarriedPiece:
+    """Carry one piece's outline and marks to the adjusted pattern.
+
+    Parameters
+    ----------
+    piece : Piece
+        In computation units.
+    match : PieceMatch
+    V2, F2 : arrays
+        The pattern the marks are located in (the original pattern after any surgery).
+    faces : (j,) int array
+        The panel's triangles in ``F2``.
+    V2_new : (n, 2) float array
+        The adjusted pattern (same ``F2``).
+    unchanged : bool
+        The panel kept all its triangles: the piece's own outline is carried; otherwise the
+        mesh's boundary is the new outline, and notches that no longer lie on it (left
+        inside the piece by an extension) are dropped.
+    reach : float
+        How far the piece's outline lies from the original panel's mesh (its chord error):
+        without ``original``, marks further than that (plus ``MARK_KEEP_REL`` of the
+        diagonal) from every remaining triangle were cut away.
+    original : (V2_0, F2_0, faces_0), optional
+        The input pattern and the panel's triangles in it. A mark is then cut away when it
+        lies further from the remaining triangles than from the original panel (plus
+        ``MARK_KEEP_REL`` of the diagonal): marks drawn outside the cut line (a hem's
+        turn-back line, a seam allowance's notches) are kept, carried by their nearest
+        triangle's extended map. A panel that kept all its triangles keeps every mark.
+
+    Returns
+    -------
+    CarriedPiece
+    """
+    diag = float(np.linalg.norm(piece.extent))
+    keep_d = reach + tol.MARK_KEEP_REL * diag
+    grain_pts = (
+        np.vstack([piece.grain, piece.grain.mean(axis=0, keepdims=True)])
+        if piece.grain is not None
+        else np.zeros((0, 2))
+    )
+    groups = [
+        piece.outline if unchanged else np.zeros((0, 2)),
+        piece.sew if unchanged and piece.sew is not None else np.zeros((0, 2)),
+        piece.notches,
+        piece.drills,
+        grain_pts,
+        piece.mirror if piece.mirror is not None else np.zeros((0, 2)),
+        *piece.internal,
+    ]
+    # every point located at once (one search structure per piece), then split by group
+    X = np.vstack([np.asarray(g, dtype=np.float64).reshape(-1, 2) for g in groups])
+    loc = locate_points(V2, F2, match.to_panel(X), faces=faces)
+    moved = match.to_piece(carry_points(V2_new, F2, loc)) if len(X) else np.zeros((0, 2))
+    if unchanged:
+        kept = np.ones(len(X), dtype=bool)
+    elif original is not None:
+        d_orig = locate_points(original[0], original[1], match.to_panel(X), faces=original[2])
+        kept = loc.distance <= d_orig.distance + tol.MARK_KEEP_REL * diag
+    else:
+        kept = loc.distance <= keep_d
+    cuts = np.cumsum([len(g) for g in groups])[:-1]
+    moved_g, kept_g = np.split(moved, cuts), np.split(kept, cuts)
+
+    dropped = 0
+    if unchanged:
+        outline, turn, how = moved_g[0], piece.turn, "carried"
+        sew = moved_g[1] if piece.sew is not None else None
+    else:
+        loop = outer_loop(F2, faces, V2_new)
+        outline = match.to_piece(V2_new[loop])
+        if np.linalg.det(match.R) < 0:
+            outline = outline[::-1]
+        turn, sew, how = corners(outline), None, "mesh"
+    notches, keep_n = moved_g[2], kept_g[2]
+    if not unchanged and len(notches):
+        # a notch marks the outline: one the edit left inside the piece (the old hem of an
+        # extended skirt) no longer marks anything
+        scale = float(np.linalg.norm(np.ptp(outline, axis=0))) / max(diag, 1e-300)
+        keep_n = keep_n & (ClosedCurve(outline).nearest(notches)[0] <= keep_d * max(scale, 1.0))
+    drills, keep_d_ = moved_g[3], kept_g[3]
+    dropped += int((~keep_n).sum() + (~keep_d_).sum())
+    internal = []
+    mirror = None
+    if piece.mirror is not None:
+        if kept_g[5].all() or match.fold:  # a fold line is a line: its ends extend
+            mirror = moved_g[5]
+        else:
+            dropped += 2
+    if match.fold and not unchanged and mirror is not None:
+        # the mesh outlines the whole panel: a fold piece is its half on the piece's side
+        # of the carried fold line
+        a0, b0 = np.asarray(piece.mirror, dtype=float)[[0, -1]]
+        d0 = b0 - a0
+        side = float(np.sign(np.mean((piece.outline - a0) @ np.array([-d0[1], d0[0]]))))
+        half = clip_half_plane(outline, mirror[0], mirror[-1], side or 1.0)
+        half = half[dedupe_closed(half, rel=1e-9)]
+        if len(half) >= 3:
+            u = mirror[-1] - mirror[0]
+            u = u / max(float(np.linalg.norm(u)), 1e-300)
+            on = np.abs((half - mirror[0]) @ np.array([-u[1], u[0]])) <= 1e-9 * diag + 1e-12
+            if on.sum() >= 2:
+                t = (half[on] - mirror[0]) @ u
+                mirror = mirror[0] + np.outer([t.min(), t.max()], u)
+            outline, turn = half, corners(half)
+    for L, keep in zip(moved_g[6:], kept_g[6:], strict=True):  # a piece's internal lines
+        dropped += int((~keep).sum())
+        if keep.sum() >= 2:
+            internal.append(L[keep])
+    # the panel's rotation, seen in piece coordinates: notch directions and the grain turn
+    # with it
+    vs = np.unique(F2[faces])
+    Rq = match.R.T @ _panel_rotation(V2[vs], V2_new[vs]) @ match.R
+    turn_deg = float(np.degrees(np.arctan2(Rq[1, 0], Rq[0, 0])))
+    grain = None
+    if piece.grain is not None:
+        ends, mid, keep_g = moved_g[4][:2], moved_g[4][2], kept_g[4]
+        if keep_g[:2].all() or keep_g[2]:
+            d0 = piece.grain[1] - piece.grain[0]
+            u = Rq @ (d0 / max(np.linalg.norm(d0), 1e-300))
+            length = float(np.linalg.norm(ends[1] - ends[0]))
+            grain = np.stack([mid - 0.5 * length * u, mid + 0.5 * length * u])
+        else:
+            # the grain line lay on the part cut away: a cutter needs one, so it is drawn
+            # again through the piece's middle, in the same direction (turned with the
+            # panel), across half the piece
+            d0 = piece.grain[1] - piece.grain[0]
+            u = Rq @ (d0 / max(np.linalg.norm(d0), 1e-300))
+            c = outline.mean(axis=0)
+            half = 0.25 * float(np.ptp(outline @ u))
+            grain = np.stack([c - half * u, c + half * u])
+    angles = piece.notch_angles if len(piece.notch_angles) == len(keep_n) else np.zeros(len(keep_n))
+    angles = np.mod(angles[keep_n] + turn_deg, 360.0)
+    new = replace(
+        piece,
+        outline=outline,
+        turn=turn,
+        notches=notches[keep_n],
+        notch_angles=angles,
+        grain=grain,
+        internal=tuple(internal),
+        drills=drills[keep_d_],
+        sew=sew,
+        mirror=mirror,
+    )
+    n_fixed = sum(len(g) for g in groups[:2])
+    marks_kept = kept.copy()
+    g0 = int(cuts[3]) if len(cuts) > 3 else len(kept)
+    marks_kept[g0 : g0 + len(grain_pts)] = True  # a grain line is never lost (drawn again)
+    return CarriedPiece(piece=new, outline_from=how, dropped=dropped, kept=marks_kept[n_fixed:])
+
+
+def scale_piece(piece: Piece, k: float) -> Piece:
+    """Every coordinate of ``piece`` times ``k`` (a change of units)."""
+    return piece.map_points(lambda a: a * k)
+
+
+def with_seam_allowance(piece: Piece, d: float) -> Piece:
+    """The piece with its outline as the sew line and the outline offset by ``d`` as cut line.
+
+    Turn points of the new outline are its mitred corners (where it turns by more than
+    ``tolerances.CORNER_DEG``).
+    """
+    cut = offset_closed(piece.outline, d)
+    return replace(piece, sew=piece.outline, outline=cut, turn=corners(cut))

@@ -1,0 +1,324 @@
+"""Matching a CAD file's pieces to the panels of the triangulated pattern they outline.
+
+A piece matches by position (its outline lies on the panel's outer boundary) or, when it
+was moved in the CAD file, by shape: a rigid fit (reflections allowed) from the outlines'
+principal axes, refined by ICP against the panel's boundary segments. Pieces and panels
+are paired by an assignment over the mean outline distances, so each panel gets at most
+one piece. A piece cut more than once (``Quantity: 2``) claims further panels by shape.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ptailor import tolerances as tol
+from ptailor.errors import PtailorError
+from ptailor.method.transfer import segment_feet
+from ptailor.model.garment import Panel
+from ptailor.model.pieces import Piece
+from ptailor.model.polyline import resample_closed, signed_area
+from ptailor.pieces.draw import outer_loop
+
+#: Points per outline when outlines are compared.
+_SAMPLES = 256
+#: Rigid-fit refinement iterations (ICP) when matching a moved piece by shape.
+_ICP_ITER = 30
+
+
+@dataclass(frozen=True)
+class PieceMatch:
+    """Which panel a piece outlines, and the rigid map from piece to panel coordinates.
+
+    Attributes
+    ----------
+    piece : int
+        Index into the pieces.
+    panel : int
+        Index into the panels.
+    how : str
+        ``position`` (the piece lies on the panel) or ``shape`` (it was moved).
+    R : (2, 2) float array
+        Rotation or reflection; panel point = ``R @ piece point + t``.
+    t : (2,) float array
+    residual : float
+        Mean distance between the fitted outlines, relative to the piece's diagonal.
+    distance : float
+        The same mean distance, in the pattern's units (a seam allowance shows here).
+    fold : bool
+        The piece is cut on the fold: its unfolded whole (mirrored across the fold line)
+        is what matched the panel; it is carried and written back as the half.
+    """
+
+    piece: int
+    panel: int
+    how: str
+    R: np.ndarray
+    t: np.ndarray
+    residual: float
+    distance: float = 0.0
+    fold: bool = False
+
+    def to_panel(self, X: np.ndarray) -> np.ndarray:
+        """Piece coordinates ``(k, 2)`` to panel coordinates."""
+        return X @ self.R.T + self.t
+
+    def to_piece(self, Y: np.ndarray) -> np.ndarray:
+        """Panel coordinates ``(k, 2)`` back to piece coordinates."""
+        return (Y - self.t) @ self.R
+
+
+def piece_curve(piece: Piece) -> np.ndarray:
+    return piece.sew if piece.sew is not None else piece.outline
+
+
+class ClosedCurve:
+    """A closed polyline that answers nearest-point queries on its segments.
+
+    Candidates come from samples along the segments (about 4,000 per curve, at least one
+    per segment end) in a k-d tree: a segment near the query has a sample within half the
+    spacing of the foot point, however long the segment, so the answer is exact for points
+    on the curve and within half a spacing (1/8,000 of the perimeter) elsewhere.
+    """
+
+    def __init__(self, P: np.ndarray) -> None:
+        self.A = P
+        self.B = np.roll(P, -1, axis=0)
+        seg = np.linalg.norm(self.B - self.A, axis=1)
+        h = max(float(seg.sum()) / 4096.0, 1e-300)
+        count = np.ceil(seg / h).astype(np.int64) + 1
+        sid = np.repeat(np.arange(len(P)), count)
+        start = np.repeat(np.cumsum(count) - count, count)
+        t = (np.arange(len(sid)) - start) / np.maximum(count[sid] - 1, 1)
+        samples = self.A[sid] + t[:, None] * (self.B - self.A)[sid]
+        self.sid = sid
+        self.tree = cKDTree(samples)
+        self.k = min(8, len(sid))
+
+    def nearest(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Distance from each point ``(j, 2)`` to the curve, and the nearest points."""
+        _, idx = self.tree.query(X, k=self.k)
+        seg = self.sid[np.asarray(idx).reshape(len(X), self.k)]
+        d, Q = segment_feet(X[:, None, :], self.A[seg], self.B[seg])
+        best = np.argmin(d, axis=1)
+        r = np.arange(len(X))
+        return d[r, best], Q[r, best]
+
+
+def _outline_distance(A: np.ndarray, ca: ClosedCurve, B: np.ndarray, cb: ClosedCurve) -> float:
+    """Symmetric mean distance between outlines ``ca`` and ``cb``, sampled as ``A``, ``B``."""
+    return 0.5 * float(cb.nearest(A)[0].mean() + ca.nearest(B)[0].mean())
+
+
+def _kabsch(A: np.ndarray, B: np.ndarray, *, reflect: bool) -> tuple[np.ndarray, np.ndarray]:
+    """The rigid map (rotation, or reflection when ``reflect``) taking ``A`` closest to ``B``."""
+    ca, cb = A.mean(axis=0), B.mean(axis=0)
+    H = (A - ca).T @ (B - cb)
+    U, _, Vt = np.linalg.svd(H)
+    D = np.diag([1.0, -1.0 if reflect else 1.0])
+    R = Vt.T @ D @ U.T
+    if (np.linalg.det(R) < 0) != reflect:  # the SVD's own sign
+        D = np.diag([1.0, 1.0 if reflect else -1.0])
+        R = Vt.T @ D @ U.T
+    return R, cb - R @ ca
+
+
+def _fit_shape(
+    A: np.ndarray, cb: ClosedCurve, B: np.ndarray, diag: float
+) -> tuple[np.ndarray, np.ndarray, float]:
+    """Best rigid fit of outline samples ``A`` onto curve ``cb`` (sampled as ``B``).
+
+    Principal axes give four starts (two rotations, two reflections); ICP against the
+    curve's segments refines each; the lowest symmetric mean distance wins.
+    """
+    ca, cb0 = A.mean(axis=0), B.mean(axis=0)
+    _, Ea = np.linalg.eigh(np.cov((A - ca).T))
+    _, Eb = np.linalg.eigh(np.cov((B - cb0).T))
+    best = (np.eye(2), np.zeros(2), np.inf)
+    for sx in (1.0, -1.0):  # the four axis pairings
+        for sy in (1.0, -1.0):
+            R = Eb @ np.diag([sx, sy]) @ Ea.T
+            t = cb0 - R @ ca
+            reflect = bool(np.linalg.det(R) < 0)
+            for _ in range(_ICP_ITER):
+                _, Q = cb.nearest(A @ R.T + t)
+                R, t = _kabsch(A, Q, reflect=reflect)
+            moved = A @ R.T + t
+            res = _outline_distance(moved, ClosedCurve(moved), B, cb)
+            if res < best[2]:
+                best = (R, t, res / diag)
+    return best
+
+
+@dataclass(frozen=True)
+class _Outline:
+    """A closed outline ready for matching: samples, nearest-point queries, measures."""
+
+    P: np.ndarray
+    samples: np.ndarray
+    curve: ClosedCurve
+    area: float
+    perimeter: float
+    diag: float
+
+    @classmethod
+    def of(cls, P: np.ndarray) -> _Outline:
+        samples = resample_closed(P, _SAMPLES)
+        return cls(
+            P=P,
+            samples=samples,
+            curve=ClosedCurve(P),
+            area=abs(signed_area(P)),
+            perimeter=float(np.linalg.norm(P - np.roll(P, -1, axis=0), axis=1).sum()),
+            diag=float(np.linalg.norm(np.ptp(samples, axis=0))),
+        )
+
+    def threshold(self, allowance: float) -> float:
+        """The largest mean outline distance, relative to the diagonal, that still matches."""
+        return tol.PIECE_MATCH_REL + allowance / max(self.diag, 1e-300)
+
+
+def _shape_match(
+    piece: _Outline, panel: _Outline, allowance: float
+) -> tuple[np.ndarray, np.ndarray, float] | None:
+    """The rigid map fitting a piece onto a panel by shape, when its area is plausible and
+    the fit close enough (``(R, t, relative residual)``); None otherwise."""
+    slack = tol.PIECE_AREA_REL * panel.area + panel.perimeter * allowance
+    if abs(piece.area - panel.area) > slack:
+        return None
+    R, t, res = _fit_shape(piece.samples, panel.curve, panel.samples, piece.diag)
+    return (R, t, res) if res < piece.threshold(allowance) else None
+
+
+def match_pieces(
+    pieces: list[Piece] | tuple[Piece, ...],
+    V2: np.ndarray,
+    F2: np.ndarray,
+    panel_list: list[Panel],
+    *,
+    path: str = "",
+    allowance: float = 0.0,
+) -> list[PieceMatch]:
+    """Match each piece to the panel it outlines.
+
+    Parameters
+    ----------
+    pieces : sequence of Piece
+        In the pattern's computation units (the sew line is matched when a piece has one).
+    V2 : (n, 2) float array
+    F2 : (m, 3) int array
+    panel_list : list of Panel
+    path : str
+        The pattern file, for the error message.
+    allowance : float
+        A seam allowance the pieces' outlines may have around the panels (a CAD cut line
+        over a mesh of the sew line), in the same units: a piece matches when the mean
+        distance between the outlines is below ``PIECE_MATCH_REL`` of its diagonal plus
+        this, and its area within ``PIECE_AREA_REL`` plus the panel's perimeter times this.
+
+    Returns
+    -------
+    list of PieceMatch
+        One per piece, in piece order.
+
+    Raises
+    ------
+    PtailorError
+        When a piece matches no panel (naming the pieces and the panels left over).
+    """
+    from scipy.optimize import linear_sum_assignment
+
+    n_pc, n_pn = len(pieces), len(panel_list)
+    outs = [_Outline.of(piece_curve(pc)) for pc in pieces]
+    pans = [_Outline.of(V2[outer_loop(F2, p.faces, V2)]) for p in panel_list]
+    thr = np.array([o.threshold(allowance) for o in outs])  # per piece, relative
+    cost = np.full((n_pc, n_pn), np.inf)
+    for i, po in enumerate(outs):  # pieces x panels: a few dozen pairs
+        for j, pn in enumerate(pans):
+            lo, hi = pn.samples.min(axis=0), pn.samples.max(axis=0)
+            clo, chi = po.samples.min(axis=0), po.samples.max(axis=0)
+            reach = 0.1 * po.diag + allowance
+            if np.any(clo > hi + reach) or np.any(chi < lo - reach):
+                continue
+            d = _outline_distance(po.samples, po.curve, pn.samples, pn.curve)
+            cost[i, j] = d / po.diag
+    matches: dict[int, PieceMatch] = {}
+    ok = np.where(cost < thr[:, None], cost, 1e6)
+    rows, cols = linear_sum_assignment(ok)
+    for i, j in zip(rows.tolist(), cols.tolist(), strict=True):
+        if ok[i, j] < 1e6:
+            c = float(cost[i, j])
+            matches[i] = PieceMatch(i, j, "position", np.eye(2), np.zeros(2), c, c * outs[i].diag)
+    free_panels = [j for j in range(n_pn) if j not in {m.panel for m in matches.values()}]
+    rest = [i for i in range(n_pc) if i not in matches]
+    if rest and free_panels:
+        fits = {}
+        shape_cost = np.full((len(rest), len(free_panels)), 1e6)
+        for a, i in enumerate(rest):
+            for b, j in enumerate(free_panels):
+                fit = _shape_match(outs[i], pans[j], allowance)
+                if fit is not None:
+                    fits[i, j] = fit
+                    shape_cost[a, b] = fit[2]
+        rr, cc = linear_sum_assignment(shape_cost)
+        for a, b in zip(rr.tolist(), cc.tolist(), strict=True):
+            if shape_cost[a, b] < 1e6:
+                i, j = rest[a], free_panels[b]
+                R, t, res = fits[i, j]
+                matches[i] = PieceMatch(i, j, "shape", R, t, res, res * outs[i].diag)
+    missing = [i for i in range(n_pc) if i not in matches]
+    if missing:
+        used = {m.panel for m in matches.values()}
+        left = [panel_list[j].name for j in range(n_pn) if j not in used]
+        names = ", ".join(repr(pieces[i].name) for i in missing)
+        raise PtailorError(
+            f"piece(s) {names} match no panel of the drape's pattern (vt) by position or "
+            f"shape; panels left: {', '.join(left) or 'none'} (check the units and that the "
+            "drape belongs to this pattern)",
+            path=path,
+        )
+    return [matches[i] for i in range(n_pc)]
+
+
+def more_instances(
+    pieces: list[Piece] | tuple[Piece, ...],
+    matches: list[PieceMatch],
+    V2: np.ndarray,
+    F2: np.ndarray,
+    panel_list: list[Panel],
+    *,
+    allowance: float = 0.0,
+) -> list[PieceMatch]:
+    """Panels that are further copies of a piece cut more than once (``Quantity: 2``).
+
+    A CAD file draws a left/right pair once with quantity 2; the drape has both panels. For
+    each piece with ``quantity > 1``, the panels no piece matched are fitted by shape
+    (reflections allowed, as :func:`match_pieces` does), and up to ``quantity - 1`` that
+    fit become further instances of it.
+
+    Returns
+    -------
+    list of PieceMatch
+        The extra matches (``piece`` indexes ``pieces``), best fits first.
+    """
+    used = {m.panel for m in matches}
+    out: list[PieceMatch] = []
+    for i, pc in enumerate(pieces):  # a loop over pieces
+        if pc.quantity < 2:
+            continue
+        free = [p for p in panel_list if p.index not in used]
+        if not free:
+            break
+        po = _Outline.of(piece_curve(pc))
+        fits = []
+        for p in free:  # a loop over the panels left
+            fit = _shape_match(po, _Outline.of(V2[outer_loop(F2, p.faces, V2)]), allowance)
+            if fit is not None:
+                R, t, res = fit
+                fits.append((res, p.index, R, t))
+        for res, j, R, t in sorted(fits, key=lambda f: f[0])[: pc.quantity - 1]:
+            out.append(PieceMatch(i, j, "shape", R, t, float(res), float(res) * po.diag))
+            used.add(j)
+    return out
