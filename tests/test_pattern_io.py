@@ -12,13 +12,13 @@ from click.testing import CliRunner
 
 from ptailor.cli.main import cli
 from ptailor.demo import sample_obj_text
+from ptailor.edits.achieved import point_segment_distance
 from ptailor.formats.dxf import read_dxf, write_dxf
 from ptailor.formats.obj import write_garment
 from ptailor.model.garment import panels
 from ptailor.model.pieces import PatternFile, Piece
 from ptailor.model.polyline import signed_area
-from ptailor.pieces import mesh_pieces
-from ptailor.report.outline import point_segment_distance
+from ptailor.pieces.draw import mesh_pieces
 from ptailor.samples import SAMPLES
 from tests.conftest import real_path
 

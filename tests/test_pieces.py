@@ -1,4 +1,4 @@
-"""Construction marks: point location, carrying, outline offsets, piece matching."""
+"""Pattern pieces: point location, carrying marks, outline offsets, piece matching."""
 
 from __future__ import annotations
 
@@ -10,7 +10,10 @@ from ptailor.method.transfer import carry_points, locate_points
 from ptailor.model.garment import panels
 from ptailor.model.pieces import Piece
 from ptailor.model.polyline import corners, offset_closed, signed_area
-from ptailor.pieces import PieceMatch, carry_piece, match_pieces, mesh_pieces, piece_plan
+from ptailor.pieces.carry import carry_piece
+from ptailor.pieces.draw import mesh_pieces
+from ptailor.pieces.match import PieceMatch, match_pieces
+from ptailor.pieces.plan import piece_plan
 from ptailor.samples import cone_skirt, lantern_sleeve
 
 
@@ -172,7 +175,7 @@ def test_the_plan_draws_pieces_from_the_mesh_without_a_pattern_file():
 
 
 def test_grain_follows_the_body_up_axis_whatever_the_layout():
-    from ptailor.pieces import grain_directions
+    from ptailor.pieces.draw import grain_directions
 
     g = cone_skirt()
     plist = panels(g)
@@ -192,7 +195,7 @@ def test_grain_follows_the_body_up_axis_whatever_the_layout():
 
 
 def test_a_sleeve_in_t_pose_keeps_its_grain_along_the_arm():
-    from ptailor.pieces import grain_directions
+    from ptailor.pieces.draw import grain_directions
 
     g = lantern_sleeve()
     plist = panels(g)
