@@ -1,0 +1,61 @@
+"""ASTM D6673 vocabulary: layer codes, units, tolerances and the ``Quantity:`` text."""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+
+from ptailor.model.pieces import Piece
+
+#: centimetres per file unit
+CM_PER_UNIT: dict[str, float] = {"mm": 0.1, "cm": 1.0, "in": 2.54}
+#: $INSUNITS codes the reader understands
+_INSUNITS = {1: "in", 4: "mm", 5: "cm"}
+
+L_BOUNDARY, L_TURN, L_NOTCH, L_GRAIN, L_INTERNAL = "1", "2", "4", "7", "8"
+L_CUTOUT, L_DRILL, L_SEW, L_TEXT = "11", "13", "14", "15"
+L_MIRROR = "6"
+NOTCH_LAYERS = frozenset({"4", "80", "81", "82", "83"})
+LAYOUTS = ("auto", "keep", "row")
+
+#: chaining / closing tolerance, relative to a piece's bounding-box diagonal
+REL_TOL = 1e-3
+#: consecutive outline points closer than this (relative) are one point
+REL_DUP = 1e-9
+#: a METRIC file whose largest piece is smaller than this many units is in centimetres
+#: (a pattern's largest piece is 5-200 cm: 50-2000 in mm); otherwise METRIC is millimetres
+CM_BELOW = 25.0
+#: a pattern's largest piece, in cm, outside this range means the units are wrong
+PLAUSIBLE_CM = (2.0, 500.0)
+#: a file that names no unit is in millimetres when its largest piece exceeds this
+MM_ABOVE = 300.0
+
+
+_QUANTITY = re.compile(r"^\s*(\d+)\s*(?:[,;/]\s*(\d+)\s*)?$")
+
+
+def parse_quantity(text: str) -> tuple[int, tuple[int, int] | None] | None:
+    """A ``Quantity:`` value: ``"2"`` -> ``(2, None)``; ASTM D6673's ``"a,b"`` (``a`` cut
+    as drawn, ``b`` mirrored) -> ``(a + b, (a, b))``; anything else -> None."""
+    m = _QUANTITY.match(text)
+    if m is None:
+        try:  # "2.0"
+            f = float(text)
+        except ValueError:
+            return None
+        ok = np.isfinite(f) and f.is_integer() and 0 <= f <= 1e9
+        return (int(f), None) if ok else None
+    a = int(m.group(1))
+    if m.group(2) is None:
+        return a, None
+    b = int(m.group(2))
+    return a + b, (a, b)
+
+
+def quantity_text(p: Piece) -> str:
+    """``Quantity:`` text of a piece: ``a,b`` when it was read so, else the count."""
+    if p.quantity_split is not None and sum(p.quantity_split) == int(p.quantity):
+        a, b = p.quantity_split
+        return f"Quantity: {int(a)},{int(b)}"
+    return f"Quantity: {int(p.quantity)}"
