@@ -13,8 +13,9 @@ from ptailor import tolerances as tol
 from ptailor.edits import OPERATIONS, EditOptions, EditState
 from ptailor.edits.mirror import apply_mirrored
 from ptailor.errors import PtailorError
-from ptailor.method.flatten import FlattenResult, flatten, panel_labels, vertex_labels
-from ptailor.model.garment import Garment, panels, with_panel_names
+from ptailor.geometry.triangles import triangle_areas
+from ptailor.method.flatten import FlattenResult, flatten
+from ptailor.model.garment import Garment, panel_labels, panels, vertex_labels, with_panel_names
 from ptailor.model.seams import seams
 from ptailor.model.symmetry import sagittal_plane
 from ptailor.recipe import Recipe
@@ -165,15 +166,6 @@ def numeric_failures(where: str):
         raise
 
 
-def triangle_areas(V: np.ndarray, F: np.ndarray) -> np.ndarray:
-    """Areas of 3D triangles, ``(m,)``, computed without overflow for finite input."""
-    a = V[F[:, 1]] - V[F[:, 0]]
-    b = V[F[:, 2]] - V[F[:, 0]]
-    s = np.maximum(np.abs(a).max(axis=1), np.abs(b).max(axis=1))
-    s = np.where(s > 0, s, 1.0)
-    return 0.5 * np.linalg.norm(np.cross(a / s[:, None], b / s[:, None]), axis=1) * s * s
-
-
 def check_drape(state: EditState, where: str) -> None:
     """Refuse a step that leaves the drape non-finite or collapses its triangles.
 
@@ -188,8 +180,8 @@ def check_drape(state: EditState, where: str) -> None:
     if not len(g.F3):
         return
     with np.errstate(all="ignore"):
-        a0 = triangle_areas(g.V3, g.F3)
-        a1 = triangle_areas(V, g.F3)
+        a0 = triangle_areas(g.V3, g.F3, robust=True)
+        a1 = triangle_areas(V, g.F3, robust=True)
         bad = (a0 > 0) & ~(a1 >= tol.EDIT_COLLAPSE_REL * a0)
     if np.any(bad):
         flab = panel_labels(state.panels, g.n_faces)

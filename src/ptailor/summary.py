@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 
 from ptailor.formats.garment import LoadedGarment
-from ptailor.method.flatten import panel_labels, vertex_labels
-from ptailor.model.garment import panels, signed_areas_2d
+from ptailor.geometry.triangles import signed_areas_2d
+from ptailor.model.garment import panel_labels, panels, vertex_labels
 from ptailor.model.names import panel_layout, seam_names
 from ptailor.model.openings import openings
 from ptailor.model.pieces import PatternFile

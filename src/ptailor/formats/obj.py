@@ -333,8 +333,7 @@ def write_garment(path: str | Path, garment: Garment, *, header: Sequence[str] =
     header : list of str
         Comment lines written first.
     """
-    from ptailor.method.flatten import panel_labels
-    from ptailor.model.garment import panels
+    from ptailor.model.garment import panel_labels, panels
 
     plist = panels(garment)
     write_obj(

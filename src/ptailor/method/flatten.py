@@ -8,11 +8,12 @@ from typing import Literal
 import numpy as np
 
 from ptailor import tolerances as tol
+from ptailor.geometry.rotations import rigid_fit_groups as rigid_fit  # bench times this name
+from ptailor.geometry.triangles import edge_matrices
 from ptailor.method.ease import seam_ease
-from ptailor.method.intrinsic import Intrinsic, edge_matrices, intrinsic_targets
-from ptailor.method.rigid import rigid_fit
+from ptailor.method.intrinsic import Intrinsic, intrinsic_targets
 from ptailor.method.stitch import StitchInfo, stitch
-from ptailor.model.garment import Garment, Panel, panels
+from ptailor.model.garment import Garment, Panel, panel_labels, panels, vertex_labels
 
 Method = Literal["scale-preserving", "uniform"]
 Seams = Literal["ease", "free"]
@@ -38,22 +39,6 @@ class FlattenResult:
     targets: np.ndarray
     info: StitchInfo
     asap_panels: np.ndarray | None = None
-
-
-def panel_labels(panel_list: list[Panel], m: int) -> np.ndarray:
-    """Panel index per triangle, ``(m,)`` int."""
-    lab = np.full(m, -1, dtype=np.int64)
-    for p in panel_list:
-        lab[p.faces] = p.index
-    return lab
-
-
-def vertex_labels(panel_list: list[Panel], n: int) -> np.ndarray:
-    """Panel index per pattern vertex, ``(n,)`` int, -1 for unused vertices."""
-    lab = np.full(n, -1, dtype=np.int64)
-    for p in panel_list:
-        lab[p.vertices] = p.index
-    return lab
 
 
 def mirror_mask(panel_list: list[Panel], n: int) -> np.ndarray:
@@ -112,7 +97,7 @@ def check_targets(targets: np.ndarray, E2: np.ndarray, plist: list[Panel], m: in
         Naming the panels.
     """
     from ptailor.errors import PtailorError
-    from ptailor.method.intrinsic import det2
+    from ptailor.geometry.closed_forms import det2
 
     with np.errstate(all="ignore"):
         a0 = np.abs(det2(E2))

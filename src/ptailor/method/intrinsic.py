@@ -11,40 +11,21 @@ from typing import Literal
 
 import numpy as np
 
+from ptailor.geometry.closed_forms import det2, inv2, sqrt_spd2
+from ptailor.geometry.triangles import edge_matrices
+
+__all__ = [
+    "Intrinsic",
+    "det2",
+    "edge_matrices",
+    "intrinsic_targets",
+    "inv2",
+    "local_frames",
+    "sqrt_spd2",
+    "stretch_tensors",
+]
+
 Intrinsic = Literal["polar", "paper", "uniform"]
-
-
-def edge_matrices(V: np.ndarray, F: np.ndarray) -> np.ndarray:
-    """Edge matrices of triangles.
-
-    Parameters
-    ----------
-    V : (n, d) float array
-    F : (m, 3) int array
-
-    Returns
-    -------
-    (m, d, 2) float array
-        Columns ``p1 - p0`` and ``p2 - p0``.
-    """
-    p0 = V[F[:, 0]]
-    return np.stack([V[F[:, 1]] - p0, V[F[:, 2]] - p0], axis=2)
-
-
-def det2(A: np.ndarray) -> np.ndarray:
-    """Determinants of 2x2 matrices in closed form, ``(m, 2, 2)`` -> ``(m,)``."""
-    return A[:, 0, 0] * A[:, 1, 1] - A[:, 0, 1] * A[:, 1, 0]
-
-
-def inv2(A: np.ndarray) -> np.ndarray:
-    """Inverses of 2x2 matrices in closed form, ``(m, 2, 2)`` -> ``(m, 2, 2)``."""
-    det = det2(A)
-    out = np.empty_like(A)
-    out[:, 0, 0] = A[:, 1, 1]
-    out[:, 1, 1] = A[:, 0, 0]
-    out[:, 0, 1] = -A[:, 0, 1]
-    out[:, 1, 0] = -A[:, 1, 0]
-    return out / det[:, None, None]
 
 
 def local_frames(E: np.ndarray) -> np.ndarray:
@@ -72,23 +53,6 @@ def local_frames(E: np.ndarray) -> np.ndarray:
     L[:, 0, 1] = dot / lu
     L[:, 1, 1] = cross / lu
     return L
-
-
-def sqrt_spd2(C: np.ndarray) -> np.ndarray:
-    """Square roots of symmetric positive definite 2x2 matrices, in closed form.
-
-    Parameters
-    ----------
-    C : (m, 2, 2) float array
-
-    Returns
-    -------
-    (m, 2, 2) float array
-        ``U`` with ``U @ U = C``, ``U`` symmetric positive definite.
-    """
-    s = np.sqrt(np.maximum(det2(C), 0.0))
-    t = np.sqrt(np.maximum(C[:, 0, 0] + C[:, 1, 1] + 2.0 * s, 1e-300))
-    return (C + s[:, None, None] * np.eye(2)) / t[:, None, None]
 
 
 def stretch_tensors(E2: np.ndarray, E3: np.ndarray) -> np.ndarray:

@@ -20,10 +20,10 @@ import numpy as np
 import scipy.sparse as sp
 
 from ptailor import tolerances as tol
+from ptailor.geometry.closed_forms import det2, inv2
+from ptailor.geometry.rotations import closest_rotations, rigid_fit_groups
 from ptailor.method.anderson import Anderson
 from ptailor.method.ease import SeamEase
-from ptailor.method.intrinsic import det2, inv2
-from ptailor.method.rigid import rigid_fit
 from ptailor.model.boundary import boundary_loops
 
 
@@ -106,22 +106,6 @@ def laplacian(F: np.ndarray, targets: np.ndarray, area: np.ndarray, n: int) -> s
     rows = np.repeat(F, 3, axis=1).ravel()
     cols = np.tile(F, (1, 3)).ravel()
     return sp.csc_matrix((K.ravel(), (rows, cols)), shape=(n, n))
-
-
-def closest_rotations(J: np.ndarray) -> np.ndarray:
-    """Closest rotations (det +1) to 2x2 matrices, in closed form.
-
-    Parameters
-    ----------
-    J : (m, 2, 2) float array
-
-    Returns
-    -------
-    (m, 2, 2) float array
-    """
-    ang = np.arctan2(J[:, 1, 0] - J[:, 0, 1], J[:, 0, 0] + J[:, 1, 1])
-    c, s = np.cos(ang), np.sin(ang)
-    return np.stack([np.stack([c, -s], 1), np.stack([s, c], 1)], 1)
 
 
 def asap_rows(
@@ -418,7 +402,7 @@ def stitch(
 
     def residual(X: np.ndarray, GX: np.ndarray) -> np.ndarray:
         """Per panel: the largest vertex move of the step, rigid motion removed, / size."""
-        d = np.linalg.norm(rigid_fit(GX, X, vlab, n_panels) - X, axis=1)
+        d = np.linalg.norm(rigid_fit_groups(GX, X, vlab, n_panels) - X, axis=1)
         out = np.zeros(n_panels)
         np.maximum.at(out, vlab[used], d[used])
         return out / size

@@ -9,6 +9,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ptailor.errors import PtailorError
+from ptailor.geometry.segments import segment_feet
 
 #: Triangles (nearest by centroid) examined per point for a first guess.
 _CANDIDATES = 8
@@ -32,26 +33,6 @@ class PointLocation:
     face: np.ndarray
     bary: np.ndarray
     distance: np.ndarray
-
-
-def segment_feet(P: np.ndarray, A: np.ndarray, B: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The nearest point of each segment ``AB`` to each point ``P``, and the distance.
-
-    Parameters
-    ----------
-    P, A, B : (..., 2) float arrays
-        Broadcast against each other (a point and its candidate segments).
-
-    Returns
-    -------
-    distance : (...,) float array
-    foot : (..., 2) float array
-    """
-    d = B - A
-    dd = np.einsum("...i,...i->...", d, d)
-    t = np.einsum("...i,...i->...", P - A, d) / np.where(dd > 0, dd, 1.0)
-    foot = A + np.clip(t, 0.0, 1.0)[..., None] * d
-    return np.linalg.norm(P - foot, axis=-1), foot
 
 
 def barycentric_2d(P: np.ndarray, T: np.ndarray) -> np.ndarray:

@@ -10,8 +10,24 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
+
+from ptailor.geometry.labels import component_labels, scatter_labels
+from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
+
+# re-exported: the model's names for the geometry it uses
+face_components = component_labels
+areas_3d = triangle_areas
+__all__ = [
+    "Garment",
+    "Panel",
+    "areas_3d",
+    "face_components",
+    "panel_labels",
+    "panels",
+    "signed_areas_2d",
+    "vertex_labels",
+    "with_panel_names",
+]
 
 
 @dataclass(frozen=True)
@@ -87,58 +103,14 @@ class Panel:
     mirrored: bool
 
 
-def signed_areas_2d(V2: np.ndarray, F2: np.ndarray) -> np.ndarray:
-    """Signed areas of 2D triangles.
-
-    Parameters
-    ----------
-    V2 : (n, 2) float array
-    F2 : (m, 3) int array
-
-    Returns
-    -------
-    (m,) float array
-        Positive for counter-clockwise triangles.
-    """
-    a, b, c = V2[F2[:, 0]], V2[F2[:, 1]], V2[F2[:, 2]]
-    u, v = b - a, c - a
-    return 0.5 * (u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0])
+def panel_labels(panel_list: list[Panel], m: int) -> np.ndarray:
+    """Panel index (``Panel.index``) per triangle, ``(m,)`` int, -1 for none."""
+    return scatter_labels([p.faces for p in panel_list], m, labels=[p.index for p in panel_list])
 
 
-def areas_3d(V3: np.ndarray, F3: np.ndarray) -> np.ndarray:
-    """Areas of 3D triangles, ``(m,)``."""
-    a, b, c = V3[F3[:, 0]], V3[F3[:, 1]], V3[F3[:, 2]]
-    return 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
-
-
-def face_components(F: np.ndarray, n: int) -> np.ndarray:
-    """Label triangles by the connected component of the vertices they use.
-
-    Parameters
-    ----------
-    F : (m, 3) int array
-    n : int
-        Number of vertices.
-
-    Returns
-    -------
-    (m,) int array
-        Component label per triangle, numbered in order of first appearance.
-    """
-    m = len(F)
-    if m == 0:
-        return np.zeros(0, dtype=np.int64)
-    rows = np.repeat(np.arange(m), 3)
-    A = sp.coo_matrix((np.ones(3 * m), (rows, F.ravel())), shape=(m, n)).tocsr()
-    _, vlab = connected_components(A.T @ A, directed=False)
-    flab = vlab[F[:, 0]]
-    # renumber by first appearance so labels are stable under vertex renumbering
-    _, first = np.unique(flab, return_index=True)
-    order = np.argsort(first)
-    # sized for every vertex component: unused vertices make components no face has
-    remap = np.empty(int(vlab.max()) + 1, dtype=np.int64)
-    remap[flab[first[order]]] = np.arange(order.size)
-    return remap[flab]
+def vertex_labels(panel_list: list[Panel], n: int) -> np.ndarray:
+    """Panel index per pattern vertex, ``(n,)`` int, -1 for unused vertices."""
+    return scatter_labels([p.vertices for p in panel_list], n, labels=[p.index for p in panel_list])
 
 
 def panels(garment: Garment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> list[Panel]:
@@ -162,7 +134,7 @@ def panels(garment: Garment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> li
         that way).
     """
     F2 = garment.F2
-    lab = face_components(F2, len(garment.V2))
+    lab = component_labels(F2, len(garment.V2))
     n_p = int(lab.max()) + 1 if lab.size else 0
     order = np.argsort(lab, kind="stable")
     bounds = np.searchsorted(lab[order], np.arange(n_p + 1))
@@ -240,7 +212,5 @@ def with_panel_names(
         ``panels`` of the result lists the same panels under the same names.
     """
     pl = panels(garment, up=up, front=front) if plist is None else plist
-    lab = np.full(garment.n_faces, -1, dtype=np.int64)
-    for p in pl:  # a loop over panels
-        lab[p.faces] = p.index
+    lab = panel_labels(pl, garment.n_faces)
     return replace(garment, face_group=lab, group_names=tuple(p.name for p in pl))

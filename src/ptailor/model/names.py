@@ -45,6 +45,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ptailor.geometry.triangles import triangle_areas
 from ptailor.model.openings import Opening, body_frame, openings
 from ptailor.model.seams import edge_keys, half_edges
 
@@ -271,8 +272,7 @@ def panel_layout(
     lab = np.asarray(face_panel, dtype=np.int64)
     X = V3 @ frame.T  # (n3, 3): left, up, front
     Xc = X[F3]  # (m, 3, 3)
-    e1, e2 = V3[F3[:, 1]] - V3[F3[:, 0]], V3[F3[:, 2]] - V3[F3[:, 0]]
-    area = 0.5 * np.linalg.norm(np.cross(e1, e2), axis=1)
+    area = triangle_areas(V3, F3)
     At = np.bincount(lab, area, minlength=n_p)
     Atot = max(float(At.sum()), 1e-300)
     fc = Xc.mean(axis=1)

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ptailor.geometry.triangles import triangle_areas
 from ptailor.model.boundary import boundary_curves
 
 #: A loop shorter than this fraction of the longest loop is a mesh defect, never named.
@@ -180,8 +181,7 @@ def openings(V3, F3, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0), F2=None) -> l
 
     # sums in an order that depends on the cloth, not on the face order or corner rotation
     Fs = np.sort(F3, axis=1)
-    a, b, c = V3[Fs[:, 0]], V3[Fs[:, 1]], V3[Fs[:, 2]]
-    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    area = triangle_areas(V3, Fs)
     face_s = np.sort(S[Fs], axis=1).sum(axis=1) / 3.0
     tot = np.sort(area).sum()
     s0 = float(np.sort(area * face_s).sum() / tot) if tot > 0 else float(S[used].mean())

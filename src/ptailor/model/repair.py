@@ -27,7 +27,8 @@ from scipy.sparse.csgraph import connected_components
 
 from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
-from ptailor.model.garment import areas_3d, face_components, signed_areas_2d
+from ptailor.geometry.labels import component_labels
+from ptailor.geometry.triangles import triangle_areas
 
 #: ``--weld auto`` (and a weld without a distance) merges drape vertices closer than this
 #: fraction of the mean drape edge length. Measured: the shortest edge of the shared garments
@@ -183,7 +184,7 @@ def zero_area_faces(V: np.ndarray, F: np.ndarray) -> np.ndarray:
     used = np.zeros(len(V), dtype=bool)
     used[F.ravel()] = True
     d = float(np.ptp(V[used], axis=0).max()) if used.any() else 0.0
-    area = np.abs(signed_areas_2d(V, F)) if V.shape[1] == 2 else areas_3d(V, F)
+    area = triangle_areas(V, F)
     repeated = (F[:, 0] == F[:, 1]) | (F[:, 1] == F[:, 2]) | (F[:, 2] == F[:, 0])
     return repeated | (area <= tol.ZERO_AREA_REL * max(d, 1e-300) ** 2)
 
@@ -223,7 +224,7 @@ def unit_ratios(
     F3 : (m, 3) int array
     V2 : (n2, 2) float array
     F2 : (m, 3) int array
-        Panels are its connected components (:func:`face_components` order).
+        Panels are its connected components (:func:`ptailor.geometry.component_labels` order).
 
     Returns
     -------
@@ -235,7 +236,7 @@ def unit_ratios(
     """
     l3 = edge_lengths(V3, F3).ravel()
     l2 = edge_lengths(V2, F2).ravel()
-    lab = np.repeat(face_components(F2, len(V2)), 3)
+    lab = np.repeat(component_labels(F2, len(V2)), 3)
     ok = (l3 > 0) & (l2 > 0) & np.isfinite(l2 / np.where(l3 > 0, l3, 1.0))
     r, lab = l2[ok] / l3[ok], lab[ok]
     n_p = int(lab.max()) + 1 if lab.size else 0
@@ -376,12 +377,12 @@ def intake(
         return IntakeResult(V3, F3, V2, F2, np.arange(m), I, rec, warnings)
     mean_edge = float(edge_lengths(V3, F3).mean())
     dist = WELD_REL * mean_edge if isinstance(weld, str) else float(weld)
-    n_pieces = int(face_components(F3, len(V3)).max()) + 1
+    n_pieces = int(component_labels(F3, len(V3)).max()) + 1
     rec["pieces_before"] = n_pieces
     W, G, I2, J = weld_vertices(V3, F3, distance=dist)
     joins = 0
     if len(I2) < len(V3):
-        joins = weld_joins_panels(F3, face_components(F2, len(V2)), J)
+        joins = weld_joins_panels(F3, component_labels(F2, len(V2)), J)
     do_weld = weld != "off" and (weld != "auto" or joins > 0)
     if do_weld and len(I2) < len(V3):
         V3, F3, I = W, G, I2
@@ -407,7 +408,7 @@ def intake(
         raise PtailorError(f"every triangle is zero-area in {what}: nothing to adjust", path=path)
     keep = np.flatnonzero(~drop)
     F3, F2 = F3[keep], F2[keep]
-    rec["pieces_after"] = int(face_components(F3, len(V3)).max()) + 1  # welded, repaired
+    rec["pieces_after"] = int(component_labels(F3, len(V3)).max()) + 1  # welded, repaired
     rec["non_manifold_edges"] = len(non_manifold_edges(F3))
     if drop.any():
         warnings.append(

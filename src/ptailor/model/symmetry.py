@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from ptailor.errors import PtailorError
+from ptailor.geometry.triangles import triangle_areas, triangle_normals
 from ptailor.model.garment import Garment, Panel, panels
 from ptailor.model.openings import body_frame
 
@@ -87,10 +88,8 @@ def mirror_points(P: np.ndarray, plane: SagittalPlane) -> np.ndarray:
 
 def _vertex_areas(V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Lumped vertex areas (a third of each adjacent triangle) and the area centroid."""
-    from ptailor.model.garment import areas_3d
-
     a, b, c = V[F[:, 0]], V[F[:, 1]], V[F[:, 2]]
-    area = areas_3d(V, F)
+    area = triangle_areas(V, F)
     w = np.bincount(F.ravel(), weights=np.repeat(area / 3.0, 3), minlength=len(V))
     total = float(area.sum())
     if not total > 0.0:
@@ -134,7 +133,7 @@ def _surface_distance(X: np.ndarray, V: np.ndarray, F: np.ndarray, near: np.ndar
 
 def _vertex_normals(V: np.ndarray, F: np.ndarray) -> np.ndarray:
     """Area-weighted unit vertex normals ``(n, 3)`` (zero for unused vertices)."""
-    cr = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    cr = triangle_normals(V, F, unit=False)
     N = np.zeros_like(V)
     for k in range(3):  # the three corners, each vectorised over the triangles
         np.add.at(N, F[:, k], cr)
@@ -324,7 +323,7 @@ def panel_mirror_map(
         return np.zeros(0, dtype=np.int64)
     F = garment.F3
     a, b, c = V[F[:, 0]], V[F[:, 1]], V[F[:, 2]]
-    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    area = triangle_areas(V, F)
     mid = (a + b + c) / 3.0
     A = np.array([area[p.faces].sum() for p in plist])  # a loop over panels
     C = np.array([(mid[p.faces] * area[p.faces, None]).sum(0) for p in plist])

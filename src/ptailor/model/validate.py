@@ -6,7 +6,8 @@ import numpy as np
 
 from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
-from ptailor.model.garment import Garment, areas_3d, signed_areas_2d
+from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
+from ptailor.model.garment import Garment
 
 
 def check_garment(g: Garment, *, path: str | None = None) -> None:
@@ -53,7 +54,7 @@ def check_garment(g: Garment, *, path: str | None = None) -> None:
                 path=path,
             )
     with np.errstate(all="ignore"):
-        a3 = areas_3d(g.V3, g.F3)
+        a3 = triangle_areas(g.V3, g.F3)
         a2 = np.abs(signed_areas_2d(g.V2, g.F2))
     for name, a, d in (("3D (drape)", a3, diag3), ("2D (pattern)", a2, diag2)):
         bad = np.flatnonzero(a <= tol.ZERO_AREA_REL * max(d, 1e-300) ** 2)

@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ptailor.method.intrinsic import edge_matrices, intrinsic_targets, inv2, sqrt_spd2
-from ptailor.method.stitch import closest_rotations
+from ptailor.geometry.closed_forms import inv2, sqrt_spd2
+from ptailor.geometry.rotations import closest_rotations
+from ptailor.geometry.triangles import edge_matrices
+from ptailor.method.intrinsic import intrinsic_targets
 from ptailor.model.boundary import boundary_edges
 from ptailor.model.garment import signed_areas_2d
 
