@@ -103,20 +103,7 @@ def carry_piece(
     """
     diag = float(np.linalg.norm(piece.extent))
     keep_d = reach + tol.MARK_KEEP_REL * diag
-    grain_pts = (
-        np.vstack([piece.grain, piece.grain.mean(axis=0, keepdims=True)])
-        if piece.grain is not None
-        else np.zeros((0, 2))
-    )
-    groups = [
-        piece.outline if unchanged else np.zeros((0, 2)),
-        piece.sew if unchanged and piece.sew is not None else np.zeros((0, 2)),
-        piece.notches,
-        piece.drills,
-        grain_pts,
-        piece.mirror if piece.mirror is not None else np.zeros((0, 2)),
-        *piece.internal,
-    ]
+    groups = _mark_groups(piece, unchanged=unchanged)
     # every point located at once (one search structure per piece), then split by group
     X = np.vstack([np.asarray(g, dtype=np.float64).reshape(-1, 2) for g in groups])
     loc = locate_points(V2, F2, match.to_panel(X), faces=faces)
@@ -131,25 +118,14 @@ def carry_piece(
     cuts = np.cumsum([len(g) for g in groups])[:-1]
     moved_g, kept_g = np.split(moved, cuts), np.split(kept, cuts)
 
-    dropped = 0
-    if unchanged:
-        outline, turn, how = moved_g[0], piece.turn, "carried"
-        sew = moved_g[1] if piece.sew is not None else None
-    else:
-        loop = outer_loop(F2, faces, V2_new)
-        outline = match.to_piece(V2_new[loop])
-        if np.linalg.det(match.R) < 0:
-            outline = outline[::-1]
-        turn, sew, how = corners(outline), None, "mesh"
+    outline, turn, sew, how = _new_outline(
+        piece, match, moved_g, F2=F2, faces=faces, V2_new=V2_new, unchanged=unchanged
+    )
     notches, keep_n = moved_g[2], kept_g[2]
-    if not unchanged and len(notches):
-        # a notch marks the outline: one the edit left inside the piece (the old hem of an
-        # extended skirt) no longer marks anything
-        scale = float(np.linalg.norm(np.ptp(outline, axis=0))) / max(diag, 1e-300)
-        keep_n = keep_n & (ClosedCurve(outline).nearest(notches)[0] <= keep_d * max(scale, 1.0))
+    if not unchanged:
+        keep_n = keep_n & _on_outline(notches, outline, diag=diag, keep_d=keep_d)
     drills, keep_d_ = moved_g[3], kept_g[3]
-    dropped += int((~keep_n).sum() + (~keep_d_).sum())
-    internal = []
+    dropped = int((~keep_n).sum() + (~keep_d_).sum())
     mirror = None
     if piece.mirror is not None:
         if kept_g[5].all() or match.fold:  # a fold line is a line: its ends extend
@@ -157,21 +133,8 @@ def carry_piece(
         else:
             dropped += 2
     if match.fold and not unchanged and mirror is not None:
-        # the mesh outlines the whole panel: a fold piece is its half on the piece's side
-        # of the carried fold line
-        a0, b0 = np.asarray(piece.mirror, dtype=float)[[0, -1]]
-        d0 = b0 - a0
-        side = float(np.sign(np.mean((piece.outline - a0) @ np.array([-d0[1], d0[0]]))))
-        half = clip_half_plane(outline, mirror[0], mirror[-1], side or 1.0)
-        half = half[dedupe_closed(half, rel=1e-9)]
-        if len(half) >= 3:
-            u = mirror[-1] - mirror[0]
-            u = u / max(float(np.linalg.norm(u)), 1e-300)
-            on = np.abs((half - mirror[0]) @ np.array([-u[1], u[0]])) <= 1e-9 * diag + 1e-12
-            if on.sum() >= 2:
-                t = (half[on] - mirror[0]) @ u
-                mirror = mirror[0] + np.outer([t.min(), t.max()], u)
-            outline, turn = half, corners(half)
+        outline, turn, mirror = _fold_half(piece, outline, turn, mirror, diag=diag)
+    internal = []
     for L, keep in zip(moved_g[6:], kept_g[6:], strict=True):  # a piece's internal lines
         dropped += int((~keep).sum())
         if keep.sum() >= 2:
@@ -181,32 +144,14 @@ def carry_piece(
     vs = np.unique(F2[faces])
     Rq = match.R.T @ _panel_rotation(V2[vs], V2_new[vs]) @ match.R
     turn_deg = float(np.degrees(np.arctan2(Rq[1, 0], Rq[0, 0])))
-    grain = None
-    if piece.grain is not None:
-        ends, mid, keep_g = moved_g[4][:2], moved_g[4][2], kept_g[4]
-        if keep_g[:2].all() or keep_g[2]:
-            d0 = piece.grain[1] - piece.grain[0]
-            u = Rq @ (d0 / max(np.linalg.norm(d0), 1e-300))
-            length = float(np.linalg.norm(ends[1] - ends[0]))
-            grain = np.stack([mid - 0.5 * length * u, mid + 0.5 * length * u])
-        else:
-            # the grain line lay on the part cut away: a cutter needs one, so it is drawn
-            # again through the piece's middle, in the same direction (turned with the
-            # panel), across half the piece
-            d0 = piece.grain[1] - piece.grain[0]
-            u = Rq @ (d0 / max(np.linalg.norm(d0), 1e-300))
-            c = outline.mean(axis=0)
-            half = 0.25 * float(np.ptp(outline @ u))
-            grain = np.stack([c - half * u, c + half * u])
     angles = piece.notch_angles if len(piece.notch_angles) == len(keep_n) else np.zeros(len(keep_n))
-    angles = np.mod(angles[keep_n] + turn_deg, 360.0)
     new = replace(
         piece,
         outline=outline,
         turn=turn,
         notches=notches[keep_n],
-        notch_angles=angles,
-        grain=grain,
+        notch_angles=np.mod(angles[keep_n] + turn_deg, 360.0),
+        grain=_carried_grain(piece, moved_g[4], kept_g[4], Rq=Rq, outline=outline),
         internal=tuple(internal),
         drills=drills[keep_d_],
         sew=sew,
@@ -215,8 +160,107 @@ def carry_piece(
     n_fixed = sum(len(g) for g in groups[:2])
     marks_kept = kept.copy()
     g0 = int(cuts[3]) if len(cuts) > 3 else len(kept)
-    marks_kept[g0 : g0 + len(grain_pts)] = True  # a grain line is never lost (drawn again)
+    marks_kept[g0 : g0 + len(groups[4])] = True  # a grain line is never lost (drawn again)
     return CarriedPiece(piece=new, outline_from=how, dropped=dropped, kept=marks_kept[n_fixed:])
+
+
+def _mark_groups(piece: Piece, *, unchanged: bool) -> list[np.ndarray]:
+    """A piece's points by group: outline and sew line (when ``unchanged``, else empty),
+    notches, drill holes, grain line (ends and middle), fold line, each internal line."""
+    empty = np.zeros((0, 2))
+    grain_pts = (
+        np.vstack([piece.grain, piece.grain.mean(axis=0, keepdims=True)])
+        if piece.grain is not None
+        else empty
+    )
+    return [
+        piece.outline if unchanged else empty,
+        piece.sew if unchanged and piece.sew is not None else empty,
+        piece.notches,
+        piece.drills,
+        grain_pts,
+        piece.mirror if piece.mirror is not None else empty,
+        *piece.internal,
+    ]
+
+
+def _new_outline(
+    piece: Piece,
+    match: PieceMatch,
+    moved_g: list[np.ndarray],
+    *,
+    F2: np.ndarray,
+    faces: np.ndarray,
+    V2_new: np.ndarray,
+    unchanged: bool,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, str]:
+    """The carried outline ``(k, 2)``, its turn points, sew line and where it came from:
+    the piece's own points (``carried``) or the adjusted mesh's boundary (``mesh``)."""
+    if unchanged:
+        sew = moved_g[1] if piece.sew is not None else None
+        return moved_g[0], piece.turn, sew, "carried"
+    loop = outer_loop(F2, faces, V2_new)
+    outline = match.to_piece(V2_new[loop])
+    if np.linalg.det(match.R) < 0:
+        outline = outline[::-1]
+    return outline, corners(outline), None, "mesh"
+
+
+def _on_outline(
+    notches: np.ndarray, outline: np.ndarray, *, diag: float, keep_d: float
+) -> np.ndarray:
+    """Which notches ``(k, 2)`` still mark the outline, ``(k,)`` bool.
+
+    One the edit left inside the piece (the old hem of an extended skirt) no longer marks
+    anything.
+    """
+    if not len(notches):
+        return np.ones(0, dtype=bool)
+    scale = float(np.linalg.norm(np.ptp(outline, axis=0))) / max(diag, 1e-300)
+    return ClosedCurve(outline).nearest(notches)[0] <= keep_d * max(scale, 1.0)
+
+
+def _fold_half(
+    piece: Piece, outline: np.ndarray, turn: np.ndarray, mirror: np.ndarray, *, diag: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A fold piece's half of the mesh outline: the side of the carried fold line
+    ``mirror`` the piece lies on; its outline, turn points and fold line trimmed to it."""
+    a0, b0 = np.asarray(piece.mirror, dtype=float)[[0, -1]]
+    d0 = b0 - a0
+    side = float(np.sign(np.mean((piece.outline - a0) @ np.array([-d0[1], d0[0]]))))
+    half = clip_half_plane(outline, mirror[0], mirror[-1], side or 1.0)
+    half = half[dedupe_closed(half, rel=1e-9)]
+    if len(half) < 3:
+        return outline, turn, mirror
+    u = mirror[-1] - mirror[0]
+    u = u / max(float(np.linalg.norm(u)), 1e-300)
+    on = np.abs((half - mirror[0]) @ np.array([-u[1], u[0]])) <= 1e-9 * diag + 1e-12
+    if on.sum() >= 2:
+        t = (half[on] - mirror[0]) @ u
+        mirror = mirror[0] + np.outer([t.min(), t.max()], u)
+    return half, corners(half), mirror
+
+
+def _carried_grain(
+    piece: Piece, moved: np.ndarray, kept: np.ndarray, *, Rq: np.ndarray, outline: np.ndarray
+) -> np.ndarray | None:
+    """The grain line after the adjustment, ``(2, 2)``, from its carried ends and middle.
+
+    Its direction turns with the panel (``Rq``, in piece coordinates). A grain line that
+    lay on the part cut away is drawn again through the piece's middle, across half the
+    piece: a cutter needs one.
+    """
+    if piece.grain is None:
+        return None
+    d0 = piece.grain[1] - piece.grain[0]
+    u = Rq @ (d0 / max(np.linalg.norm(d0), 1e-300))
+    if kept[:2].all() or kept[2]:
+        ends, mid = moved[:2], moved[2]
+        length = float(np.linalg.norm(ends[1] - ends[0]))
+        return np.stack([mid - 0.5 * length * u, mid + 0.5 * length * u])
+    c = outline.mean(axis=0)
+    half = 0.25 * float(np.ptp(outline @ u))
+    return np.stack([c - half * u, c + half * u])
 
 
 def scale_piece(piece: Piece, k: float) -> Piece:

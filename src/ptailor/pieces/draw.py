@@ -11,8 +11,11 @@ from __future__ import annotations
 import numpy as np
 
 from ptailor import tolerances as tol
+from ptailor.geometry.pattern_maps import least_squares_preimages, pattern_jacobians
+from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
+from ptailor.geometry.tube_axis import tube_axis
 from ptailor.model.boundary import boundary_loops
-from ptailor.model.garment import Panel, signed_areas_2d
+from ptailor.model.garment import Panel
 from ptailor.model.pieces import Piece
 from ptailor.model.polyline import corners, signed_area
 from ptailor.model.seams import edge_keys
@@ -92,32 +95,12 @@ def grain_directions(
     axes = np.empty((n, 3))
     for p in panel_list:  # a loop over panels: each one's normal tensor
         axes[p.index] = _panel_axis(V3, F3, p.faces, u)
-    target = axes[flab]  # (m, 3)
-    e1, e2 = V3[F3[:, 1]] - V3[F3[:, 0]], V3[F3[:, 2]] - V3[F3[:, 0]]
-    a3 = 0.5 * np.linalg.norm(np.cross(e1, e2), axis=1)
-    # least-squares preimage of the target through J = E3 E2^-1 (3x2): (J^T J)^-1 J^T t
-    E2 = np.stack([V2[F2[:, 1]] - V2[F2[:, 0]], V2[F2[:, 2]] - V2[F2[:, 0]]], axis=2)  # (m,2,2)
-    E3 = np.stack([e1, e2], axis=2)  # (m, 3, 2)
-    det = E2[:, 0, 0] * E2[:, 1, 1] - E2[:, 0, 1] * E2[:, 1, 0]
-    ok = np.abs(det) > 0
-    inv = (
-        np.stack(
-            [np.stack([E2[:, 1, 1], -E2[:, 0, 1]], 1), np.stack([-E2[:, 1, 0], E2[:, 0, 0]], 1)], 1
-        )
-        / np.where(ok, det, 1.0)[:, None, None]
-    )
-    J = E3 @ inv
-    JtJ = np.einsum("mki,mkj->mij", J, J)
-    rhs = np.einsum("mki,mk->mi", J, target)
-    dj = JtJ[:, 0, 0] * JtJ[:, 1, 1] - JtJ[:, 0, 1] ** 2
-    good = ok & (dj > 0)
-    sol = np.stack(
-        [JtJ[:, 1, 1] * rhs[:, 0] - JtJ[:, 0, 1] * rhs[:, 1],
-         JtJ[:, 0, 0] * rhs[:, 1] - JtJ[:, 0, 1] * rhs[:, 0]], 1
-    ) / np.where(good, dj, 1.0)[:, None]  # fmt: skip
+    J, ok = pattern_jacobians(V3, F3, V2, F2)
+    sol, good = least_squares_preimages(J, axes[flab], ok)
     norm = np.linalg.norm(sol, axis=1)
     good &= norm > 0
     unit = np.where(good[:, None], sol / np.where(good, norm, 1.0)[:, None], 0.0)
+    a3 = triangle_areas(V3, F3)
     g = np.stack([np.bincount(flab, a3 * unit[:, k], n) for k in range(2)], 1)
     length = np.linalg.norm(g, axis=1)
     out = np.tile([0.0, 1.0], (n, 1))
@@ -128,14 +111,8 @@ def grain_directions(
 
 def _panel_axis(V3: np.ndarray, F3: np.ndarray, faces: np.ndarray, up: np.ndarray) -> np.ndarray:
     """A panel's tube axis (the direction its normals avoid), else ``up``; pointing up."""
-    T = F3[faces]
-    cr = np.cross(V3[T[:, 1]] - V3[T[:, 0]], V3[T[:, 2]] - V3[T[:, 0]])
-    w = np.linalg.norm(cr, axis=1)
-    nrm = cr / np.maximum(w, 1e-300)[:, None]
-    N = (nrm * w[:, None]).T @ nrm
-    lam, vec = np.linalg.eigh(N / max(np.trace(N), 1e-300))
-    tube = lam[1] > tol.GRAIN_TUBE_MIN and lam[1] > tol.GRAIN_TUBE_RATIO * lam[0]
-    ax = vec[:, 0] if tube else up
+    axis = tube_axis(V3, F3[faces])
+    ax = up if axis is None else axis
     s = float(ax @ up)
     return ax * (-1.0 if s < -1e-9 else 1.0)
 

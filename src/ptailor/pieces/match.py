@@ -16,16 +16,12 @@ from scipy.spatial import cKDTree
 
 from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
-from ptailor.method.transfer import segment_feet
+from ptailor.geometry.rotations import rigid_fit
+from ptailor.geometry.segments import segment_feet
 from ptailor.model.garment import Panel
 from ptailor.model.pieces import Piece
 from ptailor.model.polyline import resample_closed, signed_area
 from ptailor.pieces.draw import outer_loop
-
-#: Points per outline when outlines are compared.
-_SAMPLES = 256
-#: Rigid-fit refinement iterations (ICP) when matching a moved piece by shape.
-_ICP_ITER = 30
 
 
 @dataclass(frozen=True)
@@ -71,6 +67,8 @@ class PieceMatch:
 
 
 def piece_curve(piece: Piece) -> np.ndarray:
+    """The closed curve a piece is matched by: its sew line when it has one, else its
+    outline, ``(k, 2)``."""
     return piece.sew if piece.sew is not None else piece.outline
 
 
@@ -112,17 +110,8 @@ def _outline_distance(A: np.ndarray, ca: ClosedCurve, B: np.ndarray, cb: ClosedC
     return 0.5 * float(cb.nearest(A)[0].mean() + ca.nearest(B)[0].mean())
 
 
-def _kabsch(A: np.ndarray, B: np.ndarray, *, reflect: bool) -> tuple[np.ndarray, np.ndarray]:
-    """The rigid map (rotation, or reflection when ``reflect``) taking ``A`` closest to ``B``."""
-    ca, cb = A.mean(axis=0), B.mean(axis=0)
-    H = (A - ca).T @ (B - cb)
-    U, _, Vt = np.linalg.svd(H)
-    D = np.diag([1.0, -1.0 if reflect else 1.0])
-    R = Vt.T @ D @ U.T
-    if (np.linalg.det(R) < 0) != reflect:  # the SVD's own sign
-        D = np.diag([1.0, 1.0 if reflect else -1.0])
-        R = Vt.T @ D @ U.T
-    return R, cb - R @ ca
+#: Rigid-fit refinement iterations (ICP) when matching a moved piece by shape.
+_ICP_ITER = 30
 
 
 def _fit_shape(
@@ -144,12 +133,16 @@ def _fit_shape(
             reflect = bool(np.linalg.det(R) < 0)
             for _ in range(_ICP_ITER):
                 _, Q = cb.nearest(A @ R.T + t)
-                R, t = _kabsch(A, Q, reflect=reflect)
+                R, t = rigid_fit(A, Q, reflect=reflect)
             moved = A @ R.T + t
             res = _outline_distance(moved, ClosedCurve(moved), B, cb)
             if res < best[2]:
                 best = (R, t, res / diag)
     return best
+
+
+#: Points per outline when outlines are compared.
+_SAMPLES = 256
 
 
 @dataclass(frozen=True)
@@ -228,50 +221,14 @@ def match_pieces(
     PtailorError
         When a piece matches no panel (naming the pieces and the panels left over).
     """
-    from scipy.optimize import linear_sum_assignment
-
-    n_pc, n_pn = len(pieces), len(panel_list)
     outs = [_Outline.of(piece_curve(pc)) for pc in pieces]
     pans = [_Outline.of(V2[outer_loop(F2, p.faces, V2)]) for p in panel_list]
-    thr = np.array([o.threshold(allowance) for o in outs])  # per piece, relative
-    cost = np.full((n_pc, n_pn), np.inf)
-    for i, po in enumerate(outs):  # pieces x panels: a few dozen pairs
-        for j, pn in enumerate(pans):
-            lo, hi = pn.samples.min(axis=0), pn.samples.max(axis=0)
-            clo, chi = po.samples.min(axis=0), po.samples.max(axis=0)
-            reach = 0.1 * po.diag + allowance
-            if np.any(clo > hi + reach) or np.any(chi < lo - reach):
-                continue
-            d = _outline_distance(po.samples, po.curve, pn.samples, pn.curve)
-            cost[i, j] = d / po.diag
-    matches: dict[int, PieceMatch] = {}
-    ok = np.where(cost < thr[:, None], cost, 1e6)
-    rows, cols = linear_sum_assignment(ok)
-    for i, j in zip(rows.tolist(), cols.tolist(), strict=True):
-        if ok[i, j] < 1e6:
-            c = float(cost[i, j])
-            matches[i] = PieceMatch(i, j, "position", np.eye(2), np.zeros(2), c, c * outs[i].diag)
-    free_panels = [j for j in range(n_pn) if j not in {m.panel for m in matches.values()}]
-    rest = [i for i in range(n_pc) if i not in matches]
-    if rest and free_panels:
-        fits = {}
-        shape_cost = np.full((len(rest), len(free_panels)), 1e6)
-        for a, i in enumerate(rest):
-            for b, j in enumerate(free_panels):
-                fit = _shape_match(outs[i], pans[j], allowance)
-                if fit is not None:
-                    fits[i, j] = fit
-                    shape_cost[a, b] = fit[2]
-        rr, cc = linear_sum_assignment(shape_cost)
-        for a, b in zip(rr.tolist(), cc.tolist(), strict=True):
-            if shape_cost[a, b] < 1e6:
-                i, j = rest[a], free_panels[b]
-                R, t, res = fits[i, j]
-                matches[i] = PieceMatch(i, j, "shape", R, t, res, res * outs[i].diag)
-    missing = [i for i in range(n_pc) if i not in matches]
+    matches = _position_matches(outs, pans, allowance)
+    matches.update(_shape_matches(outs, pans, matches, allowance))
+    missing = [i for i in range(len(pieces)) if i not in matches]
     if missing:
         used = {m.panel for m in matches.values()}
-        left = [panel_list[j].name for j in range(n_pn) if j not in used]
+        left = [p.name for j, p in enumerate(panel_list) if j not in used]
         names = ", ".join(repr(pieces[i].name) for i in missing)
         raise PtailorError(
             f"piece(s) {names} match no panel of the drape's pattern (vt) by position or "
@@ -279,7 +236,68 @@ def match_pieces(
             "drape belongs to this pattern)",
             path=path,
         )
-    return [matches[i] for i in range(n_pc)]
+    return [matches[i] for i in range(len(pieces))]
+
+
+def _position_cost(piece: _Outline, panel: _Outline, allowance: float) -> float:
+    """Mean distance between a piece's and a panel's outlines as they lie, relative to the
+    piece's diagonal; inf when their boxes are too far apart to compare."""
+    lo, hi = panel.samples.min(axis=0), panel.samples.max(axis=0)
+    clo, chi = piece.samples.min(axis=0), piece.samples.max(axis=0)
+    reach = 0.1 * piece.diag + allowance
+    if np.any(clo > hi + reach) or np.any(chi < lo - reach):
+        return np.inf
+    d = _outline_distance(piece.samples, piece.curve, panel.samples, panel.curve)
+    return d / piece.diag
+
+
+def _position_matches(
+    outs: list[_Outline], pans: list[_Outline], allowance: float
+) -> dict[int, PieceMatch]:
+    """Pieces that lie on a panel, assigned one panel each (by least total cost)."""
+    from scipy.optimize import linear_sum_assignment
+
+    thr = np.array([o.threshold(allowance) for o in outs])  # per piece, relative
+    cost = np.full((len(outs), len(pans)), np.inf)
+    for i, po in enumerate(outs):  # pieces x panels: a few dozen pairs
+        for j, pn in enumerate(pans):
+            cost[i, j] = _position_cost(po, pn, allowance)
+    matches: dict[int, PieceMatch] = {}
+    ok = np.where(cost < thr[:, None], cost, 1e6)
+    rows, cols = linear_sum_assignment(ok)
+    for i, j in zip(rows.tolist(), cols.tolist(), strict=True):
+        if ok[i, j] < 1e6:
+            c = float(cost[i, j])
+            matches[i] = PieceMatch(i, j, "position", np.eye(2), np.zeros(2), c, c * outs[i].diag)
+    return matches
+
+
+def _shape_matches(
+    outs: list[_Outline], pans: list[_Outline], found: dict[int, PieceMatch], allowance: float
+) -> dict[int, PieceMatch]:
+    """The pieces not in ``found`` fitted by shape onto the panels left, one panel each."""
+    from scipy.optimize import linear_sum_assignment
+
+    free_panels = [j for j in range(len(pans)) if j not in {m.panel for m in found.values()}]
+    rest = [i for i in range(len(outs)) if i not in found]
+    if not (rest and free_panels):
+        return {}
+    fits = {}
+    shape_cost = np.full((len(rest), len(free_panels)), 1e6)
+    for a, i in enumerate(rest):
+        for b, j in enumerate(free_panels):
+            fit = _shape_match(outs[i], pans[j], allowance)
+            if fit is not None:
+                fits[i, j] = fit
+                shape_cost[a, b] = fit[2]
+    matches: dict[int, PieceMatch] = {}
+    rr, cc = linear_sum_assignment(shape_cost)
+    for a, b in zip(rr.tolist(), cc.tolist(), strict=True):
+        if shape_cost[a, b] < 1e6:
+            i, j = rest[a], free_panels[b]
+            R, t, res = fits[i, j]
+            matches[i] = PieceMatch(i, j, "shape", R, t, res, res * outs[i].diag)
+    return matches
 
 
 def more_instances(

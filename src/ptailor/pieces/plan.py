@@ -16,8 +16,9 @@ import numpy as np
 
 from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
+from ptailor.geometry.triangles import signed_areas_2d
 from ptailor.method.transfer import locate_points
-from ptailor.model.garment import Garment, Panel, signed_areas_2d
+from ptailor.model.garment import Garment, Panel
 from ptailor.model.pieces import PatternFile, Piece
 from ptailor.model.polyline import unfold
 from ptailor.pieces.carry import CarriedPiece, carry_piece, scale_piece
