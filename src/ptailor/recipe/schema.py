@@ -11,6 +11,11 @@ from __future__ import annotations
 import json
 from typing import Any
 
+from ptailor.edits import OPERATIONS
+from ptailor.edits.opening import OPENING_SCHEMA
+from ptailor.model.units import UNITS
+from ptailor.recipe.format import AXIS_NAMES, FLATTEN_PARAMS, STEP_KEYS
+
 SCHEMA_ID = "https://ptailor.dev/schema/recipe-1.json"
 
 
@@ -32,11 +37,6 @@ def recipe_schema() -> dict:
         Top-level keys, one ``if op == name then ...`` branch per registered operation
         (its parameters, which are required, no others), and the flatten settings.
     """
-    from ptailor.edits import OPERATIONS
-    from ptailor.edits.opening import OPENING_SCHEMA
-    from ptailor.model.units import UNITS
-    from ptailor.recipe import AXIS_NAMES, FLATTEN_PARAMS, STEP_KEYS
-
     branches = []
     for name, op in sorted(OPERATIONS.items()):
         props: dict[str, Any] = {"op": {"const": name}}
@@ -96,7 +96,3 @@ def recipe_schema() -> dict:
 def schema_text() -> str:
     """``recipe_schema()`` as the indented JSON written to ``recipes/schema.json``."""
     return json.dumps(recipe_schema(), indent=2) + "\n"
-
-
-if __name__ == "__main__":
-    print(schema_text(), end="")

@@ -1,0 +1,125 @@
+"""The recipe format's vocabulary: its keys, flatten settings, axes and the
+:class:`Recipe` a valid document becomes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+from ptailor import tolerances as tol
+from ptailor.edits.checks import (
+    choice,
+    number,
+)
+from ptailor.errors import PtailorError
+
+FLATTEN_PARAMS = {
+    "method": (choice("scale-preserving", "uniform"), "scale-preserving"),
+    "intrinsic": (choice("polar", "paper"), "polar"),
+    "boundary": (choice("auto", "similar", "free"), "auto"),
+    "seams": (choice("ease", "free", "keep"), "ease"),
+    "w_pin": (number(gt=0.0), tol.W_PIN),
+    "w_asap": (number(gt=0.0), tol.W_ASAP),
+    "max_iter": (number(ge=1, le=10000, integer=True), tol.ARAP_MAX_ITER),
+}
+TOP_KEYS = ("format", "units", "up", "front", "symmetric", "steps", "flatten")
+#: A step key every operation accepts (see :mod:`ptailor.edits.mirror`).
+STEP_KEYS = ("symmetric",)
+AXIS_NAMES = ("x", "y", "z", "-x", "-y", "-z")
+#: Step parameters that are lengths an edit adds or removes (bounded by
+#: :data:`ptailor.tolerances.RECIPE_MAX_LENGTH_CM`).
+LENGTH_PARAMS = {
+    "extend": ("by", "clearance"),
+    "shorten": ("by",),
+    "loosen": ("by",),
+    "tighten": ("by",),
+}
+#: Step parameters that are directions when given as ``[x, y, z]``: (op, path in the step).
+DIRECTION_PARAMS = {
+    "cut": (("plane", "normal"), ("view",)),
+    "loosen": (("view",),),
+    "tighten": (("view",),),
+}
+DEFAULT_UP, DEFAULT_FRONT = "y", "z"
+
+
+def axes_problem(
+    up: Any, front: Any, *, up_name: str = "up", front_name: str = "front"
+) -> str | None:
+    """Why ``up`` and ``front`` (axis names, or None for the default) cannot be a frame.
+
+    The one rule of recipes (``up:``, ``front:``) and of the command line (``--up``,
+    ``--front``): both must be axis names, and not parallel (``y`` and ``-y`` are).
+    ``None`` stands for the default (y up, z front).
+    """
+    u = DEFAULT_UP if up is None else up
+    f = DEFAULT_FRONT if front is None else front
+    if u not in AXIS_NAMES or f not in AXIS_NAMES:
+        return None  # reported by the choice check
+    if u[-1] == f[-1]:
+        uu = f"{up_name} {u}" + (" (the default)" if up is None else "")
+        ff = f"{front_name} {f}" + (" (the default)" if front is None else "")
+        return f"{ff} is parallel to {uu}: up and front must be different axes"
+    return None
+
+
+def resolve_axes(
+    up: str | None, front: str | None, recipe: Recipe | None = None
+) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+    """The run's ``(up, front)`` vectors: the command line's, else the recipe's, else y, z.
+
+    Raises
+    ------
+    PtailorError
+        When they are parallel (the same rule as a recipe's ``up``/``front``).
+    """
+    u = up or (recipe.up if recipe else None)
+    f = front or (recipe.front if recipe else None)
+    bad = axes_problem(
+        u,
+        f,
+        up_name="--up" if up else "up",
+        front_name="--front" if front else "front",
+    )
+    if bad:
+        raise PtailorError(bad)
+    return axis_vector(u or DEFAULT_UP), axis_vector(f or DEFAULT_FRONT)
+
+
+def axis_vector(name: str) -> tuple[float, float, float]:
+    """``"-y"`` -> ``(0, -1, 0)``."""
+    sign = -1.0 if name.startswith("-") else 1.0
+    v = [0.0, 0.0, 0.0]
+    v["xyz".index(name[-1])] = sign
+    return (v[0], v[1], v[2])
+
+
+@dataclass(frozen=True)
+class Recipe:
+    """A validated recipe with every default filled in.
+
+    Attributes
+    ----------
+    units : str
+    steps : list of dict
+        Each with ``op``, all of its parameters and ``symmetric`` (resolved: the step's
+        own, else the recipe's).
+    flatten : dict
+        ``method``, ``intrinsic``, ``boundary``, ``w_pin``, ``w_asap``, ``max_iter``.
+    source : str
+        Where it came from (a path, ``<stdin>`` or ``<string>``).
+    up, front : str or None
+        The garment's axes (``y``, ``-z``, ...) when the recipe sets them.
+    symmetric : bool
+        The recipe-level default of every step's ``symmetric`` (each step in ``steps``
+        carries its own, resolved value).
+    """
+
+    units: str = "cm"
+    steps: list[dict] = field(default_factory=list)
+    flatten: dict = field(default_factory=lambda: {k: d for k, (_, d) in FLATTEN_PARAMS.items()})
+    source: str = "<string>"
+    up: str | None = None
+    front: str | None = None
+    symmetric: bool = False
