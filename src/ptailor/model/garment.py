@@ -59,11 +59,26 @@ class Garment:
     face_group: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     group_names: tuple[str, ...] = ()
     units: str = "cm"
+    # derived structure (ptailor.model.structure), filled on first use; never copied
+    _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         m = len(self.F3)
         if len(self.face_group) != m:
             object.__setattr__(self, "face_group", np.full(m, -1, dtype=np.int64))
+
+    def __getstate__(self) -> dict:
+        state = dict(self.__dict__)
+        state["_cache"] = {}  # pickled garments (batch workers) recompute what they need
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+
+    @property
+    def cache(self) -> dict:
+        """Derived data keyed by its maker (:func:`ptailor.model.structure.structure`)."""
+        return self._cache
 
     @property
     def n_faces(self) -> int:

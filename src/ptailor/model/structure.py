@@ -1,0 +1,139 @@
+"""A garment's derived structure, computed once per garment and reused.
+
+Panels, their face and vertex labels, seams, the per-panel pattern outlines and the
+drape's openings all follow from a :class:`~ptailor.model.garment.Garment`'s arrays,
+which never change (the garment is frozen and its arrays are not written to). So they are
+computed on first use and kept on the garment (as trimesh caches derived data on a mesh):
+every consumer asks :func:`structure` instead of recomputing them. A garment made from
+another (``with_drape``, ``dataclasses.replace``) starts with an empty cache.
+
+Examples
+--------
+>>> from ptailor.model.garment import Garment
+>>> V2 = np.array([[0.0, 0], [1, 0], [0, 1], [3, 0], [4, 0], [3, 1]])
+>>> F = np.array([[0, 1, 2], [3, 4, 5]])
+>>> g = Garment(V3=np.c_[V2, np.zeros(6)], F3=F, V2=V2, F2=F)
+>>> s = structure(g)
+>>> s is structure(g), len(s.panels), s.face_panel.tolist()
+(True, 2, [0, 1])
+>>> [lp.tolist() for lp in s.panel_loops(1)]
+[[3, 4, 5]]
+"""
+
+from __future__ import annotations
+
+from functools import cached_property
+
+import numpy as np
+
+from ptailor.model.boundary import boundary_curves, boundary_loops
+from ptailor.model.garment import Garment, Panel, panel_labels, panels, vertex_labels
+from ptailor.model.openings import Opening, openings
+from ptailor.model.seams import Seam, seam_halfedges, seams
+
+Axis = tuple[float, float, float]
+
+
+def _axis(v) -> Axis:
+    x, y, z = (float(c) for c in v)
+    return (x, y, z)
+
+
+class GarmentStructure:
+    """The derived structure of one garment for one pair of body axes (read-only).
+
+    Every attribute is computed on first access and then kept. Arrays are shared with
+    every consumer: do not write to them.
+
+    Attributes
+    ----------
+    garment : Garment
+    up, front : (3,) tuples of float
+        The wearer's axes (panels named from geometry, openings).
+    panels : list of Panel
+        ``panels(garment, up=up, front=front)``.
+    face_panel : (m,) int array
+        Panel index per triangle.
+    vertex_panel : (n2,) int array
+        Panel index per pattern vertex, -1 for unused vertices.
+    seam_halfedges : (s, 2) int array
+        :func:`ptailor.model.seams.seam_halfedges` of the garment.
+    seams : list of Seam
+        :func:`ptailor.model.seams.seams` over ``face_panel``.
+    drape_boundary : (list of (k,) int arrays, (c,) bool array)
+        :func:`ptailor.model.boundary.boundary_curves` of the drape (with ``V3``, ``F2``).
+    openings : list of Opening
+        :func:`ptailor.model.openings.openings` of the drape.
+    """
+
+    def __init__(self, garment: Garment, *, up: Axis, front: Axis) -> None:
+        self.garment = garment
+        self.up = up
+        self.front = front
+        self._loops: dict[int, list[np.ndarray]] = {}
+
+    @cached_property
+    def panels(self) -> list[Panel]:
+        return panels(self.garment, up=self.up, front=self.front)
+
+    @cached_property
+    def face_panel(self) -> np.ndarray:
+        return panel_labels(self.panels, self.garment.n_faces)
+
+    @cached_property
+    def vertex_panel(self) -> np.ndarray:
+        return vertex_labels(self.panels, len(self.garment.V2))
+
+    @cached_property
+    def seam_halfedges(self) -> np.ndarray:
+        return seam_halfedges(self.garment.F3, self.garment.F2)
+
+    @cached_property
+    def seams(self) -> list[Seam]:
+        return seams(self.garment.F3, self.garment.F2, self.face_panel)
+
+    @cached_property
+    def drape_boundary(self) -> tuple[list[np.ndarray], np.ndarray]:
+        g = self.garment
+        return boundary_curves(g.F3, V=g.V3, F2=g.F2)
+
+    @cached_property
+    def openings(self) -> list[Opening]:
+        g = self.garment
+        return openings(g.V3, g.F3, up=self.up, front=self.front, F2=g.F2)
+
+    def panel_loops(self, index: int) -> list[np.ndarray]:
+        """Boundary loops (pattern vertex indices) of panel ``index``.
+
+        Returns
+        -------
+        list of (k,) int arrays
+            ``boundary_loops(F2[panel.faces])``: longest first.
+        """
+        if index not in self._loops:
+            self._loops[index] = boundary_loops(self.garment.F2[self.panels[index].faces])
+        return self._loops[index]
+
+
+def structure(
+    garment: Garment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)
+) -> GarmentStructure:
+    """The derived structure of ``garment`` for the axes ``up``, ``front`` (cached).
+
+    Parameters
+    ----------
+    garment : Garment
+    up, front : 3-vectors
+        The wearer's axes.
+
+    Returns
+    -------
+    GarmentStructure
+        The same object for the same garment and axes.
+    """
+    key = (_axis(up), _axis(front))
+    cache = garment.cache
+    found = cache.get(key)
+    if found is None:
+        found = cache[key] = GarmentStructure(garment, up=key[0], front=key[1])
+    return found
