@@ -16,16 +16,15 @@ from ptailor.edits.achieved import edge_offsets
 from ptailor.edits.checks import choice, number
 from ptailor.edits.limits import check_by
 from ptailor.edits.opening import find_opening, opening_edges, opening_spec
-from ptailor.edits.registry import Param, register
-from ptailor.edits.state import EditOptions, EditState
-from ptailor.edits.surgery import (
+from ptailor.edits.pattern_distance import (
     PatternDistance,
-    SplitResult,
     edge_distance,
     opening_pattern_distance,
     refine_crossings,
-    split_keep,
 )
+from ptailor.edits.registry import Param, register
+from ptailor.edits.state import EditOptions, EditState
+from ptailor.edits.surgery import SplitResult, split_keep
 from ptailor.errors import PtailorError
 
 #: Where ``by`` is measured.

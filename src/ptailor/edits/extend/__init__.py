@@ -18,10 +18,10 @@ from ptailor.edits.extend.pattern import pattern_rows
 from ptailor.edits.extend.rows import face_normals, quad_rows
 from ptailor.edits.limits import check_by, check_new_triangles
 from ptailor.edits.opening import OpeningEdges, find_opening, opening_edges, opening_spec
+from ptailor.edits.pattern_distance import edge_distance
 from ptailor.edits.registry import Param, register
 from ptailor.edits.shorten import MEASURE_PARAM, pattern_amounts, spread_stats
 from ptailor.edits.state import EditOptions, EditState
-from ptailor.edits.surgery import edge_distance
 from ptailor.method.flatten import panel_labels
 from ptailor.model.garment import Garment, panels
 

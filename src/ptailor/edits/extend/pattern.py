@@ -8,8 +8,8 @@ import numpy as np
 from ptailor.edits.extend.chain import chain_order, nearest_fn, place_offset_chain
 from ptailor.edits.extend.rows import MAX_SMOOTHING, Rows, crossing_error, face_normals, quad_rows
 from ptailor.edits.opening import OpeningEdges
+from ptailor.edits.pattern_distance import PatternDistance
 from ptailor.edits.state import EditState
-from ptailor.edits.surgery import PatternDistance
 from ptailor.errors import PtailorError
 from ptailor.method.intrinsic import edge_matrices, inv2
 from ptailor.model.garment import signed_areas_2d

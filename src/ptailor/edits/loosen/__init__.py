@@ -1,0 +1,151 @@
+"""``loosen`` / ``tighten``: ease a region along its normals, or over-sketch a silhouette.
+
+Two forms of one step; both ops accept both, and in the silhouette form the op name is
+only the user's intent (the sketch decides whether the outline moves in or out)::
+
+    - {op: loosen, region: {panels: [front, back]}, by: 2}
+    - {op: tighten, view: front, silhouette: [[-22, 95], [-19, 80], [-21, 60]]}
+
+*Offset* (``region`` + ``by``): the region moves along its outward normals, smoothed so
+that wrinkles and folds ride along instead of folding over, by ``+by`` (loosen) or ``-by``
+(tighten), falling off smoothly to zero at its border with the rest of the garment, which
+stays where it is.
+
+*Silhouette* (``view`` + ``silhouette``): the garment's outline in the view is found row by
+row (the left and right extremes of each horizontal band of the image, per connected piece
+of the garment in the sketch's rows); outline points in the sketch's rows and near it move
+horizontally onto it, and each one's horizontal ring follows, scaled about its centre so a
+round cross-section stays round; the rest follows by as-rigid-as-possible deformation.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+
+from ptailor.edits.checks import number, region
+from ptailor.edits.cut import sketch_spec, view_frame, view_spec
+from ptailor.edits.loosen.normals import (
+    face_panels,
+    normal_smoother,
+    outward_normals,
+    panel_orientation,
+    turned_faces,
+)
+from ptailor.edits.loosen.offset import FALLOFF_BY, FALLOFF_EDGES, falloff_weights, offset_region
+from ptailor.edits.loosen.silhouette import ROW_EDGES, row_crossings, silhouette_targets
+from ptailor.edits.region import region_faces
+from ptailor.edits.registry import Param, register
+from ptailor.edits.state import EditOptions, EditState
+from ptailor.method.deform import arap_deform
+
+__all__ = [
+    "FALLOFF_BY",
+    "FALLOFF_EDGES",
+    "falloff_weights",
+    "loosen",
+    "normal_smoother",
+    "outward_normals",
+    "panel_orientation",
+    "row_crossings",
+    "turned_faces",
+]
+
+
+def view_name(view: Any) -> str:
+    """A view as the user wrote it: ``front`` or ``[x, y, z]``."""
+    return view if isinstance(view, str) else "[" + ", ".join(f"{float(x):g}" for x in view) + "]"
+
+
+def one_form(step: dict, where: str) -> list[str]:
+    """Exactly one of ``by`` (with ``region``) or ``silhouette`` (with ``view``)."""
+    op = step["op"]
+    has_by, has_sketch = step.get("by") is not None, step.get("silhouette") is not None
+    if has_by == has_sketch:
+        return [
+            f"{where}: {op} needs exactly one of 'by' (with 'region') or 'silhouette' (with 'view')"
+        ]
+    if has_by and step.get("view") is not None:
+        return [f"{where}: 'view' goes with 'silhouette', not with 'by'"]
+    if has_sketch and step.get("region") is not None:
+        return [f"{where}: 'region' goes with 'by', not with 'silhouette'"]
+    return []
+
+
+PARAMS = {
+    "region": Param(region, doc="all | {panels: [...]} | {box: {min, max}} (with by; default all)"),
+    "by": Param(number(gt=0.0), doc="offset along the surface normals, recipe units"),
+    "view": Param(
+        view_spec, doc="front | back | left | right | top | bottom | [x, y, z] (default front)"
+    ),
+    "silhouette": Param(
+        sketch_spec, doc="over-sketched outline [[u, v], ...] in the view's image plane"
+    ),
+}
+
+
+def moved_panels_uneven(state: EditState, V_new: np.ndarray) -> np.ndarray:
+    """``state.even`` with every panel whose drape vertices moved set to False."""
+    changed = np.any(V_new != state.V3, axis=1)
+    moved = np.zeros(len(state.panels), dtype=bool)
+    fp = face_panels(state.base.F3, state.panels)
+    hit = changed[state.base.F3].any(axis=1)
+    moved[np.unique(fp[hit & (fp >= 0)])] = True
+    return state.even & ~moved
+
+
+def loosen(state: EditState, step: dict, *, options: EditOptions) -> EditState:
+    """Loosen or tighten: offset a region along its normals, or over-sketch a silhouette.
+
+    Offset form: see :func:`offset_region` (``+by`` for loosen, ``-by`` for tighten).
+    Silhouette form: see :func:`silhouette_targets`; the rest of the drape follows by
+    :func:`ptailor.method.deform.arap_deform` with the moved rings as handles. Every panel
+    whose drape moved loses ``even`` (its outline is free when flattened).
+    """
+    g, V3 = state.base, state.V3
+    if step.get("by") is not None:
+        faces = region_faces(step.get("region") or "all", g, V3, state.panels)
+        by = float(step["by"]) * (1.0 if step["op"] == "loosen" else -1.0)
+        V_new, sigma = offset_region(V3, g.F3, g.F2, state.panels, faces, by=by, up=options.up)
+        rec = {
+            "op": step["op"],
+            "by": float(step["by"]),
+            "triangles": int(faces.size),
+            "smoothing": round(sigma, 6),
+        }
+    else:
+        view = step.get("view") or "front"
+        frame = view_frame(view, up=options.up, front=options.front)
+        X = V3 @ frame.T
+        T = g.F3
+        h = float(np.linalg.norm(V3[T] - V3[np.roll(T, -1, axis=1)], axis=2).mean())
+        handles, targets, change = silhouette_targets(
+            X,
+            T,
+            np.asarray(step["silhouette"], float),
+            row=ROW_EDGES * h,
+            view_name=view_name(view),
+        )
+        moved = targets @ frame
+        used = np.unique(T)
+        if handles.size == used.size and np.array_equal(handles, used):
+            V_new = V3.copy()
+            V_new[handles] = moved
+        else:
+            V_new = arap_deform(V3, T, handles, moved)
+        rec = {
+            "op": step["op"],
+            "view": view,
+            "outline_points": int(change.size),
+            "handles": int(handles.size),
+            "change_mean": round(float(change.mean()), 6),
+            "change_max": round(float(change[np.argmax(np.abs(change))]), 6),
+        }
+    even = moved_panels_uneven(state, V_new)
+    return replace(state, V3=V_new, even=even, log=(*state.log, rec))
+
+
+register("loosen", PARAMS, check=one_form)(loosen)
+register("tighten", PARAMS, check=one_form)(loosen)
