@@ -24,12 +24,25 @@ from ptailor.model.seams import edge_keys
 def outer_loop(F2: np.ndarray, faces: np.ndarray, V2: np.ndarray) -> np.ndarray:
     """The panel's outer boundary loop (largest enclosed area), counter-clockwise.
 
+    Parameters
+    ----------
+    F2 : (m, 3) int array
+        The pattern's triangles.
+    faces : (j,) int array
+        The panel's triangles (rows of ``F2``).
+    V2 : (n, 2) float array
+        The pattern's vertices, which decide which loop is outermost.
+
     Returns
     -------
     (k,) int array
         Vertex indices into ``V2``.
     """
-    loops = boundary_loops(F2[faces])
+    return _outermost(boundary_loops(F2[faces]), V2)
+
+
+def _outermost(loops: list[np.ndarray], V2: np.ndarray) -> np.ndarray:
+    """The loop enclosing the largest area, counter-clockwise (empty when there is none)."""
     if not loops:
         return np.zeros(0, dtype=np.int64)
     areas = np.array([signed_area(V2[lp]) for lp in loops])  # a loop over loops, not vertices
@@ -75,11 +88,16 @@ def grain_directions(
     Parameters
     ----------
     V2 : (n2, 2) float array
+        The pattern.
     F2 : (m, 3) int array
+        Its triangles.
     V3 : (n3, 3) float array
+        The drape.
     F3 : (m, 3) int array
+        Its triangles, row for row the same cloth as ``F2``.
     panel_list : list of Panel
     up : (3,) sequence of float
+        The body's up axis.
 
     Returns
     -------
@@ -162,7 +180,7 @@ def mesh_pieces(
     areas = signed_areas_2d(V2, F2)
     for p in panel_list:  # a loop over panels
         loops = boundary_loops(F2[p.faces])
-        outer = outer_loop(F2, p.faces, V2)
+        outer = _outermost(loops, V2)
         P = V2[outer]
         turn = corners(P)
         ek = edge_keys(np.stack([outer, np.roll(outer, -1)], axis=1), n=n_v)

@@ -323,6 +323,7 @@ def more_instances(
     """
     used = {m.panel for m in matches}
     out: list[PieceMatch] = []
+    outlines: dict[int, _Outline] = {}  # a panel's outline is made once, on first use
     for i, pc in enumerate(pieces):  # a loop over pieces
         if pc.quantity < 2:
             continue
@@ -332,7 +333,9 @@ def more_instances(
         po = _Outline.of(piece_curve(pc))
         fits = []
         for p in free:  # a loop over the panels left
-            fit = _shape_match(po, _Outline.of(V2[outer_loop(F2, p.faces, V2)]), allowance)
+            if p.index not in outlines:
+                outlines[p.index] = _Outline.of(V2[outer_loop(F2, p.faces, V2)])
+            fit = _shape_match(po, outlines[p.index], allowance)
             if fit is not None:
                 R, t, res = fit
                 fits.append((res, p.index, R, t))
