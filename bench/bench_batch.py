@@ -12,8 +12,8 @@ warm-up, dispatch, result collection, idle workers at the end):
 
 - **against in-worker time**: ``overhead = 1 - sum(record seconds) / (wall x workers)``,
   where a record's ``seconds`` is the whole job in its worker (hashing, stamp check and
-  ``run_adjust``);
-- **against in-process time** (unless ``--no-reference``): ``run_adjust`` on every garment
+  ``run_garment``);
+- **against in-process time** (unless ``--no-reference``): ``run_garment`` on every garment
   one after the other in one process (imports paid before timing, one BLAS thread like a
   worker), ``overhead = 1 - (sum / workers) / wall``. This one also counts the slowdown of
   two adjustments sharing the machine (memory bandwidth, caches), not the machinery's;
@@ -45,20 +45,20 @@ from ptailor.formats.obj import write_garment
 from ptailor.samples import sample_for_triangles
 
 RECIPE = "steps: [{op: scale, region: all, direction: around, axis: auto, factor: 1.2}]\n"
-#: in a subprocess (one BLAS thread, like a worker): run_adjust on every garment in turn,
+#: in a subprocess (one BLAS thread, like a worker): run_garment on every garment in turn,
 #: after one untimed run (imports, first calls); prints [wall seconds, CPU seconds]
 REFERENCE = """
 import json, sys, time
 from pathlib import Path
-from ptailor.job import run_adjust
+from ptailor.run.garment import run_garment
 from ptailor.recipe import load_recipe
 recipe, cat, out, n = sys.argv[1], Path(sys.argv[2]), Path(sys.argv[3]), int(sys.argv[4])
 rec = load_recipe(recipe)
-run_adjust(str(cat / "g000.obj"), rec, out / "warm")
+run_garment(str(cat / "g000.obj"), rec, out / "warm")
 wall = cpu = 0.0
 for k in range(n):
     t0, c0 = time.perf_counter(), time.process_time()
-    run_adjust(str(cat / f"g{k:03d}.obj"), rec, out / f"g{k:03d}")
+    run_garment(str(cat / f"g{k:03d}.obj"), rec, out / f"g{k:03d}")
     wall += time.perf_counter() - t0
     cpu += time.process_time() - c0
 print(json.dumps([wall, cpu]))
@@ -178,7 +178,7 @@ def main() -> None:
             over_ref = 1.0 - ideal / wall
             flag = "ok" if over_ref < 0.10 else "OVER 10 %"
             print(
-                f"in-process run_adjust, one after the other: {t_ref:.1f} s "
+                f"in-process run_garment, one after the other: {t_ref:.1f} s "
                 f"({t_ref / n:.3f} s per garment); / {args.jobs} workers = {ideal:.1f} s"
             )
             print(
@@ -187,7 +187,7 @@ def main() -> None:
             )
             over_cpu = 1.0 - cpu_ref / cpu_batch
             print(
-                f"CPU time: batch (all its processes) {cpu_batch:.1f} s, in-process run_adjust "
+                f"CPU time: batch (all its processes) {cpu_batch:.1f} s, in-process run_garment "
                 f"{cpu_ref:.1f} s: machinery {100 * over_cpu:.1f} % of the batch's CPU time"
             )
             result.update(

@@ -20,12 +20,12 @@ import tempfile
 from pathlib import Path
 from types import SimpleNamespace
 
-from ptailor.job import OutputContext, output_dxf, output_png, output_svg
 from ptailor.model.garment import panels
 from ptailor.pieces import adjusted_pieces, piece_plan
 from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
 from ptailor.report.build import triangle_errors
+from ptailor.run.outputs import OutputContext, output_dxf, output_png, output_svg
 from ptailor.samples import sample_for_triangles
 from timing import median_time
 

@@ -3,7 +3,7 @@
 Each case draws a small garment and a recipe of one or two steps with extreme parameters
 (factors from subnormal to 1e300, axes with huge, tiny or zero components, ``by`` from
 1e-12 to 1e300, extreme flatten weights and ``max_iter``, regions selecting nothing or
-everything), then runs ``ptailor.job.run_adjust`` in-process. Half the cases go through
+everything), then runs ``ptailor.run.garment.run_garment`` in-process. Half the cases go through
 the recipe validator (the real path); the other half ("raw") skip it, so that the method
 and the edits themselves are fuzzed past the validator's bounds.
 
@@ -307,7 +307,7 @@ def run_case(case: dict, files: dict[str, Path], work: Path, *, formats=None, ti
     (exit 2 left output behind) or ``timeout``.
     """
     from ptailor.errors import PtailorError
-    from ptailor.job import FORMATS, run_adjust
+    from ptailor.run import FORMATS, RunOptions, run_garment
 
     out = work / "out"
     if out.exists():
@@ -326,13 +326,10 @@ def run_case(case: dict, files: dict[str, Path], work: Path, *, formats=None, ti
     escaped = caught.__enter__()
     warnings.simplefilter("always")
     try:
-        report = run_adjust(
-            str(files[case["garment"]]),
-            recipe,
-            out,
-            formats=tuple(formats or FORMATS),
-            seam_allowance=case["seam_allowance"],
+        options = RunOptions(
+            formats=tuple(formats or FORMATS), seam_allowance=case["seam_allowance"]
         )
+        report = run_garment(str(files[case["garment"]]), recipe, out, options=options)
     except PtailorError as exc:
         if out.exists():
             return "left", str(exc)

@@ -81,16 +81,16 @@ def test_batch_isolates_a_broken_garment_and_records_in_input_order(tmp_path, re
 
 
 def test_an_internal_error_is_one_garments_failure(tmp_path, recipe, catalogue, monkeypatch):
-    import ptailor.job
+    import ptailor.run.garment
 
-    real = ptailor.job.run_adjust
+    real = ptailor.run.garment.run_garment
 
     def flaky(path, *args, **kw):
         if "b_tube" in path:
             raise ZeroDivisionError("boom")
         return real(path, *args, **kw)
 
-    monkeypatch.setattr(ptailor.job, "run_adjust", flaky)
+    monkeypatch.setattr(ptailor.run.garment, "run_garment", flaky)
     out = tmp_path / "out"
     r = run("batch", recipe, catalogue / "[ab]_*.obj", "-o", out, "-j", "1", "--json", *FAST)
     assert r.exit_code == 1
@@ -103,25 +103,26 @@ def test_an_internal_error_is_one_garments_failure(tmp_path, recipe, catalogue, 
 
 @pytest.mark.skipif(
     __import__("multiprocessing").get_start_method() != "fork",
-    reason="the patched run_adjust reaches the workers only when they are forked",
+    reason="the patched run_garment reaches the workers only when they are forked",
 )
 def test_a_garment_that_kills_its_worker_fails_alone(tmp_path, catalogue, monkeypatch):
-    import ptailor.job
+    import ptailor.run.garment
     from ptailor.recipe import parse_recipe
+    from ptailor.run import RunOptions
 
     (catalogue / "c_bad.obj").unlink()
-    real = ptailor.job.run_adjust
+    real = ptailor.run.garment.run_garment
 
     def deadly(path, *args, **kw):  # a crash in a native library, the OOM killer
         if "b_tube" in path:
             os.kill(os.getpid(), signal.SIGKILL)
         return real(path, *args, **kw)
 
-    monkeypatch.setattr(ptailor.job, "run_adjust", deadly)
+    monkeypatch.setattr(ptailor.run.garment, "run_garment", deadly)
     out = tmp_path / "out"
     paths = sorted(str(p) for p in catalogue.glob("*.obj"))
-    opts = {"formats": ("obj",), "baseline": False}
-    jobs = pb.make_jobs(paths, out, parse_recipe(WIDER), adjust_options=opts)
+    opts = RunOptions(formats=("obj",), baseline=False)
+    jobs = pb.make_jobs(paths, out, parse_recipe(WIDER), options=opts)
     res = pb.run_batch(jobs, workers=2)
     assert [r["status"] for r in res.records] == ["ok", "failed", "ok", "ok"]
     assert "worker process died" in res.records[1]["reason"]
@@ -273,6 +274,28 @@ def test_quality_gates(tmp_path, recipe, catalogue):
     assert r.exit_code == 1
     assert all("boundary deviation" in x["reason"] for x in records(log))
     assert visible(out) == ["a_sleeve", "b_tube"]
+
+
+def test_gates_read_the_report_strictly():
+    """A renamed or missing field fails the gates that read it, never passes them silently."""
+    panel = {"name": "p", "area_before": 1.0, "area_after": 1.0, "flipped_triangles": 0}
+    report = {"units": "cm", "panels": [panel], "seams": []}
+    gates = pb.Gates(max_area_change=0.5, max_boundary_deviation=1.0, fail_on_flips=True)
+    assert pb.gate_failures(report, gates) == [
+        "report: no panel has boundary_deviation (a gate cannot pass without it)"
+    ]
+    renamed = {**report, "panels": [{**panel, "flips": 0}]}
+    del renamed["panels"][0]["flipped_triangles"]
+    assert pb.gate_failures(renamed, pb.Gates(fail_on_flips=True)) == [
+        "report: no panel has flipped_triangles (a gate cannot pass without it)"
+    ]
+    assert pb.gate_failures({"units": "cm", "seams": []}, pb.Gates(max_area_change=0.5)) == [
+        "report: no panels list (a gate cannot pass without it)"
+    ]
+    assert pb.gate_failures({"panels": []}, pb.Gates(max_seam_mismatch=0.1)) == [
+        "report: no seams list (a gate cannot pass without it)"
+    ]
+    assert pb.gate_failures({}, pb.Gates()) == []  # no gate set: nothing read
 
 
 def test_gate_failures_reads_the_report_fields():

@@ -145,6 +145,37 @@ def test_demo(runner, tmp_path):
 # ---- bad input: exit 2, one line naming the file, no output folder ------------------------
 
 
+def _named_samples() -> dict[str, str]:
+    """Bundled recipe -> the sample its ``# sample: NAME`` line names (lantern_sleeve when none)."""
+    from importlib import resources
+
+    out = {}
+    for p in (resources.files("ptailor") / "recipes").iterdir():
+        if p.name.endswith(".yaml"):
+            lines = [ln for ln in p.read_text().splitlines() if ln.startswith("# sample:")]
+            out[p.name[:-5]] = lines[0].split(":", 1)[1].strip() if lines else "lantern_sleeve"
+    return out
+
+
+def test_demo_offers_every_sample_and_every_sample_a_recipe_names():
+    from ptailor.demo import DEFAULT_RECIPES, SAMPLE_NAMES, bundled_recipe
+    from ptailor.samples import SAMPLES
+
+    assert set(SAMPLE_NAMES) == set(SAMPLES)
+    assert set(_named_samples().values()) <= set(SAMPLE_NAMES)
+    for sample, name in DEFAULT_RECIPES.items():  # each default is bundled and meant for it
+        assert bundled_recipe(name)
+        assert _named_samples()[name] in (sample, "lantern_sleeve")
+
+
+def test_demo_runs_a_bundled_recipe_on_the_sample_it_names(runner, tmp_path):
+    out = tmp_path / "bodice"
+    r = run(runner, "demo", out, "--sample", "bodice")
+    assert r.exit_code == 0, r.output
+    assert "sample: bodice, recipe: recipes/loosen-waist.yaml" in r.output
+    assert (out / "report.json").is_file()
+
+
 def obj_with(tmp_path, text, name="bad.obj"):
     p = tmp_path / name
     p.write_text(text)
@@ -235,12 +266,12 @@ def test_refuses_output_over_input_or_foreign_folder(runner, sleeve, recipe, tmp
 
 
 def test_failure_midway_leaves_no_partial_output(runner, sleeve, recipe, tmp_path, monkeypatch):
-    import ptailor.job
+    import ptailor.run.garment
 
     def boom(*a, **k):
         raise RuntimeError("disk full")
 
-    monkeypatch.setattr(ptailor.job, "write_outputs", boom)
+    monkeypatch.setattr(ptailor.run.garment, "write_outputs", boom)
     with pytest.raises(RuntimeError):
         runner.invoke(
             cli,

@@ -251,13 +251,13 @@ def test_a_read_only_parent_is_one_line(tmp_path, garment, recipe):
 def test_an_os_error_while_writing_names_the_output_not_the_staging(
     tmp_path, garment, recipe, monkeypatch
 ):
-    import ptailor.job
+    import ptailor.run.garment
 
     def full(tmp, *a, **k):
         (tmp / "garment.obj").write_text("partial")
         raise OSError(28, "No space left on device", str(tmp / "garment.obj"))
 
-    monkeypatch.setattr(ptailor.job, "write_outputs", full)
+    monkeypatch.setattr(ptailor.run.garment, "write_outputs", full)
     out = tmp_path / "out"
     line = error_line(adjust(garment, recipe, out))
     assert str(out) in line and "No space left on device" in line
@@ -283,16 +283,16 @@ def _umask() -> int:
 
 
 def test_library_warnings_go_to_the_report_not_the_terminal(tmp_path, garment, recipe, monkeypatch):
-    import ptailor.job
+    import ptailor.run.garment
 
-    real = ptailor.job.write_outputs
+    real = ptailor.run.garment.write_outputs
 
     def noisy(*a, **k):
         warnings.warn("invalid value encountered in divide", RuntimeWarning, stacklevel=1)
         logging.getLogger("ezdxf").warning("recover mode: fixed 3 entities")
         return real(*a, **k)
 
-    monkeypatch.setattr(ptailor.job, "write_outputs", noisy)
+    monkeypatch.setattr(ptailor.run.garment, "write_outputs", noisy)
     out = tmp_path / "out"
     r = adjust(garment, recipe, out)
     assert r.exit_code == 0 and r.stderr == ""
@@ -302,7 +302,7 @@ def test_library_warnings_go_to_the_report_not_the_terminal(tmp_path, garment, r
 
 
 def test_library_warnings_never_come_before_the_error_line(tmp_path, garment, recipe, monkeypatch):
-    import ptailor.job
+    import ptailor.run.garment
     from ptailor.errors import PtailorError
 
     def fails(*a, **k):
@@ -310,7 +310,7 @@ def test_library_warnings_never_come_before_the_error_line(tmp_path, garment, re
         logging.getLogger("ezdxf").error("DXF structure error")
         raise PtailorError("bad\npiece", path=str(garment))
 
-    monkeypatch.setattr(ptailor.job, "write_outputs", fails)
+    monkeypatch.setattr(ptailor.run.garment, "write_outputs", fails)
     line = error_line(adjust(garment, recipe, tmp_path / "out"))
     assert line == f"ptailor: error: {garment}: bad piece"
 
@@ -420,15 +420,16 @@ def test_batch_timeout_with_a_scheduler_is_refused(tmp_path, garment, recipe):
 
 @pytest.mark.skipif(
     __import__("multiprocessing").get_start_method() != "fork",
-    reason="the patched run_adjust reaches the workers only when they are forked",
+    reason="the patched run_garment reaches the workers only when they are forked",
 )
 def test_a_garment_stuck_past_its_timeout_has_its_worker_killed(tmp_path, monkeypatch):
-    import ptailor.job
+    import ptailor.run.garment
     from ptailor.recipe import parse_recipe
+    from ptailor.run import RunOptions
 
     for name in ("a", "b", "c"):
         write_garment(tmp_path / f"{name}.obj", lantern_sleeve(n_around=8, n_sleeve=3))
-    real = ptailor.job.run_adjust
+    real = ptailor.run.garment.run_garment
 
     def stuck(path, *args, **kw):  # deaf to signals, as native code can be
         if path.endswith("b.obj"):
@@ -438,12 +439,12 @@ def test_a_garment_stuck_past_its_timeout_has_its_worker_killed(tmp_path, monkey
                     time.sleep(0.05)
         return real(path, *args, **kw)
 
-    monkeypatch.setattr(ptailor.job, "run_adjust", stuck)
-    monkeypatch.setattr(pb, "TIMEOUT_GRACE_S", 0.5)
+    monkeypatch.setattr(ptailor.run.garment, "run_garment", stuck)
+    monkeypatch.setattr(pb.jobs, "TIMEOUT_GRACE_S", 0.5)
     out = tmp_path / "out"
     paths = [str(tmp_path / f"{n}.obj") for n in "abc"]
-    opts = {"formats": ("obj",), "baseline": False}
-    jobs = pb.make_jobs(paths, out, parse_recipe(WIDER), adjust_options=opts, timeout=1.0)
+    opts = RunOptions(formats=("obj",), baseline=False)
+    jobs = pb.make_jobs(paths, out, parse_recipe(WIDER), options=opts, timeout=1.0)
     t0 = time.monotonic()
     res = pb.run_batch(jobs, workers=2)
     assert time.monotonic() - t0 < 50

@@ -1,14 +1,24 @@
-"""The demo's generated garments and bundled recipes."""
+"""The demo's generated garments and bundled recipes.
+
+Light on purpose (no numpy at import): ``ptailor demo --sample`` takes its choices from
+:data:`DEFAULT_RECIPES`, which names every generated sample of :data:`ptailor.samples.SAMPLES`
+(a test holds the two equal) with the bundled recipe the demo runs on it by default.
+"""
 
 from __future__ import annotations
 
 from importlib import resources
 
+#: sample -> its default bundled recipe (``recipes/NAME.yaml``); the keys are the samples
+#: ``ptailor demo --sample`` offers, in the order it lists them
 DEFAULT_RECIPES = {
     "lantern_sleeve": "wider-sleeves",
     "cone_skirt": "fuller-skirt",
     "cylinder": "wider-sleeves",
+    "bodice": "loosen-waist",
 }
+#: the samples ``ptailor demo --sample`` offers
+SAMPLE_NAMES = tuple(DEFAULT_RECIPES)
 
 
 def bundled_recipe(name: str) -> str:

@@ -62,6 +62,30 @@ def staging_pattern(name: str) -> re.Pattern:
     return re.compile(f"^\\.{s}\\.(old-\\.{s}\\.)?[a-z0-9_]{{8}}\\.tmp$")
 
 
+def remove_staging(out: str | Path) -> list[str]:
+    """Remove the staging folders a killed writer of ``out`` left beside it.
+
+    ``.NAME.XXXXXXXX.tmp`` (being written, :func:`staged_dir`) is removed;
+    ``.NAME.old-...tmp`` (the previous output, moved aside for the replacement) is moved back
+    when ``out`` is missing, else removed. Returns the names handled.
+    """
+    out = Path(out)
+    if not out.parent.is_dir():
+        return []
+    pat = staging_pattern(out.name)
+    handled = []
+    for p in sorted(out.parent.iterdir()):
+        m = pat.match(p.name)
+        if not m or not p.is_dir():
+            continue
+        if m.group(1) and not out.exists():
+            p.rename(out)
+        else:
+            shutil.rmtree(p, ignore_errors=True)
+        handled.append(p.name)
+    return handled
+
+
 _ANY_STAGING = re.compile(r"(?:^|(?<=/))\.([^/]+?)\.(?:old-\.[^/]+?\.)?[a-z0-9_]{8}\.tmp(?=/|$)")
 
 

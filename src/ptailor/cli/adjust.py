@@ -69,37 +69,33 @@ def adjust(
     import json
     from pathlib import Path
 
-    from ptailor.cli.options import parse_output_options, parse_weld_option
-    from ptailor.job import run_adjust
+    from ptailor.cli.options import run_options
     from ptailor.output import check_output_dir
     from ptailor.recipe import load_recipe
     from ptailor.report.build import summary_lines
+    from ptailor.run.garment import run_garment
 
     # every input (the recipe too) is checked against the output folder before any is read
     check_output_dir(out, [garment, recipe, drape, body])
     rec = load_recipe(recipe)
-    fmts, allowance = parse_output_options(formats, seam_allowance, units=rec.units)
-    parse_weld_option(weld, units=rec.units)
-    report = run_adjust(
-        garment,
+    options = run_options(
         rec,
-        out,
-        drape=drape,
+        formats=formats,
+        seam_allowance=seam_allowance,
+        weld=weld,
         pattern_units=pattern_units,
         drape_units=drape_units,
-        weld=weld,
         method=method,
         intrinsic=intrinsic,
         baseline=not no_baseline,
-        formats=fmts,
         up=up,
         front=front,
         body=body,
         body_units=body_units,
         size=size,
         dxf_units=dxf_units,
-        seam_allowance=allowance,
     )
+    report = run_garment(garment, rec, out, options=options, drape=drape)
     if as_json:
         click.echo(json.dumps(report, indent=2))
     elif not quiet:

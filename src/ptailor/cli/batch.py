@@ -4,11 +4,55 @@ from __future__ import annotations
 
 import click
 
-from ptailor.cli.options import UNIT_HELP, axes_options, dxf_options, output_options, weld_option
+from ptailor.cli.options import axes_options, dxf_options, output_options, units_options
 
 
 def _interrupt(signum, frame) -> None:
     raise KeyboardInterrupt
+
+
+def gate_options(fn):
+    """The quality gates: ``--max-area-change`` ... ``--fail-on-flips``."""
+    for opt in reversed(
+        [
+            click.option(
+                "--max-area-change",
+                type=click.FloatRange(min=0),
+                default=None,
+                metavar="F",
+                help="Gate: fail a garment with a panel whose |area after / before - 1| exceeds F "
+                "(a fraction: 0.05 = 5 %).",
+            ),
+            click.option(
+                "--max-boundary-deviation",
+                type=click.FloatRange(min=0),
+                default=None,
+                metavar="D",
+                help="Gate: fail a garment with a panel whose outline deviation (report's "
+                "boundary_deviation, recipe units) exceeds D.",
+            ),
+            click.option(
+                "--max-intrinsic-error",
+                type=click.FloatRange(min=0),
+                default=None,
+                metavar="E",
+                help="Gate: fail a garment with a panel whose intrinsic-scale error p95 exceeds E.",
+            ),
+            click.option(
+                "--max-seam-mismatch",
+                type=click.FloatRange(min=0),
+                default=None,
+                metavar="D",
+                help="Gate: fail a garment with a seam whose two sides miss their target "
+                "length ratio by more than D (report's seams[].mismatch, recipe units).",
+            ),
+            click.option(
+                "--fail-on-flips", is_flag=True, help="Gate: fail a garment with flipped triangles."
+            ),
+        ]
+    ):
+        fn = opt(fn)
+    return fn
 
 
 @click.command()
@@ -21,17 +65,7 @@ def _interrupt(signum, frame) -> None:
     type=click.Path(file_okay=False),
     help="Output root: one folder per garment, named after its file.",
 )
-@click.option(
-    "--pattern-units",
-    default="cm",
-    show_default=True,
-    help=f"Unit of the pattern coordinates: {UNIT_HELP}, or auto (a [0,1] atlas, scale "
-    "estimated from the drape).",
-)
-@click.option(
-    "--drape-units", default="cm", show_default=True, help=f"Unit of the drape: {UNIT_HELP}."
-)
-@weld_option
+@units_options
 @axes_options
 @click.option("--no-baseline", is_flag=True, help="Skip the uniform-flattening comparison.")
 @output_options
@@ -68,38 +102,7 @@ def _interrupt(signum, frame) -> None:
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON records on stdout.")
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar and no summary (failures only).")
-@click.option(
-    "--max-area-change",
-    type=click.FloatRange(min=0),
-    default=None,
-    metavar="F",
-    help="Gate: fail a garment with a panel whose |area after / before - 1| exceeds F "
-    "(a fraction: 0.05 = 5 %).",
-)
-@click.option(
-    "--max-boundary-deviation",
-    type=click.FloatRange(min=0),
-    default=None,
-    metavar="D",
-    help="Gate: fail a garment with a panel whose outline deviation (report's "
-    "boundary_deviation, recipe units) exceeds D.",
-)
-@click.option(
-    "--max-intrinsic-error",
-    type=click.FloatRange(min=0),
-    default=None,
-    metavar="E",
-    help="Gate: fail a garment with a panel whose intrinsic-scale error p95 exceeds E.",
-)
-@click.option(
-    "--max-seam-mismatch",
-    type=click.FloatRange(min=0),
-    default=None,
-    metavar="D",
-    help="Gate: fail a garment with a seam whose two sides miss their target length ratio "
-    "by more than D (report's seams[].mismatch, recipe units).",
-)
-@click.option("--fail-on-flips", is_flag=True, help="Gate: fail a garment with flipped triangles.")
+@gate_options
 @click.pass_context
 def batch(
     ctx,
@@ -145,9 +148,7 @@ def batch(
     arguments, 130 interrupted by Ctrl-C or SIGTERM (complete folders are kept: run again
     to finish).
     """
-    import contextlib
     import os
-    import signal
     import sys
 
     workers = jobs or os.cpu_count() or 1
@@ -157,9 +158,8 @@ def batch(
         for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
             os.environ.setdefault(var, "1")
 
-    from ptailor.batch import Gates, expand_garments, make_jobs, record_line, run_batch
-    from ptailor.batch import summary_lines as batch_summary
-    from ptailor.cli.options import parse_output_options, parse_weld_option
+    from ptailor.batch import Gates, expand_garments, make_jobs
+    from ptailor.cli.options import run_options
     from ptailor.errors import PtailorError
     from ptailor.formats.garment import parse_units
     from ptailor.recipe import load_recipe
@@ -172,8 +172,19 @@ def batch(
     if pattern_units != "auto":
         parse_units(pattern_units, what="--pattern-units")
     parse_units(drape_units, what="--drape-units")
-    fmts, allowance = parse_output_options(formats, seam_allowance, units=rec.units)
-    parse_weld_option(weld, units=rec.units)
+    options = run_options(
+        rec,
+        formats=formats,
+        seam_allowance=seam_allowance,
+        weld=weld,
+        pattern_units=pattern_units,
+        drape_units=drape_units,
+        up=up,
+        front=front,
+        baseline=not no_baseline,
+        size=size,
+        dxf_units=dxf_units,
+    )
     paths = expand_garments(
         garments,
         stdin=sys.stdin,
@@ -182,32 +193,29 @@ def batch(
     )
     if not paths:
         raise PtailorError(f"no garments: {' '.join(garments)} matched no files")
-    todo = make_jobs(
-        paths,
-        out,
-        rec,
-        adjust_options={
-            "pattern_units": pattern_units,
-            "drape_units": drape_units,
-            "weld": weld,
-            "up": up,
-            "front": front,
-            "baseline": not no_baseline,
-            "formats": fmts,
-            "seam_allowance": allowance,
-            "size": size,
-            "dxf_units": dxf_units,
-        },
-        gates=Gates(
-            max_area_change=max_area_change,
-            max_boundary_deviation=max_boundary_deviation,
-            max_intrinsic_error=max_intrinsic_error,
-            max_seam_mismatch=max_seam_mismatch,
-            fail_on_flips=fail_on_flips,
-        ),
-        force=force,
-        timeout=timeout,
+    gates = Gates(
+        max_area_change=max_area_change,
+        max_boundary_deviation=max_boundary_deviation,
+        max_intrinsic_error=max_intrinsic_error,
+        max_seam_mismatch=max_seam_mismatch,
+        fail_on_flips=fail_on_flips,
     )
+    todo = make_jobs(paths, out, rec, options=options, gates=gates, force=force, timeout=timeout)
+    bar = not quiet and sys.stderr.isatty()
+    result = _run(todo, workers=workers, scheduler=scheduler, log=log, as_json=as_json, bar=bar)
+    _summary(result, len(todo), quiet=quiet)
+    ctx.exit(result.exit_status)
+
+
+def _run(todo, *, workers: int, scheduler, log, as_json: bool, bar: bool):
+    """Run the jobs: records to the log and stdout, a progress bar, SIGTERM as Ctrl-C."""
+    import contextlib
+    import signal
+    import sys
+
+    from ptailor.batch import record_line, run_batch
+    from ptailor.errors import PtailorError
+
     old_term = None
     try:
         logf = open(log, "w") if log else None  # noqa: SIM115 - closed below
@@ -223,37 +231,40 @@ def batch(
             if as_json:
                 click.echo(line)
 
-        show_bar = not quiet and sys.stderr.isatty()
         with contextlib.suppress(ValueError):  # (only the main thread can)
             old_term = signal.signal(signal.SIGTERM, _interrupt)  # SIGTERM is Ctrl-C too
-        if show_bar:
-            with click.progressbar(
-                length=len(todo), label="adjusting", file=sys.stderr, show_pos=True
-            ) as bar:
-                result = run_batch(
-                    todo,
-                    workers=workers,
-                    scheduler=scheduler,
-                    on_record=on_record,
-                    on_done=lambda r: bar.update(1),
-                )
-        else:
-            result = run_batch(todo, workers=workers, scheduler=scheduler, on_record=on_record)
+        if not bar:
+            return run_batch(todo, workers=workers, scheduler=scheduler, on_record=on_record)
+        with click.progressbar(
+            length=len(todo), label="adjusting", file=sys.stderr, show_pos=True
+        ) as progress:
+            return run_batch(
+                todo,
+                workers=workers,
+                scheduler=scheduler,
+                on_record=on_record,
+                on_done=lambda r: progress.update(1),
+            )
     finally:
         if old_term is not None:
             signal.signal(signal.SIGTERM, old_term)
         if logf is not None:
             logf.close()
-    lines = batch_summary(result)
+
+
+def _summary(result, n: int, *, quiet: bool) -> None:
+    """The end-of-batch table on stderr (the failures only with ``quiet``)."""
+    from ptailor.batch import summary_lines
+
+    lines = summary_lines(result)
     if quiet:
         lines = [ln for ln in lines if ln.startswith("  ")]
     for line in lines:
         click.echo(line, err=True)
     if result.interrupted:
-        done = len(todo) - result.count("interrupted")
+        done = n - result.count("interrupted")
         click.echo(
-            f"ptailor: interrupted: {done} of {len(todo)} garments done, their folders complete;"
+            f"ptailor: interrupted: {done} of {n} garments done, their folders complete;"
             " run the same command again to finish the rest",
             err=True,
         )
-    ctx.exit(result.exit_status)

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import click
 
+from ptailor.demo import SAMPLE_NAMES
+
 
 @click.command()
 @click.argument("out", type=click.Path(file_okay=False))
@@ -11,7 +13,7 @@ import click
     "--sample",
     default="lantern_sleeve",
     show_default=True,
-    type=click.Choice(["lantern_sleeve", "cone_skirt", "cylinder"]),
+    type=click.Choice(SAMPLE_NAMES),
     help="Which generated garment to use.",
 )
 @click.option(
@@ -29,9 +31,9 @@ def demo(out, sample, recipe_name) -> None:
     from pathlib import Path
 
     from ptailor.demo import DEFAULT_RECIPES, bundled_recipe, sample_obj_text
-    from ptailor.job import run_adjust
     from ptailor.recipe import parse_recipe
     from ptailor.report.build import summary_lines
+    from ptailor.run.garment import run_garment
 
     rname = recipe_name or DEFAULT_RECIPES[sample]
     rtext = bundled_recipe(rname)
@@ -40,7 +42,7 @@ def demo(out, sample, recipe_name) -> None:
     with tempfile.TemporaryDirectory() as td:
         src = Path(td) / "sample.obj"
         src.write_text(obj)
-        report = run_adjust(
+        report = run_garment(
             str(src),
             recipe,
             out,

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import click
 
 from ptailor.cli.options import axes_options, dxf_options, garment_options
@@ -35,17 +33,18 @@ def inspect(
 
     from ptailor.cli.options import parse_weld_option
     from ptailor.errors import PtailorError
+    from ptailor.formats import is_pattern_file, pattern_reader_for
 
     weld = parse_weld_option(weld, units=units)
-    if Path(garment).suffix.lower() == ".dxf":
-        from ptailor.formats.dxf import read_dxf
+    if is_pattern_file(garment):
         from ptailor.summary import pattern_summary, pattern_summary_text
 
         if drape is not None:
             raise PtailorError(
                 "inspect lists a DXF's pieces on their own: drop --drape", path=garment
             )
-        info = pattern_summary(read_dxf(garment, size=size, units=dxf_units))
+        pattern = pattern_reader_for(garment)(garment, size=size, units=dxf_units)
+        info = pattern_summary(pattern)
         click.echo(json.dumps(info, indent=2) if as_json else pattern_summary_text(info))
         return
     if size is not None or dxf_units is not None:

@@ -33,16 +33,10 @@ def parse_weld_option(weld: str, *, units: str):
     return parse_weld(weld, units=units)
 
 
-def garment_options(fn):
-    """``--drape``, ``--pattern-units``, ``--drape-units``, ``--weld``."""
+def units_options(fn):
+    """``--pattern-units``, ``--drape-units``, ``--weld``: how a garment's files are read."""
     for opt in reversed(
         [
-            click.option(
-                "--drape",
-                type=click.Path(dir_okay=False),
-                default=None,
-                help="OBJ holding the drape (v) when GARMENT holds only the pattern.",
-            ),
             click.option(
                 "--pattern-units",
                 default="cm",
@@ -61,6 +55,17 @@ def garment_options(fn):
     ):
         fn = opt(fn)
     return fn
+
+
+def garment_options(fn):
+    """``--drape``, ``--pattern-units``, ``--drape-units``, ``--weld``."""
+    fn = units_options(fn)
+    return click.option(
+        "--drape",
+        type=click.Path(dir_okay=False),
+        default=None,
+        help="OBJ holding the drape (v) when GARMENT holds only the pattern.",
+    )(fn)
 
 
 def axes_options(fn):
@@ -144,7 +149,7 @@ def parse_output_options(formats: str, seam_allowance: str | None, *, units: str
     """
     from ptailor.errors import PtailorError
     from ptailor.formats.garment import parse_length
-    from ptailor.job import FORMATS
+    from ptailor.run.outputs import FORMATS
 
     fmts = tuple(f for f in formats.split(",") if f)
     unknown = [f for f in fmts if f not in FORMATS]
@@ -160,6 +165,30 @@ def parse_output_options(formats: str, seam_allowance: str | None, *, units: str
 
 
 AXES = ["x", "y", "z", "-x", "-y", "-z"]
+
+
+def run_options(
+    recipe,
+    *,
+    formats: str,
+    seam_allowance: str | None,
+    weld: str,
+    **values,
+):
+    """The :class:`~ptailor.run.options.RunOptions` of a command, built once: ``--formats``,
+    ``--seam-allowance`` and ``--weld`` checked against ``recipe``'s units (exit 2 before
+    any garment is read), the other options (``values``) taken as given.
+
+    Raises
+    ------
+    PtailorError
+        An unknown format, a bad length or weld (exit 2).
+    """
+    from ptailor.run.options import RunOptions
+
+    fmts, allowance = parse_output_options(formats, seam_allowance, units=recipe.units)
+    parse_weld_option(weld, units=recipe.units)
+    return RunOptions(formats=fmts, seam_allowance=allowance, weld=weld, **values)
 
 
 def axis_vector(name: str | None, default: str) -> tuple[float, float, float]:

@@ -1,4 +1,17 @@
-"""Garment and pattern readers and writers, in dispatch tables keyed by file extension."""
+"""Garment and pattern readers and writers, in dispatch tables keyed by file extension.
+
+Four kinds of file, one table each for reading and writing:
+
+- meshes (``.obj``): :data:`READERS` give a :class:`ptailor.formats.obj.ObjMesh`,
+  :data:`WRITERS` take the garment's arrays as keywords;
+- patterns (``.dxf``): :data:`PATTERN_READERS` give a
+  :class:`ptailor.model.pieces.PatternFile`, :data:`PATTERN_WRITERS` take one;
+- sheets (``.svg``, ``.png``): :data:`SHEET_WRITERS` draw a pattern before and after an
+  adjustment (the keywords of :func:`ptailor.formats.svg.pattern_svg`).
+
+Callers look a file up by its name (:func:`reader_for`, :func:`writer_for`,
+:func:`is_pattern_file`), never by testing an extension themselves.
+"""
 
 from __future__ import annotations
 
@@ -17,24 +30,65 @@ WRITERS: dict[str, Callable[..., Any]] = {}
 PATTERN_READERS: dict[str, Callable[..., Any]] = {}
 #: extension -> pattern writer(path, pattern, **options)
 PATTERN_WRITERS: dict[str, Callable[..., Any]] = {}
+#: extension -> sheet writer(path, outlines_before, outlines_after, names, **options)
+SHEET_WRITERS: dict[str, Callable[..., Any]] = {}
+
+
+def extension(path: str | Path) -> str:
+    """A file's extension, lower case, without the dot (``"A.DXF"`` -> ``"dxf"``)."""
+    return Path(path).suffix.lower().lstrip(".")
 
 
 def reader_for(path: str | Path) -> Callable[..., Any]:
-    """The reader registered for ``path``'s extension; a clear error otherwise."""
-    ext = Path(path).suffix.lower().lstrip(".")
+    """The mesh reader registered for ``path``'s extension; a clear error otherwise."""
+    ext = extension(path)
     if ext not in READERS:
         known = ", ".join(sorted(READERS))
         raise PtailorError(f"cannot read '.{ext}' files (known: {known})", path=str(path))
     return READERS[ext]
 
 
+def is_pattern_file(path: str | Path) -> bool:
+    """True when ``path`` names a CAD pattern file (its extension has a pattern reader)."""
+    return extension(path) in PATTERN_READERS
+
+
+def pattern_reader_for(path: str | Path) -> Callable[..., Any]:
+    """The pattern reader registered for ``path``'s extension; a clear error otherwise."""
+    ext = extension(path)
+    if ext not in PATTERN_READERS:
+        known = ", ".join(sorted(PATTERN_READERS))
+        raise PtailorError(f"cannot read '.{ext}' patterns (known: {known})", path=str(path))
+    return PATTERN_READERS[ext]
+
+
+def writer_for(path: str | Path) -> Callable[..., Any]:
+    """The writer registered for ``path``'s extension, whichever its kind (mesh, pattern
+    or sheet: see the module's tables for what each takes)."""
+    ext = extension(path)
+    for table in (WRITERS, PATTERN_WRITERS, SHEET_WRITERS):
+        if ext in table:
+            return table[ext]
+    known = ", ".join(sorted({*WRITERS, *PATTERN_WRITERS, *SHEET_WRITERS}))
+    raise PtailorError(f"cannot write '.{ext}' files (known: {known})", path=str(path))
+
+
+def write_svg(path: str | Path, *args: Any, **options: Any) -> None:
+    """Write :func:`ptailor.formats.svg.pattern_svg`'s document to ``path``."""
+    from ptailor.formats.svg import pattern_svg
+
+    Path(path).write_text(pattern_svg(*args, **options))
+
+
 def _register() -> None:
-    from ptailor.formats import dxf, obj
+    from ptailor.formats import dxf, obj, png
 
     READERS["obj"] = obj.read_obj
     WRITERS["obj"] = obj.write_obj
     PATTERN_READERS["dxf"] = dxf.read_dxf
     PATTERN_WRITERS["dxf"] = dxf.write_dxf
+    SHEET_WRITERS["svg"] = write_svg
+    SHEET_WRITERS["png"] = png.pattern_png
 
 
 _register()

@@ -11,7 +11,7 @@ import numpy as np
 
 from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
-from ptailor.formats import reader_for
+from ptailor.formats import is_pattern_file, pattern_reader_for, reader_for
 from ptailor.model.garment import Garment, areas_3d, signed_areas_2d
 from ptailor.model.pieces import PatternFile
 from ptailor.model.repair import check_units, intake, unit_ratios
@@ -190,61 +190,13 @@ def _load_garment(
     dxf_units: str | None,
     weld: str | float,
 ) -> LoadedGarment:
-    from ptailor.model.repair import UnitMismatchError
-
-    spath = str(path)
     weld = parse_weld(weld, units=units)
-    if Path(path).suffix.lower() == ".dxf":
-        try:
-            loaded = _load_dxf_pair(
-                spath, drape, units=units, drape_units=drape_units, size=size, dxf_units=dxf_units
-            )
-        except UnitMismatchError as exc:
-            msg = exc.message.replace("check --pattern-units", "check --dxf-units")
-            raise UnitMismatchError(msg, path=exc.path) from None
-        pf = loaded.pattern
-        # the DXF's unit: given, from the file, or judged; the drape's vt: its own unit
-        dxf_note, _, vt_note = (pf.units_note if pf is not None else "").partition("; vt")
-        source = "command line" if dxf_units is not None else "file"
-        if dxf_units is None and "judged" in dxf_note:
-            source = "estimate"
-        units_rec = dict(loaded.intake.get("units", {}))
-        units_rec["vt"] = units_rec.pop("pattern", None)
-        units_rec["vt_source"] = "estimate" if "judged" in vt_note else "file"
-        units_rec.update(pattern_source=source, pattern_note=dxf_note)
-        if pf is not None:
-            units_rec["pattern"] = pf.units
-        return replace(loaded, intake={**loaded.intake, "units": units_rec})
-    mesh = reader_for(path)(path)
-    inputs = {"garment": spath}
-    if drape is None:
-        if mesh.fvt is None or len(mesh.vt) == 0:
-            raise PtailorError(
-                "faces carry no texture coordinates (vt): no pattern to adjust "
-                "(give the drape with --drape if this file holds only the pattern)",
-                path=spath,
-            )
-        V3, F3, V2, F2 = mesh.v, mesh.fv, mesh.vt, mesh.fvt
-        err_path = spath
-    else:
-        dpath = str(drape)
-        dmesh = reader_for(drape)(drape)
-        inputs["drape"] = dpath
-        if mesh.fvt is not None and len(mesh.vt):
-            V2, F2 = mesh.vt, mesh.fvt
-        else:
-            z = mesh.v[:, 2]
-            if np.ptp(z) > 1e-9 * max(float(np.ptp(mesh.v[:, :2])), 1e-300):
-                raise PtailorError("no 2D pattern: no vt and the v are not planar", path=spath)
-            V2, F2 = mesh.v[:, :2], mesh.fv
-        V3, F3 = dmesh.v, dmesh.fv
-        if len(F3) != len(F2):
-            raise PtailorError(
-                f"pattern and drape have different faces ({len(F2)} vs {len(F3)} triangles"
-                f" in {spath})",
-                path=dpath,
-            )
-        err_path = dpath
+    if is_pattern_file(path):
+        return _load_pattern_pair(
+            str(path), drape, units=units, drape_units=drape_units, size=size, dxf_units=dxf_units
+        )
+    mesh, (V3, F3, V2, F2), inputs, err_path = _read_meshes(path, drape)
+    spath = str(path)
     d_cm = parse_units(drape_units, what="--drape-units")
     to_units = 1.0 / CM_PER[units] if units in CM_PER else factor("cm", units)
     drape_scale = d_cm * to_units
@@ -253,14 +205,7 @@ def _load_garment(
     V3, F3, V2, F2 = fixed.V3, fixed.F3, fixed.V2, fixed.F2
     estimated = pattern_units == "auto"
     if estimated:
-        if not (np.all(np.isfinite(V2)) and np.all(np.isfinite(V3))):
-            pattern_scale = 1.0  # check_garment reports the NaNs below
-        else:
-            a2 = float(np.abs(signed_areas_2d(V2, F2)).sum())
-            a3 = float(areas_3d(V3, F3).sum())
-            if a2 <= 0:
-                raise PtailorError("pattern has zero area", path=spath)
-            pattern_scale = float(np.sqrt(a3 / a2))
+        pattern_scale = _estimated_pattern_scale(V3, F3, V2, F2, path=spath)
     else:
         pattern_scale = parse_units(pattern_units, what="--pattern-units") * to_units
     ratio, per_panel = unit_ratios(V3, F3, V2 * pattern_scale, F2)
@@ -303,6 +248,82 @@ def _load_garment(
     )
 
 
+def _read_meshes(path: str | Path, drape: str | Path | None):
+    """Read the garment OBJ (and its drape OBJ): ``(mesh, (V3, F3, V2, F2), inputs,
+    err_path)``, in file units; ``err_path`` is the file a bad drape is blamed on."""
+    spath = str(path)
+    mesh = reader_for(path)(path)
+    if drape is None:
+        if mesh.fvt is None or len(mesh.vt) == 0:
+            raise PtailorError(
+                "faces carry no texture coordinates (vt): no pattern to adjust "
+                "(give the drape with --drape if this file holds only the pattern)",
+                path=spath,
+            )
+        return mesh, (mesh.v, mesh.fv, mesh.vt, mesh.fvt), {"garment": spath}, spath
+    dpath = str(drape)
+    dmesh = reader_for(drape)(drape)
+    if mesh.fvt is not None and len(mesh.vt):
+        V2, F2 = mesh.vt, mesh.fvt
+    else:
+        z = mesh.v[:, 2]
+        if np.ptp(z) > 1e-9 * max(float(np.ptp(mesh.v[:, :2])), 1e-300):
+            raise PtailorError("no 2D pattern: no vt and the v are not planar", path=spath)
+        V2, F2 = mesh.v[:, :2], mesh.fv
+    if len(dmesh.fv) != len(F2):
+        raise PtailorError(
+            f"pattern and drape have different faces ({len(F2)} vs {len(dmesh.fv)} triangles"
+            f" in {spath})",
+            path=dpath,
+        )
+    return mesh, (dmesh.v, dmesh.fv, V2, F2), {"garment": spath, "drape": dpath}, dpath
+
+
+def _estimated_pattern_scale(V3, F3, V2, F2, *, path: str) -> float:
+    """``--pattern-units auto``: the scale that gives the pattern the drape's area."""
+    if not (np.all(np.isfinite(V2)) and np.all(np.isfinite(V3))):
+        return 1.0  # check_garment reports the NaNs
+    a2 = float(np.abs(signed_areas_2d(V2, F2)).sum())
+    a3 = float(areas_3d(V3, F3).sum())
+    if a2 <= 0:
+        raise PtailorError("pattern has zero area", path=path)
+    return float(np.sqrt(a3 / a2))
+
+
+def _load_pattern_pair(
+    path: str,
+    drape: str | Path | None,
+    *,
+    units: str,
+    drape_units: str,
+    size: str | None,
+    dxf_units: str | None,
+) -> LoadedGarment:
+    """A CAD pattern with its drape, the intake's ``units`` telling where each unit came from."""
+    from ptailor.model.repair import UnitMismatchError
+
+    try:
+        loaded = _load_dxf_pair(
+            path, drape, units=units, drape_units=drape_units, size=size, dxf_units=dxf_units
+        )
+    except UnitMismatchError as exc:
+        msg = exc.message.replace("check --pattern-units", "check --dxf-units")
+        raise UnitMismatchError(msg, path=exc.path) from None
+    pf = loaded.pattern
+    # the DXF's unit: given, from the file, or judged; the drape's vt: its own unit
+    dxf_note, _, vt_note = (pf.units_note if pf is not None else "").partition("; vt")
+    source = "command line" if dxf_units is not None else "file"
+    if dxf_units is None and "judged" in dxf_note:
+        source = "estimate"
+    units_rec = dict(loaded.intake.get("units", {}))
+    units_rec["vt"] = units_rec.pop("pattern", None)
+    units_rec["vt_source"] = "estimate" if "judged" in vt_note else "file"
+    units_rec.update(pattern_source=source, pattern_note=dxf_note)
+    if pf is not None:
+        units_rec["pattern"] = pf.units
+    return replace(loaded, intake={**loaded.intake, "units": units_rec})
+
+
 def _load_dxf_pair(
     path: str,
     drape: str | Path | None,
@@ -313,9 +334,7 @@ def _load_dxf_pair(
     dxf_units: str | None,
 ) -> LoadedGarment:
     """A DXF's pieces plus the drape OBJ whose ``vt`` triangulates them."""
-    from dataclasses import replace
-
-    from ptailor.formats.dxf import read_dxf, reconcile_units
+    from ptailor.formats.dxf import reconcile_units
 
     if drape is None:
         raise PtailorError(
@@ -323,7 +342,7 @@ def _load_dxf_pair(
             "triangulated pattern in the DXF's layout and units)",
             path=path,
         )
-    pattern = read_dxf(path, size=size, units=dxf_units)
+    pattern = pattern_reader_for(path)(path, size=size, units=dxf_units)
     dpath = str(drape)
     dmesh = reader_for(drape)(drape)
     if dmesh.fvt is None or len(dmesh.vt) == 0:

@@ -1,0 +1,135 @@
+"""A batch's records: one dict per garment (:data:`RECORD_KEYS`), passed on in input order,
+written as JSON lines, and summed up in the end-of-batch table."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+
+from ptailor.batch.gates import area_change, number, p95, seam_mismatch
+
+#: a record's keys, in the order they are written
+RECORD_KEYS = (
+    "garment",
+    "out",
+    "status",
+    "failure",
+    "reason",
+    "seconds",
+    "note",
+    "panels",
+    "max_area_change",
+    "max_boundary_deviation",
+    "max_intrinsic_error_p95",
+    "max_seam_mismatch",
+    "flipped_triangles",
+    "warnings",
+)
+#: record statuses; ``ok`` and ``skipped`` are successes
+STATUSES = ("ok", "skipped", "failed", "interrupted")
+
+
+def key_numbers(report: dict) -> dict:
+    """A record's numbers from a report: maxima over panels, flips and warnings summed
+    (None where the report lacks them: a record shows, it does not judge)."""
+    panels = report.get("panels", [])
+
+    def biggest(vals: Iterable[float | None]) -> float | None:
+        vs = [v for v in vals if v is not None]
+        return round(max(vs), 6) if vs else None
+
+    return {
+        "panels": len(panels),
+        "max_area_change": biggest(area_change(p) for p in panels),
+        "max_boundary_deviation": biggest(number(p.get("boundary_deviation")) for p in panels),
+        "max_intrinsic_error_p95": biggest(p95(p) for p in panels),
+        "max_seam_mismatch": biggest(seam_mismatch(s) for s in report.get("seams", [])),
+        "flipped_triangles": sum(int(p.get("flipped_triangles") or 0) for p in panels),
+        "warnings": len(report.get("warnings", [])),
+    }
+
+
+def record_line(record: dict) -> str:
+    """A record as one line of JSON (keys in :data:`RECORD_KEYS` order)."""
+    return json.dumps({k: record.get(k) for k in RECORD_KEYS})
+
+
+@dataclass
+class BatchResult:
+    """Records in input order (unfinished garments have status ``interrupted``)."""
+
+    records: list[dict]
+    interrupted: bool = False
+    seconds: float = 0.0
+    where: str = ""
+
+    def count(self, status: str) -> int:
+        return sum(r["status"] == status for r in self.records)
+
+    @property
+    def exit_status(self) -> int:
+        """130 interrupted, 1 some garment failed, else 0."""
+        if self.interrupted:
+            return 130
+        return 1 if any(r["status"] not in ("ok", "skipped") for r in self.records) else 0
+
+
+class InOrder:
+    """Pass records on in input order as soon as every earlier one has arrived."""
+
+    def __init__(self, n: int, sink: Callable[[dict], None]) -> None:
+        self.sink = sink
+        self.pending: dict[int, dict] = {}
+        self.next = 0
+        self.n = n
+
+    def add(self, index: int, record: dict) -> None:
+        self.pending[index] = record
+        while self.next in self.pending:
+            self.sink(self.pending.pop(self.next))
+            self.next += 1
+
+    def finish(self, records: list[dict]) -> None:
+        """Pass on what is left (after an interruption) from ``records``."""
+        for i in range(self.next, self.n):
+            self.sink(records[i])
+        self.next = self.n
+
+
+def _count_lines(result: BatchResult) -> list[str]:
+    counts = {s: result.count(s) for s in STATUSES}
+    gated = sum(r["failure"] == "gate" for r in result.records)
+    worked = counts["ok"] + counts["failed"]
+    rate = 60.0 * worked / result.seconds if result.seconds > 0 else 0.0
+    lines = [
+        f"{'garments':<12}{len(result.records):>6}",
+        f"{'ok':<12}{counts['ok']:>6}",
+        f"{'skipped':<12}{counts['skipped']:>6}   (unchanged since their output was written)",
+        f"{'failed':<12}{counts['failed']:>6}"
+        + (f"   ({gated} by quality gates)" if gated else ""),
+    ]
+    if counts["interrupted"]:
+        lines.append(f"{'interrupted':<12}{counts['interrupted']:>6}   (not done: run again)")
+    lines.append(
+        f"{'time':<12}{result.seconds:>8.1f} s, {rate:.1f} garments/min adjusted "
+        f"(ok + failed; {result.where})"
+    )
+    return lines
+
+
+def _failed_line(record: dict) -> str:
+    """``  GARMENT: reason`` (the reason alone when it names the garment already)."""
+    if str(record["reason"]).startswith(f"{record['garment']}:"):
+        return f"  {record['reason']}"
+    return f"  {record['garment']}: {record['reason']}"
+
+
+def summary_lines(result: BatchResult) -> list[str]:
+    """The end-of-batch table: counts, the failed garments with their reasons, time, rate."""
+    lines = _count_lines(result)
+    failed = [r for r in result.records if r["status"] == "failed"]
+    if failed:
+        lines.append("failed:")
+        lines += [_failed_line(r) for r in failed]
+    return lines

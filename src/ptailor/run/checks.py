@@ -1,0 +1,156 @@
+"""The guards and warnings of one run: options, seam allowance, finite results, pieces.
+
+Every guard raises :class:`~ptailor.errors.PtailorError` before anything is written; every
+warning is a line for the report's ``warnings``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ptailor import tolerances as tol
+from ptailor.errors import PtailorError
+from ptailor.pipeline import Adjustment
+from ptailor.run.options import RunOptions
+from ptailor.run.outputs import FORMATS
+
+
+def check_options(options: RunOptions) -> None:
+    """Refuse a seam allowance that is no length and output formats that do not exist."""
+    allowance = options.seam_allowance
+    if allowance is not None and not (np.isfinite(allowance) and allowance >= 0):
+        raise PtailorError(f"--seam-allowance must be a length >= 0, not {allowance}")
+    unknown = [f for f in options.formats if f not in FORMATS]
+    if unknown:
+        raise PtailorError(
+            f"unknown output format(s) {', '.join(unknown)} (known: {', '.join(FORMATS)})"
+        )
+
+
+def check_seam_allowance(garment, allowance: float) -> None:
+    """Refuse a seam allowance above ``tol.SEAM_ALLOWANCE_MAX_REL`` of the largest piece."""
+    from ptailor.model.garment import panels
+
+    diag = 0.0
+    for p in panels(garment):  # a loop over panels
+        P = garment.V2[p.vertices]
+        diag = max(diag, float(np.linalg.norm(P.max(axis=0) - P.min(axis=0))))
+    if not allowance <= tol.SEAM_ALLOWANCE_MAX_REL * diag:
+        raise PtailorError(
+            f"--seam-allowance {allowance:g} {garment.units} is larger than "
+            f"{tol.SEAM_ALLOWANCE_MAX_REL:g} of the largest piece's diagonal "
+            f"({diag:.4g} {garment.units})"
+        )
+
+
+def check_finite_result(adj: Adjustment, errors: np.ndarray, *, path: str) -> None:
+    """The final guard: refuse to write a drape, pattern or errors that are not finite.
+
+    Parameters
+    ----------
+    adj : Adjustment
+    errors : (m,) float array
+        Intrinsic-scale error per adjusted triangle.
+    path : str
+        The garment the error names.
+
+    Raises
+    ------
+    PtailorError
+        Naming the array and the solver step that produced it.
+    """
+    g = adj.garment
+    used3 = np.unique(g.F3)
+    used2 = np.unique(g.F2)
+    checks = [
+        ("the edited drape (the recipe's steps)", g.V3[used3]),
+        ("the adjusted pattern (the flatten solver)", g.V2[used2]),
+        ("the intrinsic-scale errors (the flatten solver)", errors),
+    ]
+    if adj.baseline is not None:
+        checks.append(("the uniform baseline (flatten)", adj.baseline.V2[used2]))
+    for what, arr in checks:  # a handful of arrays
+        if not np.all(np.isfinite(arr)):
+            raise PtailorError(
+                f"{what} has non-finite values: a numeric failure; nothing written", path=path
+            )
+
+
+def intrinsic_error_warnings(adj: Adjustment, errors: np.ndarray) -> list[str]:
+    """A warning naming the panels whose intrinsic-scale error p95 exceeds the bound.
+
+    Parameters
+    ----------
+    adj : Adjustment
+        Its panels' ``faces`` index ``errors``.
+    errors : (m,) float array
+    """
+    bad = []
+    for p in adj.state.panels:  # a loop over panels
+        e = errors[p.faces]
+        if len(e) and np.percentile(e, 95) > tol.INTRINSIC_ERROR_WARN:
+            bad.append(f"{p.name} ({np.percentile(e, 95):.3g})")
+    if not bad:
+        return []
+    return [
+        f"intrinsic-scale error p95 above {tol.INTRINSIC_ERROR_WARN:g} on panel(s) "
+        f"{', '.join(bad[:5])}{' and more' if len(bad) > 5 else ''}: the edit distorts the "
+        "pattern far beyond what it can absorb; check the recipe"
+    ]
+
+
+def piece_warnings(plan, carried: list, seam_allowance: float | None) -> list[str]:
+    """Warnings about the pieces: already cut with an allowance, marks dropped.
+
+    Parameters
+    ----------
+    plan : PiecePlan or None
+    carried : list of CarriedPiece or None
+    seam_allowance : float, optional
+    """
+    warnings = []
+    if seam_allowance and plan is not None:
+        wide = [
+            plan.pieces[m.piece].name
+            for m, ff in zip(plan.matches, plan.from_file, strict=True)
+            if ff and m.distance > 0.25 * seam_allowance
+        ]
+        if wide:
+            warnings.append(
+                f"piece(s) {', '.join(wide)} already lie outside the drape's mesh (a cut line "
+                "with its allowance?): --seam-allowance added another"
+            )
+    dropped = sum(cp.dropped for cp in carried if cp is not None)
+    if dropped:
+        warnings.append(
+            f"{dropped} construction mark(s) dropped: on parts cut away, or notches the edit "
+            "left inside a piece (see pattern.pieces)"
+        )
+    return warnings
+
+
+def non_finite_numbers(obj, where: str = "report") -> list[str]:
+    """Paths of the NaN or infinite numbers in a JSON-like object (report guard)."""
+    out: list[str] = []
+    if isinstance(obj, dict):
+        for k, v in obj.items():
+            out += non_finite_numbers(v, f"{where}.{k}")
+    elif isinstance(obj, (list, tuple)):
+        for i, v in enumerate(obj):
+            out += non_finite_numbers(v, f"{where}[{i}]")
+    elif isinstance(obj, (float, np.floating, np.ndarray)):
+        arr = np.asarray(obj)
+        if arr.dtype.kind == "f" and not np.all(np.isfinite(arr)):
+            out.append(where)
+    return out
+
+
+def check_finite_report(report: dict, *, path: str) -> None:
+    """Refuse a report holding NaN or infinite numbers (naming where)."""
+    bad = non_finite_numbers(report)
+    if bad:
+        raise PtailorError(
+            f"the report would hold non-finite numbers (at {', '.join(bad[:3])}): "
+            "a numeric failure in the method; nothing written",
+            path=path,
+        )

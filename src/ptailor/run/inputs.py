@@ -1,0 +1,76 @@
+"""What one run reads: the recipe, the garment (and its drape), the body, the pieces' plan."""
+
+from __future__ import annotations
+
+from ptailor.edits import EditOptions
+from ptailor.errors import PtailorError
+from ptailor.formats.garment import LoadedGarment, load_garment
+from ptailor.pieces import PiecePlan
+from ptailor.pipeline import check_flatten_settings
+from ptailor.recipe import Recipe, load_recipe, resolve_axes
+from ptailor.run.checks import check_options
+from ptailor.run.options import RunOptions
+from ptailor.run.outputs import needs_pieces
+
+
+def checked_recipe(recipe: Recipe | str, options: RunOptions) -> Recipe:
+    """The recipe (read when given as a path, ``-`` for stdin) with the options checked
+    against it; raises before any garment is read."""
+    if not isinstance(recipe, Recipe):
+        recipe = load_recipe(recipe)
+    check_options(options)
+    try:
+        check_flatten_settings({**recipe.flatten})
+    except PtailorError as exc:
+        raise PtailorError(exc.message, path=recipe.source) from None
+    return recipe
+
+
+def load_body(path: str, *, units: str, to: str):
+    """Read a ``--body`` mesh (:func:`ptailor.edits.body.read_body`)."""
+    from ptailor.edits.body import read_body
+
+    return read_body(path, units=units, to=to)
+
+
+def edit_options(recipe: Recipe, options: RunOptions) -> EditOptions:
+    """The edits' options: the garment's axes (the options', else the recipe's) and the body."""
+    up, front = resolve_axes(options.up, options.front, recipe)
+    body = options.body
+    return EditOptions(
+        up=up,
+        front=front,
+        body=load_body(body, units=options.body_units, to=recipe.units) if body else None,
+    )
+
+
+def load_input(
+    garment: str, drape: str | None, recipe: Recipe, options: RunOptions
+) -> LoadedGarment:
+    """The garment in the recipe's units (:func:`ptailor.formats.garment.load_garment`)."""
+    return load_garment(
+        garment,
+        drape=drape,
+        units=recipe.units,
+        pattern_units=options.pattern_units,
+        drape_units=options.drape_units,
+        weld=options.weld,
+        size=options.size,
+        dxf_units=options.dxf_units,
+    )
+
+
+def plan_pieces(loaded: LoadedGarment, edits: EditOptions, options: RunOptions) -> PiecePlan | None:
+    """The pieces, matched (a CAD pattern's, failing early) or drawn from the mesh, when a
+    pattern file is read or written; else None."""
+    from ptailor.model.garment import panels
+    from ptailor.pieces import piece_plan
+
+    if loaded.pattern is None and not needs_pieces(options.formats):
+        return None
+    return piece_plan(
+        loaded.garment,
+        panels(loaded.garment, up=edits.up, front=edits.front),
+        pattern=loaded.pattern,
+        up=edits.up,
+    )

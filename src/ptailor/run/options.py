@@ -1,0 +1,64 @@
+"""The options of one run: a frozen, typed record built once (by the CLI) and passed down.
+
+Batch stamps a garment's output folder with :meth:`RunOptions.stamped`, so that every option
+that changes the outputs decides whether a folder is up to date.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+from ptailor.run.outputs import FORMATS
+
+
+@dataclass(frozen=True)
+class RunOptions:
+    """How one garment is read, adjusted and written (everything but the files themselves).
+
+    Attributes
+    ----------
+    pattern_units, drape_units : str
+        File units (``mm``, ``cm``, ``m``, ``in``, a scaled unit such as ``0.3333cm``; the
+        pattern also ``auto``), see :func:`ptailor.formats.garment.load_garment`.
+    weld : str or float
+        ``auto``, ``off`` or a distance (``0.1mm``; a bare number in the recipe's units).
+    method, intrinsic : str, optional
+        Override the recipe's flatten settings.
+    baseline : bool
+        Compute uniform flattening for comparison.
+    formats : tuple of str
+        Outputs to write besides ``report.json`` (:data:`ptailor.run.outputs.FORMATS`).
+    up, front : str, optional
+        The garment's axes (``y``, ``-z``, ...); default the recipe's, else y up, z front.
+    body : str, optional
+        A watertight body mesh (any format trimesh reads) in ``body_units``: extended rows
+        are pushed out of it.
+    body_units : str
+    size, dxf_units : str, optional
+        For a CAD pattern: the size to read, and its unit (default: from the file).
+    seam_allowance : float, optional
+        In the recipe's units: the DXF's cut line is the adjusted outline offset by this
+        (mitred corners), and the outline itself becomes the sew line (layer 14).
+    """
+
+    pattern_units: str = "cm"
+    drape_units: str = "cm"
+    weld: str | float = "auto"
+    method: str | None = None
+    intrinsic: str | None = None
+    baseline: bool = True
+    formats: tuple[str, ...] = FORMATS
+    up: str | None = None
+    front: str | None = None
+    body: str | None = None
+    body_units: str = "cm"
+    size: str | None = None
+    dxf_units: str | None = None
+    seam_allowance: float | None = None
+
+    def stamped(self) -> dict:
+        """The options as a JSON-ready dict with sorted keys (``formats`` sorted): what
+        a batch stamp hashes."""
+        data = asdict(self)
+        data["formats"] = sorted(data["formats"])
+        return dict(sorted(data.items()))

@@ -1,0 +1,196 @@
+"""What each output format of a run writes, through the formats' dispatch tables.
+
+One function per output format makes the file's content from the adjustment (the garment
+OBJ's arrays, the DXF's pieces, the previews' sheet) and hands it to the writer that
+:func:`ptailor.formats.writer_for` finds for the file's name.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from ptailor.formats import PATTERN_WRITERS, SHEET_WRITERS, extension, writer_for
+from ptailor.formats.garment import LoadedGarment
+from ptailor.model.boundary import boundary_loops
+from ptailor.pieces import CarriedPiece, PiecePlan
+from ptailor.pipeline import Adjustment
+
+#: output format -> the file it writes
+FILE_NAMES = {
+    "obj": "garment.obj",
+    "dxf": "pattern.dxf",
+    "svg": "pattern.svg",
+    "png": "preview.png",
+}
+#: the output formats, in the order they are written
+FORMATS = tuple(FILE_NAMES)
+
+
+def needs_pieces(formats: tuple[str, ...]) -> bool:
+    """True when one of ``formats`` writes a CAD pattern (its pieces must be planned)."""
+    return any(extension(FILE_NAMES[f]) in PATTERN_WRITERS for f in formats if f in FILE_NAMES)
+
+
+def panel_outlines(V2: np.ndarray, F2: np.ndarray, adj: Adjustment) -> list[list[np.ndarray]]:
+    """Closed boundary loops of each panel (outer outline first), as ``(k, 2)`` arrays.
+
+    Parameters
+    ----------
+    V2 : (n, 2) float array
+    F2 : (m, 3) int array
+    adj : Adjustment
+        Its panels' ``faces`` index ``F2``.
+    """
+    out = []
+    for p in adj.state.panels:  # a loop over panels
+        loops = boundary_loops(F2[p.faces])
+        out.append([V2[lp] for lp in loops])
+    return out
+
+
+@dataclass(frozen=True)
+class OutputContext:
+    """What the output writers share besides the adjustment.
+
+    Attributes
+    ----------
+    loaded : LoadedGarment
+        The input, with its file units.
+    pieces : list of CarriedPiece or None
+        The adjusted pieces (computation units), ``None`` for panels removed whole.
+    plan : PiecePlan or None
+        None when no pattern file is read or written.
+    errors : (m,) float array
+        Intrinsic-scale error per adjusted triangle.
+    seam_allowance : float or None
+        Computation units; the pattern's outline is then the sew line.
+    title : str
+        The previews' heading.
+    sheet : dict or None
+        What both previews draw (:func:`sheet`), computed once when either is written.
+    """
+
+    loaded: LoadedGarment
+    pieces: list[CarriedPiece | None]
+    plan: PiecePlan | None
+    errors: np.ndarray
+    seam_allowance: float | None = None
+    title: str = ""
+    sheet: dict | None = None
+
+
+def output_obj(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
+    """``garment.obj``: edited drape and adjusted pattern, in the input files' units."""
+    from ptailor.method.flatten import panel_labels
+
+    loaded = ctx.loaded
+    g = adj.garment
+    header = [
+        "ptailor adjusted garment: v = edited drape, vt = adjusted pattern",
+        f"v: {loaded.drape_scale:.9g} {g.units} per unit; "
+        f"vt: {loaded.pattern_scale:.9g} {g.units} per unit"
+        + (" (estimated)" if loaded.pattern_units_estimated else ""),
+    ]
+    name = FILE_NAMES["obj"]
+    writer_for(name)(
+        tmp / name,
+        V3=g.V3 / loaded.drape_scale,
+        F3=g.F3,
+        V2=g.V2 / loaded.pattern_scale,
+        F2=g.F2,
+        face_panel=panel_labels(adj.state.panels, g.n_faces),
+        panel_names=[p.name for p in adj.state.panels],
+        header=header,
+    )
+    return name
+
+
+def sheet(adj: Adjustment, ctx: OutputContext) -> dict:
+    """The arguments both previews take: outlines before and after, triangles, errors."""
+    g = adj.garment
+    g0 = adj.original if adj.original is not None else adj.state.base
+    orig = adj.original_panels()
+    before = [
+        [g0.V2[lp] for lp in boundary_loops(g0.F2[orig[p.name][0]])] if p.name in orig else []
+        for p in adj.state.panels
+    ]
+    tris = []
+    errs = []
+    for p in adj.state.panels:  # a loop over panels
+        vs, inv = np.unique(g.F2[p.faces], return_inverse=True)
+        tris.append((g.V2[vs], inv.reshape(-1, 3)))
+        errs.append(ctx.errors[p.faces])
+    return {
+        "outlines_before": before,
+        "outlines_after": panel_outlines(g.V2, g.F2, adj),
+        "names": [p.name for p in adj.state.panels],
+        "units": g.units,
+        "title": ctx.title,
+        "triangles": tris,
+        "errors": errs,
+    }
+
+
+def _output_sheet(fmt: str, tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
+    name = FILE_NAMES[fmt]
+    writer_for(name)(tmp / name, **(ctx.sheet or sheet(adj, ctx)))
+    return name
+
+
+def output_svg(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
+    """``pattern.svg``: adjusted outlines over the original ones (dashed), at 1:1."""
+    return _output_sheet("svg", tmp, adj, ctx)
+
+
+def output_png(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
+    """``preview.png``: the same sheet as the SVG, as a picture."""
+    return _output_sheet("png", tmp, adj, ctx)
+
+
+def output_dxf(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
+    """``pattern.dxf``: AAMA/ASTM pieces with their construction marks carried through."""
+    from ptailor.model.pieces import PatternFile
+    from ptailor.model.units import CM_PER
+    from ptailor.pieces import scale_piece, with_seam_allowance
+
+    units = ctx.plan.units
+    k = CM_PER[adj.garment.units] / CM_PER[units]
+    pieces = []
+    for cp in ctx.pieces:  # a loop over pieces
+        if cp is None:
+            continue
+        pc = cp.piece
+        if ctx.seam_allowance:
+            pc = with_seam_allowance(pc, ctx.seam_allowance)
+        pieces.append(scale_piece(pc, k))
+    src = ctx.loaded.pattern
+    pf = PatternFile(
+        pieces=tuple(pieces),
+        units=units,
+        style=src.style if src is not None else Path(ctx.loaded.inputs.get("garment", "")).stem,
+        sizes=(src.size,) if src is not None and src.size else (),
+        size=src.size if src is not None else "",
+        sample_size=src.sample_size if src is not None else "",
+    )
+    if src is not None:
+        pf = replace(pf, units_text=src.units_text)
+    name = FILE_NAMES["dxf"]
+    writer_for(name)(tmp / name, pf)
+    return name
+
+
+#: output format -> writer(folder, adjustment, context) returning the file name
+OUTPUTS = {"obj": output_obj, "dxf": output_dxf, "svg": output_svg, "png": output_png}
+
+
+def write_outputs(
+    tmp: Path, adj: Adjustment, ctx: OutputContext, formats: tuple[str, ...]
+) -> list[str]:
+    """Write the adjusted garment in the requested formats into ``tmp``; return file names."""
+    sheets = [f for f in formats if extension(FILE_NAMES.get(f, "")) in SHEET_WRITERS]
+    if ctx.sheet is None and sheets:
+        ctx = replace(ctx, sheet=sheet(adj, ctx))
+    return [OUTPUTS[f](tmp, adj, ctx) for f in FORMATS if f in formats]
