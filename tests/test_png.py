@@ -14,8 +14,8 @@ from ptailor.formats.preview import (
     FILL,
     NAN_COLOUR,
     check_inputs,
-    sheet_layout,
 )
+from ptailor.formats.sheet import sheet_layout
 
 SIGNATURE = b"\x89PNG\r\n\x1a\n"
 

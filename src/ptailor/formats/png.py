@@ -13,10 +13,10 @@ from ptailor.formats.preview import (
     FILL,
     FRAME,
     INK,
+    Pattern,
     bin_colour,
-    check_inputs,
-    sheet_layout,
 )
+from ptailor.formats.sheet import Sheet, preview_sheet
 
 #: matplotlib's bundled font: the same glyphs on every machine.
 _FONT = "DejaVu Sans"
@@ -52,6 +52,28 @@ def _evenodd(loops: list[np.ndarray]):
 
 def _closed(L: np.ndarray) -> np.ndarray:
     return np.vstack([L, L[:1]])
+
+
+def _fills(pat: Pattern, s: Sheet) -> tuple[list, list[str]]:
+    """The fills: per (panel, bin) one compound path of closed triangles, or the adjusted
+    outline's even-odd fill where a panel has no triangles; and each path's colour."""
+    from matplotlib.path import Path
+
+    paths, colours = [], []
+    for p in range(len(pat.names)):
+        if pat.triangles is not None and len(pat.triangles[p][1]):
+            V, F = pat.triangles[p]
+            T = s.to_sheet(V, p)[F]  # (m, 3, 2)
+            b = pat.bins[p]
+            for bb in np.unique(b).tolist():
+                sel = T[b == bb]
+                verts = np.concatenate([sel, sel[:, :1]], axis=1).reshape(-1, 2)
+                paths.append(Path(verts, np.tile(_TRI_CODES, len(sel))))
+                colours.append(bin_colour(bb))
+        elif pat.after[p]:
+            paths.append(_evenodd([s.to_sheet(L, p) for L in pat.after[p]]))
+            colours.append(FILL)
+    return paths, colours
 
 
 def pattern_png(
@@ -123,17 +145,16 @@ def pattern_png(
     from matplotlib.collections import LineCollection, PathCollection
     from matplotlib.figure import Figure
     from matplotlib.patches import Rectangle
-    from matplotlib.path import Path
     from PIL import Image
 
     if int(size) < 16:
         raise ValueError(f"pattern_png: size must be at least 16 pixels, got {size}")
     if not dpi > 0:
         raise ValueError(f"pattern_png: dpi must be positive, got {dpi}")
-    pat = check_inputs(
-        outlines_before, outlines_after, names, triangles, errors, caller="pattern_png"
-    )
-    s = sheet_layout(pat, units=units, title=title)
+    pat, s = preview_sheet(
+        outlines_before, outlines_after, names, triangles, errors,
+        units=units, title=title, caller="pattern_png",
+    )  # fmt: skip
     n = len(pat.names)
 
     scale = int(size) / max(s.width, s.height)  # pixels per pattern unit
@@ -154,21 +175,7 @@ def pattern_png(
     dashes = (0.0, (s.dash[0] * pt / k, s.dash[1] * pt / k))
     text = {"fontfamily": _FONT, "color": INK, "fontsize": s.font * pt}
 
-    # fills: per (panel, bin) one compound path of closed triangles
-    paths, colours = [], []
-    for p in range(n):
-        if pat.triangles is not None and len(pat.triangles[p][1]):
-            V, F = pat.triangles[p]
-            T = s.to_sheet(V, p)[F]  # (m, 3, 2)
-            b = pat.bins[p]
-            for bb in np.unique(b).tolist():
-                sel = T[b == bb]
-                verts = np.concatenate([sel, sel[:, :1]], axis=1).reshape(-1, 2)
-                paths.append(Path(verts, np.tile(_TRI_CODES, len(sel))))
-                colours.append(bin_colour(bb))
-        elif pat.after[p]:
-            paths.append(_evenodd([s.to_sheet(L, p) for L in pat.after[p]]))
-            colours.append(FILL)
+    paths, colours = _fills(pat, s)
     if paths:
         ax.add_collection(
             PathCollection(paths, facecolors=colours, edgecolors="none", linewidths=0.0, zorder=1),

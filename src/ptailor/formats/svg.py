@@ -11,17 +11,8 @@ from xml.sax.saxutils import escape
 
 import numpy as np
 
-from ptailor.formats.preview import (
-    AFTER,
-    BEFORE,
-    ERROR_TITLE,
-    FILL,
-    FRAME,
-    INK,
-    bin_colour,
-    check_inputs,
-    sheet_layout,
-)
+from ptailor.formats.preview import AFTER, BEFORE, ERROR_TITLE, FILL, FRAME, INK, bin_colour
+from ptailor.formats.sheet import preview_sheet
 
 #: Units the SVG can print at 1:1: pattern unit -> (CSS unit of width/height and of the
 #: viewBox, its size in pattern units). Metres are drawn in cm: font sizes of a few hundredths
@@ -158,10 +149,10 @@ def pattern_svg(
         reverse), a loop is not a finite ``(k, 2)`` array, a mesh is malformed or an error
         array does not match its triangles.
     """
-    pat = check_inputs(
-        outlines_before, outlines_after, names, triangles, errors, caller="pattern_svg"
-    )
-    s = sheet_layout(pat, units=units, title=title)
+    pat, s = preview_sheet(
+        outlines_before, outlines_after, names, triangles, errors,
+        units=units, title=title, caller="pattern_svg",
+    )  # fmt: skip
     css, zoom = _user_units(units, s.unit)
     if zoom != 1.0:
         s = s.scaled(zoom)
