@@ -6,16 +6,16 @@ from dataclasses import dataclass
 
 import numpy as np
 import pytest
+from ptailor.job import run_adjust
 
 import ptailor.edits.extend  # noqa: F401  (registers the op until _load_all does)
 from ptailor.edits import OPERATIONS, EditOptions
-from ptailor.edits.achieved import point_segment_distance
 from ptailor.edits.body import closest_points, push_out, winding_numbers
 from ptailor.edits.extend import opening_edges
 from ptailor.errors import PtailorError
 from ptailor.formats.garment import load_garment
 from ptailor.formats.obj import write_garment
-from ptailor.job import run_adjust
+from ptailor.geometry.segments import nearest_segment_distance as point_segment_distance
 from ptailor.method.flatten import panel_labels
 from ptailor.model.garment import panels
 from ptailor.model.openings import openings

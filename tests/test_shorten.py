@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from ptailor.job import run_adjust
 
-from ptailor.edits.achieved import point_segment_distance
 from ptailor.errors import PtailorError
 from ptailor.formats.garment import load_garment
-from ptailor.job import run_adjust
+from ptailor.geometry.segments import nearest_segment_distance as point_segment_distance
 from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
 from ptailor.samples import cone_skirt, cylinder, lantern_sleeve

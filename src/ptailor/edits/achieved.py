@@ -6,34 +6,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ptailor.geometry.segments import nearest_segment_distance
+from ptailor.model.garment import panel_labels, vertex_labels
 from ptailor.model.seams import half_edges
 
 if TYPE_CHECKING:
     from ptailor.edits.state import EditState
     from ptailor.edits.surgery import SplitResult
-
-
-def point_segment_distance(P: np.ndarray, A: np.ndarray, B: np.ndarray) -> np.ndarray:
-    """Distance from each point to the nearest of some segments.
-
-    Parameters
-    ----------
-    P : (p, d) float array
-    A, B : (s, d) float arrays
-        Segment ends.
-
-    Returns
-    -------
-    (p,) float array
-    """
-    if len(P) == 0 or len(A) == 0:
-        return np.zeros(len(P))
-    AB = B - A
-    L2 = np.maximum((AB * AB).sum(1), 1e-300)
-    AP = P[:, None, :] - A[None]
-    t = np.clip((AP * AB[None]).sum(2) / L2[None], 0.0, 1.0)
-    D = AP - t[..., None] * AB[None]
-    return np.sqrt((D * D).sum(2).min(1))
 
 
 def opening_halfedges(F3: np.ndarray, loop: np.ndarray) -> np.ndarray:
@@ -82,16 +61,12 @@ def edge_offsets(before: EditState, res: SplitResult, loop: np.ndarray) -> dict:
     nxt = np.roll(loop, -1)
     # the new edge: vertices the split made, and those already on the level
     new3 = res.state.V3[np.concatenate([res.new_vertices3, res.on_level3])]
-    out = {"3d": distance_stats(point_segment_distance(new3, before.V3[loop], before.V3[nxt]))}
+    out = {"3d": distance_stats(nearest_segment_distance(new3, before.V3[loop], before.V3[nxt]))}
     he = opening_halfedges(g0.F3, loop)
     h2 = half_edges(g0.F2)
     face_old = he // 3
-    flab_old = np.empty(len(g0.F3), dtype=np.int64)
-    for p in before.panels:  # a loop over panels
-        flab_old[p.faces] = p.index
-    vlab_new = np.full(len(res.state.base.V2), -1, dtype=np.int64)
-    for p in res.state.panels:
-        vlab_new[p.vertices] = p.index
+    flab_old = panel_labels(before.panels, len(g0.F3))
+    vlab_new = vertex_labels(res.state.panels, len(res.state.base.V2))
     pattern = {}
     new2 = np.concatenate([res.new_vertices2, res.on_level2])
     for p in before.panels:
@@ -102,7 +77,7 @@ def edge_offsets(before: EditState, res: SplitResult, loop: np.ndarray) -> dict:
             q.index for q in res.state.panels if q.name == p.name or q.name.startswith(p.name + "_")
         ]
         pts = new2[np.isin(vlab_new[new2], mine)]
-        d = point_segment_distance(res.state.base.V2[pts], g0.V2[h2[segs, 0]], g0.V2[h2[segs, 1]])
+        d = nearest_segment_distance(res.state.base.V2[pts], g0.V2[h2[segs, 0]], g0.V2[h2[segs, 1]])
         pattern[p.name] = distance_stats(d)
     out["pattern"] = pattern
     return out

@@ -7,6 +7,8 @@ from typing import Any
 import numpy as np
 
 from ptailor.errors import PtailorError
+from ptailor.geometry.triangles import triangle_normals
+from ptailor.geometry.tube_axis import extent_axis, tube_axis
 from ptailor.model.garment import Garment, Panel
 
 
@@ -92,9 +94,7 @@ def body_axis(P: np.ndarray, body_vertices: np.ndarray, *, k: int = 16) -> np.nd
     from scipy.spatial import cKDTree
 
     _, idx = cKDTree(body_vertices).query(P, k=min(k, len(body_vertices)))
-    Q = body_vertices[np.unique(idx)]
-    Q = Q - Q.mean(axis=0)
-    ax = np.linalg.eigh(Q.T @ Q)[1][:, -1]
+    ax = extent_axis(body_vertices[np.unique(idx)])
     return ax * np.sign(ax[np.argmax(np.abs(ax))])
 
 
@@ -108,8 +108,10 @@ def region_axis(
 
     For tube-like regions (sleeves, a torso, a skirt) the axis is the direction the surface
     normals avoid: the eigenvector of the smallest eigenvalue of the area-weighted normal
-    tensor. For sheet-like regions (normals all alike) that is ill-defined, and the axis is
-    the direction of largest extent of the positions instead.
+    tensor (:func:`ptailor.geometry.tube_axis.tube_axis`, with the thresholds of
+    ``tolerances.GRAIN_TUBE_MIN`` and ``GRAIN_TUBE_RATIO``, as the pieces' grain lines). For
+    sheet-like regions (normals all alike) that is ill-defined, and the axis is the
+    direction of largest extent of the positions instead.
 
     Parameters
     ----------
@@ -125,18 +127,9 @@ def region_axis(
     T = F3[faces]
     if body is not None:
         return body_axis(V3[np.unique(T)], np.asarray(body.vertices, dtype=float))
-    a, b, c = V3[T[:, 0]], V3[T[:, 1]], V3[T[:, 2]]
-    cr = np.cross(b - a, c - a)  # |cr| = 2 area, so cr cr^T / |cr| = 2 area n n^T
-    w = np.linalg.norm(cr, axis=1)
-    nrm = cr / np.maximum(w, 1e-300)[:, None]
-    N = (nrm * w[:, None]).T @ nrm
-    lam, vec = np.linalg.eigh(N / max(np.trace(N), 1e-300))
-    if lam[1] > 0.1 and lam[1] > 4.0 * lam[0]:
-        ax = vec[:, 0]
-    else:
-        P = V3[np.unique(T)]
-        P = P - P.mean(axis=0)
-        ax = np.linalg.eigh(P.T @ P)[1][:, -1]
+    ax = tube_axis(V3, T)
+    if ax is None:
+        ax = extent_axis(V3[np.unique(T)])
     return ax * np.sign(ax[np.argmax(np.abs(ax))])
 
 
@@ -144,5 +137,5 @@ def region_centroid(V3: np.ndarray, F3: np.ndarray, faces: np.ndarray) -> np.nda
     """Area-weighted centroid of a region of the drape, ``(3,)``."""
     T = F3[faces]
     a, b, c = V3[T[:, 0]], V3[T[:, 1]], V3[T[:, 2]]
-    w = np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    w = np.linalg.norm(triangle_normals(V3, T, unit=False), axis=1)  # twice the areas
     return ((a + b + c) / 3.0 * w[:, None]).sum(axis=0) / max(float(w.sum()), 1e-300)

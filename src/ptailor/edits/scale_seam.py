@@ -12,7 +12,7 @@ from ptailor.edits.region import body_axis
 from ptailor.edits.registry import Param, register
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.errors import PtailorError
-from ptailor.method.flatten import panel_labels
+from ptailor.model.garment import panel_labels
 from ptailor.model.seams import seams
 
 PAIR_SCHEMA = {"type": "array", "items": {"type": "string"}, "minItems": 2, "maxItems": 2}

@@ -26,6 +26,7 @@ from ptailor.edits.registry import Param, register
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.edits.surgery import SplitResult, split_keep
 from ptailor.errors import PtailorError
+from ptailor.model.garment import panel_labels
 
 #: Where ``by`` is measured.
 MEASURES = ("drape", "pattern")
@@ -86,7 +87,6 @@ def drape_value(v3: np.ndarray, values: np.ndarray, n3: int) -> np.ndarray:
 
 def _pattern_field(state: EditState, loop: np.ndarray, by: float) -> tuple:
     """The pattern distance from an opening, its value per drape vertex, face panels."""
-    from ptailor.method.flatten import panel_labels
 
     g = state.base
     oe = opening_edges(g.F3, g.F2, loop)
@@ -233,8 +233,6 @@ def _amounts(
 ) -> dict:
     """The record's ``amount``: removed width in the pattern (per panel) and on the drape."""
     if field is None:
-        from ptailor.method.flatten import panel_labels
-
         g = state.base
         oe = opening_edges(g.F3, g.F2, loop)
         flab = panel_labels(state.panels, g.n_faces)

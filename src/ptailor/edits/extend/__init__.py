@@ -11,9 +11,9 @@ from dataclasses import replace
 
 import numpy as np
 
-from ptailor.edits.achieved import distance_stats, point_segment_distance
+from ptailor.edits.achieved import distance_stats
 from ptailor.edits.checks import number
-from ptailor.edits.extend.drape import drape_rows, pattern_maps
+from ptailor.edits.extend.drape import drape_rows
 from ptailor.edits.extend.pattern import pattern_rows
 from ptailor.edits.extend.rows import face_normals, quad_rows
 from ptailor.edits.limits import check_by, check_new_triangles
@@ -22,10 +22,10 @@ from ptailor.edits.pattern_distance import edge_distance
 from ptailor.edits.registry import Param, register
 from ptailor.edits.shorten import MEASURE_PARAM, pattern_amounts, spread_stats
 from ptailor.edits.state import EditOptions, EditState
-from ptailor.method.flatten import panel_labels
-from ptailor.model.garment import Garment, panels
+from ptailor.geometry.segments import nearest_segment_distance
+from ptailor.model.garment import Garment, panel_labels, panels
 
-__all__ = ["OpeningEdges", "extend", "opening_edges", "pattern_maps"]
+__all__ = ["OpeningEdges", "extend", "opening_edges"]
 
 
 def _default_clearance(options: EditOptions, mean_edge: float) -> float:
@@ -52,12 +52,13 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     ``measure: drape`` (the paper's): each opening vertex grows a straight line of new
     vertices along the unit direction tangent to the surface and across the boundary,
     ``by`` long on the drape (:func:`drape_rows`); the pattern columns follow with the
-    intrinsic scale of the triangles they grow from (``J+ dir``, :func:`pattern_maps`,
-    original drape), the copies of a seam vertex in their seam's length ratio
-    (:func:`match_seam_steps`). ``measure: pattern``: the new edge is laid out in each
-    panel's pattern exactly ``by`` from the old one (the offset of the opening's pattern
-    edges, seams continued straight where they meet it) and the drape rows are built to
-    match through the pattern-to-drape maps of the triangles they grow from
+    intrinsic scale of the triangles they grow from (``J+ dir``, the pseudo-inverse of
+    their pattern-to-drape map on the original drape), the copies of a seam vertex in
+    their seam's length ratio (:func:`match_seam_steps`). ``measure: pattern``: the new
+    edge is laid out in each panel's pattern exactly ``by`` from the old one (the offset
+    of the opening's pattern edges, seams continued straight where they meet it) and the
+    drape rows are built to match through the pattern-to-drape maps of the triangles they
+    grow from
     (:func:`pattern_rows`).
 
     There are ``rows`` rows, about the opening's mean edge length apart; where rows would
@@ -148,7 +149,7 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     from ptailor.method.geodesic import geodesic_distance
 
     top3 = new_e[(rows - 1) * k :]
-    d3 = point_segment_distance(top3, Ve[oe.a3], Ve[oe.b3])
+    d3 = nearest_segment_distance(top3, Ve[oe.a3], Ve[oe.b3])
     col_panel = np.empty(nc, dtype=np.int64)
     col_panel[ca], col_panel[cb] = flab[oe.face], flab[oe.face]
     top2 = new_2[(rows - 1) * nc :]
@@ -157,7 +158,9 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     for p in state.panels:  # a loop over panels
         sel = edge_panel == p.index
         if sel.any():
-            d2 = point_segment_distance(top2[col_panel == p.index], V2[oe.a2[sel]], V2[oe.b2[sel]])
+            d2 = nearest_segment_distance(
+                top2[col_panel == p.index], V2[oe.a2[sel]], V2[oe.b2[sel]]
+            )
             achieved_pattern[p.name] = distance_stats(d2)
     names = {p.index: p.name for p in state.panels}
     top_ids = len(Vb) + (rows - 1) * k + np.arange(k)

@@ -9,12 +9,18 @@ from __future__ import annotations
 
 import numpy as np
 
-from ptailor.edits.extend.rows import MAX_SMOOTHING, Rows, face_normals, quad_rows
+from ptailor.edits.extend.rows import (
+    MAX_SMOOTHING,
+    Rows,
+    face_normals,
+    quad_rows,
+    shorter_diagonals,
+)
 from ptailor.edits.opening import OpeningEdges
 from ptailor.edits.state import EditState
 from ptailor.errors import PtailorError
-from ptailor.method.intrinsic import edge_matrices, inv2
-from ptailor.model.garment import signed_areas_2d
+from ptailor.geometry.pattern_maps import pattern_jacobians, pseudo_inverses
+from ptailor.geometry.triangles import signed_areas_2d
 from ptailor.model.seams import half_edges, seam_halfedges
 
 
@@ -45,27 +51,6 @@ def outward_directions(V: np.ndarray, oe: OpeningEdges) -> np.ndarray:
     s[cusp] = out[cusp]
     ns[cusp] = 1.0
     return s / ns[:, None]
-
-
-def pattern_maps(V3: np.ndarray, F3: np.ndarray, V2: np.ndarray, F2: np.ndarray) -> np.ndarray:
-    """Pseudo-inverses of the pattern-to-drape maps of triangles.
-
-    Parameters
-    ----------
-    V3 : (n3, 3) float array
-    F3 : (k, 3) int array
-    V2 : (n2, 2) float array
-    F2 : (k, 3) int array
-
-    Returns
-    -------
-    (k, 2, 3) float array
-        ``J+ = (J^T J)^-1 J^T`` with ``J = E3 E2^-1``: a 3D displacement in the triangle's
-        plane to the pattern displacement of the same cloth.
-    """
-    J = edge_matrices(V3, F3) @ inv2(edge_matrices(V2, F2))
-    Jt = np.swapaxes(J, 1, 2)
-    return inv2(Jt @ J) @ Jt
 
 
 def seam_scales(
@@ -173,7 +158,8 @@ def column_steps(
     Parameters
     ----------
     Jp : (k, 2, 3) float array
-        :func:`pattern_maps` of the opening's triangles.
+        Pseudo-inverses of the pattern-to-drape maps of the opening's triangles
+        (:func:`ptailor.geometry.pattern_maps.pseudo_inverses`).
     dirs : (k, 3) float array
         3D direction at each opening vertex (``a3[i]``).
     inv : (2k,) int array
@@ -225,7 +211,7 @@ def drape_rows(
     h = by / rows
     steps = (h * np.arange(1, rows + 1))[:, None, None]  # (rows, 1, 1)
     Fo = g.F3[oe.face]
-    Jp = pattern_maps(Vb, Fo, V2, g.F2[oe.face])
+    Jp = pseudo_inverses(pattern_jacobians(Vb, Fo, V2, g.F2[oe.face])[0])
     vert3 = np.empty(nc, dtype=np.int64)
     vert3[ca], vert3[cb] = oe.a3, oe.b3
     sigma = seam_scales(Vb, g.F3, V2, g.F2, cols)
@@ -244,10 +230,7 @@ def drape_rows(
         new_2 = (V2[cols][None] + steps * disp[None]).reshape(-1, 2)
         # triangles: each quad split along its shorter 3D diagonal (ties: checkerboard)
         Vall = np.concatenate([Ve, new_e])
-        dA = np.linalg.norm(Vall[A3[1:]] - Vall[B3[:-1]], axis=2)
-        dB = np.linalg.norm(Vall[A3[:-1]] - Vall[B3[1:]], axis=2)
-        tie = np.abs(dA - dB) <= 1e-9 * (dA + dB)
-        use_b = np.where(tie, odd, dB < dA)
+        use_b = shorter_diagonals(Vall, A3, B3, odd)
         F3_new = quad_rows(A3, B3, use_b)
         F2_new = quad_rows(A2, B2, use_b)
         src = np.broadcast_to(np.arange(k)[None, :, None], (rows, k, 2)).reshape(-1)

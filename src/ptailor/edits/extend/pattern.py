@@ -6,13 +6,20 @@ from __future__ import annotations
 import numpy as np
 
 from ptailor.edits.extend.chain import chain_order, nearest_fn, place_offset_chain
-from ptailor.edits.extend.rows import MAX_SMOOTHING, Rows, crossing_error, face_normals, quad_rows
+from ptailor.edits.extend.rows import (
+    MAX_SMOOTHING,
+    Rows,
+    crossing_error,
+    face_normals,
+    quad_rows,
+    shorter_diagonals,
+)
 from ptailor.edits.opening import OpeningEdges
 from ptailor.edits.pattern_distance import PatternDistance
 from ptailor.edits.state import EditState
 from ptailor.errors import PtailorError
-from ptailor.method.intrinsic import edge_matrices, inv2
-from ptailor.model.garment import signed_areas_2d
+from ptailor.geometry.pattern_maps import pattern_jacobians
+from ptailor.geometry.triangles import signed_areas_2d
 from ptailor.model.seams import half_edges
 
 #: ``measure: pattern``: a seam reaching the opening is continued straight when its
@@ -223,10 +230,7 @@ def pattern_rows(
         D2 = Q - V2[cols]
         new_2 = (V2[cols][None] + frac * D2[None]).reshape(-1, 2)
         V2all = np.concatenate([V2, new_2])
-        dA = np.linalg.norm(V2all[A2[1:]] - V2all[B2[:-1]], axis=2)
-        dB = np.linalg.norm(V2all[A2[:-1]] - V2all[B2[1:]], axis=2)
-        tie = np.abs(dA - dB) <= 1e-9 * (dA + dB)
-        use_b = np.where(tie, odd, dB < dA)
+        use_b = shorter_diagonals(V2all, A2, B2, odd)
         F2_new = quad_rows(A2, B2, use_b)
         h2 = by / rows
         ok2 = signed_areas_2d(V2all, F2_new) * orient[src] > 1e-9 * h2 * h2
@@ -241,8 +245,8 @@ def pattern_rows(
 
     # the drape: each opening vertex's pattern offset through its triangles' maps
     Fo, Fo2 = g.F3[oe.face], g.F2[oe.face]
-    E2inv = inv2(edge_matrices(V2, Fo2))
-    Je, Jb = edge_matrices(Ve, Fo) @ E2inv, edge_matrices(Vb, Fo) @ E2inv  # (k, 3, 2)
+    Je = pattern_jacobians(Ve, Fo, V2, Fo2)[0]  # (k, 3, 2)
+    Jb = pattern_jacobians(Vb, Fo, V2, Fo2)[0]
 
     def lift(J: np.ndarray) -> np.ndarray:
         at_a = (J @ D2[ca][:, :, None])[:, :, 0]  # edge i's map at its start a3[i]

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ptailor.errors import PtailorError
+from ptailor.geometry.triangles import triangle_normals
 
 #: Smoothing passes of the row directions tried before giving up on crossing rows.
 MAX_SMOOTHING = 200
@@ -64,8 +65,30 @@ def quad_rows(A: np.ndarray, B: np.ndarray, use_b: np.ndarray) -> np.ndarray:
 
 def face_normals(V: np.ndarray, F: np.ndarray) -> np.ndarray:
     """Unit normals of triangles, ``(m, 3)`` (zero for degenerate ones)."""
-    N = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
-    return N / np.maximum(np.linalg.norm(N, axis=1), 1e-300)[:, None]
+    return triangle_normals(V, F)
+
+
+def shorter_diagonals(V: np.ndarray, A: np.ndarray, B: np.ndarray, odd: np.ndarray) -> np.ndarray:
+    """Which diagonal splits each quad between rows: the shorter one, ties in a checkerboard.
+
+    Parameters
+    ----------
+    V : (n, d) float array
+        Positions of the grid's vertices.
+    A, B : (r + 1, k) int arrays
+        The rows' vertices (as :func:`quad_rows` takes them).
+    odd : (r, k) bool array
+        The checkerboard used on ties.
+
+    Returns
+    -------
+    (r, k) bool array
+        ``use_b`` of :func:`quad_rows`: split along ``A[j] - B[j + 1]``.
+    """
+    dA = np.linalg.norm(V[A[1:]] - V[B[:-1]], axis=2)
+    dB = np.linalg.norm(V[A[:-1]] - V[B[1:]], axis=2)
+    tie = np.abs(dA - dB) <= 1e-9 * (dA + dB)
+    return np.where(tie, odd, dB < dA)
 
 
 def crossing_error(name: str, by: float, where: str) -> PtailorError:

@@ -28,7 +28,6 @@ import numpy as np
 from ptailor.edits.checks import number, region
 from ptailor.edits.cut import sketch_spec, view_frame, view_spec
 from ptailor.edits.loosen.normals import (
-    face_panels,
     normal_smoother,
     outward_normals,
     panel_orientation,
@@ -40,6 +39,7 @@ from ptailor.edits.region import region_faces
 from ptailor.edits.registry import Param, register
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.method.deform import arap_deform
+from ptailor.model.garment import panel_labels
 
 __all__ = [
     "FALLOFF_BY",
@@ -90,7 +90,7 @@ def moved_panels_uneven(state: EditState, V_new: np.ndarray) -> np.ndarray:
     """``state.even`` with every panel whose drape vertices moved set to False."""
     changed = np.any(V_new != state.V3, axis=1)
     moved = np.zeros(len(state.panels), dtype=bool)
-    fp = face_panels(state.base.F3, state.panels)
+    fp = panel_labels(state.panels, len(state.base.F3))
     hit = changed[state.base.F3].any(axis=1)
     moved[np.unique(fp[hit & (fp >= 0)])] = True
     return state.even & ~moved

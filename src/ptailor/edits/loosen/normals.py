@@ -11,20 +11,13 @@ import scipy.sparse.linalg as spla
 from scipy.sparse.csgraph import breadth_first_order, connected_components
 
 from ptailor.edits.region import region_axis, region_centroid
+from ptailor.geometry.triangles import triangle_areas, triangle_normals
 from ptailor.method.deform import cotangent_weights
-from ptailor.model.garment import Panel
+from ptailor.model.garment import Panel, panel_labels
 from ptailor.model.seams import half_edges, seam_halfedges
 
 #: lumped vertex mass floor, relative to the mean (vertices of degenerate triangles only)
 MASS_FLOOR_REL = 1e-9
-
-
-def face_panels(F3: np.ndarray, plist: list[Panel]) -> np.ndarray:
-    """Panel index of every triangle, ``(m,)``."""
-    lab = np.full(len(F3), -1, dtype=np.int64)
-    for p in plist:  # a loop over panels, not triangles
-        lab[p.faces] = p.index
-    return lab
 
 
 def panel_orientation(
@@ -50,7 +43,7 @@ def panel_orientation(
         Connected groups of panels (joined by seams).
     """
     n_p = len(plist)
-    fp = face_panels(F3, plist)
+    fp = panel_labels(plist, len(F3))
     pairs = seam_halfedges(F3, F2)
     h3 = half_edges(F3)
     pa, pb = fp[pairs[:, 0] // 3], fp[pairs[:, 1] // 3]
@@ -99,9 +92,9 @@ def outward_normals(
         normalised); zero at vertices no triangle uses.
     """
     sign, group = panel_orientation(F3, F2, plist)
-    fp = face_panels(F3, plist)
+    fp = panel_labels(plist, len(F3))
     a, b, c = V[F3[:, 0]], V[F3[:, 1]], V[F3[:, 2]]
-    cross = np.cross(b - a, c - a) * sign[fp][:, None]
+    cross = triangle_normals(V, F3, unit=False) * sign[fp][:, None]
     every = np.arange(len(F3))
     ax = region_axis(V, F3, every)
     r = (a + b + c) / 3.0 - region_centroid(V, F3, every)
@@ -155,8 +148,7 @@ def normal_smoother(
     Vl = V[used]
     W = cotangent_weights(Vl, Fl)
     L = sp.diags(np.asarray(W.sum(axis=1)).ravel()) - W
-    a, b, c = Vl[Fl[:, 0]], Vl[Fl[:, 1]], Vl[Fl[:, 2]]
-    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    area = triangle_areas(Vl, Fl)
     mass = np.bincount(Fl.ravel(), weights=np.repeat(area / 3.0, 3), minlength=used.size)
     # a vertex whose triangles are all degenerate keeps its value (positive diagonal)
     mass = np.maximum(mass, MASS_FLOOR_REL * max(float(mass.mean()), 1e-300))
@@ -195,9 +187,6 @@ def turned_faces(before: np.ndarray, after: np.ndarray, T: np.ndarray) -> np.nda
     (k,) bool array
         ``n_before . n_after <= 0``, already degenerate triangles left aside.
     """
-
-    def cross(X: np.ndarray) -> np.ndarray:
-        return np.cross(X[T[:, 1]] - X[T[:, 0]], X[T[:, 2]] - X[T[:, 0]])
-
-    c0 = cross(before)
-    return (np.einsum("ij,ij->i", c0, cross(after)) <= 0.0) & np.any(c0 != 0.0, axis=1)
+    c0 = triangle_normals(before, T, unit=False)
+    c1 = triangle_normals(after, T, unit=False)
+    return (np.einsum("ij,ij->i", c0, c1) <= 0.0) & np.any(c0 != 0.0, axis=1)

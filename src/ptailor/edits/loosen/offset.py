@@ -6,15 +6,15 @@ from __future__ import annotations
 import numpy as np
 
 from ptailor.edits.loosen.normals import (
-    face_panels,
     normal_smoother,
     outward_normals,
     turned_faces,
     unit_rows,
 )
 from ptailor.errors import PtailorError
+from ptailor.geometry.triangles import triangle_normals
 from ptailor.method.geodesic import geodesic_distance
-from ptailor.model.garment import Panel
+from ptailor.model.garment import Panel, panel_labels
 
 #: the offset falls off to zero over a band this many mean edge lengths wide ...
 FALLOFF_EDGES = 3.0
@@ -93,7 +93,7 @@ def where_faces(
         ``"panel 'front', 'back', height 12.0 to 31.5"``: the (up to three) panels holding
         most of them, most first.
     """
-    fp = face_panels(F3, plist)[mask]
+    fp = panel_labels(plist, len(F3))[mask]
     count = np.bincount(fp[fp >= 0], minlength=len(plist))
     worst = np.argsort(-count, kind="stable")[: min(3, int((count > 0).sum()))]
     height = V[F3[mask]].mean(axis=1) @ (up / np.linalg.norm(up))
@@ -226,8 +226,8 @@ def offset_region(
     # region triangles that move, their panels and areas: the smoothed normals must still
     # follow each panel's surface (area-weighted mean cosine to the raw normals)
     live = (w[T] > 0.0).any(axis=1)
-    fp = face_panels(F3, plist)[faces]
-    area = np.linalg.norm(np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]]), axis=1)
+    fp = panel_labels(plist, len(F3))[faces]
+    area = np.linalg.norm(triangle_normals(V, T, unit=False), axis=1)  # twice the areas
     wt = np.where(live & (fp >= 0), area, 0.0)
     total = np.bincount(np.maximum(fp, 0), weights=wt, minlength=len(plist))
     up_v = np.asarray(up, float)
