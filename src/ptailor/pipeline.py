@@ -15,8 +15,8 @@ from ptailor.edits.mirror import apply_mirrored
 from ptailor.errors import PtailorError
 from ptailor.geometry.triangles import triangle_areas
 from ptailor.method.flatten import FlattenResult, flatten
-from ptailor.model.garment import Garment, panel_labels, panels, vertex_labels, with_panel_names
-from ptailor.model.seams import seams
+from ptailor.model.garment import Garment, panel_labels, with_panel_names
+from ptailor.model.structure import structure
 from ptailor.model.symmetry import sagittal_plane
 from ptailor.recipe import Recipe
 
@@ -57,7 +57,7 @@ class Adjustment:
     def original_panels(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         """Panel name to ``(faces, vertices)`` in the input garment."""
         g = self.original if self.original is not None else self.state.base
-        return {p.name: (p.faces, p.vertices) for p in panels(g)}
+        return {p.name: (p.faces, p.vertices) for p in structure(g).panels}
 
     @property
     def garment(self) -> Garment:
@@ -91,7 +91,7 @@ def apply_steps(garment: Garment, recipe: Recipe, *, options: EditOptions) -> Ed
     -------
     EditState
     """
-    plist = panels(garment)
+    plist = structure(garment).panels
     state = EditState(
         base=garment, V3=garment.V3.copy(), panels=plist, even=np.ones(len(plist), dtype=bool)
     )
@@ -306,7 +306,8 @@ def _adjust(
     t0 = time.perf_counter()
     options = options or EditOptions()
     # panel names (from the file, else from the drape in the run's axes) fixed once
-    garment = with_panel_names(garment, up=options.up, front=options.front)
+    named = structure(garment, up=options.up, front=options.front).panels
+    garment = with_panel_names(garment, up=options.up, front=options.front, plist=named)
     state = apply_steps(garment, recipe, options=options)
     t1 = time.perf_counter()
     asap = asap_mask(state, settings["boundary"])
@@ -383,11 +384,3 @@ def solver_warnings(adj: Adjustment) -> list[str]:
         )
     out.extend(adj.notes)
     return out
-
-
-def garment_structure(state: EditState) -> tuple[np.ndarray, np.ndarray, list]:
-    """Face and vertex panel labels and the seams of the (original) garment."""
-    g = state.base
-    flab = panel_labels(state.panels, g.n_faces)
-    vlab = vertex_labels(state.panels, len(g.V2))
-    return flab, vlab, seams(g.F3, g.F2, flab)

@@ -7,11 +7,9 @@ import numpy as np
 
 from ptailor.formats.garment import LoadedGarment
 from ptailor.geometry.triangles import signed_areas_2d
-from ptailor.model.garment import panel_labels, panels, vertex_labels
-from ptailor.model.names import panel_layout, seam_names
-from ptailor.model.openings import openings
+from ptailor.model.names import seam_names
 from ptailor.model.pieces import PatternFile
-from ptailor.model.seams import seams
+from ptailor.model.structure import structure
 from ptailor.model.units import CM_PER
 from ptailor.report.metrics import panel_sizes
 
@@ -33,10 +31,8 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
         ``name`` from where they run), ``openings``, ``units``, ``triangles``.
     """
     g = loaded.garment
-    plist = panels(g, up=up, front=front)
-    flab = panel_labels(plist, g.n_faces)
-    layout = panel_layout(g.V3, g.F3, g.F2, flab, len(plist), up=up, front=front)
-    vlab = vertex_labels(plist, len(g.V2))
+    st = structure(g, up=up, front=front)
+    plist, flab, vlab, layout = st.panels, st.face_panel, st.vertex_panel, st.layout
     n = len(plist)
     sizes = panel_sizes(g.V2, vlab, n)
     area = np.bincount(flab, np.abs(signed_areas_2d(g.V2, g.F2)), minlength=n)
@@ -54,7 +50,7 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
         for p in plist
     ]
     out_s = []
-    seam_list = seams(g.F3, g.F2, flab)
+    seam_list = st.seams
     for s, sname in zip(seam_list, seam_names(g.V3, seam_list, layout, names), strict=True):
         la, lb = s.lengths(g.V2)
         out_s.append(
@@ -72,7 +68,7 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
             "length": round(float(o.length), 3),
             "centroid": [round(float(x), 3) for x in o.centroid],
         }
-        for o in openings(g.V3, g.F3, up=up, front=front, F2=g.F2)
+        for o in st.openings
     ]
     units = {"computation": g.units}
     if loaded.pattern_units_estimated:

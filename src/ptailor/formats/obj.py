@@ -333,16 +333,17 @@ def write_garment(path: str | Path, garment: Garment, *, header: Sequence[str] =
     header : list of str
         Comment lines written first.
     """
-    from ptailor.model.garment import panel_labels, panels
+    from ptailor.model.structure import structure
 
-    plist = panels(garment)
+    st = structure(garment)
+    plist = st.panels
     write_obj(
         path,
         V3=garment.V3,
         F3=garment.F3,
         V2=garment.V2,
         F2=garment.F2,
-        face_panel=panel_labels(plist, garment.n_faces),
+        face_panel=st.face_panel,
         panel_names=[p.name for p in plist],
         header=list(header),
     )

@@ -28,6 +28,7 @@ import numpy as np
 
 from ptailor.model.boundary import boundary_curves, boundary_loops
 from ptailor.model.garment import Garment, Panel, panel_labels, panels, vertex_labels
+from ptailor.model.names import PanelLayout, panel_layout
 from ptailor.model.openings import Opening, openings
 from ptailor.model.seams import Seam, seam_halfedges, seams
 
@@ -64,6 +65,8 @@ class GarmentStructure:
         :func:`ptailor.model.boundary.boundary_curves` of the drape (with ``V3``, ``F2``).
     openings : list of Opening
         :func:`ptailor.model.openings.openings` of the drape.
+    layout : PanelLayout
+        :func:`ptailor.model.names.panel_layout` over ``face_panel`` and ``openings``.
     """
 
     def __init__(self, garment: Garment, *, up: Axis, front: Axis) -> None:
@@ -102,6 +105,20 @@ class GarmentStructure:
         g = self.garment
         return openings(g.V3, g.F3, up=self.up, front=self.front, F2=g.F2)
 
+    @cached_property
+    def layout(self) -> PanelLayout:
+        g = self.garment
+        return panel_layout(
+            g.V3,
+            g.F3,
+            g.F2,
+            self.face_panel,
+            len(self.panels),
+            up=self.up,
+            front=self.front,
+            opening_list=self.openings,
+        )
+
     def panel_loops(self, index: int) -> list[np.ndarray]:
         """Boundary loops (pattern vertex indices) of panel ``index``.
 
@@ -115,9 +132,7 @@ class GarmentStructure:
         return self._loops[index]
 
 
-def structure(
-    garment: Garment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)
-) -> GarmentStructure:
+def structure(garment: Garment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> GarmentStructure:
     """The derived structure of ``garment`` for the axes ``up``, ``front`` (cached).
 
     Parameters

@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-import hashlib
-from pathlib import Path
-
 import numpy as np
 
 from ptailor import __version__
-from ptailor.model.names import panel_layout, seam_names
-from ptailor.pipeline import Adjustment, garment_structure, seam_factors, seam_mode
+from ptailor.digest import file_sha256
+from ptailor.geometry.labels import scatter_labels
+from ptailor.model.names import seam_names
+from ptailor.model.structure import structure
+from ptailor.pipeline import Adjustment, seam_factors, seam_mode
 from ptailor.report.metrics import (
     boundary_deviation,
     flipped,
@@ -18,15 +18,6 @@ from ptailor.report.metrics import (
     panel_sizes,
     summary_stats,
 )
-
-
-def sha256(path: str) -> str:
-    """Hex SHA-256 of a file's bytes."""
-    h = hashlib.sha256()
-    with Path(path).open("rb") as fh:
-        for chunk in iter(lambda: fh.read(1 << 20), b""):
-            h.update(chunk)
-    return h.hexdigest()
 
 
 def _r(x: float, nd: int = 6) -> float:
@@ -91,7 +82,9 @@ def build_report(
     st = adj.state
     g = st.base
     n = len(st.panels)
-    flab, vlab, seam_list = garment_structure(st)
+    up, front = adj.axes
+    gs = structure(g, up=up, front=front)
+    flab, vlab, seam_list = gs.face_panel, gs.vertex_panel, gs.seams
     flipv, target = _error_frame(adj)
     orient = np.array([-1.0 if p.mirrored else 1.0 for p in st.panels])[flab]
     V2a = adj.result.V2
@@ -101,12 +94,10 @@ def build_report(
     # "before" is the input garment's panel of the same name (surgery changes triangles)
     g0 = adj.original if adj.original is not None else g
     orig = adj.original_panels()
-    flab0 = np.full(g0.n_faces, -1, dtype=np.int64)
-    vlab0 = np.full(len(g0.V2), -1, dtype=np.int64)
-    for p in st.panels:  # a loop over panels
-        if p.name in orig:
-            flab0[orig[p.name][0]] = p.index
-            vlab0[orig[p.name][1]] = p.index
+    kept = [p for p in st.panels if p.name in orig]
+    ids = [p.index for p in kept]
+    flab0 = scatter_labels([orig[p.name][0] for p in kept], g0.n_faces, labels=ids)
+    vlab0 = scatter_labels([orig[p.name][1] for p in kept], len(g0.V2), labels=ids)
     keep0 = flab0 >= 0
     area0 = panel_areas(g0.V2, g0.F2[keep0], flab0[keep0], n)
     area1 = panel_areas(V2a, g.F2, flab, n)
@@ -148,8 +139,7 @@ def build_report(
     names = [p.name for p in st.panels]
     gathers = seam_factors(st)
     seams_out = []
-    up, front = adj.axes
-    layout = panel_layout(g.V3, g.F3, g.F2, flab, n, up=up, front=front)
+    layout = gs.layout
     seam_name = seam_names(g.V3, seam_list, layout, names)
     for si, s in enumerate(seam_list):  # one record per seam
         la0, lb0 = s.lengths(g.V2)
@@ -178,7 +168,7 @@ def build_report(
         "intrinsic": adj.settings["intrinsic"] if adj.settings["method"] != "uniform" else None,
         "boundary": adj.settings["boundary"],
         "units": units_note,
-        "inputs": {k: {"path": v, "sha256": sha256(v)} for k, v in inputs.items()},
+        "inputs": {k: {"path": v, "sha256": file_sha256(v)} for k, v in inputs.items()},
         "steps": list(st.log),
         "solver": {
             "iterations": info.iterations,
@@ -203,8 +193,12 @@ def _mirrored_vertices(st) -> np.ndarray:
     return np.concatenate(parts) if parts else np.zeros(0, dtype=np.int64)
 
 
-def summary_lines(report: dict) -> list[str]:
-    """A short human summary of a report, one panel per line."""
+def _wh(s: list[float]) -> str:
+    return f"{s[0]:7.2f} x {s[1]:7.2f}"
+
+
+def _panel_lines(report: dict) -> list[str]:
+    """The method line, the table head and one line per panel."""
     u = report["units"]["computation"]
     has_base = bool(report["panels"]) and "baseline_size_after" in report["panels"][0]
     head = f"{'panel':<14} {'size before':>17} {'after (ours)':>17}"
@@ -217,21 +211,20 @@ def summary_lines(report: dict) -> list[str]:
         + f", units: {u}",
         head,
     ]
-
-    def wh(s: list[float]) -> str:
-        return f"{s[0]:7.2f} x {s[1]:7.2f}"
-
     for p in report["panels"]:
-        ln = f"{p['name'][:14]:<14} {wh(p['size_before']):>17} {wh(p['size_after']):>17}"
+        ln = f"{p['name'][:14]:<14} {_wh(p['size_before']):>17} {_wh(p['size_after']):>17}"
         if has_base:
-            ln += f" {wh(p['baseline_size_after']):>17}"
+            ln += f" {_wh(p['baseline_size_after']):>17}"
         ln += (
             f" {p['boundary_deviation']:11.4f} {p['intrinsic_scale_error']['p95']:13.2e}"
             f" {p['flipped_triangles']:5d}"
         )
         lines.append(ln)
+    return lines
 
-    seams = report["seams"]
+
+def _seam_line(seams: list[dict], u: str) -> str:
+    """One line on the seams: how many, how many gathered, the worst mismatch."""
     changed = [
         s for s in seams if abs(s["ratio_target"] - s["ratio_before"]) > 1e-6 * s["ratio_before"]
     ]
@@ -248,14 +241,13 @@ def summary_lines(report: dict) -> list[str]:
                 f" {abs(worst['mismatch']):.3g} {u} (ratio {worst['ratio_after']:.4f},"
                 f" target {worst['ratio_target']:.4f})"
             )
-    lines.append(line)
-    sol = report.get("solver", {})
-    if sol:
-        lines.append(
-            f"solver: {sol['iterations']} iterations, seams {sol['seams']}"
-            + ("" if sol["converged"] else f", NOT converged (residual {sol['residual']:.3g})")
-        )
-    for st in report.get("steps", []):
+    return line
+
+
+def _step_lines(steps: list[dict], u: str) -> list[str]:
+    """Lines for the steps that measured what they achieved, and the symmetry plane."""
+    lines = []
+    for st in steps:
         amount = st.get("amount")
         if isinstance(amount, dict) and isinstance(amount.get("pattern"), dict):
             lo = [v["min"] for v in amount["pattern"].values()]
@@ -277,23 +269,42 @@ def summary_lines(report: dict) -> list[str]:
                 f"symmetry plane: normal ({n}), garment vs mirror rms {st['rms']:.3g},"
                 f" max {st['max']:.3g}"
             )
+    return lines
+
+
+def _pieces_line(pat: dict) -> str:
+    """One line on the pattern pieces written."""
+    pcs = pat["pieces"]
+    from_file = sum(p["source"] == "file" for p in pcs)
+    moved = sum(p.get("matched_by") == "shape" for p in pcs)
+    notches = sum(p.get("notches", 0) for p in pcs)
+    src = (
+        f"{from_file} from the pattern file, {len(pcs) - from_file} drawn from the mesh"
+        if from_file
+        else "drawn from the mesh"
+    )
+    return (
+        f"pieces: {len(pcs)} ({src}"
+        + (f", {moved} matched by shape" if moved else "")
+        + f"), {notches} notches"
+        + (f", size {pat['size']}" if pat.get("size") else "")
+    )
+
+
+def summary_lines(report: dict) -> list[str]:
+    """A short human summary of a report, one panel per line."""
+    u = report["units"]["computation"]
+    lines = _panel_lines(report)
+    lines.append(_seam_line(report["seams"], u))
+    sol = report.get("solver", {})
+    if sol:
+        lines.append(
+            f"solver: {sol['iterations']} iterations, seams {sol['seams']}"
+            + ("" if sol["converged"] else f", NOT converged (residual {sol['residual']:.3g})")
+        )
+    lines.extend(_step_lines(report.get("steps", []), u))
     pat = report.get("pattern")
     if pat and pat.get("pieces"):
-        pcs = pat["pieces"]
-        from_file = sum(p["source"] == "file" for p in pcs)
-        moved = sum(p.get("matched_by") == "shape" for p in pcs)
-        notches = sum(p.get("notches", 0) for p in pcs)
-        src = (
-            f"{from_file} from the pattern file, {len(pcs) - from_file} drawn from the mesh"
-            if from_file
-            else "drawn from the mesh"
-        )
-        lines.append(
-            f"pieces: {len(pcs)} ({src}"
-            + (f", {moved} matched by shape" if moved else "")
-            + f"), {notches} notches"
-            + (f", size {pat['size']}" if pat.get("size") else "")
-        )
-    for w in report["warnings"]:
-        lines.append(f"warning: {w}")
+        lines.append(_pieces_line(pat))
+    lines.extend(f"warning: {w}" for w in report["warnings"])
     return lines

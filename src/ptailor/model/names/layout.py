@@ -1,0 +1,169 @@
+"""The panel layout: where each panel sits on the garment, and the name that follows."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ptailor.model.names.measures import OpeningTouch, edge_graph, panel_measures
+from ptailor.model.names.roles import (
+    _unique_names,
+    base_names,
+    faces,
+    limbs,
+    sides,
+    strip_roles,
+    strip_shape,
+    tiers,
+)
+from ptailor.model.openings import Opening, body_frame, openings
+
+
+@dataclass(frozen=True)
+class PanelLayout:
+    """Where each panel sits on the garment, and the name that follows.
+
+    Attributes
+    ----------
+    names : list of str
+        Geometric name per panel, unique.
+    role : list of str
+        ``body``, ``sleeve``, ``cuff``, ``collar``, ``waistband`` or ``strap``.
+    side : list of str
+        ``left``, ``right`` or ``centre``.
+    face : list of str
+        ``front`` or ``back``; ``""`` for a body panel around the body (a tube).
+    tier : list of str
+        ``""`` (one-tier garment, limbs and strips), ``bodice`` or ``skirt``.
+    centroid : (n_p, 3) float array
+        Area-weighted 3D centroid per panel in the wearer's frame ``(left, up, front)``,
+        relative to the garment's centre (area-weighted mean left and front coordinates, the
+        lowest point's height).
+    lo, hi : (n_p, 3) float arrays
+        Per-panel extents in the same coordinates.
+    height : float
+        The garment's height along up.
+    s0, f0 : float
+        The centre line's left and front coordinates (absolute, in the frame).
+    h0 : float
+        The garment's lowest height (absolute).
+    frame : (3, 3) float array
+        Rows ``(left, up, front)``.
+    openings : list of Opening
+    """
+
+    names: list[str]
+    role: list[str]
+    side: list[str]
+    face: list[str]
+    tier: list[str]
+    centroid: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    height: float
+    s0: float
+    f0: float
+    h0: float
+    frame: np.ndarray
+    openings: list[Opening]
+
+    def position(self, p: int) -> str:
+        """A short phrase for panel ``p``'s place: side, front/back and height band.
+
+        Returns
+        -------
+        str
+            For example ``"left, back, upper"``: ``left``/``right``/``centre``; ``front`` or
+            ``back``, left out when the centroid is within 10 % of the garment's depth of
+            the centre; height bands of the garment's height: ``top`` >= 80 %, ``upper`` >=
+            55 %, ``middle`` >= 30 %, ``lower`` >= 10 %, else ``bottom``.
+        """
+        c = self.centroid[p]
+        t = c[1] / self.height if self.height > 0 else 0.5
+        band = (
+            "top"
+            if t >= 0.8
+            else "upper"
+            if t >= 0.55
+            else "middle"
+            if t >= 0.3
+            else "lower"
+            if t >= 0.1
+            else "bottom"
+        )
+        depth = float(self.hi[:, 2].max() - self.lo[:, 2].min()) if len(self.hi) else 0.0
+        if abs(c[2]) < 0.1 * depth or not self.face[p]:
+            return f"{self.side[p]}, {band}"
+        return f"{self.side[p]}, {self.face[p]}, {band}"
+
+
+def panel_layout(
+    V3: np.ndarray,
+    F3: np.ndarray,
+    F2: np.ndarray,
+    face_panel: np.ndarray,
+    n_panels: int,
+    *,
+    up=(0.0, 1.0, 0.0),
+    front=(0.0, 0.0, 1.0),
+    opening_list: list[Opening] | None = None,
+) -> PanelLayout:
+    """Name every panel from where it sits on the drape.
+
+    Parameters
+    ----------
+    V3 : (n3, 3) float array
+        Drape positions.
+    F3, F2 : (m, 3) int arrays
+        Drape and pattern triangles.
+    face_panel : (m,) int array
+        Panel index per triangle, ``0 .. n_panels - 1``.
+    n_panels : int
+    up, front : 3-vectors
+        The wearer's up and front directions.
+    opening_list : list of Opening, optional
+        ``openings(V3, F3, up=up, front=front, F2=F2)``, when the caller already has it.
+
+    Returns
+    -------
+    PanelLayout
+        See the module docstring of :mod:`ptailor.model.names` for the rules.
+    """
+    n_p = int(n_panels)
+    frame = body_frame(up, front)
+    V3 = np.asarray(V3, dtype=np.float64)
+    F3 = np.asarray(F3, dtype=np.int64).reshape(-1, 3)
+    lab = np.asarray(face_panel, dtype=np.int64)
+    pm = panel_measures(V3, F3, lab, n_p, frame)
+    graph = edge_graph(V3, F3, F2, lab, n_p)
+    ops = openings(V3, F3, up=up, front=front, F2=F2) if opening_list is None else opening_list
+    touches = OpeningTouch(ops, len(V3), graph, n_p)
+
+    L, strip = strip_shape(graph.perim, pm.At)
+    side, s_rel, centred = sides(pm)
+    role = strip_roles(strip, L, centred, touches)
+    role, side, limb_side = limbs(role, side, graph.W, centred, s_rel, touches)
+    body = np.array([r == "body" for r in role])
+    tier = tiers(body, touches, ops, pm)
+    face = faces(body, tier, centred, pm)
+    base = base_names(role, side, face, tier, limb_side, pm.cen_abs)
+    origin = np.array([pm.s0, pm.h0, pm.f0])
+    rel = pm.cen_abs - origin
+    names = _unique_names(base, pm.At, rel, pm.hi_abs - pm.lo_abs, np.abs(s_rel))
+    return PanelLayout(
+        names=names,
+        role=role,
+        side=side,
+        face=face,
+        tier=tier,
+        centroid=rel,
+        lo=pm.lo_abs - origin,
+        hi=pm.hi_abs - origin,
+        height=pm.H,
+        s0=pm.s0,
+        f0=pm.f0,
+        h0=pm.h0,
+        frame=frame,
+        openings=ops,
+    )

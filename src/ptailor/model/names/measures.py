@@ -1,0 +1,182 @@
+"""What panel naming measures on the drape: per-panel areas, centroids and extents in the
+wearer's frame, the boundary and seam edges between panels, and where openings touch them."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ptailor.geometry.triangles import triangle_areas
+from ptailor.model.openings import Opening
+from ptailor.model.seams import edge_keys, half_edges
+
+
+@dataclass(frozen=True)
+class PanelMeasures:
+    """Areas and positions of the panels in the wearer's frame ``(left, up, front)``.
+
+    Attributes
+    ----------
+    X : (n3, 3) float array
+        Drape positions in the frame.
+    area : (m,) float array
+        Triangle areas.
+    At : (n_p,) float array
+        Panel areas.
+    cen_abs : (n_p, 3) float array
+        Area-weighted panel centroids (absolute, in the frame).
+    lo_abs, hi_abs : (n_p, 3) float arrays
+        Per-panel extents (absolute).
+    s0, f0 : float
+        The centre line's left and front coordinates (area-weighted means).
+    h0, H : float
+        The garment's lowest height and its height.
+    """
+
+    X: np.ndarray
+    area: np.ndarray
+    At: np.ndarray
+    cen_abs: np.ndarray
+    lo_abs: np.ndarray
+    hi_abs: np.ndarray
+    s0: float
+    f0: float
+    h0: float
+    H: float
+
+
+def _per_panel_extent(X: np.ndarray, lab: np.ndarray, n_p: int) -> tuple[np.ndarray, np.ndarray]:
+    """Per-panel min and max of face-corner coordinates.
+
+    Parameters
+    ----------
+    X : (m, 3, 3) float array
+        Corner coordinates per face.
+    lab : (m,) int array
+    n_p : int
+
+    Returns
+    -------
+    lo, hi : (n_p, 3) float arrays
+    """
+    lo = np.full((n_p, 3), np.inf)
+    hi = np.full((n_p, 3), -np.inf)
+    if len(lab) == 0:
+        return lo, hi
+    order = np.argsort(lab, kind="stable")
+    sl = lab[order]
+    starts = np.flatnonzero(np.r_[True, sl[1:] != sl[:-1]])
+    present = sl[starts]
+    lo[present] = np.minimum.reduceat(X.min(axis=1)[order], starts, axis=0)
+    hi[present] = np.maximum.reduceat(X.max(axis=1)[order], starts, axis=0)
+    return lo, hi
+
+
+def panel_measures(
+    V3: np.ndarray, F3: np.ndarray, lab: np.ndarray, n_p: int, frame: np.ndarray
+) -> PanelMeasures:
+    """Measure the panels ``lab`` (per triangle) of a drape in the frame ``frame`` (rows)."""
+    X = V3 @ frame.T  # (n3, 3): left, up, front
+    Xc = X[F3]  # (m, 3, 3)
+    area = triangle_areas(V3, F3)
+    At = np.bincount(lab, area, minlength=n_p)
+    Atot = max(float(At.sum()), 1e-300)
+    fc = Xc.mean(axis=1)
+    cen_abs = np.stack([np.bincount(lab, area * fc[:, k], minlength=n_p) for k in range(3)], 1)
+    cen_abs = cen_abs / np.maximum(At, 1e-300)[:, None]
+    lo_abs, hi_abs = _per_panel_extent(Xc, lab, n_p)
+    s0 = float((area * fc[:, 0]).sum() / Atot)
+    f0 = float((area * fc[:, 2]).sum() / Atot)
+    used = np.flatnonzero(np.bincount(F3.ravel(), minlength=len(V3)) > 0)
+    h0 = float(X[used, 1].min()) if used.size else 0.0
+    H = float(X[used, 1].max()) - h0 if used.size else 0.0
+    return PanelMeasures(X, area, At, cen_abs, lo_abs, hi_abs, s0, f0, h0, H)
+
+
+@dataclass(frozen=True)
+class EdgeGraph:
+    """The drape's boundary and seam half-edges, with their 3D lengths and panels.
+
+    Attributes
+    ----------
+    h3 : (3m, 2) int array
+        Drape half-edges.
+    hlen : (3m,) float array
+        Their lengths.
+    hpan : (3m,) int array
+        Their panels.
+    bnd : (b,) int array
+        Boundary half-edges, ascending.
+    perim : (n_p,) float array
+        Per panel, the length of its boundary and seam edges.
+    W : (n_p, n_p) float array
+        Seam length between each two panels (symmetric).
+    """
+
+    h3: np.ndarray
+    hlen: np.ndarray
+    hpan: np.ndarray
+    bnd: np.ndarray
+    perim: np.ndarray
+    W: np.ndarray
+
+
+def edge_graph(
+    V3: np.ndarray, F3: np.ndarray, F2: np.ndarray, lab: np.ndarray, n_p: int
+) -> EdgeGraph:
+    """Boundary and seam half-edges, panel perimeters and the seam adjacency of panels.
+
+    One sort of the drape's edges: runs of one are boundary, runs of two interior edges (a
+    seam when the two pattern edges differ); T-seams (3+ faces) are sewn, never boundary
+    (as ``openings()`` has them), and give no adjacency (enough to name panels).
+    """
+    h3 = half_edges(F3)
+    hlen = np.linalg.norm(V3[h3[:, 1]] - V3[h3[:, 0]], axis=1)
+    hpan = np.repeat(lab, 3)
+    h2 = half_edges(np.asarray(F2, dtype=np.int64).reshape(-1, 3))
+    key = edge_keys(h3)
+    order = np.argsort(key, kind="stable")
+    ks = key[order]
+    start = np.r_[True, ks[1:] != ks[:-1]] if len(ks) else np.zeros(0, dtype=bool)
+    run_id = np.cumsum(start) - 1
+    run_len = np.bincount(run_id)[run_id] if len(ks) else np.zeros(0, dtype=np.int64)
+    bnd = np.sort(order[run_len == 1])
+    two = np.flatnonzero(start & (run_len == 2))
+    first, second = order[two], order[two + 1]
+    same_dir = h3[first, 0] == h3[second, 0]
+    e2 = np.where(same_dir[:, None], h2[second], h2[second][:, ::-1])
+    is_seam = np.any(h2[first] != e2, axis=1)
+    pairs = np.stack([first[is_seam], second[is_seam]], axis=1)
+    sh = pairs.ravel()
+    perim = np.bincount(hpan[bnd], hlen[bnd], minlength=n_p) + np.bincount(
+        hpan[sh], hlen[sh], minlength=n_p
+    )
+    # seam adjacency (3D length between panels)
+    W = np.zeros((n_p, n_p))
+    if len(pairs):
+        np.add.at(W, (hpan[pairs[:, 0]], hpan[pairs[:, 1]]), hlen[pairs[:, 0]])
+    W = W + W.T
+    return EdgeGraph(h3, hlen, hpan, bnd, perim, W)
+
+
+class OpeningTouch:
+    """How long each opening's loop runs along each panel."""
+
+    def __init__(self, ops: list[Opening], n3: int, g: EdgeGraph, n_p: int) -> None:
+        n_o = len(ops)
+        vid = np.full(n3, -1, dtype=np.int64)
+        for k, o in enumerate(ops):  # a loop over openings
+            vid[o.loop] = k
+        a, b = vid[g.h3[g.bnd, 0]], vid[g.h3[g.bnd, 1]]
+        on = (a >= 0) & (a == b)
+        touch = np.zeros((max(n_o, 1), n_p))
+        np.add.at(touch, (a[on], g.hpan[g.bnd][on]), g.hlen[g.bnd][on])
+        self.touch = touch
+        self.index = {o.name: k for k, o in enumerate(ops)}
+        self.n_p = n_p
+
+    def __call__(self, name: str) -> np.ndarray:
+        """``(n_p,)``: the length of opening ``name``'s loop on each panel (0 if none)."""
+        k = self.index.get(name)
+        return self.touch[k] if k is not None else np.zeros(self.n_p)

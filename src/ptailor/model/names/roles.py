@@ -1,0 +1,289 @@
+"""The naming rules: a panel's side, role (strip, limb, body), tier and face, and the names
+that follow (the module docstring of :mod:`ptailor.model.names` states the rules)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ptailor.model.names.measures import OpeningTouch, PanelMeasures
+
+#: A strip is at least this long for its width (rectangle with the panel's area and perimeter).
+_STRIP_ASPECT = 3.5
+#: A strip's long side lies along an opening when this fraction of its length touches it.
+_STRIP_TOUCH = 0.4
+#: A panel straddles the centre line when its shorter reach across it is this fraction of
+#: its longer one.
+_CENTRED = 1.0 / 3.0
+
+_CENTRED_OPENINGS = ("neckline", "hem", "waist", "armhole_left", "armhole_right")
+
+
+def strip_shape(perim: np.ndarray, At: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Long side ``L`` of the rectangle with each panel's area and perimeter, and whether
+    the panel is a strip (``L / width >= _STRIP_ASPECT``)."""
+    half = perim / 2.0
+    disc = np.sqrt(np.maximum(half**2 - 4.0 * At, 0.0))
+    L = (half + disc) / 2.0
+    w = np.maximum((half - disc) / 2.0, 1e-300)
+    return L, L / w >= _STRIP_ASPECT
+
+
+def sides(pm: PanelMeasures) -> tuple[list[str], np.ndarray, np.ndarray]:
+    """Each panel's side (``left``/``right``/``centre``), its centroid's left offset from
+    the centre line, and whether it straddles the centre line."""
+    n_p = len(pm.At)
+    side = ["centre"] * n_p
+    s_rel = pm.cen_abs[:, 0] - pm.s0
+    reach_l = pm.hi_abs[:, 0] - pm.s0
+    reach_r = pm.s0 - pm.lo_abs[:, 0]
+    centred = (np.minimum(reach_l, reach_r) > 0) & (
+        np.minimum(reach_l, reach_r) >= _CENTRED * np.maximum(reach_l, reach_r)
+    )
+    for p in range(n_p):
+        if not centred[p]:
+            side[p] = "left" if s_rel[p] > 0 else "right"
+    return side, s_rel, centred
+
+
+def strip_roles(
+    strip: np.ndarray, L: np.ndarray, centred: np.ndarray, touches: OpeningTouch
+) -> list[str]:
+    """``strap``, ``collar`` or ``waistband`` for strips along openings, else ``body``."""
+    role = ["body"] * len(strip)
+    t_neck, t_waist = touches("neckline"), touches("waist")
+    t_arm = touches("armhole_left") + touches("armhole_right")
+    t_other = touches("hem") + touches("cuff_left") + touches("cuff_right")
+    for p in range(len(strip)):
+        if not strip[p] or t_other[p] > 0:
+            continue
+        if t_arm[p] > 0 and not centred[p]:
+            role[p] = "strap"
+        elif t_neck[p] >= _STRIP_TOUCH * L[p] and t_arm[p] == 0:
+            role[p] = "collar"
+        elif t_waist[p] >= _STRIP_TOUCH * L[p]:
+            role[p] = "waistband"
+    return role
+
+
+def _limb_group(
+    sname: str,
+    tc: np.ndarray,
+    free: np.ndarray,
+    W: np.ndarray,
+    centred: np.ndarray,
+    s_rel: np.ndarray,
+    limb_side: list[str],
+) -> list[int]:
+    """The panels of one side's limb: seam-connected free panels from those at the cuff."""
+    grp = set(np.flatnonzero(free & (tc > 0)).tolist())
+    # a limb panel sits out on its side: at least half as far out as the cuff's panels
+    far = 0.5 * float(np.mean(np.abs(s_rel[sorted(grp)]))) if grp else 0.0
+    frontier = list(grp)
+    while frontier:  # a walk over panels
+        p = frontier.pop()
+        for q in np.flatnonzero((W[p] > 0) & free).tolist():
+            on_side = (
+                not centred[q] and (s_rel[q] > 0) == (sname == "left") and abs(s_rel[q]) >= far
+            )
+            if q not in grp and not limb_side[q] and on_side:
+                grp.add(q)
+                frontier.append(q)
+    return sorted(grp)
+
+
+def limbs(
+    role: list[str],
+    side: list[str],
+    W: np.ndarray,
+    centred: np.ndarray,
+    s_rel: np.ndarray,
+    touches: OpeningTouch,
+) -> tuple[list[str], list[str], list[str]]:
+    """Sleeves and cuffs: seam-connected groups of body panels touching no centred opening
+    that reach a cuff.
+
+    Returns
+    -------
+    role, side, limb_side : lists of str
+        Updated copies; ``limb_side`` is ``left``/``right`` for limb panels, else ``""``.
+    """
+    role, side = list(role), list(side)
+    n_p = len(role)
+    t_centred = sum(touches(n) for n in _CENTRED_OPENINGS)
+    free = np.array([role[p] == "body" and t_centred[p] == 0 for p in range(n_p)], dtype=bool)
+    limb_side = [""] * n_p
+    for sname in ("left", "right"):
+        tc = touches(f"cuff_{sname}")
+        members = _limb_group(sname, tc, free, W, centred, s_rel, limb_side)
+        if not members:
+            continue
+        body_adj = {p: bool((W[p] * ~free).sum() > 0) for p in members}
+        any_body = any(body_adj.values())
+        for p in members:
+            limb_side[p] = sname
+            side[p] = sname
+            cuffish = tc[p] > 0 and not body_adj[p] and any_body and len(members) > 1
+            role[p] = "cuff" if cuffish else "sleeve"
+    return role, side, limb_side
+
+
+def tiers(body: np.ndarray, touches: OpeningTouch, ops: list, pm: PanelMeasures) -> list[str]:
+    """``bodice``/``skirt`` for the body panels of a two-tier top or a skirt, else ``""``."""
+    oname = touches.index
+    tops = [oname[n] for n in ("neckline", "armhole_left", "armhole_right") if n in oname]
+    tier = [""] * len(body)
+    hem_p = body & (touches("hem") > 0)
+    if tops and hem_p.any():
+        top_low = min(float(pm.X[ops[k].loop, 1].min()) for k in tops)
+        waist_h = float(pm.hi_abs[hem_p, 1].max())
+        if waist_h < top_low:
+            for p in np.flatnonzero(body).tolist():
+                tier[p] = "bodice" if pm.cen_abs[p, 1] > waist_h else "skirt"
+    elif not tops and "waist" in oname:
+        for p in np.flatnonzero(body).tolist():
+            tier[p] = "skirt"
+    return tier
+
+
+def faces(body: np.ndarray, tier: list[str], centred: np.ndarray, pm: PanelMeasures) -> list[str]:
+    """``front``/``back`` against the area-weighted mean of the panel's tier (body panels;
+    ``""`` for a tube around the body), else of the garment."""
+    n_p = len(body)
+    cen_abs, At = pm.cen_abs, pm.At
+    face = ["front"] * n_p
+    for t in sorted(set(tier)):
+        members = np.array([body[p] and tier[p] == t for p in range(n_p)])
+        if not members.any():
+            continue
+        ft = float((cen_abs[members, 2] * At[members]).sum() / max(At[members].sum(), 1e-300))
+        fwd, bwd = pm.hi_abs[:, 2] - ft, ft - pm.lo_abs[:, 2]
+        wraps = centred & (np.minimum(fwd, bwd) > 0)
+        wraps &= np.minimum(fwd, bwd) >= _CENTRED * np.maximum(fwd, bwd)
+        for p in np.flatnonzero(members).tolist():
+            # a panel around the body (a tube) is neither front nor back
+            face[p] = "" if wraps[p] else "front" if cen_abs[p, 2] >= ft else "back"
+    for p in np.flatnonzero(~body).tolist():
+        face[p] = "front" if cen_abs[p, 2] >= pm.f0 else "back"
+    return face
+
+
+def _base_name(role: str, side: str, face: str, tier: str) -> str:
+    """One panel's name from its role, side, face and tier."""
+    sd = "" if side == "centre" else f"_{side}"
+    if role == "body" and not face:
+        return tier or "body"
+    if role == "body":
+        pre = f"{tier}_" if tier else ""
+        return f"{pre}{face}{sd}"
+    if role in ("sleeve", "cuff", "strap"):
+        return f"{role}{sd}"
+    return role
+
+
+def _faced_strips(base: list[str], role: list[str], face: list[str]) -> list[str]:
+    """Strips and cuffs sharing a name but not a face: both get ``_front`` / ``_back``."""
+    n_p = len(base)
+    faced = list(base)
+    for p in range(n_p):
+        if role[p] in ("collar", "waistband", "strap", "cuff"):
+            same = [q for q in range(n_p) if base[q] == base[p]]
+            if len({face[q] for q in same}) > 1:
+                faced[p] = f"{base[p]}_{face[p]}"
+    return faced
+
+
+def _two_piece_limbs(
+    base: list[str], role: list[str], limb_side: list[str], cen_abs: np.ndarray
+) -> list[str]:
+    """A two-piece limb: front/back or upper/lower by the larger offset between its halves."""
+    base = list(base)
+    n_p = len(base)
+    for sname in ("left", "right"):
+        sl = [p for p in range(n_p) if limb_side[p] == sname and role[p] == "sleeve"]
+        if len(sl) == 2:
+            p, q = sl
+            d = cen_abs[p] - cen_abs[q]
+            if abs(d[2]) >= abs(d[1]):
+                hi_p = d[2] > 0
+                base[p] += "_front" if hi_p else "_back"
+                base[q] += "_back" if hi_p else "_front"
+            else:
+                hi_p = d[1] > 0
+                base[p] += "_upper" if hi_p else "_lower"
+                base[q] += "_lower" if hi_p else "_upper"
+    return base
+
+
+def base_names(
+    role: list[str],
+    side: list[str],
+    face: list[str],
+    tier: list[str],
+    limb_side: list[str],
+    cen_abs: np.ndarray,
+) -> list[str]:
+    """Each panel's name before equal names are told apart."""
+    base = [_base_name(*a) for a in zip(role, side, face, tier, strict=True)]
+    base = _faced_strips(base, role, face)
+    return _two_piece_limbs(base, role, limb_side, cen_abs)
+
+
+def _unique_names(
+    base: list[str], area: np.ndarray, cen: np.ndarray, ext: np.ndarray, reach: np.ndarray
+) -> list[str]:
+    """Disambiguate equal names: the largest keeps it, others get a place qualifier.
+
+    Parameters
+    ----------
+    base : list of str
+        Proposed name per panel.
+    area : (n_p,) float array
+    cen : (n_p, 3) float array
+        Centroids ``(left, up, front)`` relative to the centre line.
+    ext : (n_p, 3) float array
+        Extents per panel.
+    reach : (n_p,) float array
+        Distance of each centroid from the centre line.
+
+    Returns
+    -------
+    list of str
+    """
+    out = list(base)
+    for name in sorted(set(base)):
+        idx = [p for p, b in enumerate(base) if b == name]
+        if len(idx) < 2:
+            continue
+        idx.sort(key=lambda p: (-area[p], p))
+        ref = idx[0]
+        for p in idx[1:]:
+            dh = (cen[p, 1] - cen[ref, 1]) / max(ext[ref, 1], 1e-12)
+            ds = (reach[p] - reach[ref]) / max(ext[ref, 0], 1e-12)
+            if abs(dh) >= abs(ds):
+                out[p] = f"{name}_{'upper' if dh > 0 else 'lower'}"
+            elif ds > 0:
+                out[p] = f"{name}_side"
+            elif len(idx) == 2:  # the inner of two side by side keeps the name
+                out[ref] = f"{name}_side"
+            else:
+                out[p] = f"{name}_centre"
+    return _suffix_duplicates(out)
+
+
+def _suffix_duplicates(names: list[str]) -> list[str]:
+    """Names still equal get ``_2``, ``_3``, ... in list order (the first keeps its name)."""
+    seen: dict[str, int] = {}
+    taken = set(names)
+    out = []
+    for n in names:
+        if n not in seen:
+            seen[n] = 1
+            out.append(n)
+            continue
+        k = seen[n] + 1
+        while f"{n}_{k}" in taken:
+            k += 1
+        seen[n] = k
+        taken.add(f"{n}_{k}")
+        out.append(f"{n}_{k}")
+    return out
