@@ -12,9 +12,9 @@ from click.testing import CliRunner
 
 from ptailor.cli.main import cli
 from ptailor.demo import sample_obj_text
-from ptailor.edits.achieved import point_segment_distance
 from ptailor.formats.dxf import read_dxf, write_dxf
 from ptailor.formats.obj import write_garment
+from ptailor.geometry.segments import nearest_segment_distance
 from ptailor.model.garment import panels
 from ptailor.model.pieces import PatternFile, Piece
 from ptailor.model.polyline import signed_area
@@ -428,4 +428,4 @@ def test_extend_drops_the_notches_it_leaves_inside_the_piece(tmp_path):
         assert abs(signed_area(b.outline)) > abs(signed_area(before[name].outline))
         if len(b.notches):  # every notch left is on the new outline
             A, B = b.outline, np.roll(b.outline, -1, axis=0)
-            assert point_segment_distance(b.notches, A, B).max() < 1e-3 * size
+            assert nearest_segment_distance(b.notches, A, B).max() < 1e-3 * size

@@ -18,8 +18,8 @@ plan
 """
 
 from ptailor.pieces.carry import CarriedPiece, carry_piece, scale_piece, with_seam_allowance
-from ptailor.pieces.draw import grain_directions, mesh_pieces, outer_loop
-from ptailor.pieces.match import PieceMatch, match_pieces, more_instances
+from ptailor.pieces.draw import grain_directions, mesh_pieces
+from ptailor.pieces.match import PieceMatch, match_pieces
 from ptailor.pieces.plan import PiecePlan, adjusted_pieces, carry_plan, piece_plan, unfolded
 
 __all__ = [
@@ -32,8 +32,6 @@ __all__ = [
     "grain_directions",
     "match_pieces",
     "mesh_pieces",
-    "more_instances",
-    "outer_loop",
     "piece_plan",
     "scale_piece",
     "unfolded",

@@ -15,10 +15,10 @@ from ptailor.geometry.pattern_maps import least_squares_preimages, pattern_jacob
 from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
 from ptailor.geometry.tube_axis import tube_axis
 from ptailor.model.boundary import boundary_loops
-from ptailor.model.garment import Panel
+from ptailor.model.garment import Panel, panel_labels
 from ptailor.model.pieces import Piece
 from ptailor.model.polyline import corners, signed_area
-from ptailor.model.seams import edge_keys
+from ptailor.model.seams import edge_keys, half_edges, seam_halfedges
 
 
 def outer_loop(F2: np.ndarray, faces: np.ndarray, V2: np.ndarray) -> np.ndarray:
@@ -52,9 +52,6 @@ def _outermost(loops: list[np.ndarray], V2: np.ndarray) -> np.ndarray:
 
 def _edge_partners(F2: np.ndarray, F3: np.ndarray | None, panel_list: list[Panel]):
     """Sorted 2D edge keys of the pattern's half-edges and the panel across each (or -1)."""
-    from ptailor.method.flatten import panel_labels
-    from ptailor.model.seams import half_edges, seam_halfedges
-
     m = len(F2)
     keys = edge_keys(half_edges(F2), n=int(F2.max(initial=0)) + 1)
     partner = np.full(3 * m, -1, dtype=np.int64)
@@ -104,8 +101,6 @@ def grain_directions(
     (n_panels, 2) float array
         Unit directions; ``(0, 1)`` where the drape says nothing (a degenerate panel).
     """
-    from ptailor.method.flatten import panel_labels
-
     n = len(panel_list)
     flab = panel_labels(panel_list, len(F2))
     u = np.asarray(up, dtype=np.float64)

@@ -18,9 +18,10 @@ from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
 from ptailor.geometry.triangles import signed_areas_2d
 from ptailor.method.transfer import locate_points
-from ptailor.model.garment import Garment, Panel
+from ptailor.model.garment import Garment, Panel, panel_labels
 from ptailor.model.pieces import PatternFile, Piece
 from ptailor.model.polyline import unfold
+from ptailor.model.units import CM_PER
 from ptailor.pieces.carry import CarriedPiece, carry_piece, scale_piece
 from ptailor.pieces.draw import grain_directions, mesh_pieces
 from ptailor.pieces.match import PieceMatch, match_pieces, more_instances, piece_curve
@@ -153,8 +154,6 @@ def piece_plan(
     PtailorError
         A file piece that matches no panel.
     """
-    from ptailor.model.units import CM_PER
-
     V2, F2 = garment.V2, garment.F2
     file_pieces: list[Piece] = []
     matches: list[PieceMatch] = []
@@ -226,8 +225,6 @@ def _source_panels(adj: Adjustment, orig: tuple[Panel, ...]) -> dict[str, int]:
         else:
             unknown.append(p)
     if unknown and len(g0.F2):
-        from ptailor.method.flatten import panel_labels
-
         flab = panel_labels(list(orig), len(g0.F2))
         a = np.abs(signed_areas_2d(base.V2, base.F2))
         for p in unknown:  # a loop over panels
