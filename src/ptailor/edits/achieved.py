@@ -11,6 +11,7 @@ from ptailor.model.garment import panel_labels, vertex_labels
 from ptailor.model.seams import half_edges
 
 if TYPE_CHECKING:
+    from ptailor.edits.opening import OpeningEdges
     from ptailor.edits.state import EditState
     from ptailor.edits.surgery import SplitResult
 
@@ -81,3 +82,46 @@ def edge_offsets(before: EditState, res: SplitResult, loop: np.ndarray) -> dict:
         pattern[p.name] = distance_stats(d)
     out["pattern"] = pattern
     return out
+
+
+def row_offsets(
+    before: EditState,
+    oe: OpeningEdges,
+    top3: np.ndarray,
+    top2: np.ndarray,
+    col_panel: np.ndarray,
+) -> dict:
+    """Distance of a grown edge from the opening it grew from, in 3D and per panel in 2D.
+
+    Parameters
+    ----------
+    before : EditState
+        The state the opening was found on.
+    oe : OpeningEdges
+        The opening's edges in ``before``.
+    top3 : (k, 3) float array
+        The new edge's edited drape vertices.
+    top2 : (c, 2) float array
+        Its pattern vertices, one per column.
+    col_panel : (c,) int array
+        Panel of each column.
+
+    Returns
+    -------
+    dict
+        ``{"3d": {mean, min, max}, "pattern": {panel: {mean, min, max}}}``; straight-line
+        distances to the old opening's polyline (3D) and to its pattern edges in the same
+        panel (2D).
+    """
+    V3, V2 = before.V3, before.base.V2
+    d3 = nearest_segment_distance(top3, V3[oe.a3], V3[oe.b3])
+    edge_panel = panel_labels(before.panels, before.base.n_faces)[oe.face]
+    pattern = {}
+    for p in before.panels:  # a loop over panels
+        sel = edge_panel == p.index
+        if sel.any():
+            d2 = nearest_segment_distance(
+                top2[col_panel == p.index], V2[oe.a2[sel]], V2[oe.b2[sel]]
+            )
+            pattern[p.name] = distance_stats(d2)
+    return {"3d": distance_stats(d3), "pattern": pattern}

@@ -11,19 +11,17 @@ from dataclasses import replace
 
 import numpy as np
 
-from ptailor.edits.achieved import distance_stats
+from ptailor.edits.achieved import row_offsets
 from ptailor.edits.checks import number
 from ptailor.edits.extend.drape import drape_rows
 from ptailor.edits.extend.pattern import pattern_rows
-from ptailor.edits.extend.rows import face_normals, quad_rows
+from ptailor.edits.extend.rows import quad_rows, row_plan
 from ptailor.edits.limits import check_by, check_new_triangles
 from ptailor.edits.opening import OpeningEdges, find_opening, opening_edges, opening_spec
-from ptailor.edits.pattern_distance import edge_distance
 from ptailor.edits.registry import Param, register
 from ptailor.edits.shorten import MEASURE_PARAM, pattern_amounts, spread_stats
 from ptailor.edits.state import EditOptions, EditState
-from ptailor.geometry.segments import nearest_segment_distance
-from ptailor.model.garment import Garment, panel_labels, panels
+from ptailor.model.garment import Garment, panels
 
 __all__ = ["OpeningEdges", "extend", "opening_edges"]
 
@@ -87,22 +85,6 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     oe = opening_edges(g.F3, g.F2, loop)
     k = len(oe.a3)
     Fo = g.F3[oe.face]
-    flab = panel_labels(state.panels, m)
-    cols, inv = np.unique(np.concatenate([oe.a2, oe.b2]), return_inverse=True)
-    nc = len(cols)
-    ca, cb = inv[:k], inv[k:]
-    field = edge_distance(V2, oe.a2, oe.b2, flab[oe.face])
-    geo = {
-        "cols": cols,
-        "inv": inv,
-        "ca": ca,
-        "cb": cb,
-        "nc": nc,
-        "flab": flab,
-        "orient": np.where([p.mirrored for p in state.panels], -1.0, 1.0)[flab[oe.face]],
-        "n_src": face_normals(Ve, Fo),
-        "field": field,
-    }
     if measure == "pattern":
         Fo2 = g.F2[oe.face]
         mean_edge = float(np.linalg.norm(V2[Fo2] - V2[np.roll(Fo2, -1, axis=1)], axis=2).mean())
@@ -112,13 +94,13 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     rows_f = max(1.0, float(np.rint(by / mean_edge)))
     check_new_triangles(2.0 * rows_f * k, m, what=f"extend {name} by {by:g}")
     rows = int(rows_f)
+    plan = row_plan(state, oe, name=name, by=by, rows=rows)
+    nc, flab, field = plan.nc, plan.flab, plan.field
     make = pattern_rows if measure == "pattern" else drape_rows
-    built = make(state, oe, geo, name=name, by=by, rows=rows)
+    built = make(state, plan)
     new_e, new_b, new_2 = built.new_e, built.new_b, built.new_2
-    grid3 = np.vstack([oe.a3[None], len(Vb) + np.arange(rows * k).reshape(rows, k)])
-    grid2 = np.vstack([cols[None], n2 + np.arange(rows * nc).reshape(rows, nc)])
-    F3_new = quad_rows(grid3, grid3[:, np.roll(np.arange(k), -1)], built.use_b)
-    F2_new = quad_rows(grid2[:, ca], grid2[:, cb], built.use_b)
+    F3_new = quad_rows(plan.A3, plan.B3, built.use_b)
+    F2_new = quad_rows(plan.A2, plan.B2, built.use_b)
     body = getattr(options, "body", None)
     if body is not None:
         from ptailor.edits.body import push_out
@@ -148,20 +130,9 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     # achieved lengths: the new edge's distance from the old opening, in 3D and per panel
     from ptailor.method.geodesic import geodesic_distance
 
-    top3 = new_e[(rows - 1) * k :]
-    d3 = nearest_segment_distance(top3, Ve[oe.a3], Ve[oe.b3])
-    col_panel = np.empty(nc, dtype=np.int64)
-    col_panel[ca], col_panel[cb] = flab[oe.face], flab[oe.face]
+    col_panel = plan.col_panel
     top2 = new_2[(rows - 1) * nc :]
-    edge_panel = flab[oe.face]
-    achieved_pattern = {}
-    for p in state.panels:  # a loop over panels
-        sel = edge_panel == p.index
-        if sel.any():
-            d2 = nearest_segment_distance(
-                top2[col_panel == p.index], V2[oe.a2[sel]], V2[oe.b2[sel]]
-            )
-            achieved_pattern[p.name] = distance_stats(d2)
+    achieved = row_offsets(state, oe, new_e[(rows - 1) * k :], top2, col_panel)
     names = {p.index: p.name for p in state.panels}
     top_ids = len(Vb) + (rows - 1) * k + np.arange(k)
     surf = geodesic_distance(V3_new, base.F3, loop, limit=3.0 * by)[top_ids]
@@ -174,7 +145,7 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         "rows": rows,
         "new_triangles": len(F3_new),
         "smoothing": built.smoothing,
-        "achieved": {"3d": distance_stats(d3), "pattern": achieved_pattern},
+        "achieved": achieved,
         "measure": measure,
         "pattern_smoothing": built.pattern_smoothing,
         "amount": {

@@ -11,6 +11,7 @@ import numpy as np
 
 from ptailor.edits.extend.rows import (
     MAX_SMOOTHING,
+    RowPlan,
     Rows,
     face_normals,
     quad_rows,
@@ -184,15 +185,7 @@ def column_steps(
     return match_seam_steps(disp, vert3, sigma)
 
 
-def drape_rows(
-    state: EditState,
-    oe: OpeningEdges,
-    geo: dict,
-    *,
-    name: str,
-    by: float,
-    rows: int,
-) -> Rows:
+def drape_rows(state: EditState, plan: RowPlan) -> Rows:
     """Rows continuing the drape along its tangent planes, ``by`` long on the surface.
 
     Each opening vertex grows a straight line of new vertices along the unit direction
@@ -204,10 +197,10 @@ def drape_rows(
     """
     g = state.base
     Ve, Vb, V2 = state.V3, g.V3, g.V2
-    n3, n2 = len(Vb), len(V2)
-    k = len(oe.a3)
-    cols, inv, ca, cb, nc = geo["cols"], geo["inv"], geo["ca"], geo["cb"], geo["nc"]
-    orient, n_src = geo["orient"], geo["n_src"]
+    oe, name, by, rows = plan.oe, plan.name, plan.by, plan.rows
+    cols, inv, ca, cb, nc = plan.cols, plan.inv, plan.ca, plan.cb, plan.nc
+    orient, n_src, src = plan.orient, plan.n_src, plan.src
+    A3, B3, A2, B2 = plan.A3, plan.B3, plan.A2, plan.B2
     h = by / rows
     steps = (h * np.arange(1, rows + 1))[:, None, None]  # (rows, 1, 1)
     Fo = g.F3[oe.face]
@@ -215,11 +208,6 @@ def drape_rows(
     vert3 = np.empty(nc, dtype=np.int64)
     vert3[ca], vert3[cb] = oe.a3, oe.b3
     sigma = seam_scales(Vb, g.F3, V2, g.F2, cols)
-    grid3 = np.vstack([oe.a3[None], n3 + np.arange(rows * k).reshape(rows, k)])
-    grid2 = np.vstack([cols[None], n2 + np.arange(rows * nc).reshape(rows, nc)])
-    A3, B3 = grid3, grid3[:, np.roll(np.arange(k), -1)]
-    A2, B2 = grid2[:, ca], grid2[:, cb]
-    odd = (np.arange(rows)[:, None] + np.arange(k)[None, :]) % 2 == 1
     dir_e, dir_b = outward_directions(Ve, oe), outward_directions(Vb, oe)
     for smoothing in range(MAX_SMOOTHING + 1):  # iterations, not vertices
         if smoothing:
@@ -230,10 +218,9 @@ def drape_rows(
         new_2 = (V2[cols][None] + steps * disp[None]).reshape(-1, 2)
         # triangles: each quad split along its shorter 3D diagonal (ties: checkerboard)
         Vall = np.concatenate([Ve, new_e])
-        use_b = shorter_diagonals(Vall, A3, B3, odd)
+        use_b = shorter_diagonals(Vall, A3, B3, plan.odd)
         F3_new = quad_rows(A3, B3, use_b)
         F2_new = quad_rows(A2, B2, use_b)
-        src = np.broadcast_to(np.arange(k)[None, :, None], (rows, k, 2)).reshape(-1)
         V2all = np.concatenate([V2, new_2])
         a2 = signed_areas_2d(V2all, F2_new) * orient[src]
         fold = np.einsum("ij,ij->i", face_normals(Vall, F3_new), n_src[src])

@@ -8,6 +8,7 @@ import numpy as np
 from ptailor.edits.extend.chain import chain_order, nearest_fn, place_offset_chain
 from ptailor.edits.extend.rows import (
     MAX_SMOOTHING,
+    RowPlan,
     Rows,
     crossing_error,
     face_normals,
@@ -127,15 +128,7 @@ def _smooth_masked(
     return np.where(mask[:, None], S, D)
 
 
-def pattern_rows(
-    state: EditState,
-    oe: OpeningEdges,
-    geo: dict,
-    *,
-    name: str,
-    by: float,
-    rows: int,
-) -> Rows:
+def pattern_rows(state: EditState, plan: RowPlan) -> Rows:
     """Rows laid out in the pattern exactly ``by`` beyond the opening, the drape to match.
 
     Pattern: every column (a pattern vertex on the opening) moves along a direction, as
@@ -158,13 +151,14 @@ def pattern_rows(
     """
     g = state.base
     V2, Ve, Vb = g.V2, state.V3, g.V3
+    oe, name, by, rows = plan.oe, plan.name, plan.by, plan.rows
     k = len(oe.a3)
-    cols, ca, cb, nc = geo["cols"], geo["ca"], geo["cb"], geo["nc"]
-    flab, orient, n_src = geo["flab"], geo["orient"], geo["n_src"]
-    col_panel = np.empty(nc, dtype=np.int64)
-    col_panel[ca], col_panel[cb] = flab[oe.face], flab[oe.face]
+    cols, ca, cb, nc = plan.cols, plan.ca, plan.cb, plan.nc
+    flab, orient, n_src, src = plan.flab, plan.orient, plan.n_src, plan.src
+    A3, B3, A2, B2 = plan.A3, plan.B3, plan.A2, plan.B2
+    col_panel = plan.col_panel
     names = {p.index: p.name for p in state.panels}
-    field = geo["field"]
+    field = plan.field
 
     # chains of opening edges per panel: each column's edges before and after it
     n_e = edge_normals_2d(V2, g.F2, oe)
@@ -192,14 +186,7 @@ def pattern_rows(
     # end, the end goes along the end edge's normal (a corner in the seam)
     Q_end = V2[cols] + offset_lengths(field, V2[cols], n_end, col_panel, by)[:, None] * n_end
 
-    # triangles of the rows, in the pattern and the drape
-    grid3 = np.vstack([oe.a3[None], len(Vb) + np.arange(rows * k).reshape(rows, k)])
-    grid2 = np.vstack([cols[None], len(V2) + np.arange(rows * nc).reshape(rows, nc)])
-    A3, B3 = grid3, grid3[:, np.roll(np.arange(k), -1)]
-    A2, B2 = grid2[:, ca], grid2[:, cb]
     frac = (np.arange(1, rows + 1) / rows)[:, None, None]
-    src = np.broadcast_to(np.arange(k)[None, :, None], (rows, k, 2)).reshape(-1)
-    odd = (np.arange(rows)[:, None] + np.arange(k)[None, :]) % 2 == 1
 
     order, chain, closed = chain_order(oe)
     seqs = []
@@ -230,7 +217,7 @@ def pattern_rows(
         D2 = Q - V2[cols]
         new_2 = (V2[cols][None] + frac * D2[None]).reshape(-1, 2)
         V2all = np.concatenate([V2, new_2])
-        use_b = shorter_diagonals(V2all, A2, B2, odd)
+        use_b = shorter_diagonals(V2all, A2, B2, plan.odd)
         F2_new = quad_rows(A2, B2, use_b)
         h2 = by / rows
         ok2 = signed_areas_2d(V2all, F2_new) * orient[src] > 1e-9 * h2 * h2

@@ -1,4 +1,4 @@
-"""The rows ``extend`` adds: their container, their triangles, and when they cross."""
+"""The rows ``extend`` adds: their plan (opening, pattern columns, grid), their triangles."""
 
 from __future__ import annotations
 
@@ -6,11 +6,118 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ptailor.edits.opening import OpeningEdges
+from ptailor.edits.pattern_distance import PatternDistance, edge_distance
+from ptailor.edits.state import EditState
 from ptailor.errors import PtailorError
 from ptailor.geometry.triangles import triangle_normals
+from ptailor.model.garment import panel_labels
 
 #: Smoothing passes of the row directions tried before giving up on crossing rows.
 MAX_SMOOTHING = 200
+
+
+@dataclass(frozen=True)
+class RowPlan:
+    """What both ways of growing rows beyond an opening share.
+
+    Attributes
+    ----------
+    name : str
+        The opening, for messages.
+    by : float
+        Length added.
+    rows : int
+        Rows of new triangles.
+    oe : OpeningEdges
+        The opening's ``k`` edges.
+    cols : (c,) int array
+        Pattern vertices on the opening (the columns), ascending.
+    ca, cb : (k,) int arrays
+        Column of the start and of the end of each opening edge.
+    flab : (m,) int array
+        Panel of every triangle.
+    orient : (k,) float array
+        ``-1`` where the edge's panel is mirrored, else ``+1``.
+    n_src : (k, 3) float array
+        Unit normals of the edges' triangles on the edited drape.
+    field : PatternDistance
+        Pattern distance from the opening's edges, each in its own panel.
+    A3, B3 : (rows + 1, k) int arrays
+        Drape vertices at the start and end of each edge, row by row (row 0: the opening).
+    A2, B2 : (rows + 1, k) int arrays
+        The same in the pattern.
+    odd : (rows, k) bool array
+        Checkerboard of the quads (diagonal on ties).
+    src : (2 rows k,) int array
+        Opening edge each new triangle grows from.
+    """
+
+    name: str
+    by: float
+    rows: int
+    oe: OpeningEdges
+    cols: np.ndarray
+    ca: np.ndarray
+    cb: np.ndarray
+    flab: np.ndarray
+    orient: np.ndarray
+    n_src: np.ndarray
+    field: PatternDistance
+    A3: np.ndarray
+    B3: np.ndarray
+    A2: np.ndarray
+    B2: np.ndarray
+    odd: np.ndarray
+    src: np.ndarray
+
+    @property
+    def nc(self) -> int:
+        """Number of columns."""
+        return len(self.cols)
+
+    @property
+    def col_panel(self) -> np.ndarray:
+        """Panel of each column, ``(c,)``."""
+        out = np.empty(len(self.cols), dtype=np.int64)
+        out[self.ca], out[self.cb] = self.flab[self.oe.face], self.flab[self.oe.face]
+        return out
+
+    @property
+    def inv(self) -> np.ndarray:
+        """Column of the start (first ``k``) and end (last ``k``) of each edge, ``(2k,)``."""
+        return np.concatenate([self.ca, self.cb])
+
+
+def row_plan(state: EditState, oe: OpeningEdges, *, name: str, by: float, rows: int) -> RowPlan:
+    """The :class:`RowPlan` of ``rows`` rows beyond an opening of ``state``."""
+    g = state.base
+    k = len(oe.a3)
+    flab = panel_labels(state.panels, g.n_faces)
+    cols, inv = np.unique(np.concatenate([oe.a2, oe.b2]), return_inverse=True)
+    nc = len(cols)
+    ca, cb = inv[:k], inv[k:]
+    grid3 = np.vstack([oe.a3[None], len(g.V3) + np.arange(rows * k).reshape(rows, k)])
+    grid2 = np.vstack([cols[None], len(g.V2) + np.arange(rows * nc).reshape(rows, nc)])
+    return RowPlan(
+        name=name,
+        by=by,
+        rows=rows,
+        oe=oe,
+        cols=cols,
+        ca=ca,
+        cb=cb,
+        flab=flab,
+        orient=np.where([p.mirrored for p in state.panels], -1.0, 1.0)[flab[oe.face]],
+        n_src=face_normals(state.V3, g.F3[oe.face]),
+        field=edge_distance(g.V2, oe.a2, oe.b2, flab[oe.face]),
+        A3=grid3,
+        B3=grid3[:, np.roll(np.arange(k), -1)],
+        A2=grid2[:, ca],
+        B2=grid2[:, cb],
+        odd=(np.arange(rows)[:, None] + np.arange(k)[None, :]) % 2 == 1,
+        src=np.broadcast_to(np.arange(k)[None, :, None], (rows, k, 2)).reshape(-1),
+    )
 
 
 @dataclass(frozen=True)
