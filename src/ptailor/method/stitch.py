@@ -20,11 +20,22 @@ import numpy as np
 import scipy.sparse as sp
 
 from ptailor import tolerances as tol
-from ptailor.geometry.closed_forms import det2, inv2
+from ptailor.geometry.closed_forms import det2
 from ptailor.geometry.rotations import closest_rotations, rigid_fit_groups
 from ptailor.method.anderson import Anderson
 from ptailor.method.ease import SeamEase
-from ptailor.model.boundary import boundary_loops
+from ptailor.method.linear import factor, seam_block, solve_spd
+from ptailor.method.operators import asap_rows, gradient_operators, laplacian
+
+__all__ = [
+    "StitchInfo",
+    "asap_rows",
+    "factor",
+    "gradient_operators",
+    "laplacian",
+    "seam_block",
+    "stitch",
+]
 
 
 @dataclass(frozen=True)
@@ -60,183 +71,261 @@ class StitchInfo:
     stalled: bool = False
 
 
-def gradient_operators(F: np.ndarray, targets: np.ndarray, n: int) -> tuple[sp.csr_matrix, ...]:
-    """Sparse operators giving each triangle's Jacobian from vertex coordinates.
+def _vertex_panels(F2: np.ndarray, n: int, vertex_panel: np.ndarray | None) -> np.ndarray:
+    """Panel per vertex, -1 for vertices no triangle uses (default: components of ``F2``)."""
+    if vertex_panel is None:
+        from scipy.sparse.csgraph import connected_components
 
-    Parameters
-    ----------
-    F : (m, 3) int array
-    targets : (m, 2, 2) float array
-        Target edge matrices ``[e01, e02]``.
-    n : int
-        Number of vertices.
-
-    Returns
-    -------
-    D0, D1 : (m, n) sparse matrices
-        ``J[:, c, j] = Dj @ X[:, c]`` for positions ``X (n, 2)``.
-    """
-    m = len(F)
-    Dm = np.array([[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]])
-    G = Dm[None] @ inv2(targets)  # (m, 3, 2)
-    rows = np.repeat(np.arange(m), 3)
-    cols = F.ravel()
-    return tuple(sp.csr_matrix((G[:, :, j].ravel(), (rows, cols)), shape=(m, n)) for j in range(2))
-
-
-def laplacian(F: np.ndarray, targets: np.ndarray, area: np.ndarray, n: int) -> sp.csc_matrix:
-    """The triangle ARAP matrix ``sum_i A_i G_i G_i^T`` (cotangent Laplacian of the targets).
-
-    Parameters
-    ----------
-    F : (m, 3) int array
-    targets : (m, 2, 2) float array
-        Target edge matrices.
-    area : (m,) float array
-        Target areas.
-    n : int
-
-    Returns
-    -------
-    (n, n) sparse matrix
-    """
-    Dm = np.array([[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]])
-    G = Dm[None] @ inv2(targets)  # (m, 3, 2) hat-function gradients
-    K = area[:, None, None] * (G @ np.swapaxes(G, 1, 2))  # (m, 3, 3)
-    rows = np.repeat(F, 3, axis=1).ravel()
-    cols = np.tile(F, (1, 3)).ravel()
-    return sp.csc_matrix((K.ravel(), (rows, cols)), shape=(n, n))
-
-
-def asap_rows(
-    V2: np.ndarray, F2: np.ndarray, faces: np.ndarray, *, exclude: np.ndarray | None = None
-) -> sp.csr_matrix:
-    """Rows of the linear as-similar-as-possible term for the boundary of some triangles.
-
-    Parameters
-    ----------
-    V2 : (n, 2) float array
-        Original pattern.
-    F2 : (m, 3) int array
-    faces : (k,) int array
-        Triangles whose boundary loops get the term (whole panels).
-    exclude : (n,) bool array, optional
-        Boundary vertices that get no term (an outline being edited there).
-
-    Returns
-    -------
-    (b, 2n) sparse matrix
-        Row ``k`` is ``n_k . (x_(k+1) - x_(k-1))`` over unknowns ``[x; y]``.
-    """
-    n = len(V2)
-    loops = boundary_loops(F2[faces]) if len(faces) else []
-    loops = [lp for lp in loops if len(lp) >= 3]
-    if not loops:
-        return sp.csr_matrix((0, 2 * n))
-    nxt = np.concatenate([np.roll(lp, -1) for lp in loops])
-    prv = np.concatenate([np.roll(lp, 1) for lp in loops])
-    cur = np.concatenate(loops)
-    chord = V2[nxt] - V2[prv]
-    length = np.linalg.norm(chord, axis=1)
-    # a corner has no tangent: skip vertices where the outline turns sharply
-    a, b = V2[cur] - V2[prv], V2[nxt] - V2[cur]
-    na, nb = np.linalg.norm(a, axis=1), np.linalg.norm(b, axis=1)
-    cos_turn = np.einsum("ij,ij->i", a, b) / np.maximum(na * nb, 1e-300)
-    keep = (length > 0) & (cos_turn >= np.cos(np.radians(tol.ASAP_CORNER_DEG)))
-    if exclude is not None:
-        keep &= ~exclude[cur]
-    nrm = np.stack([-chord[:, 1], chord[:, 0]], 1)[keep] / length[keep, None]
-    nxt, prv, b = nxt[keep], prv[keep], int(keep.sum())
-    r = np.arange(b)
-    rows = np.concatenate([r, r, r, r])
-    cols = np.concatenate([nxt, nxt + n, prv, prv + n])
-    vals = np.concatenate([nrm[:, 0], nrm[:, 1], -nrm[:, 0], -nrm[:, 1]])
-    return sp.csr_matrix((vals, (rows, cols)), shape=(b, 2 * n))
-
-
-def factor(A: sp.spmatrix):
-    """Factor a sparse symmetric positive definite matrix once; return a solve function."""
-    from scipy.sparse.linalg import splu
-
-    from ptailor.errors import PtailorError
-
-    A = sp.csc_matrix(A)
-    if not np.all(np.isfinite(A.data)):
-        raise PtailorError(
-            "flatten: the stitching matrix has non-finite entries (degenerate target "
-            "triangles or extreme flatten weights)"
+        m = len(F2)
+        adj = sp.csr_matrix(
+            (np.ones(3 * m), (F2.ravel(), np.roll(F2, -1, axis=1).ravel())), shape=(n, n)
         )
-    try:
-        lu = splu(
-            A,
-            permc_spec="MMD_AT_PLUS_A",
-            diag_pivot_thresh=0.0,
-            options={"SymmetricMode": True},
-        )
-    except RuntimeError as exc:  # SuperLU: "Factor is exactly singular"
+        vertex_panel = connected_components(adj, directed=False)[1]
+    return np.where(np.isin(np.arange(n), F2), vertex_panel, -1)
+
+
+def _panel_sizes(V2: np.ndarray, vlab: np.ndarray, n_panels: int) -> np.ndarray:
+    """Bounding-box diagonal per panel, for a scale-free convergence test."""
+    size = np.ones(max(n_panels, 1))
+    if n_panels:
+        used = vlab >= 0
+        lo = np.full((n_panels, 2), np.inf)
+        hi = np.full((n_panels, 2), -np.inf)
+        np.minimum.at(lo, vlab[used], V2[used])
+        np.maximum.at(hi, vlab[used], V2[used])
+        size = np.maximum(np.linalg.norm(hi - lo, axis=1), 1e-300)
+    return size
+
+
+def _finite_or_fail(Y: np.ndarray) -> np.ndarray:
+    if not np.all(np.isfinite(Y)):
+        from ptailor.errors import PtailorError
+
         raise PtailorError(
-            f"flatten: the stitching matrix cannot be factored ({exc}): degenerate target "
-            "triangles or extreme flatten weights"
-        ) from None
-    return lu.solve
+            "flatten: the stitching solver diverged (non-finite positions); check the "
+            "flatten weights and the edit"
+        )
+    return Y
 
 
-def seam_block(
-    solve_many, ease: SeamEase, vertex_panel: np.ndarray, n: int, *, coupled: bool
-) -> tuple[np.ndarray, sp.csr_matrix]:
-    """The seam vertices' block of ``A^-1``, computed once per factorisation.
+def _solver(L: sp.spmatrix, B: sp.spmatrix | None, n: int, w_asap: float):
+    """``A^-1`` applied to columns over unknowns ``[x; y]``, from one factorisation."""
+    if B is None:
+        # x and y decouple: one n x n factor serves both coordinates
+        solve_L = factor(L)
 
-    ``A`` is block diagonal by panel (and by coordinate when x and y decouple), so one
-    right-hand side serves one seam unknown of every block at once: the number of
-    back-substitutions is the most seam unknowns any one block has, not their total.
+        def solve_many(rhs: np.ndarray) -> np.ndarray:
+            c = rhs.shape[1]
+            sol = solve_L(np.concatenate([rhs[:n], rhs[n:]], axis=1))
+            return np.concatenate([sol[:, :c], sol[:, c:]], axis=0)
 
-    Parameters
-    ----------
-    solve_many : callable
-        ``(2n, c) -> (2n, c)``: ``A^-1`` applied to columns over unknowns ``[x; y]``.
-    ease : SeamEase
-    vertex_panel : (n,) int array
-        Panel of each pattern vertex.
-    n : int
-    coupled : bool
-        Whether ``A`` couples x and y (the as-similar-as-possible term).
+        return solve_many
+    solve_2n = factor(sp.block_diag([L, L]) + w_asap * (B.T @ B))
 
-    Returns
-    -------
-    U : (2q,) int array
-        The seam unknowns (indices into ``[x; y]``).
-    G : (2q, 2q) sparse matrix
-        ``A^-1`` restricted to them (zero across blocks).
-    """
-    verts = ease.vertices()
-    U = np.concatenate([verts, verts + n])
-    pan = vertex_panel[verts].astype(np.int64)
-    n_p = int(vertex_panel.max()) + 1
-    blk = np.concatenate([pan, pan]) if coupled else np.concatenate([pan, pan + n_p])
-    order = np.argsort(blk, kind="stable")
-    sb = blk[order]
-    start = np.searchsorted(sb, sb)  # first position of each block in sorted order
-    slot = np.empty(len(U), dtype=np.int64)
-    slot[order] = np.arange(len(U)) - start
-    # all (i, j) pairs within a block
-    cnt = np.bincount(sb)
-    first = np.concatenate([[0], np.cumsum(cnt)])[sb]  # per sorted position
-    rep = cnt[sb]
-    I_sorted = np.repeat(np.arange(len(U)), rep)
-    J_sorted = np.repeat(first, rep) + (np.arange(rep.sum()) - np.repeat(np.cumsum(rep) - rep, rep))
-    Ii, Jj = order[I_sorted], order[J_sorted]
-    vals = np.empty(len(Ii))
-    n_slots = int(slot.max()) + 1
-    for s0 in range(0, n_slots, tol.SEAM_BLOCK_CHUNK):  # chunks of right-hand sides
-        s1 = min(s0 + tol.SEAM_BLOCK_CHUNK, n_slots)
-        pick = (slot >= s0) & (slot < s1)
-        rhs = np.zeros((2 * n, s1 - s0))
-        rhs[U[pick], slot[pick] - s0] = 1.0
-        sol = solve_many(rhs)
-        mine = (slot[Jj] >= s0) & (slot[Jj] < s1)
-        vals[mine] = sol[U[Ii[mine]], slot[Jj[mine]] - s0]
-    G = sp.csr_matrix((vals, (Ii, Jj)), shape=(len(U), len(U)))
-    return U, G
+    def solve_many(rhs: np.ndarray) -> np.ndarray:
+        return solve_2n(rhs)
+
+    return solve_many
+
+
+class _Problem:
+    """The stitching energy of one pattern: its factored matrix, steps and measures."""
+
+    def __init__(
+        self,
+        V2: np.ndarray,
+        F2: np.ndarray,
+        targets: np.ndarray,
+        *,
+        pins: np.ndarray,
+        vertex_panel: np.ndarray | None,
+        asap_faces: np.ndarray | None,
+        asap_exclude: np.ndarray | None,
+        ease: SeamEase | None,
+        panel_weight: np.ndarray | None,
+        w_pin: float,
+        w_asap: float,
+    ) -> None:
+        n = len(V2)
+        self.V2, self.n, self.pins, self.w_asap = V2, n, pins, w_asap
+        vlab = self.vlab = _vertex_panels(F2, n, vertex_panel)
+        n_panels = self.n_panels = int(vlab.max()) + 1 if n else 0
+        self.D0, self.D1 = gradient_operators(F2, targets, n)
+        used = self.used = vlab >= 0
+        stiff = np.ones(max(n_panels, 1)) if panel_weight is None else np.asarray(panel_weight)
+        # each panel's whole energy scaled by its weight: alone, a panel's solution is the
+        # same; sewn to others by the seam constraints, a stiffer panel takes less of the
+        # distortion
+        self.area = 0.5 * np.abs(det2(targets)) * stiff[vlab[F2[:, 0]]]
+        # unused vertices: identity rows so the system stays non-singular and they stay put
+        pin_w = self.pin_w = np.zeros(n)
+        pin_w[pins] = w_pin * stiff[vlab[pins]]
+        pin_w[~used] = 1.0
+        L = laplacian(F2, targets, self.area, n) + sp.diags(pin_w)
+        self.B = self._asap(V2, F2, asap_faces, asap_exclude, panel_weight, stiff)
+        self.solve_many = _solver(L, self.B, n, w_asap)
+        self.ease = None if ease is not None and not ease.n_rows else ease
+        # the seam constraints switch on once the free iterations have settled and only if
+        # they miss a seam (an identity edit or a uniform scale never pays for them)
+        self.seam_block: list = []
+        self.pin_rhs = pin_w[:, None] * V2
+        self.size = _panel_sizes(V2, vlab, n_panels)
+
+    def _asap(self, V2, F2, asap_faces, asap_exclude, panel_weight, stiff):
+        """The as-similar-as-possible rows (weighted by panel), or None without any."""
+        B = None
+        if asap_faces is not None and len(asap_faces):
+            B = asap_rows(V2, F2, np.asarray(asap_faces), exclude=asap_exclude)
+            if panel_weight is not None and B.shape[0]:
+                B = sp.diags(np.sqrt(stiff[self.vlab[B.indices[B.indptr[:-1]] % self.n]])) @ B
+        return None if B is None or B.shape[0] == 0 else B
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        return self.solve_many(rhs[:, None])[:, 0]
+
+    def jacobians(self, X: np.ndarray) -> np.ndarray:
+        return np.stack([self.D0 @ X, self.D1 @ X], axis=2)  # (m, 2, 2): J[:, c, j] = Dj @ X[:, c]
+
+    def energy(self, X: np.ndarray) -> float:
+        J = self.jacobians(X)
+        pins = self.pins
+        e = float(self.area @ ((J - closest_rotations(J)) ** 2).sum(axis=(1, 2)))
+        e += float((self.pin_w[pins, None] * (X[pins] - self.V2[pins]) ** 2).sum())
+        if self.B is not None:
+            e += float(self.w_asap * ((self.B @ X.T.ravel()) ** 2).sum())
+        return e
+
+    def global_step(self, R: np.ndarray, X_lin: np.ndarray | None) -> np.ndarray:
+        n, area = self.n, self.area
+        rhs = np.empty((n, 2))
+        for c in range(2):
+            rhs[:, c] = self.D0.T @ (area * R[:, c, 0]) + self.D1.T @ (area * R[:, c, 1])
+        rhs += self.pin_rhs
+        y = self.solve(rhs.T.ravel())
+        if self.seam_block and X_lin is not None:
+            y = self._constrained(y, X_lin)
+        return y.reshape(2, n).T
+
+    def _constrained(self, y: np.ndarray, X_lin: np.ndarray) -> np.ndarray:
+        """Project a global step onto the seam constraints linearised at ``X_lin``."""
+        U, G = self.seam_block
+        C = self.ease.rows(X_lin)
+        Cs = C[:, U]
+        M = (Cs @ G @ Cs.T).toarray()
+        lam = solve_spd(M, C @ y)
+        if lam is not None:
+            y_c = y - self.solve(C.T @ lam)
+            if np.all(np.isfinite(y_c)):
+                y = y_c  # else the constraints are skipped this step (reported)
+        return y
+
+    def step(self, X: np.ndarray) -> np.ndarray:
+        return self.global_step(closest_rotations(self.jacobians(X)), X)
+
+    def residual(self, X: np.ndarray, GX: np.ndarray) -> np.ndarray:
+        """Per panel: the largest vertex move of the step, rigid motion removed, / size."""
+        vlab, used = self.vlab, self.used
+        d = np.linalg.norm(rigid_fit_groups(GX, X, vlab, self.n_panels) - X, axis=1)
+        out = np.zeros(self.n_panels)
+        np.maximum.at(out, vlab[used], d[used])
+        return out / self.size
+
+    def seams_pending(self, GX: np.ndarray) -> bool:
+        """Seam constraints exist, are off, and a seam misses its ratio."""
+        return (
+            self.ease is not None
+            and not self.seam_block
+            and self.ease.violation(GX).max() > tol.SEAM_EXACT_REL
+        )
+
+    def seams_settled(self, GX: np.ndarray) -> bool:
+        """Seam constraints are on, absent, or every seam meets its ratio (not NaN)."""
+        return bool(
+            self.seam_block
+            or self.ease is None
+            or self.ease.violation(GX).max() <= tol.SEAM_EXACT_REL
+        )
+
+    def seams_on(self) -> None:
+        """Switch the seam constraints on: the seam block of ``A^-1``, once."""
+        self.seam_block.extend(
+            seam_block(
+                self.solve_many, self.ease, np.maximum(self.vlab, 0), self.n,
+                coupled=self.B is not None,
+            )
+        )  # fmt: skip
+
+
+class _Iterate:
+    """The iteration's current point ``X``, its plain step ``GX`` and their measures."""
+
+    def __init__(self, pb: _Problem, X: np.ndarray, history: int) -> None:
+        self.pb, self.history = pb, history
+        self.X = X
+        self.GX = _finite_or_fail(pb.step(X))
+        self.res = pb.residual(self.X, self.GX)
+        self.e_gx = pb.energy(self.GX) if history else 0.0
+
+    def plain(self) -> None:
+        """Move to the plain step's output and take the next plain step."""
+        pb = self.pb
+        self.X = self.GX
+        self.GX = _finite_or_fail(pb.step(self.X))
+        self.res = pb.residual(self.X, self.GX)
+        self.e_gx = pb.energy(self.GX) if self.history else 0.0
+
+    def accelerated(self, acc: Anderson) -> bool:
+        """Peng et al.'s safeguard, on the plain steps' outputs: those meet the seam
+        constraints, so their energies compare (mixed iterates' do not). True when the
+        accelerated iterate was kept; else the history restarts."""
+        pb = self.pb
+        Xa = acc.next(self.X.ravel(), self.GX.ravel()).reshape(pb.n, 2)
+        GXa = pb.step(Xa) if np.all(np.isfinite(Xa)) else Xa
+        e_a = pb.energy(GXa) if np.all(np.isfinite(GXa)) else np.inf
+        if e_a < self.e_gx:
+            self.X, self.GX, self.e_gx = Xa, GXa, e_a
+            self.res = pb.residual(self.X, self.GX)
+            return True
+        acc.reset()
+        return False
+
+
+def _stalls(h: list[float]) -> bool:
+    """The largest residual of the last ``ARAP_STALL_ITER`` iterations is no real gain."""
+    w = tol.ARAP_STALL_ITER
+    return len(h) > 2 * w and min(h[-w:]) > (1.0 - tol.ARAP_STALL_GAIN) * min(h[:-w])
+
+
+def _iterate(
+    pb: _Problem, s: _Iterate, *, max_iter: int, step_tol: float, history: int
+) -> tuple[int, bool, bool, list[float]]:
+    """Local/global iterations from ``s`` (updated); ``(iterations, converged, stalled,
+    residual history)``."""
+    acc = Anderson(m=history)
+    it, converged, stalled, since = 0, False, False, 0
+    hist: list[float] = []
+    for it in range(1, max_iter + 1):
+        hist.append(float(s.res.max(initial=0.0)))
+        stall = _stalls(hist[since:])
+        done = not len(s.res) or s.res.max() <= step_tol
+        settled = done or stall or s.res.max() <= tol.SEAM_START_STEP or it > max_iter // 2
+        if stall and pb.seams_settled(s.GX):
+            stalled = True  # a long run that no longer improves: stop (deterministically)
+            break
+        if stall:
+            since = len(hist)  # the seams switch on below; give them their own window
+        if settled and pb.seams_pending(s.GX):
+            pb.seams_on()
+            acc.reset()
+            s.plain()
+            continue
+        if done:
+            converged = True
+            break
+        if history and s.accelerated(acc):
+            continue
+        s.plain()
+    return it, converged, stalled, hist
 
 
 def stitch(
@@ -306,203 +395,35 @@ def stitch(
         Stitched positions; vertices no triangle uses keep their original position.
     info : StitchInfo
     """
-    n = len(V2)
-    if vertex_panel is None:
-        from scipy.sparse.csgraph import connected_components
-
-        m = len(F2)
-        adj = sp.csr_matrix(
-            (np.ones(3 * m), (F2.ravel(), np.roll(F2, -1, axis=1).ravel())), shape=(n, n)
-        )
-        vertex_panel = connected_components(adj, directed=False)[1]
-    vlab = np.where(np.isin(np.arange(n), F2), vertex_panel, -1)
-    n_panels = int(vlab.max()) + 1 if n else 0
-    D0, D1 = gradient_operators(F2, targets, n)
-    used = vlab >= 0
-    stiff = np.ones(max(n_panels, 1)) if panel_weight is None else np.asarray(panel_weight)
-    # each panel's whole energy scaled by its weight: alone, a panel's solution is the same;
-    # sewn to others by the seam constraints, a stiffer panel takes less of the distortion
-    area = 0.5 * np.abs(det2(targets)) * stiff[vlab[F2[:, 0]]]
-    # unused vertices: identity rows so the system stays non-singular and they stay put
-    pin_w = np.zeros(n)
-    pin_w[pins] = w_pin * stiff[vlab[pins]]
-    pin_w[~used] = 1.0
-    L = laplacian(F2, targets, area, n) + sp.diags(pin_w)
-    B = None
-    if asap_faces is not None and len(asap_faces):
-        B = asap_rows(V2, F2, np.asarray(asap_faces), exclude=asap_exclude)
-        if panel_weight is not None and B.shape[0]:
-            B = sp.diags(np.sqrt(stiff[vlab[B.indices[B.indptr[:-1]] % n]])) @ B
-    if B is None or B.shape[0] == 0:
-        # x and y decouple: one n x n factor serves both coordinates
-        B = None
-        solve_L = factor(L)
-
-        def solve_many(rhs: np.ndarray) -> np.ndarray:
-            c = rhs.shape[1]
-            sol = solve_L(np.concatenate([rhs[:n], rhs[n:]], axis=1))
-            return np.concatenate([sol[:, :c], sol[:, c:]], axis=0)
-
-    else:
-        solve_2n = factor(sp.block_diag([L, L]) + w_asap * (B.T @ B))
-
-        def solve_many(rhs: np.ndarray) -> np.ndarray:
-            return solve_2n(rhs)
-
-    def solve(rhs: np.ndarray) -> np.ndarray:
-        return solve_many(rhs[:, None])[:, 0]
-
-    if ease is not None and not ease.n_rows:
-        ease = None
-    # the seam constraints switch on once the free iterations have settled and only if
-    # they miss a seam (an identity edit or a uniform scale never pays for them)
-    seam_block_: list = []
-    pin_rhs = pin_w[:, None] * V2
-
-    def jacobians(X: np.ndarray) -> np.ndarray:
-        return np.stack([D0 @ X, D1 @ X], axis=2)  # (m, 2, 2): J[:, c, j] = Dj @ X[:, c]
-
-    def energy(X: np.ndarray) -> float:
-        J = jacobians(X)
-        e = float(area @ ((J - closest_rotations(J)) ** 2).sum(axis=(1, 2)))
-        e += float((pin_w[pins, None] * (X[pins] - V2[pins]) ** 2).sum())
-        if B is not None:
-            e += float(w_asap * ((B @ X.T.ravel()) ** 2).sum())
-        return e
-
-    def global_step(R: np.ndarray, X_lin: np.ndarray | None) -> np.ndarray:
-        rhs = np.empty((n, 2))
-        for c in range(2):
-            rhs[:, c] = D0.T @ (area * R[:, c, 0]) + D1.T @ (area * R[:, c, 1])
-        rhs += pin_rhs
-        y = solve(rhs.T.ravel())
-        if seam_block_ and X_lin is not None:
-            U, G = seam_block_
-            C = ease.rows(X_lin)
-            Cs = C[:, U]
-            M = (Cs @ G @ Cs.T).toarray()
-            lam = _solve_spd(M, C @ y)
-            if lam is not None:
-                y_c = y - solve(C.T @ lam)
-                if np.all(np.isfinite(y_c)):
-                    y = y_c  # else the constraints are skipped this step (reported)
-        return y.reshape(2, n).T
-
-    def step(X: np.ndarray) -> np.ndarray:
-        return global_step(closest_rotations(jacobians(X)), X)
-
-    # panel sizes, for a scale-free convergence test
-    size = np.ones(max(n_panels, 1))
-    if n_panels:
-        lo = np.full((n_panels, 2), np.inf)
-        hi = np.full((n_panels, 2), -np.inf)
-        np.minimum.at(lo, vlab[used], V2[used])
-        np.maximum.at(hi, vlab[used], V2[used])
-        size = np.maximum(np.linalg.norm(hi - lo, axis=1), 1e-300)
-
-    def residual(X: np.ndarray, GX: np.ndarray) -> np.ndarray:
-        """Per panel: the largest vertex move of the step, rigid motion removed, / size."""
-        d = np.linalg.norm(rigid_fit_groups(GX, X, vlab, n_panels) - X, axis=1)
-        out = np.zeros(n_panels)
-        np.maximum.at(out, vlab[used], d[used])
-        return out / size
-
-    def finite_or_fail(Y: np.ndarray) -> np.ndarray:
-        if not np.all(np.isfinite(Y)):
-            from ptailor.errors import PtailorError
-
-            raise PtailorError(
-                "flatten: the stitching solver diverged (non-finite positions); check the "
-                "flatten weights and the edit"
-            )
-        return Y
-
+    pb = _Problem(
+        V2,
+        F2,
+        targets,
+        pins=pins,
+        vertex_panel=vertex_panel,
+        asap_faces=asap_faces,
+        asap_exclude=asap_exclude,
+        ease=ease,
+        panel_weight=panel_weight,
+        w_pin=w_pin,
+        w_asap=w_asap,
+    )
     R0 = np.broadcast_to(np.eye(2), (len(F2), 2, 2)).copy()
-    X = finite_or_fail(global_step(R0, None))
-    GX = finite_or_fail(step(X))
-    res = residual(X, GX)
-    acc = Anderson(m=history)
-    e_gx = energy(GX) if history else 0.0
-    it, converged = 0, False
-    hist: list[float] = []
-    stalled, since = False, 0
-    for it in range(1, max_iter + 1):
-        hist.append(float(res.max(initial=0.0)))
-        w, h = tol.ARAP_STALL_ITER, hist[since:]
-        stall = len(h) > 2 * w and min(h[-w:]) > (1.0 - tol.ARAP_STALL_GAIN) * min(h[:-w])
-        done = not len(res) or res.max() <= step_tol
-        settled = done or stall or res.max() <= tol.SEAM_START_STEP or it > max_iter // 2
-        if stall and (
-            seam_block_ or ease is None or ease.violation(GX).max() <= tol.SEAM_EXACT_REL
-        ):
-            stalled = True  # a long run that no longer improves: stop (deterministically)
-            break
-        if stall:
-            since = len(hist)  # the seams switch on below; give them their own window
-        if (
-            settled
-            and ease is not None
-            and not seam_block_
-            and ease.violation(GX).max() > tol.SEAM_EXACT_REL
-        ):
-            seam_block_.extend(
-                seam_block(solve_many, ease, np.maximum(vlab, 0), n, coupled=B is not None)
-            )
-            acc.reset()
-            X = GX
-            GX = finite_or_fail(step(X))
-            res = residual(X, GX)
-            e_gx = energy(GX) if history else 0.0
-            continue
-        if done:
-            converged = True
-            break
-        if history:
-            # Peng et al.'s safeguard, on the plain steps' outputs: those meet the seam
-            # constraints, so their energies compare (mixed iterates' do not)
-            Xa = acc.next(X.ravel(), GX.ravel()).reshape(n, 2)
-            GXa = step(Xa) if np.all(np.isfinite(Xa)) else Xa
-            e_a = energy(GXa) if np.all(np.isfinite(GXa)) else np.inf
-            if e_a < e_gx:
-                X, GX, e_gx = Xa, GXa, e_a
-                res = residual(X, GX)
-                continue
-            acc.reset()
-        X = GX
-        GX = finite_or_fail(step(X))
-        res = residual(X, GX)
-        e_gx = energy(GX) if history else 0.0
-    X = GX  # a plain step: the constraints hold at the last linearisation
-    X[~used] = V2[~used]
-    viol = float(ease.violation(X).max()) if ease is not None else 0.0
-    if not seam_block_ and viol > tol.SEAM_EXACT_REL:
+    s = _Iterate(pb, _finite_or_fail(pb.global_step(R0, None)), history)
+    it, converged, stalled, hist = _iterate(
+        pb, s, max_iter=max_iter, step_tol=step_tol, history=history
+    )
+    X = s.GX  # a plain step: the constraints hold at the last linearisation
+    X[~pb.used] = V2[~pb.used]
+    viol = float(pb.ease.violation(X).max()) if pb.ease is not None else 0.0
+    if not pb.seam_block and viol > tol.SEAM_EXACT_REL:
         converged = False  # the cap came before the seams could be enforced
     return X, StitchInfo(
         iterations=it,
-        energy=energy(X),
+        energy=pb.energy(X),
         converged=converged,
-        panel_residual=res,
+        panel_residual=s.res,
         seam_violation=viol,
         history=tuple(hist),
         stalled=stalled,
     )
-
-
-def _solve_spd(M: np.ndarray, r: np.ndarray) -> np.ndarray | None:
-    """Solve a small symmetric positive (semi-)definite system, least squares if singular.
-
-    None when there is no finite solution (the caller skips the constraints).
-    """
-    import scipy.linalg as sla
-
-    if not (np.all(np.isfinite(M)) and np.all(np.isfinite(r))):
-        return None
-    try:
-        return sla.cho_solve(sla.cho_factor(M), r)
-    except (sla.LinAlgError, ValueError):
-        pass
-    try:
-        out = np.linalg.lstsq(M, r, rcond=None)[0]
-    except (np.linalg.LinAlgError, ValueError):
-        return None
-    return out if np.all(np.isfinite(out)) else None

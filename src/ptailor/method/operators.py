@@ -1,0 +1,105 @@
+"""Sparse operators of the stitching energy: triangle Jacobians, the ARAP matrix and the
+as-similar-as-possible boundary rows (:mod:`ptailor.method.stitch`)."""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from ptailor import tolerances as tol
+from ptailor.geometry.closed_forms import inv2
+from ptailor.model.boundary import boundary_loops
+
+
+def gradient_operators(F: np.ndarray, targets: np.ndarray, n: int) -> tuple[sp.csr_matrix, ...]:
+    """Sparse operators giving each triangle's Jacobian from vertex coordinates.
+
+    Parameters
+    ----------
+    F : (m, 3) int array
+    targets : (m, 2, 2) float array
+        Target edge matrices ``[e01, e02]``.
+    n : int
+        Number of vertices.
+
+    Returns
+    -------
+    D0, D1 : (m, n) sparse matrices
+        ``J[:, c, j] = Dj @ X[:, c]`` for positions ``X (n, 2)``.
+    """
+    m = len(F)
+    Dm = np.array([[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]])
+    G = Dm[None] @ inv2(targets)  # (m, 3, 2)
+    rows = np.repeat(np.arange(m), 3)
+    cols = F.ravel()
+    return tuple(sp.csr_matrix((G[:, :, j].ravel(), (rows, cols)), shape=(m, n)) for j in range(2))
+
+
+def laplacian(F: np.ndarray, targets: np.ndarray, area: np.ndarray, n: int) -> sp.csc_matrix:
+    """The triangle ARAP matrix ``sum_i A_i G_i G_i^T`` (cotangent Laplacian of the targets).
+
+    Parameters
+    ----------
+    F : (m, 3) int array
+    targets : (m, 2, 2) float array
+        Target edge matrices.
+    area : (m,) float array
+        Target areas.
+    n : int
+
+    Returns
+    -------
+    (n, n) sparse matrix
+    """
+    Dm = np.array([[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]])
+    G = Dm[None] @ inv2(targets)  # (m, 3, 2) hat-function gradients
+    K = area[:, None, None] * (G @ np.swapaxes(G, 1, 2))  # (m, 3, 3)
+    rows = np.repeat(F, 3, axis=1).ravel()
+    cols = np.tile(F, (1, 3)).ravel()
+    return sp.csc_matrix((K.ravel(), (rows, cols)), shape=(n, n))
+
+
+def asap_rows(
+    V2: np.ndarray, F2: np.ndarray, faces: np.ndarray, *, exclude: np.ndarray | None = None
+) -> sp.csr_matrix:
+    """Rows of the linear as-similar-as-possible term for the boundary of some triangles.
+
+    Parameters
+    ----------
+    V2 : (n, 2) float array
+        Original pattern.
+    F2 : (m, 3) int array
+    faces : (k,) int array
+        Triangles whose boundary loops get the term (whole panels).
+    exclude : (n,) bool array, optional
+        Boundary vertices that get no term (an outline being edited there).
+
+    Returns
+    -------
+    (b, 2n) sparse matrix
+        Row ``k`` is ``n_k . (x_(k+1) - x_(k-1))`` over unknowns ``[x; y]``.
+    """
+    n = len(V2)
+    loops = boundary_loops(F2[faces]) if len(faces) else []
+    loops = [lp for lp in loops if len(lp) >= 3]
+    if not loops:
+        return sp.csr_matrix((0, 2 * n))
+    nxt = np.concatenate([np.roll(lp, -1) for lp in loops])
+    prv = np.concatenate([np.roll(lp, 1) for lp in loops])
+    cur = np.concatenate(loops)
+    chord = V2[nxt] - V2[prv]
+    length = np.linalg.norm(chord, axis=1)
+    # a corner has no tangent: skip vertices where the outline turns sharply
+    a, b = V2[cur] - V2[prv], V2[nxt] - V2[cur]
+    na, nb = np.linalg.norm(a, axis=1), np.linalg.norm(b, axis=1)
+    cos_turn = np.einsum("ij,ij->i", a, b) / np.maximum(na * nb, 1e-300)
+    keep = (length > 0) & (cos_turn >= np.cos(np.radians(tol.ASAP_CORNER_DEG)))
+    if exclude is not None:
+        keep &= ~exclude[cur]
+    nrm = np.stack([-chord[:, 1], chord[:, 0]], 1)[keep] / length[keep, None]
+    nxt, prv, b = nxt[keep], prv[keep], int(keep.sum())
+    r = np.arange(b)
+    rows = np.concatenate([r, r, r, r])
+    cols = np.concatenate([nxt, nxt + n, prv, prv + n])
+    vals = np.concatenate([nrm[:, 0], nrm[:, 1], -nrm[:, 0], -nrm[:, 1]])
+    return sp.csr_matrix((vals, (rows, cols)), shape=(b, 2 * n))
