@@ -274,13 +274,12 @@ def _carry(
     base = adj.state.base
     orig = plan.panels
     source = _source_panels(adj, orig)
-    first: list[int] = []
     parts: dict[int, list[Panel]] = {}
     for p in adj.state.panels:  # a loop over panels
         if p.name in source:
             parts.setdefault(source[p.name], []).append(p)
-    a0 = np.abs(signed_areas_2d(g0.V2, g0.F2))
-    ab = np.abs(signed_areas_2d(base.V2, base.F2))
+    areas = (np.abs(signed_areas_2d(g0.V2, g0.F2)), np.abs(signed_areas_2d(base.V2, base.F2)))
+    first: list[int] = []
     pieces: list[Piece] = []
     matches: list[PieceMatch] = []
     from_file: list[bool] = []
@@ -291,62 +290,21 @@ def _carry(
         p0 = orig[m.panel]
         now = parts.get(m.panel, [])
         first.append(len(out))
-        if not now:
-            pieces.append(piece)
-            matches.append(m)
-            from_file.append(ff)
-            names.append(p0.name)
-            out.append(None)
-            continue
-        s0 = float(a0[p0.faces].sum())
-        reach = 0.0
-        group = []
-        for k, p in enumerate(now):  # the parts of one panel (one unless a cut split it)
-            sb = float(ab[p.faces].sum())
-            unchanged = (
-                len(now) == 1 and len(p.faces) == len(p0.faces) and abs(sb - s0) <= 1e-9 * s0
-            )
-            if not unchanged and not reach:
-                loc = locate_points(g0.V2, g0.F2, m.to_panel(piece_curve(piece)), faces=p0.faces)
-                reach = float(loc.distance.max(initial=0.0))
-            cp = carry_piece(
-                piece,
-                m,
-                V2=base.V2,
-                F2=base.F2,
-                faces=p.faces,
-                V2_new=adj.result.V2,
-                unchanged=unchanged,
-                reach=reach,
-                original=(g0.V2, g0.F2, p0.faces),
-            )
-            if k:
-                suffix = p.name[len(p0.name) :] if p.name.startswith(p0.name) else f"_{k}"
-                cp = replace(cp, piece=replace(cp.piece, name=f"{piece.name}{suffix}"))
-            group.append(cp)
+        group = _carry_parts(adj, piece, m, p0, now, areas=areas) if now else [None]
+        for k, cp in enumerate(group):  # the parts of one panel (one unless a cut split it)
             pieces.append(replace(piece, name=cp.piece.name) if k else piece)
             matches.append(m)
             from_file.append(ff)
-            names.append(p.name)
-            covered.add(p.name)
-        if len(group) > 1 and all(c.kept is not None for c in group):
-            # a mark is dropped only when no part keeps it
-            lost = ~np.logical_or.reduce([c.kept for c in group])
-            group = [
-                replace(c, dropped=int(lost.sum()) if k == 0 else 0) for k, c in enumerate(group)
-            ]
+            names.append(now[k].name if now else p0.name)
+        covered.update(p.name for p in now)
         out += group
     rest = [p for p in adj.state.panels if p.name not in covered]
-    if rest:
-        g = adj.garment
-        grain = grain_directions(g.V2, g.F2, g.V3, g.F3, list(adj.state.panels), up=up)
-        drawn = mesh_pieces(g.V2, g.F2, rest, F3=g.F3, V3=g.V3, grain=grain)
-        for p, pc in zip(rest, drawn, strict=True):  # a loop over panels
-            pieces.append(pc)
-            matches.append(PieceMatch(len(pieces) - 1, -1, "mesh", np.eye(2), np.zeros(2), 0.0))
-            from_file.append(False)
-            names.append(p.name)
-            out.append(CarriedPiece(piece=pc, outline_from="mesh", dropped=0))
+    for p, pc in zip(rest, _drawn(adj, rest, up=up), strict=True):  # a loop over panels
+        pieces.append(pc)
+        matches.append(PieceMatch(len(pieces) - 1, -1, "mesh", np.eye(2), np.zeros(2), 0.0))
+        from_file.append(False)
+        names.append(p.name)
+        out.append(CarriedPiece(piece=pc, outline_from="mesh", dropped=0))
     matches = [replace(mm, piece=i) for i, mm in enumerate(matches)]
     new_plan = replace(
         plan,
@@ -356,6 +314,64 @@ def _carry(
         panel_names=tuple(names),
     )
     return new_plan, out, first
+
+
+def _carry_parts(
+    adj: Adjustment,
+    piece: Piece,
+    m: PieceMatch,
+    p0: Panel,
+    now: list[Panel],
+    *,
+    areas: tuple[np.ndarray, np.ndarray],
+) -> list[CarriedPiece]:
+    """One planned piece carried onto each adjusted panel its panel ``p0`` became.
+
+    The first part keeps the piece's name, the others take the panel's suffix; a mark is
+    dropped only when no part keeps it. ``areas`` are the triangle areas of the input
+    pattern and of the pattern the marks are located in.
+    """
+    g0 = adj.original if adj.original is not None else adj.state.base
+    base = adj.state.base
+    a0, ab = areas
+    s0 = float(a0[p0.faces].sum())
+    reach = 0.0
+    group = []
+    for k, p in enumerate(now):  # the parts of one panel (one unless a cut split it)
+        sb = float(ab[p.faces].sum())
+        unchanged = len(now) == 1 and len(p.faces) == len(p0.faces) and abs(sb - s0) <= 1e-9 * s0
+        if not unchanged and not reach:
+            loc = locate_points(g0.V2, g0.F2, m.to_panel(piece_curve(piece)), faces=p0.faces)
+            reach = float(loc.distance.max(initial=0.0))
+        cp = carry_piece(
+            piece,
+            m,
+            V2=base.V2,
+            F2=base.F2,
+            faces=p.faces,
+            V2_new=adj.result.V2,
+            unchanged=unchanged,
+            reach=reach,
+            original=(g0.V2, g0.F2, p0.faces),
+        )
+        if k:
+            suffix = p.name[len(p0.name) :] if p.name.startswith(p0.name) else f"_{k}"
+            cp = replace(cp, piece=replace(cp.piece, name=f"{piece.name}{suffix}"))
+        group.append(cp)
+    if len(group) > 1 and all(c.kept is not None for c in group):
+        # a mark is dropped only when no part keeps it
+        lost = ~np.logical_or.reduce([c.kept for c in group])
+        group = [replace(c, dropped=int(lost.sum()) if k == 0 else 0) for k, c in enumerate(group)]
+    return group
+
+
+def _drawn(adj: Adjustment, rest: list[Panel], *, up: tuple[float, float, float]) -> list[Piece]:
+    """Pieces drawn from the adjusted mesh for the panels ``rest`` no planned piece became."""
+    if not rest:
+        return []
+    g = adj.garment
+    grain = grain_directions(g.V2, g.F2, g.V3, g.F3, list(adj.state.panels), up=up)
+    return mesh_pieces(g.V2, g.F2, rest, F3=g.F3, V3=g.V3, grain=grain)
 
 
 def adjusted_pieces(adj: Adjustment, plan: PiecePlan) -> list[CarriedPiece | None]:
