@@ -78,23 +78,7 @@ def adjust(
     # every input (the recipe too) is checked against the output folder before any is read
     check_output_dir(out, [garment, recipe, drape, body])
     rec = load_recipe(recipe)
-    options = run_options(
-        rec,
-        formats=formats,
-        seam_allowance=seam_allowance,
-        weld=weld,
-        pattern_units=pattern_units,
-        drape_units=drape_units,
-        method=method,
-        intrinsic=intrinsic,
-        baseline=not no_baseline,
-        up=up,
-        front=front,
-        body=body,
-        body_units=body_units,
-        size=size,
-        dxf_units=dxf_units,
-    )
+    options = run_options(rec, click.get_current_context().params)
     report = run_garment(garment, rec, out, options=options, drape=drape)
     if as_json:
         click.echo(json.dumps(report, indent=2))

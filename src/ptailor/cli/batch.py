@@ -172,19 +172,7 @@ def batch(
     if pattern_units != "auto":
         parse_units(pattern_units, what="--pattern-units")
     parse_units(drape_units, what="--drape-units")
-    options = run_options(
-        rec,
-        formats=formats,
-        seam_allowance=seam_allowance,
-        weld=weld,
-        pattern_units=pattern_units,
-        drape_units=drape_units,
-        up=up,
-        front=front,
-        baseline=not no_baseline,
-        size=size,
-        dxf_units=dxf_units,
-    )
+    options = run_options(rec, ctx.params)
     paths = expand_garments(
         garments,
         stdin=sys.stdin,

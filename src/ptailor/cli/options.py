@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import Any
+
 import click
 
 UNIT_HELP = "mm, cm, m, in, or a scaled unit such as 0.3333cm"
@@ -167,28 +170,32 @@ def parse_output_options(formats: str, seam_allowance: str | None, *, units: str
 AXES = ["x", "y", "z", "-x", "-y", "-z"]
 
 
-def run_options(
-    recipe,
-    *,
-    formats: str,
-    seam_allowance: str | None,
-    weld: str,
-    **values,
-):
-    """The :class:`~ptailor.run.options.RunOptions` of a command, built once: ``--formats``,
-    ``--seam-allowance`` and ``--weld`` checked against ``recipe``'s units (exit 2 before
-    any garment is read), the other options (``values``) taken as given.
+def run_options(recipe, params: Mapping[str, Any]):
+    """The :class:`~ptailor.run.options.RunOptions` of a command, built once from its
+    parsed parameters (click's ``ctx.params``).
+
+    ``--formats``, ``--seam-allowance`` and ``--weld`` are checked against ``recipe``'s
+    units (exit 2 before any garment is read); ``--no-baseline`` is ``baseline``'s negation;
+    every other parameter named as a field is taken as given, the rest ignored.
 
     Raises
     ------
     PtailorError
         An unknown format, a bad length or weld (exit 2).
     """
+    from dataclasses import fields
+
     from ptailor.run.options import RunOptions
 
-    fmts, allowance = parse_output_options(formats, seam_allowance, units=recipe.units)
-    parse_weld_option(weld, units=recipe.units)
-    return RunOptions(formats=fmts, seam_allowance=allowance, weld=weld, **values)
+    fmts, allowance = parse_output_options(
+        params["formats"], params["seam_allowance"], units=recipe.units
+    )
+    parse_weld_option(params["weld"], units=recipe.units)
+    values = {f.name: params[f.name] for f in fields(RunOptions) if f.name in params}
+    values.update(
+        formats=fmts, seam_allowance=allowance, baseline=not params.get("no_baseline", False)
+    )
+    return RunOptions(**values)
 
 
 def axis_vector(name: str | None, default: str) -> tuple[float, float, float]:

@@ -299,42 +299,9 @@ def _load_pattern_pair(
     size: str | None,
     dxf_units: str | None,
 ) -> LoadedGarment:
-    """A CAD pattern with its drape, the intake's ``units`` telling where each unit came from."""
-    from ptailor.model.repair import UnitMismatchError
-
-    try:
-        loaded = _load_dxf_pair(
-            path, drape, units=units, drape_units=drape_units, size=size, dxf_units=dxf_units
-        )
-    except UnitMismatchError as exc:
-        msg = exc.message.replace("check --pattern-units", "check --dxf-units")
-        raise UnitMismatchError(msg, path=exc.path) from None
-    pf = loaded.pattern
-    # the DXF's unit: given, from the file, or judged; the drape's vt: its own unit
-    dxf_note, _, vt_note = (pf.units_note if pf is not None else "").partition("; vt")
-    source = "command line" if dxf_units is not None else "file"
-    if dxf_units is None and "judged" in dxf_note:
-        source = "estimate"
-    units_rec = dict(loaded.intake.get("units", {}))
-    units_rec["vt"] = units_rec.pop("pattern", None)
-    units_rec["vt_source"] = "estimate" if "judged" in vt_note else "file"
-    units_rec.update(pattern_source=source, pattern_note=dxf_note)
-    if pf is not None:
-        units_rec["pattern"] = pf.units
-    return replace(loaded, intake={**loaded.intake, "units": units_rec})
-
-
-def _load_dxf_pair(
-    path: str,
-    drape: str | Path | None,
-    *,
-    units: str,
-    drape_units: str,
-    size: str | None,
-    dxf_units: str | None,
-) -> LoadedGarment:
-    """A DXF's pieces plus the drape OBJ whose ``vt`` triangulates them."""
+    """A CAD pattern's pieces plus the drape OBJ whose ``vt`` triangulates them."""
     from ptailor.formats.dxf import reconcile_units
+    from ptailor.model.repair import UnitMismatchError
 
     if drape is None:
         raise PtailorError(
@@ -362,5 +329,27 @@ def _load_dxf_pair(
         fixed=dxf_units is not None,
     )
     pattern = replace(pattern, units_note=f"{pattern.units_note}; {vt_note}")
-    loaded = load_garment(drape, units=units, pattern_units=vt_unit, drape_units=drape_units)
-    return replace(loaded, inputs={"pattern": path, "drape": dpath}, pattern=pattern)
+    try:
+        loaded = load_garment(drape, units=units, pattern_units=vt_unit, drape_units=drape_units)
+    except UnitMismatchError as exc:
+        msg = exc.message.replace("check --pattern-units", "check --dxf-units")
+        raise UnitMismatchError(msg, path=exc.path) from None
+    loaded = replace(loaded, inputs={"pattern": path, "drape": dpath}, pattern=pattern)
+    return _with_unit_sources(loaded, dxf_units=dxf_units)
+
+
+def _with_unit_sources(loaded: LoadedGarment, *, dxf_units: str | None) -> LoadedGarment:
+    """The intake's ``units`` of a CAD pattern: where the pattern's unit and the drape's
+    ``vt`` unit each came from (given, the file, or judged)."""
+    pf = loaded.pattern
+    dxf_note, _, vt_note = (pf.units_note if pf is not None else "").partition("; vt")
+    source = "command line" if dxf_units is not None else "file"
+    if dxf_units is None and "judged" in dxf_note:
+        source = "estimate"
+    units_rec = dict(loaded.intake.get("units", {}))
+    units_rec["vt"] = units_rec.pop("pattern", None)
+    units_rec["vt_source"] = "estimate" if "judged" in vt_note else "file"
+    units_rec.update(pattern_source=source, pattern_note=dxf_note)
+    if pf is not None:
+        units_rec["pattern"] = pf.units
+    return replace(loaded, intake={**loaded.intake, "units": units_rec})
