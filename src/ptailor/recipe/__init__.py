@@ -2,7 +2,7 @@
 
 Modules, read bottom up:
 
-- :mod:`~ptailor.recipe.format`: the keys, flatten settings and axes; :class:`Recipe`;
+- :mod:`~ptailor.recipe.spec`: the keys, flatten settings and axes; :class:`Recipe`;
 - :mod:`~ptailor.recipe.rules`: :func:`validate`, the operations' rules over a document;
 - :mod:`~ptailor.recipe.schema`: the same format as JSON Schema (``recipes/schema.json``);
 - :mod:`~ptailor.recipe.loader`: the YAML reader with bounded work;
@@ -12,7 +12,18 @@ Modules, read bottom up:
 
 from __future__ import annotations
 
-from ptailor.recipe.format import (
+from ptailor.recipe.loader import recipe_loader
+from ptailor.recipe.problems import (
+    Problem,
+    RecipeProblemsError,
+    load_recipe,
+    one_line,
+    parse_recipe,
+    read_recipe_text,
+    recipe_problems,
+)
+from ptailor.recipe.rules import validate
+from ptailor.recipe.spec import (
     AXIS_NAMES,
     DEFAULT_FRONT,
     DEFAULT_UP,
@@ -26,17 +37,6 @@ from ptailor.recipe.format import (
     axis_vector,
     resolve_axes,
 )
-from ptailor.recipe.loader import recipe_loader
-from ptailor.recipe.problems import (
-    Problem,
-    RecipeProblemsError,
-    load_recipe,
-    one_line,
-    parse_recipe,
-    read_recipe_text,
-    recipe_problems,
-)
-from ptailor.recipe.rules import validate
 
 __all__ = [
     "AXIS_NAMES",

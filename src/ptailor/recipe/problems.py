@@ -11,10 +11,10 @@ from typing import Any
 
 from ptailor import tolerances as tol
 from ptailor.errors import PtailorError, RecipeError
-from ptailor.recipe.format import Recipe
 from ptailor.recipe.loader import _check_events, _duplicate_keys, _YamlLimitError, recipe_loader
 from ptailor.recipe.rules import validate
 from ptailor.recipe.schema import recipe_schema
+from ptailor.recipe.spec import Recipe
 
 
 def one_line(message: str, limit: int = 400) -> str:

@@ -17,19 +17,10 @@ from ptailor.edits.checks import (
     vector3,
 )
 from ptailor.model.units import CM_PER, UNITS
-from ptailor.recipe.format import (
-    AXIS_NAMES,
-    DIRECTION_PARAMS,
-    FLATTEN_PARAMS,
-    LENGTH_PARAMS,
-    STEP_KEYS,
-    TOP_KEYS,
-    Recipe,
-    axes_problem,
-)
+from ptailor.recipe import spec
 
 
-def validate(data: Any) -> tuple[Recipe | None, list[str]]:
+def validate(data: Any) -> tuple[spec.Recipe | None, list[str]]:
     """Check a parsed recipe; collect every problem.
 
     Parameters
@@ -55,7 +46,7 @@ def validate(data: Any) -> tuple[Recipe | None, list[str]]:
     probs += step_probs + flatten_probs
     if probs:
         return None, probs
-    return Recipe(
+    return spec.Recipe(
         units=units,
         steps=steps,
         flatten=flatten,
@@ -69,7 +60,9 @@ def _top_level_problems(data: dict) -> list[str]:
     """The problems of a recipe's top-level keys: unknown keys, format, units, axes and
     ``symmetric`` (``steps`` and ``flatten`` have their own checks)."""
     probs = [
-        f"unknown key {show(k)} (known: {', '.join(TOP_KEYS)})" for k in data if k not in TOP_KEYS
+        f"unknown key {show(k)} (known: {', '.join(spec.TOP_KEYS)})"
+        for k in data
+        if k not in spec.TOP_KEYS
     ]
     fmt = data.get("format", 1)
     if isinstance(fmt, bool) or fmt != 1:
@@ -77,8 +70,8 @@ def _top_level_problems(data: dict) -> list[str]:
     probs += choice(*UNITS)(data.get("units", "cm"), "units")
     for k in ("up", "front"):
         if k in data:
-            probs += choice(*AXIS_NAMES)(data[k], k)
-    bad_axes = axes_problem(data.get("up"), data.get("front"))
+            probs += choice(*spec.AXIS_NAMES)(data[k], k)
+    bad_axes = spec.axes_problem(data.get("up"), data.get("front"))
     if bad_axes:
         # on the key the recipe set (front when it set both, or only front)
         key = "front" if "front" in data else "up"
@@ -120,7 +113,7 @@ def _step(st: Any, where: str, *, units: Any, symmetric: Any) -> tuple[dict | No
     if op is None:
         return None, [f"{where}.op: unknown op {show(st['op'])} (known: {', '.join(OPERATIONS)})"]
     full = {"op": op.name}
-    known = [*op.params, *(k for k in STEP_KEYS if k not in op.params)]
+    known = [*op.params, *(k for k in spec.STEP_KEYS if k not in op.params)]
     probs = [
         f"{where}: unknown key {show(k)} for {op.name} (known: {', '.join(known)})"
         for k in st
@@ -155,12 +148,12 @@ def _flatten(fl_in: Any) -> tuple[dict, list[str]]:
         probs.append("flatten: expected a mapping")
         fl_in = {}
     probs += [
-        f"flatten: unknown key {show(k)} (known: {', '.join(FLATTEN_PARAMS)})"
+        f"flatten: unknown key {show(k)} (known: {', '.join(spec.FLATTEN_PARAMS)})"
         for k in fl_in
-        if k not in FLATTEN_PARAMS
+        if k not in spec.FLATTEN_PARAMS
     ]
     flatten: dict = {}
-    for k, (check, default) in FLATTEN_PARAMS.items():
+    for k, (check, default) in spec.FLATTEN_PARAMS.items():
         if k in fl_in:
             probs += check(fl_in[k], f"flatten.{k}")
         flatten[k] = fl_in.get(k, default)
@@ -172,14 +165,14 @@ def _sizes(step: dict, where: str, units: Any) -> list[str]:
     probs = []
     cm = CM_PER.get(units, 1.0) if isinstance(units, str) else 1.0
     limit = tol.RECIPE_MAX_LENGTH_CM / cm
-    for k in LENGTH_PARAMS.get(step["op"], ()):
+    for k in spec.LENGTH_PARAMS.get(step["op"], ()):
         x = step.get(k)
         if is_number(x) and abs(x) > limit:
             probs.append(
                 f"{where}.{k}: {x} is longer than {limit:g} {units} "
                 f"({tol.RECIPE_MAX_LENGTH_CM:g} cm; ptailor.tolerances.RECIPE_MAX_LENGTH_CM)"
             )
-    for path in DIRECTION_PARAMS.get(step["op"], ()):
+    for path in spec.DIRECTION_PARAMS.get(step["op"], ()):
         x: Any = step
         for k in path:
             x = x.get(k) if isinstance(x, dict) else None

@@ -14,7 +14,7 @@ from typing import Any
 from ptailor.edits import OPERATIONS
 from ptailor.edits.opening import OPENING_SCHEMA
 from ptailor.model.units import UNITS
-from ptailor.recipe.format import AXIS_NAMES, FLATTEN_PARAMS, STEP_KEYS
+from ptailor.recipe.spec import AXIS_NAMES, FLATTEN_PARAMS, STEP_KEYS
 
 SCHEMA_ID = "https://ptailor.dev/schema/recipe-1.json"
 
