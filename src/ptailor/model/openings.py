@@ -179,12 +179,7 @@ def openings(V3, F3, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0), F2=None) -> l
     h_min, h_max = float(Hc[used].min()), float(Hc[used].max())
     H = h_max - h_min
 
-    # sums in an order that depends on the cloth, not on the face order or corner rotation
-    Fs = np.sort(F3, axis=1)
-    area = triangle_areas(V3, Fs)
-    face_s = np.sort(S[Fs], axis=1).sum(axis=1) / 3.0
-    tot = np.sort(area).sum()
-    s0 = float(np.sort(area * face_s).sum() / tot) if tot > 0 else float(S[used].mean())
+    s0 = _centre_line(V3, F3, S, used)
 
     n = len(loops)
     geo = [_loop_geometry(V3[L], bool(c)) for L, c in zip(loops, closed, strict=True)]
@@ -204,42 +199,107 @@ def openings(V3, F3, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0), F2=None) -> l
     names: dict[int, str] = {}
 
     # 3. legs
-    has_legs = False
-    if left and right and len(centred) <= 1:
-        ll = min(left, key=lambda i: (ch[i], i))
-        lr = min(right, key=lambda i: (ch[i], i))
-        lowest_centred = ch[centred[0]] if centred else np.inf
-        mid = h_min + 0.5 * H
-        if horizontal[ll] and horizontal[lr] and max(ch[ll], ch[lr]) < min(mid, lowest_centred):
-            names[ll], names[lr] = "leg_left", "leg_right"
-            left.remove(ll)
-            right.remove(lr)
-            has_legs = True
+    legs = _legs(left, right, centred, ch, horizontal, h_min + 0.5 * H)
+    if legs is not None:
+        ll, lr = legs
+        names[ll], names[lr] = "leg_left", "leg_right"
+        left.remove(ll)
+        right.remove(lr)
 
     # 4. sleeves or armholes
-    is_top = False
+    sleeve_h = None
     if left and right:
         sl = max(left, key=lambda i: (length[i], -i))
         sr = max(right, key=lambda i: (length[i], -i))
-        hl, hr = Hc[loops[sl]], Hc[loops[sr]]
-        lo = min(hl.min(), hr.min())
-        band_h = max(np.ptp(hl), np.ptp(hr), _BAND_REL * H)
-        sel = used[(Hc[used] < lo) & (Hc[used] >= lo - band_h)]
-        d = S[sel] - s0
-        half_l = max(float(d.max()), 0.0) if d.size else 0.0
-        half_r = max(float(-d.min()), 0.0) if d.size else 0.0
+        band = (Hc[loops[sl]], Hc[loops[sr]])
         inner = (smin[sl] - s0) + (s0 - smax[sr])
-        kind = "cuff" if inner > half_l + half_r else "armhole"
+        kind = _sleeve_kind(band, inner, Hc, S, used, s0, H)
         names[sl], names[sr] = f"{kind}_left", f"{kind}_right"
-        is_top = True
+        sleeve_h = min(ch[sl], ch[sr])
 
     # 5. centred loops
+    names.update(_centred_names(centred, horizontal, ch, sleeve_h, has_legs=legs is not None))
+
+    return [
+        Opening(
+            name=names.get(i, f"opening_{i}"),
+            loop=loops[i],
+            length=float(length[i]),
+            centroid=cen[i],
+            closed=bool(closed[i]),
+        )
+        for i in range(n)
+    ]
+
+
+def _centre_line(V3: np.ndarray, F3: np.ndarray, S: np.ndarray, used: np.ndarray) -> float:
+    """The garment's area-weighted mean left coordinate ``S`` (the centre line)."""
+    # sums in an order that depends on the cloth, not on the face order or corner rotation
+    Fs = np.sort(F3, axis=1)
+    area = triangle_areas(V3, Fs)
+    face_s = np.sort(S[Fs], axis=1).sum(axis=1) / 3.0
+    tot = np.sort(area).sum()
+    return float(np.sort(area * face_s).sum() / tot) if tot > 0 else float(S[used].mean())
+
+
+def _legs(
+    left: list[int],
+    right: list[int],
+    centred: list[int],
+    ch: np.ndarray,
+    horizontal: np.ndarray,
+    mid: float,
+) -> tuple[int, int] | None:
+    """The two leg openings (rule 3), or None; ``mid`` the garment's mid height."""
+    if not (left and right and len(centred) <= 1):
+        return None
+    ll = min(left, key=lambda i: (ch[i], i))
+    lr = min(right, key=lambda i: (ch[i], i))
+    lowest_centred = ch[centred[0]] if centred else np.inf
+    if horizontal[ll] and horizontal[lr] and max(ch[ll], ch[lr]) < min(mid, lowest_centred):
+        return ll, lr
+    return None
+
+
+def _sleeve_kind(
+    band: tuple[np.ndarray, np.ndarray],
+    inner: float,
+    Hc: np.ndarray,
+    S: np.ndarray,
+    used: np.ndarray,
+    s0: float,
+    H: float,
+) -> str:
+    """``cuff`` or ``armhole`` for the two sleeve loops (rule 4).
+
+    ``band``: the heights of the two loops' vertices; ``inner``: the sum of their inner
+    edges' distances from the centre line ``s0``.
+    """
+    hl, hr = band
+    lo = min(hl.min(), hr.min())
+    band_h = max(np.ptp(hl), np.ptp(hr), _BAND_REL * H)
+    sel = used[(Hc[used] < lo) & (Hc[used] >= lo - band_h)]
+    d = S[sel] - s0
+    half_l = max(float(d.max()), 0.0) if d.size else 0.0
+    half_r = max(float(-d.min()), 0.0) if d.size else 0.0
+    return "cuff" if inner > half_l + half_r else "armhole"
+
+
+def _centred_names(
+    centred: list[int],
+    horizontal: np.ndarray,
+    ch: np.ndarray,
+    sleeve_h: float | None,
+    *,
+    has_legs: bool,
+) -> dict[int, str]:
+    """Names of the centred loops (rule 5); ``sleeve_h`` None when the garment is no top."""
+    names: dict[int, str] = {}
     flat = [i for i in centred if horizontal[i]]
-    if is_top and has_legs:
+    if sleeve_h is not None and has_legs:
         if centred:
             names[centred[-1]] = "neckline"
-    elif is_top:
-        sleeve_h = min(ch[sl], ch[sr])
+    elif sleeve_h is not None:
         if len(centred) >= 2:
             names[centred[-1]] = "neckline"
             if flat and flat[0] != centred[-1]:
@@ -254,14 +314,4 @@ def openings(V3, F3, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0), F2=None) -> l
         names[flat[0]] = "hem"
         if len(flat) >= 2:
             names[flat[-1]] = "waist"
-
-    return [
-        Opening(
-            name=names.get(i, f"opening_{i}"),
-            loop=loops[i],
-            length=float(length[i]),
-            centroid=cen[i],
-            closed=bool(closed[i]),
-        )
-        for i in range(n)
-    ]
+    return names
