@@ -19,8 +19,9 @@ import numpy as np
 from ptailor import tolerances as tol
 from ptailor.edits.state import EditState
 from ptailor.errors import PtailorError
-from ptailor.model.garment import Garment, panels
+from ptailor.model.garment import Garment
 from ptailor.model.seams import edge_keys
+from ptailor.model.structure import structure
 
 #: ``crossing(a2, b2, t, face) -> t``, see :func:`split_keep`.
 Crossing = Callable[[np.ndarray, np.ndarray, np.ndarray, np.ndarray], np.ndarray]
@@ -225,7 +226,7 @@ def split_keep(
         group_names=names,
         units=g.units,
     )
-    new_panels = panels(base)
+    new_panels = structure(base).panels
     # a panel that lost triangles has an edited outline: it no longer keeps its shape
     touched = np.zeros(len(plist), bool)
     touched[flab[np.flatnonzero(~keep_whole)]] = True

@@ -21,7 +21,8 @@ from ptailor.edits.opening import OpeningEdges, find_opening, opening_edges, ope
 from ptailor.edits.registry import Param, register
 from ptailor.edits.shorten import MEASURE_PARAM, pattern_amounts, spread_stats
 from ptailor.edits.state import EditOptions, EditState
-from ptailor.model.garment import Garment, panels
+from ptailor.model.garment import Garment
+from ptailor.model.structure import structure
 
 __all__ = ["OpeningEdges", "extend", "opening_edges"]
 
@@ -120,7 +121,7 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         group_names=tuple(p.name for p in state.panels),
         units=g.units,
     )
-    new_panels = panels(base)
+    new_panels = structure(base).panels
     old_even = {p.name: bool(state.even[p.index]) for p in state.panels}
     even = np.array([old_even.get(q.name, False) for q in new_panels], dtype=bool)
     free = np.ones(len(base.V2), dtype=bool)
