@@ -121,6 +121,36 @@ def _corner_updates(V: np.ndarray, FT: np.ndarray, D: np.ndarray) -> np.ndarray:
     return cand
 
 
+def _checked_mesh(V, F) -> tuple[np.ndarray, np.ndarray]:
+    """``V`` as ``(n, d)`` float (d >= 2, finite) and ``F`` as ``(m, 3)`` int64 in range."""
+    V = np.asarray(V, dtype=np.float64)
+    F = np.asarray(F)
+    if V.ndim != 2 or V.shape[1] < 2:
+        raise ValueError(f"V must be an (n, d) array with d >= 2, got shape {V.shape}")
+    if not np.all(np.isfinite(V)):
+        raise ValueError("V has non-finite coordinates")
+    n = V.shape[0]
+    if F.size == 0:
+        F = F.reshape(0, 3).astype(np.int64)
+    if F.ndim != 2 or F.shape[1] != 3 or not np.issubdtype(F.dtype, np.integer):
+        raise ValueError(f"F must be an (m, 3) int array, got {F.dtype} {F.shape}")
+    if F.size and (F.min() < 0 or F.max() >= n):
+        raise ValueError(f"F indexes vertices outside 0..{n - 1}")
+    return V, F.astype(np.int64, copy=False)
+
+
+def _checked_sources(sources, n: int) -> np.ndarray:
+    """``sources`` as a ``(k,)`` int array of vertices ``0 .. n - 1``."""
+    src = np.atleast_1d(np.asarray(sources))
+    if src.size == 0:
+        src = src.astype(np.int64)
+    if src.ndim != 1 or not np.issubdtype(src.dtype, np.integer):
+        raise ValueError(f"sources must be a (k,) int array, got {src.dtype} {src.shape}")
+    if src.size and (src.min() < 0 or src.max() >= n):
+        raise ValueError(f"sources index vertices outside 0..{n - 1}")
+    return src
+
+
 def geodesic_distance(
     V: np.ndarray,
     F: np.ndarray,
@@ -175,32 +205,14 @@ def geodesic_distance(
         On malformed or non-finite arrays, out-of-range indices, a NaN or negative
         ``limit`` or a negative ``max_iter``.
     """
-    V = np.asarray(V, dtype=np.float64)
-    F = np.asarray(F)
-    src = np.atleast_1d(np.asarray(sources))
-    if V.ndim != 2 or V.shape[1] < 2:
-        raise ValueError(f"V must be an (n, d) array with d >= 2, got shape {V.shape}")
-    if not np.all(np.isfinite(V)):
-        raise ValueError("V has non-finite coordinates")
+    V, F = _checked_mesh(V, F)
     n = V.shape[0]
-    if F.size == 0:
-        F = F.reshape(0, 3).astype(np.int64)
-    if F.ndim != 2 or F.shape[1] != 3 or not np.issubdtype(F.dtype, np.integer):
-        raise ValueError(f"F must be an (m, 3) int array, got {F.dtype} {F.shape}")
-    if F.size and (F.min() < 0 or F.max() >= n):
-        raise ValueError(f"F indexes vertices outside 0..{n - 1}")
-    if src.size == 0:
-        src = src.astype(np.int64)
-    if src.ndim != 1 or not np.issubdtype(src.dtype, np.integer):
-        raise ValueError(f"sources must be a (k,) int array, got {src.dtype} {src.shape}")
-    if src.size and (src.min() < 0 or src.max() >= n):
-        raise ValueError(f"sources index vertices outside 0..{n - 1}")
+    src = _checked_sources(sources, n)
     limit = float(limit)
     if np.isnan(limit) or limit < 0.0:
         raise ValueError(f"limit must be >= 0, got {limit!r}")
     if max_iter is not None and int(max_iter) < 0:
         raise ValueError(f"max_iter must be >= 0, got {max_iter!r}")
-    F = F.astype(np.int64, copy=False)
 
     d = np.full(n, np.inf)
     d[src] = 0.0
