@@ -55,45 +55,59 @@ MUTATION = st.one_of(
 MUTATIONS = st.lists(MUTATION, min_size=1, max_size=3)
 
 
+def _set_value_of(lines: list[str], codes: set[str], at: float, arg: str) -> None:
+    """Set the value of the pair at fraction ``at`` among those with a group code in ``codes``."""
+    idx = [i for i in range(0, len(lines) - 1, 2) if lines[i].strip() in codes]
+    if idx:
+        lines[idx[int(at * len(idx))] + 1] = arg
+
+
+def _swap(lines: list[str], pair: int, arg: float) -> None:
+    other = int(arg * max(len(lines) // 2, 1)) * 2
+    a, b = lines[pair : pair + 2], lines[other : other + 2]
+    if len(a) == len(b):
+        lines[pair : pair + 2], lines[other : other + 2] = b, a
+
+
+def _insert_bytes(lines: list[str], at: float, arg: bytes) -> list[str]:
+    text = "\n".join(lines)
+    k = int(at * (len(text) + 1))
+    text = text[:k] + arg.decode("latin-1") + text[k + len(arg) :]
+    return text.split("\n")
+
+
+def _mutate_once(lines: list[str], op: str, at: float, arg) -> list[str]:
+    """``lines`` after one mutation (edited in place, or a new list for ``bytes``)."""
+    n = len(lines)
+    pair = int(at * max(n // 2, 1)) * 2
+    if op == "hot":
+        _set_value_of(lines, HOT_CODES, at, arg)
+    elif op == "value" and pair + 1 < n:
+        lines[pair + 1] = arg
+    elif op == "layer" and pair + 1 < n:
+        _set_value_of(lines, {"8"}, at, arg)
+    elif op == "drop":
+        del lines[pair : pair + arg]
+    elif op == "dup":
+        lines[pair:pair] = lines[pair : pair + arg]
+    elif op == "swap":
+        _swap(lines, pair, arg)
+    elif op == "name":
+        _set_value_of(lines, {"0"}, at, arg)
+    elif op == "trunc":
+        del lines[int(at * n) :]
+    elif op == "bytes":
+        return _insert_bytes(lines, at, arg)
+    return lines
+
+
 def mutate(data: bytes, mutations: list[tuple]) -> bytes:
     """Apply ``MUTATIONS`` to a DXF's bytes (lines: group code, value, ...)."""
     lines = data.decode("latin-1").splitlines()
     for op, at, arg in mutations:
         if not lines:
             break
-        n = len(lines)
-        pair = int(at * max(n // 2, 1)) * 2
-        if op == "hot":
-            hot = [i for i in range(0, n - 1, 2) if lines[i].strip() in HOT_CODES]
-            if hot:
-                lines[hot[int(at * len(hot))] + 1] = arg
-        elif op in ("value", "layer") and pair + 1 < n:
-            if op == "layer":
-                lay = [i for i in range(0, n - 1, 2) if lines[i].strip() == "8"]
-                if lay:
-                    lines[lay[int(at * len(lay))] + 1] = arg
-            else:
-                lines[pair + 1] = arg
-        elif op == "drop":
-            del lines[pair : pair + arg]
-        elif op == "dup":
-            lines[pair:pair] = lines[pair : pair + arg]
-        elif op == "swap":
-            other = int(arg * max(n // 2, 1)) * 2
-            a, b = lines[pair : pair + 2], lines[other : other + 2]
-            if len(a) == len(b):
-                lines[pair : pair + 2], lines[other : other + 2] = b, a
-        elif op == "name":
-            zeros = [i for i in range(0, n - 1, 2) if lines[i].strip() == "0"]
-            if zeros:
-                lines[zeros[int(at * len(zeros))] + 1] = arg
-        elif op == "trunc":
-            del lines[int(at * n) :]
-        elif op == "bytes":
-            text = "\n".join(lines)
-            k = int(at * (len(text) + 1))
-            text = text[:k] + arg.decode("latin-1") + text[k + len(arg) :]
-            lines = text.split("\n")
+        lines = _mutate_once(lines, op, at, arg)
     return ("\n".join(lines) + "\n").encode("latin-1", errors="replace")
 
 
