@@ -55,6 +55,19 @@ def staging_stem(name: str) -> str:
     return f"{cut}~{hashlib.sha256(raw).hexdigest()[:8]}"
 
 
+def new_staging_dir(out: Path) -> Path:
+    """Create the staging folder ``out`` is written into: ``.STEM.XXXXXXXX.tmp`` beside it
+    (read back by :func:`staging_pattern`)."""
+    stem = staging_stem(out.name)
+    return Path(tempfile.mkdtemp(prefix=f".{stem}.", suffix=".tmp", dir=out.parent))
+
+
+def old_staging_dir(out: Path, tmp: Path) -> Path:
+    """Where the previous ``out`` is moved aside while ``tmp`` replaces it:
+    ``.STEM.old-.STEM.XXXXXXXX.tmp`` (read back by :func:`staging_pattern`)."""
+    return out.with_name(f".{staging_stem(out.name)}.old-{tmp.name}")
+
+
 def staging_pattern(name: str) -> re.Pattern:
     """Matches the staging folders of an output folder named ``name``: group 1 is set for
     ``.NAME.old-...`` (the previous output, moved aside while being replaced)."""
@@ -296,7 +309,7 @@ def _commit(tmp: Path, real: Path, shown: str) -> None:
         if real.exists():
             check_replaceable(real, shown)  # again: the folder may have changed meanwhile
             tmp.chmod(real.stat().st_mode & 0o7777)
-            old = real.with_name(f".{staging_stem(real.name)}.old-{tmp.name}")
+            old = old_staging_dir(real, tmp)
             real.rename(old)
             try:
                 tmp.rename(real)
@@ -325,8 +338,7 @@ def staged_dir(out: str | Path):
     try:
         with deferred_signals():  # a signal as mkdtemp returns must not orphan the folder
             real.parent.mkdir(parents=True, exist_ok=True)
-            stem = staging_stem(real.name)
-            tmp = Path(tempfile.mkdtemp(prefix=f".{stem}.", suffix=".tmp", dir=real.parent))
+            tmp = new_staging_dir(real)
         yield tmp
         _commit(tmp, real, shown)
     except BaseException as exc:
