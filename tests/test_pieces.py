@@ -174,6 +174,18 @@ def test_the_plan_draws_pieces_from_the_mesh_without_a_pattern_file():
     assert plan.units == g.units
 
 
+def test_the_plan_takes_the_panels_of_the_garments_cached_structure_by_default():
+    from ptailor.model.structure import structure
+
+    g = cone_skirt()
+    plan = piece_plan(g)
+    assert plan.panels == tuple(structure(g).panels)
+    given = piece_plan(g, panels(g))
+    assert [pc.name for pc in plan.pieces] == [pc.name for pc in given.pieces]
+    for a, b in zip(plan.pieces, given.pieces, strict=True):
+        np.testing.assert_array_equal(a.outline, b.outline)
+
+
 def test_grain_follows_the_body_up_axis_whatever_the_layout():
     from ptailor.pieces.draw import grain_directions
 

@@ -21,6 +21,7 @@ from ptailor.method.transfer import locate_points
 from ptailor.model.garment import Garment, Panel, panel_labels
 from ptailor.model.pieces import PatternFile, Piece
 from ptailor.model.polyline import unfold
+from ptailor.model.structure import structure
 from ptailor.model.units import CM_PER
 from ptailor.pieces.carry import CarriedPiece, carry_piece, scale_piece
 from ptailor.pieces.draw import grain_directions, mesh_pieces
@@ -127,10 +128,11 @@ def _one_side(pc: Piece, m: PieceMatch) -> tuple[int, int] | None:
 
 def piece_plan(
     garment: Garment,
-    panel_list: list[Panel],
+    panel_list: list[Panel] | None = None,
     *,
     pattern: PatternFile | None = None,
     up: tuple[float, float, float] = (0.0, 1.0, 0.0),
+    front: tuple[float, float, float] = (0.0, 0.0, 1.0),
 ) -> PiecePlan:
     """Match a pattern file's pieces to the garment's panels; draw the rest from the mesh.
 
@@ -138,12 +140,15 @@ def piece_plan(
     ----------
     garment : Garment
         The input garment (pattern in ``garment.units``).
-    panel_list : list of Panel
-        ``panels(garment)``.
+    panel_list : list of Panel, optional
+        The garment's panels; by default those of its cached structure for ``up`` and
+        ``front`` (:func:`ptailor.model.structure.structure`), which the adjustment shares.
     pattern : PatternFile, optional
         Pieces in ``pattern.units``.
     up : (3,) sequence of float
         The drape's up axis: pieces drawn from the mesh take their grain from it.
+    front : (3,) sequence of float
+        The wearer's front, naming the panels when ``panel_list`` is not given.
 
     Returns
     -------
@@ -154,39 +159,13 @@ def piece_plan(
     PtailorError
         A file piece that matches no panel.
     """
+    if panel_list is None:
+        panel_list = structure(garment, up=up, front=front).panels
     V2, F2 = garment.V2, garment.F2
     file_pieces: list[Piece] = []
     matches: list[PieceMatch] = []
-    units = garment.units
     if pattern is not None:
-        k = CM_PER[pattern.units] / CM_PER[garment.units]
-        file_pieces = [scale_piece(pc, k) for pc in pattern.pieces]
-        allowance = tol.PIECE_ALLOWANCE_CM / CM_PER[garment.units]
-        matches, src = _match_with_folds(
-            file_pieces, V2, F2, panel_list, path=pattern.path, allowance=allowance
-        )
-        extra = more_instances(src, matches, V2, F2, panel_list, allowance=allowance)
-        extra = [replace(m, fold=matches[m.piece].fold) for m in extra]
-        # every instance becomes its own piece of quantity 1: a mirrored pair may be
-        # adjusted differently, and a cutter must not cut the first one twice
-        copies = {m.piece for m in extra}
-        count: dict[int, int] = {}
-        for m in extra:
-            count[m.piece] = count.get(m.piece, 1) + 1
-            pc = file_pieces[m.piece]
-            file_pieces.append(
-                replace(
-                    pc,
-                    name=f"{pc.name}-{count[m.piece]}",
-                    quantity=1,
-                    quantity_split=_one_side(pc, m),
-                )
-            )
-            matches.append(replace(m, piece=len(file_pieces) - 1))
-        for i in copies:
-            pc = file_pieces[i]
-            file_pieces[i] = replace(pc, quantity=1, quantity_split=_one_side(pc, matches[i]))
-        units = pattern.units
+        file_pieces, matches = _file_pieces(garment, panel_list, pattern)
     used = {m.panel for m in matches}
     rest = [p for p in panel_list if p.index not in used]
     grain = grain_directions(V2, F2, garment.V3, garment.F3, panel_list, up=up)
@@ -200,9 +179,47 @@ def piece_plan(
         pieces=tuple(pieces),
         matches=tuple(matches),
         from_file=tuple([True] * len(file_pieces) + [False] * len(drawn)),
-        units=units,
+        units=garment.units if pattern is None else pattern.units,
         panels=tuple(panel_list),
     )
+
+
+def _file_pieces(
+    garment: Garment, panel_list: list[Panel], pattern: PatternFile
+) -> tuple[list[Piece], list[PieceMatch]]:
+    """A pattern file's pieces in the garment's units, matched to its panels.
+
+    Every instance of a piece cut more than once becomes its own piece of quantity 1 (a
+    mirrored pair may be adjusted differently, and a cutter must not cut the first one
+    twice), named ``NAME-2``, ``NAME-3``, ... after the first.
+    """
+    V2, F2 = garment.V2, garment.F2
+    k = CM_PER[pattern.units] / CM_PER[garment.units]
+    file_pieces = [scale_piece(pc, k) for pc in pattern.pieces]
+    allowance = tol.PIECE_ALLOWANCE_CM / CM_PER[garment.units]
+    matches, src = _match_with_folds(
+        file_pieces, V2, F2, panel_list, path=pattern.path, allowance=allowance
+    )
+    extra = more_instances(src, matches, V2, F2, panel_list, allowance=allowance)
+    extra = [replace(m, fold=matches[m.piece].fold) for m in extra]
+    copies = {m.piece for m in extra}
+    count: dict[int, int] = {}
+    for m in extra:
+        count[m.piece] = count.get(m.piece, 1) + 1
+        pc = file_pieces[m.piece]
+        file_pieces.append(
+            replace(
+                pc,
+                name=f"{pc.name}-{count[m.piece]}",
+                quantity=1,
+                quantity_split=_one_side(pc, m),
+            )
+        )
+        matches.append(replace(m, piece=len(file_pieces) - 1))
+    for i in copies:
+        pc = file_pieces[i]
+        file_pieces[i] = replace(pc, quantity=1, quantity_split=_one_side(pc, matches[i]))
+    return file_pieces, matches
 
 
 def _source_panels(adj: Adjustment, orig: tuple[Panel, ...]) -> dict[str, int]:
