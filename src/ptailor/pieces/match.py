@@ -79,6 +79,11 @@ class ClosedCurve:
     per segment end) in a k-d tree: a segment near the query has a sample within half the
     spacing of the foot point, however long the segment, so the answer is exact for points
     on the curve and within half a spacing (1/8,000 of the perimeter) elsewhere.
+
+    Parameters
+    ----------
+    P : (k, 2) float array
+        The polyline's points; the last joins the first.
     """
 
     def __init__(self, P: np.ndarray) -> None:
@@ -158,6 +163,7 @@ class _Outline:
 
     @classmethod
     def of(cls, P: np.ndarray) -> _Outline:
+        """The outline through points ``P`` ``(k, 2)`` (closed)."""
         samples = resample_closed(P, _SAMPLES)
         return cls(
             P=P,
