@@ -3,6 +3,8 @@ pattern, the drape rows built to match."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from ptailor.edits.extend.chain import chain_order, nearest_fn, place_offset_chain
@@ -128,40 +130,41 @@ def _smooth_masked(
     return np.where(mask[:, None], S, D)
 
 
-def pattern_rows(state: EditState, plan: RowPlan) -> Rows:
-    """Rows laid out in the pattern exactly ``by`` beyond the opening, the drape to match.
+@dataclass(frozen=True)
+class ColumnDirections:
+    """The direction each column (a pattern vertex on the opening) moves along.
 
-    Pattern: every column (a pattern vertex on the opening) moves along a direction, as
-    far as it takes to lie exactly ``by`` from the opening's edges in its panel
-    (:func:`offset_lengths`): inside a chain of opening edges along the mean of its two
-    edges' outward normals; at a chain's end (a seam) along the seam's own direction, so
-    the seam continues straight, unless it runs within 15 degrees of the opening's edge or
-    along the opening instead of meeting the offset near the end (then along the end
-    edge's normal, a corner in the seam). Columns whose points come out crossed (a concave
-    opening, a seam continued over it) are re-placed along the iso-line
-    (:func:`place_offset_chain`); where the rows would still cross, the directions there
-    are smoothed along the chain, pass by pass. Intermediate rows divide each column
-    evenly.
-
-    Drape: each opening vertex moves by its pattern offset mapped through the
-    pattern-to-drape maps of its boundary triangles (the mean over its pattern copies'
-    triangles, on the edited and on the original drape alike), so the new cloth continues
-    the tangent planes with the intrinsic scale of the cloth it grows from; where the rows
-    would fold over in the drape, those offsets are smoothed along the opening.
+    Attributes
+    ----------
+    U : (c, 2) float array
+        Unit directions: inside a chain of opening edges, the mean of its two edges'
+        outward normals; at a chain's end, the seam continued (or the end edge's normal).
+    n_end : (c, 2) float array
+        At a chain's end, the outward normal of its end edge.
+    inner : (c,) bool array
+        Columns inside a chain (an opening edge on each side).
+    prev_c, next_c : (c,) int arrays
+        The columns before and after each along its chain (itself at a chain's end).
     """
-    g = state.base
-    V2, Ve, Vb = g.V2, state.V3, g.V3
-    oe, name, by, rows = plan.oe, plan.name, plan.by, plan.rows
-    k = len(oe.a3)
-    cols, ca, cb, nc = plan.cols, plan.ca, plan.cb, plan.nc
-    flab, orient, n_src, src = plan.flab, plan.orient, plan.n_src, plan.src
-    A3, B3, A2, B2 = plan.A3, plan.B3, plan.A2, plan.B2
-    col_panel = plan.col_panel
-    names = {p.index: p.name for p in state.panels}
-    field = plan.field
 
+    U: np.ndarray
+    n_end: np.ndarray
+    inner: np.ndarray
+    prev_c: np.ndarray
+    next_c: np.ndarray
+
+
+def column_directions(V2: np.ndarray, F2: np.ndarray, plan: RowPlan) -> ColumnDirections:
+    """Where each column of an opening moves in the pattern (see :class:`ColumnDirections`).
+
+    A seam reaching the opening is continued straight when its continuation is within
+    ``acos(_SEAM_MIN_COS)`` of the end edge's outward normal, else the end moves along
+    that normal (a corner in the seam).
+    """
+    oe, cols, ca, cb, nc = plan.oe, plan.cols, plan.ca, plan.cb, plan.nc
+    k = len(oe.a3)
     # chains of opening edges per panel: each column's edges before and after it
-    n_e = edge_normals_2d(V2, g.F2, oe)
+    n_e = edge_normals_2d(V2, F2, oe)
     e_in = np.full(nc, -1, dtype=np.int64)
     e_out = np.full(nc, -1, dtype=np.int64)
     e_in[cb], e_out[ca] = np.arange(k), np.arange(k)
@@ -173,7 +176,7 @@ def pattern_rows(state: EditState, plan: RowPlan) -> Rows:
     cusp = inner & (np.linalg.norm(U, axis=1) < 1e-6)
     U[cusp] = n_e[e_out[cusp]]
     # chain ends: continue the seam (the outline edge before the start / after the end)
-    o_prev, o_next = outline_neighbours(g.F2, len(V2))
+    o_prev, o_next = outline_neighbours(F2, len(V2))
     start = e_in < 0
     n_end = np.where(start[:, None], n_e[np.maximum(e_out, 0)], n_e[np.maximum(e_in, 0)])
     other = np.where(start, o_prev[cols], o_next[cols])
@@ -182,6 +185,38 @@ def pattern_rows(state: EditState, plan: RowPlan) -> Rows:
     along = (other >= 0) & (np.einsum("ij,ij->i", seam_dir, n_end) >= _SEAM_MIN_COS)
     U[~inner] = np.where(along[~inner, None], seam_dir[~inner], n_end[~inner])
     U /= np.maximum(np.linalg.norm(U, axis=1), 1e-300)[:, None]
+    return ColumnDirections(U=U, n_end=n_end, inner=inner, prev_c=prev_c, next_c=next_c)
+
+
+def pattern_offsets(
+    state: EditState, plan: RowPlan, dirs: ColumnDirections
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """The new edge in the pattern, exactly ``by`` from the opening, and the rows up to it.
+
+    Returns
+    -------
+    D2 : (c, 2) float array
+        Each column's offset.
+    new_2 : (rows c, 2) float array
+        The new pattern vertices, row by row (the rows divide each column evenly).
+    use_b : (rows, k) bool array
+        Quad diagonals (:func:`quad_rows`).
+    passes : int
+        Smoothing passes of the directions.
+
+    Raises
+    ------
+    PtailorError
+        An opening narrower than twice ``by`` in some panel's pattern, or rows that
+        still cross after ``MAX_SMOOTHING`` passes.
+    """
+    V2 = state.base.V2
+    oe, name, by, rows = plan.oe, plan.name, plan.by, plan.rows
+    cols, ca, cb, nc = plan.cols, plan.ca, plan.cb, plan.nc
+    flab, orient, src, field = plan.flab, plan.orient, plan.src, plan.field
+    col_panel = plan.col_panel
+    names = {p.index: p.name for p in state.panels}
+    U, n_end, inner, prev_c, next_c = dirs.U, dirs.n_end, dirs.inner, dirs.prev_c, dirs.next_c
     # where a continued seam runs along the opening instead of meeting its offset near the
     # end, the end goes along the end edge's normal (a corner in the seam)
     Q_end = V2[cols] + offset_lengths(field, V2[cols], n_end, col_panel, by)[:, None] * n_end
@@ -217,8 +252,8 @@ def pattern_rows(state: EditState, plan: RowPlan) -> Rows:
         D2 = Q - V2[cols]
         new_2 = (V2[cols][None] + frac * D2[None]).reshape(-1, 2)
         V2all = np.concatenate([V2, new_2])
-        use_b = shorter_diagonals(V2all, A2, B2, plan.odd)
-        F2_new = quad_rows(A2, B2, use_b)
+        use_b = shorter_diagonals(V2all, plan.A2, plan.B2, plan.odd)
+        F2_new = quad_rows(plan.A2, plan.B2, use_b)
         h2 = by / rows
         ok2 = signed_areas_2d(V2all, F2_new) * orient[src] > 1e-9 * h2 * h2
         if ok2.all():
@@ -229,7 +264,35 @@ def pattern_rows(state: EditState, plan: RowPlan) -> Rows:
     else:
         bad = np.unique(flab[oe.face[src[~ok2]]])
         raise crossing_error(name, by, "in the pattern of " + ", ".join(names[int(q)] for q in bad))
+    return D2, new_2, use_b, p_pass
 
+
+def lift_offsets(
+    state: EditState, plan: RowPlan, D2: np.ndarray, use_b: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, int]:
+    """The drape rows matching pattern offsets, on the edited and the original drape.
+
+    Each opening vertex's pattern offset goes through its triangles' pattern-to-drape
+    maps; where the rows would fold over, the offsets are smoothed along the opening.
+
+    Returns
+    -------
+    new_e, new_b : (rows k, 3) float arrays
+        Edited and original drape positions, row by row.
+    passes : int
+        Smoothing passes.
+
+    Raises
+    ------
+    PtailorError
+        Rows that still fold over after ``MAX_SMOOTHING`` passes.
+    """
+    g = state.base
+    V2, Ve, Vb = g.V2, state.V3, g.V3
+    oe, name, by, rows = plan.oe, plan.name, plan.by, plan.rows
+    ca, cb, n_src, src = plan.ca, plan.cb, plan.n_src, plan.src
+    k = len(oe.a3)
+    frac = (np.arange(1, rows + 1) / rows)[:, None, None]
     # the drape: each opening vertex's pattern offset through its triangles' maps
     Fo, Fo2 = g.F3[oe.face], g.F2[oe.face]
     Je = pattern_jacobians(Ve, Fo, V2, Fo2)[0]  # (k, 3, 2)
@@ -241,7 +304,7 @@ def pattern_rows(state: EditState, plan: RowPlan) -> Rows:
         return 0.5 * (at_a + np.roll(at_b, 1, axis=0))
 
     D3e, D3b = lift(Je), lift(Jb)
-    F3_new = quad_rows(A3, B3, use_b)
+    F3_new = quad_rows(plan.A3, plan.B3, use_b)
     ring = np.arange(k)
     r_prev, r_next = np.roll(ring, 1), np.roll(ring, -1)
     mask3 = np.zeros(k, bool)
@@ -260,6 +323,33 @@ def pattern_rows(state: EditState, plan: RowPlan) -> Rows:
     else:
         raise crossing_error(name, by, "in the drape")
     new_b = (Vb[oe.a3][None] + frac * D3b[None]).reshape(-1, 3)
+    return new_e, new_b, smoothing
+
+
+def pattern_rows(state: EditState, plan: RowPlan) -> Rows:
+    """Rows laid out in the pattern exactly ``by`` beyond the opening, the drape to match.
+
+    Pattern: every column (a pattern vertex on the opening) moves along a direction, as
+    far as it takes to lie exactly ``by`` from the opening's edges in its panel
+    (:func:`offset_lengths`): inside a chain of opening edges along the mean of its two
+    edges' outward normals; at a chain's end (a seam) along the seam's own direction, so
+    the seam continues straight, unless it runs within 15 degrees of the opening's edge or
+    along the opening instead of meeting the offset near the end (then along the end
+    edge's normal, a corner in the seam). Columns whose points come out crossed (a concave
+    opening, a seam continued over it) are re-placed along the iso-line
+    (:func:`place_offset_chain`); where the rows would still cross, the directions there
+    are smoothed along the chain, pass by pass. Intermediate rows divide each column
+    evenly.
+
+    Drape: each opening vertex moves by its pattern offset mapped through the
+    pattern-to-drape maps of its boundary triangles (the mean over its pattern copies'
+    triangles, on the edited and on the original drape alike), so the new cloth continues
+    the tangent planes with the intrinsic scale of the cloth it grows from; where the rows
+    would fold over in the drape, those offsets are smoothed along the opening.
+    """
+    dirs = column_directions(state.base.V2, state.base.F2, plan)
+    D2, new_2, use_b, p_pass = pattern_offsets(state, plan, dirs)
+    new_e, new_b, smoothing = lift_offsets(state, plan, D2, use_b)
     return Rows(
         new_e=new_e,
         new_b=new_b,
