@@ -15,6 +15,7 @@ from ptailor.geometry.pattern_maps import (
 from ptailor.geometry.rotations import closest_rotations, rigid_fit, rigid_fit_groups
 from ptailor.geometry.segments import nearest_segment_distance, segment_feet
 from ptailor.geometry.triangles import (
+    edge_lengths,
     edge_matrices,
     signed_areas_2d,
     triangle_areas,
@@ -26,6 +27,7 @@ __all__ = [
     "closest_rotations",
     "component_labels",
     "det2",
+    "edge_lengths",
     "edge_matrices",
     "extent_axis",
     "inv2",

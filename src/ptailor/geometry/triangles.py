@@ -28,6 +28,27 @@ def edge_matrices(V: np.ndarray, F: np.ndarray) -> np.ndarray:
     return np.stack([V[F[:, 1]] - p0, V[F[:, 2]] - p0], axis=2)
 
 
+def edge_lengths(V: np.ndarray, F: np.ndarray) -> np.ndarray:
+    """Lengths of the three edges of each triangle.
+
+    Parameters
+    ----------
+    V : (n, d) float array
+    F : (m, 3) int array
+
+    Returns
+    -------
+    (m, 3) float array
+        Edge ``k`` runs from corner ``k`` to corner ``k + 1 (mod 3)``.
+
+    Examples
+    --------
+    >>> edge_lengths(np.array([[0.0, 0], [3, 0], [0, 4]]), np.array([[0, 1, 2]]))
+    array([[3., 5., 4.]])
+    """
+    return np.linalg.norm(V[np.roll(F, -1, axis=1)] - V[F], axis=2)
+
+
 def signed_areas_2d(V2: np.ndarray, F2: np.ndarray) -> np.ndarray:
     """Signed areas of 2D triangles.
 

@@ -28,7 +28,7 @@ from scipy.sparse.csgraph import connected_components
 from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
 from ptailor.geometry.labels import component_labels
-from ptailor.geometry.triangles import triangle_areas
+from ptailor.geometry.triangles import edge_lengths, triangle_areas
 
 #: ``--weld auto`` (and a weld without a distance) merges drape vertices closer than this
 #: fraction of the mean drape edge length. Measured: the shortest edge of the shared garments
@@ -41,22 +41,6 @@ UNIT_RATIO_RANGE = (0.5, 2.0)
 
 class UnitMismatchError(PtailorError):
     """Drape and pattern are not in the units they were said to be in (exit 2)."""
-
-
-def edge_lengths(V: np.ndarray, F: np.ndarray) -> np.ndarray:
-    """Lengths of the three edges of each triangle.
-
-    Parameters
-    ----------
-    V : (n, d) float array
-    F : (m, 3) int array
-
-    Returns
-    -------
-    (m, 3) float array
-        Edge ``k`` runs from corner ``k`` to corner ``k + 1 (mod 3)``.
-    """
-    return np.linalg.norm(V[np.roll(F, -1, axis=1)] - V[F], axis=2)
 
 
 def weld_vertices(
