@@ -10,7 +10,7 @@ import numpy as np
 
 from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
-from ptailor.pipeline import Adjustment
+from ptailor.pipeline import Adjustment, solver_warnings
 from ptailor.run.options import RunOptions
 from ptailor.run.outputs import FORMATS
 
@@ -127,6 +127,45 @@ def piece_warnings(plan, carried: list, seam_allowance: float | None) -> list[st
             "left inside a piece (see pattern.pieces)"
         )
     return warnings
+
+
+def input_warnings(loaded) -> list[str]:
+    """What reading the pattern said, and the pattern scale when it was estimated
+    (``loaded``: a :class:`~ptailor.formats.garment.LoadedGarment`)."""
+    warnings = []
+    if loaded.pattern is not None:
+        warnings += list(loaded.pattern.warnings)
+    if loaded.pattern_units_estimated:
+        warnings.append(
+            f"pattern units estimated from the drape: {loaded.pattern_scale:.4g} "
+            f"{loaded.garment.units} per pattern unit"
+        )
+    return warnings
+
+
+def run_warnings(
+    loaded, adj: Adjustment, errors: np.ndarray, plan, carried: list, options: RunOptions
+) -> list[str]:
+    """Every warning of a run, in order: the intake's, the solver's, the pattern file's,
+    the intrinsic-scale error's, the pieces'.
+
+    Parameters
+    ----------
+    loaded : LoadedGarment
+    adj : Adjustment
+    errors : (m,) float array
+        Intrinsic-scale error per adjusted triangle.
+    plan : PiecePlan or None
+    carried : list of CarriedPiece or None
+    options : RunOptions
+    """
+    return [
+        *loaded.intake.get("warnings", []),
+        *solver_warnings(adj),
+        *input_warnings(loaded),
+        *intrinsic_error_warnings(adj, errors),
+        *piece_warnings(plan, carried, options.seam_allowance),
+    ]
 
 
 def non_finite_numbers(obj, where: str = "report") -> list[str]:

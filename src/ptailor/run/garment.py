@@ -9,27 +9,28 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ptailor.errors import PtailorError
+from ptailor.formats.garment import LoadedGarment
 from ptailor.output import check_output_dir, staged_dir, write_json
 from ptailor.pieces import carry_plan
-from ptailor.pipeline import Adjustment, adjustment, solver_warnings
+from ptailor.pipeline import Adjustment, adjustment
 from ptailor.recipe import Recipe
-from ptailor.report.build import build_report
+from ptailor.report.build import build_report, triangle_errors
 from ptailor.run.checks import (
     check_finite_report,
     check_finite_result,
     check_seam_allowance,
-    intrinsic_error_warnings,
-    piece_warnings,
+    run_warnings,
 )
 from ptailor.run.inputs import checked_recipe, edit_options, load_input, plan_pieces
 from ptailor.run.options import RunOptions
 from ptailor.run.outputs import OutputContext, write_outputs
-from ptailor.run.sections import input_warnings, pattern_section, units_section
+from ptailor.run.sections import pattern_section, units_section
 
 
 def run_garment(
@@ -74,7 +75,7 @@ def run_garment(
     """
     recipe = checked_recipe(recipe, options)
     check_output_dir(out, [garment, drape, options.body])
-    shown = (display_inputs or {}).get("garment", garment)
+    shown = (display_inputs or {}).get("garment", garment)  # the garment errors name
     edits = edit_options(recipe, options)
     t0 = time.perf_counter()
     loaded = load_input(garment, drape, recipe, options)
@@ -83,14 +84,11 @@ def run_garment(
         check_seam_allowance(loaded.garment, options.seam_allowance)
     t1 = time.perf_counter()
     adj = _adjusted(loaded.garment, recipe, options, edits, shown=shown)
-    warnings = [*loaded.intake.get("warnings", []), *solver_warnings(adj), *input_warnings(loaded)]
     t2 = time.perf_counter()
     errors = _checked_errors(adj, shown=shown)
-    warnings += intrinsic_error_warnings(adj, errors)
     carried: list = []
     if plan is not None:  # every adjusted panel gets a piece (a split panel one per part)
         plan, carried = carry_plan(adj, plan, up=edits.up)
-    warnings += piece_warnings(plan, carried, options.seam_allowance)
     allowance = options.seam_allowance
     ctx = OutputContext(
         loaded=loaded,
@@ -101,30 +99,69 @@ def run_garment(
         title=f"{Path(garment).name}: {Path(recipe.source).name}"
         + (f", seam allowance {allowance:g} {loaded.garment.units}" if allowance else ""),
     )
-    sections = {
-        "units_note": units_section(
-            loaded, drape_units=options.drape_units, pattern_units=options.pattern_units
-        ),
-        "warnings": warnings,
-        "extra": {
-            "pattern": pattern_section(loaded, plan, carried, allowance),
-            "intake": loaded.intake,
-        },
-    }
+    staged = _Staged(adj, ctx, options, timing={"load": t1 - t0, **adj.timing_s}, start=t2)
+    return _write(
+        out, staged, shown=shown, display=display_inputs or {}, extra_files=extra_files, check=check
+    )
+
+
+@dataclass(frozen=True)
+class _Staged:
+    """What is written: the adjustment, the writers' context, the options, the timing so
+    far and when the writing phase started (``perf_counter``)."""
+
+    adj: Adjustment
+    ctx: OutputContext
+    options: RunOptions
+    timing: dict
+    start: float
+
+
+def _write(
+    out: str | Path,
+    staged: _Staged,
+    *,
+    shown: str,
+    display: dict[str, str],
+    extra_files: dict[str, str] | None,
+    check: Callable[[dict], None] | None,
+) -> dict:
+    """Write the outputs, the extra files and ``report.json`` into ``out``, all or nothing
+    (``shown``: the garment an error names; ``display``: role to the path the report shows)."""
+    adj, ctx, options = staged.adj, staged.ctx, staged.options
     with staged_dir(out) as tmp:
         written = write_outputs(tmp, adj, ctx, options.formats)
         for name, text in (extra_files or {}).items():
             (tmp / name).write_text(text)
-        timing = {"load": t1 - t0, **adj.timing_s, "write": time.perf_counter() - t2}
-        report = build_report(
-            adj, inputs=_read(loaded, options), timing_s=timing, errors=errors, **sections
-        )
-        _show(report, {**_read(loaded, options), **(display_inputs or {})}, written)
+        timing = {**staged.timing, "write": time.perf_counter() - staged.start}
+        report = _report(ctx.loaded, staged, timing)
+        for role, path in {**_read(ctx.loaded.inputs, options), **display}.items():
+            report["inputs"][role]["path"] = path
+        report["outputs"] = sorted(["report.json", *written])
         check_finite_report(report, path=shown)
         if check is not None:
             check(report)
         write_json(tmp / "report.json", report)
     return report
+
+
+def _report(loaded: LoadedGarment, staged: _Staged, timing: dict) -> dict:
+    """The report: :func:`ptailor.report.build.build_report` with the run's sections."""
+    adj, ctx, options = staged.adj, staged.ctx, staged.options
+    return build_report(
+        adj,
+        inputs=_read(loaded.inputs, options),
+        units_note=units_section(
+            loaded, drape_units=options.drape_units, pattern_units=options.pattern_units
+        ),
+        warnings=run_warnings(loaded, adj, ctx.errors, ctx.plan, ctx.pieces, options),
+        timing_s=timing,
+        errors=ctx.errors,
+        extra={
+            "pattern": pattern_section(loaded, ctx.plan, ctx.pieces, options.seam_allowance),
+            "intake": loaded.intake,
+        },
+    )
 
 
 def _adjusted(garment, recipe: Recipe, options: RunOptions, edits, *, shown: str) -> Adjustment:
@@ -147,21 +184,12 @@ def _adjusted(garment, recipe: Recipe, options: RunOptions, edits, *, shown: str
 
 def _checked_errors(adj: Adjustment, *, shown: str) -> np.ndarray:
     """The intrinsic-scale error per triangle, the result checked finite."""
-    from ptailor.report.build import triangle_errors
-
     with np.errstate(all="ignore"):
         errors = triangle_errors(adj)
     check_finite_result(adj, errors, path=shown)
     return errors
 
 
-def _read(loaded, options: RunOptions) -> dict[str, str]:
-    """Role to the path read (the body too)."""
-    return {**loaded.inputs, **({"body": options.body} if options.body else {})}
-
-
-def _show(report: dict, shown: dict[str, str], written: list[str]) -> None:
-    """Put the paths as shown and the files written into the report (in place)."""
-    for role, path in shown.items():
-        report["inputs"][role]["path"] = path
-    report["outputs"] = sorted(["report.json", *written])
+def _read(inputs: dict[str, str], options: RunOptions) -> dict[str, str]:
+    """Role to the path read: ``inputs`` and the body."""
+    return {**inputs, **({"body": options.body} if options.body else {})}

@@ -1,5 +1,5 @@
 """The report sections a run adds to :func:`ptailor.report.build.build_report`'s: the units
-each input came in, the pattern's pieces and what their marks did, the input warnings."""
+each input came in, the pattern's pieces and what their marks did."""
 
 from __future__ import annotations
 
@@ -21,19 +21,6 @@ def units_section(loaded: LoadedGarment, *, drape_units: str, pattern_units: str
     if loaded.pattern_units_estimated:
         note["pattern_scale_estimate"] = round(loaded.pattern_scale, 6)
     return note
-
-
-def input_warnings(loaded: LoadedGarment) -> list[str]:
-    """What reading the pattern said, and the pattern scale when it was estimated."""
-    warnings = []
-    if loaded.pattern is not None:
-        warnings += list(loaded.pattern.warnings)
-    if loaded.pattern_units_estimated:
-        warnings.append(
-            f"pattern units estimated from the drape: {loaded.pattern_scale:.4g} "
-            f"{loaded.garment.units} per pattern unit"
-        )
-    return warnings
 
 
 def _piece_record(pc, m, from_file: bool, cp: CarriedPiece | None, panel: str) -> dict:
