@@ -13,7 +13,8 @@ from ptailor.geometry.triangles import edge_matrices
 from ptailor.method.ease import seam_ease
 from ptailor.method.intrinsic import Intrinsic, intrinsic_targets
 from ptailor.method.stitch import StitchInfo, stitch
-from ptailor.model.garment import Garment, Panel, panel_labels, panels, vertex_labels
+from ptailor.model.garment import Garment, Panel, panel_labels, vertex_labels
+from ptailor.model.structure import structure
 
 Method = Literal["scale-preserving", "uniform"]
 Seams = Literal["ease", "free"]
@@ -172,7 +173,7 @@ def flatten(
     -------
     FlattenResult
     """
-    plist = panels(garment) if panel_list is None else panel_list
+    plist = structure(garment).panels if panel_list is None else panel_list
     n2, m = len(garment.V2), garment.n_faces
     flip = mirror_mask(plist, n2)
     sign = np.where(flip, -1.0, 1.0)

@@ -16,8 +16,9 @@ import numpy as np
 
 from ptailor.errors import PtailorError
 from ptailor.geometry.triangles import triangle_areas, triangle_normals
-from ptailor.model.garment import Garment, Panel, panels
+from ptailor.model.garment import Garment, Panel
 from ptailor.model.openings import body_frame
+from ptailor.model.structure import structure
 
 #: Fraction of the worst pairs (largest mirror distance) left out of each plane update.
 _TRIM = 0.1
@@ -317,7 +318,7 @@ def panel_mirror_map(
     from scipy.optimize import linear_sum_assignment
 
     V = garment.V3 if V3 is None else np.asarray(V3, dtype=np.float64)
-    plist = panels(garment) if panel_list is None else panel_list
+    plist = structure(garment).panels if panel_list is None else panel_list
     k = len(plist)
     if k == 0:
         return np.zeros(0, dtype=np.int64)
