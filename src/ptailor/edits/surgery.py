@@ -19,7 +19,7 @@ import numpy as np
 from ptailor import tolerances as tol
 from ptailor.edits.state import EditState
 from ptailor.errors import PtailorError
-from ptailor.model.garment import Garment
+from ptailor.model.garment import Garment, panel_labels
 from ptailor.model.seams import edge_keys
 from ptailor.model.structure import structure
 
@@ -90,6 +90,145 @@ def _source_name(name: str, old: dict) -> str:
     return name if name in old else name.rsplit("_", 1)[0]
 
 
+@dataclass(frozen=True)
+class _Cuts:
+    """Where the zero level crosses the edges of the split triangles (see :func:`_cut_edges`)."""
+
+    rows: np.ndarray
+    other: np.ndarray
+    idx3: np.ndarray
+    idx2: np.ndarray
+    Pbase: np.ndarray
+    Pedit: np.ndarray
+    P2: np.ndarray
+    edge3: np.ndarray
+    t3: np.ndarray
+
+
+def _cut_edges(
+    state: EditState,
+    R3: np.ndarray,
+    R2: np.ndarray,
+    RS: np.ndarray,
+    fs: np.ndarray,
+    *,
+    crossing: Crossing | None,
+) -> _Cuts:
+    """New vertices where the zero level crosses the split triangles' edges.
+
+    Parameters
+    ----------
+    state : EditState
+    R3, R2 : (r, 3) int arrays
+        The split triangles (drape, pattern), rotated so the odd corner comes first.
+    RS : (r, 3) float array
+        The snapped field at their corners.
+    fs : (r,) int array
+        Their input triangles.
+    crossing : callable or None, keyword-only
+        See :func:`split_keep`.
+
+    Returns
+    -------
+    _Cuts
+        Per crossing (split row ``rows``, edge ``other`` 1 or 2): the new drape and pattern
+        vertex indices (after the input's), and the new points (original drape, edited
+        drape, pattern); per crossed drape edge (lower end first): ``edge3`` and ``t3``.
+    """
+    g = state.base
+    # crossings on the edges (c0, c1) and (c0, c2) where the signs are strictly opposite
+    cross1 = RS[:, 0] * RS[:, 1] < 0
+    cross2 = RS[:, 0] * RS[:, 2] < 0
+    rows = np.concatenate([np.flatnonzero(cross1), np.flatnonzero(cross2)])
+    other = np.concatenate([np.ones(cross1.sum(), int), np.full(cross2.sum(), 2)])
+    a3, b3 = R3[rows, 0], R3[rows, other]
+    a2, b2 = R2[rows, 0], R2[rows, other]
+    sa, sb = RS[rows, 0], RS[rows, other]
+    t = sa / (sa - sb)
+    n3, n2 = len(g.V3), len(g.V2)
+    key3 = edge_keys(np.stack([a3, b3], 1))
+    # orient t from the lower vertex so duplicates of one edge give the same point
+    lo3 = a3 < b3
+    t2 = t  # where each side of the pattern is cut
+    if crossing is not None:
+        lim = tol.SPLIT_SNAP_REL  # no sliver next to a corner
+        t2 = np.clip(crossing(a2, b2, t, fs[rows]), lim, 1.0 - lim)
+        tm = _group_mean(key3, np.where(lo3, t2, 1.0 - t2))
+        t = np.where(lo3, tm, 1.0 - tm)
+    tl = np.where(lo3, t, 1.0 - t)
+    A3, B3 = np.where(lo3, a3, b3), np.where(lo3, b3, a3)
+    idx3, Pbase = _edge_points(g.V3[A3], g.V3[B3], key3, tl, n3)
+    _, first3 = np.unique(key3, return_index=True)
+    edge3, t3 = np.stack([A3[first3], B3[first3]], 1), tl[first3]
+    _, Pedit = _edge_points(state.V3[A3], state.V3[B3], key3, tl, n3)
+    key2 = edge_keys(np.stack([a2, b2], 1))
+    lo2 = a2 < b2
+    A2, B2 = np.where(lo2, a2, b2), np.where(lo2, b2, a2)
+    idx2, P2 = _edge_points(g.V2[A2], g.V2[B2], key2, np.where(lo2, t2, 1.0 - t2), n2)
+    return _Cuts(
+        rows=rows,
+        other=other,
+        idx3=idx3,
+        idx2=idx2,
+        Pbase=Pbase,
+        Pedit=Pedit,
+        P2=P2,
+        edge3=edge3,
+        t3=t3,
+    )
+
+
+def _kept_triangles(
+    F3: np.ndarray,
+    F2: np.ndarray,
+    keep_whole: np.ndarray,
+    fs: np.ndarray,
+    caseA: np.ndarray,
+    R3: np.ndarray,
+    R2: np.ndarray,
+    cuts: _Cuts,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The kept triangles: whole ones, and the kept parts of the split ones.
+
+    A split triangle with one corner on the kept side keeps a triangle (case A), one with
+    two keeps a quad, as two triangles (case B).
+
+    Returns
+    -------
+    parent : (m_new,) int array
+        Input triangle of each kept triangle, ascending (the input's order is kept).
+    F3n, F2n : (m_new, 3) int arrays
+        Drape and pattern triangles (vertex numbering: input, then the cuts').
+    """
+    rows, other, idx3, idx2 = cuts.rows, cuts.other, cuts.idx3, cuts.idx2
+    # new vertex per (split row, edge 1|2)
+    x3 = np.full((len(fs), 3), -1)
+    x2 = np.full((len(fs), 3), -1)
+    x3[rows, other], x2[rows, other] = idx3, idx2
+    # case A: keep (c0, c1 or x01, c2 or x02); case B: keep quad (x01, c1, c2, x02)
+    pick3 = np.where(x3 >= 0, x3, R3)
+    pick2 = np.where(x2 >= 0, x2, R2)
+    A_ = np.flatnonzero(caseA)
+    B_ = np.flatnonzero(~caseA)
+    T3 = [
+        pick3[A_],
+        np.stack([x3[B_, 1], R3[B_, 1], R3[B_, 2]], 1),
+        np.stack([x3[B_, 1], R3[B_, 2], x3[B_, 2]], 1),
+    ]
+    T2 = [
+        pick2[A_],
+        np.stack([x2[B_, 1], R2[B_, 1], R2[B_, 2]], 1),
+        np.stack([x2[B_, 1], R2[B_, 2], x2[B_, 2]], 1),
+    ]
+    whole = np.flatnonzero(keep_whole)
+    parent = np.concatenate([whole, fs[A_], fs[B_], fs[B_]])
+    F3n = np.concatenate([F3[whole], *T3])
+    F2n = np.concatenate([F2[whole], *T2])
+    order = np.argsort(parent, kind="stable")  # keep the input's triangle order
+    parent, F3n, F2n = parent[order], F3n[order], F2n[order]
+    return parent, F3n, F2n
+
+
 def split_keep(
     state: EditState,
     phi: np.ndarray,
@@ -148,60 +287,10 @@ def split_keep(
     R3 = np.take_along_axis(F3[fs], cyc, axis=1)
     R2 = np.take_along_axis(F2[fs], cyc, axis=1)
     RS = np.take_along_axis(S[fs], cyc, axis=1)
-    # crossings on the edges (c0, c1) and (c0, c2) where the signs are strictly opposite
-    cross1 = RS[:, 0] * RS[:, 1] < 0
-    cross2 = RS[:, 0] * RS[:, 2] < 0
-    rows = np.concatenate([np.flatnonzero(cross1), np.flatnonzero(cross2)])
-    other = np.concatenate([np.ones(cross1.sum(), int), np.full(cross2.sum(), 2)])
-    a3, b3 = R3[rows, 0], R3[rows, other]
-    a2, b2 = R2[rows, 0], R2[rows, other]
-    sa, sb = RS[rows, 0], RS[rows, other]
-    t = sa / (sa - sb)
+    cuts = _cut_edges(state, R3, R2, RS, fs, crossing=crossing)
+    parent, F3n, F2n = _kept_triangles(F3, F2, keep_whole, fs, caseA, R3, R2, cuts)
+    Pbase, Pedit, P2, edge3, t3 = cuts.Pbase, cuts.Pedit, cuts.P2, cuts.edge3, cuts.t3
     n3, n2 = len(g.V3), len(g.V2)
-    key3 = edge_keys(np.stack([a3, b3], 1))
-    # orient t from the lower vertex so duplicates of one edge give the same point
-    lo3 = a3 < b3
-    t2 = t  # where each side of the pattern is cut
-    if crossing is not None:
-        lim = tol.SPLIT_SNAP_REL  # no sliver next to a corner
-        t2 = np.clip(crossing(a2, b2, t, fs[rows]), lim, 1.0 - lim)
-        tm = _group_mean(key3, np.where(lo3, t2, 1.0 - t2))
-        t = np.where(lo3, tm, 1.0 - tm)
-    tl = np.where(lo3, t, 1.0 - t)
-    A3, B3 = np.where(lo3, a3, b3), np.where(lo3, b3, a3)
-    idx3, Pbase = _edge_points(g.V3[A3], g.V3[B3], key3, tl, n3)
-    _, first3 = np.unique(key3, return_index=True)
-    edge3, t3 = np.stack([A3[first3], B3[first3]], 1), tl[first3]
-    _, Pedit = _edge_points(state.V3[A3], state.V3[B3], key3, tl, n3)
-    key2 = edge_keys(np.stack([a2, b2], 1))
-    lo2 = a2 < b2
-    A2, B2 = np.where(lo2, a2, b2), np.where(lo2, b2, a2)
-    idx2, P2 = _edge_points(g.V2[A2], g.V2[B2], key2, np.where(lo2, t2, 1.0 - t2), n2)
-    # new vertex per (split row, edge 1|2)
-    x3 = np.full((len(fs), 3), -1)
-    x2 = np.full((len(fs), 3), -1)
-    x3[rows, other], x2[rows, other] = idx3, idx2
-    # case A: keep (c0, c1 or x01, c2 or x02); case B: keep quad (x01, c1, c2, x02)
-    pick3 = np.where(x3 >= 0, x3, R3)
-    pick2 = np.where(x2 >= 0, x2, R2)
-    A_ = np.flatnonzero(caseA)
-    B_ = np.flatnonzero(~caseA)
-    T3 = [
-        pick3[A_],
-        np.stack([x3[B_, 1], R3[B_, 1], R3[B_, 2]], 1),
-        np.stack([x3[B_, 1], R3[B_, 2], x3[B_, 2]], 1),
-    ]
-    T2 = [
-        pick2[A_],
-        np.stack([x2[B_, 1], R2[B_, 1], R2[B_, 2]], 1),
-        np.stack([x2[B_, 1], R2[B_, 2], x2[B_, 2]], 1),
-    ]
-    whole = np.flatnonzero(keep_whole)
-    parent = np.concatenate([whole, fs[A_], fs[B_], fs[B_]])
-    F3n = np.concatenate([F3[whole], *T3])
-    F2n = np.concatenate([F2[whole], *T2])
-    order = np.argsort(parent, kind="stable")  # keep the input's triangle order
-    parent, F3n, F2n = parent[order], F3n[order], F2n[order]
     V3b = np.concatenate([g.V3, Pbase])
     V3e = np.concatenate([state.V3, Pedit])
     V2n = np.concatenate([g.V2, P2])
@@ -213,9 +302,7 @@ def split_keep(
     map3 = np.cumsum(used3) - 1
     map2 = np.cumsum(used2) - 1
     plist = state.panels
-    flab = np.empty(m, dtype=np.int64)
-    for p in plist:  # a loop over panels
-        flab[p.faces] = p.index
+    flab = panel_labels(plist, m)
     names = tuple(p.name for p in plist)
     base = Garment(
         V3=V3b[used3],
