@@ -7,6 +7,9 @@ from typing import Any
 
 import click
 
+#: the axes --up and --front take
+AXES = ["x", "y", "z", "-x", "-y", "-z"]
+
 UNIT_HELP = "mm, cm, m, in, or a scaled unit such as 0.3333cm"
 
 WELD_HELP = (
@@ -167,9 +170,6 @@ def parse_output_options(formats: str, seam_allowance: str | None, *, units: str
     return fmts, allowance
 
 
-AXES = ["x", "y", "z", "-x", "-y", "-z"]
-
-
 def run_options(recipe, params: Mapping[str, Any]):
     """The :class:`~ptailor.run.options.RunOptions` of a command, built once from its
     parsed parameters (click's ``ctx.params``).
@@ -196,10 +196,3 @@ def run_options(recipe, params: Mapping[str, Any]):
         formats=fmts, seam_allowance=allowance, baseline=not params.get("no_baseline", False)
     )
     return RunOptions(**values)
-
-
-def axis_vector(name: str | None, default: str) -> tuple[float, float, float]:
-    """``"-y"`` -> ``(0, -1, 0)``; ``None`` gives ``default``'s vector."""
-    from ptailor.recipe import axis_vector as vec
-
-    return vec(name or default)

@@ -63,14 +63,9 @@ def load_input(
 def plan_pieces(loaded: LoadedGarment, edits: EditOptions, options: RunOptions) -> PiecePlan | None:
     """The pieces, matched (a CAD pattern's, failing early) or drawn from the mesh, when a
     pattern file is read or written; else None."""
-    from ptailor.model.garment import panels
     from ptailor.pieces import piece_plan
 
     if loaded.pattern is None and not needs_pieces(options.formats):
         return None
-    return piece_plan(
-        loaded.garment,
-        panels(loaded.garment, up=edits.up, front=edits.front),
-        pattern=loaded.pattern,
-        up=edits.up,
-    )
+    # the panels: the garment's cached structure, the one the adjustment reads too
+    return piece_plan(loaded.garment, pattern=loaded.pattern, up=edits.up, front=edits.front)
