@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from ptailor.method.deform import UNIFORM_REG, _rotations, arap_deform, cotangent_weights
+from ptailor.geometry.rotations import max_trace_rotations as _rotations
+from ptailor.method.deform import UNIFORM_REG, arap_deform, cotangent_weights
 
 # ---------------------------------------------------------------------------------------
 # meshes

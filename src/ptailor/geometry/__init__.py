@@ -12,7 +12,14 @@ from ptailor.geometry.pattern_maps import (
     pattern_jacobians,
     pseudo_inverses,
 )
-from ptailor.geometry.rotations import closest_rotations, rigid_fit, rigid_fit_groups
+from ptailor.geometry.rotations import (
+    closest_rotations,
+    det3,
+    max_trace_rotations,
+    rigid_fit,
+    rigid_fit_groups,
+    rigid_fits_3d,
+)
 from ptailor.geometry.segments import nearest_segment_distance, segment_feet
 from ptailor.geometry.triangles import (
     edge_lengths,
@@ -27,17 +34,20 @@ __all__ = [
     "closest_rotations",
     "component_labels",
     "det2",
+    "det3",
     "edge_lengths",
     "edge_matrices",
     "extent_axis",
     "inv2",
     "least_squares_preimages",
+    "max_trace_rotations",
     "nearest_segment_distance",
     "normal_tensor",
     "pattern_jacobians",
     "pseudo_inverses",
     "rigid_fit",
     "rigid_fit_groups",
+    "rigid_fits_3d",
     "scatter_labels",
     "segment_feet",
     "signed_areas_2d",

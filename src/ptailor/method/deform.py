@@ -17,6 +17,7 @@ import scipy.sparse.csgraph as csgraph
 import scipy.sparse.linalg as spla
 
 from ptailor import tolerances as tol
+from ptailor.geometry.rotations import max_trace_rotations, rigid_fits_3d
 
 __all__ = ["arap_deform", "cotangent_weights"]
 
@@ -122,55 +123,6 @@ def _check_inputs(V, F, handles, handle_positions):
     if not (np.isfinite(V).all() and np.isfinite(Q).all()):
         raise ValueError("V and handle_positions must be finite")
     return V, F, handles, Q
-
-
-def _det3(M: np.ndarray) -> np.ndarray:
-    """Determinants of a stack ``M (k, 3, 3)``, elementwise (faster than LAPACK here)."""
-    a, b, c = M[:, 0], M[:, 1], M[:, 2]
-    return (
-        a[:, 0] * (b[:, 1] * c[:, 2] - b[:, 2] * c[:, 1])
-        - a[:, 1] * (b[:, 0] * c[:, 2] - b[:, 2] * c[:, 0])
-        + a[:, 2] * (b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0])
-    )
-
-
-def _rotations(S: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Rotations maximising ``trace(R S)`` for a stack ``S (k, 3, 3)``.
-
-    Returns
-    -------
-    R : (k, 3, 3) float array
-        Proper rotations (``det = +1``).
-    trace : (k,) float array
-        The maxima, ``trace(R S)``.
-    """
-    U, sv, Vh = np.linalg.svd(S)
-    # S = U diag(s) Vh, R = Vh^T U^T; a reflection is fixed by flipping the sign of U's
-    # last column, the singular vector of the smallest singular value
-    d = np.where(_det3(U) * _det3(Vh) < 0.0, -1.0, 1.0)
-    U[:, :, 2] *= d[:, None]
-    return np.swapaxes(U @ Vh, 1, 2), sv[:, 0] + sv[:, 1] + d * sv[:, 2]
-
-
-def _rigid_fit(P: np.ndarray, Q: np.ndarray, label: np.ndarray, k: int):
-    """Best rigid motion of ``P`` onto ``Q`` per label (Kabsch), all labels at once.
-
-    Returns ``R (k, 3, 3)``, ``cp (k, 3)``, ``cq (k, 3)``: a point ``p`` with label ``c``
-    maps to ``R[c] @ (p - cp[c]) + cq[c]``. Labels whose points are a single point or
-    collinear get ``R = I`` (translation only).
-    """
-    h = P.shape[0]
-    G = sp.csr_matrix((np.ones(h), (label, np.arange(h))), shape=(k, h))
-    cnt = np.asarray(G.sum(axis=1)).ravel()[:, None]
-    cp = (G @ P) / cnt
-    cq = (G @ Q) / cnt
-    Pc = P - cp[label]
-    Qc = Q - cq[label]
-    H = (G @ (Pc[:, :, None] * Qc[:, None, :]).reshape(h, 9)).reshape(k, 3, 3)
-    s = np.linalg.svd(H, compute_uv=False)
-    R = _rotations(H)[0]
-    R[s[:, 1] <= COLLINEAR_REL * s[:, 0]] = np.eye(3)
-    return R, cp, cq
 
 
 def arap_deform(
@@ -304,7 +256,9 @@ def arap_deform(
     ucomp, hlabel = np.unique(comp[handles], return_inverse=True)
     cmap = np.full(ncomp, -1, dtype=np.int64)
     cmap[ucomp] = np.arange(ucomp.size)
-    Rc, cp, cq = _rigid_fit(V[handles], Q, hlabel.ravel(), ucomp.size)
+    Rc, cp, cq = rigid_fits_3d(
+        V[handles], Q, hlabel.ravel(), ucomp.size, collinear_rel=COLLINEAR_REL
+    )
     lab = cmap[comp[order]]
     Xa = np.einsum("kab,kb->ka", Rc[lab], P - cp[lab]) + cq[lab]
     Xa[:nf] += solve(-(Lfh @ (Q - Xa[nf:])))
@@ -353,7 +307,7 @@ def arap_deform(
         # local step: S_c = sum over the triangles at c of sum_k w_k e_k e'_k^T
         E1 = Xa[ea] - Xa[eb]
         St = wE0T @ E1
-        R, tr = _rotations((N @ St.reshape(m2, 9)).reshape(cells.size, 3, 3))
+        R, tr = max_trace_rotations((N @ St.reshape(m2, 9)).reshape(cells.size, 3, 3))
         deformed_part = float(np.einsum("tk,tka,tka->", wn, E1, E1))
         energy = rest_part + deformed_part - 2.0 * float(tr.sum())
         # the sum cancels to about 1e-16 * scale; below a few times that it is zero
