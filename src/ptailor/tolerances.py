@@ -87,10 +87,11 @@ PIECE_ALLOWANCE_CM = 2.5
 #: A construction mark further than this fraction of the piece diagonal (beyond the
 #: outline's own distance from the mesh) from every remaining triangle was cut away.
 MARK_KEEP_REL = 0.002
-#: A panel is tube-like (its grain follows its own axis, not the body's up) when the middle
-#: eigenvalue of its normalised normal tensor exceeds this ...
+#: A surface is tube-like (:func:`ptailor.geometry.tube_axis.tube_axis`: a panel's grain
+#: follows its own axis, not the body's up; ``axis: auto`` of an edit region takes that
+#: axis) when the middle eigenvalue of its normalised normal tensor exceeds this ...
 GRAIN_TUBE_MIN = 0.1
-#: ... and this many times the smallest (the ``axis: auto`` rule of ``edits.region``).
+#: ... and this many times the smallest.
 GRAIN_TUBE_RATIO = 4.0
 #: Seams of at least this many edges get a balance notch at their middle (pieces drawn
 #: from a mesh).
