@@ -11,47 +11,41 @@ def _interrupt(signum, frame) -> None:
     raise KeyboardInterrupt
 
 
+#: the limit gates: option, metavar, what a garment fails on (above the limit)
+_LIMIT_GATES = (
+    (
+        "--max-area-change",
+        "F",
+        "a panel whose |area after / before - 1| exceeds F (a fraction: 0.05 = 5 %).",
+    ),
+    (
+        "--max-boundary-deviation",
+        "D",
+        "a panel whose outline deviation (report's boundary_deviation, recipe units) exceeds D.",
+    ),
+    ("--max-intrinsic-error", "E", "a panel whose intrinsic-scale error p95 exceeds E."),
+    (
+        "--max-seam-mismatch",
+        "D",
+        "a seam whose two sides miss their target length ratio by more than D (report's "
+        "seams[].mismatch, recipe units).",
+    ),
+)
+
+
 def gate_options(fn):
     """The quality gates: ``--max-area-change`` ... ``--fail-on-flips``."""
-    for opt in reversed(
-        [
-            click.option(
-                "--max-area-change",
-                type=click.FloatRange(min=0),
-                default=None,
-                metavar="F",
-                help="Gate: fail a garment with a panel whose |area after / before - 1| exceeds F "
-                "(a fraction: 0.05 = 5 %).",
-            ),
-            click.option(
-                "--max-boundary-deviation",
-                type=click.FloatRange(min=0),
-                default=None,
-                metavar="D",
-                help="Gate: fail a garment with a panel whose outline deviation (report's "
-                "boundary_deviation, recipe units) exceeds D.",
-            ),
-            click.option(
-                "--max-intrinsic-error",
-                type=click.FloatRange(min=0),
-                default=None,
-                metavar="E",
-                help="Gate: fail a garment with a panel whose intrinsic-scale error p95 exceeds E.",
-            ),
-            click.option(
-                "--max-seam-mismatch",
-                type=click.FloatRange(min=0),
-                default=None,
-                metavar="D",
-                help="Gate: fail a garment with a seam whose two sides miss their target "
-                "length ratio by more than D (report's seams[].mismatch, recipe units).",
-            ),
-            click.option(
-                "--fail-on-flips", is_flag=True, help="Gate: fail a garment with flipped triangles."
-            ),
-        ]
-    ):
-        fn = opt(fn)
+    fn = click.option(
+        "--fail-on-flips", is_flag=True, help="Gate: fail a garment with flipped triangles."
+    )(fn)
+    for name, metavar, fails in reversed(_LIMIT_GATES):
+        fn = click.option(
+            name,
+            type=click.FloatRange(min=0),
+            default=None,
+            metavar=metavar,
+            help=f"Gate: fail a garment with {fails}",
+        )(fn)
     return fn
 
 

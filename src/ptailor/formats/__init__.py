@@ -39,13 +39,17 @@ def extension(path: str | Path) -> str:
     return Path(path).suffix.lower().lstrip(".")
 
 
+def _lookup(table: dict[str, Callable[..., Any]], path: str | Path, what: str):
+    ext = extension(path)
+    if ext not in table:
+        known = ", ".join(sorted(table))
+        raise PtailorError(f"cannot read '.{ext}' {what} (known: {known})", path=str(path))
+    return table[ext]
+
+
 def reader_for(path: str | Path) -> Callable[..., Any]:
     """The mesh reader registered for ``path``'s extension; a clear error otherwise."""
-    ext = extension(path)
-    if ext not in READERS:
-        known = ", ".join(sorted(READERS))
-        raise PtailorError(f"cannot read '.{ext}' files (known: {known})", path=str(path))
-    return READERS[ext]
+    return _lookup(READERS, path, "files")
 
 
 def is_pattern_file(path: str | Path) -> bool:
@@ -55,11 +59,7 @@ def is_pattern_file(path: str | Path) -> bool:
 
 def pattern_reader_for(path: str | Path) -> Callable[..., Any]:
     """The pattern reader registered for ``path``'s extension; a clear error otherwise."""
-    ext = extension(path)
-    if ext not in PATTERN_READERS:
-        known = ", ".join(sorted(PATTERN_READERS))
-        raise PtailorError(f"cannot read '.{ext}' patterns (known: {known})", path=str(path))
-    return PATTERN_READERS[ext]
+    return _lookup(PATTERN_READERS, path, "patterns")
 
 
 def writer_for(path: str | Path) -> Callable[..., Any]:
