@@ -276,6 +276,45 @@ def test_quality_gates(tmp_path, recipe, catalogue):
     assert visible(out) == ["a_sleeve", "b_tube"]
 
 
+def test_the_stamp_hashes_every_run_option(tmp_path):
+    """The stamp is made from RunOptions' fields: any option that changes outputs changes it."""
+    from dataclasses import fields, replace
+
+    from ptailor.recipe import parse_recipe
+    from ptailor.run import RunOptions
+
+    g = tmp_path / "g.obj"
+    g.write_text("v 0 0 0\n")
+    base = RunOptions()
+    changed = {
+        "pattern_units": "mm",
+        "drape_units": "mm",
+        "weld": "off",
+        "method": "uniform",
+        "intrinsic": "paper",
+        "baseline": False,
+        "formats": ("obj",),
+        "up": "z",
+        "front": "y",
+        "body": "body.obj",
+        "body_units": "mm",
+        "size": "M",
+        "dxf_units": "mm",
+        "seam_allowance": 1.0,
+    }
+    assert set(changed) == {f.name for f in fields(RunOptions)}
+
+    def key(options):
+        (job,) = pb.make_jobs([str(g)], tmp_path / "out", parse_recipe(WIDER), options=options)
+        return pb.job_stamp(job)["key"]
+
+    keys = {key(base)} | {key(replace(base, **{k: v})) for k, v in changed.items()}
+    assert len(keys) == 1 + len(changed)
+    stamp = pb.job_stamp(pb.make_jobs([str(g)], tmp_path / "o", parse_recipe(WIDER))[0])
+    assert list(stamp["options"]) == sorted(changed)
+    assert stamp["options"]["formats"] == sorted(base.formats)
+
+
 def test_gates_read_the_report_strictly():
     """A renamed or missing field fails the gates that read it, never passes them silently."""
     panel = {"name": "p", "area_before": 1.0, "area_after": 1.0, "flipped_triangles": 0}
