@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from ptailor.edits.opening import drape_openings
 from ptailor.edits.registry import OPERATIONS
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.errors import PtailorError
@@ -100,15 +101,13 @@ class _Renamer:
         return other
 
     def loop(self, spec: dict) -> dict:
-        from ptailor.model.openings import openings
-
         k = spec["loop"]
         b = self.before
-        ops0 = openings(b.V3, b.base.F3, up=self.options.up, front=self.options.front, F2=b.base.F2)
+        ops0 = drape_openings(b, options=self.options)
         if k >= len(ops0):
             return spec  # the step's own lookup reports it
         m = self.mirrored
-        ops1 = openings(m.V3, m.base.F3, up=self.options.up, front=self.options.front, F2=m.base.F2)
+        ops1 = drape_openings(m, options=self.options)
         # on the mirrored garment, the mirror loop sits where loop k sat before the step
         cen = np.array([o.centroid for o in ops1]).reshape(-1, 3)
         d = np.linalg.norm(cen - ops0[k].centroid, axis=1)

@@ -11,8 +11,9 @@ from ptailor import tolerances as tol
 from ptailor.edits.checks import show, with_schema
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.errors import PtailorError
-from ptailor.model.openings import openings
+from ptailor.model.openings import Opening, openings
 from ptailor.model.seams import half_edges
+from ptailor.model.structure import structure
 
 OPENING_SCHEMA = {
     "anyOf": [
@@ -43,6 +44,18 @@ def opening_spec(x: Any, where: str) -> list[str]:
     return [f"{where}: expected an opening name (hem, neckline, ...) or {{loop: k}}, got {show(x)}"]
 
 
+def drape_openings(state: EditState, *, options: EditOptions) -> list[Opening]:
+    """The openings of the edited drape ``state.V3``.
+
+    While the drape is still the garment's own (a recipe's first step), they are the
+    garment's, computed once for it (:func:`ptailor.model.structure.structure`).
+    """
+    g = state.base
+    if state.V3 is g.V3 or np.array_equal(state.V3, g.V3):
+        return structure(g, up=options.up, front=options.front).openings
+    return openings(state.V3, g.F3, up=options.up, front=options.front, F2=g.F2)
+
+
 def find_opening(state: EditState, spec: Any, *, options: EditOptions) -> tuple[str, np.ndarray]:
     """The drape loop a recipe names.
 
@@ -67,7 +80,7 @@ def find_opening(state: EditState, spec: Any, *, options: EditOptions) -> tuple[
     PtailorError
         An unknown name or loop index, listing what this garment has.
     """
-    ops = openings(state.V3, state.base.F3, up=options.up, front=options.front, F2=state.base.F2)
+    ops = drape_openings(state, options=options)
     if isinstance(spec, dict):
         k = spec["loop"]
         if k >= len(ops):
