@@ -192,14 +192,9 @@ class _ArcMap:
     def points(self, pts: np.ndarray) -> np.ndarray:
         """Points on (or near) the sample outline, at the same parameter on the graded one."""
         pts = _apply(np.asarray(pts, dtype=float).reshape(-1, 2), self.box)
-        A, B = self.S, np.roll(self.S, -1, axis=0)
-        d = B - A
-        dd = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
-        t = np.clip(np.einsum("kij,ij->ki", pts[:, None] - A[None], d) / dd, 0.0, 1.0)
-        foot = A[None] + t[..., None] * d[None]
-        seg = np.argmin(np.linalg.norm(pts[:, None] - foot, axis=2), axis=1)
+        seg, tk = _nearest_segment(self.S, pts)
         cum, frac = _arc_params(self.S)
-        u = cum[seg] + t[np.arange(len(pts)), seg] * frac[seg]
+        u = cum[seg] + tk * frac[seg]
         return _at_params(self.D, u)
 
     def turn(self, flags: np.ndarray) -> np.ndarray:
@@ -217,13 +212,19 @@ class _ArcMap:
 def _same_place(src: np.ndarray, dst: np.ndarray, pts: np.ndarray) -> np.ndarray:
     """Points near outline ``src`` at the same segment and fraction on ``dst``, ``(k, 2)``
     (the outlines correspond point by point)."""
-    pts = np.asarray(pts, dtype=float).reshape(-1, 2)
-    A, B = src, np.roll(src, -1, axis=0)
+    seg, tk = _nearest_segment(src, np.asarray(pts, dtype=float).reshape(-1, 2))
+    A2, B2 = dst[seg], np.roll(dst, -1, axis=0)[seg]
+    return A2 + tk[:, None] * (B2 - A2)
+
+
+def _nearest_segment(P: np.ndarray, pts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The segment of closed outline ``P`` (``(n, 2)``; segment ``i`` runs from ``P[i]`` to
+    ``P[i + 1]``) nearest to each of ``pts`` (``(k, 2)``), and the fraction along it of each
+    point's foot: ``(k,)`` int and ``(k,)`` float in ``[0, 1]``."""
+    A, B = P, np.roll(P, -1, axis=0)
     d = B - A  # (n, 2)
     dd = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
     t = np.clip(np.einsum("kij,ij->ki", pts[:, None] - A[None], d) / dd, 0.0, 1.0)  # (k, n)
     foot = A[None] + t[..., None] * d[None]
     seg = np.argmin(np.linalg.norm(pts[:, None] - foot, axis=2), axis=1)
-    tk = t[np.arange(len(pts)), seg]
-    A2, B2 = dst[seg], np.roll(dst, -1, axis=0)[seg]
-    return A2 + tk[:, None] * (B2 - A2)
+    return seg, t[np.arange(len(pts)), seg]
