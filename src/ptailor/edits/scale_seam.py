@@ -13,7 +13,8 @@ from ptailor.edits.registry import Param, register
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.errors import PtailorError
 from ptailor.model.garment import panel_labels
-from ptailor.model.seams import seams
+from ptailor.model.seams import Seam, seams
+from ptailor.model.structure import structure
 
 PAIR_SCHEMA = {"type": "array", "items": {"type": "string"}, "minItems": 2, "maxItems": 2}
 
@@ -52,6 +53,18 @@ def part_in_seam(step: dict, where: str) -> list[str]:
     return []
 
 
+def state_seams(state: EditState) -> list[Seam]:
+    """The seams of ``state.base`` between ``state.panels``.
+
+    The garment's own (:func:`ptailor.model.structure.structure`, computed once) when the
+    state's panels are the structure's.
+    """
+    st = structure(state.base)
+    if state.panels is st.panels:
+        return st.seams
+    return seams(state.base.F3, state.base.F2, panel_labels(state.panels, state.base.n_faces))
+
+
 def seam_vertices(state: EditState, pair: list[str]) -> np.ndarray:
     """Drape vertices of the seam between two named panels.
 
@@ -67,8 +80,7 @@ def seam_vertices(state: EditState, pair: list[str]) -> np.ndarray:
             f"no panel named {', '.join(unknown)} (this garment has: {', '.join(by_name)})"
         )
     want = tuple(sorted((by_name[pair[0]], by_name[pair[1]])))
-    flab = panel_labels(state.panels, state.base.n_faces)
-    found = [s for s in seams(state.base.F3, state.base.F2, flab) if s.panels == want]
+    found = [s for s in state_seams(state) if s.panels == want]
     if not found:
         raise PtailorError(f"panels {pair[0]} and {pair[1]} share no seam")
     return np.unique(np.concatenate([s.edges3.ravel() for s in found]))
