@@ -15,6 +15,8 @@ import numpy as np
 from ptailor.formats import PATTERN_WRITERS, SHEET_WRITERS, extension, writer_for
 from ptailor.formats.garment import LoadedGarment
 from ptailor.model.boundary import boundary_loops
+from ptailor.model.garment import panel_labels
+from ptailor.model.structure import structure
 from ptailor.pieces import CarriedPiece, PiecePlan
 from ptailor.pipeline import Adjustment
 
@@ -84,8 +86,6 @@ class OutputContext:
 
 def output_obj(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
     """``garment.obj``: edited drape and adjusted pattern, in the input files' units."""
-    from ptailor.method.flatten import panel_labels
-
     loaded = ctx.loaded
     g = adj.garment
     header = [
@@ -112,9 +112,10 @@ def sheet(adj: Adjustment, ctx: OutputContext) -> dict:
     """The arguments both previews take: outlines before and after, triangles, errors."""
     g = adj.garment
     g0 = adj.original if adj.original is not None else adj.state.base
-    orig = adj.original_panels()
+    s0 = structure(g0)  # the input's panels and their loops, as the adjustment found them
+    at = {p.name: i for i, p in enumerate(s0.panels)}
     before = [
-        [g0.V2[lp] for lp in boundary_loops(g0.F2[orig[p.name][0]])] if p.name in orig else []
+        [g0.V2[lp] for lp in s0.panel_loops(at[p.name])] if p.name in at else []
         for p in adj.state.panels
     ]
     tris = []
