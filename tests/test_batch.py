@@ -315,6 +315,24 @@ def test_the_stamp_hashes_every_run_option(tmp_path):
     assert stamp["options"]["formats"] == sorted(base.formats)
 
 
+def test_one_executor_interface_picks_where_jobs_run(tmp_path):
+    from ptailor.batch.executors import DaskCluster, InProcess, ProcessPool
+    from ptailor.recipe import parse_recipe
+
+    paths = [str(tmp_path / f"{k}.obj") for k in "abc"]
+    jobs = pb.make_jobs(paths, tmp_path / "out", parse_recipe(WIDER))
+    timed = pb.make_jobs(paths[:1], tmp_path / "out", parse_recipe(WIDER), timeout=5.0)
+    assert isinstance(pb.executor_for(jobs, workers=1), InProcess)
+    assert isinstance(pb.executor_for(jobs[:1], workers=4), InProcess)
+    pool = pb.executor_for(jobs, workers=8)
+    assert isinstance(pool, ProcessPool) and pool.n == 3 and pool.where == "3 worker processes"
+    assert isinstance(pb.executor_for(timed, workers=1), ProcessPool)  # only a worker can stop
+    dask = pb.executor_for(jobs, scheduler="tcp://h:8786")
+    assert isinstance(dask, DaskCluster) and dask.where == "Dask scheduler tcp://h:8786"
+    for ex in (InProcess(), pool, dask):
+        assert isinstance(ex, pb.Executor)
+
+
 def test_gates_read_the_report_strictly():
     """A renamed or missing field fails the gates that read it, never passes them silently."""
     panel = {"name": "p", "area_before": 1.0, "area_after": 1.0, "flipped_triangles": 0}

@@ -15,7 +15,7 @@ import time
 import uuid
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Protocol
+from typing import Protocol, runtime_checkable
 
 from ptailor.batch.jobs import GarmentJob, check_unchanged, enter_worker, run_job
 from ptailor.batch.records import BatchResult, InOrder
@@ -26,6 +26,7 @@ from ptailor.output import remove_staging
 Done = Callable[[GarmentJob, dict], None]
 
 
+@runtime_checkable
 class Executor(Protocol):
     """Runs jobs somewhere; ``where`` says where (the summary shows it)."""
 
