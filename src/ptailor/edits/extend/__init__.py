@@ -57,8 +57,7 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     edge is laid out in each panel's pattern exactly ``by`` from the old one (the offset
     of the opening's pattern edges, seams continued straight where they meet it) and the
     drape rows are built to match through the pattern-to-drape maps of the triangles they
-    grow from
-    (:func:`pattern_rows`).
+    grow from (:func:`pattern_rows`).
 
     There are ``rows`` rows, about the opening's mean edge length apart; where rows would
     cross (a concave opening) the directions there are smoothed, pass by pass, and after
