@@ -19,8 +19,8 @@ import pytest
 from ptailor import samples
 from ptailor.errors import PtailorError
 from ptailor.formats.obj import write_garment
-from ptailor.job import run_adjust
 from ptailor.recipe import parse_recipe
+from ptailor.run import RunOptions, run_garment
 
 SMALL = {
     "sleeve": ("lantern_sleeve", {"n_around": 16, "n_sleeve": 8, "n_cuff": 3}),
@@ -62,7 +62,7 @@ def refused(garment: Path, recipe, tmp_path: Path, **kw) -> str:
     with warnings.catch_warnings():
         warnings.simplefilter("error", RuntimeWarning)  # nothing may print
         with pytest.raises(PtailorError) as ei:
-            run_adjust(str(garment), recipe, out, formats=("obj",), **kw)
+            run_garment(str(garment), recipe, out, options=RunOptions(formats=("obj",), **kw))
     assert not out.exists()
     msg = str(ei.value)
     assert "\n" not in msg
@@ -73,7 +73,9 @@ def finite_run(garment: Path, recipe, tmp_path: Path, **kw) -> dict:
     out = tmp_path / "out"
     with warnings.catch_warnings():
         warnings.simplefilter("error", RuntimeWarning)
-        rep = run_adjust(str(garment), recipe, out, formats=("obj", "dxf"), **kw)
+        rep = run_garment(
+            str(garment), recipe, out, options=RunOptions(formats=("obj", "dxf"), **kw)
+        )
     json.loads((out / "report.json").read_text(), parse_constant=pytest.fail)
     obj = (out / "garment.obj").read_text().lower()
     assert " nan" not in obj and " inf" not in obj
@@ -249,7 +251,7 @@ def test_scale_around_tiny_factor_warns_naming_the_panels(garments, tmp_path):
 def test_intrinsic_error_warning_names_the_panel():
     from types import SimpleNamespace
 
-    from ptailor.job import intrinsic_error_warnings
+    from ptailor.run.checks import intrinsic_error_warnings
 
     panels = [
         SimpleNamespace(name="sleeve", faces=np.arange(0, 10)),
@@ -263,7 +265,7 @@ def test_intrinsic_error_warning_names_the_panel():
 
 def test_final_guard_refuses_non_finite_results(garments, tmp_path, monkeypatch):
     """Whatever the solver does, NaN never reaches the disk: exit 2 naming the solver."""
-    import ptailor.job as job
+    import ptailor.run.checks as job
     from ptailor.method import flatten as fl
 
     real = fl.flatten
@@ -339,7 +341,7 @@ def test_gather_on_a_panel_a_later_cut_removes(garments, tmp_path):
     )
     out = tmp_path / "out"
     try:
-        rep = run_adjust(str(garments["bodice"]), r, out, formats=("obj",))
+        rep = run_garment(str(garments["bodice"]), r, out, options=RunOptions(formats=("obj",)))
     except PtailorError as exc:
         assert "\n" not in str(exc) and not out.exists()
     else:

@@ -6,7 +6,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import pytest
-from ptailor.job import run_adjust
 
 import ptailor.edits.extend  # noqa: F401  (registers the op until _load_all does)
 from ptailor.edits import OPERATIONS, EditOptions
@@ -16,11 +15,11 @@ from ptailor.errors import PtailorError
 from ptailor.formats.garment import load_garment
 from ptailor.formats.obj import write_garment
 from ptailor.geometry.segments import nearest_segment_distance as point_segment_distance
-from ptailor.method.flatten import panel_labels
-from ptailor.model.garment import panels
+from ptailor.model.garment import panel_labels, panels
 from ptailor.model.openings import openings
 from ptailor.pipeline import adjustment, apply_steps
 from ptailor.recipe import parse_recipe
+from ptailor.run import run_garment
 from ptailor.samples import cone_skirt, cylinder, lantern_sleeve
 from tests.conftest import REAL, real_path
 from tests.garment_checks import assert_seams_equal, assert_valid, seam_sides
@@ -253,12 +252,12 @@ def test_output_can_be_adjusted_again(tmp_path):
     g = cone_skirt(n_around=24, n_along=6)
     src = tmp_path / "skirt.obj"
     write_garment(src, g)
-    run_adjust(str(src), extend_recipe("hem", 4), tmp_path / "out1")
+    run_garment(str(src), extend_recipe("hem", 4), tmp_path / "out1")
     once = load_garment(tmp_path / "out1" / "garment.obj").garment
     assert once.n_faces > g.n_faces
     assert_valid(once)
     assert_seams_equal(once, once.V2)
-    run_adjust(str(tmp_path / "out1" / "garment.obj"), extend_recipe("hem", 4), tmp_path / "out2")
+    run_garment(str(tmp_path / "out1" / "garment.obj"), extend_recipe("hem", 4), tmp_path / "out2")
     twice = load_garment(tmp_path / "out2" / "garment.obj").garment
     assert twice.n_faces > once.n_faces
     assert_valid(twice)

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from ptailor.job import run_adjust
 
 from ptailor.errors import PtailorError
 from ptailor.formats.garment import load_garment
 from ptailor.geometry.segments import nearest_segment_distance as point_segment_distance
 from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
+from ptailor.run import RunOptions, run_garment
 from ptailor.samples import cone_skirt, cylinder, lantern_sleeve
 from tests.conftest import REAL, real_path
 from tests.garment_checks import adjust_sample_cli, assert_seams_equal, assert_valid
@@ -77,17 +77,17 @@ def test_shorten_hem_on_real_garments(key, tmp_path):
     ach = adj.state.log[0]["achieved"]["3d"]
     assert ach["mean"] == pytest.approx(by, rel=0.05)
     # the output is a garment ptailor can adjust again
-    rep = run_adjust(
+    rep = run_garment(
         str(path),
         parse_recipe(f"steps: [{{op: shorten, opening: hem, by: {by}}}]"),
         tmp_path / "o",
-        pattern_units=REAL[key][1],
+        options=RunOptions(pattern_units=REAL[key][1]),
     )
-    again = run_adjust(
+    again = run_garment(
         str(tmp_path / "o" / "garment.obj"),
         parse_recipe("steps: []"),
         tmp_path / "o2",
-        pattern_units=REAL[key][1],
+        options=RunOptions(pattern_units=REAL[key][1]),
     )
     assert len(again["panels"]) == len(rep["panels"])
 
@@ -114,16 +114,18 @@ def test_dress_hem_edits_are_valid_and_readjustable(op, tmp_path):
 
     path = real_path("dress")
     rec = parse_recipe(f"steps: [{{op: {op}, opening: hem, by: 5}}]")
-    rep = run_adjust(str(path), rec, tmp_path / "o", pattern_units="auto", baseline=False)
+    rep = run_garment(
+        str(path), rec, tmp_path / "o", options=RunOptions(pattern_units="auto", baseline=False)
+    )
     out = load_garment(tmp_path / "o" / "garment.obj", pattern_units="auto").garment
     assert_valid(out)
     assert rep["steps"][0]["achieved"]["3d"]["mean"] == pytest.approx(5.0, rel=0.05)
     assert all(p["flipped_triangles"] == 0 for p in rep["panels"])
-    again = run_adjust(
+    again = run_garment(
         str(tmp_path / "o" / "garment.obj"),
         parse_recipe("steps: []"),
         tmp_path / "o2",
-        pattern_units="auto",
+        options=RunOptions(pattern_units="auto"),
     )
     assert len(again["panels"]) == len(rep["panels"])
 

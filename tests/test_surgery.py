@@ -7,11 +7,11 @@ import pytest
 
 from ptailor.errors import PtailorError
 from ptailor.formats.garment import load_garment
-from ptailor.job import run_adjust
 from ptailor.model.garment import panels
 from ptailor.model.seams import half_edges
 from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
+from ptailor.run import RunOptions, run_garment
 from ptailor.samples import cone_skirt, lantern_sleeve
 from tests.conftest import real_path
 from tests.garment_checks import adjust_sample_cli, assert_seams_equal, assert_valid
@@ -98,9 +98,9 @@ def test_cut_output_can_be_adjusted_again(tmp_path):
 
     src = tmp_path / "skirt.obj"
     src.write_text(sample_obj_text("cone_skirt"))
-    run_adjust(str(src), parse_recipe(PLANE), tmp_path / "o")
+    run_garment(str(src), parse_recipe(PLANE), tmp_path / "o")
     again = load_garment(tmp_path / "o" / "garment.obj")
-    rep = run_adjust(
+    rep = run_garment(
         str(tmp_path / "o" / "garment.obj"), parse_recipe("steps: []"), tmp_path / "o2"
     )
     assert [p["name"] for p in rep["panels"]] == ["front", "back"]
@@ -145,13 +145,17 @@ def test_plane_cut_on_real_garments(key, tmp_path):
         assert_seams_equal(b, adj.result.V2)
     assert len(panels(b)) >= 1
     # ptailor takes its own output again
-    run_adjust(str(path), rec, tmp_path / "o", pattern_units=REAL[key][1], baseline=False)
-    again = run_adjust(
+    run_garment(
+        str(path),
+        rec,
+        tmp_path / "o",
+        options=RunOptions(pattern_units=REAL[key][1], baseline=False),
+    )
+    again = run_garment(
         str(tmp_path / "o" / "garment.obj"),
         parse_recipe("steps: []"),
         tmp_path / "o2",
-        pattern_units=REAL[key][1],
-        baseline=False,
+        options=RunOptions(pattern_units=REAL[key][1], baseline=False),
     )
     assert sum(p["triangles"] for p in again["panels"]) == b.n_faces
 
