@@ -431,7 +431,7 @@ def test_writer_refuses_non_finite_marks(tmp_path):
 def test_text_utf8_cannot_carry_is_made_printable():
     """Campaign seed 31 (fuzz_dxf): a piece name decoded with lone surrogates crashed
     ``inspect``'s printing (UnicodeEncodeError); such text is read as ``?``."""
-    from ptailor.formats.dxf import _printable
+    from ptailor.formats.dxf import printable_text as _printable
 
     assert _printable("cu\udcff\udcfeff") == "cu??ff"
     assert _printable("Ärmel – links") == "Ärmel – links"

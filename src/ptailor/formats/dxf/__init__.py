@@ -30,7 +30,7 @@ from ptailor.formats.dxf.astm import (
     parse_quantity,
     quantity_text,
 )
-from ptailor.formats.dxf.document import _printable
+from ptailor.formats.dxf.document import printable_text
 from ptailor.formats.dxf.reader import read_dxf
 from ptailor.formats.dxf.units import CM_PER_UNIT_ALL, VT_UNIT_SLACK, reconcile_units
 from ptailor.formats.dxf.writer import (
@@ -50,11 +50,11 @@ __all__ = [
     "VT_UNIT_SLACK",
     "DxfEntity",
     "DxfPlan",
-    "_printable",
     "dxf_plan",
     "layout_pieces",
     "parse_quantity",
     "piece_bounds",
+    "printable_text",
     "quantity_text",
     "read_dxf",
     "reconcile_units",

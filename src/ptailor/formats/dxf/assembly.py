@@ -11,22 +11,22 @@ import numpy as np
 from ptailor import tolerances as _tol
 from ptailor.errors import PtailorError
 from ptailor.formats.dxf.astm import L_BOUNDARY, REL_DUP, REL_TOL, parse_quantity
-from ptailor.formats.dxf.document import _bad_coordinate, _key_value, _one_line, _printable
+from ptailor.formats.dxf.document import bad_coordinate, key_value, one_line, printable_text
 from ptailor.formats.dxf.entities import (
-    _affine,
-    _Candidate,
-    _chain,
-    _collect,
-    _diag,
-    _has_boundary,
-    _join_lines,
-    _Marks,
+    Candidate,
+    Marks,
+    affine_of,
+    bbox_diagonal,
+    chain_segments,
+    collect_marks,
+    has_boundary,
+    join_lines,
 )
 from ptailor.model.pieces import Piece
 from ptailor.model.polyline import dedupe_closed, signed_area
 
 
-def _candidates(doc: Any, spath: str) -> list[_Candidate]:
+def piece_candidates(doc: Any, spath: str) -> list[Candidate]:
     """Piece candidates: INSERTed blocks, else defined blocks, else modelspace loops."""
     msp = doc.modelspace()
     out = []
@@ -37,13 +37,13 @@ def _candidates(doc: Any, spath: str) -> list[_Candidate]:
             continue
         blk = doc.blocks[name]
         if name not in boundary_blocks:
-            boundary_blocks[name] = _has_boundary(blk)
+            boundary_blocks[name] = has_boundary(blk)
         if boundary_blocks[name]:
             try:
-                T = _affine(ins.matrix44())
+                T = affine_of(ins.matrix44())
             except Exception as exc:  # ezdxf cannot build the transform
                 raise PtailorError(
-                    f"the INSERT of block {name!r} has an unusable transform ({_one_line(exc)})",
+                    f"the INSERT of block {name!r} has an unusable transform ({one_line(exc)})",
                     path=spath,
                 ) from exc
             if T is not None and not (np.all(np.isfinite(T[0])) and np.all(np.isfinite(T[1]))):
@@ -52,20 +52,20 @@ def _candidates(doc: Any, spath: str) -> list[_Candidate]:
                     "finite number",
                     path=spath,
                 )
-            out.append(_Candidate(name, _collect(blk, T)))
+            out.append(Candidate(name, collect_marks(blk, T)))
     if out:
         return out
     for blk in doc.blocks:
-        if not blk.name.startswith("*") and _has_boundary(blk):
-            out.append(_Candidate(_printable(blk.name), _collect(blk, None)))
+        if not blk.name.startswith("*") and has_boundary(blk):
+            out.append(Candidate(printable_text(blk.name), collect_marks(blk, None)))
     if out:
         return out
-    if _has_boundary(msp):
-        return _modelspace_candidates(_collect(msp, None), spath)
+    if has_boundary(msp):
+        return _modelspace_candidates(collect_marks(msp, None), spath)
     return []
 
 
-def _check_parts(m: _Marks, who: str, spath: str) -> None:
+def _check_parts(m: Marks, who: str, spath: str) -> None:
     """Refuse marks with an unusable entity, no cut line, or too many cut-line parts;
     ``who`` (``"piece 'FRONT'"``, ``"modelspace"``) starts the message."""
     if m.problems:
@@ -84,7 +84,7 @@ def _check_parts(m: _Marks, who: str, spath: str) -> None:
             )
 
 
-def _check_piece(p: Piece, spath: str) -> None:
+def check_piece(p: Piece, spath: str) -> None:
     """A piece's outline spans at least ``DXF_MIN_EXTENT`` and encloses an area (at least
     ``DXF_MIN_AREA_REL`` of its bounding box); every mark is finite and in range."""
     who = f"piece {p.name!r}"
@@ -109,19 +109,19 @@ def _check_piece(p: Piece, spath: str) -> None:
     for j, a in enumerate(p.internal):
         named[f"internal line {j}"] = a
     for what, arr in named.items():
-        bad = _bad_coordinate(arr, "point")
+        bad = bad_coordinate(arr, "point")
         if bad:
             raise PtailorError(f"{who}: {what}: {bad}", path=spath)
     if not np.all(np.isfinite(p.notch_angles)):
         raise PtailorError(f"{who}: a notch angle is not a finite number", path=spath)
 
 
-def _modelspace_candidates(m: _Marks, spath: str) -> list[_Candidate]:
+def _modelspace_candidates(m: Marks, spath: str) -> list[Candidate]:
     """Files without blocks: one piece per closed layer-1 loop, marks go to the piece
     whose bounding box holds them (the smallest such), else the nearest."""
     _check_parts(m, "modelspace", spath)
-    tol = REL_TOL * max(_diag(m.boundary), 1e-12)
-    loops, opens = _chain(m.boundary, tol)
+    tol = REL_TOL * max(bbox_diagonal(m.boundary), 1e-12)
+    loops, opens = chain_segments(m.boundary, tol)
     if opens:
         raise PtailorError(
             f"a boundary (layer 1) in modelspace does not close ({len(opens)} open chain(s))",
@@ -138,7 +138,7 @@ def _modelspace_candidates(m: _Marks, spath: str) -> list[_Candidate]:
         score = np.where(d > 0, area.max() + 1.0 + d, area[None])
         return np.argmin(score, axis=1) if len(pts) else np.zeros(0, dtype=int)
 
-    out = [_Marks(boundary=[np.vstack([lp, lp[:1]])]) for lp in loops]
+    out = [Marks(boundary=[np.vstack([lp, lp[:1]])]) for lp in loops]
     for pts_name, ang_name in (("turn", None), ("notches", "notch_angles"), ("drills", None)):
         pts = getattr(m, pts_name)
         for k, o in enumerate(owner(np.array(pts))):
@@ -153,14 +153,14 @@ def _modelspace_candidates(m: _Marks, spath: str) -> list[_Candidate]:
         o.internal.append(arr)
         o.internal_is_line.append(line)
     for t in m.texts:
-        k, _v = _key_value(t[0])
+        k, _v = key_value(t[0])
         if k in ("STYLE NAME", "SAMPLE SIZE", "UNITS", "CREATION DATE", "CREATION TIME"):
             continue
         out[int(owner(np.array(t[2]))[0])].texts.append(t)
-    return [_Candidate(f"PIECE_{i + 1}", mk) for i, mk in enumerate(out)]
+    return [Candidate(f"PIECE_{i + 1}", mk) for i, mk in enumerate(out)]
 
 
-def _parse_piece_text(c: _Candidate, spath: str = "") -> None:
+def parse_piece_text(c: Candidate, spath: str = "") -> None:
     """Name, size, quantity and annotations from the piece's text (keys any case)."""
     notes = []
     if len(c.block) > _tol.DXF_MAX_TEXT:
@@ -168,7 +168,7 @@ def _parse_piece_text(c: _Candidate, spath: str = "") -> None:
             f"a block name of {len(c.block)} characters (limit {_tol.DXF_MAX_TEXT})", path=spath
         )
     for text, layer, _pos in c.marks.texts:
-        k, v = _key_value(text)
+        k, v = key_value(text)
         if layer == L_BOUNDARY and k == "PIECE NAME" and not c.name:
             c.name = v
         elif layer == L_BOUNDARY and k == "SIZE" and not c.size:
@@ -190,7 +190,7 @@ def _parse_piece_text(c: _Candidate, spath: str = "") -> None:
     c.annotations = tuple(notes)
 
 
-def _sizes_from_block_names(cands: list[_Candidate]) -> None:
+def sizes_from_block_names(cands: list[Candidate]) -> None:
     """Sizes from block names when no ``SIZE:`` text: ``NAME_SIZE`` blocks.
 
     The suffix counts as a size when the piece name text is the block name's prefix, or,
@@ -217,7 +217,7 @@ def _sizes_from_block_names(cands: list[_Candidate]) -> None:
             c.name = c.block[: -len(suffix)] if graded else c.block
 
 
-def _choose_size(sizes: tuple[str, ...], size: str | None, sample: str, spath: str) -> str:
+def choose_size(sizes: tuple[str, ...], size: str | None, sample: str, spath: str) -> str:
     if size is None:
         if sample in sizes:
             return sample
@@ -231,13 +231,13 @@ def _choose_size(sizes: tuple[str, ...], size: str | None, sample: str, spath: s
     raise PtailorError(f"no size {size!r} in the file (sizes: {listed})", path=spath)
 
 
-def _build_piece(c: _Candidate, spath: str) -> Piece:
+def build_piece(c: Candidate, spath: str) -> Piece:
     """Chain the boundary, orient it counter-clockwise, attach the marks."""
     m = c.marks
     _check_parts(m, f"piece {c.name!r}", spath)
-    diag = max(_diag(m.boundary), 1e-12)
+    diag = max(bbox_diagonal(m.boundary), 1e-12)
     tol = REL_TOL * diag
-    loops, opens = _chain(m.boundary, tol)
+    loops, opens = chain_segments(m.boundary, tol)
     if not loops:
         gap = ""
         if opens:
@@ -278,10 +278,10 @@ def _build_piece(c: _Candidate, spath: str) -> Piece:
         angles = np.concatenate([angles, np.degrees(np.arctan2(dv[:, 1], dv[:, 0])) % 360.0])
     internal = [lp for j, lp in enumerate(loops) if j != k]  # extra loops: internal shapes
     internal = [np.vstack([lp, lp[:1]]) for lp in internal]
-    internal += _join_lines(m.internal, m.internal_is_line, tol)
+    internal += join_lines(m.internal, m.internal_is_line, tol)
     sew = None
     if m.sew:
-        sloops, _ = _chain(m.sew, REL_TOL * max(_diag(m.sew), 1e-12))
+        sloops, _ = chain_segments(m.sew, REL_TOL * max(bbox_diagonal(m.sew), 1e-12))
         if sloops:
             sew = max(sloops, key=lambda s: abs(signed_area(s)))
             if signed_area(sew) < 0:
@@ -304,7 +304,7 @@ def _build_piece(c: _Candidate, spath: str) -> Piece:
         annotations=c.annotations,
         quantity_split=c.quantity_split,
     )
-    _check_piece(piece, spath)
+    check_piece(piece, spath)
     return piece
 
 

@@ -11,7 +11,7 @@ from ptailor.model.pieces import Piece
 #: centimetres per file unit
 CM_PER_UNIT: dict[str, float] = {"mm": 0.1, "cm": 1.0, "in": 2.54}
 #: $INSUNITS codes the reader understands
-_INSUNITS = {1: "in", 4: "mm", 5: "cm"}
+INSUNITS = {1: "in", 4: "mm", 5: "cm"}
 
 L_BOUNDARY, L_TURN, L_NOTCH, L_GRAIN, L_INTERNAL = "1", "2", "4", "7", "8"
 L_CUTOUT, L_DRILL, L_SEW, L_TEXT = "11", "13", "14", "15"

@@ -35,7 +35,7 @@ class _Captured(logging.Handler):
 
 
 @contextlib.contextmanager
-def _quiet() -> Any:
+def quiet_ezdxf() -> Any:
     """ezdxf's log records captured (yielded), its prints and Python/numpy warnings
     swallowed: nothing reaches stdout or stderr while a DXF is read."""
     log = logging.getLogger("ezdxf")
@@ -59,7 +59,7 @@ def _quiet() -> Any:
         log.propagate, log.level = old[0], old[1]
 
 
-def _recover_warning(messages: list[str]) -> tuple[str, ...]:
+def recover_warning(messages: list[str]) -> tuple[str, ...]:
     """Recover mode's repairs as one report warning (the first few quoted)."""
     if not messages:
         return ()
@@ -68,7 +68,7 @@ def _recover_warning(messages: list[str]) -> tuple[str, ...]:
     return (f"read in ezdxf's recover mode, {len(messages)} repair(s): {shown}{more}",)
 
 
-def _open(spath: str, log: list[str] | None = None) -> Any:
+def open_document(spath: str, log: list[str] | None = None) -> Any:
     """The ezdxf document; strict reader first, then recover mode (CLO's group codes).
 
     Files over ``DXF_MAX_BYTES`` are refused unread; recover mode's repairs go to ``log``.
@@ -95,7 +95,7 @@ def _open(spath: str, log: list[str] | None = None) -> Any:
             doc, _auditor = recover.readfile(spath)
         except Exception as exc:
             raise PtailorError(
-                f"not a readable DXF file ({_one_line(exc or strict_exc)})", path=spath
+                f"not a readable DXF file ({one_line(exc or strict_exc)})", path=spath
             ) from exc
     else:
         if log is not None:
@@ -103,27 +103,27 @@ def _open(spath: str, log: list[str] | None = None) -> Any:
     return doc
 
 
-def _one_line(exc: BaseException | str) -> str:
+def one_line(exc: BaseException | str) -> str:
     """An exception's text on one line, at most 200 characters."""
     text = " ".join(str(exc).split()) or type(exc).__name__
     return text if len(text) <= 200 else text[:197] + "..."
 
 
-class _BadEntityError(ValueError):
+class BadEntityError(ValueError):
     """An entity this reader cannot use; the message says why (no file or piece named)."""
 
 
-def _xy(v: Any) -> tuple[float, float]:
-    """A point's x and y as floats (a missing point or coordinate is a :class:`_BadEntityError`)."""
+def entity_xy(v: Any) -> tuple[float, float]:
+    """A point's x and y as floats (a missing point or coordinate is a :class:`BadEntityError`)."""
     if v is None:
-        raise _BadEntityError("has no coordinates")
+        raise BadEntityError("has no coordinates")
     try:
         return float(v[0]), float(v[1])
     except (TypeError, IndexError, ValueError) as exc:
-        raise _BadEntityError("has no x or y coordinate") from exc
+        raise BadEntityError("has no x or y coordinate") from exc
 
 
-def _bad_coordinate(pts: np.ndarray, what: str = "vertex") -> str | None:
+def bad_coordinate(pts: np.ndarray, what: str = "vertex") -> str | None:
     """Why ``(n, 2)`` points are unusable: ``"vertex 3 is not a number"``, ``"vertex 0 is
     infinite"``, ``"vertex 2 lies 1e+300 units from the origin (limit 1e+07)"``; None when
     every coordinate is finite and within ``DXF_MAX_COORD``."""
@@ -144,7 +144,7 @@ def _bad_coordinate(pts: np.ndarray, what: str = "vertex") -> str | None:
     return None
 
 
-def _header_number(doc: Any, name: str) -> int | None:
+def header_number(doc: Any, name: str) -> int | None:
     """An integer header variable, or None when absent or not a sane integer."""
     try:
         v = doc.header.get(name)
@@ -157,7 +157,7 @@ def _header_number(doc: Any, name: str) -> int | None:
     return int(v)
 
 
-def _check_counts(doc: Any, spath: str) -> None:
+def check_counts(doc: Any, spath: str) -> None:
     """Refuse more than ``DXF_MAX_ENTITIES`` entities (modelspace and blocks)."""
     try:
         n = len(doc.entitydb)
@@ -173,29 +173,29 @@ def _check_counts(doc: Any, spath: str) -> None:
 _DXF_UNICODE = re.compile(r"\\U\+([0-9A-Fa-f]{4})")
 
 
-def _printable(text: str) -> str:
+def printable_text(text: str) -> str:
     """``text`` with what UTF-8 cannot carry (lone surrogates from undecodable bytes)
     replaced by ``?``, so it can be printed and written back."""
     return text.encode("utf-8", "replace").decode("utf-8")
 
 
-def _text_of(e: Any) -> str:
+def text_of(e: Any) -> str:
     """An entity's text, ``\\U+XXXX`` escapes decoded (over ``DXF_MAX_TEXT`` characters:
-    a :class:`_BadEntityError`)."""
+    a :class:`BadEntityError`)."""
     if e.dxftype() == "MTEXT":
         raw = str(getattr(e, "text", ""))
         if len(raw) > 8 * _tol.DXF_MAX_TEXT:
-            raise _BadEntityError(f"has {len(raw)} characters of text (limit {_tol.DXF_MAX_TEXT})")
+            raise BadEntityError(f"has {len(raw)} characters of text (limit {_tol.DXF_MAX_TEXT})")
         t = e.plain_text()
     else:
         t = e.dxf.get("text", "")
-    t = _printable(_DXF_UNICODE.sub(lambda m: chr(int(m.group(1), 16)), str(t)).strip())
+    t = printable_text(_DXF_UNICODE.sub(lambda m: chr(int(m.group(1), 16)), str(t)).strip())
     if len(t) > _tol.DXF_MAX_TEXT:
-        raise _BadEntityError(f"has {len(t)} characters of text (limit {_tol.DXF_MAX_TEXT})")
+        raise BadEntityError(f"has {len(t)} characters of text (limit {_tol.DXF_MAX_TEXT})")
     return t
 
 
-def _key_value(text: str) -> tuple[str, str]:
+def key_value(text: str) -> tuple[str, str]:
     """``"Piece Name: FRONT"`` -> ``("PIECE NAME", "FRONT")``; no colon -> ``("", text)``."""
     key, sep, value = text.partition(":")
     if not sep:
@@ -203,7 +203,7 @@ def _key_value(text: str) -> tuple[str, str]:
     return " ".join(key.split()).upper(), value.strip()
 
 
-def _describe(e: Any, index: int | None = None) -> str:
+def describe_entity(e: Any, index: int | None = None) -> str:
     """``"POLYLINE 12 (layer 1)"``: an entity as messages name it (with its place in its
     block or in modelspace)."""
     try:
@@ -215,15 +215,15 @@ def _describe(e: Any, index: int | None = None) -> str:
     return f"{kind}{where} (layer {layer or '0'})"
 
 
-def _style_text(msp: Any, spath: str = "") -> dict[str, str]:
+def read_style_text(msp: Any, spath: str = "") -> dict[str, str]:
     """Modelspace ``KEY: value`` texts, keys upper-cased (first occurrence wins)."""
     out: dict[str, str] = {}
     for e in msp.query("TEXT MTEXT"):
         try:
-            text = _text_of(e)
-        except _BadEntityError as exc:
-            raise PtailorError(f"modelspace: {_describe(e)} {exc}", path=spath) from exc
-        k, v = _key_value(text)
+            text = text_of(e)
+        except BadEntityError as exc:
+            raise PtailorError(f"modelspace: {describe_entity(e)} {exc}", path=spath) from exc
+        k, v = key_value(text)
         if k and k not in out:
             out[k] = v
     return out

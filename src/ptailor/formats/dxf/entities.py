@@ -23,17 +23,17 @@ from ptailor.formats.dxf.astm import (
     NOTCH_LAYERS,
 )
 from ptailor.formats.dxf.document import (
-    _bad_coordinate,
-    _BadEntityError,
-    _describe,
-    _one_line,
-    _text_of,
-    _xy,
+    BadEntityError,
+    bad_coordinate,
+    describe_entity,
+    entity_xy,
+    one_line,
+    text_of,
 )
 
 
 @dataclass
-class _Marks:
+class Marks:
     """Geometry of one piece candidate, already in modelspace coordinates."""
 
     boundary: list[np.ndarray] = field(default_factory=list)
@@ -54,11 +54,11 @@ class _Marks:
 
 
 @dataclass
-class _Candidate:
+class Candidate:
     """One INSERT (or one modelspace loop): a piece of some size."""
 
     block: str
-    marks: _Marks
+    marks: Marks
     name: str = ""
     size: str = ""
     quantity: int = 1
@@ -67,7 +67,7 @@ class _Candidate:
     has_quantity: bool = False
 
 
-def _affine(m44: Any) -> tuple[np.ndarray, np.ndarray] | None:
+def affine_of(m44: Any) -> tuple[np.ndarray, np.ndarray] | None:
     """An ezdxf Matrix44 as (2, 2) linear part and (2,) translation (row vectors)."""
     m = np.array([list(r) for r in m44.rows()], dtype=float)
     A, t = m[:2, :2], m[3, :2]
@@ -76,7 +76,7 @@ def _affine(m44: Any) -> tuple[np.ndarray, np.ndarray] | None:
     return A, t
 
 
-def _apply(pts: np.ndarray, T: tuple[np.ndarray, np.ndarray] | None) -> np.ndarray:
+def apply_affine(pts: np.ndarray, T: tuple[np.ndarray, np.ndarray] | None) -> np.ndarray:
     return pts if T is None else pts @ T[0] + T[1]
 
 
@@ -96,7 +96,7 @@ def _layer(e: Any) -> str:
         return ""
 
 
-def _has_boundary(entities: Any) -> bool:
+def has_boundary(entities: Any) -> bool:
     return any(
         _layer(e) == L_BOUNDARY and e.dxftype() in _USED - {"TEXT", "MTEXT", "POINT"}
         for e in entities
@@ -111,14 +111,14 @@ def _polyline_points(e: Any) -> np.ndarray | None:
         return None
     count = len(e.vertices) if kind == "POLYLINE" else len(e)
     if count > _tol.DXF_MAX_VERTICES:
-        raise _BadEntityError(f"has {count} vertices (limit {_tol.DXF_MAX_VERTICES})")
+        raise BadEntityError(f"has {count} vertices (limit {_tol.DXF_MAX_VERTICES})")
     if kind == "POLYLINE":
         raw = np.zeros((count, 2))
         for j, v in enumerate(e.vertices):  # a loop over vertices: which one is bad
             try:
-                raw[j] = _xy(v.dxf.get("location"))
-            except _BadEntityError as exc:
-                raise _BadEntityError(f"vertex {j} {exc}") from exc
+                raw[j] = entity_xy(v.dxf.get("location"))
+            except BadEntityError as exc:
+                raise BadEntityError(f"vertex {j} {exc}") from exc
     else:
         raw = np.array(e.get_points("xy"), dtype=float).reshape(-1, 2)
     _refuse_bad(raw)
@@ -129,17 +129,17 @@ def _polyline_points(e: Any) -> np.ndarray | None:
 
 
 def _refuse_bad(pts: np.ndarray, prefix: str = "") -> None:
-    """Raise :class:`_BadEntityError` when a coordinate of ``pts`` is unusable."""
-    bad = _bad_coordinate(pts)
+    """Raise :class:`BadEntityError` when a coordinate of ``pts`` is unusable."""
+    bad = bad_coordinate(pts)
     if bad:
-        raise _BadEntityError(prefix + bad)
+        raise BadEntityError(prefix + bad)
 
 
 def _entity_points(e: Any, T: tuple[np.ndarray, np.ndarray] | None) -> np.ndarray | None:
     """Vertices of a curve entity in modelspace, ``(n, 2)``; closed ones repeat the first."""
     kind = e.dxftype()
     if kind == "LINE":
-        pts = np.array([_xy(e.dxf.get("start")), _xy(e.dxf.get("end"))], dtype=float)
+        pts = np.array([entity_xy(e.dxf.get("start")), entity_xy(e.dxf.get("end"))], dtype=float)
     elif kind in ("POLYLINE", "LWPOLYLINE"):
         pts = _polyline_points(e)
         if pts is None:
@@ -151,7 +151,7 @@ def _entity_points(e: Any, T: tuple[np.ndarray, np.ndarray] | None) -> np.ndarra
     if not len(pts):
         return None
     _refuse_bad(pts)
-    out = _apply(pts, T)
+    out = apply_affine(pts, T)
     _refuse_bad(out, "placed by its INSERT: ")  # the INSERT's transform may take it out of range
     return out
 
@@ -165,37 +165,37 @@ def _flatten(e: Any) -> np.ndarray:
     from ezdxf import path as ezpath
 
     p = ezpath.make_path(e)
-    ctrl = np.array([_xy(v) for v in p.control_vertices()], dtype=float).reshape(-1, 2)
-    bad = _bad_coordinate(ctrl, "control point")
+    ctrl = np.array([entity_xy(v) for v in p.control_vertices()], dtype=float).reshape(-1, 2)
+    bad = bad_coordinate(ctrl, "control point")
     if bad:
-        raise _BadEntityError(bad)
+        raise BadEntityError(bad)
     size = float(np.ptp(ctrl, axis=0).max()) if len(ctrl) > 1 else 1.0
     dist = max(size, 1e-9) * 1e-3
     out = []
     for v in p.flattening(distance=dist):
-        out.append(_xy(v))
+        out.append(entity_xy(v))
         if len(out) > _tol.DXF_MAX_VERTICES:
-            raise _BadEntityError(f"flattens to over {_tol.DXF_MAX_VERTICES} vertices")
+            raise BadEntityError(f"flattens to over {_tol.DXF_MAX_VERTICES} vertices")
     return np.array(out, dtype=float).reshape(-1, 2)
 
 
 def _point(e: Any, T: tuple[np.ndarray, np.ndarray] | None) -> tuple[float, float]:
     loc = e.dxf.get("location") if e.dxftype() == "POINT" else e.dxf.get("center")
-    raw = np.array([_xy(loc)], dtype=float)
-    bad = _bad_coordinate(raw, "point")
+    raw = np.array([entity_xy(loc)], dtype=float)
+    bad = bad_coordinate(raw, "point")
     if bad:
-        raise _BadEntityError(bad.replace("point 0 ", "its point "))
-    p = _apply(raw, T)[0]
-    bad = _bad_coordinate(p[None], "point")
+        raise BadEntityError(bad.replace("point 0 ", "its point "))
+    p = apply_affine(raw, T)[0]
+    bad = bad_coordinate(p[None], "point")
     if bad:
-        raise _BadEntityError("placed by its INSERT: " + bad.replace("point 0 ", "its point "))
+        raise BadEntityError("placed by its INSERT: " + bad.replace("point 0 ", "its point "))
     return float(p[0]), float(p[1])
 
 
 def _angle(deg: float, T: tuple[np.ndarray, np.ndarray] | None) -> float:
     deg = float(deg)
     if not np.isfinite(deg):
-        raise _BadEntityError("has an angle that is not a finite number")
+        raise BadEntityError("has an angle that is not a finite number")
     deg = deg % 360.0
     if T is None:
         return deg
@@ -217,31 +217,29 @@ _LAYER_NAMES = {
 }
 
 
-def _collect(entities: Any, T: tuple[np.ndarray, np.ndarray] | None) -> _Marks:
+def collect_marks(entities: Any, T: tuple[np.ndarray, np.ndarray] | None) -> Marks:
     """Sort a block's (or modelspace's) entities into marks by layer.
 
     An entity that cannot be used (a vertex without x, a coordinate that is not a finite
     number in range, an attribute ezdxf cannot give) is left out and described in
     ``problems``; a piece built from these marks is refused with the first.
     """
-    m = _Marks()
+    m = Marks()
     for i, e in enumerate(entities):
         try:
             _collect_one(m, e, T)
-        except (_BadEntityError, ValueError, TypeError, AttributeError, IndexError) as exc:
+        except (BadEntityError, ValueError, TypeError, AttributeError, IndexError) as exc:
             # ezdxf's DXFAttributeError, DXFValueError, ... are among these
             layer = _layer(e)
             what = _LAYER_NAMES.get(layer, "notch" if layer in NOTCH_LAYERS else "")
             msg = (
-                str(exc)
-                if isinstance(exc, _BadEntityError)
-                else f"cannot be read ({_one_line(exc)})"
+                str(exc) if isinstance(exc, BadEntityError) else f"cannot be read ({one_line(exc)})"
             )
-            m.problems.append(f"{what + ' ' if what else ''}{_describe(e, i)}: {msg}")
+            m.problems.append(f"{what + ' ' if what else ''}{describe_entity(e, i)}: {msg}")
     return m
 
 
-def _collect_one(m: _Marks, e: Any, T: tuple[np.ndarray, np.ndarray] | None) -> None:
+def _collect_one(m: Marks, e: Any, T: tuple[np.ndarray, np.ndarray] | None) -> None:
     """Sort one entity into ``m`` (raises on an entity that cannot be used)."""
     kind = e.dxftype()
     if kind not in _USED:
@@ -259,17 +257,17 @@ def _collect_one(m: _Marks, e: Any, T: tuple[np.ndarray, np.ndarray] | None) -> 
 _CURVE_LAYERS = (L_BOUNDARY, L_GRAIN, L_MIRROR, L_INTERNAL, L_CUTOUT, L_SEW)
 
 
-def _collect_text(m: _Marks, e: Any, layer: str, T: tuple[np.ndarray, np.ndarray] | None) -> None:
+def _collect_text(m: Marks, e: Any, layer: str, T: tuple[np.ndarray, np.ndarray] | None) -> None:
     """A TEXT or MTEXT on the boundary or text layer into ``m.texts``."""
     if layer in (L_BOUNDARY, L_TEXT):
-        text = _text_of(e)
-        pos = np.array([_xy(e.dxf.get("insert", (0.0, 0.0)))], dtype=float)
+        text = text_of(e)
+        pos = np.array([entity_xy(e.dxf.get("insert", (0.0, 0.0)))], dtype=float)
         # where a text sits only matters in modelspace-only files
-        pos = _apply(pos, T)[0] if _bad_coordinate(pos) is None else np.zeros(2)
+        pos = apply_affine(pos, T)[0] if bad_coordinate(pos) is None else np.zeros(2)
         m.texts.append((text, layer, (float(pos[0]), float(pos[1]))))
 
 
-def _collect_point(m: _Marks, e: Any, layer: str, T: tuple[np.ndarray, np.ndarray] | None) -> None:
+def _collect_point(m: Marks, e: Any, layer: str, T: tuple[np.ndarray, np.ndarray] | None) -> None:
     """A POINT (or a drill-hole CIRCLE): a turn point, a notch or a drill hole."""
     if layer == L_TURN:
         m.turn.append(_point(e, T))
@@ -282,12 +280,12 @@ def _collect_point(m: _Marks, e: Any, layer: str, T: tuple[np.ndarray, np.ndarra
         m.drills.append(_point(e, T))
 
 
-def _collect_curve(m: _Marks, e: Any, layer: str, T: tuple[np.ndarray, np.ndarray] | None) -> None:
+def _collect_curve(m: Marks, e: Any, layer: str, T: tuple[np.ndarray, np.ndarray] | None) -> None:
     """A curve entity on a boundary, notch, grain, fold, internal or sew layer."""
     pts = _entity_points(e, T)
     if pts is None or len(pts) < 2:
         if layer == L_BOUNDARY and pts is not None:
-            raise _BadEntityError(f"has {len(pts)} vertex, a cut line needs 2 or more")
+            raise BadEntityError(f"has {len(pts)} vertex, a cut line needs 2 or more")
         return
     if layer == L_BOUNDARY:
         m.boundary.append(pts)
@@ -304,7 +302,7 @@ def _collect_curve(m: _Marks, e: Any, layer: str, T: tuple[np.ndarray, np.ndarra
         m.internal_is_line.append(e.dxftype() == "LINE" and layer == L_INTERNAL)
 
 
-def _join_lines(lines: list[np.ndarray], is_line: list[bool], tol: float) -> list[np.ndarray]:
+def join_lines(lines: list[np.ndarray], is_line: list[bool], tol: float) -> list[np.ndarray]:
     """Consecutive internal LINEs sharing ends become one polyline."""
     out: list[np.ndarray] = []
     prev_line = False
@@ -317,7 +315,9 @@ def _join_lines(lines: list[np.ndarray], is_line: list[bool], tol: float) -> lis
     return out
 
 
-def _chain(segments: list[np.ndarray], tol: float) -> tuple[list[np.ndarray], list[np.ndarray]]:
+def chain_segments(
+    segments: list[np.ndarray], tol: float
+) -> tuple[list[np.ndarray], list[np.ndarray]]:
     """Join segments end to end (reversing some) into loops and open chains.
 
     Parameters
@@ -413,7 +413,7 @@ def _grow(ends: _SegmentEnds, parts: list[np.ndarray], count: int) -> tuple[list
         count += len(parts[0])
 
 
-def _diag(arrays: list[np.ndarray]) -> float:
+def bbox_diagonal(arrays: list[np.ndarray]) -> float:
     """Bounding-box diagonal of the points of ``arrays`` (0 for none)."""
     arrays = [np.asarray(a, dtype=float).reshape(-1, 2) for a in arrays]
     if not arrays or not sum(len(a) for a in arrays):

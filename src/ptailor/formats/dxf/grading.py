@@ -10,15 +10,15 @@ from typing import Any
 import numpy as np
 
 from ptailor.formats.dxf.astm import quantity_text
-from ptailor.formats.dxf.entities import _apply, _Candidate
+from ptailor.formats.dxf.entities import Candidate, apply_affine
 from ptailor.model.pieces import Piece
 
 
-def _fill_from_sample(
+def fill_from_sample(
     pieces: tuple[Piece, ...],
-    cands: list[_Candidate],
+    cands: list[Candidate],
     sample_p: list[Piece],
-    sample_c: list[_Candidate],
+    sample_c: list[Candidate],
     size: str,
     sample: str,
 ) -> tuple[tuple[Piece, ...], tuple[str, ...]]:
@@ -52,7 +52,7 @@ def _fill_from_sample(
 
 
 def _carry_from_sample(
-    p: Piece, c: _Candidate, sp: Piece, sc: _Candidate, *, size: str, sample: str
+    p: Piece, c: Candidate, sp: Piece, sc: Candidate, *, size: str, sample: str
 ) -> tuple[Piece, str]:
     """Piece ``p`` of size ``size`` with what its sample-size piece ``sp`` has and it lacks,
     and the warning saying so (``""`` when nothing was lacking)."""
@@ -116,12 +116,12 @@ def _carried_mark(
             "notch_angles": np.asarray(sp.notch_angles, dtype=float).copy(),
         }
     if what == "grain line":
-        return {"grain": _apply(sp.grain, A)}
+        return {"grain": apply_affine(sp.grain, A)}
     if what == "fold line":
-        return {"mirror": _apply(sp.mirror, A)}
+        return {"mirror": apply_affine(sp.mirror, A)}
     if what == "drill holes":
-        return {"drills": _apply(sp.drills, A)}
-    return {"internal": tuple(_apply(a, A) for a in sp.internal)}
+        return {"drills": apply_affine(sp.drills, A)}
+    return {"internal": tuple(apply_affine(a, A) for a in sp.internal)}
 
 
 #: a graded outline corresponds to the sample's point by point when an affine fit between
@@ -181,7 +181,7 @@ class _ArcMap:
         lo_s, lo_d = src.min(axis=0), dst.min(axis=0)
         k = np.ptp(dst, axis=0) / np.maximum(np.ptp(src, axis=0), 1e-300)
         box = (np.diag(k), lo_d - lo_s * k)
-        S = _apply(src, box)
+        S = apply_affine(src, box)
         j0 = int(np.argmin(np.linalg.norm(dst - S[0], axis=1)))
         D = np.roll(dst, -j0, axis=0)
         u = np.linspace(0.0, 1.0, 256, endpoint=False)
@@ -191,7 +191,7 @@ class _ArcMap:
 
     def points(self, pts: np.ndarray) -> np.ndarray:
         """Points on (or near) the sample outline, at the same parameter on the graded one."""
-        pts = _apply(np.asarray(pts, dtype=float).reshape(-1, 2), self.box)
+        pts = apply_affine(np.asarray(pts, dtype=float).reshape(-1, 2), self.box)
         seg, tk = _nearest_segment(self.S, pts)
         cum, frac = _arc_params(self.S)
         u = cum[seg] + tk * frac[seg]

@@ -6,25 +6,25 @@ from pathlib import Path
 
 from ptailor.errors import PtailorError
 from ptailor.formats.dxf.assembly import (
-    _build_piece,
-    _candidates,
-    _check_piece,
-    _choose_size,
-    _parse_piece_text,
-    _sizes_from_block_names,
+    build_piece,
+    check_piece,
+    choose_size,
+    parse_piece_text,
+    piece_candidates,
+    sizes_from_block_names,
 )
 from ptailor.formats.dxf.astm import CM_PER_UNIT, PLAUSIBLE_CM
 from ptailor.formats.dxf.document import (
-    _check_counts,
-    _header_number,
-    _one_line,
-    _open,
-    _quiet,
-    _recover_warning,
-    _style_text,
+    check_counts,
+    header_number,
+    one_line,
+    open_document,
+    quiet_ezdxf,
+    read_style_text,
+    recover_warning,
 )
-from ptailor.formats.dxf.grading import _fill_from_sample
-from ptailor.formats.dxf.units import _units
+from ptailor.formats.dxf.grading import fill_from_sample
+from ptailor.formats.dxf.units import file_units
 from ptailor.model.pieces import PatternFile
 
 
@@ -55,7 +55,7 @@ def read_dxf(path: str | Path, *, size: str | None = None, units: str | None = N
     spath = str(path)
     if units is not None and units not in CM_PER_UNIT:
         raise PtailorError(f"unknown DXF units {units!r} (known: mm, cm, in)", path=spath)
-    with _quiet() as log:
+    with quiet_ezdxf() as log:
         try:
             return _read(spath, size, units, log)
         except PtailorError:
@@ -63,7 +63,7 @@ def read_dxf(path: str | Path, *, size: str | None = None, units: str | None = N
         except (ArithmeticError, LookupError, TypeError, ValueError, RecursionError) as exc:
             # fail closed: a file this reader's checks did not foresee is refused, not a crash
             raise PtailorError(
-                f"not a usable DXF pattern ({type(exc).__name__}: {_one_line(exc)})", path=spath
+                f"not a usable DXF pattern ({type(exc).__name__}: {one_line(exc)})", path=spath
             ) from exc
         except Exception as exc:
             from ezdxf.lldxf.const import DXFError
@@ -71,47 +71,47 @@ def read_dxf(path: str | Path, *, size: str | None = None, units: str | None = N
             if not isinstance(exc, DXFError):
                 raise
             raise PtailorError(
-                f"not a usable DXF pattern ({type(exc).__name__}: {_one_line(exc)})", path=spath
+                f"not a usable DXF pattern ({type(exc).__name__}: {one_line(exc)})", path=spath
             ) from exc
 
 
 def _read(spath: str, size: str | None, units: str | None, log: list[str]) -> PatternFile:
     """:func:`read_dxf`'s work, ezdxf's log going to ``log``."""
-    doc = _open(spath, log)
-    _check_counts(doc, spath)
+    doc = open_document(spath, log)
+    check_counts(doc, spath)
     msp = doc.modelspace()
-    style_text = _style_text(msp, spath)
-    cands = _candidates(doc, spath)
+    style_text = read_style_text(msp, spath)
+    cands = piece_candidates(doc, spath)
     if not cands:
         raise PtailorError(
             "no pattern pieces in the file (no boundary on layer 1 in a block or in modelspace)",
             path=spath,
         )
     for c in cands:
-        _parse_piece_text(c, spath)
-    _sizes_from_block_names(cands)
+        parse_piece_text(c, spath)
+    sizes_from_block_names(cands)
 
     sizes = tuple(dict.fromkeys(c.size for c in cands if c.size))
     sample = style_text.get("SAMPLE SIZE", "")
-    chosen = _choose_size(sizes, size, sample, spath)
+    chosen = choose_size(sizes, size, sample, spath)
     chosen_c = [c for c in cands if c.size in (chosen, "")]
-    pieces = tuple(_build_piece(c, spath) for c in chosen_c)
-    warnings: tuple[str, ...] = _recover_warning(log)
+    pieces = tuple(build_piece(c, spath) for c in chosen_c)
+    warnings: tuple[str, ...] = recover_warning(log)
     if sample and chosen != sample and sample in sizes:
         sample_c = [c for c in cands if c.size == sample]
-        sample_p = [_build_piece(c, spath) for c in sample_c]
-        pieces, filled = _fill_from_sample(pieces, chosen_c, sample_p, sample_c, chosen, sample)
+        sample_p = [build_piece(c, spath) for c in sample_c]
+        pieces, filled = fill_from_sample(pieces, chosen_c, sample_p, sample_c, chosen, sample)
         for p in pieces:
-            _check_piece(p, spath)
+            check_piece(p, spath)
         warnings += filled
 
     units_text = style_text.get("UNITS", "")
-    unit, note = _units(
+    unit, note = file_units(
         units,
         units_text,
-        _header_number(doc, "$INSUNITS"),
+        header_number(doc, "$INSUNITS"),
         pieces,
-        _header_number(doc, "$MEASUREMENT"),
+        header_number(doc, "$MEASUREMENT"),
     )
     largest = max((float(p.extent.max()) for p in pieces), default=0.0) * CM_PER_UNIT[unit]
     if pieces and not PLAUSIBLE_CM[0] <= largest <= PLAUSIBLE_CM[1]:

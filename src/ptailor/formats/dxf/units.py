@@ -10,11 +10,11 @@ from typing import Any
 
 import numpy as np
 
-from ptailor.formats.dxf.astm import _INSUNITS, CM_BELOW, CM_PER_UNIT, MM_ABOVE
+from ptailor.formats.dxf.astm import CM_BELOW, CM_PER_UNIT, INSUNITS, MM_ABOVE
 from ptailor.model.pieces import PatternFile, Piece
 
 
-def _units(
+def file_units(
     override: str | None,
     text: str,
     insunits: Any,
@@ -36,7 +36,7 @@ def _units(
     word = text.strip().upper()
     quoted = f"'Units: {text.strip()}' in the file"
     ok = isinstance(insunits, int | float) and np.isfinite(insunits) and abs(insunits) < 1e6
-    code = _INSUNITS.get(int(insunits)) if ok else None
+    code = INSUNITS.get(int(insunits)) if ok else None
     if word == "ENGLISH":
         return "in", quoted
     if code is not None and (word != "METRIC" or code != "in"):
