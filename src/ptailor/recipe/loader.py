@@ -13,7 +13,7 @@ from ptailor.edits.checks import (
 )
 
 
-class _YamlLimitError(Exception):
+class YamlLimitError(Exception):
     """A recipe's YAML over one of the reader's limits (a problem with its line)."""
 
     def __init__(self, line: int | None, message: str) -> None:
@@ -88,13 +88,13 @@ def recipe_loader():
     return _LOADER
 
 
-def _check_events(text: str) -> None:
+def check_events(text: str) -> None:
     """One linear pass over the YAML events, before anything is composed: nesting depth,
     the number of aliases, and the document's size with every alias expanded.
 
     Raises
     ------
-    _YamlLimitError
+    YamlLimitError
         Over :data:`~ptailor.tolerances.RECIPE_MAX_DEPTH`,
         :data:`~ptailor.tolerances.RECIPE_MAX_ALIASES` or
         :data:`~ptailor.tolerances.RECIPE_MAX_NODES`.
@@ -127,7 +127,7 @@ def _line(e: Any) -> int | None:
 
 
 class _EventCount:
-    """The running counts of :func:`_check_events`: the open collections (each as its
+    """The running counts of :func:`check_events`: the open collections (each as its
     expanded size so far and its anchor), each closed anchor's expanded size, the aliases
     and the values seen with every alias expanded."""
 
@@ -143,7 +143,7 @@ class _EventCount:
             self.stack[-1][0] += n
         self.total += n
         if self.total > tol.RECIPE_MAX_NODES:
-            raise _YamlLimitError(
+            raise YamlLimitError(
                 _line(e),
                 f"the document holds more than {tol.RECIPE_MAX_NODES} values with its "
                 "aliases expanded (ptailor.tolerances.RECIPE_MAX_NODES)",
@@ -153,17 +153,17 @@ class _EventCount:
         """An alias: counted, and its anchor's node counted again in full."""
         self.aliases += 1
         if self.aliases > tol.RECIPE_MAX_ALIASES:
-            raise _YamlLimitError(
+            raise YamlLimitError(
                 _line(e),
                 f"more than {tol.RECIPE_MAX_ALIASES} YAML aliases "
                 "(ptailor.tolerances.RECIPE_MAX_ALIASES)",
             )
         if e.anchor not in self.sizes:
             if any(a == e.anchor for _, a in self.stack):
-                raise _YamlLimitError(
+                raise YamlLimitError(
                     _line(e), f"the alias *{e.anchor} refers to a node that contains it"
                 )
-            raise _YamlLimitError(_line(e), f"the alias *{e.anchor} has no anchor before it")
+            raise YamlLimitError(_line(e), f"the alias *{e.anchor} has no anchor before it")
         self.bump(self.sizes[e.anchor], e)  # the expanded copy counts in full
 
     def scalar(self, e: Any) -> None:
@@ -175,7 +175,7 @@ class _EventCount:
     def start(self, e: Any) -> None:
         """A sequence or mapping opens: one value in its parent, one level deeper."""
         if len(self.stack) >= tol.RECIPE_MAX_DEPTH:
-            raise _YamlLimitError(
+            raise YamlLimitError(
                 _line(e),
                 f"nested more than {tol.RECIPE_MAX_DEPTH} deep "
                 "(ptailor.tolerances.RECIPE_MAX_DEPTH)",
@@ -192,7 +192,7 @@ class _EventCount:
             self.stack[-1][0] += n - 1  # its contents (itself was counted at its start)
 
 
-def _duplicate_keys(root: Any) -> list[tuple[int, str]]:
+def duplicate_keys(root: Any) -> list[tuple[int, str]]:
     """``(line, message)`` for each key written twice in one mapping (YAML keeps the last
     silently; a recipe with ``by`` twice is ambiguous). Each node is visited once."""
     import yaml

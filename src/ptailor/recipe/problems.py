@@ -11,7 +11,7 @@ from typing import Any
 
 from ptailor import tolerances as tol
 from ptailor.errors import PtailorError, RecipeError
-from ptailor.recipe.loader import _check_events, _duplicate_keys, _YamlLimitError, recipe_loader
+from ptailor.recipe.loader import YamlLimitError, check_events, duplicate_keys, recipe_loader
 from ptailor.recipe.rules import validate
 from ptailor.recipe.schema import recipe_schema
 from ptailor.recipe.spec import Recipe
@@ -262,17 +262,17 @@ def _read_document(text: str, *, source: str) -> tuple[list[Problem], Any, Any]:
         return [Problem(source, None, msg)], None, None
     text = text.removeprefix("\ufeff")
     try:
-        _check_events(text)
+        check_events(text)
         loader = recipe_loader()(text)
         try:
             root = loader.get_single_node()
-            dups = _duplicate_keys(root)
+            dups = duplicate_keys(root)
             if dups:
                 return [Problem(source, ln, msg) for ln, msg in dups], None, None
             data = loader.construct_document(root) if root is not None else None
         finally:
             loader.dispose()
-    except _YamlLimitError as exc:
+    except YamlLimitError as exc:
         return [Problem(source, exc.line, f"YAML: {exc.message}")], None, None
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
