@@ -144,7 +144,7 @@ def edge_distance(
     )
 
 
-def _boundary_halfedges(F2: np.ndarray) -> np.ndarray:
+def outline_halfedges(F2: np.ndarray) -> np.ndarray:
     """Pattern half-edges without a twin (the panels' outlines), ``(b, 2)``."""
     h = half_edges(F2)
     n = int(F2.max(initial=0)) + 1
@@ -227,7 +227,7 @@ def opening_pattern_distance(
         # seam sources of the next wave: outline edges with both ends reached (segments)
         # and reached outline vertices on no such edge (points)
         if bnd is None:
-            bnd = _boundary_halfedges(g.F2)
+            bnd = outline_halfedges(g.F2)
         on = np.isin(vlab[bnd[:, 0]], wave) & np.isfinite(carried[bnd]).all(1)
         seg = bnd[on]
         pts = np.flatnonzero(np.isin(vlab, wave) & np.isfinite(carried))

@@ -18,12 +18,11 @@ from ptailor.edits.extend.rows import (
     shorter_diagonals,
 )
 from ptailor.edits.opening import OpeningEdges
-from ptailor.edits.pattern_distance import PatternDistance
+from ptailor.edits.pattern_distance import PatternDistance, outline_halfedges
 from ptailor.edits.state import EditState
 from ptailor.errors import PtailorError
 from ptailor.geometry.pattern_maps import pattern_jacobians
 from ptailor.geometry.triangles import signed_areas_2d
-from ptailor.model.seams import half_edges
 
 #: ``measure: pattern``: a seam reaching the opening is continued straight when its
 #: continuation is within 75 degrees of the end edge's outward normal (cos 75 deg) ...
@@ -67,10 +66,7 @@ def outline_neighbours(F2: np.ndarray, n2: int) -> tuple[np.ndarray, np.ndarray]
         For an outline half-edge ``u -> v`` (no twin, oriented like its triangle),
         ``prev[v] = u`` and ``nxt[u] = v``; -1 off the outline.
     """
-    h = half_edges(F2)
-    fwd = h[:, 0].astype(np.int64) * n2 + h[:, 1]
-    bwd = h[:, 1].astype(np.int64) * n2 + h[:, 0]
-    b = h[~np.isin(fwd, bwd)]
+    b = outline_halfedges(F2)
     prev = np.full(n2, -1, dtype=np.int64)
     nxt = np.full(n2, -1, dtype=np.int64)
     prev[b[:, 1]], nxt[b[:, 0]] = b[:, 0], b[:, 1]
