@@ -199,6 +199,7 @@ def shorter_diagonals(V: np.ndarray, A: np.ndarray, B: np.ndarray, odd: np.ndarr
 
 
 def crossing_error(name: str, by: float, where: str) -> PtailorError:
+    """The error for rows that would cross ``where`` (``"in the drape"``, a panel's pattern)."""
     return PtailorError(
         f"extend {name} by {by:g}: the new rows would cross {where} (the opening turns too "
         "sharply for that length); extend by less"
