@@ -7,11 +7,11 @@ import json
 import numpy as np
 import pytest
 
+from ptailor.geometry.triangles import edge_matrices
 from ptailor.method.ease import SeamEase, seam_ease
-from ptailor.method.flatten import flatten, panel_labels
-from ptailor.method.intrinsic import edge_matrices
+from ptailor.method.flatten import flatten
 from ptailor.method.stitch import stitch
-from ptailor.model.garment import panels
+from ptailor.model.garment import panel_labels, panels
 from ptailor.model.structure import structure
 from ptailor.pipeline import adjustment, solver_warnings
 from ptailor.recipe import parse_recipe

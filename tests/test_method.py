@@ -5,8 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from ptailor.geometry.closed_forms import sqrt_spd2
+from ptailor.geometry.triangles import edge_matrices
 from ptailor.method.flatten import flatten
-from ptailor.method.intrinsic import edge_matrices, intrinsic_targets, local_frames, sqrt_spd2
+from ptailor.method.intrinsic import intrinsic_targets, local_frames
 from ptailor.model.garment import panels
 from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe

@@ -10,8 +10,14 @@ from functools import cache
 import numpy as np
 import pytest
 
-from ptailor.method.flatten import panel_labels
-from ptailor.model.garment import Garment, areas_3d, panels, signed_areas_2d, with_panel_names
+from ptailor.model.garment import (
+    Garment,
+    areas_3d,
+    panel_labels,
+    panels,
+    signed_areas_2d,
+    with_panel_names,
+)
 from ptailor.model.names import panel_layout, seam_names
 from ptailor.model.seams import seams
 from ptailor.model.symmetry import panel_mirror_map, sagittal_plane

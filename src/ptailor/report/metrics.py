@@ -6,10 +6,9 @@ import numpy as np
 
 from ptailor.geometry.closed_forms import inv2, sqrt_spd2
 from ptailor.geometry.rotations import closest_rotations
-from ptailor.geometry.triangles import edge_matrices
+from ptailor.geometry.triangles import edge_matrices, signed_areas_2d
 from ptailor.method.intrinsic import intrinsic_targets
 from ptailor.model.boundary import boundary_edges
-from ptailor.model.garment import signed_areas_2d
 
 
 def _by_label(lab: np.ndarray, vals: np.ndarray, n: int) -> np.ndarray:
