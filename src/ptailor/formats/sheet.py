@@ -404,6 +404,25 @@ def preview_sheet(
     """The checked inputs of a preview and its sheet: :func:`check_inputs` then
     :func:`sheet_layout`, what ``pattern_svg`` and ``pattern_png`` both start with.
 
+    Parameters
+    ----------
+    outlines_before, outlines_after : list (per panel) of list of (k, 2) float arrays
+    names : list of str
+    triangles : list (per panel) of (V (n, 2) float, F (m, 3) int), or None
+    errors : list (per panel) of (m,) float arrays, or None
+        As :func:`ptailor.formats.svg.pattern_svg` takes them.
+    units, title : str
+        The pattern's unit and the sheet's heading.
+    caller : str
+        The writer's name, starting each error message.
+
+    Returns
+    -------
+    Pattern
+        The checked inputs.
+    Sheet
+        Their layout.
+
     Raises
     ------
     ValueError

@@ -117,12 +117,14 @@ def points_2d(x: np.ndarray, y: np.ndarray) -> np.ndarray:
 
 
 def check_positive(**values: float) -> None:
+    """Raise ``ValueError`` naming the first of ``values`` that is not a positive finite number."""
     for name, value in values.items():
         if not (np.isfinite(value) and value > 0):
             raise ValueError(f"{name} must be a positive finite number, got {value!r}")
 
 
 def check_count(name: str, value: int, minimum: int) -> None:
+    """Raise ``ValueError`` unless ``value`` is an integer >= ``minimum``."""
     if int(value) != value or value < minimum:
         raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
 
