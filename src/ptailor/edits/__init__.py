@@ -7,6 +7,24 @@ applying the step::
     apply(state: EditState, step: dict, *, options: EditOptions) -> EditState
 
 Importing this package registers every operation in :data:`OPERATIONS`.
+
+Modules, read top down:
+
+- the operations, one entry point each: :mod:`~ptailor.edits.cut`,
+  :mod:`~ptailor.edits.shorten`, :mod:`~ptailor.edits.extend` (a package: ``rows`` the plan
+  and triangles, ``drape`` and ``pattern`` the two ways of growing them, ``chain`` offset
+  chains), :mod:`~ptailor.edits.loosen` (``loosen`` and ``tighten``; a package: ``normals``,
+  ``offset``, ``silhouette``), :mod:`~ptailor.edits.scale`, :mod:`~ptailor.edits.scale_seam`;
+  :mod:`~ptailor.edits.mirror` applies any of them symmetrically;
+- what they share: :mod:`~ptailor.edits.surgery` (split on a level set),
+  :mod:`~ptailor.edits.pattern_distance` (distances in the pattern),
+  :mod:`~ptailor.edits.opening` (openings and their edges), :mod:`~ptailor.edits.region`
+  (regions and axes), :mod:`~ptailor.edits.body` (keeping cloth outside a body),
+  :mod:`~ptailor.edits.achieved` (what an edit achieved, for the report);
+- the registry: :mod:`~ptailor.edits.registry` (:class:`Param`, :class:`Operation`,
+  :func:`register`), :mod:`~ptailor.edits.state` (:class:`EditState`,
+  :class:`EditOptions`), :mod:`~ptailor.edits.checks` (parameter checks),
+  :mod:`~ptailor.edits.limits` (sizes checked at apply time).
 """
 
 from __future__ import annotations
