@@ -102,7 +102,9 @@ def _loop_geometry(P: np.ndarray, closed: bool = True) -> tuple[float, np.ndarra
     return length, centroid, normal
 
 
-def openings(V3, F3, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0), F2=None) -> list[Opening]:
+def openings(
+    V3, F3, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0), F2=None, curves=None
+) -> list[Opening]:
     """The openings (boundary loops of the drape) with names from geometry.
 
     Parameters
@@ -118,6 +120,8 @@ def openings(V3, F3, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0), F2=None) -> l
         panel (two faces on one pattern edge) from the piece sewn onto it; without them the
         flattest pair of faces is taken for the panel
         (:func:`ptailor.model.boundary.boundary_curves`).
+    curves : (list of (k,) int arrays, (c,) bool array), optional
+        ``boundary_curves(F3, V=V3, F2=F2)``, when the caller already has it.
 
     Returns
     -------
@@ -169,7 +173,7 @@ def openings(V3, F3, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0), F2=None) -> l
     frame = body_frame(up, front)
     if not len(F3):
         return []
-    loops, closed = boundary_curves(F3, V=V3, F2=F2)
+    loops, closed = boundary_curves(F3, V=V3, F2=F2) if curves is None else curves
     if not loops:
         return []
 

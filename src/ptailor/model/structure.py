@@ -103,7 +103,9 @@ class GarmentStructure:
     @cached_property
     def openings(self) -> list[Opening]:
         g = self.garment
-        return openings(g.V3, g.F3, up=self.up, front=self.front, F2=g.F2)
+        return openings(
+            g.V3, g.F3, up=self.up, front=self.front, F2=g.F2, curves=self.drape_boundary
+        )
 
     @cached_property
     def layout(self) -> PanelLayout:
