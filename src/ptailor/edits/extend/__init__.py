@@ -15,7 +15,7 @@ from ptailor.edits.achieved import row_offsets
 from ptailor.edits.checks import number
 from ptailor.edits.extend.drape import drape_rows
 from ptailor.edits.extend.pattern import pattern_rows
-from ptailor.edits.extend.rows import quad_rows, row_plan
+from ptailor.edits.extend.rows import RowPlan, Rows, quad_rows, row_plan
 from ptailor.edits.limits import check_by, check_new_triangles
 from ptailor.edits.opening import OpeningEdges, find_opening, opening_edges, opening_spec
 from ptailor.edits.registry import Param, register
@@ -30,6 +30,36 @@ __all__ = ["OpeningEdges", "extend", "opening_edges"]
 def _default_clearance(options: EditOptions, mean_edge: float) -> float:
     c = getattr(options, "clearance", None)
     return 0.5 * mean_edge if c is None else float(c)
+
+
+def _grown_state(state: EditState, plan: RowPlan, built: Rows, new_e: np.ndarray) -> EditState:
+    """``state`` with the new rows: the garment grown (its panels from
+    :func:`ptailor.model.structure.structure`), the edited drape ``new_e`` appended, panels
+    keeping their ``even`` flag, the new pattern vertices outline-free."""
+    g = state.base
+    Vb, V2, Ve = g.V3, g.V2, state.V3
+    oe, rows, flab = plan.oe, plan.rows, plan.flab
+    k, n2 = len(oe.a3), len(V2)
+    new_b, new_2 = built.new_b, built.new_2
+    F3_new = quad_rows(plan.A3, plan.B3, built.use_b)
+    F2_new = quad_rows(plan.A2, plan.B2, built.use_b)
+    lab_new = np.broadcast_to(flab[oe.face][None, :, None], (rows, k, 2)).reshape(-1)
+    base = Garment(
+        V3=np.concatenate([Vb, new_b]),
+        F3=np.concatenate([g.F3, F3_new]),
+        V2=np.concatenate([V2, new_2]),
+        F2=np.concatenate([g.F2, F2_new]),
+        face_group=np.concatenate([flab, lab_new]),
+        group_names=tuple(p.name for p in state.panels),
+        units=g.units,
+    )
+    new_panels = structure(base).panels
+    old_even = {p.name: bool(state.even[p.index]) for p in state.panels}
+    even = np.array([old_even.get(q.name, False) for q in new_panels], dtype=bool)
+    free = np.ones(len(base.V2), dtype=bool)
+    free[:n2] = False if state.outline_free is None else state.outline_free
+    V3_new = np.concatenate([Ve, new_e])
+    return replace(state, base=base, V3=V3_new, panels=new_panels, even=even, outline_free=free)
 
 
 @register(
@@ -81,7 +111,7 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     measure = step.get("measure") or "drape"
     g = state.base
     Ve, Vb, V2 = state.V3, g.V3, g.V2
-    n2, m = len(V2), g.n_faces
+    m = g.n_faces
     oe = opening_edges(g.F3, g.F2, loop)
     k = len(oe.a3)
     Fo = g.F3[oe.face]
@@ -95,12 +125,10 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     check_new_triangles(2.0 * rows_f * k, m, what=f"extend {name} by {by:g}")
     rows = int(rows_f)
     plan = row_plan(state, oe, name=name, by=by, rows=rows)
-    nc, flab, field = plan.nc, plan.flab, plan.field
+    nc, field = plan.nc, plan.field
     make = pattern_rows if measure == "pattern" else drape_rows
     built = make(state, plan)
-    new_e, new_b, new_2 = built.new_e, built.new_b, built.new_2
-    F3_new = quad_rows(plan.A3, plan.B3, built.use_b)
-    F2_new = quad_rows(plan.A2, plan.B2, built.use_b)
+    new_e, new_2 = built.new_e, built.new_2
     body = getattr(options, "body", None)
     if body is not None:
         from ptailor.edits.body import push_out
@@ -110,22 +138,8 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
             clearance = _default_clearance(options, mean_edge)
         new_e = push_out(new_e, body, clearance=float(clearance))
 
-    lab_new = np.broadcast_to(flab[oe.face][None, :, None], (rows, k, 2)).reshape(-1)
-    base = Garment(
-        V3=np.concatenate([Vb, new_b]),
-        F3=np.concatenate([g.F3, F3_new]),
-        V2=np.concatenate([V2, new_2]),
-        F2=np.concatenate([g.F2, F2_new]),
-        face_group=np.concatenate([flab, lab_new]),
-        group_names=tuple(p.name for p in state.panels),
-        units=g.units,
-    )
-    new_panels = structure(base).panels
-    old_even = {p.name: bool(state.even[p.index]) for p in state.panels}
-    even = np.array([old_even.get(q.name, False) for q in new_panels], dtype=bool)
-    free = np.ones(len(base.V2), dtype=bool)
-    free[:n2] = False if state.outline_free is None else state.outline_free
-    V3_new = np.concatenate([Ve, new_e])
+    grown = _grown_state(state, plan, built, new_e)
+    V3_new, base = grown.V3, grown.base
 
     # achieved lengths: the new edge's distance from the old opening, in 3D and per panel
     from ptailor.method.geodesic import geodesic_distance
@@ -143,7 +157,7 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         "opening": name,
         "by": by,
         "rows": rows,
-        "new_triangles": len(F3_new),
+        "new_triangles": 2 * rows * k,
         "smoothing": built.smoothing,
         "achieved": achieved,
         "measure": measure,
@@ -153,12 +167,4 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
             "drape": spread_stats(surf[np.isfinite(surf)]),
         },
     }
-    return replace(
-        state,
-        base=base,
-        V3=V3_new,
-        panels=new_panels,
-        even=even,
-        log=(*state.log, rec),
-        outline_free=free,
-    )
+    return replace(grown, log=(*state.log, rec))
