@@ -8,10 +8,12 @@ from typing import Any
 import numpy as np
 
 from ptailor.edits.checks import choice, number, with_schema
-from ptailor.edits.region import body_axis
+from ptailor.edits.opening import find_opening, opening_spec
+from ptailor.edits.region import body_axis, unit_vector
 from ptailor.edits.registry import Param, register
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.errors import PtailorError
+from ptailor.method.deform import arap_deform
 from ptailor.model.garment import panel_labels
 from ptailor.model.seams import Seam, seams
 from ptailor.model.structure import structure
@@ -35,8 +37,6 @@ def name(x: Any, where: str) -> list[str]:
 @with_schema({"type": "array", "items": {"anyOf": [PAIR_SCHEMA, {"$ref": "#/$defs/opening"}]}})
 def fix_list(x: Any, where: str) -> list[str]:
     """Openings (names or ``{loop: k}``) and seams (``[a, b]``) that must not move."""
-    from ptailor.edits.opening import opening_spec
-
     if not isinstance(x, list):
         return [f"{where}: expected a list of openings and seams, got {x!r}"]
     probs: list[str] = []
@@ -86,6 +86,65 @@ def seam_vertices(state: EditState, pair: list[str]) -> np.ndarray:
     return np.unique(np.concatenate([s.edges3.ravel() for s in found]))
 
 
+def _part_targets(
+    V3: np.ndarray,
+    part_v: np.ndarray,
+    other_v: np.ndarray,
+    fixed_v: np.ndarray,
+    *,
+    c: np.ndarray,
+    ax: np.ndarray,
+    f: float,
+    direction: str,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Handles and their targets for :func:`scale_seam`.
+
+    Parameters
+    ----------
+    V3 : (n, 3) float array
+        The drape.
+    part_v, other_v, fixed_v : int arrays
+        Vertices of the scaled part, of the other panel (off the seam), and fixed ones.
+    c : (3,) float array, keyword-only
+        The seam's centroid.
+    ax : (3,) float array, keyword-only
+        Unit axis.
+    f : float, keyword-only
+        The factor.
+    direction : ``"around"`` or ``"along"``, keyword-only
+
+    Returns
+    -------
+    handles : (h,) int array
+    targets : (h, 3) float array
+    """
+    # the part scales from 1 at its fixed end (or far end) to the factor at the seam,
+    # linearly along the axis: a straight tube becomes a frustum, exactly developable
+    s_part = (V3[part_v] - c) @ ax
+    anchor = (
+        float(((V3[fixed_v] - c) @ ax).mean())
+        if len(fixed_v) and np.isin(fixed_v, part_v).any()
+        else float(s_part[np.argmax(np.abs(s_part))])
+    )
+    t = np.clip(1.0 - s_part / anchor, 0.0, 1.0) if anchor != 0 else np.ones(len(part_v))
+    d = V3[part_v] - c
+    axial = (d @ ax)[:, None] * ax
+    if direction == "around":
+        k = 1.0 + (f - 1.0) * t
+        moved = c + axial + k[:, None] * (d - axial)
+        handles, targets = part_v, moved
+    else:
+        # positions along the axis scale by f about the anchor; the other panel moves along
+        shift = -(f - 1.0) * anchor * ax
+        moved = V3[part_v] + ((f - 1.0) * (d @ ax - anchor))[:, None] * ax
+        handles = np.concatenate([part_v, other_v])
+        targets = np.concatenate([moved, V3[other_v] + shift])
+    keep = ~np.isin(fixed_v, handles)
+    handles = np.concatenate([handles, fixed_v[keep]])
+    targets = np.concatenate([targets, V3[fixed_v[keep]]])
+    return handles, targets
+
+
 @register(
     "scale_seam",
     {
@@ -111,9 +170,6 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
     by ``factor`` on purpose (the part's side grows, the other's is kept): the flattening
     keeps the seam at that new ratio (``gathers``).
     """
-    from ptailor.edits.opening import find_opening
-    from ptailor.method.deform import arap_deform
-
     g, V3 = state.base, state.V3
     a, b = step["seam"]
     part = step["part"]
@@ -130,8 +186,6 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
         ax = body_axis(P, np.asarray(options.body.vertices, dtype=float))
     else:
         ax = np.linalg.eigh((P - c).T @ (P - c))[1][:, 0]  # the seam plane's normal
-    from ptailor.edits.region import unit_vector
-
     ax = unit_vector(ax, "the seam's axis")
     f = float(step["factor"])
     by_name = {p.name: p for p in state.panels}
@@ -144,30 +198,9 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
         else:
             fixed.append(find_opening(state, spec, options=options)[1])
     fixed_v = np.setdiff1d(np.unique(np.concatenate(fixed)), ring) if fixed else np.zeros(0, int)
-    # the part scales from 1 at its fixed end (or far end) to the factor at the seam,
-    # linearly along the axis: a straight tube becomes a frustum, exactly developable
-    s_part = (V3[part_v] - c) @ ax
-    anchor = (
-        float(((V3[fixed_v] - c) @ ax).mean())
-        if len(fixed_v) and np.isin(fixed_v, part_v).any()
-        else float(s_part[np.argmax(np.abs(s_part))])
+    handles, targets = _part_targets(
+        V3, part_v, other_v, fixed_v, c=c, ax=ax, f=f, direction=step["direction"]
     )
-    t = np.clip(1.0 - s_part / anchor, 0.0, 1.0) if anchor != 0 else np.ones(len(part_v))
-    d = V3[part_v] - c
-    axial = (d @ ax)[:, None] * ax
-    if step["direction"] == "around":
-        k = 1.0 + (f - 1.0) * t
-        moved = c + axial + k[:, None] * (d - axial)
-        handles, targets = part_v, moved
-    else:
-        # positions along the axis scale by f about the anchor; the other panel moves along
-        shift = -(f - 1.0) * anchor * ax
-        moved = V3[part_v] + ((f - 1.0) * (d @ ax - anchor))[:, None] * ax
-        handles = np.concatenate([part_v, other_v])
-        targets = np.concatenate([moved, V3[other_v] + shift])
-    keep = ~np.isin(fixed_v, handles)
-    handles = np.concatenate([handles, fixed_v[keep]])
-    targets = np.concatenate([targets, V3[fixed_v[keep]]])
     V_new = arap_deform(V3, g.F3, handles, targets)
     changed = np.any(np.abs(V_new - V3) > 0, axis=1)
     even = state.even.copy()
