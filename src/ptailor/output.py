@@ -23,7 +23,7 @@ import signal
 import tempfile
 import threading
 import warnings
-from collections.abc import Callable, Iterable
+from collections.abc import Iterable
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -366,9 +366,6 @@ def write_json(path: Path, data: dict) -> None:
         if seen:
             data["warnings"].extend(w for w in seen if w not in data["warnings"])
     path.write_text(json.dumps(data, indent=2) + "\n")
-
-
-Writer = Callable[[Path], None]
 
 
 # --------------------------------------------------------------------------- library noise

@@ -4,7 +4,13 @@ from __future__ import annotations
 
 import click
 
-from ptailor.cli.options import axes_options, dxf_options, garment_options, output_options
+from ptailor.cli.options import (
+    axes_options,
+    baseline_option,
+    dxf_options,
+    garment_options,
+    output_options,
+)
 
 
 @click.command()
@@ -32,7 +38,7 @@ from ptailor.cli.options import axes_options, dxf_options, garment_options, outp
     help="Watertight body mesh: extended rows are pushed out of it.",
 )
 @click.option("--body-units", default="cm", show_default=True, help="Unit of the body mesh.")
-@click.option("--no-baseline", is_flag=True, help="Skip the uniform-flattening comparison.")
+@baseline_option
 @output_options
 @dxf_options
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON on stdout.")

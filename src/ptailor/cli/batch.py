@@ -4,7 +4,13 @@ from __future__ import annotations
 
 import click
 
-from ptailor.cli.options import axes_options, dxf_options, output_options, units_options
+from ptailor.cli.options import (
+    axes_options,
+    baseline_option,
+    dxf_options,
+    output_options,
+    units_options,
+)
 
 
 def _interrupt(signum, frame) -> None:
@@ -61,7 +67,7 @@ def gate_options(fn):
 )
 @units_options
 @axes_options
-@click.option("--no-baseline", is_flag=True, help="Skip the uniform-flattening comparison.")
+@baseline_option
 @output_options
 @dxf_options
 @click.option(

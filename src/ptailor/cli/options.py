@@ -39,6 +39,13 @@ def parse_weld_option(weld: str, *, units: str):
     return parse_weld(weld, units=units)
 
 
+def baseline_option(fn):
+    """``--no-baseline``."""
+    return click.option(
+        "--no-baseline", is_flag=True, help="Skip the uniform-flattening comparison."
+    )(fn)
+
+
 def units_options(fn):
     """``--pattern-units``, ``--drape-units``, ``--weld``: how a garment's files are read."""
     for opt in reversed(
