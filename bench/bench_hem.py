@@ -26,11 +26,11 @@ from pathlib import Path
 import numpy as np
 
 from ptailor.edits.extend import opening_edges
+from ptailor.geometry.segments import nearest_segment_distance
 from ptailor.model.garment import Garment, panels
 from ptailor.model.openings import openings
 from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
-from ptailor.report.outline import point_segment_distance
 from ptailor.samples import SAMPLES
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -108,7 +108,7 @@ def output_distances(g0: Garment, adj, name: str) -> dict | None:
             fit = max(fit, float(np.abs(st.base.V2[verts] @ R.T + t - X[verts]).max()))
             A, B = g0.V2[a0] @ R.T + t, g0.V2[b0] @ R.T + t
             pts = np.unique(np.concatenate(new[q]))
-            d_all.append(point_segment_distance(X[pts], A, B))
+            d_all.append(nearest_segment_distance(X[pts], A, B))
         out[pname] = (np.concatenate(d_all), fit)
     return out
 
