@@ -83,7 +83,7 @@ def run_garment(
     if options.seam_allowance:
         check_seam_allowance(loaded.garment, options.seam_allowance)
     t1 = time.perf_counter()
-    adj = _adjusted(loaded.garment, recipe, options, edits, shown=shown)
+    adj = _adjustment(loaded.garment, recipe, options, edits, shown=shown)
     t2 = time.perf_counter()
     errors = _checked_errors(adj, shown=shown)
     carried: list = []
@@ -164,7 +164,7 @@ def _report(loaded: LoadedGarment, staged: _Staged, timing: dict) -> dict:
     )
 
 
-def _adjusted(garment, recipe: Recipe, options: RunOptions, edits, *, shown: str) -> Adjustment:
+def _adjustment(garment, recipe: Recipe, options: RunOptions, edits, *, shown: str) -> Adjustment:
     """:func:`ptailor.pipeline.adjustment`, an error the garment decides naming it."""
     try:
         return adjustment(
