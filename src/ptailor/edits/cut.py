@@ -8,10 +8,12 @@ from typing import Any
 import numpy as np
 
 from ptailor.edits.checks import VEC3, boolean, choice, is_number, vector3, with_schema
+from ptailor.edits.region import region_centroid, unit_vector
 from ptailor.edits.registry import Param, register
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.edits.surgery import split_keep
 from ptailor.errors import PtailorError
+from ptailor.model.symmetry import SagittalPlane, mirror_points
 
 VIEWS = ("front", "back", "left", "right", "top", "bottom")
 
@@ -70,9 +72,6 @@ def sagittal_mirror(V: np.ndarray, F: np.ndarray, *, options: EditOptions) -> np
     The plane contains the up and front axes and passes through the drape's area-weighted
     centroid (a fitted plane comes with the symmetry step).
     """
-    from ptailor.edits.region import region_centroid
-    from ptailor.model.symmetry import SagittalPlane, mirror_points
-
     left = np.cross(np.asarray(options.up, float), np.asarray(options.front, float))
     plane = SagittalPlane(
         point=region_centroid(V, F, np.arange(len(F))),
@@ -106,8 +105,6 @@ def view_frame(view: Any, *, up: tuple, front: tuple) -> np.ndarray:
     if isinstance(view, str):
         d, img_up = dirs[view]
     else:
-        from ptailor.edits.region import unit_vector
-
         d = unit_vector(view, "view")
         img_up = u - d * (u @ d)
         if np.linalg.norm(img_up) < 1e-9:
@@ -228,8 +225,6 @@ def cut(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     V = state.V3
     if step.get("plane") is not None:
         p = np.asarray(step["plane"]["point"], float)
-        from ptailor.edits.region import unit_vector
-
         nrm = unit_vector(step["plane"]["normal"], "plane normal")
 
         def field(X: np.ndarray) -> np.ndarray:

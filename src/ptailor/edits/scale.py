@@ -10,6 +10,7 @@ from ptailor.edits.checks import axis, choice, number, region
 from ptailor.edits.region import region_axis, region_centroid, region_faces, unit_vector
 from ptailor.edits.registry import Param, register
 from ptailor.edits.state import EditOptions, EditState
+from ptailor.method.deform import arap_deform
 
 
 def scale_matrix(direction: str, ax: np.ndarray, factor: float) -> np.ndarray:
@@ -68,8 +69,6 @@ def scale(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         V_new = V3.copy()
         V_new[handles] = moved
     else:
-        from ptailor.method.deform import arap_deform
-
         V_new = arap_deform(V3, g.F3, handles, moved)
     face_in = np.zeros(g.n_faces, dtype=bool)
     face_in[faces] = True

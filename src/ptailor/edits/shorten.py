@@ -26,6 +26,7 @@ from ptailor.edits.registry import Param, register
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.edits.surgery import SplitResult, split_keep
 from ptailor.errors import PtailorError
+from ptailor.method.geodesic import geodesic_distance
 from ptailor.model.garment import panel_labels
 
 #: Where ``by`` is measured.
@@ -134,8 +135,6 @@ def _drape_amount(
     state: EditState, res: SplitResult, loop: np.ndarray, by: float, d: np.ndarray | None
 ) -> dict:
     """Surface distance on the edited drape from the old opening to the new edge."""
-    from ptailor.method.geodesic import geodesic_distance
-
     e = np.concatenate([res.edge3, np.stack([res.source3, res.source3], 1)])
     t = np.concatenate([res.t3, np.zeros(len(res.source3))])
     if d is None:
@@ -172,8 +171,6 @@ def shorten(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     pattern vertices from the old edge; ``drape``, the same of their surface distance from
     the old opening on the edited drape.
     """
-    from ptailor.method.geodesic import geodesic_distance
-
     name, loop = find_opening(state, step["opening"], options=options)
     by = float(step["by"])
     measure = step.get("measure") or "drape"

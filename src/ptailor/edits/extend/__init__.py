@@ -12,6 +12,7 @@ from dataclasses import replace
 import numpy as np
 
 from ptailor.edits.achieved import row_offsets
+from ptailor.edits.body import push_out
 from ptailor.edits.checks import number
 from ptailor.edits.extend.drape import drape_rows
 from ptailor.edits.extend.pattern import pattern_rows
@@ -21,6 +22,7 @@ from ptailor.edits.opening import OpeningEdges, find_opening, opening_edges, ope
 from ptailor.edits.registry import Param, register
 from ptailor.edits.shorten import MEASURE_PARAM, pattern_amounts, spread_stats
 from ptailor.edits.state import EditOptions, EditState
+from ptailor.method.geodesic import geodesic_distance
 from ptailor.model.garment import Garment
 from ptailor.model.structure import structure
 
@@ -131,8 +133,6 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     new_e, new_2 = built.new_e, built.new_2
     body = getattr(options, "body", None)
     if body is not None:
-        from ptailor.edits.body import push_out
-
         clearance = step.get("clearance")
         if clearance is None:
             clearance = _default_clearance(options, mean_edge)
@@ -142,8 +142,6 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     V3_new, base = grown.V3, grown.base
 
     # achieved lengths: the new edge's distance from the old opening, in 3D and per panel
-    from ptailor.method.geodesic import geodesic_distance
-
     col_panel = plan.col_panel
     top2 = new_2[(rows - 1) * nc :]
     achieved = row_offsets(state, oe, new_e[(rows - 1) * k :], top2, col_panel)
