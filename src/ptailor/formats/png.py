@@ -82,10 +82,10 @@ def pattern_png(
     outlines_after: list[list[np.ndarray]],
     names: list[str],
     *,
-    units: str = "cm",
-    title: str = "",
     triangles: list[tuple[np.ndarray, np.ndarray]] | None = None,
     errors: list[np.ndarray] | None = None,
+    units: str = "cm",
+    title: str = "",
     size: int = 1800,
     dpi: int = 150,
 ) -> tuple[int, int]:
@@ -105,15 +105,15 @@ def pattern_png(
         Each panel's closed loops in pattern coordinates (y up), the outer outline first.
     names : list of str
         Panel names, one per panel.
-    units : str
-        The pattern's length unit (scale bar: 10 cm or 4 in in physical units).
-    title : str
-        Heading, none when empty.
     triangles : list (per panel) of (V (n, 2) float, F (m, 3) int), optional
         The adjusted pattern's triangles, in the coordinates of ``outlines_after``.
     errors : list (per panel) of (m,) float arrays, optional
         Relative intrinsic-scale error per triangle (sign ignored, NaN for unknown);
         required with ``triangles``.
+    units : str
+        The pattern's length unit (scale bar: 10 cm or 4 in in physical units).
+    title : str
+        Heading, none when empty.
     size : int
         Length of the image's long side in pixels, whatever the units; the short side
         follows with equal aspect.
