@@ -83,14 +83,14 @@ def test_batch_isolates_a_broken_garment_and_records_in_input_order(tmp_path, re
 def test_an_internal_error_is_one_garments_failure(tmp_path, recipe, catalogue, monkeypatch):
     import ptailor.run.garment
 
-    real = ptailor.run.garment.run_garment
+    real = ptailor.run.garment.staged_run
 
     def flaky(path, *args, **kw):
         if "b_tube" in path:
             raise ZeroDivisionError("boom")
         return real(path, *args, **kw)
 
-    monkeypatch.setattr(ptailor.run.garment, "run_garment", flaky)
+    monkeypatch.setattr(ptailor.run.garment, "staged_run", flaky)
     out = tmp_path / "out"
     r = run("batch", recipe, catalogue / "[ab]_*.obj", "-o", out, "-j", "1", "--json", *FAST)
     assert r.exit_code == 1
@@ -103,7 +103,7 @@ def test_an_internal_error_is_one_garments_failure(tmp_path, recipe, catalogue, 
 
 @pytest.mark.skipif(
     __import__("multiprocessing").get_start_method() != "fork",
-    reason="the patched run_garment reaches the workers only when they are forked",
+    reason="the patched staged_run reaches the workers only when they are forked",
 )
 def test_a_garment_that_kills_its_worker_fails_alone(tmp_path, catalogue, monkeypatch):
     import ptailor.run.garment
@@ -111,14 +111,14 @@ def test_a_garment_that_kills_its_worker_fails_alone(tmp_path, catalogue, monkey
     from ptailor.run import RunOptions
 
     (catalogue / "c_bad.obj").unlink()
-    real = ptailor.run.garment.run_garment
+    real = ptailor.run.garment.staged_run
 
     def deadly(path, *args, **kw):  # a crash in a native library, the OOM killer
         if "b_tube" in path:
             os.kill(os.getpid(), signal.SIGKILL)
         return real(path, *args, **kw)
 
-    monkeypatch.setattr(ptailor.run.garment, "run_garment", deadly)
+    monkeypatch.setattr(ptailor.run.garment, "staged_run", deadly)
     out = tmp_path / "out"
     paths = sorted(str(p) for p in catalogue.glob("*.obj"))
     opts = RunOptions(formats=("obj",), baseline=False)

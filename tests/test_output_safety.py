@@ -420,7 +420,7 @@ def test_batch_timeout_with_a_scheduler_is_refused(tmp_path, garment, recipe):
 
 @pytest.mark.skipif(
     __import__("multiprocessing").get_start_method() != "fork",
-    reason="the patched run_garment reaches the workers only when they are forked",
+    reason="the patched staged_run reaches the workers only when they are forked",
 )
 def test_a_garment_stuck_past_its_timeout_has_its_worker_killed(tmp_path, monkeypatch):
     import ptailor.run.garment
@@ -429,7 +429,7 @@ def test_a_garment_stuck_past_its_timeout_has_its_worker_killed(tmp_path, monkey
 
     for name in ("a", "b", "c"):
         write_garment(tmp_path / f"{name}.obj", lantern_sleeve(n_around=8, n_sleeve=3))
-    real = ptailor.run.garment.run_garment
+    real = ptailor.run.garment.staged_run
 
     def stuck(path, *args, **kw):  # deaf to signals, as native code can be
         if path.endswith("b.obj"):
@@ -439,7 +439,7 @@ def test_a_garment_stuck_past_its_timeout_has_its_worker_killed(tmp_path, monkey
                     time.sleep(0.05)
         return real(path, *args, **kw)
 
-    monkeypatch.setattr(ptailor.run.garment, "run_garment", stuck)
+    monkeypatch.setattr(ptailor.run.garment, "staged_run", stuck)
     monkeypatch.setattr(pb.jobs, "TIMEOUT_GRACE_S", 0.5)
     out = tmp_path / "out"
     paths = [str(tmp_path / f"{n}.obj") for n in "abc"]

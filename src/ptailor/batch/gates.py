@@ -48,7 +48,7 @@ class Gates:
 
 
 class GateFailedError(Exception):
-    """A report broke a quality gate (raised from the run's ``check``)."""
+    """A report broke a quality gate (raised inside :func:`ptailor.run.garment.staged_run`)."""
 
     def __init__(self, problems: list[str], report: dict) -> None:
         self.problems = problems

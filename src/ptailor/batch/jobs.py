@@ -1,10 +1,11 @@
 """One garment of a batch: :class:`GarmentJob`, and :func:`run_job` turning it into a record.
 
 :func:`run_job` never raises for a bad garment: a :class:`~ptailor.errors.PtailorError` is a
-failed record, a broken quality gate too (and no folder is written, through
-:func:`ptailor.run.garment.run_garment`'s ``check``), any other exception an internal-error
-record. In a worker process (:func:`enter_worker`) a garment past its ``timeout`` is stopped
-by SIGALRM, or its worker killed by a watchdog when a signal cannot reach it.
+failed record, a broken quality gate too (no folder is written: the gates judge the report
+that :func:`ptailor.run.garment.staged_run` yields before it puts the folder in place), any
+other exception an internal-error record. In a worker process (:func:`enter_worker`) a
+garment past its ``timeout`` is stopped by SIGALRM, or its worker killed by a watchdog when
+a signal cannot reach it.
 """
 
 from __future__ import annotations
@@ -283,19 +284,13 @@ def _stamp_or_record(job: GarmentJob) -> tuple[dict | None, dict | None]:
 
 def _run_job(job: GarmentJob) -> dict:
     from ptailor.output import check_output_dir
-    from ptailor.run.garment import run_garment  # (looked up per call: tests replace it)
+    from ptailor.run.garment import staged_run  # (looked up per call: tests replace it)
 
     stamp, rec = _stamp_or_record(job)
     if rec is None and not job.force:
         rec = _unchanged(job, stamp)
     if rec is not None:
         return rec
-
-    def check(report: dict) -> None:
-        probs = gate_failures(report, job.gates)
-        if probs:
-            raise GateFailedError(probs, report)
-
     shown = (
         {"garment": job.garment}
         if job.drape_abs is None
@@ -303,7 +298,7 @@ def _run_job(job: GarmentJob) -> dict:
     )
     try:
         check_output_dir(job.out_abs, [job.recipe.source])  # the recipe is never replaced
-        report = run_garment(
+        with staged_run(
             job.garment_abs,
             job.recipe,
             job.out_abs,
@@ -311,8 +306,10 @@ def _run_job(job: GarmentJob) -> dict:
             drape=job.drape_abs,
             display_inputs=shown,
             extra_files={STAMP: json.dumps(stamp, indent=2) + "\n"},
-            check=check,
-        )
+        ) as report:  # the gates judge the report before the folder is put in place
+            probs = gate_failures(report, job.gates)
+            if probs:
+                raise GateFailedError(probs, report)
     except GateFailedError as exc:
         reason = "gate: " + "; ".join(exc.problems)
         return job.record("failed", failure="gate", reason=reason, **key_numbers(exc.report))

@@ -2,7 +2,8 @@
 
 Modules, read top down:
 
-- :mod:`~ptailor.run.garment`: :func:`run_garment`, the run itself;
+- :mod:`~ptailor.run.garment`: :func:`run_garment`, the run itself (:func:`staged_run`: the
+  same, its report judged before the folder is put in place);
 - :mod:`~ptailor.run.inputs`: the recipe, the garment, the body, the pieces' plan;
 - :mod:`~ptailor.run.checks`: guards (options, seam allowance, finite results) and warnings;
 - :mod:`~ptailor.run.sections`: the report sections the run adds (units, pattern pieces);
@@ -12,8 +13,8 @@ Modules, read top down:
 
 from __future__ import annotations
 
-from ptailor.run.garment import run_garment
+from ptailor.run.garment import run_garment, staged_run
 from ptailor.run.options import RunOptions
 from ptailor.run.outputs import FORMATS, OutputContext, write_outputs
 
-__all__ = ["FORMATS", "OutputContext", "RunOptions", "run_garment", "write_outputs"]
+__all__ = ["FORMATS", "OutputContext", "RunOptions", "run_garment", "staged_run", "write_outputs"]

@@ -8,7 +8,8 @@ outputs and the report into a staging folder that replaces ``out`` whole.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -42,9 +43,37 @@ def run_garment(
     drape: str | None = None,
     display_inputs: dict[str, str] | None = None,
     extra_files: dict[str, str] | None = None,
-    check: Callable[[dict], None] | None = None,
 ) -> dict:
-    """Load, adjust and write one garment; return the report.
+    """Load, adjust and write one garment; return the report (:func:`staged_run`'s
+    parameters)."""
+    with staged_run(
+        garment,
+        recipe,
+        out,
+        options=options,
+        drape=drape,
+        display_inputs=display_inputs,
+        extra_files=extra_files,
+    ) as report:
+        pass
+    return report
+
+
+@contextmanager
+def staged_run(
+    garment: str,
+    recipe: Recipe | str,
+    out: str | Path,
+    *,
+    options: RunOptions = RunOptions(),  # noqa: B008 - frozen
+    drape: str | None = None,
+    display_inputs: dict[str, str] | None = None,
+    extra_files: dict[str, str] | None = None,
+) -> Iterator[dict]:
+    """Load, adjust and stage one garment; yield the report before ``out`` is put in place.
+
+    An exception raised in the ``with`` block (a broken quality gate) leaves nothing
+    written; when the block ends, the staged folder replaces ``out`` whole.
 
     Parameters
     ----------
@@ -64,14 +93,11 @@ def run_garment(
         Role to the path the report shows (default: the path read).
     extra_files : dict, optional
         File name to text, written into the output folder too.
-    check : callable, optional
-        ``check(report)`` is called before the output folder is put in place; when it
-        raises, nothing is written (quality gates).
 
-    Returns
-    -------
+    Yields
+    ------
     dict
-        The report.
+        The report, as ``report.json`` will hold it.
     """
     recipe = checked_recipe(recipe, options)
     check_output_dir(out, [garment, drape, options.body])
@@ -100,9 +126,10 @@ def run_garment(
         + (f", seam allowance {allowance:g} {loaded.garment.units}" if allowance else ""),
     )
     staged = _Staged(adj, ctx, options, timing={"load": t1 - t0, **adj.timing_s}, start=t2)
-    return _write(
-        out, staged, shown=shown, display=display_inputs or {}, extra_files=extra_files, check=check
-    )
+    with _staged_folder(
+        out, staged, shown=shown, display=display_inputs or {}, extra_files=extra_files
+    ) as report:
+        yield report
 
 
 @dataclass(frozen=True)
@@ -117,17 +144,18 @@ class _Staged:
     start: float
 
 
-def _write(
+@contextmanager
+def _staged_folder(
     out: str | Path,
     staged: _Staged,
     *,
     shown: str,
     display: dict[str, str],
     extra_files: dict[str, str] | None,
-    check: Callable[[dict], None] | None,
-) -> dict:
-    """Write the outputs, the extra files and ``report.json`` into ``out``, all or nothing
-    (``shown``: the garment an error names; ``display``: role to the path the report shows)."""
+) -> Iterator[dict]:
+    """Write the outputs and the extra files into a staging folder, yield the report, then
+    write ``report.json`` and put the folder in place as ``out`` (``shown``: the garment an
+    error names; ``display``: role to the path the report shows)."""
     adj, ctx, options = staged.adj, staged.ctx, staged.options
     with staged_dir(out) as tmp:
         written = write_outputs(tmp, adj, ctx, options.formats)
@@ -139,10 +167,8 @@ def _write(
             report["inputs"][role]["path"] = path
         report["outputs"] = sorted(["report.json", *written])
         check_finite_report(report, path=shown)
-        if check is not None:
-            check(report)
+        yield report
         write_json(tmp / "report.json", report)
-    return report
 
 
 def _report(loaded: LoadedGarment, staged: _Staged, timing: dict) -> dict:
