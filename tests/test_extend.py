@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
-import ptailor.edits.extend  # noqa: F401  (registers the op until _load_all does)
+import ptailor.edits.extend  # noqa: F401  (registers the op)
 from ptailor.edits import OPERATIONS, EditOptions
 from ptailor.edits.body import closest_points, push_out, winding_numbers
 from ptailor.edits.extend import opening_edges

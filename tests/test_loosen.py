@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 import yaml
 
-import ptailor.edits.loosen  # noqa: F401  (registers the ops until _load_all does)
+import ptailor.edits.loosen  # noqa: F401  (registers the ops)
 from ptailor.edits import EditOptions
 from ptailor.edits.loosen import (
     falloff_weights,
