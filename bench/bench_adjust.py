@@ -52,8 +52,8 @@ import ptailor
 from ptailor.formats.obj import write_garment
 from ptailor.method import flatten as flatten_mod
 from ptailor.method import stitch as stitch_mod
-from ptailor.method.flatten import central_vertices, flatten, vertex_labels
-from ptailor.model.garment import Garment, panels
+from ptailor.method.flatten import central_vertices, flatten
+from ptailor.model.garment import Garment, panels, vertex_labels
 from ptailor.samples import sample_for_triangles
 
 HERE = Path(__file__).resolve().parent
@@ -86,7 +86,7 @@ def instrumented(marks: dict[str, float], counts: dict[str, int]):
     saved = {
         (flatten_mod, "intrinsic_targets"): flatten_mod.intrinsic_targets,
         (flatten_mod, "stitch"): flatten_mod.stitch,
-        (flatten_mod, "rigid_fit"): flatten_mod.rigid_fit,
+        (flatten_mod, "rigid_fit_groups"): flatten_mod.rigid_fit_groups,
         (stitch_mod, "factor"): stitch_mod.factor,
     }
 
@@ -115,7 +115,7 @@ def instrumented(marks: dict[str, float], counts: dict[str, int]):
 
     flatten_mod.intrinsic_targets = timed("targets", saved[(flatten_mod, "intrinsic_targets")])
     flatten_mod.stitch = timed("stitch", saved[(flatten_mod, "stitch")])
-    flatten_mod.rigid_fit = timed("rigid_fit", saved[(flatten_mod, "rigid_fit")])
+    flatten_mod.rigid_fit_groups = timed("rigid_fit", saved[(flatten_mod, "rigid_fit_groups")])
     stitch_mod.factor = factor
     try:
         yield

@@ -72,8 +72,7 @@ def strain_max(g, V3_edit, faces) -> float:
 
 def cases(g) -> dict[str, str]:
     """Recipe text per case name for a garment (empty when it lacks sleeves or a hem)."""
-    from ptailor.method.flatten import panel_labels
-    from ptailor.model.garment import panels
+    from ptailor.model.garment import panel_labels, panels
     from ptailor.model.seams import seams
 
     sleeve = opening_panels(g, "cuff_left")

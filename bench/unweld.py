@@ -50,9 +50,9 @@ def unweld(
     G : (m, 3) int array
         The new drape triangles, indices into ``V3_new``.
     """
-    from ptailor.model.garment import face_components
+    from ptailor.geometry.labels import component_labels
 
-    lab = F2.ravel() if every_vertex else np.repeat(face_components(F2, n2), 3)
+    lab = F2.ravel() if every_vertex else np.repeat(component_labels(F2, n2), 3)
     # one new vertex per distinct (panel, old vertex) pair, in panel order
     keys = np.stack([lab, F3.ravel()], axis=1)
     uniq, inv = np.unique(keys, axis=0, return_inverse=True)

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ptailor.model.garment import Garment, areas_3d, panels, signed_areas_2d
+from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
+from ptailor.model.garment import Garment, panels
 from ptailor.model.seams import edge_keys, half_edges, seams
 
 
@@ -14,7 +15,7 @@ def assert_valid(g: Garment, *, V2: np.ndarray | None = None) -> None:
     _, cnt = np.unique(edge_keys(half_edges(g.F3)), return_counts=True)
     assert cnt.max() <= 2, "non-manifold drape edge"
     diag = np.ptp(g.V3[np.unique(g.F3)], axis=0).max()
-    assert areas_3d(g.V3, g.F3).min() > 1e-12 * diag**2, "zero-area drape triangle"
+    assert triangle_areas(g.V3, g.F3).min() > 1e-12 * diag**2, "zero-area drape triangle"
     for p in panels(g):
         sa = signed_areas_2d(V2, g.F2[p.faces])
         sign = -1 if p.mirrored else 1

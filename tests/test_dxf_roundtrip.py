@@ -299,7 +299,7 @@ def test_a_graded_size_gets_the_sample_sizes_marks_and_quantity_with_a_warning()
 
 
 def _pair_seg(P, A, B):
-    from ptailor.method.transfer import segment_feet
+    from ptailor.geometry.segments import segment_feet
 
     return segment_feet(P[:, None, :], A[None], B[None])[0]
 
@@ -506,7 +506,7 @@ def _triangulated(P, h):
     gx, gy = np.meshgrid(np.arange(lo[0], hi[0], h), np.arange(lo[1], hi[1], h))
     G = np.c_[gx.ravel(), gy.ravel()]
     A, B = P, np.roll(P, -1, axis=0)
-    from ptailor.method.transfer import segment_feet
+    from ptailor.geometry.segments import segment_feet
 
     d = segment_feet(G[:, None, :], A[None], B[None])[0].min(axis=1)
     G = G[_inside(G, P) & (d > 0.3 * h)]

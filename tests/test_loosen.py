@@ -22,7 +22,8 @@ from ptailor.edits.loosen import (
 from ptailor.edits.region import region_faces
 from ptailor.errors import PtailorError, RecipeError
 from ptailor.formats.garment import load_garment
-from ptailor.model.garment import Garment, panels, signed_areas_2d
+from ptailor.geometry.triangles import signed_areas_2d
+from ptailor.model.garment import Garment, panels
 from ptailor.pipeline import adjustment, apply_steps
 from ptailor.recipe import parse_recipe
 from ptailor.samples import cone_skirt, cylinder, lantern_sleeve

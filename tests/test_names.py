@@ -10,14 +10,8 @@ from functools import cache
 import numpy as np
 import pytest
 
-from ptailor.model.garment import (
-    Garment,
-    areas_3d,
-    panel_labels,
-    panels,
-    signed_areas_2d,
-    with_panel_names,
-)
+from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
+from ptailor.model.garment import Garment, panel_labels, panels, with_panel_names
 from ptailor.model.names import panel_layout, seam_names
 from ptailor.model.seams import seams
 from ptailor.model.symmetry import panel_mirror_map, sagittal_plane
@@ -329,7 +323,7 @@ def test_dress_skirt_by_names():
     skirt = [n for n in EXPECTED["dress"] if n.startswith("skirt_")]
     text = "steps: [{op: scale, region: {panels: [" + ", ".join(skirt) + "]}, factor: 1.1}]"
     st = apply_steps(g, parse_recipe(text), options=EditOptions())
-    a0, a1 = areas_3d(g.V3, g.F3), areas_3d(st.V3, g.F3)
+    a0, a1 = triangle_areas(g.V3, g.F3), triangle_areas(st.V3, g.F3)
     growth = {p.name: a1[p.faces].sum() / a0[p.faces].sum() for p in st.panels}
     for n in skirt:
         assert growth[n] == pytest.approx(1.21, abs=0.02)  # 1.1 in every direction

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from ptailor.formats.garment import load_garment
-from ptailor.model.garment import panels, signed_areas_2d
+from ptailor.geometry.triangles import signed_areas_2d
+from ptailor.model.garment import panels
 from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
 from tests.conftest import real_path

@@ -116,8 +116,7 @@ def test_loosen_waist_adds_the_offset_circumference_to_the_pattern_waist():
 
 
 def test_lengthen_bodice_adds_4_cm_to_both_panels():
-    from ptailor.method.flatten import vertex_labels
-    from ptailor.model.garment import panels
+    from ptailor.model.garment import panels, vertex_labels
     from ptailor.report.metrics import panel_sizes
 
     g = SAMPLES["bodice"]()
@@ -129,7 +128,8 @@ def test_lengthen_bodice_adds_4_cm_to_both_panels():
 
 
 def test_deeper_neckline_cuts_the_front_only_down_to_the_sketch():
-    from ptailor.model.garment import panels, signed_areas_2d
+    from ptailor.geometry.triangles import signed_areas_2d
+    from ptailor.model.garment import panels
 
     g = SAMPLES["bodice"]()
     adj = adjustment(g, _recipe("deeper-neckline"))

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from ptailor.geometry.triangles import signed_areas_2d
 from ptailor.model import Garment, panels, seams
 from ptailor.model.boundary import boundary_loops
-from ptailor.model.garment import signed_areas_2d
 from ptailor.samples import (
     PANEL_GAP,
     SAMPLES,

@@ -8,7 +8,8 @@ import pytest
 from ptailor.edits import EditOptions
 from ptailor.edits.mirror import mirror_state, mirror_step
 from ptailor.errors import PtailorError, RecipeError
-from ptailor.model.garment import Garment, areas_3d, panels, signed_areas_2d
+from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
+from ptailor.model.garment import Garment, panels
 from ptailor.model.symmetry import SagittalPlane, mirror_points, panel_mirror_map, sagittal_plane
 from ptailor.pipeline import adjustment, apply_steps
 from ptailor.recipe import parse_recipe
@@ -37,7 +38,7 @@ def pattern_areas(V2: np.ndarray, F2: np.ndarray, plist) -> np.ndarray:
 
 
 def drape_centroids(g: Garment) -> np.ndarray:
-    a = areas_3d(g.V3, g.F3)
+    a = triangle_areas(g.V3, g.F3)
     mid = g.V3[g.F3].mean(axis=1)
     return np.array(
         [(mid[p.faces] * a[p.faces, None]).sum(0) / a[p.faces].sum() for p in panels(g)]

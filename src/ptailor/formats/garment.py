@@ -12,7 +12,8 @@ import numpy as np
 from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
 from ptailor.formats import is_pattern_file, pattern_reader_for, reader_for
-from ptailor.model.garment import Garment, areas_3d, signed_areas_2d
+from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
+from ptailor.model.garment import Garment
 from ptailor.model.pieces import PatternFile
 from ptailor.model.repair import check_units, intake, unit_ratios
 from ptailor.model.units import CM_PER, factor
@@ -284,7 +285,7 @@ def _estimated_pattern_scale(V3, F3, V2, F2, *, path: str) -> float:
     if not (np.all(np.isfinite(V2)) and np.all(np.isfinite(V3))):
         return 1.0  # check_garment reports the NaNs
     a2 = float(np.abs(signed_areas_2d(V2, F2)).sum())
-    a3 = float(areas_3d(V3, F3).sum())
+    a3 = float(triangle_areas(V3, F3).sum())
     if a2 <= 0:
         raise PtailorError("pattern has zero area", path=path)
     return float(np.sqrt(a3 / a2))

@@ -8,7 +8,7 @@ from typing import Literal
 import numpy as np
 
 from ptailor import tolerances as tol
-from ptailor.geometry.rotations import rigid_fit_groups as rigid_fit  # bench times this name
+from ptailor.geometry.rotations import rigid_fit_groups
 from ptailor.geometry.triangles import edge_matrices
 from ptailor.method.ease import seam_ease
 from ptailor.method.intrinsic import Intrinsic, intrinsic_targets
@@ -214,6 +214,6 @@ def flatten(
         step_tol=step_tol,
         history=history,
     )
-    X = rigid_fit(X, V2, vlab, len(plist))
+    X = rigid_fit_groups(X, V2, vlab, len(plist))
     X[:, 0] *= sign
     return FlattenResult(V2=X, targets=targets, info=info, asap_panels=asap_panels)

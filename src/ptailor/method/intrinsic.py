@@ -11,19 +11,10 @@ from typing import Literal
 
 import numpy as np
 
-from ptailor.geometry.closed_forms import det2, inv2, sqrt_spd2
+from ptailor.geometry.closed_forms import inv2, sqrt_spd2
 from ptailor.geometry.triangles import edge_matrices
 
-__all__ = [
-    "Intrinsic",
-    "det2",
-    "edge_matrices",
-    "intrinsic_targets",
-    "inv2",
-    "local_frames",
-    "sqrt_spd2",
-    "stretch_tensors",
-]
+__all__ = ["Intrinsic", "intrinsic_targets", "local_frames", "stretch_tensors"]
 
 Intrinsic = Literal["polar", "paper", "uniform"]
 

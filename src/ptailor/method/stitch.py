@@ -27,15 +27,7 @@ from ptailor.method.ease import SeamEase
 from ptailor.method.linear import factor, seam_block, solve_spd
 from ptailor.method.operators import asap_rows, gradient_operators, laplacian
 
-__all__ = [
-    "StitchInfo",
-    "asap_rows",
-    "factor",
-    "gradient_operators",
-    "laplacian",
-    "seam_block",
-    "stitch",
-]
+__all__ = ["StitchInfo", "stitch"]
 
 
 @dataclass(frozen=True)

@@ -14,17 +14,14 @@ import numpy as np
 from ptailor.geometry.labels import component_labels, scatter_labels
 from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
 
-# re-exported: the model's names for the geometry it uses
-face_components = component_labels
+# the one alias left: formats/dxf/units.py still imports it; its home is
+# ptailor.geometry.triangles.triangle_areas (remove once units.py imports that)
 areas_3d = triangle_areas
 __all__ = [
     "Garment",
     "Panel",
-    "areas_3d",
-    "face_components",
     "panel_labels",
     "panels",
-    "signed_areas_2d",
     "vertex_labels",
     "with_panel_names",
 ]
