@@ -331,12 +331,7 @@ def run_case(case: dict, files: dict[str, Path], work: Path, *, formats=None, ti
         )
         report = run_garment(str(files[case["garment"]]), recipe, out, options=options)
     except PtailorError as exc:
-        if out.exists():
-            return "left", str(exc)
-        msg = str(exc)
-        if "\n" in msg:
-            return "traceback", f"multi-line message: {msg[:200]}"
-        return "exit2", msg
+        return _refused(exc, out)
     except CaseTimeoutError:
         return "timeout", ""
     except Exception as exc:  # the contract's violation: count it by signature
@@ -348,6 +343,21 @@ def run_case(case: dict, files: dict[str, Path], work: Path, *, formats=None, ti
         shown = [w for w in escaped if issubclass(w.category, RuntimeWarning)]
         if shown:
             WARNED.append(f"{shown[0].category.__name__}: {str(shown[0].message)[:60]}")
+    return _written(out, report)
+
+
+def _refused(exc: Exception, out: Path) -> tuple[str, str]:
+    """Outcome of a refusal: ``left`` (output behind), a multi-line ``traceback``, or ``exit2``."""
+    if out.exists():
+        return "left", str(exc)
+    msg = str(exc)
+    if "\n" in msg:
+        return "traceback", f"multi-line message: {msg[:200]}"
+    return "exit2", msg
+
+
+def _written(out: Path, report: dict) -> tuple[str, str]:
+    """Outcome of a run that succeeded: ``nan`` (a non-finite number written) or ``ok``."""
     bad = nan_on_disk(out)
     if bad:
         return "nan", ", ".join(bad)

@@ -69,59 +69,128 @@ def _replace_number(lines: list[bytes], rng: random.Random) -> None:
     lines[i] = lines[i][: m.start()] + rng.choice(EXTREMES).encode() + lines[i][m.end() :]
 
 
+# The mutations: each takes the lines, two line indices drawn for it (``i``, ``j``) and the
+# random source, and returns the mutated lines (the list may be changed in place).
+
+
+def _number_to_extreme(lines: list[bytes], i: int, j: int, rng: random.Random) -> list[bytes]:
+    _replace_number(lines, rng)
+    return lines
+
+
+def _drop_line(lines: list[bytes], i: int, j: int, rng: random.Random) -> list[bytes]:
+    del lines[i]
+    return lines
+
+
+def _duplicate_line(lines: list[bytes], i: int, j: int, rng: random.Random) -> list[bytes]:
+    lines.insert(i, lines[j])
+    return lines
+
+
+def _swap_lines(lines: list[bytes], i: int, j: int, rng: random.Random) -> list[bytes]:
+    lines[i], lines[j] = lines[j], lines[i]
+    return lines
+
+
+def _line_to_start(lines: list[bytes], i: int, j: int, rng: random.Random) -> list[bytes]:
+    """A record moved to the start (vt before the v, f before the vt ...)."""
+    lines.insert(0, lines.pop(i))
+    return lines
+
+
+def _truncate_line(lines: list[bytes], i: int, j: int, rng: random.Random) -> list[bytes]:
+    lines[i] = lines[i][: rng.randrange(len(lines[i]) + 1)]
+    return lines
+
+
+def _random_bytes(lines: list[bytes], i: int, j: int, rng: random.Random) -> list[bytes]:
+    """Random bytes inside a line."""
+    k = rng.randrange(len(lines[i]) + 1)
+    junk = bytes(rng.randrange(256) for _ in range(rng.randint(1, 8)))
+    lines[i] = lines[i][:k] + junk + lines[i][k:]
+    return lines
+
+
+def _bom(lines: list[bytes], i: int, j: int, rng: random.Random) -> list[bytes]:
+    lines[0] = b"\xef\xbb\xbf" + lines[0]
+    return lines
+
+
+def _old_line_ends(lines: list[bytes], i: int, j: int, rng: random.Random) -> list[bytes]:
+    """CRLF line ends (70%) or CR alone."""
+    return [ln + b"\r" for ln in lines] if rng.random() < 0.7 else [b"\r".join(lines)]
+
+
+def _long_group_name(lines: list[bytes], i: int, j: int, rng: random.Random) -> list[bytes]:
+    size = rng.choice([50, 201, 5000, 70_000])
+    lines.insert(i, b"g " + b"N" * size)
+    return lines
+
+
+def _duplicate_faces(lines: list[bytes], i: int, j: int, rng: random.Random) -> list[bytes]:
+    """Duplicated faces: one or all."""
+    faces = [ln for ln in lines if ln.startswith(b"f ")]
+    if faces:
+        lines += faces if rng.random() < 0.5 else [rng.choice(faces)]
+    return lines
+
+
+def _extra_record(lines: list[bytes], i: int, j: int, rng: random.Random) -> list[bytes]:
+    """An extra record anywhere."""
+    lines.insert(i, rng.choice(RECORDS).encode())
+    return lines
+
+
+def _extreme_in_every_record(lines: list[bytes], i: int, j: int, rng: random.Random) -> list[bytes]:
+    """A number in every record of one kind becomes one extreme."""
+    tag = rng.choice([b"v ", b"vt ", b"f "])
+    x = rng.choice(EXTREMES).encode()
+    k = rng.randrange(1, 4)
+    return [
+        b" ".join([*ln.split(b" ")[:k], x, *ln.split(b" ")[k + 1 :]]) if ln.startswith(tag) else ln
+        for ln in lines
+    ]
+
+
+def _drop_run(lines: list[bytes], i: int, j: int, rng: random.Random) -> list[bytes]:
+    """Drop a run of lines."""
+    del lines[i : i + rng.randint(2, 40)]
+    return lines
+
+
+#: mutation by the number drawn for it (``rng.randrange(16)``); the commonest, three
+#: numbers of sixteen: a number becomes an extreme
+MUTATIONS = (
+    _number_to_extreme,
+    _number_to_extreme,
+    _number_to_extreme,
+    _drop_line,
+    _duplicate_line,
+    _swap_lines,
+    _line_to_start,
+    _truncate_line,
+    _random_bytes,
+    _bom,
+    _old_line_ends,
+    _long_group_name,
+    _duplicate_faces,
+    _extra_record,
+    _extreme_in_every_record,
+    _drop_run,
+)
+
+
 def mutate(data: bytes, rng: random.Random) -> bytes:
     """One to three random mutations of an OBJ's bytes (deterministic given ``rng``)."""
     lines = data.split(b"\n")
     for _ in range(rng.randint(1, 3)):
-        op = rng.randrange(16)
-        n = len(lines)
-        if n == 0:
+        op = rng.randrange(len(MUTATIONS))
+        if not lines:
             lines = [b""]
-            n = 1
+        n = len(lines)
         i, j = rng.randrange(n), rng.randrange(n)
-        if op in (0, 1, 2):  # the commonest: a number becomes an extreme
-            _replace_number(lines, rng)
-        elif op == 3:
-            del lines[i]
-        elif op == 4:
-            lines.insert(i, lines[j])
-        elif op == 5:
-            lines[i], lines[j] = lines[j], lines[i]
-        elif op == 6:  # a record moved to the start (vt before the v, f before the vt ...)
-            lines.insert(0, lines.pop(i))
-        elif op == 7:  # truncate a line
-            lines[i] = lines[i][: rng.randrange(len(lines[i]) + 1)]
-        elif op == 8:  # random bytes inside a line
-            k = rng.randrange(len(lines[i]) + 1)
-            junk = bytes(rng.randrange(256) for _ in range(rng.randint(1, 8)))
-            lines[i] = lines[i][:k] + junk + lines[i][k:]
-        elif op == 9:
-            lines[0] = b"\xef\xbb\xbf" + lines[0]
-        elif op == 10:
-            lines = [ln + b"\r" for ln in lines] if rng.random() < 0.7 else [
-                b"\r".join(lines)
-            ]  # fmt: skip
-        elif op == 11:  # a long group name
-            size = rng.choice([50, 201, 5000, 70_000])
-            lines.insert(i, b"g " + b"N" * size)
-        elif op == 12:  # duplicated faces: one or all
-            faces = [ln for ln in lines if ln.startswith(b"f ")]
-            if faces:
-                lines += faces if rng.random() < 0.5 else [rng.choice(faces)]
-        elif op == 13:  # an extra record anywhere
-            lines.insert(i, rng.choice(RECORDS).encode())
-        elif op == 14:  # a number in every record of one kind becomes one extreme
-            tag = rng.choice([b"v ", b"vt ", b"f "])
-            x = rng.choice(EXTREMES).encode()
-            k = rng.randrange(1, 4)
-            lines = [
-                b" ".join([*ln.split(b" ")[:k], x, *ln.split(b" ")[k + 1 :]])
-                if ln.startswith(tag)
-                else ln
-                for ln in lines
-            ]
-        else:  # drop a run of lines
-            del lines[i : i + rng.randint(2, 40)]
+        lines = MUTATIONS[op](lines, i, j, rng)
     return b"\n".join(lines)
 
 

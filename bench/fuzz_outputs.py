@@ -105,93 +105,154 @@ class Case:
         path.write_text(text)
 
     def build(self) -> None:
-        s, root, out = self.state, self.root, self.out
-        if s == "missing":
-            pass
-        elif s == "missing-deep":
-            self.out = root / "a" / "b" / "out"
-        elif s == "empty":
-            out.mkdir()
-        elif s.startswith("ptailor"):
-            self.make_output(out)
-            if s == "ptailor+user":
-                self.user(out / self.rng.choice(["notes.txt", "garment.obj.bak", ".hidden"]))
-            elif s == "ptailor+subfolder":
-                (out / "sub").mkdir()
-                self.user(out / "sub" / "keep.txt")
-        elif s == "foreign-report":
-            out.mkdir()
-            self.user(out / "report.json", '{"outputs": ["report.json"]}')
-            self.user(out / "data.csv")
-        elif s == "symlink-report":
-            self.make_output(root / "elsewhere")
-            out.mkdir()
-            (out / "report.json").symlink_to(root / "elsewhere" / "report.json")
-            self.user(out / "mine.txt")
-        elif s.startswith("legacy"):
-            self.make_output(out, legacy=True)
-            if s == "legacy+user":
-                self.user(out / "recipe.yaml")
-        elif s == "forged-marker":
-            out.mkdir()
-            self.user(out / MARKER, "{}")
-            self.user(out / "report.json", "{}")
-        elif s == "file":
-            self.user(out)
-        elif s.startswith("link-") and s not in ("link-to-input",):
-            target = root / "target"
-            if s == "link-empty":
-                target.mkdir()
-            elif s == "link-ptailor":
-                self.make_output(target)
-            elif s == "link-foreign":
-                target.mkdir()
-                self.user(target / "drawing.dxf")
-            elif s == "link-loop":
-                target.symlink_to(out)
-            out.symlink_to(target)
-        elif s == "parent-is-file":
-            self.user(root / "plain")
-            self.out = root / "plain" / "out"
-        elif s.startswith("long-"):
-            self.out = root / ("n" * int(s.split("-")[1]))
-        elif s == "unicode":
-            self.out = root / "sortie-é-☃-𝄞"
-        elif s == "recipe-inside":
-            self.make_output(out)
-            self.recipe = out / "r.yaml"
-            self.user(self.recipe, RECIPE)
-        elif s == "garment-inside":
-            self.make_output(out)
-            g = out / "in.obj"
-            shutil.copy(self.garment, g)
-            self.garment = g
-        elif s == "drape-inside":
-            self.make_output(out)
-            d = out / "drape.obj"
-            shutil.copy(self.garment, d)
-            self.extra = ["--drape", str(d)]
-        elif s == "link-to-input":
-            self.make_output(out)
-            self.user(out / "r.yaml", RECIPE)
-            link = root / "link.yaml"
-            link.symlink_to(out / "r.yaml")
-            self.recipe = link
-        elif s == "out-is-cwd":
-            self.make_output(out)
-            self.user(out / "r.yaml", RECIPE)
-            self.cwd = out
-            self.out = Path(".")
-            self.recipe = Path("r.yaml")
-        elif s == "out-is-input":
-            self.out = self.recipe
-        elif s == "out-above-input":
-            self.out = root
-        else:
-            raise AssertionError(s)
+        """Make the folder state ``self.state`` (the output folder and what is around it)."""
+        builder = BUILDERS.get(self.state) or BUILDERS.get(self.state.split("-")[0] + "-")
+        if builder is None:
+            raise AssertionError(self.state)
+        builder(self)
+
+    # -- the states, one builder each (see BUILDERS) ------------------------------------
+
+    def _missing(self) -> None:
+        pass
+
+    def _missing_deep(self) -> None:
+        self.out = self.root / "a" / "b" / "out"
+
+    def _empty(self) -> None:
+        self.out.mkdir()
+
+    def _ptailor(self) -> None:
+        out = self.out
+        self.make_output(out)
+        if self.state == "ptailor+user":
+            self.user(out / self.rng.choice(["notes.txt", "garment.obj.bak", ".hidden"]))
+        elif self.state == "ptailor+subfolder":
+            (out / "sub").mkdir()
+            self.user(out / "sub" / "keep.txt")
+
+    def _foreign_report(self) -> None:
+        out = self.out
+        out.mkdir()
+        self.user(out / "report.json", '{"outputs": ["report.json"]}')
+        self.user(out / "data.csv")
+
+    def _symlink_report(self) -> None:
+        root, out = self.root, self.out
+        self.make_output(root / "elsewhere")
+        out.mkdir()
+        (out / "report.json").symlink_to(root / "elsewhere" / "report.json")
+        self.user(out / "mine.txt")
+
+    def _legacy(self) -> None:
+        self.make_output(self.out, legacy=True)
+        if self.state == "legacy+user":
+            self.user(self.out / "recipe.yaml")
+
+    def _forged_marker(self) -> None:
+        out = self.out
+        out.mkdir()
+        self.user(out / MARKER, "{}")
+        self.user(out / "report.json", "{}")
+
+    def _file(self) -> None:
+        self.user(self.out)
+
+    def _link(self) -> None:
+        """The output folder is a link: to an empty folder, an output, another tool's
+        folder, nothing (dangling) or itself (a loop)."""
+        s, target = self.state, self.root / "target"
+        if s == "link-empty":
+            target.mkdir()
+        elif s == "link-ptailor":
+            self.make_output(target)
+        elif s == "link-foreign":
+            target.mkdir()
+            self.user(target / "drawing.dxf")
+        elif s == "link-loop":
+            target.symlink_to(self.out)
+        self.out.symlink_to(target)
+
+    def _parent_is_file(self) -> None:
+        self.user(self.root / "plain")
+        self.out = self.root / "plain" / "out"
+
+    def _long(self) -> None:
+        self.out = self.root / ("n" * int(self.state.split("-")[1]))
+
+    def _unicode(self) -> None:
+        self.out = self.root / "sortie-é-☃-𝄞"
+
+    def _recipe_inside(self) -> None:
+        self.make_output(self.out)
+        self.recipe = self.out / "r.yaml"
+        self.user(self.recipe, RECIPE)
+
+    def _garment_inside(self) -> None:
+        self.make_output(self.out)
+        g = self.out / "in.obj"
+        shutil.copy(self.garment, g)
+        self.garment = g
+
+    def _drape_inside(self) -> None:
+        self.make_output(self.out)
+        d = self.out / "drape.obj"
+        shutil.copy(self.garment, d)
+        self.extra = ["--drape", str(d)]
+
+    def _link_to_input(self) -> None:
+        out = self.out
+        self.make_output(out)
+        self.user(out / "r.yaml", RECIPE)
+        link = self.root / "link.yaml"
+        link.symlink_to(out / "r.yaml")
+        self.recipe = link
+
+    def _out_is_cwd(self) -> None:
+        out = self.out
+        self.make_output(out)
+        self.user(out / "r.yaml", RECIPE)
+        self.cwd = out
+        self.out = Path(".")
+        self.recipe = Path("r.yaml")
+
+    def _out_is_input(self) -> None:
+        self.out = self.recipe
+
+    def _out_above_input(self) -> None:
+        self.out = self.root
 
     def args(self) -> list[str]:
         return ["adjust", str(self.garment), str(self.recipe), "-o", str(self.out), "-q"]
+
+
+#: the builder of each state; a name ending in ``-`` serves every state it begins
+#: (``link-dangling`` is ``link-``: a link to nothing)
+BUILDERS = {
+    "missing": Case._missing,
+    "missing-deep": Case._missing_deep,
+    "empty": Case._empty,
+    "ptailor": Case._ptailor,
+    "ptailor+user": Case._ptailor,
+    "ptailor+subfolder": Case._ptailor,
+    "foreign-report": Case._foreign_report,
+    "symlink-report": Case._symlink_report,
+    "legacy": Case._legacy,
+    "legacy+user": Case._legacy,
+    "forged-marker": Case._forged_marker,
+    "file": Case._file,
+    "link-": Case._link,
+    "link-to-input": Case._link_to_input,
+    "parent-is-file": Case._parent_is_file,
+    "long-": Case._long,
+    "unicode": Case._unicode,
+    "recipe-inside": Case._recipe_inside,
+    "garment-inside": Case._garment_inside,
+    "drape-inside": Case._drape_inside,
+    "out-is-cwd": Case._out_is_cwd,
+    "out-is-input": Case._out_is_input,
+    "out-above-input": Case._out_above_input,
+}
 
 
 def snapshot(root: Path) -> dict[str, object]:

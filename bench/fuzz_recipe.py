@@ -46,11 +46,8 @@ def signature(exc: BaseException, tb) -> str:
 def run_case(text: str, path: Path, timeout: float) -> tuple[str, str | None]:
     """``(outcome, detail)``; outcome is exit0, exit2, traceback, hang or contract."""
     from click.testing import CliRunner
-    from tests.test_fuzz_recipe import all_finite
 
     from ptailor.cli.main import cli
-    from ptailor.errors import RecipeError
-    from ptailor.recipe import parse_recipe, recipe_problems
 
     path.write_text(text, encoding="utf-8")
     signal.setitimer(signal.ITIMER_REAL, timeout)
@@ -60,39 +57,56 @@ def run_case(text: str, path: Path, timeout: float) -> tuple[str, str | None]:
             if isinstance(r.exception, HangError):
                 return "hang", None
             return "traceback", signature(r.exception, r.exc_info[2])
-        lines = r.stdout.splitlines()
         if r.exit_code == 0:
-            try:
-                rec = parse_recipe(text)
-            except RecipeError as exc:
-                return "contract", f"validate 0 but parse_recipe: {str(exc)[:80]}"
-            if not (all_finite(rec.steps) and all_finite(rec.flatten)):
-                return "contract", "validate 0 with a non-finite or huge number"
-            return "exit0", None
+            return _accepted(text)
         if r.exit_code != 2:
             return "contract", f"exit {r.exit_code}"
-        probs = recipe_problems(text, source=str(path))
-        if len(lines) != len(probs) or not lines:
-            return "contract", f"{len(lines)} lines for {len(probs)} problems"
-        if not all(ln.startswith(f"{path}:") for ln in lines):
-            return "contract", "a line not naming the file"
-        try:
-            parse_recipe(text)
-            return "contract", "validate 2 but parse_recipe accepted"
-        except RecipeError:
-            pass
-        if any(ln.endswith("(schema)") for ln in lines):
-            # the schema caught what the operations' rules did not: they disagree
-            return "exit2-schema-only", next(
-                ln.split(": ", 1)[1] for ln in lines if ln.endswith("(schema)")
-            )
-        return "exit2", lines[0].split(": ", 1)[1][:60]
+        return _refused(text, path, r.stdout.splitlines())
     except HangError:
         return "hang", None
     except Exception as exc:
         return "traceback", signature(exc, exc.__traceback__)
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
+
+
+def _accepted(text: str) -> tuple[str, str | None]:
+    """Validate said 0: ``parse_recipe`` must accept the text, with every number finite."""
+    from tests.test_fuzz_recipe import all_finite
+
+    from ptailor.errors import RecipeError
+    from ptailor.recipe import parse_recipe
+
+    try:
+        rec = parse_recipe(text)
+    except RecipeError as exc:
+        return "contract", f"validate 0 but parse_recipe: {str(exc)[:80]}"
+    if not (all_finite(rec.steps) and all_finite(rec.flatten)):
+        return "contract", "validate 0 with a non-finite or huge number"
+    return "exit0", None
+
+
+def _refused(text: str, path: Path, lines: list[str]) -> tuple[str, str | None]:
+    """Validate said 2: one line per problem naming the file, and ``parse_recipe`` refusing."""
+    from ptailor.errors import RecipeError
+    from ptailor.recipe import parse_recipe, recipe_problems
+
+    probs = recipe_problems(text, source=str(path))
+    if len(lines) != len(probs) or not lines:
+        return "contract", f"{len(lines)} lines for {len(probs)} problems"
+    if not all(ln.startswith(f"{path}:") for ln in lines):
+        return "contract", "a line not naming the file"
+    try:
+        parse_recipe(text)
+        return "contract", "validate 2 but parse_recipe accepted"
+    except RecipeError:
+        pass
+    if any(ln.endswith("(schema)") for ln in lines):
+        # the schema caught what the operations' rules did not: they disagree
+        return "exit2-schema-only", next(
+            ln.split(": ", 1)[1] for ln in lines if ln.endswith("(schema)")
+        )
+    return "exit2", lines[0].split(": ", 1)[1][:60]
 
 
 def _collector(strat, k: int, seed: int) -> list[str]:
