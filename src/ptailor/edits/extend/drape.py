@@ -13,7 +13,6 @@ from ptailor.edits.extend.rows import (
     MAX_SMOOTHING,
     RowPlan,
     Rows,
-    face_normals,
     quad_rows,
     shorter_diagonals,
 )
@@ -21,7 +20,7 @@ from ptailor.edits.opening import OpeningEdges
 from ptailor.edits.state import EditState
 from ptailor.errors import PtailorError
 from ptailor.geometry.pattern_maps import pattern_jacobians, pseudo_inverses
-from ptailor.geometry.triangles import signed_areas_2d
+from ptailor.geometry.triangles import signed_areas_2d, triangle_normals
 from ptailor.model.seams import half_edges, seam_halfedges
 
 
@@ -223,7 +222,7 @@ def drape_rows(state: EditState, plan: RowPlan) -> Rows:
         F2_new = quad_rows(A2, B2, use_b)
         V2all = np.concatenate([V2, new_2])
         a2 = signed_areas_2d(V2all, F2_new) * orient[src]
-        fold = np.einsum("ij,ij->i", face_normals(Vall, F3_new), n_src[src])
+        fold = np.einsum("ij,ij->i", triangle_normals(Vall, F3_new), n_src[src])
         if np.all(a2 > 1e-9 * h * h) and np.all(fold > 0.0):
             break
     else:

@@ -13,7 +13,6 @@ from ptailor.edits.extend.rows import (
     RowPlan,
     Rows,
     crossing_error,
-    face_normals,
     quad_rows,
     shorter_diagonals,
 )
@@ -22,7 +21,7 @@ from ptailor.edits.pattern_distance import PatternDistance, outline_halfedges
 from ptailor.edits.state import EditState
 from ptailor.errors import PtailorError
 from ptailor.geometry.pattern_maps import pattern_jacobians
-from ptailor.geometry.triangles import signed_areas_2d
+from ptailor.geometry.triangles import signed_areas_2d, triangle_normals
 
 #: ``measure: pattern``: a seam reaching the opening is continued straight when its
 #: continuation is within 75 degrees of the end edge's outward normal (cos 75 deg) ...
@@ -310,7 +309,7 @@ def lift_offsets(
             D3b = _smooth_masked(D3b, r_prev, r_next, mask3)
         new_e = (Ve[oe.a3][None] + frac * D3e[None]).reshape(-1, 3)
         Vall = np.concatenate([Ve, new_e])
-        fold = np.einsum("ij,ij->i", face_normals(Vall, F3_new), n_src[src])
+        fold = np.einsum("ij,ij->i", triangle_normals(Vall, F3_new), n_src[src])
         if np.all(fold > 0.0):
             break
         bad = np.unique(np.concatenate([src[fold <= 0.0], (src[fold <= 0.0] + 1) % k]))

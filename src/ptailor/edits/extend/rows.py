@@ -109,7 +109,7 @@ def row_plan(state: EditState, oe: OpeningEdges, *, name: str, by: float, rows: 
         cb=cb,
         flab=flab,
         orient=np.where([p.mirrored for p in state.panels], -1.0, 1.0)[flab[oe.face]],
-        n_src=face_normals(state.V3, g.F3[oe.face]),
+        n_src=triangle_normals(state.V3, g.F3[oe.face]),
         field=edge_distance(g.V2, oe.a2, oe.b2, flab[oe.face]),
         A3=grid3,
         B3=grid3[:, np.roll(np.arange(k), -1)],
@@ -168,11 +168,6 @@ def quad_rows(A: np.ndarray, B: np.ndarray, use_b: np.ndarray) -> np.ndarray:
     t0 = np.where(u, np.stack([b0, a0, b1], -1), np.stack([b0, a0, a1], -1))
     t1 = np.where(u, np.stack([a0, a1, b1], -1), np.stack([b0, a1, b1], -1))
     return np.stack([t0, t1], axis=2).reshape(-1, 3)
-
-
-def face_normals(V: np.ndarray, F: np.ndarray) -> np.ndarray:
-    """Unit normals of triangles, ``(m, 3)`` (zero for degenerate ones)."""
-    return triangle_normals(V, F)
 
 
 def shorter_diagonals(V: np.ndarray, A: np.ndarray, B: np.ndarray, odd: np.ndarray) -> np.ndarray:
