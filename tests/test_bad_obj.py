@@ -140,7 +140,7 @@ def test_bom_and_crlf_sleeve_give_the_same_garment(tmp_path, recipe):
 
 
 def test_unreferenced_vt_before_the_used_ones(tmp_path, recipe):
-    """The ``face_components`` IndexError: unused ``vt`` records first."""
+    """The ``component_labels`` (once ``face_components``) IndexError: unused ``vt`` first."""
     text = sample_obj_text("lantern_sleeve")
     lines = text.splitlines(keepends=True)
     first_vt = next(i for i, ln in enumerate(lines) if ln.startswith("vt "))
