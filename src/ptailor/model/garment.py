@@ -12,11 +12,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ptailor.geometry.labels import component_labels, scatter_labels
-from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
+from ptailor.geometry.triangles import signed_areas_2d
 
-# the one alias left: formats/dxf/units.py still imports it; its home is
-# ptailor.geometry.triangles.triangle_areas (remove once units.py imports that)
-areas_3d = triangle_areas
 __all__ = [
     "Garment",
     "Panel",

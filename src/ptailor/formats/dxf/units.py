@@ -116,9 +116,9 @@ def reconcile_units(
     note : str
         Where the ``vt`` unit came from.
     """
-    from ptailor.model.garment import areas_3d, signed_areas_2d
+    from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
 
-    a3 = float(areas_3d(np.asarray(v, dtype=float) * drape_cm, fv).sum())  # cm^2
+    a3 = float(triangle_areas(np.asarray(v, dtype=float) * drape_cm, fv).sum())  # cm^2
     word = pattern.units_text.strip().upper()
     said = "$INSUNITS" in pattern.units_note  # the header named the unit
     choices = ("mm", "cm") if word == "METRIC" else ("mm", "cm", "in") if not word else ()
