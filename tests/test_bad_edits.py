@@ -280,7 +280,7 @@ def test_final_guard_refuses_non_finite_results(garments, tmp_path, monkeypatch)
     r = parse_recipe("steps: [{op: scale, factor: 1.1}]")
     msg = refused(garments["sleeve"], r, tmp_path)
     assert "non-finite" in msg and "flatten" in msg
-    assert job  # the guard lives in job.run_adjust
+    assert job  # the guard lives in run.checks (check_finite_result)
 
 
 def test_solver_failure_maps_to_exit_2(garments, tmp_path, monkeypatch):
