@@ -1,0 +1,256 @@
+"""The re-drape check: sew each pattern on the edited drape, simulate, measure.
+
+Three re-drapes start from the same edited drape on the same body: ours (the adjusted
+pattern), the uniform baseline, and the original pattern (the reference for how much any
+re-drape moves). Each pattern's triangles rest as :func:`ptailor.verify.rest.rest_shapes`
+says; the top opening is pinned; the cloth engine (:mod:`ptailor.verify.engine`) settles
+it; :mod:`ptailor.verify.measure` gives per-panel stretch and displacement.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ptailor.method.flatten import flatten
+from ptailor.model.garment import Garment
+from ptailor.model.structure import structure
+from ptailor.verify.engine import Settings, redrape
+from ptailor.verify.measure import (
+    panel_stats,
+    pattern_vertex_values,
+    principal_stretches,
+    top_opening,
+)
+from ptailor.verify.rest import rest_shapes
+
+__all__ = ["KINDS", "uniform_pattern", "verify_patterns", "verify_section"]
+
+#: The three re-drapes, in report order.
+KINDS: tuple[str, ...] = ("ours", "baseline", "original")
+
+
+def uniform_pattern(
+    V3_edit: np.ndarray, F3: np.ndarray, V2: np.ndarray, F2: np.ndarray
+) -> np.ndarray:
+    """The uniform-flattening baseline of an edited drape, for a garment without an Adjustment.
+
+    Parameters
+    ----------
+    V3_edit : (n3, 3) float array
+        The edited drape.
+    F3 : (m, 3) int array
+    V2 : (n2, 2) float array
+        A pattern on the same triangles (its panels, orientation and mirrors are kept).
+    F2 : (m, 3) int array
+
+    Returns
+    -------
+    (n2, 2) float array
+        :func:`ptailor.method.flatten.flatten` with ``method="uniform"``, ``seams="free"``
+        (the paper's baseline: the drape alone decides).
+    """
+    g = Garment(V3=np.asarray(V3_edit, dtype=float), F3=F3, V2=np.asarray(V2, dtype=float), F2=F2)
+    return flatten(g, g.V3, method="uniform", seams="free").V2
+
+
+def _one(V2, *, common: dict, run: dict, measure: dict) -> tuple[dict, np.ndarray, np.ndarray]:
+    """One re-drape: rest shapes, the engine, the measures (report ``R``, drape, stretch)."""
+    rest = rest_shapes(
+        V2, common["F2"], common["V2_orig"], common["V3_orig"], common["F3"], mode=common["rest"]
+    )
+    drape = redrape(common["V3_edit"], common["F3"], rest, **run)
+    V = np.asarray(drape.V, dtype=float)
+    stretch = principal_stretches(V, common["F3"], rest)
+    d3 = np.linalg.norm(V - common["V3_edit"], axis=1) * measure["to_units"]
+    d2 = pattern_vertex_values(d3, common["F3"], common["F2"], len(common["V2_orig"]))
+    panels = panel_stats(
+        stretch, d2, measure["face_panel"], measure["vertex_panel"], measure["names"]
+    )
+    R = {
+        "panels": panels,
+        "settled": bool(drape.settled),
+        "steps": int(drape.steps),
+        "seconds": float(drape.seconds),
+    }
+    return {"R": R, "drape": drape}, V, stretch
+
+
+def verify_patterns(
+    V3_edit: np.ndarray,
+    F3: np.ndarray,
+    F2: np.ndarray,
+    patterns: dict[str, np.ndarray],
+    V2_orig: np.ndarray,
+    V3_orig: np.ndarray,
+    *,
+    panel_names: list[str],
+    face_panel: np.ndarray,
+    vertex_panel: np.ndarray,
+    body: tuple[np.ndarray, np.ndarray] | None = None,
+    rest: str = "intrinsic",
+    up=(0.0, 1.0, 0.0),
+    units_m: float,
+    to_units: float,
+    settings: Settings | None = None,
+    device: str | None = None,
+) -> tuple[dict, dict[str, np.ndarray], dict[str, np.ndarray]]:
+    """Re-drape several patterns from the same edited drape and measure them.
+
+    Parameters
+    ----------
+    V3_edit : (n3, 3) float array
+        The edited drape: every re-drape starts there, and displacements are from it.
+    F3, F2 : (m, 3) int arrays
+        Drape and pattern triangles (shared by every pattern).
+    patterns : dict of str to (n2, 2) float array
+        ``{"ours": V2, "baseline": V2, "original": V2_orig}`` (any names; report order is
+        the dict's).
+    V2_orig : (n2, 2) float array
+        The original pattern.
+    V3_orig : (n3, 3) float array
+        The original drape (its intrinsic scale makes the rest shapes).
+    panel_names : list of str
+    face_panel : (m,) int array
+    vertex_panel : (n2,) int array
+        Panel index per pattern vertex (``structure(garment).vertex_panel``).
+    body : (V (nb, 3), F (mb, 3)), optional
+        A static collider in the garment's frame and units.
+    rest : {"intrinsic", "pattern"}
+        :func:`ptailor.verify.rest.rest_shapes`'s mode.
+    up : 3-vector
+        The wearer's up: the top opening (highest boundary loop) is pinned.
+    units_m : float
+        Metres per garment unit.
+    to_units : float
+        Report units per garment unit (displacements are multiplied by it).
+    settings : Settings, optional
+    device : str, optional
+        Passed to :func:`ptailor.verify.engine.redrape`.
+
+    Returns
+    -------
+    section : dict
+        ``{"engine", "device", "steps", "seconds", "settled", "rest", NAME: R...}`` with
+        ``R = {"panels": panel_stats(...), "settled", "steps", "seconds"}``; the top-level
+        ``steps`` and ``seconds`` are totals over the re-drapes, ``settled`` is whether all
+        settled.
+    drapes : dict of str to (n3, 3) float array
+        The settled drapes, in the garment's units.
+    stretches : dict of str to (m, 2) float array
+        Their principal stretches.
+    """
+    V3_edit = np.asarray(V3_edit, dtype=float)
+    common = {
+        "V3_edit": V3_edit,
+        "F3": np.asarray(F3),
+        "F2": np.asarray(F2),
+        "rest": rest,
+        "V2_orig": np.asarray(V2_orig, dtype=float),
+        "V3_orig": np.asarray(V3_orig, dtype=float),
+    }
+    run = {
+        "units_m": float(units_m),
+        "pinned": top_opening(V3_edit, common["F3"], up=up),
+        "body": body,
+        "settings": settings if settings is not None else Settings(),
+        "device": device,
+    }
+    measure = {
+        "to_units": float(to_units),
+        "face_panel": np.asarray(face_panel),
+        "vertex_panel": np.asarray(vertex_panel),
+        "names": list(panel_names),
+    }
+    reports, drapes, stretches = {}, {}, {}
+    for kind, V2 in patterns.items():
+        reports[kind], drapes[kind], stretches[kind] = _one(
+            V2, common=common, run=run, measure=measure
+        )
+    first = next(iter(reports.values()))["drape"] if reports else None
+    section = {
+        "engine": first.engine if first is not None else "",
+        "device": first.device if first is not None else "",
+        "steps": int(sum(r["R"]["steps"] for r in reports.values())),
+        "seconds": float(sum(r["R"]["seconds"] for r in reports.values())),
+        "settled": all(r["R"]["settled"] for r in reports.values()),
+        "rest": rest,
+        **{k: r["R"] for k, r in reports.items()},
+    }
+    return section, drapes, stretches
+
+
+def verify_section(
+    adj,
+    *,
+    body: tuple[np.ndarray, np.ndarray] | None = None,
+    rest: str = "intrinsic",
+    up=None,
+    units_m: float,
+    to_units: float,
+    settings: Settings | None = None,
+    device: str | None = None,
+) -> tuple[dict, dict[str, np.ndarray]]:
+    """The re-drape check of an :class:`ptailor.pipeline.Adjustment`.
+
+    Parameters
+    ----------
+    adj : Adjustment
+        ``adj.state.base`` the original garment on the current triangles, ``adj.state.V3``
+        the edited drape, ``adj.result.V2`` ours, ``adj.baseline.V2`` the uniform baseline
+        (computed with :func:`uniform_pattern` when ``adj.baseline`` is None).
+    body, rest, units_m, to_units, settings, device
+        As in :func:`verify_patterns`.
+    up : 3-vector, optional
+        Default: the run's up (``adj.axes[0]``).
+
+    Returns
+    -------
+    section : dict
+        :func:`verify_patterns`'s, with ``"ours"``, ``"baseline"`` and ``"original"``.
+    drapes : dict of str to (n3, 3) float array
+        The three settled drapes.
+    """
+    section, drapes, _ = verify_adjustment(
+        adj,
+        body=body,
+        rest=rest,
+        up=up,
+        units_m=units_m,
+        to_units=to_units,
+        settings=settings,
+        device=device,
+    )
+    return section, drapes
+
+
+def verify_adjustment(adj, *, up=None, **kw) -> tuple[dict, dict, dict]:
+    """:func:`verify_section` with the stretches too (for ``picture.verify_png``).
+
+    Returns
+    -------
+    (section, drapes, stretches)
+        As :func:`verify_patterns`.
+    """
+    base = adj.state.base
+    up_axis, front = adj.axes
+    up = up_axis if up is None else up
+    s = structure(base, up=up_axis, front=front)
+    baseline = (
+        adj.baseline.V2
+        if adj.baseline is not None
+        else uniform_pattern(adj.state.V3, base.F3, base.V2, base.F2)
+    )
+    patterns = {"ours": adj.result.V2, "baseline": baseline, "original": base.V2}
+    return verify_patterns(
+        adj.state.V3,
+        base.F3,
+        base.F2,
+        patterns,
+        base.V2,
+        base.V3,
+        panel_names=[p.name for p in s.panels],
+        face_panel=s.face_panel,
+        vertex_panel=s.vertex_panel,
+        up=up,
+        **kw,
+    )
