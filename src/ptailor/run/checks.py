@@ -25,6 +25,30 @@ def check_options(options: RunOptions) -> None:
         raise PtailorError(
             f"unknown output format(s) {', '.join(unknown)} (known: {', '.join(FORMATS)})"
         )
+    if options.verify:
+        check_verify_options(options.verify_rest, options.verify_max_steps)
+        check_engine()
+
+
+#: how a re-drape's rest shapes are made (:func:`ptailor.verify.rest.rest_shapes`)
+REST_MODES = ("intrinsic", "pattern")
+
+
+def check_verify_options(rest: str, max_steps: int | None) -> None:
+    """Refuse an unknown rest mode and a step cap below 1."""
+    if rest not in REST_MODES:
+        raise PtailorError(f"--rest must be one of {', '.join(REST_MODES)}, not {rest!r}")
+    if max_steps is not None and (isinstance(max_steps, bool) or int(max_steps) < 1):
+        raise PtailorError(f"--max-steps must be at least 1, not {max_steps}")
+
+
+def check_engine() -> None:
+    """Refuse a re-drape check when the cloth engine is not installed (before any file is
+    read: :class:`~ptailor.verify.engine.EngineMissingError`, exit 2, the install hint)."""
+    from ptailor.verify.engine import EngineMissingError, engine_available
+
+    if not engine_available():
+        raise EngineMissingError()
 
 
 def check_seam_allowance(garment, allowance: float) -> None:

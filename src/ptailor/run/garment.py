@@ -12,6 +12,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -112,6 +113,13 @@ def staged_run(
     adj = _adjustment(loaded.garment, recipe, options, edits, shown=shown)
     t2 = time.perf_counter()
     errors = _checked_errors(adj, shown=shown)
+    redrapes, timing, t3 = None, {"load": t1 - t0, **adj.timing_s}, t2
+    if options.verify:  # the re-drape check (the engine was checked before any file was read)
+        from ptailor.run.verify import adjustment_redrapes
+
+        redrapes = adjustment_redrapes(adj, body=edits.body, options=options)
+        t3 = time.perf_counter()
+        timing["verify"] = t3 - t2
     carried: list = []
     if plan is not None:  # every adjusted panel gets a piece (a split panel one per part)
         plan, carried = carry_plan(adj, plan, up=edits.up)
@@ -125,7 +133,7 @@ def staged_run(
         title=f"{Path(garment).name}: {Path(recipe.source).name}"
         + (f", seam allowance {allowance:g} {loaded.garment.units}" if allowance else ""),
     )
-    staged = _Staged(adj, ctx, options, timing={"load": t1 - t0, **adj.timing_s}, start=t2)
+    staged = _Staged(adj, ctx, options, timing=timing, start=t3, redrapes=redrapes, edits=edits)
     with _staged_folder(
         out, staged, shown=shown, display=display_inputs or {}, extra_files=extra_files
     ) as report:
@@ -135,13 +143,16 @@ def staged_run(
 @dataclass(frozen=True)
 class _Staged:
     """What is written: the adjustment, the writers' context, the options, the timing so
-    far and when the writing phase started (``perf_counter``)."""
+    far and when the writing phase started (``perf_counter``); with ``--verify`` the
+    re-drapes and the edits' options (their body and axes, for the picture)."""
 
     adj: Adjustment
     ctx: OutputContext
     options: RunOptions
     timing: dict
     start: float
+    redrapes: Any = None
+    edits: Any = None
 
 
 @contextmanager
@@ -159,6 +170,8 @@ def _staged_folder(
     adj, ctx, options = staged.adj, staged.ctx, staged.options
     with staged_dir(out) as tmp:
         written = write_outputs(tmp, adj, ctx, options.formats)
+        if staged.redrapes is not None:
+            written += _write_redrapes(tmp, staged)
         for name, text in (extra_files or {}).items():
             (tmp / name).write_text(text)
         timing = {**staged.timing, "write": time.perf_counter() - staged.start}
@@ -186,7 +199,22 @@ def _report(loaded: LoadedGarment, staged: _Staged, timing: dict) -> dict:
         extra={
             "pattern": pattern_section(loaded, ctx.plan, ctx.pieces, options.seam_allowance),
             "intake": loaded.intake,
+            **({"verify": staged.redrapes.section} if staged.redrapes is not None else {}),
         },
+    )
+
+
+def _write_redrapes(tmp: Path, staged: _Staged) -> list[str]:
+    """The re-drape check's files (:func:`ptailor.run.verify.write_verify_files`)."""
+    from ptailor.run.verify import write_verify_files
+
+    edits = staged.edits
+    return write_verify_files(
+        tmp,
+        staged.redrapes,
+        loaded=staged.ctx.loaded,
+        body=edits.body,
+        axes=(edits.up, edits.front),
     )
 
 

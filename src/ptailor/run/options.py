@@ -39,6 +39,15 @@ class RunOptions:
     seam_allowance : float, optional
         In the recipe's units: the DXF's cut line is the adjusted outline offset by this
         (mitred corners), and the outline itself becomes the sew line (layer 14).
+    verify : bool
+        Re-drape the adjusted pattern, the uniform baseline and the original pattern with
+        the cloth engine (:mod:`ptailor.verify`): the report gets ``verify`` and the output
+        folder ``verify_ours.obj``, ``verify_baseline.obj`` and ``verify.png``.
+    verify_rest : str
+        ``intrinsic`` (each triangle rests as its pattern triangle through the original
+        garment's intrinsic scale) or ``pattern`` (plain cloth cut from the pattern).
+    verify_max_steps : int, optional
+        The re-drapes' step cap (default: the engine's).
     """
 
     pattern_units: str = "cm"
@@ -55,6 +64,9 @@ class RunOptions:
     size: str | None = None
     dxf_units: str | None = None
     seam_allowance: float | None = None
+    verify: bool = False
+    verify_rest: str = "intrinsic"
+    verify_max_steps: int | None = None
 
     def stamped(self) -> dict:
         """The options as a JSON-ready dict with sorted keys (``formats`` sorted): what

@@ -1,0 +1,343 @@
+"""The re-drape check of a run: the adjusted pattern, the uniform baseline and the original
+pattern sewn and settled with the cloth engine (:mod:`ptailor.verify`), and its files.
+
+``adjust --verify`` calls :func:`adjustment_redrapes` and :func:`write_verify_files`;
+``ptailor verify`` calls :func:`verify_garment`, the same check for any garment (an
+adjusted one with its original, or a garment alone). The engine is imported only when a
+check runs (:func:`ptailor.run.checks.check_engine` refuses it before any file is read).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ptailor.errors import PtailorError
+from ptailor.formats import writer_for
+from ptailor.formats.garment import LoadedGarment
+from ptailor.model.garment import Garment
+from ptailor.model.units import CM_PER
+from ptailor.output import check_output_dir, staged_dir, write_json
+from ptailor.pipeline import Adjustment
+from ptailor.run.checks import check_engine, check_finite_report, check_verify_options
+from ptailor.run.options import RunOptions
+
+#: the re-drapes whose settled drapes are written, and their files
+DRAPE_FILES = {"ours": "verify_ours.obj", "baseline": "verify_baseline.obj"}
+#: the picture of the three settled drapes
+PICTURE = "verify.png"
+#: every file a re-drape check writes besides its report
+VERIFY_FILES = (*DRAPE_FILES.values(), PICTURE)
+
+
+@dataclass(frozen=True)
+class Redrape:
+    """What is re-draped: the edited drape and the patterns that are sewn onto it.
+
+    Attributes
+    ----------
+    V3_edit : (n3, 3) float array
+        The edited drape: every re-drape starts from it.
+    F3, F2 : (m, 3) int arrays
+        The drape's and the patterns' triangles (the same faces).
+    patterns : dict of str to (n2, 2) float array
+        ``ours`` (the adjusted pattern), ``baseline`` (uniform flattening) and
+        ``original`` (the input pattern).
+    V3_orig : (n3, 3) float array
+        The original drape (with ``patterns["original"]``: the intrinsic scale).
+    panel_names : list of str
+    face_panel : (m,) int array
+    vertex_panel : (n2,) int array
+        The panel of each pattern vertex.
+    """
+
+    V3_edit: np.ndarray
+    F3: np.ndarray
+    F2: np.ndarray
+    patterns: dict
+    V3_orig: np.ndarray
+    panel_names: list
+    face_panel: np.ndarray
+    vertex_panel: np.ndarray
+
+
+@dataclass(frozen=True)
+class Redrapes:
+    """The check's outcome: what was re-draped, the report section, the settled drapes
+    (``ours``, ``baseline``, ``original``; computation units) and each face's principal
+    stretches."""
+
+    inp: Redrape
+    section: dict
+    drapes: dict
+    stretch: dict
+
+
+def vertex_panels(face_panel: np.ndarray, F2: np.ndarray, n2: int) -> np.ndarray:
+    """The panel of each pattern vertex (a pattern vertex lies in one panel)."""
+    out = np.full(n2, -1, dtype=np.int64)
+    out[np.asarray(F2).reshape(-1)] = np.repeat(np.asarray(face_panel), 3)
+    return out
+
+
+def units_m(units: str) -> float:
+    """Metres per computation unit."""
+    return CM_PER[units] / 100.0
+
+
+def body_arrays(body) -> tuple[np.ndarray, np.ndarray] | None:
+    """A ``--body`` mesh (a trimesh) as the engine's ``(V, F)`` arrays, or None."""
+    if body is None:
+        return None
+    return np.asarray(body.vertices, dtype=float), np.asarray(body.faces, dtype=np.int64)
+
+
+def engine_settings(max_steps: int | None):
+    """The engine's settings with the step cap, or None for its defaults."""
+    if max_steps is None:
+        return None
+    from ptailor.verify.engine import Settings
+
+    return Settings(max_steps=int(max_steps))
+
+
+def redrape_check(
+    inp: Redrape, *, body, rest: str, up, units: str, max_steps: int | None
+) -> Redrapes:
+    """Run the three re-drapes (:func:`ptailor.verify.check.verify_patterns`).
+
+    Parameters
+    ----------
+    inp : Redrape
+    body : trimesh.Trimesh or None
+        In the computation units.
+    rest : {"intrinsic", "pattern"}
+    up : 3-tuple
+    units : str
+        The computation unit (the report's).
+    max_steps : int, optional
+    """
+    from ptailor.verify.check import verify_patterns
+
+    section, drapes, stretch = verify_patterns(
+        inp.V3_edit,
+        inp.F3,
+        inp.F2,
+        inp.patterns,
+        inp.patterns["original"],
+        inp.V3_orig,
+        panel_names=list(inp.panel_names),
+        face_panel=inp.face_panel,
+        vertex_panel=inp.vertex_panel,
+        body=body_arrays(body),
+        rest=rest,
+        up=tuple(up),
+        units_m=units_m(units),
+        to_units=1.0,
+        settings=engine_settings(max_steps),
+    )
+    return Redrapes(inp=inp, section=section, drapes=drapes, stretch=stretch)
+
+
+def adjustment_redrapes(adj: Adjustment, *, body, options: RunOptions) -> Redrapes:
+    """The re-drape check of an adjustment (``adjust --verify``): its pattern, its
+    baseline (flattened uniform here when the run skipped it) and the original pattern,
+    each sewn onto the edited drape."""
+    from ptailor.model.garment import panel_labels
+
+    base = adj.state.base
+    V3 = adj.state.V3
+    face_panel = panel_labels(adj.state.panels, base.n_faces)
+    inp = Redrape(
+        V3_edit=V3,
+        F3=base.F3,
+        F2=base.F2,
+        patterns={
+            "ours": adj.result.V2,
+            "baseline": _baseline(adj),
+            "original": base.V2,
+        },
+        V3_orig=base.V3,
+        panel_names=[p.name for p in adj.state.panels],
+        face_panel=face_panel,
+        vertex_panel=vertex_panels(face_panel, base.F2, len(base.V2)),
+    )
+    return redrape_check(
+        inp,
+        body=body,
+        rest=options.verify_rest,
+        up=adj.axes[0],
+        units=base.units,
+        max_steps=options.verify_max_steps,
+    )
+
+
+def _baseline(adj: Adjustment) -> np.ndarray:
+    if adj.baseline is not None:
+        return adj.baseline.V2
+    from ptailor.verify.check import uniform_pattern
+
+    base = adj.state.base
+    return uniform_pattern(adj.state.V3, base.F3, adj.result.V2, base.F2)
+
+
+def write_verify_files(
+    tmp: Path,
+    res: Redrapes,
+    *,
+    loaded: LoadedGarment,
+    body,
+    axes: tuple,
+) -> list[str]:
+    """``verify_ours.obj``, ``verify_baseline.obj`` (v = the settled drape, vt = the pattern
+    sewn, in the input files' units) and ``verify.png``; returns the file names."""
+    from ptailor.verify.check import verify_png
+
+    inp, units = res.inp, loaded.garment.units
+    for key, name in DRAPE_FILES.items():  # two files
+        writer_for(name)(
+            tmp / name,
+            V3=res.drapes[key] / loaded.drape_scale,
+            F3=inp.F3,
+            V2=inp.patterns[key] / loaded.pattern_scale,
+            F2=inp.F2,
+            face_panel=inp.face_panel,
+            panel_names=list(inp.panel_names),
+            header=[
+                f"ptailor re-drape check ({key}): v = settled drape, vt = the pattern sewn",
+                f"v: {loaded.drape_scale:.9g} {units} per unit; "
+                f"vt: {loaded.pattern_scale:.9g} {units} per unit",
+            ],
+        )
+    verify_png(
+        tmp / PICTURE,
+        res.drapes,
+        inp.F3,
+        res.stretch,
+        body=body_arrays(body),
+        up=tuple(axes[0]),
+        front=tuple(axes[1]),
+    )
+    return list(VERIFY_FILES)
+
+
+# --------------------------------------------------------------------------- ptailor verify
+
+
+def verify_garment(
+    garment: str,
+    out: str | Path,
+    *,
+    original: str | None = None,
+    options: RunOptions = RunOptions(verify=True),  # noqa: B008 - frozen
+    units: str = "cm",
+) -> dict:
+    """Re-drape a garment's pattern, its uniform baseline and its original's pattern, and
+    write ``verify.json`` with the check's files to ``out`` (all or nothing).
+
+    Parameters
+    ----------
+    garment : str
+        An OBJ: v = the (edited) drape, vt = its pattern (an adjusted ``garment.obj``).
+    out : str or Path
+    original : str, optional
+        The garment before the edit, with the same faces (default: ``garment`` itself).
+    options : RunOptions
+        How the files are read (units, weld, axes, body) and ``verify_rest``,
+        ``verify_max_steps``.
+    units : str
+        The computation unit: the report's lengths are in it.
+
+    Returns
+    -------
+    dict
+        What ``verify.json`` holds.
+    """
+    from ptailor.recipe import resolve_axes
+    from ptailor.run.inputs import load_body
+
+    check_verify_options(options.verify_rest, options.verify_max_steps)
+    check_engine()
+    check_output_dir(out, [garment, original, options.body])
+    axes = resolve_axes(options.up, options.front)
+    edited = _load(garment, options, units)
+    orig = edited if original is None else _load(original, options, units)
+    same_faces(edited.garment, orig.garment, garment=garment, original=original or garment)
+    body = load_body(options.body, units=options.body_units, to=units) if options.body else None
+    inp = garment_redrape(edited.garment, orig.garment, axes=axes)
+    t0 = time.perf_counter()
+    res = redrape_check(
+        inp,
+        body=body,
+        rest=options.verify_rest,
+        up=axes[0],
+        units=units,
+        max_steps=options.verify_max_steps,
+    )
+    inputs = {"garment": garment, "original": original or garment}
+    if options.body:
+        inputs["body"] = options.body
+    doc = {"inputs": inputs, "units": units, "verify": res.section}
+    with staged_dir(out) as tmp:
+        written = write_verify_files(tmp, res, loaded=edited, body=body, axes=axes)
+        doc["outputs"] = sorted(["verify.json", *written])
+        doc["timing_s"] = {"verify": round(time.perf_counter() - t0, 3)}
+        check_finite_report(doc, path=garment)
+        write_json(tmp / "verify.json", doc)
+    return doc
+
+
+def _load(path: str, options: RunOptions, units: str) -> LoadedGarment:
+    from ptailor.formats.garment import load_garment
+
+    return load_garment(
+        path,
+        units=units,
+        pattern_units=options.pattern_units,
+        drape_units=options.drape_units,
+        weld=options.weld,
+    )
+
+
+def same_faces(edited: Garment, orig: Garment, *, garment: str, original: str) -> None:
+    """Refuse an original whose faces are not the garment's (exit 2, naming both)."""
+    same = (
+        edited.F3.shape == orig.F3.shape
+        and edited.F2.shape == orig.F2.shape
+        and len(edited.V3) == len(orig.V3)
+        and len(edited.V2) == len(orig.V2)
+        and np.array_equal(edited.F3, orig.F3)
+        and np.array_equal(edited.F2, orig.F2)
+    )
+    if not same:
+        raise PtailorError(
+            f"{garment} and {original} do not have the same faces ({len(edited.F3)} and "
+            f"{len(orig.F3)} triangles, {len(edited.V3)} and {len(orig.V3)} drape vertices): "
+            "--original must be the garment the adjusted one was made from"
+        )
+
+
+def garment_redrape(edited: Garment, orig: Garment, *, axes: tuple) -> Redrape:
+    """What ``ptailor verify`` re-drapes: ``edited``'s pattern (ours), its uniform
+    flattening (baseline) and ``orig``'s pattern, each on ``edited``'s drape."""
+    from ptailor.model.structure import structure
+    from ptailor.verify.check import uniform_pattern
+
+    st = structure(orig, up=axes[0], front=axes[1])
+    return Redrape(
+        V3_edit=edited.V3,
+        F3=edited.F3,
+        F2=edited.F2,
+        patterns={
+            "ours": edited.V2,
+            "baseline": uniform_pattern(edited.V3, edited.F3, edited.V2, edited.F2),
+            "original": orig.V2,
+        },
+        V3_orig=orig.V3,
+        panel_names=[p.name for p in st.panels],
+        face_panel=np.asarray(st.face_panel),
+        vertex_panel=np.asarray(st.vertex_panel),
+    )
