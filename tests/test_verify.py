@@ -1,0 +1,329 @@
+"""The re-drape check (issue 14): rest shapes, measures, wiring, the picture, and the
+lantern acceptance on the real cloth engine (skipped when it is not installed)."""
+
+from __future__ import annotations
+
+from importlib.resources import files
+
+import numpy as np
+import pytest
+
+from ptailor.geometry.closed_forms import inv2
+from ptailor.geometry.triangles import edge_matrices
+from ptailor.model.structure import structure
+from ptailor.pipeline import adjustment
+from ptailor.recipe import load_recipe
+from ptailor.samples import cylinder, lantern_sleeve
+from ptailor.verify import check
+from ptailor.verify.measure import (
+    panel_stats,
+    pattern_vertex_values,
+    principal_stretches,
+    top_opening,
+)
+from ptailor.verify.rest import rest_shapes
+
+WIDER = files("ptailor.recipes") / "wider-sleeves.yaml"
+ARM_RADIUS = 4.6  # cm: 28.9 around, the lantern's cuff (28) is worn a little tight
+
+
+@pytest.fixture(scope="module")
+def lantern_adj():
+    """The lantern sleeve (cuff 40 x 8 gathered to 28 around) widened 1.2 around."""
+    return adjustment(lantern_sleeve(), load_recipe(WIDER))
+
+
+def metric(E: np.ndarray) -> np.ndarray:
+    return np.swapaxes(E, 1, 2) @ E
+
+
+def rot2(a: float) -> np.ndarray:
+    return np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+
+
+def cuff(adj) -> np.ndarray:
+    s = structure(adj.state.base)
+    k = [p.name for p in s.panels].index("cuff")
+    return s.face_panel == k
+
+
+# rest shapes ---------------------------------------------------------------------------
+
+
+def test_identity_rest_metric_is_the_original_drape_metric(lantern_adj):
+    b = lantern_adj.state.base
+    rng = np.random.default_rng(0)
+    V3 = b.V3 + rng.normal(scale=0.3, size=b.V3.shape)  # a drape with no closed form
+    rest = rest_shapes(b.V2, b.F2, b.V2, V3, b.F3)
+    D0 = edge_matrices(V3, b.F3)
+    np.testing.assert_allclose(metric(rest), metric(D0), atol=1e-9)
+    assert np.all(np.linalg.det(rest) > 0)
+    # a mirrored (clockwise) pattern rests mirrored, with the same metric
+    Vm = b.V2 * [-1.0, 1.0]
+    rest_m = rest_shapes(Vm, b.F2, Vm, V3, b.F3)
+    np.testing.assert_allclose(metric(rest_m), metric(D0), atol=1e-9)
+    assert np.all(np.linalg.det(rest_m) < 0)
+    # plain cloth: the original pattern rests as cut
+    np.testing.assert_allclose(
+        rest_shapes(b.V2, b.F2, b.V2, V3, b.F3, mode="pattern"), edge_matrices(b.V2, b.F2)
+    )
+
+
+def test_rest_ignores_a_rigid_motion_and_a_mirror_of_the_new_pattern(lantern_adj):
+    b, V2 = lantern_adj.state.base, lantern_adj.result.V2
+    V2_before = V2.copy()
+    ref = rest_shapes(V2, b.F2, b.V2, b.V3, b.F3)
+    moved = V2 @ rot2(0.7).T + [13.0, -4.0]
+    mirrored = moved * [-1.0, 1.0]
+    for new in (moved, mirrored):
+        for mode in ("intrinsic", "pattern"):
+            np.testing.assert_allclose(
+                rest_shapes(new, b.F2, b.V2, b.V3, b.F3, mode=mode),
+                rest_shapes(V2, b.F2, b.V2, b.V3, b.F3, mode=mode),
+                atol=1e-9,
+            )
+    np.testing.assert_array_equal(V2, V2_before)  # inputs are not written to
+    assert ref.shape == (len(b.F2), 2, 2)
+
+
+def test_rest_mode_is_checked(lantern_adj):
+    b = lantern_adj.state.base
+    with pytest.raises(ValueError, match="rest mode"):
+        rest_shapes(b.V2, b.F2, b.V2, b.V3, b.F3, mode="drape")
+
+
+def test_lantern_baseline_cuff_rests_0_7_of_ours_around(lantern_adj):
+    adj = lantern_adj
+    b = adj.state.base
+    ours = rest_shapes(adj.result.V2, b.F2, b.V2, b.V3, b.F3)
+    base = rest_shapes(adj.baseline.V2, b.F2, b.V2, b.V3, b.F3)
+    c = cuff(adj)
+    # ours rests as the edited drape: no stretch anywhere on it
+    s_ours = principal_stretches(adj.state.V3, b.F3, ours)
+    np.testing.assert_allclose(s_ours, 1.0, atol=1e-3)
+    # the baseline's cuff rests 0.7 of ours around (the elastic it lost), equal along
+    ratio = np.linalg.svd(base[c] @ inv2(ours[c]), compute_uv=False)
+    np.testing.assert_allclose(ratio[:, 0], 1.0, atol=2e-3)
+    np.testing.assert_allclose(ratio[:, 1], 0.7, atol=2e-3)
+    s_base = principal_stretches(adj.state.V3, b.F3, base)
+    np.testing.assert_allclose(s_base[c, 0], 1 / 0.7, rtol=2e-3)
+    np.testing.assert_allclose(s_base[~c], 1.0, atol=2e-3)
+    # ...and the stretched direction is around the sleeve (horizontal in 3D)
+    E = edge_matrices(adj.state.V3, b.F3)[c] @ inv2(base[c])
+    _, _, vt = np.linalg.svd(E)
+    around = np.einsum("mij,mj->mi", E, vt[:, 0])
+    assert np.all(np.abs(around[:, 1]) < 1e-4 * np.linalg.norm(around, axis=1))
+    # the original pattern rests as the original drape: 1.2 stretched around on the edit
+    orig = rest_shapes(b.V2, b.F2, b.V2, b.V3, b.F3)
+    np.testing.assert_allclose(principal_stretches(adj.state.V3, b.F3, orig)[:, 0], 1.2, rtol=1e-6)
+
+
+# measures ------------------------------------------------------------------------------
+
+
+def test_principal_stretches_of_a_known_affine_map():
+    rng = np.random.default_rng(1)
+    P = rng.normal(size=(30, 2))
+    F = np.array([[i, i + 1, i + 2] for i in range(0, 27, 3)])
+    B = np.array([[1.3, 0.4], [-0.2, 0.8]])
+    Q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    V = P @ B.T @ Q[:, :2].T + [1.0, 2.0, 3.0]  # B in the plane, then a rigid motion
+    rest = edge_matrices(P, F)
+    expected = np.linalg.svd(B, compute_uv=False)
+    s = principal_stretches(V, F, rest)
+    assert s.shape == (len(F), 2)
+    np.testing.assert_allclose(s, np.broadcast_to(expected, s.shape), rtol=1e-9)
+    # a mirrored rest triangle measures the same; a degenerate one gives nan
+    np.testing.assert_allclose(principal_stretches(V, F, rest * [[1.0], [-1.0]]), s, rtol=1e-9)
+    rest0 = rest.copy()
+    rest0[0] = 0.0
+    s0 = principal_stretches(V, F, rest0)
+    assert np.all(np.isnan(s0[0])) and np.allclose(s0[1:], s[1:])
+    np.testing.assert_array_equal(rest0[1:], rest[1:])
+
+
+def test_top_opening_is_the_highest_loop():
+    g = cylinder()
+    top = top_opening(g.V3, g.F3)
+    assert len(top) > 3
+    np.testing.assert_allclose(g.V3[top, 1], g.V3[:, 1].max())
+    bottom = top_opening(g.V3, g.F3, up=(0.0, -1.0, 0.0))
+    np.testing.assert_allclose(g.V3[bottom, 1], g.V3[:, 1].min())
+    s = lantern_sleeve(n_around=24)
+    top = top_opening(s.V3, s.F3)
+    assert len(top) == 24
+    np.testing.assert_allclose(s.V3[top, 1], 48.0)  # the armhole, not the cuff
+    sx = lantern_sleeve(n_around=24, axis="x")
+    np.testing.assert_array_equal(top_opening(sx.V3, sx.F3, up=(1, 0, 0)), top)
+    closed = np.array([[0, 1, 2], [0, 2, 3], [0, 3, 1], [1, 3, 2]])
+    assert len(top_opening(np.eye(4, 3), closed)) == 0
+
+
+def test_panel_stats_numbers():
+    stretch = np.array([[1.0, 0.9], [1.1, 0.8], [1.3, 1.0], [2.0, 0.5], [np.nan, np.nan]])
+    disp = np.array([0.0, 1.0, 2.0, 3.0, 10.0, 7.0])
+    face_panel = np.array([0, 0, 0, 1, 1])
+    vertex_panel = np.array([0, 0, 0, 0, 1, -1])
+    r = panel_stats(stretch, disp, face_panel, vertex_panel, ["a", "b", "empty"])
+    a = r["a"]
+    assert a["stretch"] == {"p50": 1.1, "p95": pytest.approx(1.28), "max": 1.3}
+    assert a["compression"] == {"p5": pytest.approx(0.81)}
+    assert a["displacement"] == {"mean": 1.5, "p95": pytest.approx(2.85), "max": 3.0}
+    b = r["b"]  # nan triangles are left out
+    assert b["stretch"] == {"p50": 2.0, "p95": 2.0, "max": 2.0}
+    assert b["displacement"] == {"mean": 10.0, "p95": 10.0, "max": 10.0}
+    assert all(np.isnan(v) for part in r["empty"].values() for v in part.values())
+    assert set(r) == {"a", "b", "empty"}
+
+
+def test_pattern_vertex_values_give_each_seam_side_the_drape_value():
+    g = lantern_sleeve(n_around=8, n_sleeve=2, n_cuff=1)
+    d3 = np.arange(len(g.V3), dtype=float)
+    d2 = pattern_vertex_values(d3, g.F3, g.F2, len(g.V2))
+    used = np.unique(g.F2)
+    np.testing.assert_array_equal(d2[g.F2], d3[g.F3])
+    assert np.all(np.isnan(np.delete(d2, used)))
+
+
+# wiring with a fake engine -----------------------------------------------------------
+
+
+@pytest.fixture
+def fake_engine(monkeypatch):
+    """``check.redrape`` replaced: returns the start positions, records its calls."""
+    from ptailor.verify.engine import Drape
+
+    calls = []
+
+    def fake(V3, F3, rest, *, units_m, pinned, body=None, settings=None, device=None):
+        calls.append({"V3": V3, "rest": rest, "units_m": units_m, "pinned": pinned,
+                      "body": body, "settings": settings, "device": device})  # fmt: skip
+        return Drape(V=np.array(V3, dtype=float), steps=40, seconds=0.5, settled=True,
+                     device="cpu", engine="fake 0")  # fmt: skip
+
+    monkeypatch.setattr(check, "redrape", fake)
+    return calls
+
+
+PANEL_KEYS = {"stretch": {"p50", "p95", "max"}, "compression": {"p5"},
+              "displacement": {"mean", "p95", "max"}}  # fmt: skip
+
+
+def test_verify_section_wiring(lantern_adj, fake_engine):
+    adj = lantern_adj
+    V3_before = adj.state.V3.copy()
+    body = (np.eye(3), np.array([[0, 1, 2]]))
+    section, drapes = check.verify_section(adj, body=body, units_m=0.01, to_units=10.0,
+                                           device="cpu")  # fmt: skip
+    assert set(section) == {"engine", "device", "steps", "seconds", "settled", "rest",
+                            "ours", "baseline", "original"}  # fmt: skip
+    assert (section["engine"], section["device"], section["rest"]) == ("fake 0", "cpu", "intrinsic")
+    assert section["steps"] == 120 and section["seconds"] == pytest.approx(1.5)
+    assert section["settled"] is True
+    assert list(drapes) == ["ours", "baseline", "original"]
+    for kind in check.KINDS:
+        R = section[kind]
+        assert set(R) == {"panels", "settled", "steps", "seconds"}
+        assert set(R["panels"]) == {"sleeve", "cuff"}
+        for stats in R["panels"].values():
+            assert {k: set(v) for k, v in stats.items()} == PANEL_KEYS
+            assert stats["displacement"]["max"] == 0.0  # the fake does not move
+        np.testing.assert_array_equal(drapes[kind], adj.state.V3)
+    panels = {k: section[k]["panels"] for k in check.KINDS}
+    assert panels["ours"]["cuff"]["stretch"]["p95"] == pytest.approx(1.0, abs=1e-3)
+    assert panels["baseline"]["cuff"]["stretch"]["p95"] == pytest.approx(1 / 0.7, rel=2e-3)
+    assert panels["original"]["sleeve"]["stretch"]["p50"] == pytest.approx(1.2, rel=1e-6)
+    # every run: the edited drape, the top opening pinned, the body and units passed on
+    assert len(fake_engine) == 3
+    top = top_opening(adj.state.V3, adj.state.base.F3)
+    for call in fake_engine:
+        np.testing.assert_array_equal(call["V3"], adj.state.V3)
+        np.testing.assert_array_equal(call["pinned"], top)
+        assert call["body"] is body and call["units_m"] == 0.01 and call["device"] == "cpu"
+    np.testing.assert_array_equal(adj.state.V3, V3_before)
+
+
+def test_displacement_is_scaled_and_a_missing_baseline_is_computed(lantern_adj, fake_engine,
+                                                                   monkeypatch):  # fmt: skip
+    import dataclasses
+
+    from ptailor.verify.engine import Drape
+
+    adj = dataclasses.replace(lantern_adj, baseline=None)
+    shift = np.array([0.0, -0.5, 0.0])
+
+    def sagging(V3, F3, rest, **kw):
+        return Drape(V=V3 + shift, steps=1, seconds=0.0, settled=False, device="cpu",
+                     engine="fake 0")  # fmt: skip
+
+    monkeypatch.setattr(check, "redrape", sagging)
+    section, _ = check.verify_section(adj, rest="pattern", units_m=0.01, to_units=10.0)
+    assert section["settled"] is False and section["rest"] == "pattern"
+    for kind in check.KINDS:
+        for stats in section[kind]["panels"].values():
+            assert stats["displacement"]["mean"] == pytest.approx(5.0)
+    # the baseline computed here is uniform flattening: its cuff lost the elastic
+    expected = check.uniform_pattern(adj.state.V3, adj.state.base.F3, adj.state.base.V2,
+                                     adj.state.base.F2)  # fmt: skip
+    np.testing.assert_allclose(expected, lantern_adj.baseline.V2, atol=1e-3)  # solver tol
+
+
+def test_verify_patterns_for_any_names(lantern_adj, fake_engine):
+    adj = lantern_adj
+    b = adj.state.base
+    s = structure(b)
+    section, drapes, stretches = check.verify_patterns(
+        adj.state.V3, b.F3, b.F2, {"ours": adj.result.V2}, b.V2, b.V3,
+        panel_names=[p.name for p in s.panels], face_panel=s.face_panel,
+        vertex_panel=s.vertex_panel, units_m=0.01, to_units=1.0,
+    )  # fmt: skip
+    assert set(section) == {"engine", "device", "steps", "seconds", "settled", "rest", "ours"}
+    assert stretches["ours"].shape == (len(b.F3), 2)
+    assert drapes["ours"].shape == b.V3.shape
+
+
+# the picture ---------------------------------------------------------------------------
+
+
+def test_verify_png_is_deterministic(lantern_adj, tmp_path):
+    import trimesh
+
+    from ptailor.verify.picture import verify_png
+
+    adj = lantern_adj
+    b = adj.state.base
+    drapes, st = {}, {}
+    for kind, V2 in (("ours", adj.result.V2), ("baseline", adj.baseline.V2), ("original", b.V2)):
+        rest = rest_shapes(V2, b.F2, b.V2, b.V3, b.F3)
+        drapes[kind] = adj.state.V3
+        st[kind] = principal_stretches(adj.state.V3, b.F3, rest)
+    arm = trimesh.creation.cylinder(radius=ARM_RADIUS, segment=[[0, -2, 0], [0, 50, 0]])
+    body = (np.asarray(arm.vertices), np.asarray(arm.faces))
+    a, c = tmp_path / "a.png", tmp_path / "c.png"
+    verify_png(a, drapes, b.F3, st, body=body, height=300)
+    verify_png(c, drapes, b.F3, st, body=body, height=300)
+    data = a.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and data == c.read_bytes()
+    from PIL import Image
+
+    with Image.open(a) as im:
+        assert im.size[1] == 300 and im.size[0] > 300
+
+
+# the real engine: the issue's acceptance -----------------------------------------------
+
+
+def test_lantern_widened_on_an_arm_redrapes_like_the_edit(lantern_adj):
+    pytest.importorskip("newton")
+    import trimesh
+
+    # the sleeve hangs along +y (armhole at y = 48, pinned); the arm runs through it
+    arm = trimesh.creation.cylinder(radius=ARM_RADIUS, segment=[[0, -6, 0], [0, 54, 0]],
+                                    sections=48)  # fmt: skip
+    body = (np.asarray(arm.vertices), np.asarray(arm.faces))
+    section, _ = check.verify_section(lantern_adj, body=body, units_m=0.01, to_units=1.0)
+    ours = section["ours"]["panels"]["cuff"]
+    base = section["baseline"]["panels"]["cuff"]
+    assert ours["stretch"]["p95"] <= 1.05, section
+    assert ours["displacement"]["mean"] <= 1.0, section
+    assert base["stretch"]["p95"] >= 1.15, section
