@@ -1,0 +1,13 @@
+"""Re-drape check: sew a pattern on a body with a real cloth solver and measure the fit.
+
+Modules (imported on demand; nothing here pulls in the cloth engine):
+
+- :mod:`ptailor.verify.engine`: :func:`~ptailor.verify.engine.redrape` on NVIDIA Newton's
+  Style3D cloth solver (optional: ``pip install 'ptailor[sim]'``; newton and warp are imported
+  only inside its functions).
+- :mod:`ptailor.verify.rest`: each triangle's rest shape from a pattern.
+- :mod:`ptailor.verify.measure`: principal stretches, per-panel statistics, the top opening.
+- :mod:`ptailor.verify.check`: the three re-drapes (ours, baseline, original), the report
+  section.
+- :mod:`ptailor.verify.picture`: ``verify.png``.
+"""

@@ -1,0 +1,361 @@
+"""The cloth engine: re-drape a garment from per-triangle rest shapes on NVIDIA Newton.
+
+Newton (``newton``, Apache-2.0) and its kernel compiler ``warp-lang`` are an optional extra
+(``pip install 'ptailor[sim]'``); they are imported only inside this module's functions, so
+the rest of ptailor loads without them and :func:`engine_available` says whether they are here.
+
+The solver is Newton's Style3D garment solver (projective dynamics, implicit, with cloth
+self-collision and penalty contact against static collision meshes). Its rest shape is a 2D
+panel triangle per face; ptailor gives every face its own panel triangle (three panel
+vertices per face) built from the rest edge matrix, mirrored when it is clockwise (Style3D
+silently drops clockwise panel triangles). The cloth's vertices are the drape's vertices,
+so seams are the drape's welded edges. Newton is in SI units: positions are scaled by
+``units_m`` on the way in and back on the way out.
+
+The first run compiles warp's kernels (minutes of CPU; cached in warp's kernel cache,
+``~/.cache/warp``, afterwards).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import time
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from ptailor.errors import PtailorError
+
+#: what the missing-engine error says (the CLI prints it and exits 2)
+INSTALL_HINT = "the cloth engine is not installed: pip install 'ptailor[sim]'"
+
+
+class EngineMissingError(PtailorError):
+    """Newton or warp is not installed; the message says how to install them."""
+
+    def __init__(self) -> None:
+        super().__init__(INSTALL_HINT)
+
+
+def _modules():
+    """Import warp and newton quietly.
+
+    Returns
+    -------
+    (module, module)
+        ``warp`` and ``newton``.
+
+    Raises
+    ------
+    EngineMissingError
+        When either is not installed.
+    """
+    try:
+        import warp as wp
+
+        wp.config.log_level = max(wp.config.log_level, wp.LOG_WARNING)  # info goes to stdout
+        import newton
+        from newton.solvers import SolverStyle3D  # noqa: F401
+    except ImportError as exc:
+        raise EngineMissingError() from exc
+    return wp, newton
+
+
+def engine_available() -> bool:
+    """Whether the cloth engine (newton and warp) can be imported.
+
+    Returns
+    -------
+    bool
+    """
+    try:
+        _modules()
+    except EngineMissingError:
+        return False
+    return True
+
+
+@dataclass(frozen=True)
+class Settings:
+    """Simulation settings, SI units.
+
+    Parameters
+    ----------
+    dt : float
+        Time step, s.
+    max_steps : int
+        Step cap; the re-drape stops here when it has not settled.
+    check_every : int
+        Steps between settle checks.
+    settle_speed : float
+        Settled when the 95th percentile of the free vertices' speeds is below this, m/s ...
+    settle_checks : int
+        ... on this many checks in a row.
+    density : float
+        Cloth mass per rest area, kg/m^2 (cotton shirting 0.1-0.2).
+    stretch : tuple of float
+        Style3D in-plane stiffness (weft, warp, shear), N/m: the panel's x and y and shear.
+    bend : tuple of float
+        Style3D bending stiffness (weft, warp, bias).
+    drag : float
+        Velocity damping, 1/s: velocities are scaled by ``exp(-drag * dt)`` each step (air and
+        internal friction; lets a drape come to rest within the step cap).
+    friction : float
+        Coulomb friction between cloth and body.
+    contact_ke : float
+        Body contact penalty stiffness (Newton's ``soft_contact_ke``).
+    contact_kd : float
+        Body contact damping (``soft_contact_kd``).
+    radius : float
+        Cloth particle radius, m: the cloth rests this far outside the body.
+    contact_gap : float
+        Extra body-contact detection distance, m.
+    collide_every : int
+        Steps between body contact searches (the body is static).
+    iterations : int
+        Style3D nonlinear iterations per step.
+    linear_iterations : int
+        PCG iterations per nonlinear iteration.
+    """
+
+    dt: float = 1.0 / 600.0
+    max_steps: int = 1200
+    check_every: int = 20
+    settle_speed: float = 2e-3
+    settle_checks: int = 3
+    density: float = 0.15
+    stretch: tuple[float, float, float] = (100.0, 100.0, 10.0)
+    bend: tuple[float, float, float] = (2e-5, 1e-5, 5e-6)
+    drag: float = 2.0
+    friction: float = 0.2
+    contact_ke: float = 100.0
+    contact_kd: float = 1e-5
+    radius: float = 1e-3
+    contact_gap: float = 5e-3
+    collide_every: int = 10
+    iterations: int = 4
+    linear_iterations: int = 10
+
+
+@dataclass(frozen=True)
+class Drape:
+    """A settled (or capped) re-drape.
+
+    Parameters
+    ----------
+    V : (n, 3) float array
+        Final vertex positions, in the input's units.
+    steps : int
+        Steps taken.
+    seconds : float
+        Wall time of the simulation (model build and stepping), s.
+    settled : bool
+        Whether it came to rest before ``max_steps``.
+    device : str
+        Warp device it ran on (``"cpu"``, ``"cuda:0"``).
+    engine : str
+        Engine name and version.
+    """
+
+    V: np.ndarray
+    steps: int
+    seconds: float
+    settled: bool
+    device: str
+    engine: str
+
+
+def panel_triangles(rest: np.ndarray) -> np.ndarray:
+    """One counter-clockwise panel triangle per face from rest edge matrices.
+
+    Parameters
+    ----------
+    rest : (m, 2, 2) float array
+        Columns: rest edges ``p1 - p0`` and ``p2 - p0``.
+
+    Returns
+    -------
+    (m, 3, 2) float array
+        Corners ``0, e1, e2``, with x negated where ``det(rest) < 0`` (a mirror changes
+        no length or angle, so the cloth's rest metric is the same).
+    """
+    rest = np.asarray(rest, dtype=float)
+    P = np.zeros((len(rest), 3, 2))
+    P[:, 1] = rest[:, :, 0]
+    P[:, 2] = rest[:, :, 1]
+    P[np.linalg.det(rest) < 0, :, 0] *= -1.0
+    return P
+
+
+def _pick_device(wp, device: str | None) -> str:
+    """``device`` when given, else warp's first GPU when there is one, else the CPU."""
+    if device is not None:
+        return device
+    return "cuda:0" if wp.get_cuda_device_count() > 0 else "cpu"
+
+
+def _model(wp, newton, V, F, P, body, s: Settings, device: str):
+    """Build and finalize the Newton model (SI inputs)."""
+    from newton.solvers import SolverStyle3D, style3d
+
+    builder = newton.ModelBuilder(up_axis=newton.Axis.Y, gravity=(0.0, -9.81, 0.0))
+    SolverStyle3D.register_custom_attributes(builder)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # degenerate rest triangles are dropped, not fatal
+        style3d.add_cloth_mesh(
+            builder,
+            pos=wp.vec3(0.0, 0.0, 0.0),
+            rot=wp.quat_identity(),
+            vel=wp.vec3(0.0, 0.0, 0.0),
+            vertices=V.tolist(),
+            indices=F.reshape(-1).tolist(),
+            density=s.density,
+            panel_verts=P.reshape(-1, 2).tolist(),
+            panel_indices=list(range(3 * len(F))),
+            tri_aniso_ke=wp.vec3(*s.stretch),
+            edge_aniso_ke=wp.vec3(*s.bend),
+            particle_radius=s.radius,
+        )
+    if body is not None:
+        Vb = np.asarray(body[0], dtype=np.float32)
+        Fb = np.asarray(body[1], dtype=np.int32).reshape(-1)
+        cfg = newton.ModelBuilder.ShapeConfig(mu=s.friction)
+        builder.add_shape_mesh(
+            body=-1,
+            mesh=newton.Mesh(Vb, Fb),
+            cfg=cfg,
+        )
+    model = builder.finalize(device=device)
+    model.soft_contact_ke = s.contact_ke
+    model.soft_contact_kd = s.contact_kd
+    model.soft_contact_mu = s.friction
+    return model
+
+
+def _pin(wp, newton, model, pinned: np.ndarray) -> None:
+    """Hold the ``pinned`` particles where they are (inactive: the solver leaves them)."""
+    if len(pinned) == 0:
+        return
+    flags = model.particle_flags.numpy()
+    flags[pinned] &= ~np.int32(int(newton.ParticleFlags.ACTIVE)).astype(flags.dtype)
+    model.particle_flags = wp.array(flags, dtype=model.particle_flags.dtype, device=model.device)
+
+
+class _Settle:
+    """Counts consecutive settle checks below the speed threshold."""
+
+    def __init__(self, s: Settings, free: np.ndarray) -> None:
+        self.s = s
+        self.free = free
+        self.run = 0
+
+    def check(self, qd: np.ndarray) -> bool:
+        """Record one check of velocities ``qd`` (n, 3); True once settled."""
+        speed = np.linalg.norm(qd[self.free], axis=1) if self.free.any() else np.zeros(1)
+        slow = float(np.percentile(speed, 95)) < self.s.settle_speed
+        self.run = self.run + 1 if slow else 0
+        return self.run >= self.s.settle_checks
+
+
+def _simulate(wp, newton, model, s: Settings, free: np.ndarray, has_body: bool):
+    """Step until settled or ``max_steps``; returns (positions (n, 3), steps, settled)."""
+    from newton.solvers import SolverStyle3D
+
+    solver = SolverStyle3D(
+        model,
+        config=SolverStyle3D.Config(iterations=s.iterations, linear_iterations=s.linear_iterations),
+    )
+    a, b = model.state(), model.state()
+    control = model.control()
+    pipeline = newton.CollisionPipeline(model, soft_contact_gap=s.contact_gap) if has_body else None
+    contacts = pipeline.contacts() if has_body else None
+    if contacts is None:
+        contacts = newton.CollisionPipeline(model).contacts()
+    keep = float(np.exp(-s.drag * s.dt))
+    settle = _Settle(s, free)
+    steps, settled = 0, False
+    while steps < s.max_steps and not settled:
+        if pipeline is not None and steps % s.collide_every == 0:
+            pipeline.collide(a, contacts)
+        a.clear_forces()
+        solver.step(a, b, control, contacts, s.dt)
+        a, b = b, a
+        if keep < 1.0:
+            a.particle_qd.assign(a.particle_qd.numpy() * keep)
+        steps += 1
+        if steps % s.check_every == 0:
+            settled = settle.check(a.particle_qd.numpy())
+    return a.particle_q.numpy().astype(float), steps, settled
+
+
+def redrape(
+    V3: np.ndarray,
+    F3: np.ndarray,
+    rest: np.ndarray,
+    *,
+    units_m: float,
+    pinned: np.ndarray,
+    body: tuple[np.ndarray, np.ndarray] | None = None,
+    settings: Settings = Settings(),
+    device: str | None = None,
+) -> Drape:
+    """Sew and drape cloth of the given rest shapes, starting from ``V3``, until it settles.
+
+    Parameters
+    ----------
+    V3 : (n, 3) float array
+        Start positions (the edited drape), y up, in the garment's units.
+    F3 : (m, 3) int array
+        Faces.
+    rest : (m, 2, 2) float array
+        Each face's rest edge matrix (columns ``p1 - p0``, ``p2 - p0``), garment units; may be
+        mirrored (``det < 0``).
+    units_m : float
+        Metres per garment unit (0.01 for cm).
+    pinned : (k,) int array
+        Vertices held in place.
+    body : ((nb, 3) float array, (mb, 3) int array), optional
+        A static collision mesh in the garment's frame and units.
+    settings : Settings
+    device : str, optional
+        Warp device; default the first GPU when warp finds one, else ``"cpu"``.
+
+    Returns
+    -------
+    Drape
+        ``V`` (n, 3) in the garment's units.
+
+    Raises
+    ------
+    EngineMissingError
+        When newton or warp is not installed.
+    """
+    wp, newton = _modules()
+    t0 = time.perf_counter()
+    with contextlib.redirect_stderr(io.StringIO()):
+        wp.init()  # on a machine without a GPU driver warp says so on stderr, every time
+    dev = _pick_device(wp, device)
+    V = np.asarray(V3, dtype=float) * units_m
+    F = np.asarray(F3, dtype=np.int64).reshape(-1, 3)
+    P = panel_triangles(np.asarray(rest, dtype=float) * units_m)
+    if body is not None:
+        body = (np.asarray(body[0], dtype=float) * units_m, np.asarray(body[1]))
+    pinned = np.unique(np.asarray(pinned, dtype=np.int64))
+    # newton times its precompute with a ScopedTimer that prints to stdout
+    with wp.ScopedDevice(dev), contextlib.redirect_stdout(io.StringIO()):
+        model = _model(wp, newton, V, F, P, body, settings, dev)
+        _pin(wp, newton, model, pinned)
+        free = np.zeros(len(V), dtype=bool)
+        free[np.unique(F)] = True
+        free[pinned] = False
+        X, steps, settled = _simulate(wp, newton, model, settings, free, body is not None)
+    return Drape(
+        V=X / units_m,
+        steps=steps,
+        seconds=time.perf_counter() - t0,
+        settled=settled,
+        device=str(dev),
+        engine=f"newton {newton.__version__} (SolverStyle3D)",
+    )
