@@ -26,6 +26,12 @@ class Gates:
     max_seam_mismatch : float, optional
         In the report's units: a seam whose ``|mismatch|`` (its two sides' length difference
         at the target ratio) is above it fails.
+    max_verify_stretch : float, optional
+        A panel whose re-drape stretch p95 (``verify.ours.panels.NAME.stretch.p95``: the
+        adjusted pattern sewn and settled by the cloth engine) is above it fails.
+    max_verify_displacement : float, optional
+        In the report's units: a panel whose re-drape displacement p95 (from the edited
+        drape, ``verify.ours.panels.NAME.displacement.p95``) is above it fails.
     fail_on_flips : bool
         A panel with ``flipped_triangles > 0`` fails.
     """
@@ -34,6 +40,8 @@ class Gates:
     max_boundary_deviation: float | None = None
     max_intrinsic_error: float | None = None
     max_seam_mismatch: float | None = None
+    max_verify_stretch: float | None = None
+    max_verify_displacement: float | None = None
     fail_on_flips: bool = False
 
     @property
@@ -45,6 +53,11 @@ class Gates:
             or self.max_intrinsic_error is not None
             or self.fail_on_flips
         )
+
+    @property
+    def verify_gates(self) -> bool:
+        """True when a gate reads the report's re-drape check (``verify``)."""
+        return self.max_verify_stretch is not None or self.max_verify_displacement is not None
 
 
 class GateFailedError(Exception):
@@ -86,6 +99,21 @@ def seam_mismatch(seam: dict) -> float | None:
     """``|mismatch|`` of a report seam, or None when the report lacks it."""
     mis = number(seam.get("mismatch"))
     return None if mis is None else abs(mis)
+
+
+def verify_panels(report: dict) -> dict | None:
+    """The re-drape check's panels for the adjusted pattern (``verify.ours.panels``), or
+    None when the report has none."""
+    sec = report.get("verify")
+    ours = sec.get("ours") if isinstance(sec, dict) else None
+    panels = ours.get("panels") if isinstance(ours, dict) else None
+    return panels if isinstance(panels, dict) else None
+
+
+def verify_number(panel: Any, measure: str) -> float | None:
+    """A re-drape panel's ``MEASURE.p95`` (``stretch`` or ``displacement``), or None."""
+    rec = panel.get(measure) if isinstance(panel, dict) else None
+    return number(rec.get("p95")) if isinstance(rec, dict) else None
 
 
 # --------------------------------------------------------------------------- strict reads
@@ -175,6 +203,37 @@ def _seam_failures(seams: list[dict], lim: float, units: str) -> list[str]:
     return probs
 
 
+#: re-drape gates: (Gates attribute, the panel's measure, what a failure says)
+_VERIFY_GATES = (
+    ("max_verify_stretch", "stretch", "re-drape stretch p95"),
+    ("max_verify_displacement", "displacement", "re-drape displacement p95"),
+)
+
+
+def _verify_failures(report: dict, gates: Gates, units: str) -> list[str]:
+    """The re-drape gates the report breaks: a panel above a limit, or one without the
+    number (strict: a report without the check breaks every re-drape gate)."""
+    panels = verify_panels(report)
+    set_gates = [g for g in _VERIFY_GATES if getattr(gates, g[0]) is not None]
+    if panels is None or not panels:
+        return [
+            f"report: no verify.ours.panels (the re-drape check, --verify): "
+            f"--{attr.replace('_', '-')} cannot pass without it"
+            for attr, _, _ in set_gates
+        ]
+    probs = []
+    for name, panel in panels.items():  # a loop over panels
+        for attr, measure, what in set_gates:
+            lim = getattr(gates, attr)
+            value = verify_number(panel, measure)
+            unit = f" {units}" if measure == "displacement" and units else ""
+            if value is None:
+                probs.append(f"{name}: {what} missing from the report")
+            elif value > lim:
+                probs.append(f"{name}: {what} {value:.4g} > {lim:.4g}{unit}")
+    return probs
+
+
 def gate_failures(report: dict, gates: Gates) -> list[str]:
     """Every gate the report breaks, one line per panel and gate.
 
@@ -190,4 +249,6 @@ def gate_failures(report: dict, gates: Gates) -> list[str]:
             probs += _seam_failures(_items(report, "seams"), gates.max_seam_mismatch, units)
     except MissingFieldError as exc:
         probs.append(f"report: no {exc} list (a gate cannot pass without it)")
+    if gates.verify_gates:
+        probs += _verify_failures(report, gates, units)
     return probs

@@ -7,7 +7,14 @@ import json
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
-from ptailor.batch.gates import area_change, number, p95, seam_mismatch
+from ptailor.batch.gates import (
+    area_change,
+    number,
+    p95,
+    seam_mismatch,
+    verify_number,
+    verify_panels,
+)
 
 #: a record's keys, in the order they are written
 RECORD_KEYS = (
@@ -24,6 +31,8 @@ RECORD_KEYS = (
     "max_intrinsic_error_p95",
     "max_seam_mismatch",
     "flipped_triangles",
+    "verify_stretch_p95",
+    "verify_displacement_p95",
     "warnings",
 )
 #: record statuses; ``ok`` and ``skipped`` are successes
@@ -46,8 +55,20 @@ def key_numbers(report: dict) -> dict:
         "max_intrinsic_error_p95": biggest(p95(p) for p in panels),
         "max_seam_mismatch": biggest(seam_mismatch(s) for s in report.get("seams", [])),
         "flipped_triangles": sum(int(p.get("flipped_triangles") or 0) for p in panels),
+        **verify_numbers(report),
         "warnings": len(report.get("warnings", [])),
     }
+
+
+def verify_numbers(report: dict) -> dict:
+    """A record's re-drape numbers: the adjusted pattern's worst panel stretch p95 and
+    displacement p95 (None without the check)."""
+    panels = verify_panels(report) or {}
+    out = {}
+    for measure in ("stretch", "displacement"):
+        vs = [v for p in panels.values() if (v := verify_number(p, measure)) is not None]
+        out[f"verify_{measure}_p95"] = round(max(vs), 6) if vs else None
+    return out
 
 
 def record_line(record: dict) -> str:

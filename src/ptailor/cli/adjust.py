@@ -10,6 +10,7 @@ from ptailor.cli.options import (
     dxf_options,
     garment_options,
     output_options,
+    verify_options,
 )
 
 
@@ -38,6 +39,7 @@ from ptailor.cli.options import (
     help="Watertight body mesh: extended rows are pushed out of it.",
 )
 @click.option("--body-units", default="cm", show_default=True, help="Unit of the body mesh.")
+@verify_options
 @baseline_option
 @output_options
 @dxf_options
@@ -57,6 +59,9 @@ def adjust(
     intrinsic,
     body,
     body_units,
+    verify,
+    verify_rest,
+    verify_max_steps,
     no_baseline,
     formats,
     size,
@@ -70,21 +75,24 @@ def adjust(
     GARMENT is an OBJ with v = drape and vt = pattern (faces f v/vt), or an AAMA/ASTM DXF
     pattern with --drape an OBJ whose vt triangulates its pieces (same layout and units).
     RECIPE is a YAML edit recipe ('-' reads it from stdin); it is validated whole before
-    GARMENT is read.
+    GARMENT is read. --verify re-drapes the result with the cloth engine (the body, when
+    given, holds the re-drapes too; the top opening is pinned).
     """
     import json
     from pathlib import Path
 
-    from ptailor.cli.options import run_options
+    from ptailor.cli.options import check_engine_first, run_options
     from ptailor.output import check_output_dir
     from ptailor.recipe import load_recipe
     from ptailor.report.build import summary_lines
     from ptailor.run.garment import run_garment
 
+    params = click.get_current_context().params
+    check_engine_first(params)  # (before any file is read)
     # every input (the recipe too) is checked against the output folder before any is read
     check_output_dir(out, [garment, recipe, drape, body])
     rec = load_recipe(recipe)
-    options = run_options(rec, click.get_current_context().params)
+    options = run_options(rec, params)
     report = run_garment(garment, rec, out, options=options, drape=drape)
     if as_json:
         click.echo(json.dumps(report, indent=2))

@@ -10,6 +10,7 @@ from ptailor.cli.options import (
     dxf_options,
     output_options,
     units_options,
+    verify_options,
 )
 
 
@@ -35,6 +36,18 @@ _LIMIT_GATES = (
         "D",
         "a seam whose two sides miss their target length ratio by more than D (report's "
         "seams[].mismatch, recipe units).",
+    ),
+    (
+        "--max-verify-stretch",
+        "S",
+        "a panel whose re-drape stretch p95 (report's verify.ours) exceeds S (1.05 = 5 % "
+        "stretched); needs --verify.",
+    ),
+    (
+        "--max-verify-displacement",
+        "D",
+        "a panel whose re-drape displacement p95 (report's verify.ours, recipe units) exceeds "
+        "D; needs --verify.",
     ),
 )
 
@@ -68,6 +81,7 @@ def gate_options(fn):
 @units_options
 @axes_options
 @baseline_option
+@verify_options
 @output_options
 @dxf_options
 @click.option(
@@ -115,6 +129,9 @@ def batch(
     up,
     front,
     no_baseline,
+    verify,
+    verify_rest,
+    verify_max_steps,
     formats,
     seam_allowance,
     size,
@@ -130,6 +147,8 @@ def batch(
     max_boundary_deviation,
     max_intrinsic_error,
     max_seam_mismatch,
+    max_verify_stretch,
+    max_verify_displacement,
     fail_on_flips,
 ) -> None:
     """Apply RECIPE to every GARMENT, one output folder each under OUT.
@@ -143,6 +162,9 @@ def batch(
     batch.json stamp: re-running skips garments whose file, recipe and options are
     unchanged. A garment that fails, breaks a quality gate or runs past --timeout gets no
     folder; the others go on.
+
+    --verify re-drapes each garment with the cloth engine (pip install 'ptailor[sim]'; on
+    the GPU warp finds, else the CPU), one simulation at a time per worker.
 
     Exit status: 0 every garment done or unchanged, 1 some failed, 2 bad recipe or
     arguments, 130 interrupted by Ctrl-C or SIGTERM (complete folders are kept: run again
@@ -159,7 +181,7 @@ def batch(
             os.environ.setdefault(var, "1")
 
     from ptailor.batch import Gates, expand_garments, make_jobs
-    from ptailor.cli.options import run_options
+    from ptailor.cli.options import check_engine_first, run_options
     from ptailor.errors import PtailorError
     from ptailor.formats.garment import parse_units
     from ptailor.recipe import load_recipe
@@ -168,6 +190,21 @@ def batch(
         raise PtailorError("--timeout cannot be used with --scheduler (Dask cannot stop a task)")
     if recipe == "-" and "-" in garments:
         raise PtailorError("the recipe and the garment list cannot both come from stdin")
+    gates = Gates(
+        max_area_change=max_area_change,
+        max_boundary_deviation=max_boundary_deviation,
+        max_intrinsic_error=max_intrinsic_error,
+        max_seam_mismatch=max_seam_mismatch,
+        max_verify_stretch=max_verify_stretch,
+        max_verify_displacement=max_verify_displacement,
+        fail_on_flips=fail_on_flips,
+    )
+    if gates.verify_gates and not verify:
+        raise PtailorError(
+            "--max-verify-stretch and --max-verify-displacement need --verify "
+            "(they judge the re-drape check)"
+        )
+    check_engine_first(ctx.params)  # (before any file is read)
     rec = load_recipe(recipe)
     if pattern_units != "auto":
         parse_units(pattern_units, what="--pattern-units")
@@ -181,13 +218,6 @@ def batch(
     )
     if not paths:
         raise PtailorError(f"no garments: {' '.join(garments)} matched no files")
-    gates = Gates(
-        max_area_change=max_area_change,
-        max_boundary_deviation=max_boundary_deviation,
-        max_intrinsic_error=max_intrinsic_error,
-        max_seam_mismatch=max_seam_mismatch,
-        fail_on_flips=fail_on_flips,
-    )
     todo = make_jobs(paths, out, rec, options=options, gates=gates, force=force, timeout=timeout)
     bar = not quiet and sys.stderr.isatty()
     result = _run(todo, workers=workers, scheduler=scheduler, log=log, as_json=as_json, bar=bar)

@@ -20,6 +20,7 @@ from ptailor.cli.batch import batch
 from ptailor.cli.demo import demo
 from ptailor.cli.inspect import inspect
 from ptailor.cli.validate import validate
+from ptailor.cli.verify import verify
 
 
 def one_line(text: str) -> str:
@@ -122,3 +123,4 @@ cli.add_command(inspect)
 cli.add_command(demo)
 cli.add_command(batch)
 cli.add_command(validate)
+cli.add_command(verify)

@@ -152,6 +152,59 @@ def dxf_options(fn):
     return fn
 
 
+def rest_option(name: str = "--rest"):
+    """``--rest intrinsic|pattern``: how the re-drapes' triangles rest."""
+    return click.option(
+        name,
+        type=click.Choice(["intrinsic", "pattern"]),
+        default="intrinsic",
+        show_default=True,
+        help="Re-drape rest shapes: intrinsic (each pattern triangle through the original "
+        "garment's intrinsic scale: the original pattern rests as the original drape) or "
+        "pattern (plain cloth cut from the pattern).",
+    )
+
+
+def max_steps_option(name: str = "--max-steps"):
+    """``--max-steps N``: the re-drapes' step cap."""
+    return click.option(
+        name,
+        type=click.IntRange(min=1),
+        default=None,
+        metavar="N",
+        help="Re-drape: stop each simulation after N steps when it has not settled "
+        "[default: the engine's, 1200 = 2 s].",
+    )
+
+
+def verify_options(fn):
+    """``--verify``, ``--verify-rest``, ``--verify-max-steps``: the re-drape check."""
+    for opt in reversed(
+        [
+            click.option(
+                "--verify",
+                is_flag=True,
+                help="Re-drape check: sew the adjusted pattern, the uniform baseline and the "
+                "original pattern on the edited drape with the cloth engine (pip install "
+                "'ptailor[sim]'); the report gets verify, the folder verify_ours.obj, "
+                "verify_baseline.obj and verify.png.",
+            ),
+            rest_option("--verify-rest"),
+            max_steps_option("--verify-max-steps"),
+        ]
+    ):
+        fn = opt(fn)
+    return fn
+
+
+def check_engine_first(params: Mapping[str, Any]) -> None:
+    """With ``--verify``: refuse a missing cloth engine before any file is read (exit 2)."""
+    if params.get("verify"):
+        from ptailor.run.checks import check_engine
+
+        check_engine()
+
+
 def parse_output_options(formats: str, seam_allowance: str | None, *, units: str):
     """``--formats`` as a tuple (checked) and ``--seam-allowance`` in ``units`` (or None).
 

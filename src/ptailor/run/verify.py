@@ -194,7 +194,7 @@ def write_verify_files(
 ) -> list[str]:
     """``verify_ours.obj``, ``verify_baseline.obj`` (v = the settled drape, vt = the pattern
     sewn, in the input files' units) and ``verify.png``; returns the file names."""
-    from ptailor.verify.check import verify_png
+    from ptailor.verify.picture import verify_png
 
     inp, units = res.inp, loaded.garment.units
     for key, name in DRAPE_FILES.items():  # two files

@@ -1,0 +1,116 @@
+"""``ptailor verify``."""
+
+from __future__ import annotations
+
+import click
+
+from ptailor.cli.options import axes_options, max_steps_option, rest_option, units_options
+
+
+@click.command()
+@click.argument("garment", type=click.Path(dir_okay=False))
+@click.option(
+    "--original",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="The garment before the edit (same faces as GARMENT): its pattern and drape give "
+    "the intrinsic scale, and its pattern is the reference re-drape [default: GARMENT].",
+)
+@click.option("-o", "--out", required=True, type=click.Path(file_okay=False), help="Output folder.")
+@units_options
+@axes_options
+@click.option(
+    "--body",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="Watertight body mesh in the garment's frame: the re-drapes collide with it (the "
+    "top opening is pinned either way).",
+)
+@click.option("--body-units", default="cm", show_default=True, help="Unit of the body mesh.")
+@rest_option()
+@max_steps_option()
+@click.option("--json", "as_json", is_flag=True, help="Print verify.json on stdout.")
+@click.option("-q", "--quiet", is_flag=True, help="Print nothing on success.")
+def verify(
+    garment,
+    original,
+    out,
+    pattern_units,
+    drape_units,
+    weld,
+    up,
+    front,
+    body,
+    body_units,
+    rest,
+    max_steps,
+    as_json,
+    quiet,
+) -> None:
+    """Re-drape GARMENT's pattern with a cloth engine and write the check to OUT.
+
+    GARMENT is an OBJ with v = drape and vt = pattern, typically an adjusted garment.obj
+    with --original the garment it was made from. Three patterns are sewn onto GARMENT's
+    drape and settled under gravity, the top opening pinned: GARMENT's pattern (ours), the
+    uniform flattening of its drape (baseline) and ORIGINAL's pattern (the reference).
+    Writes OUT/verify.json (per panel: stretch, compression, displacement from the drape),
+    verify_ours.obj, verify_baseline.obj (the settled drapes) and verify.png. Lengths are
+    in --drape-units (cm for a scaled unit). Needs pip install 'ptailor[sim]'.
+    """
+    import json
+
+    from ptailor.cli.options import check_engine_first, parse_weld_option
+    from ptailor.formats.garment import parse_units
+    from ptailor.model.units import CM_PER
+    from ptailor.run.checks import check_verify_options
+    from ptailor.run.options import RunOptions
+    from ptailor.run.verify import verify_garment
+
+    check_verify_options(rest, max_steps)
+    check_engine_first({"verify": True})  # (before any file is read)
+    units = drape_units if drape_units in CM_PER else "cm"
+    if pattern_units != "auto":
+        parse_units(pattern_units, what="--pattern-units")
+    parse_units(drape_units, what="--drape-units")
+    parse_weld_option(weld, units=units)
+    options = RunOptions(
+        pattern_units=pattern_units,
+        drape_units=drape_units,
+        weld=weld,
+        up=up,
+        front=front,
+        body=body,
+        body_units=body_units,
+        verify=True,
+        verify_rest=rest,
+        verify_max_steps=max_steps,
+    )
+    doc = verify_garment(garment, out, original=original, options=options, units=units)
+    if as_json:
+        click.echo(json.dumps(doc, indent=2))
+    elif not quiet:
+        for line in summary_lines(doc):
+            click.echo(line)
+        click.echo(f"wrote {out}/ ({', '.join(doc['outputs'])})", err=True)
+
+
+def summary_lines(doc: dict) -> list[str]:
+    """The check in a few lines: per re-drape, its worst panel's stretch and displacement."""
+    sec = doc["verify"]
+    units = doc.get("units", "")
+    lines = [
+        f"re-drape: {sec.get('engine', '?')} on {sec.get('device', '?')}, rest "
+        f"{sec.get('rest', '?')}, {sec.get('steps', 0)} steps in {sec.get('seconds', 0):.1f} s"
+    ]
+    for kind in ("ours", "baseline", "original"):
+        r = sec.get(kind)
+        if not isinstance(r, dict):
+            continue
+        panels = r.get("panels", {})
+        s95 = max((p["stretch"]["p95"] for p in panels.values()), default=float("nan"))
+        d95 = max((p["displacement"]["p95"] for p in panels.values()), default=float("nan"))
+        state = "settled" if r.get("settled") else "step cap"
+        lines.append(
+            f"  {kind:<9} stretch p95 {s95:.3f}  displacement p95 {d95:.3g} {units}  ({state})"
+        )
+    return lines

@@ -1,0 +1,336 @@
+"""The re-drape check through the command line: ``ptailor verify``, ``adjust --verify``,
+``batch --verify`` with its gates and records.
+
+The wiring is tested with a fake engine (``verify_patterns`` replaced by canned numbers), so
+that these tests run without the cloth engine; one slow test runs the real one (skipped
+when it is not installed).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from ptailor.batch import RECORD_KEYS, Gates, gate_failures, key_numbers
+from ptailor.cli.main import cli
+from ptailor.formats.obj import write_garment
+from ptailor.samples import cylinder, lantern_sleeve
+
+HINT = "ptailor: error: the cloth engine is not installed: pip install 'ptailor[sim]'"
+WIDER = "steps: [{op: scale, region: all, direction: around, axis: auto, factor: 1.2}]\n"
+VERIFY_FILES = {"verify_ours.obj", "verify_baseline.obj", "verify.png"}
+
+
+def run(*args):
+    return CliRunner().invoke(cli, [str(a) for a in args])
+
+
+def small_sleeve(path: Path) -> Path:
+    write_garment(path, lantern_sleeve(n_around=12, n_sleeve=3, n_cuff=2))
+    return path
+
+
+def panel_stats(stretch: float, displacement: float) -> dict:
+    return {
+        "stretch": {"p50": 1.0, "p95": stretch, "max": stretch + 0.01},
+        "compression": {"p5": 0.98},
+        "displacement": {"mean": displacement / 2, "p95": displacement, "max": 2 * displacement},
+    }
+
+
+@pytest.fixture
+def fake_engine(monkeypatch):
+    """The engine 'installed', and ``verify_patterns`` answering canned numbers: ours
+    stretch p95 1.02 and displacement p95 0.4 per panel, the baseline 1.3 and 2.0; the
+    settled drapes are the edited drape moved down 0.1 (ours), 0.2, 0.3."""
+    import ptailor.verify.check as check
+    import ptailor.verify.engine as engine
+
+    calls = []
+    numbers = {"ours": (1.02, 0.4), "baseline": (1.3, 2.0), "original": (1.01, 0.3)}
+
+    def verify_patterns(V3_edit, F3, F2, patterns, V2_orig, V3_orig, *, panel_names, **kw):
+        calls.append({"patterns": patterns, "names": list(panel_names), **kw})
+        assert set(patterns) == {"ours", "baseline", "original"}
+        for V2 in patterns.values():
+            assert V2.shape == V2_orig.shape and np.all(np.isfinite(V2))
+        assert V3_edit.shape == V3_orig.shape and len(F3) == len(F2)
+        section = {
+            "engine": "fake 0.0",
+            "device": "cpu",
+            "steps": 30,
+            "seconds": 0.5,
+            "settled": True,
+            "rest": kw["rest"],
+        }
+        drapes, stretch = {}, {}
+        for i, kind in enumerate(patterns):
+            s, d = numbers[kind]
+            section[kind] = {
+                "panels": {n: panel_stats(s, d) for n in panel_names},
+                "settled": True,
+                "steps": 10,
+                "seconds": 0.1,
+            }
+            drapes[kind] = V3_edit - np.array([0.0, 0.1 * (i + 1), 0.0])
+            stretch[kind] = np.full((len(F3), 2), s)
+        return section, drapes, stretch
+
+    monkeypatch.setattr(engine, "engine_available", lambda: True)
+    monkeypatch.setattr(check, "verify_patterns", verify_patterns)
+    return calls
+
+
+@pytest.fixture
+def no_engine(monkeypatch):
+    import ptailor.verify.engine as engine
+
+    monkeypatch.setattr(engine, "engine_available", lambda: False)
+
+
+# --------------------------------------------------------------------------- no engine
+
+
+def test_without_the_engine_every_command_says_how_to_install_it(tmp_path, no_engine):
+    """Exit 2 with the install hint before any file is read (the garment does not even
+    exist), nothing written."""
+    rec = tmp_path / "r.yaml"
+    rec.write_text(WIDER)
+    out = tmp_path / "o"
+    for args in (
+        ["verify", tmp_path / "missing.obj", "-o", out],
+        ["adjust", tmp_path / "missing.obj", rec, "-o", out, "--verify"],
+        ["batch", rec, tmp_path / "missing.obj", "-o", out, "--verify"],
+    ):
+        r = run(*args)
+        assert r.exit_code == 2, (args[0], r.output)
+        assert r.output.strip() == HINT, args[0]
+        assert not out.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.yaml"]
+
+
+def test_without_verify_the_engine_is_not_needed(tmp_path, no_engine):
+    g = small_sleeve(tmp_path / "s.obj")
+    rec = tmp_path / "r.yaml"
+    rec.write_text(WIDER)
+    r = run("adjust", g, rec, "-o", tmp_path / "o", "--formats", "obj", "-q")
+    assert r.exit_code == 0, r.output
+    report = json.loads((tmp_path / "o" / "report.json").read_text())
+    assert "verify" not in report
+
+
+# --------------------------------------------------------------------------- ptailor verify
+
+
+def test_verify_writes_the_check_all_or_nothing(tmp_path, fake_engine):
+    orig = small_sleeve(tmp_path / "s.obj")
+    rec = tmp_path / "r.yaml"
+    rec.write_text(WIDER)
+    r = run("adjust", orig, rec, "-o", tmp_path / "adj", "--formats", "obj", "-q")
+    assert r.exit_code == 0, r.output
+    garment = tmp_path / "adj" / "garment.obj"
+    out = tmp_path / "check"
+    r = run("verify", garment, "--original", orig, "-o", out, "--max-steps", 5, "--json")
+    assert r.exit_code == 0, r.output
+    doc = json.loads((out / "verify.json").read_text())
+    assert json.loads(r.output) == doc
+    assert {p.name for p in out.iterdir()} == {".ptailor", "verify.json", *VERIFY_FILES}
+    assert doc["outputs"] == sorted(["verify.json", *VERIFY_FILES])
+    assert doc["inputs"] == {"garment": str(garment), "original": str(orig)}
+    assert doc["units"] == "cm"
+    sec = doc["verify"]
+    assert {"engine", "device", "steps", "seconds", "settled", "rest"} <= set(sec)
+    assert {"ours", "baseline", "original"} <= set(sec)
+    assert sec["ours"]["panels"]["cuff"]["stretch"]["p95"] == 1.02
+    (call,) = fake_engine
+    assert call["rest"] == "intrinsic" and call["settings"].max_steps == 5
+    assert call["body"] is None and call["units_m"] == pytest.approx(0.01)
+    assert sorted(call["names"]) == ["cuff", "sleeve"]
+    # the settled drapes: v = the fake's drape (0.1 below the edited one), vt = the pattern
+    from ptailor.formats.garment import load_garment
+
+    edited = load_garment(garment, weld="off").garment
+    ours = load_garment(out / "verify_ours.obj", weld="off").garment
+    assert np.allclose(ours.V3, edited.V3 - [0, 0.1, 0], atol=1e-5)
+    assert np.allclose(ours.V2, edited.V2, atol=1e-5)
+    assert np.array_equal(ours.F3, edited.F3)
+    base = load_garment(out / "verify_baseline.obj", weld="off").garment
+    assert np.allclose(base.V3, edited.V3 - [0, 0.2, 0], atol=1e-5)
+    # the summary lines
+    r = run("verify", garment, "--original", orig, "-o", out, "--rest", "pattern")
+    assert r.exit_code == 0, r.output
+    assert "ours" in r.output and "stretch p95 1.020" in r.output
+    assert fake_engine[-1]["rest"] == "pattern"
+
+
+def test_verify_without_original_is_its_own_original(tmp_path, fake_engine):
+    g = small_sleeve(tmp_path / "s.obj")
+    r = run("verify", g, "-o", tmp_path / "o", "-q")
+    assert r.exit_code == 0, r.output
+    assert r.output == ""
+    (call,) = fake_engine
+    assert np.array_equal(call["patterns"]["ours"], call["patterns"]["original"])
+
+
+def test_verify_refuses_an_original_with_other_faces(tmp_path, fake_engine):
+    g = small_sleeve(tmp_path / "s.obj")
+    other = tmp_path / "c.obj"
+    write_garment(other, cylinder())
+    out = tmp_path / "o"
+    r = run("verify", g, "--original", other, "-o", out)
+    assert r.exit_code == 2, r.output
+    line = r.output.strip()
+    assert line.startswith("ptailor: error:") and "\n" not in line
+    assert str(g) in line and str(other) in line and "same faces" in line
+    assert not out.exists() and fake_engine == []
+
+
+def test_verify_with_a_body_and_bad_options(tmp_path, fake_engine):
+    import trimesh
+
+    g = small_sleeve(tmp_path / "s.obj")
+    body = tmp_path / "arm.obj"
+    trimesh.creation.cylinder(radius=2.0, height=60.0).export(body)
+    r = run("verify", g, "--body", body, "-o", tmp_path / "o", "-q")
+    assert r.exit_code == 0, r.output
+    V, F = fake_engine[-1]["body"]
+    assert V.shape[1] == 3 and F.shape[1] == 3
+    doc = json.loads((tmp_path / "o" / "verify.json").read_text())
+    assert doc["inputs"]["body"] == str(body)
+    r = run("verify", g, "-o", tmp_path / "o2", "--max-steps", 0)
+    assert r.exit_code == 2 and not (tmp_path / "o2").exists()
+    r = run("verify", g, "-o", tmp_path / "o2", "--rest", "nope")
+    assert r.exit_code == 2 and not (tmp_path / "o2").exists()
+
+
+def test_verify_names_a_missing_garment(tmp_path, fake_engine):
+    r = run("verify", tmp_path / "missing.obj", "-o", tmp_path / "o")
+    assert r.exit_code == 2 and "missing.obj" in r.output
+    assert not (tmp_path / "o").exists()
+
+
+# --------------------------------------------------------------------------- adjust --verify
+
+
+def test_adjust_verify_adds_the_section_and_the_files(tmp_path, fake_engine):
+    g = small_sleeve(tmp_path / "s.obj")
+    rec = tmp_path / "r.yaml"
+    rec.write_text(WIDER)
+    out = tmp_path / "o"
+    args = ["adjust", g, rec, "-o", out, "--formats", "obj", "--verify", "-q"]
+    r = run(*args, "--verify-rest", "pattern", "--verify-max-steps", 7)
+    assert r.exit_code == 0, r.output
+    report = json.loads((out / "report.json").read_text())
+    assert report["verify"]["rest"] == "pattern"
+    assert report["verify"]["ours"]["panels"]["sleeve"]["displacement"]["p95"] == 0.4
+    assert set(report["outputs"]) == {"report.json", "garment.obj", *VERIFY_FILES}
+    assert {p.name for p in out.iterdir()} == {".ptailor", *report["outputs"]}
+    assert "verify" in report["timing_s"]
+    (call,) = fake_engine
+    assert call["settings"].max_steps == 7
+    assert sorted(call["names"]) == sorted(p["name"] for p in report["panels"])
+    # --no-baseline: the baseline is flattened for the check all the same
+    r = run(*args, "--no-baseline")
+    assert r.exit_code == 0, r.output
+    base = fake_engine[-1]["patterns"]["baseline"]
+    assert np.all(np.isfinite(base))
+    assert not np.allclose(base, fake_engine[-1]["patterns"]["ours"])
+
+
+# --------------------------------------------------------------------------- gates, records
+
+
+def report_with(stretch: float | None, displacement: float | None, *, section: bool = True):
+    rep = {"units": {"computation": "cm"}, "panels": [], "seams": []}
+    if section:
+        stats = panel_stats(stretch if stretch is not None else 1.0, displacement or 0.0)
+        if stretch is None:
+            del stats["stretch"]
+        if displacement is None:
+            del stats["displacement"]
+        rep["verify"] = {"ours": {"panels": {"cuff": stats, "sleeve": panel_stats(1.0, 0.1)}}}
+    return rep
+
+
+def test_verify_gates_read_the_report_strictly():
+    gates = Gates(max_verify_stretch=1.05, max_verify_displacement=1.0)
+    assert gates.verify_gates and not Gates().verify_gates
+    assert gate_failures(report_with(1.04, 0.9), gates) == []
+    probs = gate_failures(report_with(1.2, 1.5), gates)
+    assert probs == [
+        "cuff: re-drape stretch p95 1.2 > 1.05",
+        "cuff: re-drape displacement p95 1.5 > 1 cm",
+    ]
+    # strict: no section, or a number missing, fails
+    probs = gate_failures(report_with(None, None, section=False), gates)
+    assert len(probs) == 2 and all("verify.ours.panels" in p for p in probs)
+    assert "--max-verify-stretch" in probs[0] and "--max-verify-displacement" in probs[1]
+    probs = gate_failures(report_with(None, 0.2), Gates(max_verify_stretch=2.0))
+    assert probs == ["cuff: re-drape stretch p95 missing from the report"]
+    # without verify gates the section is not needed
+    assert gate_failures(report_with(None, None, section=False), Gates()) == []
+
+
+def test_records_carry_the_verify_numbers():
+    assert RECORD_KEYS.index("verify_stretch_p95") < RECORD_KEYS.index("warnings")
+    nums = key_numbers(report_with(1.2, 1.5))
+    assert nums["verify_stretch_p95"] == 1.2 and nums["verify_displacement_p95"] == 1.5
+    nums = key_numbers(report_with(None, None, section=False))
+    assert nums["verify_stretch_p95"] is None and nums["verify_displacement_p95"] is None
+
+
+def test_batch_verify_gates_and_records(tmp_path, fake_engine):
+    g = small_sleeve(tmp_path / "s.obj")
+    rec = tmp_path / "r.yaml"
+    rec.write_text(WIDER)
+    log = tmp_path / "log.jsonl"
+    base = ["batch", rec, g, "-j", 1, "--formats", "obj", "--no-baseline", "--log", log, "-q"]
+    r = run(*base, "-o", tmp_path / "a", "--verify", "--max-verify-stretch", 1.01)
+    assert r.exit_code == 1, r.output
+    (record,) = [json.loads(x) for x in log.read_text().splitlines()]
+    assert record["failure"] == "gate" and "re-drape stretch p95 1.02 > 1.01" in record["reason"]
+    assert record["verify_stretch_p95"] == 1.02 and record["verify_displacement_p95"] == 0.4
+    assert not (tmp_path / "a" / "s").exists()
+    r = run(*base, "-o", tmp_path / "b", "--verify", "--max-verify-displacement", 0.5)
+    assert r.exit_code == 0, r.output
+    (record,) = [json.loads(x) for x in log.read_text().splitlines()]
+    assert record["status"] == "ok" and record["verify_displacement_p95"] == 0.4
+    assert VERIFY_FILES <= {p.name for p in (tmp_path / "b" / "s").iterdir()}
+    # the stamp holds the verify options: without --verify the garment is redone
+    r = run(*base, "-o", tmp_path / "b")
+    assert r.exit_code == 0, r.output
+    (record,) = [json.loads(x) for x in log.read_text().splitlines()]
+    assert record["status"] == "ok" and record["verify_stretch_p95"] is None
+    # a verify gate without --verify is a usage mistake
+    r = run(*base, "-o", tmp_path / "c", "--max-verify-stretch", 1.1)
+    assert r.exit_code == 2 and "need --verify" in r.output
+
+
+# --------------------------------------------------------------------------- the real engine
+
+
+def test_real_engine_adjust_and_verify(tmp_path):
+    """A small lantern sleeve widened 1.2, re-drapes capped at a few steps: the commands
+    run end to end on the installed engine."""
+    pytest.importorskip("newton")
+    g = small_sleeve(tmp_path / "s.obj")
+    rec = tmp_path / "r.yaml"
+    rec.write_text(WIDER)
+    out = tmp_path / "o"
+    r = run("adjust", g, rec, "-o", out, "--formats", "obj", "--verify", "--verify-max-steps", 20)
+    assert r.exit_code == 0, r.output
+    report = json.loads((out / "report.json").read_text())
+    sec = report["verify"]
+    assert sec["device"] in ("cpu", "cuda:0") and "newton" in sec["engine"]
+    for kind in ("ours", "baseline", "original"):
+        assert sec[kind]["steps"] <= 20
+        assert set(sec[kind]["panels"]) == {"sleeve", "cuff"}
+    assert VERIFY_FILES <= set(report["outputs"])
+    r = run("verify", out / "garment.obj", "--original", g, "-o", tmp_path / "v", "--max-steps", 20)
+    assert r.exit_code == 0, r.output
+    doc = json.loads((tmp_path / "v" / "verify.json").read_text())
+    assert set(doc["verify"]["ours"]["panels"]) == {"sleeve", "cuff"}
