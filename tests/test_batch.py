@@ -301,6 +301,9 @@ def test_the_stamp_hashes_every_run_option(tmp_path):
         "size": "M",
         "dxf_units": "mm",
         "seam_allowance": 1.0,
+        "verify": True,
+        "verify_rest": "pattern",
+        "verify_max_steps": 10,
     }
     assert set(changed) == {f.name for f in fields(RunOptions)}
 
