@@ -234,8 +234,9 @@ def test_adjust_verify_adds_the_section_and_the_files(tmp_path, fake_engine):
     assert call["settings"].max_steps == 7
     assert sorted(call["names"]) == sorted(p["name"] for p in report["panels"])
     # --no-baseline: the baseline is flattened for the check all the same
-    r = run(*args, "--no-baseline")
+    r = run(*args[:-1], "--no-baseline")  # (not quiet: the summary names the check)
     assert r.exit_code == 0, r.output
+    assert "re-drape: fake 0.0 on cpu" in r.output and "baseline  stretch p95 1.300" in r.output
     base = fake_engine[-1]["patterns"]["baseline"]
     assert np.all(np.isfinite(base))
     assert not np.allclose(base, fake_engine[-1]["patterns"]["ours"])

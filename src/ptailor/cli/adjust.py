@@ -99,4 +99,9 @@ def adjust(
     elif not quiet:
         for line in summary_lines(report):
             click.echo(line)
+        if "verify" in report:
+            from ptailor.cli.verify import summary_lines as verify_lines
+
+            for line in verify_lines(report):
+                click.echo(line)
         click.echo(f"wrote {Path(out)}/ ({', '.join(report['outputs'])})", err=True)

@@ -98,6 +98,8 @@ def summary_lines(doc: dict) -> list[str]:
     """The check in a few lines: per re-drape, its worst panel's stretch and displacement."""
     sec = doc["verify"]
     units = doc.get("units", "")
+    if isinstance(units, dict):  # (adjust's report)
+        units = units.get("computation", "")
     lines = [
         f"re-drape: {sec.get('engine', '?')} on {sec.get('device', '?')}, rest "
         f"{sec.get('rest', '?')}, {sec.get('steps', 0)} steps in {sec.get('seconds', 0):.1f} s"
