@@ -113,11 +113,12 @@ def _scene(V, F, rgb, body, cam):
     cols = [rgb * _shade(V, F, cam[2])[:, None]]
     if body is not None:
         Vb, Fb = body
-        size = 2.0 * float(np.median(np.linalg.norm(V[F[:, 1]] - V[F[:, 0]], axis=1)))
-        T = bisect_long(Vb[Fb], size)
+        edge = float(np.median(np.linalg.norm(V[F[:, 1]] - V[F[:, 0]], axis=1)))
+        T = bisect_long(Vb[Fb], 2.0 * edge)
         n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
         lam = np.abs(n @ cam[2]) / np.maximum(np.linalg.norm(n, axis=1), 1e-300)
-        tris.append(T @ cam.T)
+        # cloth lying on the body sorts in front of it: the body one edge further back
+        tris.append(T @ cam.T - [0.0, 0.0, edge])
         cols.append(_BODY[None, :] * (0.75 + 0.25 * lam)[:, None])
     t = np.concatenate(tris)
     c = np.concatenate(cols)
