@@ -54,7 +54,8 @@ def fake_engine(monkeypatch):
     numbers = {"ours": (1.02, 0.4), "baseline": (1.3, 2.0), "original": (1.01, 0.3)}
 
     def verify_patterns(V3_edit, F3, F2, patterns, V2_orig, V3_orig, *, panel_names, **kw):
-        calls.append({"patterns": patterns, "names": list(panel_names), **kw})
+        calls.append({"patterns": patterns, "names": list(panel_names), "V3": V3_edit, **kw})
+        assert kw["up"] == (0.0, 1.0, 0.0)  # (the garment is turned y-up for the engine)
         assert set(patterns) == {"ours", "baseline", "original"}
         for V2 in patterns.values():
             assert V2.shape == V2_orig.shape and np.all(np.isfinite(V2))
@@ -205,6 +206,26 @@ def test_verify_with_a_body_and_bad_options(tmp_path, fake_engine):
     assert r.exit_code == 2 and not (tmp_path / "o2").exists()
     r = run("verify", g, "-o", tmp_path / "o2", "--rest", "nope")
     assert r.exit_code == 2 and not (tmp_path / "o2").exists()
+
+
+def test_verify_turns_a_z_up_garment_y_up_for_the_engine(tmp_path, fake_engine):
+    """The engine's gravity is along -y: a z-up garment is turned for the simulation and
+    its settled drapes turned back (the fake's drop along -y is a drop along -z)."""
+    from dataclasses import replace
+
+    from ptailor.formats.garment import load_garment
+
+    g = lantern_sleeve(n_around=12, n_sleeve=3, n_cuff=2)
+    R = np.array([[1.0, 0, 0], [0, 0, -1], [0, 1, 0]])  # y -> z, z -> -y
+    path = tmp_path / "zup.obj"
+    write_garment(path, replace(g, V3=g.V3 @ R.T))
+    r = run("verify", path, "--up", "z", "--front", "-y", "-o", tmp_path / "o", "-q")
+    assert r.exit_code == 0, r.output
+    (call,) = fake_engine
+    V3 = load_garment(path, weld="off").garment.V3
+    assert np.allclose(np.sort(call["V3"][:, 1]), np.sort(V3[:, 2]), atol=1e-6)
+    ours = load_garment(tmp_path / "o" / "verify_ours.obj", weld="off").garment
+    assert np.allclose(ours.V3, V3 - [0, 0, 0.1], atol=1e-5)
 
 
 def test_verify_names_a_missing_garment(tmp_path, fake_engine):

@@ -104,10 +104,26 @@ def engine_settings(max_steps: int | None):
     return Settings(max_steps=int(max_steps))
 
 
+def to_y_up(up) -> np.ndarray:
+    """The rotation (3x3, det 1) taking the unit vector ``up`` to +y: the engine's gravity
+    pulls along -y, so a garment with another up axis is turned for the simulation."""
+    u = np.asarray(up, dtype=float)
+    u = u / np.linalg.norm(u)
+    y = np.array([0.0, 1.0, 0.0])
+    c = float(u @ y)
+    if c < -1.0 + 1e-12:  # upside down: half a turn about x
+        return np.diag([1.0, -1.0, -1.0])
+    k = np.cross(u, y)
+    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+    return np.eye(3) + K + K @ K / (1.0 + c)
+
+
 def redrape_check(
     inp: Redrape, *, body, rest: str, up, units: str, max_steps: int | None
 ) -> Redrapes:
-    """Run the three re-drapes (:func:`ptailor.verify.check.verify_patterns`).
+    """Run the three re-drapes (:func:`ptailor.verify.check.verify_patterns`), the garment
+    turned so that ``up`` is +y (the engine's gravity is along -y) and the settled drapes
+    turned back.
 
     Parameters
     ----------
@@ -122,23 +138,26 @@ def redrape_check(
     """
     from ptailor.verify.check import verify_patterns
 
+    R = to_y_up(up)
+    arrays = body_arrays(body)
     section, drapes, stretch = verify_patterns(
-        inp.V3_edit,
+        inp.V3_edit @ R.T,
         inp.F3,
         inp.F2,
         inp.patterns,
         inp.patterns["original"],
-        inp.V3_orig,
+        inp.V3_orig @ R.T,
         panel_names=list(inp.panel_names),
         face_panel=inp.face_panel,
         vertex_panel=inp.vertex_panel,
-        body=body_arrays(body),
+        body=None if arrays is None else (arrays[0] @ R.T, arrays[1]),
         rest=rest,
-        up=tuple(up),
+        up=(0.0, 1.0, 0.0),
         units_m=units_m(units),
         to_units=1.0,
         settings=engine_settings(max_steps),
     )
+    drapes = {k: np.asarray(V) @ R for k, V in drapes.items()}
     return Redrapes(inp=inp, section=section, drapes=drapes, stretch=stretch)
 
 
