@@ -311,7 +311,9 @@ def test_verify_png_is_deterministic(tmp_path):
 # the real engine: the issue's acceptance -----------------------------------------------
 
 
-def test_lantern_widened_on_an_arm_redrapes_like_the_edit(lantern_adj):
+@pytest.fixture(scope="module")
+def arm_check(lantern_adj):
+    """The three re-drapes of the widened lantern on an arm, with the engine's defaults."""
     pytest.importorskip("newton")
     import trimesh
 
@@ -319,9 +321,28 @@ def test_lantern_widened_on_an_arm_redrapes_like_the_edit(lantern_adj):
     arm = trimesh.creation.cylinder(radius=ARM_RADIUS, segment=[[0, -6, 0], [0, 54, 0]],
                                     sections=48)  # fmt: skip
     body = (np.asarray(arm.vertices), np.asarray(arm.faces))
-    section, _ = check.verify_section(lantern_adj, body=body, units_m=0.01, to_units=1.0)
+    return check.verify_section(lantern_adj, body=body, units_m=0.01, to_units=1.0)
+
+
+def test_lantern_widened_on_an_arm_redrapes_like_the_edit(arm_check):
+    """The issue's acceptance: ours' cuff barely moves or stretches, the baseline's is
+    stretched over the arm (its rest is 0.7 x 33.6 = 23.5 cm around an arm of 28.9)."""
+    section, _ = arm_check
     ours = section["ours"]["panels"]["cuff"]
     base = section["baseline"]["panels"]["cuff"]
     assert ours["stretch"]["p95"] <= 1.05, section
     assert ours["displacement"]["mean"] <= 1.0, section
     assert base["stretch"]["p95"] >= 1.15, section
+
+
+@pytest.mark.xfail(
+    reason="with Settings().collide_every = 10 the tight baseline cuff passes through the arm "
+    "(rest size, median radius 3.75 < 4.6 cm); collide_every=1 holds it (p50 1.246)",
+    strict=False,
+)
+def test_lantern_baseline_cuff_is_held_by_the_arm(arm_check, lantern_adj):
+    section, drapes = arm_check
+    assert section["baseline"]["panels"]["cuff"]["stretch"]["p50"] >= 1.15, section
+    c = lantern_adj.state.V3[:, 1] <= 8.0  # the cuff's rings
+    radius = np.hypot(drapes["baseline"][c, 0], drapes["baseline"][c, 2])
+    assert np.median(radius) >= ARM_RADIUS - 0.05
