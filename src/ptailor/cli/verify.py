@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ptailor.cli.options import axes_options, max_steps_option, rest_option, units_options
+from ptailor.cli.options import AXES, max_steps_option, rest_option, units_options
 
 
 @click.command()
@@ -18,7 +18,8 @@ from ptailor.cli.options import axes_options, max_steps_option, rest_option, uni
 )
 @click.option("-o", "--out", required=True, type=click.Path(file_okay=False), help="Output folder.")
 @units_options
-@axes_options
+@click.option("--up", default=None, type=click.Choice(AXES), help="Up axis [default: y].")
+@click.option("--front", default=None, type=click.Choice(AXES), help="Front axis [default: z].")
 @click.option(
     "--body",
     type=click.Path(dir_okay=False),
