@@ -228,6 +228,32 @@ def test_verify_turns_a_z_up_garment_y_up_for_the_engine(tmp_path, fake_engine):
     assert np.allclose(ours.V3, V3 - [0, 0, 0.1], atol=1e-5)
 
 
+def test_an_estimated_pattern_scale_is_the_originals(tmp_path, fake_engine):
+    """--pattern-units auto: the adjusted garment's pattern is read at the scale estimated
+    for its original (it was written in the original's pattern units)."""
+    from dataclasses import replace
+
+    from ptailor.formats.garment import load_garment
+
+    g = lantern_sleeve(n_around=12, n_sleeve=3, n_cuff=2)
+    k = 1.0 / 60.0  # a [0, 1] atlas
+    orig = tmp_path / "atlas.obj"
+    write_garment(orig, replace(g, V2=g.V2 * k))
+    rec = tmp_path / "r.yaml"
+    rec.write_text(WIDER)
+    auto = ["--pattern-units", "auto"]
+    r = run("adjust", orig, rec, "-o", tmp_path / "adj", "--formats", "obj", "-q", *auto)
+    assert r.exit_code == 0, r.output
+    garment = tmp_path / "adj" / "garment.obj"
+    r = run("verify", garment, "--original", orig, "-o", tmp_path / "o", "-q", *auto)
+    assert r.exit_code == 0, r.output
+    (call,) = fake_engine
+    scale = load_garment(orig, pattern_units="auto").pattern_scale
+    text = garment.read_text().splitlines()
+    written = np.array([ln.split()[1:3] for ln in text if ln.startswith("vt ")], dtype=float)
+    assert np.allclose(call["patterns"]["ours"], written * scale, rtol=1e-9)
+
+
 def test_verify_names_a_missing_garment(tmp_path, fake_engine):
     r = run("verify", tmp_path / "missing.obj", "-o", tmp_path / "o")
     assert r.exit_code == 2 and "missing.obj" in r.output

@@ -282,8 +282,9 @@ def verify_garment(
     check_engine()
     check_output_dir(out, [garment, original, options.body])
     axes = resolve_axes(options.up, options.front)
-    edited = _load(garment, options, units)
-    orig = edited if original is None else _load(original, options, units)
+    orig = None if original is None else _load(original, options, units)
+    edited = _load(garment, _same_pattern_scale(options, orig, units), units)
+    orig = orig or edited
     same_faces(edited.garment, orig.garment, garment=garment, original=original or garment)
     body = load_body(options.body, units=options.body_units, to=units) if options.body else None
     inp = garment_redrape(edited.garment, orig.garment, axes=axes)
@@ -319,6 +320,18 @@ def _load(path: str, options: RunOptions, units: str) -> LoadedGarment:
         drape_units=options.drape_units,
         weld=options.weld,
     )
+
+
+def _same_pattern_scale(options: RunOptions, orig: LoadedGarment | None, units: str):
+    """With ``--pattern-units auto`` the garment's pattern is read at the scale estimated for
+    its original (an adjusted ``garment.obj`` is written in its input's pattern units; an
+    estimate from the edited drape would differ)."""
+    if orig is None or options.pattern_units != "auto":
+        return options
+    from dataclasses import replace
+
+    cm = orig.pattern_scale * CM_PER[units]
+    return replace(options, pattern_units=f"{cm:.12g}cm")
 
 
 def same_faces(edited: Garment, orig: Garment, *, garment: str, original: str) -> None:
