@@ -325,7 +325,7 @@ def redrape(
     Returns
     -------
     Drape
-        ``V`` (n, 3) in the garment's units.
+        ``V`` (n, 3) in the garment's units; the pinned vertices exactly where they were.
 
     Raises
     ------
@@ -351,8 +351,10 @@ def redrape(
         free[np.unique(F)] = True
         free[pinned] = False
         X, steps, settled = _simulate(wp, newton, model, settings, free, body is not None)
+    X = X / units_m
+    X[pinned] = np.asarray(V3, dtype=float)[pinned]  # held exactly, not through float32
     return Drape(
-        V=X / units_m,
+        V=X,
         steps=steps,
         seconds=time.perf_counter() - t0,
         settled=settled,
