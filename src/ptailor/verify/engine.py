@@ -111,9 +111,13 @@ class Settings:
     radius : float
         Cloth particle radius, m: the cloth rests this far outside the body.
     contact_gap : float
-        Extra body-contact detection distance, m.
+        Extra body-contact detection distance, m: a contact found this far ahead holds the
+        cloth as a plane until the next search.
     collide_every : int
-        Steps between body contact searches (the body is static).
+        Steps between body contact searches. Tight cloth snaps onto the body at metres per
+        second: searching every 10 steps (Newton's example) with a 5 mm gap lets a 0.7x rest
+        tube started 15 % wide pass through its cylinder; every step with a 1 cm gap holds it,
+        for about the same time per step on a simple body.
     iterations : int
         Style3D nonlinear iterations per step.
     linear_iterations : int
@@ -133,8 +137,8 @@ class Settings:
     contact_ke: float = 100.0
     contact_kd: float = 1e-5
     radius: float = 1e-3
-    contact_gap: float = 5e-3
-    collide_every: int = 10
+    contact_gap: float = 1e-2
+    collide_every: int = 1
     iterations: int = 4
     linear_iterations: int = 10
 
