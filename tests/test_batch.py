@@ -409,6 +409,8 @@ def test_gate_failures_reads_the_report_fields():
         "max_intrinsic_error_p95": 0.02,
         "max_seam_mismatch": 0.25,
         "flipped_triangles": 2,
+        "verify_stretch_p95": None,
+        "verify_displacement_p95": None,
         "warnings": 0,
     }
 
