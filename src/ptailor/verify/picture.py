@@ -178,7 +178,8 @@ def verify_png(
         smax = np.asarray(stretch[name], dtype=float)[:, 0]
         rgb = cmap(norm(np.ma.masked_invalid(smax)))[:, :3]
         scenes.append((name, smax, *_scene(np.asarray(V, float), F3, rgb, body, cam)))
-    pts = np.concatenate([np.asarray(V, float) @ cam[:2].T for V in drapes.values()])
+    used = np.unique(F3)  # unreferenced vertices are not drawn
+    pts = np.concatenate([np.asarray(V, float)[used] @ cam[:2].T for V in drapes.values()])
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     pad = 0.06 * float((hi - lo).max())
     lo, hi = lo - pad, hi + pad
