@@ -124,6 +124,22 @@ def test_without_verify_the_engine_is_not_needed(tmp_path, no_engine):
     assert "verify" not in report
 
 
+def test_the_command_line_does_not_import_the_engine():
+    """``ptailor --help`` stays fast: neither the engine nor ptailor.verify is imported until
+    a check runs."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys; from ptailor.cli.main import cli; "
+        "bad = [m for m in ('warp', 'newton', 'ptailor.verify', 'ptailor.run') "
+        "if m in sys.modules]; print(bad)"
+    )
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip() == "[]"
+
+
 # --------------------------------------------------------------------------- ptailor verify
 
 
