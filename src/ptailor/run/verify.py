@@ -239,8 +239,22 @@ def write_verify_files(
         body=body_arrays(body),
         up=tuple(axes[0]),
         front=tuple(axes[1]),
+        captions=worst_panel_captions(res.section, units),
     )
     return list(VERIFY_FILES)
+
+
+def worst_panel_captions(section: dict, units: str) -> dict[str, str]:
+    """One line per re-drape: its worst panel's stretch p95 and mean displacement."""
+    out = {}
+    for key in ("ours", "baseline", "original"):
+        panels = list(section[key]["panels"].values())
+        stretch = np.array([p["stretch"]["p95"] for p in panels], dtype=float)
+        moved = np.array([p["displacement"]["mean"] for p in panels], dtype=float)
+        s = np.nanmax(stretch) if np.isfinite(stretch).any() else float("nan")
+        d = np.nanmax(moved) if np.isfinite(moved).any() else float("nan")
+        out[key] = f"worst panel:\nstretch p95 {s:.3f}\nmoved {d:.2f} {units}"
+    return out
 
 
 # --------------------------------------------------------------------------- ptailor verify

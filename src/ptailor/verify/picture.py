@@ -135,6 +135,7 @@ def verify_png(
     body: tuple[np.ndarray, np.ndarray] | None = None,
     up=(0.0, 1.0, 0.0),
     front=(0.0, 0.0, 1.0),
+    captions: dict[str, str] | None = None,
     height: int = 900,
     dpi: int = 100,
 ) -> None:
@@ -157,6 +158,9 @@ def verify_png(
     up, front : 3-vectors
         The wearer's axes: one camera for every panel, from the front, a little to the side
         and above.
+    captions : dict of str to str, optional
+        A line under each title (the report's worst panel, say); by default the 95th
+        percentile of the largest stretch over all triangles.
     height, dpi : int
         Image height in pixels and the resolution written in the file.
     """
@@ -191,7 +195,7 @@ def verify_png(
     w = w_panel / (k * w_panel + 1.3)
     text = {"fontfamily": _FONT, "color": "black"}
     for i, (name, smax, tris, cols) in enumerate(scenes):
-        ax = fig.add_axes((i * w, 0.02, w, 0.86))
+        ax = fig.add_axes((i * w, 0.02, w, 0.80))
         ax.set_axis_off()
         ax.set_xlim(lo[0], hi[0])
         ax.set_ylim(lo[1], hi[1])
@@ -201,9 +205,10 @@ def verify_png(
             autolim=False,
         )
         p95 = np.nanpercentile(smax, 95) if np.any(np.isfinite(smax)) else float("nan")
+        caption = (captions or {}).get(name, f"stretch p95 {p95:.3f}")
         fig.text((i + 0.5) * w, 0.955, TITLES.get(name, name), ha="center", va="center",
                  fontsize=15, fontweight="bold", **text)  # fmt: skip
-        fig.text((i + 0.5) * w, 0.905, f"stretch p95 {p95:.3f}", ha="center", va="center",
+        fig.text((i + 0.5) * w, 0.93, caption, ha="center", va="top",
                  fontsize=11, **text)  # fmt: skip
     cax = fig.add_axes((k * w + 0.15 * (1 - k * w), 0.12, 0.22 * (1 - k * w), 0.72))
     bar = fig.colorbar(ScalarMappable(norm=norm, cmap=cmap), cax=cax, extend="both")
