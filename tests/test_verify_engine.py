@@ -77,6 +77,21 @@ def test_missing_engine_says_how_to_install(monkeypatch):
     assert isinstance(e.value, engine.PtailorError)
 
 
+def test_bad_inputs_are_named():
+    V3, F3, rest, top = _tube(1.0)
+    bad = [
+        ({"V3": V3[:, :2]}, "V3 must be"),
+        ({"F3": F3 + len(V3)}, "F3 indexes"),
+        ({"rest": rest[:-1]}, "rest must be"),
+        ({"units_m": 0.0}, "units_m must be"),
+        ({"pinned": np.array([len(V3)])}, "pinned indexes"),
+    ]
+    for change, message in bad:
+        args = {"V3": V3, "F3": F3, "rest": rest, "units_m": 0.01, "pinned": top} | change
+        with pytest.raises(ValueError, match=message):
+            engine.redrape(args.pop("V3"), args.pop("F3"), args.pop("rest"), **args)
+
+
 @pytest.mark.parametrize(("scale", "mirrored", "wide"), [(0.9, True, 1.08), (0.7, False, 1.15)])
 def test_a_tight_tube_is_stretched_over_the_cylinder(scale, mirrored, wide):
     """Rest ``scale`` x around (a mirrored pattern: every rest triangle clockwise), started

@@ -202,6 +202,20 @@ def panel_triangles(rest: np.ndarray) -> np.ndarray:
     return P
 
 
+def _check_inputs(V: np.ndarray, F: np.ndarray, rest: np.ndarray, units_m: float, pinned) -> None:
+    """Raise ValueError naming the first argument of the wrong shape or value."""
+    if V.ndim != 2 or V.shape[1] != 3 or not np.isfinite(V).all():
+        raise ValueError(f"V3 must be a finite (n, 3) array, got shape {V.shape}")
+    if len(F) and (F.min() < 0 or F.max() >= len(V)):
+        raise ValueError("F3 indexes vertices outside V3")
+    if rest.shape != (len(F), 2, 2) or not np.isfinite(rest).all():
+        raise ValueError(f"rest must be a finite ({len(F)}, 2, 2) array, got shape {rest.shape}")
+    if not (units_m > 0 and np.isfinite(units_m)):
+        raise ValueError(f"units_m must be positive, got {units_m}")
+    if len(pinned) and (pinned.min() < 0 or pinned.max() >= len(V)):
+        raise ValueError("pinned indexes vertices outside V3")
+
+
 def _pick_device(wp, device: str | None) -> str:
     """``device`` when given, else warp's first GPU when there is one, else the CPU."""
     if device is not None:
@@ -362,18 +376,23 @@ def redrape(
     ------
     EngineMissingError
         When newton or warp is not installed.
+    ValueError
+        When an array has the wrong shape, a non-finite value, or an index out of range.
     """
+    V3 = np.asarray(V3, dtype=float)
+    F = np.asarray(F3, dtype=np.int64).reshape(-1, 3)
+    rest = np.asarray(rest, dtype=float)
+    pinned = np.unique(np.asarray(pinned, dtype=np.int64).reshape(-1))
+    _check_inputs(V3, F, rest, units_m, pinned)
     wp, newton = _modules()
     t0 = time.perf_counter()
     with contextlib.redirect_stderr(io.StringIO()):
         wp.init()  # on a machine without a GPU driver warp says so on stderr, every time
     dev = _pick_device(wp, device)
-    V = np.asarray(V3, dtype=float) * units_m
-    F = np.asarray(F3, dtype=np.int64).reshape(-1, 3)
-    P = panel_triangles(np.asarray(rest, dtype=float) * units_m)
+    V = V3 * units_m
+    P = panel_triangles(rest * units_m)
     if body is not None:
         body = (np.asarray(body[0], dtype=float) * units_m, np.asarray(body[1]))
-    pinned = np.unique(np.asarray(pinned, dtype=np.int64))
     # newton times its precompute with a ScopedTimer that prints to stdout
     with wp.ScopedDevice(dev), contextlib.redirect_stdout(io.StringIO()):
         model = _model(wp, newton, V, F, P, body, settings, dev)
@@ -385,7 +404,7 @@ def redrape(
             wp, newton, model, settings, free, body is not None, self_radius(P, settings)
         )
     X = X / units_m
-    X[pinned] = np.asarray(V3, dtype=float)[pinned]  # held exactly, not through float32
+    X[pinned] = V3[pinned]  # held exactly, not through float32
     return Drape(
         V=X,
         steps=steps,
