@@ -300,3 +300,40 @@ def test_pattern_units_auto_estimates_and_warns(runner, tmp_path, recipe):
     rep = json.loads(r.output)
     assert rep["units"]["pattern_scale_estimate"] == pytest.approx(1 / s, rel=1e-6)
     assert any("estimated" in w for w in rep["warnings"])
+
+
+def test_one_blas_thread_unless_the_user_chose(monkeypatch):
+    import os
+    import sys
+
+    from ptailor.cli.main import BLAS_THREAD_VARIABLES, one_blas_thread
+
+    for var in BLAS_THREAD_VARIABLES:
+        monkeypatch.delenv(var, raising=False)
+    monkeypatch.delitem(sys.modules, "numpy")
+    one_blas_thread()
+    assert [os.environ[v] for v in BLAS_THREAD_VARIABLES] == ["1", "1", "1"]
+    for var in BLAS_THREAD_VARIABLES:
+        monkeypatch.delenv(var)
+    monkeypatch.setenv("OMP_NUM_THREADS", "4")
+    one_blas_thread()  # the user's choice stands, and nothing else is set
+    assert [os.environ.get(v) for v in BLAS_THREAD_VARIABLES] == [None, "4", None]
+
+
+def test_the_command_sets_one_blas_thread_before_numpy_loads(tmp_path):
+    import os
+    import subprocess
+    import sys
+
+    env = {k: v for k, v in os.environ.items() if not k.endswith("_NUM_THREADS")}
+    code = (
+        "import sys; from ptailor.cli.main import cli\n"
+        "sys.argv = ['ptailor', 'validate', sys.argv[1]]\n"
+        "try:\n    cli()\nexcept SystemExit:\n    pass\n"
+        "import os; print(os.environ.get('OPENBLAS_NUM_THREADS'))"
+    )
+    recipe = tmp_path / "r.yaml"
+    recipe.write_text("steps: []\n")
+    out = subprocess.run([sys.executable, "-c", code, str(recipe)], env=env,
+                         capture_output=True, text=True, check=True)  # fmt: skip
+    assert out.stdout.strip().splitlines()[-1] == "1"

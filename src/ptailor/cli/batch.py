@@ -174,12 +174,6 @@ def batch(
     import sys
 
     workers = jobs or os.cpu_count() or 1
-    if scheduler is None and workers > 1 and "numpy" not in sys.modules:
-        # one BLAS thread per worker process (read when numpy loads; forked workers inherit
-        # it): several workers with a thread per core each only oversubscribe the cores
-        for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
-            os.environ.setdefault(var, "1")
-
     from ptailor.batch import Gates, expand_garments, make_jobs
     from ptailor.cli.options import check_engine_first, run_options
     from ptailor.errors import PtailorError
