@@ -282,6 +282,19 @@ def test_verify_patterns_for_any_names(lantern_adj, fake_engine):
     assert drapes["ours"].shape == b.V3.shape
 
 
+def test_verify_patterns_refuses_an_up_the_engine_cannot_simulate(lantern_adj, fake_engine):
+    """Gravity is along -y: a z-up garment must be turned first, not pinned at the wrong loop
+    and dropped sideways."""
+    b = lantern_adj.state.base
+    s = structure(b)
+    with pytest.raises(ValueError, match="up must be"):
+        check.verify_patterns(
+            lantern_adj.state.V3, b.F3, b.F2, {"ours": lantern_adj.result.V2}, b.V2, b.V3,
+            panel_names=[p.name for p in s.panels], face_panel=s.face_panel,
+            vertex_panel=s.vertex_panel, up=(0.0, 0.0, 1.0), units_m=0.01, to_units=1.0,
+        )  # fmt: skip
+
+
 # the picture ---------------------------------------------------------------------------
 
 

@@ -118,7 +118,9 @@ def verify_patterns(
     rest : {"intrinsic", "pattern"}
         :func:`ptailor.verify.rest.rest_shapes`'s mode.
     up : 3-vector
-        The wearer's up: the top opening (highest boundary loop) is pinned.
+        The wearer's up, which must be +y: the engine's gravity pulls along -y (turn a
+        garment with another up axis first, as ``ptailor.run.verify`` does). The top
+        opening (highest boundary loop) is pinned.
     units_m : float
         Metres per garment unit.
     to_units : float
@@ -139,6 +141,9 @@ def verify_patterns(
     stretches : dict of str to (m, 2) float array
         Their principal stretches.
     """
+    u = np.asarray(up, dtype=float)
+    if u.shape != (3,) or not np.allclose(u / np.linalg.norm(u), [0.0, 1.0, 0.0]):
+        raise ValueError(f"up must be +y (the engine's gravity is along -y), not {tuple(u)}")
     V3_edit = np.asarray(V3_edit, dtype=float)
     common = {
         "V3_edit": V3_edit,
