@@ -7,7 +7,7 @@ import pytest
 import scipy.sparse as sp
 
 from ptailor.geometry.rotations import max_trace_rotations as _rotations
-from ptailor.method.deform import UNIFORM_REG, arap_deform, cotangent_weights
+from ptailor.method.deform import UNIFORM_REG, arap_deform, cotangent_weights, warm_rotations
 
 # ---------------------------------------------------------------------------------------
 # meshes
@@ -163,6 +163,27 @@ def test_rotations_are_proper_and_optimal_also_for_reflections():
     others = np.stack([rotation(*rng.uniform(-np.pi, np.pi, 3)) for _ in range(200)])
     best_other = np.einsum("rab,kba->kr", others, S).max(axis=1)
     assert np.all(tr >= best_other - 1e-12)
+
+
+@pytest.mark.parametrize("spread", [0.05, 1.0, 3.0])
+def test_warm_rotations_agree_with_the_svd(spread):
+    # from guesses near the maxima (as in ARAP), and far ones that must fall back to SVD;
+    # planar (rank 2) and rank-1 matrices included
+    rng = np.random.default_rng(2)
+    S = rng.normal(size=(3000, 3, 3))
+    S[:500, :, 2] = 0.0
+    S[500:600] = rng.normal(size=(100, 3, 1)) * rng.normal(size=(100, 1, 3))
+    S[-1] = 0.0
+    R_svd, tr_svd = _rotations(S)
+    turn = np.stack([rotation(*rng.normal(scale=spread, size=3)) for _ in range(len(S))])
+    R, tr = warm_rotations(S, R_svd @ turn)
+    assert np.allclose(R @ np.swapaxes(R, 1, 2), np.eye(3), atol=1e-12)
+    assert np.allclose(np.linalg.det(R), 1.0)
+    assert np.allclose(tr, np.einsum("kab,kba->k", R, S), atol=1e-12)
+    assert np.all(tr >= tr_svd - 1e-12 * np.abs(S).max(axis=(1, 2)))  # as good as the SVD
+    unique = np.ones(len(S), dtype=bool)
+    unique[500:600] = unique[-1] = False  # rank <= 1: the maximum is not unique
+    assert np.abs(R - R_svd)[unique].max() < 1e-9
 
 
 # ---------------------------------------------------------------------------------------
