@@ -15,6 +15,7 @@ from ptailor.edits.mirror import apply_mirrored
 from ptailor.errors import PtailorError
 from ptailor.geometry.triangles import triangle_areas
 from ptailor.method.flatten import FlattenResult, flatten
+from ptailor.method.linear import shared_symbolic
 from ptailor.model.garment import Garment, panel_labels, with_panel_names
 from ptailor.model.structure import structure
 from ptailor.model.symmetry import sagittal_plane
@@ -320,25 +321,26 @@ def _adjust(
         "max_iter": int(settings["max_iter"]),
         "panel_list": state.panels,
     }
-    with numeric_failures("flatten"):
-        result = flatten(
-            state.base,
-            state.V3,
-            method=settings["method"],
-            intrinsic=settings["intrinsic"],
-            seams=seam_mode(settings["seams"]),
-            seam_factors=seam_factors(state),
-            **kw,
-        )
-    t2 = time.perf_counter()
-    base = None
-    if baseline:
-        with numeric_failures("flatten (the uniform baseline)"):
-            base = (
-                result
-                if settings["method"] == "uniform"
-                else flatten(state.base, state.V3, method="uniform", seams="free", **kw)
+    with shared_symbolic():  # the baseline's matrix has the pattern of ours
+        with numeric_failures("flatten"):
+            result = flatten(
+                state.base,
+                state.V3,
+                method=settings["method"],
+                intrinsic=settings["intrinsic"],
+                seams=seam_mode(settings["seams"]),
+                seam_factors=seam_factors(state),
+                **kw,
             )
+        t2 = time.perf_counter()
+        base = None
+        if baseline:
+            with numeric_failures("flatten (the uniform baseline)"):
+                base = (
+                    result
+                    if settings["method"] == "uniform"
+                    else flatten(state.base, state.V3, method="uniform", seams="free", **kw)
+                )
     t3 = time.perf_counter()
     timing = {"edit": t1 - t0, "flatten": t2 - t1, "baseline": t3 - t2}
     return Adjustment(

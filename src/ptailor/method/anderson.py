@@ -17,6 +17,9 @@ import numpy as np
 class Anderson:
     """History of a fixed-point iteration and its accelerated next iterate.
 
+    The differences of the last residuals and images are kept with their Gram matrix,
+    updated by one column per step: a step costs ``O(m N)``, not ``O(m^2 N)``.
+
     Attributes
     ----------
     m : int
@@ -24,13 +27,37 @@ class Anderson:
     """
 
     m: int = 5
-    _x: list[np.ndarray] = field(default_factory=list)
-    _g: list[np.ndarray] = field(default_factory=list)
+    _df: list[np.ndarray] = field(default_factory=list)
+    _dg: list[np.ndarray] = field(default_factory=list)
+    _gram: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    _f: np.ndarray | None = None
+    _g: np.ndarray | None = None
 
     def reset(self) -> None:
         """Forget the history (after a rejected step)."""
-        self._x.clear()
-        self._g.clear()
+        self._df.clear()
+        self._dg.clear()
+        self._gram = np.zeros((0, 0))
+        self._f = self._g = None
+
+    def _record(self, f: np.ndarray, gx: np.ndarray) -> None:
+        """Append the differences to the last residual and image; drop the oldest."""
+        if self._f is not None:
+            df, dg = f - self._f, gx - self._g
+            H = self._gram
+            if len(self._df) == self.m:
+                self._df.pop(0)
+                self._dg.pop(0)
+                H = H[1:, 1:]
+            col = np.array([d @ df for d in self._df] + [df @ df])
+            k = len(col)
+            Hn = np.empty((k, k))
+            Hn[:-1, :-1] = H
+            Hn[-1], Hn[:, -1] = col, col
+            self._gram = Hn
+            self._df.append(df)
+            self._dg.append(dg)
+        self._f, self._g = f, gx
 
     def next(self, x: np.ndarray, gx: np.ndarray) -> np.ndarray:
         """Record ``(x, g(x))`` and return the accelerated next iterate.
@@ -45,29 +72,27 @@ class Anderson:
         (N,) float array
             ``gx`` itself while the history holds a single iterate.
         """
-        self._x.append(x)
-        self._g.append(gx)
-        if len(self._x) > self.m + 1:
-            self._x.pop(0)
-            self._g.pop(0)
-        if len(self._x) < 2:
+        if not self.m:
             return gx
-        X = np.stack(self._x, 1)
-        G = np.stack(self._g, 1)
-        F = G - X
-        dF = np.diff(F, axis=1)
-        dG = np.diff(G, axis=1)
-        # least squares min |f_k - dF gamma|, scaled columns and a tiny ridge for stability
         with np.errstate(all="ignore"):
-            s = np.maximum(np.linalg.norm(dF, axis=0), 1e-300)
-            A = dF / s
-            H = A.T @ A
+            f = gx - x
+            self._record(f, gx)
+            if not self._df:
+                return gx
+            # least squares min |f_k - dF gamma|, scaled columns and a tiny ridge for stability
+            s = np.maximum(np.sqrt(np.diag(self._gram)), 1e-300)
+            H = self._gram / s[:, None] / s[None, :]
             H[np.diag_indices_from(H)] += 1e-10
+            rhs = np.array([d @ f for d in self._df]) / s
             try:
-                gamma = np.linalg.solve(H, A.T @ F[:, -1]) / s
+                gamma = np.linalg.solve(H, rhs) / s
             except (np.linalg.LinAlgError, ValueError):
                 gamma = np.full(len(s), np.nan)
-            out = gx - dG @ gamma if np.all(np.isfinite(gamma)) else gx
+            out = gx
+            if np.all(np.isfinite(gamma)):
+                out = gx.copy()
+                for c, d in zip(gamma, self._dg, strict=True):
+                    out -= c * d
         if out is gx or not np.all(np.isfinite(out)):
             self.reset()  # a non-finite mix: fall back to the plain step
             return gx

@@ -3,6 +3,10 @@ block of its inverse, and the small Schur-complement systems of the seam constra
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -10,18 +14,139 @@ from ptailor import tolerances as tol
 from ptailor.method.ease import SeamEase
 
 
-def factor(A: sp.spmatrix):
-    """Factor a sparse symmetric positive definite matrix once; return a solve function."""
-    from scipy.sparse.linalg import splu
+@dataclass(eq=False)
+class _Symbolic:
+    """One CHOLMOD analysis: the pattern it is for, the matrix and factor objects, and the
+    factorisation whose values the factor holds now."""
 
+    indptr: np.ndarray
+    indices: np.ndarray
+    S: object  # cvxopt.spmatrix, lower triangle
+    F: object  # cvxopt CHOLMOD factor
+    owner: object = None
+
+
+_SHARED: list[_Symbolic] | None = None  # active within shared_symbolic()
+
+
+@contextmanager
+def shared_symbolic() -> Iterator[None]:
+    """Within the block, factorisations of matrices with one sparsity pattern share one
+    symbolic analysis (ordering, supernodes): the uniform baseline's matrix has ours'
+    pattern, so it costs only its numeric factorisation. Solves stay exact: a solve whose
+    factor was overwritten by a later factorisation refactors its own values first."""
+    global _SHARED
+    saved, _SHARED = _SHARED, []
+    try:
+        yield
+    finally:
+        _SHARED = saved
+
+
+def _finite(A: sp.csc_matrix) -> None:
     from ptailor.errors import PtailorError
 
-    A = sp.csc_matrix(A)
     if not np.all(np.isfinite(A.data)):
         raise PtailorError(
             "flatten: the stitching matrix has non-finite entries (degenerate target "
             "triangles or extreme flatten weights)"
         )
+
+
+def factor(A: sp.spmatrix):
+    """Factor a sparse symmetric positive definite matrix once; return a solve function.
+
+    A supernodal Cholesky factorisation (CHOLMOD, from cvxopt) of the lower triangle; its
+    fill is about half of an LU's and it factors 1.5-3 times faster. Explicit zeros count
+    as pattern (the symbolic analysis is shared by pattern, :func:`shared_symbolic`).
+    Without cvxopt, or when the matrix is not positive definite to working precision,
+    SuperLU factors it (the second names a singular matrix as before).
+
+    Parameters
+    ----------
+    A : (N, N) sparse matrix
+        Symmetric (only its lower triangle is read by CHOLMOD).
+
+    Returns
+    -------
+    callable
+        ``b (N,) or (N, c) -> A^-1 b`` of the same shape.
+
+    Raises
+    ------
+    PtailorError
+        Non-finite entries, or a matrix SuperLU finds singular.
+    """
+    A = sp.csc_matrix(A)
+    _finite(A)
+    try:
+        from cvxopt import cholmod
+    except ImportError:  # pragma: no cover - cvxopt is a dependency
+        return _superlu(A)
+    try:
+        return _cholmod(sp.tril(A, format="csc"), cholmod)
+    except ArithmeticError:  # not positive definite numerically: LU decides
+        return _superlu(A)
+
+
+def _symbolic(L: sp.csc_matrix, cholmod) -> _Symbolic:
+    """The analysis for ``L``'s pattern: the active cache's, else a new one (cached)."""
+    from cvxopt import matrix, spmatrix
+
+    for sym in _SHARED or ():
+        if np.array_equal(sym.indptr, L.indptr) and np.array_equal(sym.indices, L.indices):
+            sym.S.V = matrix(L.data)
+            return sym
+    n = L.shape[0]
+    cols = np.repeat(np.arange(n), np.diff(L.indptr))
+    S = spmatrix(matrix(L.data), matrix(L.indices.astype(int)), matrix(cols), (n, n))
+    saved = cholmod.options.get("supernodal")
+    cholmod.options["supernodal"] = 2
+    try:
+        F = cholmod.symbolic(S, uplo="L")
+    finally:
+        if saved is None:
+            del cholmod.options["supernodal"]
+        else:
+            cholmod.options["supernodal"] = saved
+    sym = _Symbolic(L.indptr, L.indices, S, F)
+    if _SHARED is not None:
+        _SHARED.append(sym)
+    return sym
+
+
+def _cholmod(L: sp.csc_matrix, cholmod):
+    """CHOLMOD's solve function for the lower triangle ``L`` (sorted indices)."""
+    from cvxopt import matrix
+
+    L.sort_indices()
+    data = L.data
+    sym = _symbolic(L, cholmod)
+    token = object()
+
+    def refactor() -> None:
+        if sym.owner is not token:  # another factorisation of this pattern came since
+            sym.S.V = matrix(data)
+            cholmod.numeric(sym.S, sym.F)
+            sym.owner = token
+
+    refactor()
+
+    def solve(b: np.ndarray) -> np.ndarray:
+        refactor()
+        B = matrix(np.asarray(b, dtype=float).reshape(len(b), -1, order="F"))
+        cholmod.solve(sym.F, B)
+        return np.asarray(B).reshape(np.shape(b))
+
+    return solve
+
+
+def _superlu(A: sp.csc_matrix):
+    """SuperLU's solve function for ``A`` (symmetric mode)."""
+    from scipy.sparse.linalg import splu
+
+    from ptailor.errors import PtailorError
+
     try:
         lu = splu(
             A,

@@ -1,4 +1,4 @@
-"""Sparse operators of the stitching energy: triangle Jacobians, the ARAP matrix and the
+"""Sparse operators of the stitching energy: triangle Jacobians, the stitching matrix and the
 as-similar-as-possible boundary rows (:mod:`ptailor.method.stitch`)."""
 
 from __future__ import annotations
@@ -35,28 +35,62 @@ def gradient_operators(F: np.ndarray, targets: np.ndarray, n: int) -> tuple[sp.c
     return tuple(sp.csr_matrix((G[:, :, j].ravel(), (rows, cols)), shape=(m, n)) for j in range(2))
 
 
-def laplacian(F: np.ndarray, targets: np.ndarray, area: np.ndarray, n: int) -> sp.csc_matrix:
-    """The triangle ARAP matrix ``sum_i A_i G_i G_i^T`` (cotangent Laplacian of the targets).
-
-    Parameters
-    ----------
-    F : (m, 3) int array
-    targets : (m, 2, 2) float array
-        Target edge matrices.
-    area : (m,) float array
-        Target areas.
-    n : int
-
-    Returns
-    -------
-    (n, n) sparse matrix
-    """
+def _laplacian_triplets(F: np.ndarray, targets: np.ndarray, area: np.ndarray):
+    """Triplets of the triangle ARAP matrix ``sum_i A_i G_i G_i^T`` (the cotangent Laplacian
+    of the targets, ``G_i`` the hat-function gradients of target ``i``)."""
     Dm = np.array([[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]])
     G = Dm[None] @ inv2(targets)  # (m, 3, 2) hat-function gradients
     K = area[:, None, None] * (G @ np.swapaxes(G, 1, 2))  # (m, 3, 3)
     rows = np.repeat(F, 3, axis=1).ravel()
     cols = np.tile(F, (1, 3)).ravel()
-    return sp.csc_matrix((K.ravel(), (rows, cols)), shape=(n, n))
+    return rows, cols, K.ravel()
+
+
+def stitch_matrix(
+    F: np.ndarray,
+    targets: np.ndarray,
+    area: np.ndarray,
+    diagonal: np.ndarray,
+    B: sp.spmatrix | None = None,
+    w_asap: float = 0.0,
+) -> sp.csc_matrix:
+    """The stitching system: the ARAP matrix plus a diagonal, with the as-similar-as-possible
+    rows ``w_asap B^T B`` over unknowns ``[x; y]`` when ``B`` is given.
+
+    Assembled from triplets in one conversion, so explicit zeros stay in the pattern: two
+    target sets on one pattern give one sparsity pattern (the baseline shares ours'
+    symbolic factorisation, :func:`ptailor.method.linear.shared_symbolic`).
+
+    Parameters
+    ----------
+    F : (m, 3) int array
+    targets : (m, 2, 2) float array
+    area : (m,) float array
+        Per-triangle weights.
+    diagonal : (n,) float array
+        Added to the diagonal (of each coordinate's block).
+    B : (b, 2n) sparse matrix, optional
+    w_asap : float
+
+    Returns
+    -------
+    (n, n) sparse matrix, or (2n, 2n) with ``B``
+    """
+    n = len(diagonal)
+    r, c, v = _laplacian_triplets(F, targets, area)
+    d = np.arange(n)
+    if B is None:
+        rows, cols, vals = (r, d), (c, d), (v, diagonal)
+        size = n
+    else:
+        BtB = (B.T @ B).tocoo()
+        rows = (r, r + n, d, d + n, BtB.row)
+        cols = (c, c + n, d, d + n, BtB.col)
+        vals = (v, v, diagonal, diagonal, w_asap * BtB.data)
+        size = 2 * n
+    return sp.csc_matrix(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(size, size)
+    )
 
 
 def asap_rows(

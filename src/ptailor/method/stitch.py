@@ -25,7 +25,7 @@ from ptailor.geometry.rotations import closest_rotations, rigid_fit_groups
 from ptailor.method.anderson import Anderson
 from ptailor.method.ease import SeamEase
 from ptailor.method.linear import factor, seam_block, solve_spd
-from ptailor.method.operators import asap_rows, gradient_operators, laplacian
+from ptailor.method.operators import asap_rows, gradient_operators, stitch_matrix
 
 __all__ = ["StitchInfo", "stitch"]
 
@@ -100,22 +100,18 @@ def _finite_or_fail(Y: np.ndarray) -> np.ndarray:
     return Y
 
 
-def _solver(L: sp.spmatrix, B: sp.spmatrix | None, n: int, w_asap: float):
-    """``A^-1`` applied to columns over unknowns ``[x; y]``, from one factorisation."""
-    if B is None:
-        # x and y decouple: one n x n factor serves both coordinates
-        solve_L = factor(L)
-
-        def solve_many(rhs: np.ndarray) -> np.ndarray:
-            c = rhs.shape[1]
-            sol = solve_L(np.concatenate([rhs[:n], rhs[n:]], axis=1))
-            return np.concatenate([sol[:, :c], sol[:, c:]], axis=0)
-
-        return solve_many
-    solve_2n = factor(sp.block_diag([L, L]) + w_asap * (B.T @ B))
+def _solver(A: sp.csc_matrix, n: int):
+    """``A^-1`` applied to columns over unknowns ``[x; y]``, from one factorisation of the
+    stitching matrix (``n x n`` when x and y decouple, ``2n x 2n`` when coupled)."""
+    solve = factor(A)
+    if A.shape[0] == 2 * n:
+        return solve
 
     def solve_many(rhs: np.ndarray) -> np.ndarray:
-        return solve_2n(rhs)
+        # x and y decouple: one n x n factor serves both coordinates
+        c = rhs.shape[1]
+        sol = solve(np.concatenate([rhs[:n], rhs[n:]], axis=1))
+        return np.concatenate([sol[:, :c], sol[:, c:]], axis=0)
 
     return solve_many
 
@@ -153,9 +149,9 @@ class _Problem:
         pin_w = self.pin_w = np.zeros(n)
         pin_w[pins] = w_pin * stiff[vlab[pins]]
         pin_w[~used] = 1.0
-        L = laplacian(F2, targets, self.area, n) + sp.diags(pin_w)
         self.B = self._asap(V2, F2, asap_faces, asap_exclude, panel_weight, stiff)
-        self.solve_many = _solver(L, self.B, n, w_asap)
+        A = stitch_matrix(F2, targets, self.area, pin_w, self.B, w_asap)
+        self.solve_many = _solver(A, n)
         self.ease = None if ease is not None and not ease.n_rows else ease
         # the seam constraints switch on once the free iterations have settled and only if
         # they miss a seam (an identity edit or a uniform scale never pays for them)
