@@ -35,12 +35,8 @@ import cProfile
 import datetime as dt
 import io
 import json
-import os
-import platform
 import pstats
 import shutil
-import statistics
-import subprocess
 import sys
 import tempfile
 import time
@@ -48,26 +44,21 @@ from pathlib import Path
 
 import numpy as np
 
-import ptailor
 from ptailor.formats.obj import write_garment
 from ptailor.method import flatten as flatten_mod
 from ptailor.method import stitch as stitch_mod
 from ptailor.method.flatten import central_vertices, flatten
 from ptailor.model.garment import Garment, panels, vertex_labels
 from ptailor.samples import sample_for_triangles
+from timing import LIBIGL_ITERATIONS, libigl_arap, machine, median, ptailor_command, run_cli
 
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results" / "adjust.json"
 SCALE = 1.2
-LIBIGL_ITERATIONS = 30
 RECIPE = (
     "units: cm\nsteps:\n  - {op: scale, region: all, direction: around, axis: auto, factor: 1.2}\n"
 )
 TARGETS = {"flatten_vs_libigl": 1.0, "adjust_s": 4.0, "help_s": 0.3}
-
-
-def median(xs: list[float]) -> float:
-    return float(statistics.median(xs))
 
 
 def edited_drape(g: Garment) -> np.ndarray:
@@ -189,65 +180,25 @@ def bench_flatten(g: Garment, V3e: np.ndarray, repeat: int) -> dict:
 
 
 def bench_libigl(g: Garment, V3e: np.ndarray, repeat: int) -> dict:
-    try:
-        import igl
-    except ImportError as exc:
-        return {"error": f"libigl not importable: {exc}"}
-    to3 = np.full(len(g.V2), -1, dtype=np.int64)
-    to3[g.F2.ravel()] = g.F3.ravel()
-    if np.any(to3 < 0):
-        return {"error": "pattern has vertices no triangle uses; libigl needs every vertex"}
-    V = np.ascontiguousarray(V3e[to3])
-    F = np.ascontiguousarray(g.F2, dtype=np.int64)
     plist = panels(g)
-    b = central_vertices(g.V2, vertex_labels(plist, len(g.V2)), len(plist)).astype(np.int32)
-    bc = np.ascontiguousarray(g.V2[b])
-    pre, sol = [], []
-    U = None
-    for _ in range(repeat):
-        data = igl.ARAPData()
-        data.max_iter = LIBIGL_ITERATIONS
-        t0 = time.perf_counter()
-        try:
-            igl.arap_precomputation(V, F, 2, b, data)
-        except RuntimeError as exc:
-            return {"error": f"arap_precomputation: {exc}"}
-        t1 = time.perf_counter()
-        U = igl.arap_solve(bc, data, np.ascontiguousarray(g.V2))
-        t2 = time.perf_counter()
-        pre.append(t1 - t0)
-        sol.append(t2 - t1)
-    tot = [p + s for p, s in zip(pre, sol, strict=True)]
-    widths = {
+    pins = central_vertices(g.V2, vertex_labels(plist, len(g.V2)), len(plist))
+    res = libigl_arap(V3e, g.F3, g.V2, g.F2, pins, repeat)
+    if "error" in res:
+        return res
+    U = res.pop("U")
+    res["panel_widths_cm"] = {
         p.name: {
             "pattern": float(np.ptp(g.V2[p.vertices, 0])),
             "libigl": float(np.ptp(U[p.vertices, 0])),
         }
         for p in plist
     }
-    return {
-        "version": getattr(igl, "__version__", _dist_version("libigl")),
-        "pins": len(b),
-        "energy": str(data.energy),
-        "precomputation_median_s": median(pre),
-        "solve_30_median_s": median(sol),
-        "median_s": median(tot),
-        "min_s": min(tot),
-        "panel_widths_cm": widths,
-    }
+    return res
 
 
 # ---------------------------------------------------------------------------------------
 # 3, 4. the command line
 # ---------------------------------------------------------------------------------------
-
-
-def ptailor_command() -> list[str]:
-    exe = Path(sys.executable).parent / "ptailor"
-    if exe.exists():
-        return [str(exe)]
-    found = shutil.which("ptailor")
-    return [found] if found else [sys.executable, "-m", "ptailor"]
 
 
 def write_inputs(g: Garment, folder: Path) -> tuple[Path, Path]:
@@ -256,12 +207,6 @@ def write_inputs(g: Garment, folder: Path) -> tuple[Path, Path]:
     recipe = folder / "recipe.yaml"
     recipe.write_text(RECIPE)
     return garment, recipe
-
-
-def run_cli(args: list[str]) -> float:
-    t0 = time.perf_counter()
-    subprocess.run(ptailor_command() + args, check=True, stdout=subprocess.DEVNULL)
-    return time.perf_counter() - t0
 
 
 def bench_cli(garment: Path, recipe: Path, folder: Path, repeat: int, extra: list[str]) -> dict:
@@ -300,44 +245,6 @@ def profile_adjust(garment: Path, recipe: Path, folder: Path, top: int = 30) -> 
 # ---------------------------------------------------------------------------------------
 # report
 # ---------------------------------------------------------------------------------------
-
-
-def _dist_version(name: str) -> str:
-    from importlib.metadata import PackageNotFoundError, version
-
-    try:
-        return version(name)
-    except PackageNotFoundError:
-        return "not installed"
-
-
-def machine() -> dict:
-    cpu = platform.processor() or platform.machine()
-    with contextlib.suppress(OSError):
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    commit = "unknown"
-    with contextlib.suppress(OSError, subprocess.CalledProcessError):
-        commit = subprocess.run(
-            ["git", "rev-parse", "--short", "HEAD"],
-            cwd=HERE,
-            check=True,
-            capture_output=True,
-            text=True,
-        ).stdout.strip()
-    return {
-        "cpu": cpu,
-        "cores": os.cpu_count(),
-        "platform": platform.platform(),
-        "python": platform.python_version(),
-        "numpy": np.__version__,
-        "scipy": _dist_version("scipy"),
-        "libigl": _dist_version("libigl"),
-        "ptailor": ptailor.__version__,
-        "git_commit": commit,
-    }
 
 
 def verdict(value: float, limit: float) -> str:

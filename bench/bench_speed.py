@@ -1,0 +1,549 @@
+"""Issue 15's speed goals, measured side by side in one run: medians, ratios, pass/fail.
+
+    python bench/bench_speed.py [--quick] [--repeat N] [--only a,b,c,d,e,f] [--out FILE]
+
+Sections (each goal as a ratio to something measured in the same run where it can be):
+
+a. ``ptailor adjust`` on the 100k-triangle lantern sleeve (``sample_for_triangles``, written
+   once as OBJ; recipe ``scale around 1.2``) as a subprocess, start-up included: every
+   output with the baseline (<= 1.0x libigl's ARAP, precomputation + 30 iterations, on the
+   same edited mesh), and ``--no-baseline --formats obj`` (<= 0.6x); peak RSS of each;
+b. the flatten alone (``pipeline.adjustment``'s ``timing_s["flatten"]``, baseline off)
+   against libigl on the same edited mesh (<= 0.4x): the 100k sleeve scaled around
+   (developable: one iteration), the 100k sleeve with its cuff scaled 1.1 (not developable:
+   the stitching iterates; the count is shown), and the demo's samples with their default
+   bundled recipes;
+c. flatten time against triangles (10k, 30k, 100k, 300k), the exponent of a log-log least
+   squares fit (goal: linear), and the peak RSS of a subprocess that builds the 300k sleeve
+   and runs one adjustment without baseline (< 350 MB);
+d. each registered edit operation at 100k (scale, scale_seam, shorten, extend, cut,
+   loosen, tighten, mirrored with ``symmetric: true``): its edit step against the flatten
+   of the same run and against the plain sleeve's flatten (<= 0.5x);
+e. ``ptailor batch -j 2`` over 40 sleeves of about 10k triangles (every output, baseline
+   on): garments per minute (>= 200) and the ratio to ``ptailor adjust`` run one by one on
+   the same garments (a subset with ``--quick``);
+f. the imports of a default ``ptailor adjust`` (``-X importtime``, top-level imports summed,
+   minus those of a bare interpreter; <= 0.4 s) and ``ptailor --help`` (<= 0.1 s).
+
+Times are medians over ``--repeat`` runs (default 3). ``--quick``: one run of most things,
+the not-developable flatten and the edits at 30k instead of 100k, 20 garments in the
+catalogue (5 of them one by one), no 300k ``adjust``; a few minutes. BLAS runs on one
+thread (as ptailor's processes do). Subprocesses read and write compiled bytecode under
+``bench/results/pycache`` (an installed package has its ``.pyc`` files; ``--no-pycache`` runs
+them as this environment does). The machine's load is written into the results: numbers
+move with it, ratios less. Writes ``bench/results/speed.json``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime as dt
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+import numpy as np  # noqa: E402  (after the BLAS thread count is set)
+
+from ptailor.formats.obj import write_garment  # noqa: E402
+from ptailor.pipeline import adjustment  # noqa: E402
+from ptailor.recipe import parse_recipe  # noqa: E402
+from ptailor.samples import sample_for_triangles  # noqa: E402
+from timing import (  # noqa: E402
+    cached_bytecode_env,
+    libigl_arap,
+    machine,
+    median,
+    one_blas_thread_env,
+    ptailor_command,
+    run_measured,
+)
+
+RESULTS = Path(__file__).resolve().parent / "results" / "speed.json"
+SCALE = "steps: [{op: scale, region: all, direction: around, axis: auto, factor: 1.2}]\n"
+CUFF = "steps: [{op: scale, region: {panels: [cuff]}, direction: around, factor: 1.1}]\n"
+BOX = "{box: {min: [-50, 18, -50], max: [50, 38, 50]}}"
+EDITS = {
+    "scale around 1.2": SCALE,
+    "scale cuff 1.1 (ARAP follow)": CUFF,
+    "scale_seam 1.3": (
+        "steps: [{op: scale_seam, seam: [sleeve, cuff], part: sleeve, factor: 1.3, fix: [waist]}]"
+    ),
+    "shorten hem 5": "steps: [{op: shorten, opening: hem, by: 5}]",
+    "extend hem 5": "steps: [{op: extend, opening: hem, by: 5}]",
+    "cut plane y = 30": "steps: [{op: cut, plane: {point: [0, 30, 0], normal: [0, 1, 0]}}]",
+    "loosen box 2": f"steps: [{{op: loosen, region: {BOX}, by: 2}}]",
+    "tighten box 1": f"steps: [{{op: tighten, region: {BOX}, by: 1}}]",
+    "mirror (loosen half box 2)": (
+        "steps: [{op: loosen, region: {box: {min: [0, 18, -50], max: [50, 38, 50]}}, by: 2,"
+        " symmetric: true}]"
+    ),
+}
+GOALS = {
+    "adjust_over_libigl": 1.0,
+    "adjust_nb_obj_over_libigl": 0.6,
+    "flatten_over_libigl": 0.4,
+    "flatten_exponent": 1.1,
+    "peak_rss_300k_mb": 350.0,
+    "edit_over_flatten": 0.5,
+    "batch_garments_per_min": 200.0,
+    "imports_s": 0.4,
+    "help_s": 0.1,
+}
+#: in a fresh process: build the sleeve, then one adjustment without baseline; prints the peak
+#: resident memory while building it and during the adjustment (the peak reset in between)
+PEAK = """
+import gc, json, re, sys
+from ptailor.pipeline import adjustment
+from ptailor.recipe import parse_recipe
+from ptailor.samples import sample_for_triangles
+
+def hwm():  # the process's peak resident memory so far, MB
+    return int(re.search(r"VmHWM:\\s+(\\d+)", open("/proc/self/status").read()).group(1)) / 1024
+
+rec = parse_recipe(sys.argv[2])
+g = sample_for_triangles(int(sys.argv[1]))
+gc.collect()
+before = hwm()
+try:  # reset the peak (Linux >= 4.0): the adjustment's own peak, the garment resident
+    with open("/proc/self/clear_refs", "w") as f:
+        f.write("5")
+    reset = True
+except OSError:
+    reset = False
+adj = adjustment(g, rec, baseline=False)
+print(json.dumps({"before_mb": before, "peak_mb": hwm(), "peak_reset": reset,
+                  "flatten_s": adj.timing_s["flatten"], "triangles": int(g.n_faces)}))
+"""
+
+
+class Bench:
+    """One run: options, a scratch folder, the 100k sleeve, results and goal verdicts."""
+
+    def __init__(self, args: argparse.Namespace, folder: Path) -> None:
+        self.args = args
+        self.quick = args.quick
+        self.repeat = args.repeat or (1 if args.quick else 3)
+        self.folder = folder
+        self.res: dict = {"goals": {}}
+        self._g100 = None
+        self._g30 = None
+        #: triangles for the slow cases (the not-developable flatten, the edits)
+        self.edit_size = 30_000 if args.quick else 100_000
+        self._libigl: dict = {}
+        self.env = one_blas_thread_env()
+        if not args.no_pycache:
+            self.env = cached_bytecode_env(self.env)
+
+    # ------------------------------------------------------------------ shared pieces
+
+    @property
+    def g100(self):
+        if self._g100 is None:
+            self._g100 = sample_for_triangles(100_000)
+        return self._g100
+
+    def g_edit(self):
+        """The sleeve for the slow cases: 100k, or 30k with ``--quick``."""
+        if self.edit_size == 100_000:
+            return self.g100
+        if self._g30 is None:
+            self._g30 = sample_for_triangles(self.edit_size)
+        return self._g30
+
+    def goal(self, name: str, value: float, limit: float, note: str = "") -> None:
+        ok = bool(value <= limit) if name != "batch_garments_per_min" else bool(value >= limit)
+        self.res["goals"][name] = {"value": value, "limit": limit, "ok": ok, "note": note}
+        flag = "ok" if ok else "MISSED"
+        sign = ">=" if name == "batch_garments_per_min" else "<="
+        print(f"  GOAL {name}: {value:.3f} ({sign} {limit}) {flag} {note}", flush=True)
+
+    def write_obj(self, g, name: str) -> Path:
+        path = self.folder / f"{name}.obj"
+        if not path.exists():
+            write_garment(path, g, header=["ptailor benchmark", "units: cm"])
+        return path
+
+    def write_recipe(self, text: str, name: str = "recipe") -> Path:
+        path = self.folder / f"{name}.yaml"
+        path.write_text("units: cm\n" + text)
+        return path
+
+    def flatten_runs(self, g, text: str, repeat: int) -> dict:
+        """``adjustment`` (no baseline) ``repeat`` times: flatten and edit medians, iterations."""
+        rec = parse_recipe(text)
+        fl, ed, adj = [], [], None
+        for _ in range(repeat):
+            adj = adjustment(g, rec, baseline=False)
+            fl.append(adj.timing_s["flatten"])
+            ed.append(adj.timing_s["edit"])
+        return {
+            "flatten_s": median(fl),
+            "edit_s": median(ed),
+            "iterations": int(adj.result.info.iterations),
+            "triangles": int(adj.state.base.n_faces),
+            "adj": adj,
+        }
+
+    def libigl(self, key: str, adj, repeat: int) -> dict:
+        """libigl's ARAP on ``adj``'s edited drape (cached per ``key``)."""
+        if key not in self._libigl:
+            base = adj.state.base
+            pins = panel_pins(base.V2, base.F2)
+            out = libigl_arap(adj.state.V3, base.F3, base.V2, base.F2, pins, repeat)
+            out.pop("U", None)
+            self._libigl[key] = out
+        return self._libigl[key]
+
+    def run(self, cmd: list[str]) -> tuple[float, float, float]:
+        """``run_measured`` in the benchmark's environment, stdout discarded."""
+        return run_measured(cmd, stdout=subprocess.DEVNULL, env=self.env)
+
+    def warm_up(self) -> None:
+        """One small ``adjust`` and ``batch --help`` (bytecode compiled, files cached)."""
+        from ptailor.samples import lantern_sleeve
+
+        garment = self.write_obj(lantern_sleeve(), "sample")
+        recipe = self.write_recipe(SCALE)
+        args = ["adjust", str(garment), str(recipe), "-o", str(self.folder / "warm"), "-q"]
+        self.run([*ptailor_command(), *args])
+        self.run([*ptailor_command(), "batch", "--help"])
+
+    # ------------------------------------------------------------------ sections
+
+    def section_a(self) -> None:
+        print("a. ptailor adjust at 100k (subprocess) against libigl ARAP", flush=True)
+        garment = self.write_obj(self.g100, "g100k")
+        recipe = self.write_recipe(SCALE)
+        ref = self.flatten_runs(self.g100, SCALE, 1)
+        ig = self.libigl("sleeve100k-scale", ref["adj"], self.repeat)
+        out: dict = {"libigl_s": ig.get("median_s")}
+        runs = {"default": [], "no_baseline_obj": ["--no-baseline", "--formats", "obj"]}
+        for name, extra in runs.items():
+            walls, cpus, rss, split = [], [], [], {}
+            for i in range(self.repeat):
+                dest = self.folder / f"adjust-{name}-{i}"
+                cmd = [*ptailor_command(), "adjust", str(garment), str(recipe), "-o", str(dest)]
+                w, c, r = self.run([*cmd, "-q", *extra])
+                walls.append(w)
+                cpus.append(c)
+                rss.append(r)
+                timing = json.loads((dest / "report.json").read_text()).get("timing_s", {})
+                timing["untimed"] = w - sum(timing.values())
+                for k, v in timing.items():
+                    split.setdefault(k, []).append(v)
+            out[name] = {
+                "wall_s": median(walls),
+                "cpu_s": median(cpus),
+                "peak_rss_mb": max(rss),
+                "timing_s": {k: median(v) for k, v in split.items()},
+            }
+            print(
+                f"  adjust {name}: {median(walls):.3f} s wall, {median(cpus):.3f} s CPU, "
+                f"peak {max(rss):.0f} MB; "
+                + ", ".join(f"{k} {v:.2f}" for k, v in out[name]["timing_s"].items()),
+                flush=True,
+            )
+        self.res["a_adjust"] = out
+        if "error" in ig:
+            print(f"  libigl: {ig['error']}")
+            return
+        print(f"  libigl ARAP (pre + 30): {ig['median_s']:.3f} s", flush=True)
+        self.goal("adjust_over_libigl", out["default"]["wall_s"] / ig["median_s"], 1.0)
+        self.goal(
+            "adjust_nb_obj_over_libigl",
+            out["no_baseline_obj"]["wall_s"] / ig["median_s"],
+            0.6,
+            "--no-baseline --formats obj",
+        )
+
+    def section_b(self) -> None:
+        print("b. flatten against libigl ARAP on the same mesh", flush=True)
+        from ptailor.demo import DEFAULT_RECIPES, bundled_recipe
+        from ptailor.samples import SAMPLES
+
+        k = self.edit_size // 1000
+        cases = [
+            ("sleeve 100k, scale around 1.2", self.g100, SCALE, "sleeve100k-scale"),
+            (f"sleeve {k}k, cuff 1.1 (not developable)", self.g_edit(), CUFF, f"sleeve{k}k-cuff"),
+        ]
+        for name, recipe in DEFAULT_RECIPES.items():
+            text = bundled_recipe(recipe)
+            cases.append((f"sample {name} ({recipe})", SAMPLES[name](), text, name))
+        rows = {}
+        for label, g, text, key in cases:
+            small = g.n_faces < 20_000
+            rep = max(self.repeat, 5) if small else self.repeat
+            fl = self.flatten_runs(g, text, rep)
+            ig = self.libigl(key, fl.pop("adj"), rep)
+            row = {**fl, "libigl_s": ig.get("median_s"), "libigl_error": ig.get("error")}
+            if "error" not in ig:
+                row["ratio"] = fl["flatten_s"] / ig["median_s"]
+            rows[label] = row
+            ratio = f"{row['ratio']:.2f}" if "ratio" in row else ig.get("error")
+            print(
+                f"  {label}: {fl['triangles']} tri, flatten {fl['flatten_s']:.3f} s "
+                f"({fl['iterations']} it.), libigl {ig.get('median_s', float('nan')):.3f} s, "
+                f"ratio {ratio}",
+                flush=True,
+            )
+        self.res["b_flatten"] = rows
+        ratios = [r["ratio"] for r in rows.values() if "ratio" in r]
+        if ratios:
+            worst = max(rows, key=lambda k: rows[k].get("ratio", -1))
+            self.goal("flatten_over_libigl", max(ratios), 0.4, f"worst: {worst}")
+
+    def section_c(self) -> None:
+        print("c. flatten time against triangles; peak memory at 300k", flush=True)
+        sizes = [10_000, 30_000, 100_000, 300_000]
+        tris, secs = [], []
+        for n in sizes:
+            g = self.g100 if n == 100_000 else sample_for_triangles(n)
+            rep = self.repeat if n >= 100_000 else max(self.repeat, 3)
+            fl = self.flatten_runs(g, SCALE, rep)
+            tris.append(fl["triangles"])
+            secs.append(fl["flatten_s"])
+            print(f"  {fl['triangles']:>7} tri: flatten {fl['flatten_s']:.3f} s", flush=True)
+            del g, fl
+        slope, _ = np.polyfit(np.log(tris), np.log(secs), 1)
+        self.res["c_scaling"] = {"triangles": tris, "flatten_s": secs, "exponent": float(slope)}
+        self.goal("flatten_exponent", float(slope), GOALS["flatten_exponent"], "log-log fit")
+        r = subprocess.run(
+            [sys.executable, "-c", PEAK, "300000", SCALE],
+            capture_output=True,
+            text=True,
+            env=self.env,
+            check=True,
+        )
+        peak = json.loads(r.stdout)
+        self.res["c_peak"] = peak
+        print(
+            f"  subprocess, one adjustment of the 300k sleeve (no baseline): peak RSS "
+            f"{peak['peak_mb']:.0f} MB (building the sleeve: {peak['before_mb']:.0f} MB)",
+            flush=True,
+        )
+        self.goal("peak_rss_300k_mb", peak["peak_mb"], 350.0)
+        if not self.quick:
+            garment = self.write_obj(sample_for_triangles(300_000), "g300k")
+            recipe = self.write_recipe(SCALE)
+            for name, extra in (("default", []), ("no_baseline_obj", ["--no-baseline"])):
+                extra = extra + (["--formats", "obj"] if extra else [])
+                cmd = [*ptailor_command(), "adjust", str(garment), str(recipe), "-q", *extra]
+                w, c, rss = self.run([*cmd, "-o", str(self.folder / f"a300-{name}")])
+                self.res[f"c_adjust300k_{name}"] = {"wall_s": w, "cpu_s": c, "peak_rss_mb": rss}
+                print(f"  ptailor adjust 300k {name}: {w:.2f} s, peak RSS {rss:.0f} MB")
+
+    def section_d(self) -> None:
+        print(f"d. edit steps at {self.edit_size // 1000}k against the flatten", flush=True)
+        rows: dict = {}
+        plain = None  # the plain sleeve's flatten: the first edit's (scale around 1.2)
+        for name, text in EDITS.items():
+            fl = self.flatten_runs(self.g_edit(), text, self.repeat)
+            fl.pop("adj")
+            plain = plain or fl["flatten_s"]
+            fl["over_own_flatten"] = fl["edit_s"] / fl["flatten_s"]
+            fl["over_plain_flatten"] = fl["edit_s"] / plain
+            rows[name] = fl
+            print(
+                f"  {name:<28} edit {fl['edit_s']:.3f} s, its flatten {fl['flatten_s']:.3f} s "
+                f"({fl['iterations']} it.): {fl['over_own_flatten']:.2f}x its flatten, "
+                f"{fl['over_plain_flatten']:.2f}x the plain flatten ({plain:.3f} s)",
+                flush=True,
+            )
+        self.res["d_edits"] = {"plain_flatten_s": plain, "edits": rows}
+        worst = max(rows, key=lambda k: rows[k]["over_plain_flatten"])
+        self.goal(
+            "edit_over_flatten",
+            rows[worst]["over_plain_flatten"],
+            0.5,
+            f"worst: {worst}, against the plain sleeve's flatten",
+        )
+        worst_own = max(rows, key=lambda k: rows[k]["over_own_flatten"])
+        print(
+            f"  (against each run's own flatten the worst is {worst_own}: "
+            f"{rows[worst_own]['over_own_flatten']:.2f}x)"
+        )
+
+    def section_e(self) -> None:
+        n = 20 if self.quick else 40
+        n_one = 5 if self.quick else n
+        print(f"e. ptailor batch -j 2 over {n} garments of about 10k triangles", flush=True)
+        cat = self.folder / "catalogue"
+        cat.mkdir(exist_ok=True)
+        sizes = np.random.default_rng(15).integers(9_000, 11_001, size=n)
+        tris = []
+        for k, size in enumerate(sizes):
+            g = sample_for_triangles(int(size))
+            write_garment(cat / f"g{k:03d}.obj", g)
+            tris.append(int(g.n_faces))
+        recipe = self.write_recipe(SCALE)
+        out = self.folder / "batch-out"
+        cmd = [*ptailor_command(), "batch", str(recipe), str(cat / "*.obj"), "-o", str(out)]
+        runs = [self.run([*cmd, "-j", "2", "-q", "--force"]) for _ in range(1 + (not self.quick))]
+        wall, cpu = median([r[0] for r in runs]), median([r[1] for r in runs])
+        rate = 60.0 * n / wall
+        one = []
+        for k in range(n_one):
+            dest = self.folder / f"one-{k:03d}"
+            args = ["adjust", str(cat / f"g{k:03d}.obj"), str(recipe), "-o", str(dest), "-q"]
+            one.append(self.run([*ptailor_command(), *args]))
+        one_wall = sum(r[0] for r in one) / len(one)
+        one_cpu = sum(r[1] for r in one) / len(one)
+        rate_one = 60.0 / one_wall
+        self.res["e_batch"] = {
+            "garments": n,
+            "triangles": [min(tris), max(tris)],
+            "batch_wall_s": [r[0] for r in runs],
+            "batch_cpu_s": [r[1] for r in runs],
+            "garments_per_min": rate,
+            "garments_per_min_from_cpu_2_cores": 60.0 * n / (cpu / 2),
+            "one_by_one_garments": len(one),
+            "one_by_one_s_per_garment": one_wall,
+            "one_by_one_cpu_s_per_garment": one_cpu,
+            "one_by_one_garments_per_min": rate_one,
+            "batch_over_one_by_one": rate / rate_one,
+        }
+        print(
+            f"  batch: {wall:.2f} s, {rate:.1f} garments/min ({cpu / n:.3f} CPU s per garment: "
+            f"{60.0 * n / (cpu / 2):.0f}/min on 2 free cores); one by one ({len(one)} garments): "
+            f"{one_wall:.3f} s ({one_cpu:.3f} CPU s) each, {rate_one:.1f}/min; "
+            f"batch {rate / rate_one:.2f}x",
+            flush=True,
+        )
+        self.goal("batch_garments_per_min", rate, 200.0, f"{rate / rate_one:.2f}x one by one")
+
+    def section_f(self) -> None:
+        print("f. imports of a default adjust; ptailor --help", flush=True)
+        from ptailor.samples import lantern_sleeve
+
+        garment = self.write_obj(lantern_sleeve(), "sample")
+        recipe = self.write_recipe(SCALE)
+        rep = max(self.repeat, 3)
+        totals, tops = [], {}
+        for i in range(rep):
+            dest = self.folder / f"imports-{i}"
+            args = ["adjust", str(garment), str(recipe), "-o", str(dest), "-q"]
+            run = import_times(
+                [sys.executable, "-X", "importtime", "-m", "ptailor", *args], self.env
+            )
+            bare = import_times([sys.executable, "-X", "importtime", "-c", "pass"], self.env)
+            totals.append(sum(run.values()) - sum(bare.values()))
+            for k, v in run.items():
+                if k not in bare:
+                    tops.setdefault(k, []).append(v)
+        top = sorted(((median(v), k) for k, v in tops.items()), reverse=True)[:10]
+        helps = [self.run([*ptailor_command(), "--help"])[0] for _ in range(max(5, 2 * rep))]
+        bare_start = [self.run([sys.executable, "-c", "pass"])[0] for _ in range(max(5, 2 * rep))]
+        # as this shell runs it (with PYTHONDONTWRITEBYTECODE=1, src/ has no .pyc files)
+        args[4] = str(self.folder / "imports-as-is")
+        as_is = sum(
+            import_times(
+                [sys.executable, "-X", "importtime", "-m", "ptailor", *args], one_blas_thread_env()
+            ).values()
+        ) - sum(bare.values())
+        self.res["f_imports"] = {
+            "imports_s": median(totals),
+            "top_level_s": {k: v for v, k in top},
+            "help_s": median(helps),
+            "bare_python_s": median(bare_start),
+            "imports_without_pycache_s": as_is,
+        }
+        print("  largest top-level imports: " + ", ".join(f"{k} {v:.3f}" for v, k in top[:6]))
+        note = "-X importtime, minus a bare interpreter's"
+        if not self.args.no_pycache:
+            note += f"; {as_is:.2f} s without .pyc files"
+        self.goal("imports_s", median(totals), 0.4, note)
+        self.goal("help_s", median(helps), 0.1, f"bare python {median(bare_start):.3f} s")
+
+
+def panel_pins(V2: np.ndarray, F2: np.ndarray) -> np.ndarray:
+    """One pattern vertex per connected piece: the one nearest its centroid, shape (k,)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    n = len(V2)
+    i, j = F2[:, [0, 1, 2]].ravel(), F2[:, [1, 2, 0]].ravel()
+    k, labels = connected_components(coo_matrix((np.ones(len(i)), (i, j)), shape=(n, n)))
+    used = np.zeros(n, dtype=bool)
+    used[F2.ravel()] = True
+    counts = np.bincount(labels[used], minlength=k)
+    centre = (
+        np.stack([np.bincount(labels[used], V2[used, d], minlength=k) for d in range(2)], axis=1)
+        / np.maximum(counts, 1)[:, None]
+    )
+    dist = np.where(used, np.linalg.norm(V2 - centre[labels], axis=1), np.inf)
+    order = np.lexsort((dist, labels))
+    first = np.r_[True, labels[order][1:] != labels[order][:-1]]
+    pins = order[first]
+    return pins[counts[labels[pins]] > 0]
+
+
+_IMPORT_LINE = re.compile(r"^import time:\s+(\d+)\s+\|\s+(\d+)\s+\|( *)(\S+)")
+
+
+def import_times(cmd: list[str], env: dict) -> dict[str, float]:
+    """``-X importtime`` output of ``cmd``: top-level module -> cumulative seconds."""
+    r = subprocess.run(cmd, capture_output=True, text=True, env=env, check=True)
+    out: dict[str, float] = {}
+    for line in r.stderr.splitlines():
+        m = _IMPORT_LINE.match(line)
+        if m and len(m.group(3)) == 1:  # one space after the bar: a top-level import
+            out[m.group(4)] = out.get(m.group(4), 0.0) + int(m.group(2)) * 1e-6
+    return out
+
+
+def print_goals(res: dict) -> None:
+    print("\nissue 15 goals (medians; ratios measured in this run)")
+    print(f"{'goal':<28} {'measured':>10} {'limit':>8}  verdict  note")
+    for name, g in res["goals"].items():
+        flag = "ok" if g["ok"] else "MISSED"
+        print(f"{name:<28} {g['value']:>10.3f} {g['limit']:>8g}  {flag:<7}  {g['note']}")
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="one run each, a smaller catalogue")
+    ap.add_argument("--repeat", type=int, default=None, help="runs per median (default 3)")
+    ap.add_argument("--only", default="a,b,c,d,e,f", help="sections, comma-separated")
+    ap.add_argument(
+        "--no-pycache",
+        action="store_true",
+        help="subprocesses as this environment runs them (default: with cached bytecode)",
+    )
+    ap.add_argument("--out", type=Path, default=RESULTS)
+    args = ap.parse_args(argv)
+    t_start = time.perf_counter()
+    with tempfile.TemporaryDirectory(prefix="ptailor-bench-speed-") as td:
+        bench = Bench(args, Path(td))
+        bench.res.update(
+            date=dt.datetime.now().astimezone().isoformat(timespec="seconds"),
+            machine=machine(),
+            quick=args.quick,
+            repeat=bench.repeat,
+        )
+        bench.warm_up()
+        for sec in args.only.split(","):
+            getattr(bench, f"section_{sec.strip()}")()
+    res = bench.res
+    res["seconds"] = time.perf_counter() - t_start
+    res["load_average_end"] = [round(x, 2) for x in os.getloadavg()]
+    print_goals(res)
+    print(
+        f"\n{'quick' if args.quick else 'full'} run in {res['seconds']:.0f} s; load average "
+        f"{res['machine']['load_average']} at the start, {res['load_average_end']} at the end"
+    )
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text(json.dumps(res, indent=2, default=float) + "\n")
+    print(f"wrote {args.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
