@@ -21,12 +21,13 @@ def opening_halfedges(F3: np.ndarray, loop: np.ndarray) -> np.ndarray:
     h = half_edges(F3)
     nxt = np.roll(loop, -1)
     n = int(F3.max()) + 1
-    want = np.zeros(0, dtype=np.int64)
-    key = h[:, 0].astype(np.int64) * n + h[:, 1]
+    on = np.zeros(n, dtype=bool)
+    on[loop] = True
+    cand = np.flatnonzero(on[h[:, 0]] & on[h[:, 1]])  # both ends on the loop
+    key = h[cand, 0].astype(np.int64) * n + h[cand, 1]
     fwd = loop.astype(np.int64) * n + nxt
     bwd = nxt.astype(np.int64) * n + loop
-    want = np.flatnonzero(np.isin(key, fwd) | np.isin(key, bwd))
-    return want
+    return cand[np.isin(key, fwd) | np.isin(key, bwd)]
 
 
 def distance_stats(d: np.ndarray) -> dict:
