@@ -50,3 +50,44 @@ def test_factor_falls_back_to_lu_when_not_positive_definite():
     np.testing.assert_allclose(factor(A)(np.array([2.0, 3.0])), [3.0, 2.0])
     with pytest.raises(PtailorError, match="cannot be factored"):
         factor(sp.csc_matrix(np.zeros((3, 3))))
+
+
+@pytest.mark.parametrize("coupled", [False, True])
+def test_seam_block_from_the_schur_complement_matches_back_substitution(coupled):
+    from ptailor.geometry.triangles import edge_matrices
+    from ptailor.method.ease import seam_ease
+    from ptailor.method.flatten import central_vertices
+    from ptailor.method.linear import seam_block
+    from ptailor.method.operators import asap_rows, stitch_matrix
+    from ptailor.model.garment import panel_labels, panels, vertex_labels
+    from ptailor.samples import lantern_sleeve
+
+    g = lantern_sleeve()
+    plist = panels(g)
+    n, m = len(g.V2), len(g.F2)
+    vlab = vertex_labels(plist, n)
+    ease = seam_ease(g.F3, g.F2, g.V2, face_panel=panel_labels(plist, m))
+    pin_w = np.zeros(n)
+    pin_w[central_vertices(g.V2, vlab, len(plist))] = 1000.0
+    targets = edge_matrices(g.V2, g.F2)
+    area = 0.5 * np.abs(np.linalg.det(targets))
+    B = asap_rows(g.V2, g.F2, np.arange(m)) if coupled else None
+    A = stitch_matrix(g.F2, targets, area, pin_w, B, 1000.0)
+    solve = factor(A)
+
+    def solve_many(rhs):
+        if coupled:
+            return solve(rhs)
+        c = rhs.shape[1]
+        sol = solve(np.concatenate([rhs[:n], rhs[n:]], axis=1))
+        return np.concatenate([sol[:, :c], sol[:, c:]], axis=0)
+
+    fast = seam_block(solve_many, ease, vlab, n, coupled=coupled, A=A)
+    slow = seam_block(solve_many, ease, vlab, n, coupled=coupled)
+    np.testing.assert_array_equal(fast.U, slow.U)
+    assert len(fast.blocks) == len(slow.blocks) == (len(plist) if coupled else 2 * len(plist))
+    for (i, G), (j, H) in zip(fast.blocks, slow.blocks, strict=True):
+        np.testing.assert_array_equal(i, j)
+        np.testing.assert_allclose(G, H, rtol=1e-9, atol=1e-12 * np.abs(H).max())
+    C = ease.rows(g.V2)[:, fast.U]
+    np.testing.assert_allclose(fast.schur(C), slow.schur(C), rtol=1e-9, atol=1e-12)

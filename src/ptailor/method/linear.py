@@ -89,17 +89,24 @@ def factor(A: sp.spmatrix):
         return _superlu(A)
 
 
+def _cvx(L: sp.csc_matrix):
+    """A CSC matrix (sorted indices) as a cvxopt ``spmatrix``."""
+    from cvxopt import matrix, spmatrix
+
+    n = L.shape[0]
+    cols = np.repeat(np.arange(n), np.diff(L.indptr))
+    return spmatrix(matrix(L.data), matrix(L.indices.astype(int)), matrix(cols), (n, n))
+
+
 def _symbolic(L: sp.csc_matrix, cholmod) -> _Symbolic:
     """The analysis for ``L``'s pattern: the active cache's, else a new one (cached)."""
-    from cvxopt import matrix, spmatrix
+    from cvxopt import matrix
 
     for sym in _SHARED or ():
         if np.array_equal(sym.indptr, L.indptr) and np.array_equal(sym.indices, L.indices):
             sym.S.V = matrix(L.data)
             return sym
-    n = L.shape[0]
-    cols = np.repeat(np.arange(n), np.diff(L.indptr))
-    S = spmatrix(matrix(L.data), matrix(L.indices.astype(int)), matrix(cols), (n, n))
+    S = _cvx(L)
     saved = cholmod.options.get("supernodal")
     cholmod.options["supernodal"] = 2
     try:
@@ -162,14 +169,50 @@ def _superlu(A: sp.csc_matrix):
     return lu.solve
 
 
+@dataclass(frozen=True)
+class SeamBlock:
+    """The seam unknowns' block of ``A^-1``, dense per block of ``A`` (zero across).
+
+    Attributes
+    ----------
+    U : (2q,) int array
+        The seam unknowns (indices into ``[x; y]``).
+    blocks : list of ((k,) int array, (k, k) float array)
+        Positions in ``U`` of one block's unknowns, and ``A^-1`` restricted to them.
+    """
+
+    U: np.ndarray
+    blocks: list[tuple[np.ndarray, np.ndarray]]
+
+    def schur(self, C: sp.spmatrix) -> np.ndarray:
+        """``C G C^T`` for constraint rows ``C (r, 2q)`` over ``U``, ``(r, r)`` dense."""
+        C = sp.csc_matrix(C)
+        M = np.zeros((C.shape[0], C.shape[0]))
+        for idx, G in self.blocks:
+            Cb = C[:, idx]
+            if Cb.nnz:
+                M += Cb @ (Cb @ G).T
+        return M
+
+
 def seam_block(
-    solve_many, ease: SeamEase, vertex_panel: np.ndarray, n: int, *, coupled: bool
-) -> tuple[np.ndarray, sp.csr_matrix]:
+    solve_many,
+    ease: SeamEase,
+    vertex_panel: np.ndarray,
+    n: int,
+    *,
+    coupled: bool,
+    A: sp.spmatrix | None = None,
+) -> SeamBlock:
     """The seam vertices' block of ``A^-1``, computed once per factorisation.
 
-    ``A`` is block diagonal by panel (and by coordinate when x and y decouple), so one
-    right-hand side serves one seam unknown of every block at once: the number of
-    back-substitutions is the most seam unknowns any one block has, not their total.
+    With ``A`` (and CHOLMOD): from a Cholesky factorisation that eliminates the seam
+    unknowns last, where the trailing block of the factor is the Cholesky factor of the
+    Schur complement ``S`` onto them and ``A^-1`` restricted to them is ``S^-1`` (one
+    factorisation and a dense inverse per block, instead of a back-substitution per seam
+    unknown). Otherwise by back-substitution: ``A`` is block diagonal by panel (and by
+    coordinate when x and y decouple), so one right-hand side serves one seam unknown of
+    every block at once.
 
     Parameters
     ----------
@@ -181,43 +224,105 @@ def seam_block(
     n : int
     coupled : bool
         Whether ``A`` couples x and y (the as-similar-as-possible term).
+    A : sparse matrix, optional
+        The factored matrix (``2n x 2n`` when coupled, else ``n x n``).
 
     Returns
     -------
-    U : (2q,) int array
-        The seam unknowns (indices into ``[x; y]``).
-    G : (2q, 2q) sparse matrix
-        ``A^-1`` restricted to them (zero across blocks).
+    SeamBlock
     """
     verts = ease.vertices()
     U = np.concatenate([verts, verts + n])
+    q = len(verts)
     pan = vertex_panel[verts].astype(np.int64)
-    n_p = int(vertex_panel.max()) + 1
-    blk = np.concatenate([pan, pan]) if coupled else np.concatenate([pan, pan + n_p])
-    order = np.argsort(blk, kind="stable")
-    sb = blk[order]
-    start = np.searchsorted(sb, sb)  # first position of each block in sorted order
+    if coupled:
+        groups = _groups(np.concatenate([pan, pan]))
+        unknowns = U
+    else:  # one n x n block per panel serves x and y
+        groups = _groups(pan)
+        unknowns = verts
+    inv = _schur_inverses(A, unknowns, groups) if A is not None else None
+    if inv is None:
+        inv = _solved_inverses(solve_many, U if coupled else U[:q], groups, 2 * n)
+    blocks = list(zip(groups, inv, strict=True))
+    if not coupled:
+        blocks += [(g + q, G) for g, G in blocks]
+    return SeamBlock(U=U, blocks=blocks)
+
+
+def _groups(label: np.ndarray) -> list[np.ndarray]:
+    """Positions of each label's members, labels in increasing order."""
+    order = np.argsort(label, kind="stable")
+    cuts = np.flatnonzero(np.diff(label[order])) + 1
+    return np.split(order, cuts)
+
+
+def _solved_inverses(solve_many, U: np.ndarray, groups, size: int) -> list[np.ndarray]:
+    """Per group, ``A^-1`` on its unknowns by back-substitution: right-hand side ``j``
+    holds the ``j``-th unknown of every group (the groups are separate blocks of ``A``)."""
     slot = np.empty(len(U), dtype=np.int64)
-    slot[order] = np.arange(len(U)) - start
-    # all (i, j) pairs within a block
-    cnt = np.bincount(sb)
-    first = np.concatenate([[0], np.cumsum(cnt)])[sb]  # per sorted position
-    rep = cnt[sb]
-    I_sorted = np.repeat(np.arange(len(U)), rep)
-    J_sorted = np.repeat(first, rep) + (np.arange(rep.sum()) - np.repeat(np.cumsum(rep) - rep, rep))
-    Ii, Jj = order[I_sorted], order[J_sorted]
-    vals = np.empty(len(Ii))
-    n_slots = int(slot.max()) + 1
+    for g in groups:
+        slot[g] = np.arange(len(g))
+    out = [np.empty((len(g), len(g))) for g in groups]
+    n_slots = max(len(g) for g in groups)
     for s0 in range(0, n_slots, tol.SEAM_BLOCK_CHUNK):  # chunks of right-hand sides
         s1 = min(s0 + tol.SEAM_BLOCK_CHUNK, n_slots)
         pick = (slot >= s0) & (slot < s1)
-        rhs = np.zeros((2 * n, s1 - s0))
+        rhs = np.zeros((size, s1 - s0))
         rhs[U[pick], slot[pick] - s0] = 1.0
         sol = solve_many(rhs)
-        mine = (slot[Jj] >= s0) & (slot[Jj] < s1)
-        vals[mine] = sol[U[Ii[mine]], slot[Jj[mine]] - s0]
-    G = sp.csr_matrix((vals, (Ii, Jj)), shape=(len(U), len(U)))
-    return U, G
+        for g, G in zip(groups, out, strict=True):
+            e = min(s1, len(g))
+            if e > s0:
+                G[:, s0:e] = sol[U[g], : e - s0]
+    return [0.5 * (G + G.T) for G in out]
+
+
+def _schur_inverses(A: sp.spmatrix, unknowns: np.ndarray, groups) -> list[np.ndarray] | None:
+    """Per group, ``A^-1`` on its unknowns from the Schur complements of a CHOLMOD
+    factorisation that orders them last; None without cvxopt or if it fails."""
+    try:
+        from cvxopt import amd, cholmod, matrix
+    except ImportError:  # pragma: no cover - cvxopt is a dependency
+        return None
+    from scipy.linalg import lapack
+
+    L = sp.tril(sp.csc_matrix(A), format="csc")
+    L.sort_indices()
+    N = L.shape[0]
+    S = _cvx(L)
+    p0 = np.asarray(amd.order(S)).ravel()
+    last = np.zeros(N, dtype=bool)
+    last[unknowns] = True
+    p = np.concatenate([p0[~last[p0]], unknowns[np.concatenate(groups)]])
+    saved = dict(cholmod.options)
+    cholmod.options.update(supernodal=2, nmethods=1)  # this order, not AMD's
+    try:
+        F = cholmod.symbolic(S, p=matrix(p.astype(int)), uplo="L")
+        cholmod.numeric(S, F)
+    except (ArithmeticError, ValueError):
+        return None
+    finally:
+        cholmod.options.clear()
+        cholmod.options.update(saved)
+    pos = matrix(np.arange(N, dtype=float))
+    cholmod.solve(F, pos, sys=8)  # where each unknown sits in the (postordered) factor
+    pos = np.rint(np.asarray(pos).ravel()).astype(np.int64)
+    Lf = cholmod.getfactor(F)
+    out = []
+    for g in groups:
+        ib = pos[unknowns[g]]
+        o = np.argsort(ib)
+        idx = matrix(ib[o].astype(int))
+        T = np.array(matrix(Lf[idx, idx]))  # Cholesky factor of the Schur complement
+        Ginv, info = lapack.dpotri(T, lower=1)
+        if info != 0 or not np.all(np.isfinite(Ginv)):
+            return None
+        Ginv = np.tril(Ginv) + np.tril(Ginv, -1).T
+        back = np.empty_like(o)
+        back[o] = np.arange(len(o))
+        out.append(Ginv[np.ix_(back, back)])
+    return out
 
 
 def solve_spd(M: np.ndarray, r: np.ndarray) -> np.ndarray | None:

@@ -24,7 +24,7 @@ from ptailor.geometry.closed_forms import det2
 from ptailor.geometry.rotations import closest_rotations, rigid_fit_groups
 from ptailor.method.anderson import Anderson
 from ptailor.method.ease import SeamEase
-from ptailor.method.linear import factor, seam_block, solve_spd
+from ptailor.method.linear import SeamBlock, factor, seam_block, solve_spd
 from ptailor.method.operators import asap_rows, gradient_operators, stitch_matrix
 
 __all__ = ["StitchInfo", "stitch"]
@@ -153,9 +153,10 @@ class _Problem:
         A = stitch_matrix(F2, targets, self.area, pin_w, self.B, w_asap)
         self.solve_many = _solver(A, n)
         self.ease = None if ease is not None and not ease.n_rows else ease
+        self.A = A if self.ease is not None else None  # for the seam block, if needed
         # the seam constraints switch on once the free iterations have settled and only if
         # they miss a seam (an identity edit or a uniform scale never pays for them)
-        self.seam_block: list = []
+        self.seam_block: SeamBlock | None = None
         self.pin_rhs = pin_w[:, None] * V2
         self.size = _panel_sizes(V2, vlab, n_panels)
 
@@ -190,16 +191,14 @@ class _Problem:
             rhs[:, c] = self.D0.T @ (area * R[:, c, 0]) + self.D1.T @ (area * R[:, c, 1])
         rhs += self.pin_rhs
         y = self.solve(rhs.T.ravel())
-        if self.seam_block and X_lin is not None:
+        if self.seam_block is not None and X_lin is not None:
             y = self._constrained(y, X_lin)
         return y.reshape(2, n).T
 
     def _constrained(self, y: np.ndarray, X_lin: np.ndarray) -> np.ndarray:
         """Project a global step onto the seam constraints linearised at ``X_lin``."""
-        U, G = self.seam_block
         C = self.ease.rows(X_lin)
-        Cs = C[:, U]
-        M = (Cs @ G @ Cs.T).toarray()
+        M = self.seam_block.schur(C[:, self.seam_block.U])
         lam = solve_spd(M, C @ y)
         if lam is not None:
             y_c = y - self.solve(C.T @ lam)
@@ -222,26 +221,25 @@ class _Problem:
         """Seam constraints exist, are off, and a seam misses its ratio."""
         return (
             self.ease is not None
-            and not self.seam_block
+            and self.seam_block is None
             and self.ease.violation(GX).max() > tol.SEAM_EXACT_REL
         )
 
     def seams_settled(self, GX: np.ndarray) -> bool:
         """Seam constraints are on, absent, or every seam meets its ratio (not NaN)."""
         return bool(
-            self.seam_block
+            self.seam_block is not None
             or self.ease is None
             or self.ease.violation(GX).max() <= tol.SEAM_EXACT_REL
         )
 
     def seams_on(self) -> None:
         """Switch the seam constraints on: the seam block of ``A^-1``, once."""
-        self.seam_block.extend(
-            seam_block(
-                self.solve_many, self.ease, np.maximum(self.vlab, 0), self.n,
-                coupled=self.B is not None,
-            )
+        self.seam_block = seam_block(
+            self.solve_many, self.ease, np.maximum(self.vlab, 0), self.n,
+            coupled=self.B is not None, A=self.A,
         )  # fmt: skip
+        self.A = None
 
 
 class _Iterate:
@@ -404,7 +402,7 @@ def stitch(
     X = s.GX  # a plain step: the constraints hold at the last linearisation
     X[~pb.used] = V2[~pb.used]
     viol = float(pb.ease.violation(X).max()) if pb.ease is not None else 0.0
-    if not pb.seam_block and viol > tol.SEAM_EXACT_REL:
+    if pb.seam_block is None and viol > tol.SEAM_EXACT_REL:
         converged = False  # the cap came before the seams could be enforced
     return X, StitchInfo(
         iterations=it,
