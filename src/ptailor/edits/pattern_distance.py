@@ -10,7 +10,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from ptailor.model.garment import Garment, Panel
 from ptailor.model.seams import half_edges
@@ -184,6 +183,8 @@ def opening_pattern_distance(
         ``field`` at the pattern vertices near the opening (all those nearer than
         ``reach``, and some farther), ``+inf`` at the others.
     """
+    from scipy.spatial import cKDTree  # imported when needed (costly)
+
     V2, n2 = g.V2, len(g.V2)
     vlab = np.full(n2, -1, dtype=np.int64)
     for p in plist:  # a loop over panels

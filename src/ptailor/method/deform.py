@@ -13,8 +13,6 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.csgraph as csgraph
-import scipy.sparse.linalg as spla
 
 from ptailor import tolerances as tol
 from ptailor.geometry.rotations import max_trace_rotations, rigid_fits_3d
@@ -192,17 +190,22 @@ def warm_rotations(
         ``trace(R S)``.
     """
     k = S.shape[0]
-    w, pd, tr = _newton_step(S @ R0)
-    R = R0 @ _cayley(w)
-    todo = np.flatnonzero(~(pd & (np.abs(w).max(axis=0) <= done)))
-    for _ in range(steps - 1):  # further steps only where needed
+    R, todo = R0, np.arange(k)
+    tr = np.empty(k)
+    for _ in range(steps):
         if todo.size <= k // 100:
             break
-        Ra = R[todo]
-        w, pd, tr[todo] = _newton_step(S[todo] @ Ra)
-        R[todo] = Ra @ _cayley(w)
-        todo = todo[~(pd & (np.abs(w).max(axis=0) <= done))]
+        if 4 * todo.size > k:  # most still move: a step on all is cheaper than gathering
+            w, pd, tr[:] = _newton_step(S @ R)
+            R = R @ _cayley(w)
+            todo = np.flatnonzero(~(pd & (np.abs(w).max(axis=0) <= done)))
+        else:
+            Ra = R[todo]
+            w, pd, tr[todo] = _newton_step(S[todo] @ Ra)
+            R[todo] = Ra @ _cayley(w)
+            todo = todo[~(pd & (np.abs(w).max(axis=0) <= done))]
     if todo.size:
+        R = R.copy() if R is R0 else R
         R[todo], tr[todo] = max_trace_rotations(S[todo])
     return R, tr
 
@@ -335,7 +338,10 @@ def arap_deform(
 
     # ---- the components that hold handles, numbered free vertices first -------------
     W_adj = _edge_matrix(F, np.ones(F.shape), n)
-    ncomp, comp = csgraph.connected_components(W_adj, directed=False)
+    from scipy.sparse.csgraph import connected_components
+    from scipy.sparse.linalg import splu
+
+    ncomp, comp = connected_components(W_adj, directed=False)
     has_handle = np.zeros(ncomp, dtype=bool)
     has_handle[comp[handles]] = True
     is_handle = np.zeros(n, dtype=bool)
@@ -371,7 +377,7 @@ def arap_deform(
     L = (sp.diags(np.asarray(Wm.sum(axis=1)).ravel()) - Wm).tocsr()
     Lff = L[:nf, :nf].tocsc()
     Lfh = L[:nf, nf:].tocsr()
-    lu = spla.splu(
+    lu = splu(
         Lff, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True}
     )
 
@@ -395,12 +401,15 @@ def arap_deform(
     ea = F2[:, [1, 2, 0]]  # edge k of triangle t runs from ea[t, k] to eb[t, k]
     eb = F2[:, [2, 0, 1]]
     # edge vectors as one sparse product: (G @ x).reshape(m2, 3, 3) = x[ea] - x[eb]
-    k2 = np.arange(3 * m2)
     G = sp.csr_matrix(
-        (np.r_[np.ones(3 * m2), -np.ones(3 * m2)], (np.r_[k2, k2], np.r_[ea.ravel(), eb.ravel()])),
+        (
+            np.tile([1.0, -1.0], 3 * m2),
+            np.stack([ea.ravel(), eb.ravel()], axis=1).ravel(),
+            np.arange(0, 6 * m2 + 1, 2),
+        ),
         shape=(3 * m2, na),
     )
-    E0 = P[ea] - P[eb]  # rest edge vectors, (m2, 3, 3)
+    E0 = (G @ P).reshape(m2, 3, 3)  # rest edge vectors
     wE0 = w[:, :, None] * E0
     wE0T = np.ascontiguousarray(np.swapaxes(wE0, 1, 2))
     # cell incidence: (N @ y)[c] sums y over the triangle corners at cell vertex c

@@ -6,7 +6,6 @@ import itertools
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from ptailor.errors import PtailorError
 from ptailor.geometry.segments import segment_feet
@@ -135,6 +134,8 @@ def locate_points(
         )
     T = V[F[cand_faces]]  # (j, 3, 2)
     C = T.mean(axis=1)  # (j, 2)
+    from scipy.spatial import cKDTree  # imported when needed (costly)
+
     # first guess: the triangles with the nearest centroids
     kk = min(_CANDIDATES, len(cand_faces))
     _, idx = cKDTree(C).query(P, k=kk)

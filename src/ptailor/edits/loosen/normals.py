@@ -7,8 +7,6 @@ from collections.abc import Callable
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
-from scipy.sparse.csgraph import breadth_first_order, connected_components
 
 from ptailor.edits.region import region_axis, region_centroid
 from ptailor.geometry.triangles import triangle_areas, triangle_normals
@@ -53,6 +51,8 @@ def panel_orientation(
     votes = np.sign((link + link.T).toarray())
     pairs_p = sp.coo_matrix((np.ones(int(other.sum())), (pa[other], pb[other])), shape=(n_p, n_p))
     graph = sp.csr_matrix((pairs_p + pairs_p.T) > 0)
+    from scipy.sparse.csgraph import breadth_first_order, connected_components
+
     _, group = connected_components(graph, directed=False)
     sign = np.zeros(n_p)
     for start in range(n_p):  # loops over panels, not triangles
@@ -152,7 +152,9 @@ def normal_smoother(
     mass = np.bincount(Fl.ravel(), weights=np.repeat(area / 3.0, 3), minlength=used.size)
     # a vertex whose triangles are all degenerate keeps its value (positive diagonal)
     mass = np.maximum(mass, MASS_FLOOR_REL * max(float(mass.mean()), 1e-300))
-    lu = spla.splu(
+    from scipy.sparse.linalg import splu
+
+    lu = splu(
         (sp.diags(mass) + tau * L).tocsc(),
         permc_spec="MMD_AT_PLUS_A",
         diag_pivot_thresh=0.0,

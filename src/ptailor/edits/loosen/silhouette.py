@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
 
 from ptailor.errors import PtailorError
 from ptailor.model.seams import half_edges
@@ -90,6 +89,8 @@ def outline_rows(
     E = half_edges(F)
     keep = slab[E[:, 0]] & slab[E[:, 1]]
     A = sp.coo_matrix((np.ones(int(keep.sum())), (E[keep, 0], E[keep, 1])), shape=(n, n))
+    from scipy.sparse.csgraph import connected_components
+
     _, comp = connected_components(A, directed=False)
     sv = np.flatnonzero(slab)
     r = np.floor((X[sv, 1] - X[sv, 1].min()) / row).astype(np.int64)
