@@ -6,7 +6,7 @@ the style of gpytoolbox and libigl; the only project import is :mod:`ptailor.tol
 """
 
 from ptailor.geometry.closed_forms import det2, inv2, sqrt_spd2
-from ptailor.geometry.labels import component_labels, scatter_labels
+from ptailor.geometry.labels import component_labels, scatter_labels, used_indices
 from ptailor.geometry.pattern_maps import (
     least_squares_preimages,
     pattern_jacobians,
@@ -55,4 +55,5 @@ __all__ = [
     "triangle_areas",
     "triangle_normals",
     "tube_axis",
+    "used_indices",
 ]

@@ -31,9 +31,9 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import breadth_first_order, connected_components
 
-from ptailor.model.seams import edge_keys, half_edges
+from ptailor.model.memo import array_key, keep, recall
+from ptailor.model.seams import edge_groups, edge_keys, half_edges
 
 
 def _proper(F: np.ndarray) -> np.ndarray:
@@ -61,8 +61,8 @@ def boundary_edges(F: np.ndarray) -> np.ndarray:
     h = half_edges(F)
     if len(h) == 0:
         return h
-    _, inv, cnt = np.unique(edge_keys(h), return_inverse=True, return_counts=True)
-    return h[cnt[inv.ravel()] == 1]
+    _, inv, cnt = edge_groups(edge_keys(h))
+    return h[cnt[inv] == 1]
 
 
 def _multi_links(
@@ -280,7 +280,28 @@ def boundary_curves(
         from one end to the other.
     closed : (c,) bool array
         Whether each curve is a closed loop.
+
+    Notes
+    -----
+    The result is kept by the content of ``F``, ``V`` and ``F2``
+    (:mod:`ptailor.model.memo`): the flatten, its baseline, the pieces and the outputs
+    each ask for a panel's loops and trace them once between them. Callers get copies.
     """
+    F = np.asarray(F, dtype=np.int64).reshape(-1, 3)
+    V = None if V is None else np.asarray(V, dtype=np.float64)
+    F2 = None if F2 is None else np.asarray(F2, dtype=np.int64).reshape(-1, 3)
+    key = array_key(F, V, F2)
+    kept = recall("boundary_curves", key)
+    curves, closed = kept if kept is not None else keep("boundary_curves", key, _trace(F, V, F2))
+    return [c.copy() for c in curves], closed.copy()
+
+
+def _trace(
+    F: np.ndarray, V: np.ndarray | None, F2: np.ndarray | None
+) -> tuple[list[np.ndarray], np.ndarray]:
+    """:func:`boundary_curves` of int64 ``F``, ``F2`` and float ``V`` (or None), traced."""
+    from scipy.sparse.csgraph import breadth_first_order, connected_components
+
     F = np.asarray(F, dtype=np.int64).reshape(-1, 3)
     ok = (F[:, 0] != F[:, 1]) & (F[:, 1] != F[:, 2]) & (F[:, 2] != F[:, 0])
     F = F[ok]
@@ -290,17 +311,16 @@ def boundary_curves(
     if m == 0:
         return [], np.zeros(0, dtype=bool)
     h = half_edges(F)
-    _, inv, cnt = np.unique(edge_keys(h), return_inverse=True, return_counts=True)
-    inv = inv.ravel()
+    order, inv, cnt = edge_groups(edge_keys(h))
     c = cnt[inv]
     ids = np.arange(3 * m)
     end_corner = 3 * (ids // 3) + (ids % 3 + 1) % 3  # the corner at a half-edge's end
 
     # links: the two faces of a two-face edge; one pair at edges of three or more faces
-    two = ids[c == 2]
-    two = two[np.argsort(inv[two], kind="stable")]
-    multi = ids[c >= 3]
-    multi = multi[np.argsort(inv[multi], kind="stable")]
+    # (half-edges by edge, then by id)
+    c_order = c[order]
+    two = order[c_order == 2]
+    multi = order[c_order >= 3]
     links = np.concatenate([two.reshape(-1, 2), _multi_links(h, multi, inv, F, V, F2)])
     la, lb = links[:, 0], links[:, 1]
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ptailor.geometry.labels import component_labels, scatter_labels
+from ptailor.geometry.labels import component_labels, scatter_labels, used_indices
 from ptailor.geometry.triangles import signed_areas_2d
 
 __all__ = [
@@ -142,12 +142,32 @@ def panels(garment: Garment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> li
         names them ``name``, ``name_1``, ... (a panel a cut split in two keeps its name
         that way).
     """
-    F2 = garment.F2
-    lab = component_labels(F2, len(garment.V2))
+    lab = component_labels(garment.F2, len(garment.V2))
     n_p = int(lab.max()) + 1 if lab.size else 0
-    order = np.argsort(lab, kind="stable")
-    bounds = np.searchsorted(lab[order], np.arange(n_p + 1))
-    sa = signed_areas_2d(garment.V2, F2)
+    names = group_panel_names(garment, lab, n_p)
+    geo = None
+    if any(n is None for n in names):
+        from ptailor.model.names import panel_layout
+
+        geo = panel_layout(garment.V3, garment.F3, garment.F2, lab, n_p, up=up, front=front).names
+    return named_panels(garment, lab, names, geo)
+
+
+def group_panel_names(garment: Garment, lab: np.ndarray, n_p: int) -> list[str | None]:
+    """Each panel's name from the OBJ groups (:func:`panels`), None where none names it.
+
+    Parameters
+    ----------
+    garment : Garment
+    lab : (m,) int array
+        Panel per triangle (``component_labels(F2, len(V2))``).
+    n_p : int
+        Number of panels.
+
+    Returns
+    -------
+    list of str or None
+    """
     # majority group per panel, vectorised through a (panel, group) count table
     g = garment.face_group
     n_g = len(garment.group_names)
@@ -163,16 +183,47 @@ def panels(garment: Garment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> li
         for p in range(n_p):
             if table[p, best[p]] > 0 and not whole_mesh:
                 names[p] = garment.group_names[best[p]]
-    if any(n is None for n in names):
-        from ptailor.model.names import panel_layout
+    return names
 
-        geo = panel_layout(garment.V3, garment.F3, F2, lab, n_p, up=up, front=front).names
+
+def named_panels(
+    garment: Garment,
+    lab: np.ndarray,
+    names: list[str | None],
+    geometric: list[str] | None,
+) -> list[Panel]:
+    """The panels of :func:`panels` from their labels and names.
+
+    Parameters
+    ----------
+    garment : Garment
+    lab : (m,) int array
+        Panel per triangle (``component_labels(F2, len(V2))``).
+    names : list of str or None
+        :func:`group_panel_names`.
+    geometric : list of str or None
+        ``panel_layout(...).names`` over ``lab``: the names of the panels no group names
+        (required when there is one).
+
+    Returns
+    -------
+    list of Panel
+    """
+    F2 = garment.F2
+    n_p = len(names)
+    order = np.argsort(lab, kind="stable")
+    bounds = np.searchsorted(lab[order], np.arange(n_p + 1))
+    sa = signed_areas_2d(garment.V2, F2)
+    names = list(names)
+    if any(n is None for n in names):
+        if geometric is None:
+            raise ValueError("a panel no group names needs its name from geometry")
         taken = {n for n in names if n is not None}
         for p in range(n_p):
             if names[p] is None:
-                name, k = geo[p], 2
+                name, k = geometric[p], 2
                 while name in taken:
-                    name, k = f"{geo[p]}_{k}", k + 1
+                    name, k = f"{geometric[p]}_{k}", k + 1
                 taken.add(name)
                 names[p] = name
     seen: dict[str, int] = {}
@@ -185,7 +236,7 @@ def panels(garment: Garment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> li
         else:
             seen[name] = 0
         faces = np.sort(order[bounds[p] : bounds[p + 1]])
-        verts = np.unique(F2[faces])
+        verts = used_indices(F2[faces], len(garment.V2))
         out.append(
             Panel(
                 index=p,

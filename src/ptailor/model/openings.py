@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ptailor.geometry.labels import used_indices
 from ptailor.geometry.triangles import triangle_areas
 from ptailor.model.boundary import boundary_curves
 
@@ -177,7 +178,7 @@ def openings(
     if not loops:
         return []
 
-    used = np.unique(F3)
+    used = used_indices(F3, len(V3))
     S = V3 @ frame[0]  # left coordinate per vertex
     Hc = V3 @ frame[1]  # height per vertex
     h_min, h_max = float(Hc[used].min()), float(Hc[used].max())

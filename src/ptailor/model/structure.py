@@ -26,8 +26,16 @@ from functools import cached_property
 
 import numpy as np
 
+from ptailor.geometry.labels import component_labels
 from ptailor.model.boundary import boundary_curves, boundary_loops
-from ptailor.model.garment import Garment, Panel, panel_labels, panels, vertex_labels
+from ptailor.model.garment import (
+    Garment,
+    Panel,
+    group_panel_names,
+    named_panels,
+    panel_labels,
+    vertex_labels,
+)
 from ptailor.model.names import PanelLayout, panel_layout
 from ptailor.model.openings import Opening, openings
 from ptailor.model.seams import Seam, seam_halfedges, seams
@@ -51,8 +59,12 @@ class GarmentStructure:
     garment : Garment
     up, front : (3,) tuples of float
         The wearer's axes (panels named from geometry, openings).
+    panel_components : ((m,) int array, int)
+        The components of ``F2`` (a label per triangle, equal to ``face_panel``) and
+        their count.
     panels : list of Panel
-        ``panels(garment, up=up, front=front)``.
+        ``panels(garment, up=up, front=front)``; panels no group names are named from
+        this structure's ``layout`` (computed once, not once more inside ``panels``).
     face_panel : (m,) int array
         Panel index per triangle.
     vertex_panel : (n2,) int array
@@ -66,7 +78,8 @@ class GarmentStructure:
     openings : list of Opening
         :func:`ptailor.model.openings.openings` of the drape.
     layout : PanelLayout
-        :func:`ptailor.model.names.panel_layout` over ``face_panel`` and ``openings``.
+        :func:`ptailor.model.names.panel_layout` over ``panel_components`` and
+        ``openings``.
     """
 
     def __init__(self, garment: Garment, *, up: Axis, front: Axis) -> None:
@@ -76,8 +89,20 @@ class GarmentStructure:
         self._loops: dict[int, list[np.ndarray]] = {}
 
     @cached_property
+    def panel_components(self) -> tuple[np.ndarray, int]:
+        """``(labels, count)``: the connected components of ``F2``, a label per triangle
+        (the panel index: ``face_panel``), before the panels are named."""
+        g = self.garment
+        lab = component_labels(g.F2, len(g.V2))
+        return lab, int(lab.max()) + 1 if lab.size else 0
+
+    @cached_property
     def panels(self) -> list[Panel]:
-        return panels(self.garment, up=self.up, front=self.front)
+        lab, n_p = self.panel_components
+        names = group_panel_names(self.garment, lab, n_p)
+        # names from geometry (no group names a panel): this structure's layout, once
+        geo = self.layout.names if any(n is None for n in names) else None
+        return named_panels(self.garment, lab, names, geo)
 
     @cached_property
     def face_panel(self) -> np.ndarray:
@@ -110,12 +135,13 @@ class GarmentStructure:
     @cached_property
     def layout(self) -> PanelLayout:
         g = self.garment
+        lab, n_p = self.panel_components
         return panel_layout(
             g.V3,
             g.F3,
             g.F2,
-            self.face_panel,
-            len(self.panels),
+            lab,
+            n_p,
             up=self.up,
             front=self.front,
             opening_list=self.openings,

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ptailor.geometry.closed_forms import inv2, sqrt_spd2
+from ptailor.geometry.labels import used_indices
 from ptailor.geometry.rotations import closest_rotations
 from ptailor.geometry.triangles import edge_matrices, signed_areas_2d
 from ptailor.method.intrinsic import intrinsic_targets
@@ -53,7 +54,7 @@ def boundary_deviation(
     -------
     (n,) float array
     """
-    b = np.unique(boundary_edges(F2))
+    b = used_indices(boundary_edges(F2), len(V2_before))
     lab = vlab[b]
     X, Y = V2_after[b], V2_before[b]
     cnt = np.maximum(np.bincount(lab, minlength=n), 1).astype(float)

@@ -10,6 +10,7 @@ import numpy as np
 
 from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
+from ptailor.geometry.labels import used_indices
 from ptailor.pipeline import Adjustment, solver_warnings
 from ptailor.run.options import RunOptions
 from ptailor.run.outputs import FORMATS
@@ -84,8 +85,8 @@ def check_finite_result(adj: Adjustment, errors: np.ndarray, *, path: str) -> No
         Naming the array and the solver step that produced it.
     """
     g = adj.garment
-    used3 = np.unique(g.F3)
-    used2 = np.unique(g.F2)
+    used3 = used_indices(g.F3, len(g.V3))
+    used2 = used_indices(g.F2, len(g.V2))
     checks = [
         ("the edited drape (the recipe's steps)", g.V3[used3]),
         ("the adjusted pattern (the flatten solver)", g.V2[used2]),
