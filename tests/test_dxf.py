@@ -516,8 +516,7 @@ def test_inspect_garment_rejects_dxf_options(tmp_path):
 
 
 def test_ezdxf_drawing_addon_renders_the_written_file(tmp_path):
-    import matplotlib
-
+    matplotlib = pytest.importorskip("matplotlib")  # the sim extra's, not a core dependency
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from ezdxf.addons.drawing import Frontend, RenderContext

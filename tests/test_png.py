@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from matplotlib.colors import to_rgb
-from matplotlib.image import imread
+from PIL import Image
 
 from ptailor.formats.png import pattern_png
 from ptailor.formats.preview import (
@@ -18,6 +17,17 @@ from ptailor.formats.preview import (
 from ptailor.formats.sheet import sheet_layout
 
 SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def imread(path) -> np.ndarray:
+    """(h, w, 3) floats in 0..1."""
+    with Image.open(path) as im:
+        return np.asarray(im.convert("RGB"), dtype=np.float64) / 255.0
+
+
+def to_rgb(colour: str) -> tuple[float, float, float]:
+    c = colour.lstrip("#")
+    return tuple(int(c[i : i + 2], 16) / 255.0 for i in (0, 2, 4))
 
 
 def grid_mesh(x0, y0, w, h, n):
@@ -150,3 +160,38 @@ def test_empty_pattern(tmp_path):
     w, h = pattern_png(tmp_path / "p.png", [], [], [], title="nothing")
     assert max(w, h) == 1800
     assert (tmp_path / "p.png").read_bytes().startswith(SIGNATURE)
+
+
+def test_each_triangle_in_its_bin_colour(tmp_path):
+    """A panel of mixed bins: the pixel at a triangle's centre has that triangle's colour
+    (the most common bin fills the outline, the others are drawn over it)."""
+    V, F = grid_mesh(0, 0, 60, 60, 6)
+    rng = np.random.default_rng(1)
+    err = rng.choice([0.001, 0.007, 0.03, 0.2, np.nan], size=len(F), p=[0.6, 0.1, 0.1, 0.1, 0.1])
+    outline = [square(0, 0, 60)]
+    args = ([outline], [outline], ["mix"], [(V, F)], [err])
+    out = tmp_path / "p.png"
+    pattern_png(out, *args[:3], triangles=args[3], errors=args[4])
+    img = imread(out)
+    from ptailor.formats.preview import bin_colour, error_bins
+
+    bins = error_bins(err)
+    for t in range(len(F)):  # a loop over 72 triangles of a test
+        centre = V[F[t]].mean(axis=0)
+        r, c = pixel_of(*args, centre, 0, img.shape)
+        np.testing.assert_allclose(img[r, c], to_rgb(bin_colour(int(bins[t]))), atol=1.5 / 255)
+
+
+def test_does_not_import_matplotlib(tmp_path, squares):
+    """The preview is drawn with Pillow: matplotlib (a second of imports) stays out."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, numpy as np\n"
+        "from ptailor.formats.png import pattern_png\n"
+        "sq = np.array([[0.0, 0], [1, 0], [1, 1], [0, 1]])\n"
+        f"pattern_png({str(tmp_path / 'p.png')!r}, [[sq]], [[sq]], ['a'], title='t')\n"
+        "assert 'matplotlib' not in sys.modules, 'matplotlib imported'\n"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True)

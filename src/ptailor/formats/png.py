@@ -1,4 +1,10 @@
-"""PNG preview of a pattern: the sheet of ``pattern.svg`` rendered with matplotlib (Agg)."""
+"""PNG preview of a pattern: the sheet of ``pattern.svg`` drawn with numpy and Pillow.
+
+Everything is drawn :data:`SUPERSAMPLE` times larger, then averaged down (antialiased):
+the fills as one label per pixel (:mod:`ptailor.formats.raster`, no Python loop over
+triangles), then outlines, text, scale bar and legends with Pillow's ``ImageDraw`` in
+DejaVu Sans (bundled, the glyphs matplotlib used to draw the preview with).
+"""
 
 from __future__ import annotations
 
@@ -9,71 +15,187 @@ import numpy as np
 from ptailor.formats.preview import (
     AFTER,
     BEFORE,
+    ERROR_COLOURS,
     ERROR_TITLE,
     FILL,
     FRAME,
     INK,
+    NAN_BIN,
     Pattern,
     bin_colour,
 )
+from ptailor.formats.raster import dashes, evenodd_mask, font, triangle_labels
 from ptailor.formats.sheet import Sheet, preview_sheet
 
-#: matplotlib's bundled font: the same glyphs on every machine.
-_FONT = "DejaVu Sans"
-#: Path codes of one closed triangle.
-_TRI_CODES = np.array([1, 2, 2, 79], dtype=np.uint8)  # MOVETO, LINETO, LINETO, CLOSEPOLY
+#: Drawn this many times larger, then averaged down: the antialiasing (2: five levels
+#: along an edge; 3 looks the same at 1800 pixels and costs twice as much)
+SUPERSAMPLE = 2
+#: Labels of the fill image: 0 white, ``1 + bin`` an error bin (NaN's included), then the
+#: light fill of a panel drawn without triangles.
+_FILL_LABEL = NAN_BIN + 2
 
 
-def _signed_area(L: np.ndarray) -> float:
-    x, y = L[:, 0], L[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+def _rgb(colour: str) -> tuple[int, int, int]:
+    c = colour.lstrip("#")
+    return (int(c[0:2], 16), int(c[2:4], 16), int(c[4:6], 16))
 
 
-def _evenodd(loops: list[np.ndarray]):
-    """One path filling ``loops`` by the even-odd rule under Agg's non-zero rule.
+#: The palette of the supersampled picture: the fill labels, then the line colours.
+_COLOURS = (
+    "#ffffff",
+    *(bin_colour(b) for b in range(NAN_BIN + 1)),
+    FILL,
+    AFTER,
+    BEFORE,
+    INK,
+    FRAME,
+)
 
-    Each loop is turned counter-clockwise when it lies inside an even number of the others,
-    clockwise when odd (holes), so the non-zero fill equals the even-odd one for
-    non-crossing loops.
-    """
-    from matplotlib.path import Path
 
-    paths = [Path(L) for L in loops]
-    verts, codes = [], []
-    for i, L in enumerate(loops):
-        depth = sum(paths[j].contains_point(tuple(L[0])) for j in range(len(loops)) if j != i)
-        ccw = _signed_area(L) >= 0
-        if ccw == (depth % 2 == 1):
-            L = L[::-1]
-        verts.append(np.vstack([L, L[:1]]))
-        codes.append(np.r_[1, np.full(len(L) - 1, 2), 79].astype(np.uint8))
-    return Path(np.concatenate(verts), np.concatenate(codes))
+def _palette() -> list[int]:
+    return [v for c in _COLOURS for v in _rgb(c)]
+
+
+def _index(colour: str) -> int:
+    """The palette index of ``colour`` (a fill label for the bins' colours)."""
+    return _COLOURS.index(colour)
+
+
+def _has_triangles(pat: Pattern, p: int) -> bool:
+    return pat.triangles is not None and len(pat.triangles[p][1]) > 0
+
+
+def _panel_labels(pat: Pattern, p: int, k_of, box: tuple[int, int]) -> np.ndarray:
+    """Fill labels of panel ``p`` over its bounding box ``box`` (rows, columns);
+    ``k_of(P)`` maps the panel's pattern points to the box's pixels."""
+    inside = evenodd_mask(box, [k_of(L) for L in pat.after[p]])
+    if not _has_triangles(pat, p):
+        return np.where(inside, _FILL_LABEL, 0).astype(np.uint8)
+    V, F = pat.triangles[p]
+    bins = pat.bins[p]
+    # the most common bin fills the adjusted outline (the triangles' boundary, as the run
+    # gives it), the other bins' triangles go over it: only their edges are rasterised
+    dom = int(np.argmax(np.bincount(bins))) if pat.after[p] else -1
+    other = bins != dom
+    lab = triangle_labels(box, k_of(V)[F[other]], bins[other] + 1)
+    # overlapping (flipped) triangles add their labels up: shown in the top bin
+    lab = np.where(lab > NAN_BIN + 1, len(ERROR_COLOURS), lab).astype(np.uint8)
+    return np.where(lab > 0, lab, inside * np.uint8(dom + 1)).astype(np.uint8)
+
+
+def _fill_labels(pat: Pattern, s: Sheet, k: float, shape: tuple[int, int]) -> np.ndarray:
+    """The fill label of each (supersampled) pixel: 0 white, ``1 + bin`` where a
+    triangle of that error bin covers it, :data:`_FILL_LABEL` inside the adjusted outline
+    of a panel without triangles."""
+    H, W = shape
+    out = np.zeros(shape, dtype=np.uint8)
+    for p in range(len(pat.names)):  # a loop over panels
+        pts = list(pat.after[p])
+        if _has_triangles(pat, p):
+            V, F = pat.triangles[p]
+            pts = pts or [V[F].reshape(-1, 2)]
+        if not pts:
+            continue
+        P = np.concatenate([s.to_sheet(L, p) * k for L in pts])
+        lo = np.clip(np.floor(P.min(axis=0)).astype(int) - 1, 0, [W, H])
+        hi = np.clip(np.ceil(P.max(axis=0)).astype(int) + 1, 0, [W, H])
+        box = (int(hi[1] - lo[1]), int(hi[0] - lo[0]))
+        if min(box) <= 0:
+            continue
+        lab = _panel_labels(pat, p, lambda Q, p=p, lo=lo: s.to_sheet(Q, p) * k - lo, box)
+        region = out[lo[1] : hi[1], lo[0] : hi[0]]
+        np.copyto(region, lab, where=lab > 0)
+    return out
+
+
+class _Pen:
+    """Drawing in sheet coordinates, ``k`` pixels per sheet unit: shapes go onto the
+    palette picture at once (:data:`_COLOURS` indices), texts are kept for the RGB one
+    (:meth:`write`), where they are antialiased. Pillow's integer coordinates are pixel
+    centres, hence the half-pixel shift."""
+
+    def __init__(self, draw, k: float, s: Sheet, scale: float) -> None:
+        self.draw, self.k = draw, k
+        # outlines at least 1.5 / 2 pixels wide in the final image: the sheet's widths suit
+        # print at 1:1, not a whole pattern on 1800 pixels
+        sup = k / scale
+        self.w_before = max(1, round(max(s.stroke_before * scale, 1.5) * sup))
+        self.w_after = max(1, round(max(s.stroke_after * scale, 2.0) * sup))
+        self.dash = (max(s.dash[0] * k, 1.0), max(s.dash[1] * k, 1.0))
+        self.font = font(round(s.font * k))
+        self.title_font = font(round(s.title_size * k), bold=True)
+        self.texts: list[tuple] = []
+
+    def line(self, P: np.ndarray, colour: str, width: int) -> None:
+        xy = (np.asarray(P, dtype=np.float64) * self.k - 0.5).ravel().tolist()
+        self.draw.line(xy, fill=_index(colour), width=width, joint="curve")
+
+    def dashed(self, P: np.ndarray) -> None:
+        for D in dashes(np.asarray(P, dtype=np.float64) * self.k, *self.dash):
+            xy = (D - 0.5).ravel().tolist()
+            self.draw.line(xy, fill=_index(BEFORE), width=self.w_before, joint="curve")
+
+    def box(self, x: float, y: float, w: float, h: float, colour: str) -> None:
+        """A filled box with a :data:`FRAME` edge as wide as the original outline, centred
+        on the box's border."""
+        half = self.w_before / 2.0
+        x0, y0 = x * self.k - 0.5 - half, y * self.k - 0.5 - half
+        x1, y1 = (x + w) * self.k - 0.5 + half, (y + h) * self.k - 0.5 + half
+        self.draw.rectangle(
+            (x0, y0, x1, y1), fill=_index(colour), outline=_index(FRAME), width=self.w_before
+        )
+
+    def text(self, xy, text: str, anchor: str, *, title: bool = False) -> None:
+        x, y = xy
+        f = self.title_font if title else self.font
+        self.texts.append(((x * self.k, y * self.k), text, f, anchor))
+
+    def write(self, draw) -> None:
+        """Draw the kept texts with ``draw`` (on the RGB picture)."""
+        for xy, text, f, anchor in self.texts:
+            draw.text(xy, text, fill=INK, font=f, anchor=anchor)
 
 
 def _closed(L: np.ndarray) -> np.ndarray:
     return np.vstack([L, L[:1]])
 
 
-def _fills(pat: Pattern, s: Sheet) -> tuple[list, list[str]]:
-    """The fills: per (panel, bin) one compound path of closed triangles, or the adjusted
-    outline's even-odd fill where a panel has no triangles; and each path's colour."""
-    from matplotlib.path import Path
+def _draw_panels(pen: _Pen, pat: Pattern, s: Sheet) -> None:
+    """Original outlines dashed, then adjusted ones solid, then the names."""
+    n = len(pat.names)
+    for p in range(n):
+        for L in pat.before[p]:
+            pen.dashed(_closed(s.to_sheet(L, p)))
+    for p in range(n):
+        for L in pat.after[p]:
+            pen.line(_closed(s.to_sheet(L, p)), AFTER, pen.w_after)
+    for p in range(n):
+        pen.text(s.labels[p], pat.names[p], "ms")
+    if s.title:
+        pen.text(s.title_xy, s.title, "ls", title=True)
 
-    paths, colours = [], []
-    for p in range(len(pat.names)):
-        if pat.triangles is not None and len(pat.triangles[p][1]):
-            V, F = pat.triangles[p]
-            T = s.to_sheet(V, p)[F]  # (m, 3, 2)
-            b = pat.bins[p]
-            for bb in np.unique(b).tolist():
-                sel = T[b == bb]
-                verts = np.concatenate([sel, sel[:, :1]], axis=1).reshape(-1, 2)
-                paths.append(Path(verts, np.tile(_TRI_CODES, len(sel))))
-                colours.append(bin_colour(bb))
-        elif pat.after[p]:
-            paths.append(_evenodd([s.to_sheet(L, p) for L in pat.after[p]]))
-            colours.append(FILL)
-    return paths, colours
+
+def _draw_footer(pen: _Pen, s: Sheet) -> None:
+    """Scale bar (ticks every tenth, longer every fifth), outline legend, error legend."""
+    bx, by = s.bar_xy
+    pen.line(np.array([[bx, by], [bx + s.bar, by]]), INK, pen.w_after)
+    ticks = bx + s.bar * np.arange(11) / 10.0
+    tick_len = np.where(np.arange(11) % 5 == 0, 1.0, 0.5) * s.bar_tick
+    for t, h in zip(ticks.tolist(), tick_len.tolist(), strict=True):
+        pen.line(np.array([[t, by], [t, by + h]]), INK, pen.w_after)
+    pen.text(s.bar_label_xy, s.bar_label, "ls")
+    for ls in s.lines:
+        seg = np.array([[ls.x0, ls.y], [ls.x1, ls.y]])
+        if ls.kind == "before":
+            pen.dashed(seg)
+        else:
+            pen.line(seg, AFTER, pen.w_after)
+        pen.text(ls.text_xy, ls.label, "ls")
+    if s.error_title_xy is not None:
+        pen.text(s.error_title_xy, ERROR_TITLE, "ls")
+    for sw in s.swatches:
+        pen.box(sw.x, sw.y, sw.w, sw.h, sw.colour)
+        pen.text(sw.text_xy, sw.label, "ms")
 
 
 def pattern_png(
@@ -88,6 +210,7 @@ def pattern_png(
     title: str = "",
     size: int = 1800,
     dpi: int = 150,
+    layout: tuple[Pattern, Sheet] | None = None,
 ) -> tuple[int, int]:
     """Write a PNG comparing a pattern before and after adjustment.
 
@@ -118,8 +241,10 @@ def pattern_png(
         Length of the image's long side in pixels, whatever the units; the short side
         follows with equal aspect.
     dpi : int
-        Resolution written in the file (and the points-to-pixels factor of matplotlib);
-        does not change the pixel size.
+        Resolution written in the file; does not change the pixel size.
+    layout : (Pattern, Sheet), optional
+        :func:`ptailor.formats.sheet.preview_sheet` of these very inputs, when the caller
+        has it already (the SVG drew the same sheet): the inputs are then not read again.
 
     Returns
     -------
@@ -134,117 +259,40 @@ def pattern_png(
 
     Notes
     -----
-    Each bin's triangles of a panel are one compound path (one fill, no hairline seams
-    between triangles of a bin) and the whole pattern one ``PathCollection``: no Python
-    loop over triangles. Identical inputs give identical bytes (RGB written by Pillow with no
-    software/time metadata, matplotlib's bundled font, everything set explicitly on the
-    artists).
+    Drawn :data:`SUPERSAMPLE` times larger and averaged down. Each pixel of a panel takes
+    the colour of the triangle under its centre (:func:`ptailor.formats.raster.triangle_labels`):
+    no Python loop over triangles, no hairline seams between triangles. Identical inputs give
+    identical bytes (RGB written by Pillow with no software/time metadata, the bundled font).
     """
-    import matplotlib
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.collections import LineCollection, PathCollection
-    from matplotlib.figure import Figure
-    from matplotlib.patches import Rectangle
-    from PIL import Image
+    from PIL import Image, ImageDraw
 
     if int(size) < 16:
         raise ValueError(f"pattern_png: size must be at least 16 pixels, got {size}")
     if not dpi > 0:
         raise ValueError(f"pattern_png: dpi must be positive, got {dpi}")
-    pat, s = preview_sheet(
-        outlines_before, outlines_after, names, triangles, errors,
-        units=units, title=title, caller="pattern_png",
-    )  # fmt: skip
-    n = len(pat.names)
+    if layout is None:
+        layout = preview_sheet(
+            outlines_before, outlines_after, names, triangles, errors,
+            units=units, title=title, caller="pattern_png",
+        )  # fmt: skip
+    pat, s = layout
 
-    scale = int(size) / max(s.width, s.height)  # pixels per pattern unit
+    scale = int(size) / max(s.width, s.height)  # pixels per sheet unit
     pw = max(1, round(s.width * scale))
     ph = max(1, round(s.height * scale))
-    pt = scale * 72.0 / dpi  # points per pattern unit
-    fig = Figure(figsize=(pw / dpi, ph / dpi), dpi=dpi, facecolor="white")
-    ax = fig.add_axes((0.0, 0.0, 1.0, 1.0))
-    ax.set_axis_off()
-    ax.set_xlim(0.0, pw / scale)
-    ax.set_ylim(ph / scale, 0.0)  # y down, as the sheet
-
-    # outlines at least 1.5 / 2 pixels wide: the sheet's widths suit print at 1:1, not a
-    # whole pattern on 1800 pixels
-    lw_before = max(s.stroke_before * scale, 1.5) * 72.0 / dpi
-    lw_after = max(s.stroke_after * scale, 2.0) * 72.0 / dpi
-    k = lw_before if matplotlib.rcParams["lines.scale_dashes"] else 1.0
-    dashes = (0.0, (s.dash[0] * pt / k, s.dash[1] * pt / k))
-    text = {"fontfamily": _FONT, "color": INK, "fontsize": s.font * pt}
-
-    paths, colours = _fills(pat, s)
-    if paths:
-        ax.add_collection(
-            PathCollection(paths, facecolors=colours, edgecolors="none", linewidths=0.0, zorder=1),
-            autolim=False,
-        )
-
-    before = [_closed(s.to_sheet(L, p)) for p in range(n) for L in pat.before[p]]
-    after = [_closed(s.to_sheet(L, p)) for p in range(n) for L in pat.after[p]]
-    ax.add_collection(
-        LineCollection(
-            before, colors=BEFORE, linewidths=lw_before, linestyles=[dashes],
-            joinstyle="round", capstyle="butt", zorder=2,
-        ),
-        autolim=False,
-    )  # fmt: skip
-    ax.add_collection(
-        LineCollection(after, colors=AFTER, linewidths=lw_after, joinstyle="round", zorder=3),
-        autolim=False,
-    )
-    for p in range(n):
-        x, y = s.labels[p]
-        ax.text(x, y, pat.names[p], ha="center", va="baseline", zorder=4, **text)
-    if s.title:
-        ax.text(
-            *s.title_xy, s.title, ha="left", va="baseline", fontweight="bold", zorder=4,
-            **{**text, "fontsize": s.title_size * pt},
-        )  # fmt: skip
-
-    # scale bar with ticks every tenth, longer every fifth
-    bx, by = s.bar_xy
-    ticks = bx + s.bar * np.arange(11) / 10.0
-    tick_len = np.where(np.arange(11) % 5 == 0, 1.0, 0.5) * s.bar_tick
-    segs = [np.array([[bx, by], [bx + s.bar, by]])] + [
-        np.array([[t, by], [t, by + h]]) for t, h in zip(ticks, tick_len, strict=True)
-    ]
-    ax.add_collection(
-        LineCollection(segs, colors=INK, linewidths=lw_after, capstyle="butt", zorder=4),
-        autolim=False,
-    )
-    ax.text(*s.bar_label_xy, s.bar_label, ha="left", va="baseline", zorder=4, **text)
-
-    # legends
-    for ls in s.lines:
-        seg = [np.array([[ls.x0, ls.y], [ls.x1, ls.y]])]
-        style = (
-            {"colors": BEFORE, "linewidths": lw_before, "linestyles": [dashes]}
-            if ls.kind == "before"
-            else {"colors": AFTER, "linewidths": lw_after}
-        )
-        ax.add_collection(LineCollection(seg, capstyle="butt", zorder=4, **style), autolim=False)
-        ax.text(*ls.text_xy, ls.label, ha="left", va="baseline", zorder=4, **text)
-    if s.error_title_xy is not None:
-        ax.text(*s.error_title_xy, ERROR_TITLE, ha="left", va="baseline", zorder=4, **text)
-    for sw in s.swatches:
-        ax.add_artist(
-            Rectangle(
-                (sw.x, sw.y), sw.w, sw.h, facecolor=sw.colour, edgecolor=FRAME,
-                linewidth=lw_before, zorder=4,
-            )
-        )  # fmt: skip
-        ax.text(*sw.text_xy, sw.label, ha="center", va="baseline", zorder=4, **text)
-
-    # encode RGB ourselves (the sheet is opaque): a quarter less to compress than matplotlib's
-    # RGBA, and zlib level 3 is twice as fast as the default 6 for a few % more bytes; Pillow
-    # writes no time or software chunk, so the bytes depend on the pixels (and dpi) only
-    canvas = FigureCanvasAgg(fig)
-    canvas.draw()
-    rgb = np.asarray(canvas.buffer_rgba())[:, :, :3]
-    Image.fromarray(np.ascontiguousarray(rgb)).save(
-        os.fspath(path), format="png", dpi=(dpi, dpi), compress_level=3
-    )
+    k = scale * SUPERSAMPLE
+    shape = (ph * SUPERSAMPLE, pw * SUPERSAMPLE)
+    img = Image.fromarray(_fill_labels(pat, s, k, shape))
+    img.putpalette(_palette())  # "L" -> "P"
+    draw = ImageDraw.Draw(img)
+    draw.fontmode = "1"
+    pen = _Pen(draw, k, s, scale)
+    _draw_panels(pen, pat, s)
+    _draw_footer(pen, s)
+    img = img.convert("RGB")
+    pen.write(ImageDraw.Draw(img))
+    img = img.reduce(SUPERSAMPLE)
+    # zlib level 3 is twice as fast as the default 6 for a few % more bytes; Pillow writes
+    # no time or software chunk, so the bytes depend on the pixels (and dpi) only
+    img.save(os.fspath(path), format="png", dpi=(dpi, dpi), compress_level=3)
     return pw, ph

@@ -8,6 +8,7 @@ The sheet layout (where each panel, its name, the title, the scale bar and the l
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -89,12 +90,13 @@ class Pattern:
     triangles: list[tuple[np.ndarray, np.ndarray]] | None
     bins: list[np.ndarray] | None
 
-    @property
+    @cached_property
     def used_bins(self) -> list[int]:
         """The bins with at least one triangle, ascending (``NAN_BIN`` last)."""
         if self.bins is None or not self.bins:
             return []
-        return np.unique(np.concatenate(self.bins)).tolist()
+        counts = np.bincount(np.concatenate(self.bins), minlength=NAN_BIN + 1)
+        return np.flatnonzero(counts).tolist()
 
 
 class NonFiniteOutputError(PtailorError, ValueError):
@@ -132,7 +134,8 @@ def _mesh(tri, err, p: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     F = F.astype(np.int64)
     if len(F) and (F.min() < 0 or F.max() >= len(V)):
         raise ValueError(f"triangles[{p}]: F indexes outside V (n = {len(V)})")
-    if len(F) and not np.all(np.isfinite(V[F])):
+    T = V[F]
+    if len(F) and not np.isfinite(T).all():
         raise NonFiniteOutputError(
             f"pattern preview: non-finite vertices in triangles[{p}] (nothing written)"
         )
@@ -140,7 +143,6 @@ def _mesh(tri, err, p: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     if E.shape != (len(F),):
         raise ValueError(f"errors[{p}]: expected shape ({len(F)},), got {E.shape}")
     # counter-clockwise, so that overlapping (flipped) triangles add up rather than cancel
-    T = V[F]
     cross = (T[:, 1, 0] - T[:, 0, 0]) * (T[:, 2, 1] - T[:, 0, 1]) - (T[:, 1, 1] - T[:, 0, 1]) * (
         T[:, 2, 0] - T[:, 0, 0]
     )

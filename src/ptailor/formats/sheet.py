@@ -245,7 +245,9 @@ def panel_boxes(pattern: Pattern) -> tuple[np.ndarray, np.ndarray]:
         pts = pattern.before[p] + pattern.after[p]
         if pattern.triangles is not None:
             V, F = pattern.triangles[p]
-            pts = [*pts, V[F].reshape(-1, 2)]
+            used = np.zeros(len(V), dtype=bool)  # the corners of the triangles, each once
+            used[F.ravel()] = True
+            pts = [*pts, V[used]]
         pts = [P for P in pts if len(P)]
         if pts:
             allp = np.concatenate(pts)

@@ -7,12 +7,20 @@ bins and colours of :mod:`ptailor.formats.preview`, shared with the PNG preview)
 from __future__ import annotations
 
 import math
-from xml.sax.saxutils import escape
 
 import numpy as np
 
-from ptailor.formats.preview import AFTER, BEFORE, ERROR_TITLE, FILL, FRAME, INK, bin_colour
-from ptailor.formats.sheet import preview_sheet
+from ptailor.formats.preview import (
+    AFTER,
+    BEFORE,
+    ERROR_TITLE,
+    FILL,
+    FRAME,
+    INK,
+    Pattern,
+    bin_colour,
+)
+from ptailor.formats.sheet import Sheet, preview_sheet
 
 #: Units the SVG can print at 1:1: pattern unit -> (CSS unit of width/height and of the
 #: viewBox, its size in pattern units). Metres are drawn in cm: font sizes of a few hundredths
@@ -38,6 +46,12 @@ def _user_units(units: str, u: float) -> tuple[str, float]:
     return "", 10.0 ** (2 - math.floor(math.log10(u)))
 
 
+def escape(text: str) -> str:
+    """``&``, ``<`` and ``>`` as XML entities (what ``xml.sax.saxutils.escape`` does, without
+    its import of ``urllib.request``: 40 ms)."""
+    return text.replace("&", "&amp;").replace(">", "&gt;").replace("<", "&lt;")
+
+
 def _num(x: float) -> str:
     """Fixed 3-decimal formatting without ``-0.000``."""
     return f"{round(float(x), 3) + 0.0:.3f}"
@@ -46,8 +60,10 @@ def _num(x: float) -> str:
 def _xy(P: np.ndarray, decimals: int) -> np.ndarray:
     """``"x,y"`` strings (object array) of ``(k, 2)`` points with fixed decimals."""
     R = np.round(P, decimals) + 0.0  # + 0.0 turns -0.0 into 0.0
-    fmt = f"%.{decimals}f"
-    return np.char.mod(fmt, R[:, 0]).astype(object) + "," + np.char.mod(fmt, R[:, 1]).astype(object)
+    fmt = f"{{:.{decimals}f}},{{:.{decimals}f}}".format  # as "%.{decimals}f" formats
+    out = np.empty(len(R), dtype=object)
+    out[:] = list(map(fmt, R[:, 0].tolist(), R[:, 1].tolist()))
+    return out
 
 
 def _path(P: np.ndarray) -> str:
@@ -74,9 +90,11 @@ def _triangle_paths(T: np.ndarray, F: np.ndarray, bins: np.ndarray, decimals: in
     list of (int, str)
         ``(bin, d)`` for each bin that occurs, ascending.
     """
-    used, inv = np.unique(F, return_inverse=True)  # format each used vertex once
-    xy = _xy(T[used], decimals)
-    tri = xy[inv.reshape(F.shape)]
+    # format each used vertex once (np.unique(F)'s order, without its sort)
+    mask = np.zeros(len(T), dtype=bool)
+    mask[F.ravel()] = True
+    xy = _xy(T[mask], decimals)
+    tri = xy[(np.cumsum(mask) - 1)[F]]
     out = []
     for b in np.unique(bins).tolist():
         sel = tri[bins == b]
@@ -101,6 +119,7 @@ def pattern_svg(
     title: str = "",
     triangles: list[tuple[np.ndarray, np.ndarray]] | None = None,
     errors: list[np.ndarray] | None = None,
+    layout: tuple[Pattern, Sheet] | None = None,
 ) -> str:
     """A standalone SVG document comparing a pattern before and after adjustment.
 
@@ -127,6 +146,9 @@ def pattern_svg(
     errors : list (per panel) of (m,) float arrays, optional
         Relative intrinsic-scale error of each triangle (``0.01`` = 1 %, sign ignored, NaN
         for unknown); required with ``triangles``.
+    layout : (Pattern, Sheet), optional
+        :func:`ptailor.formats.sheet.preview_sheet` of these very inputs, when the caller
+        has it already (the PNG draws the same sheet): the inputs are then not read again.
 
     Returns
     -------
@@ -149,10 +171,12 @@ def pattern_svg(
         reverse), a loop is not a finite ``(k, 2)`` array, a mesh is malformed or an error
         array does not match its triangles.
     """
-    pat, s = preview_sheet(
-        outlines_before, outlines_after, names, triangles, errors,
-        units=units, title=title, caller="pattern_svg",
-    )  # fmt: skip
+    if layout is None:
+        layout = preview_sheet(
+            outlines_before, outlines_after, names, triangles, errors,
+            units=units, title=title, caller="pattern_svg",
+        )  # fmt: skip
+    pat, s = layout
     css, zoom = _user_units(units, s.unit)
     if zoom != 1.0:
         s = s.scaled(zoom)

@@ -141,7 +141,8 @@ def carry_piece(
             internal.append(L[keep])
     # the panel's rotation, seen in piece coordinates: notch directions and the grain turn
     # with it
-    vs = np.unique(F2[faces])
+    vs = np.zeros(len(V2), dtype=bool)  # the panel's vertices, ascending (np.unique's, no sort)
+    vs[F2[faces].ravel()] = True
     Rq = match.R.T @ _panel_rotation(V2[vs], V2_new[vs]) @ match.R
     turn_deg = float(np.degrees(np.arctan2(Rq[1, 0], Rq[0, 0])))
     angles = piece.notch_angles if len(piece.notch_angles) == len(keep_n) else np.zeros(len(keep_n))

@@ -8,6 +8,8 @@ the drape.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from ptailor import tolerances as tol
@@ -138,6 +140,7 @@ def mesh_pieces(
     F3: np.ndarray | None = None,
     V3: np.ndarray | None = None,
     grain: np.ndarray | None = None,
+    loops: Callable[[Panel], list[np.ndarray]] | None = None,
 ) -> list[Piece]:
     """Pieces drawn from a triangulated pattern: outline, turn points, notches, grain line.
 
@@ -161,6 +164,10 @@ def mesh_pieces(
         The drape, for balance notches (with ``F3``).
     grain : (n_panels, 2) float array, optional
         Unit grain direction per panel (:func:`grain_directions`).
+    loops : callable, optional
+        ``loops(panel)``: the panel's boundary loops, ``boundary_loops(F2[panel.faces])``,
+        when a cache has them (:meth:`ptailor.model.structure.GarmentStructure.panel_loops`);
+        computed here otherwise.
 
     Returns
     -------
@@ -174,8 +181,8 @@ def mesh_pieces(
     out = []
     areas = signed_areas_2d(V2, F2)
     for p in panel_list:  # a loop over panels
-        loops = boundary_loops(F2[p.faces])
-        outer = _outermost(loops, V2)
+        lps = loops(p) if loops is not None else boundary_loops(F2[p.faces])
+        outer = _outermost(lps, V2)
         P = V2[outer]
         turn = corners(P)
         ek = edge_keys(np.stack([outer, np.roll(outer, -1)], axis=1), n=n_v)
@@ -188,7 +195,7 @@ def mesh_pieces(
         c = (V2[F2[p.faces]].mean(axis=1) * a[:, None]).sum(axis=0) / max(a.sum(), 1e-300)
         gd = np.array([0.0, 1.0]) if grain is None else grain[p.index]
         half = 0.25 * float(np.ptp(P @ gd))
-        holes = tuple(np.vstack([V2[lp], V2[lp[:1]]]) for lp in loops if len(lp) != len(outer))
+        holes = tuple(np.vstack([V2[lp], V2[lp[:1]]]) for lp in lps if len(lp) != len(outer))
         out.append(
             Piece(
                 name=p.name,

@@ -159,8 +159,11 @@ def piece_plan(
     PtailorError
         A file piece that matches no panel.
     """
+    loops = None
     if panel_list is None:
-        panel_list = structure(garment, up=up, front=front).panels
+        st = structure(garment, up=up, front=front)
+        panel_list = st.panels
+        loops = st.panel_loops  # cached: the previews' outlines read them again
     V2, F2 = garment.V2, garment.F2
     file_pieces: list[Piece] = []
     matches: list[PieceMatch] = []
@@ -169,7 +172,10 @@ def piece_plan(
     used = {m.panel for m in matches}
     rest = [p for p in panel_list if p.index not in used]
     grain = grain_directions(V2, F2, garment.V3, garment.F3, panel_list, up=up)
-    drawn = mesh_pieces(V2, F2, rest, F3=garment.F3, V3=garment.V3, grain=grain)
+    drawn = mesh_pieces(
+        V2, F2, rest, F3=garment.F3, V3=garment.V3, grain=grain,
+        loops=None if loops is None else (lambda p: loops(p.index)),
+    )  # fmt: skip
     pieces = file_pieces + drawn
     matches = matches + [
         PieceMatch(len(file_pieces) + a, p.index, "mesh", np.eye(2), np.zeros(2), 0.0)

@@ -14,6 +14,7 @@ import numpy as np
 
 from ptailor.formats import PATTERN_WRITERS, SHEET_WRITERS, extension, writer_for
 from ptailor.formats.garment import LoadedGarment
+from ptailor.formats.sheet import preview_sheet
 from ptailor.model.boundary import boundary_loops
 from ptailor.model.garment import panel_labels
 from ptailor.model.structure import structure
@@ -72,7 +73,8 @@ class OutputContext:
     title : str
         The previews' heading.
     sheet : dict or None
-        What both previews draw (:func:`sheet`), computed once when either is written.
+        What both previews draw (:func:`sheet`, its layout included), computed once when
+        either is written.
     """
 
     loaded: LoadedGarment
@@ -108,8 +110,10 @@ def output_obj(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
     return name
 
 
-def sheet(adj: Adjustment, ctx: OutputContext) -> dict:
-    """The arguments both previews take: outlines before and after, triangles, errors."""
+def sheet(adj: Adjustment, ctx: OutputContext, *, caller: str = "pattern_svg") -> dict:
+    """The arguments both previews take: outlines before and after, triangles, errors, and
+    their checked inputs and layout (``layout``, :func:`ptailor.formats.sheet.preview_sheet`,
+    computed once for both; ``caller`` names the writer in its errors)."""
     g = adj.garment
     g0 = adj.original if adj.original is not None else adj.state.base
     s0 = structure(g0)  # the input's panels and their loops, as the adjustment found them
@@ -118,21 +122,34 @@ def sheet(adj: Adjustment, ctx: OutputContext) -> dict:
         [g0.V2[lp] for lp in s0.panel_loops(at[p.name])] if p.name in at else []
         for p in adj.state.panels
     ]
+    same = g.F2 is g0.F2 or (g.F2.shape == g0.F2.shape and np.array_equal(g.F2, g0.F2))
+
+    def after_loops(p) -> list[np.ndarray]:
+        """A panel's loops: the input's (cached) when it has the same triangles."""
+        i = at.get(p.name)
+        if same and i is not None and np.array_equal(s0.panels[i].faces, p.faces):
+            return s0.panel_loops(i)
+        return boundary_loops(g.F2[p.faces])
+
     tris = []
     errs = []
     for p in adj.state.panels:  # a loop over panels
-        vs, inv = np.unique(g.F2[p.faces], return_inverse=True)
-        tris.append((g.V2[vs], inv.reshape(-1, 3)))
+        tris.append((g.V2, g.F2[p.faces]))  # the whole pattern's vertices, as the writers allow
         errs.append(ctx.errors[p.faces])
-    return {
+    out = {
         "outlines_before": before,
-        "outlines_after": panel_outlines(g.V2, g.F2, adj),
+        "outlines_after": [[g.V2[lp] for lp in after_loops(p)] for p in adj.state.panels],
         "names": [p.name for p in adj.state.panels],
         "units": g.units,
         "title": ctx.title,
         "triangles": tris,
         "errors": errs,
     }
+    out["layout"] = preview_sheet(
+        out["outlines_before"], out["outlines_after"], out["names"], tris, errs,
+        units=g.units, title=ctx.title, caller=caller,
+    )  # fmt: skip
+    return out
 
 
 def _output_sheet(fmt: str, tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
@@ -191,7 +208,7 @@ def write_outputs(
     tmp: Path, adj: Adjustment, ctx: OutputContext, formats: tuple[str, ...]
 ) -> list[str]:
     """Write the adjusted garment in the requested formats into ``tmp``; return file names."""
-    sheets = [f for f in formats if extension(FILE_NAMES.get(f, "")) in SHEET_WRITERS]
-    if ctx.sheet is None and sheets:
-        ctx = replace(ctx, sheet=sheet(adj, ctx))
+    sheets = [f for f in FORMATS if f in formats and extension(FILE_NAMES[f]) in SHEET_WRITERS]
+    if ctx.sheet is None and sheets:  # the first writer names itself in the inputs' errors
+        ctx = replace(ctx, sheet=sheet(adj, ctx, caller=f"pattern_{sheets[0]}"))
     return [OUTPUTS[f](tmp, adj, ctx) for f in FORMATS if f in formats]
