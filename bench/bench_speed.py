@@ -67,6 +67,8 @@ from timing import (  # noqa: E402
 )
 
 RESULTS = Path(__file__).resolve().parent / "results" / "speed.json"
+#: a flatten slower than this is run once, not ``--repeat`` times
+SLOW_S = 10.0
 SCALE = "steps: [{op: scale, region: all, direction: around, axis: auto, factor: 1.2}]\n"
 CUFF = "steps: [{op: scale, region: {panels: [cuff]}, direction: around, factor: 1.1}]\n"
 BOX = "{box: {min: [-50, 18, -50], max: [50, 38, 50]}}"
@@ -184,9 +186,12 @@ class Bench:
             adj = adjustment(g, rec, baseline=False)
             fl.append(adj.timing_s["flatten"])
             ed.append(adj.timing_s["edit"])
+            if fl[0] > SLOW_S:  # one run of a slow case is enough to see it is slow
+                break
         return {
             "flatten_s": median(fl),
             "edit_s": median(ed),
+            "runs": len(fl),
             "iterations": int(adj.result.info.iterations),
             "triangles": int(adj.state.base.n_faces),
             "adj": adj,
@@ -236,6 +241,7 @@ class Bench:
                 cpus.append(c)
                 rss.append(r)
                 timing = json.loads((dest / "report.json").read_text()).get("timing_s", {})
+                timing = {k: v for k, v in timing.items() if isinstance(v, (int, float))}
                 timing["untimed"] = w - sum(timing.values())
                 for k, v in timing.items():
                     split.setdefault(k, []).append(v)
@@ -255,14 +261,23 @@ class Bench:
         if "error" in ig:
             print(f"  libigl: {ig['error']}")
             return
-        print(f"  libigl ARAP (pre + 30): {ig['median_s']:.3f} s", flush=True)
-        self.goal("adjust_over_libigl", out["default"]["wall_s"] / ig["median_s"], 1.0)
-        self.goal(
-            "adjust_nb_obj_over_libigl",
-            out["no_baseline_obj"]["wall_s"] / ig["median_s"],
-            0.6,
-            "--no-baseline --formats obj",
-        )
+        wall, cpu = ig["median_s"], ig["cpu_median_s"]
+        print(f"  libigl ARAP (pre + 30): {wall:.3f} s wall, {cpu:.3f} s CPU", flush=True)
+        # judged in CPU time (as issue 15 measured it): less sensitive to other load
+        for goal, name, note in (
+            ("adjust_over_libigl", "default", "every output, baseline"),
+            ("adjust_nb_obj_over_libigl", "no_baseline_obj", "--no-baseline --formats obj"),
+        ):
+            run = out[name]
+            wall_ratio = run["wall_s"] / ig["median_s"]
+            run["over_libigl_wall"] = wall_ratio
+            run["over_libigl_cpu"] = run["cpu_s"] / ig["cpu_median_s"]
+            self.goal(
+                goal,
+                run["over_libigl_cpu"],
+                GOALS[goal],
+                f"CPU time; {note}; wall {wall_ratio:.2f}x",
+            )
 
     def section_b(self) -> None:
         print("b. flatten against libigl ARAP on the same mesh", flush=True)
