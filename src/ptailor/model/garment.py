@@ -24,6 +24,11 @@ __all__ = [
 ]
 
 
+#: ``Garment.cache`` key of a garment with the same ``V3, F3, V2, F2`` arrays and other groups
+#: (:func:`with_panel_names`): its structure's group-free parts are this garment's too
+SAME_CLOTH = "same_cloth"
+
+
 @dataclass(frozen=True)
 class Garment:
     """A drape and its pattern.
@@ -269,8 +274,13 @@ def with_panel_names(
     -------
     Garment
         ``face_group`` is each triangle's panel index and ``group_names`` the panel names, so
-        ``panels`` of the result lists the same panels under the same names.
+        ``panels`` of the result lists the same panels under the same names. Its
+        derived structure (:mod:`ptailor.model.structure`) reuses what ``garment``'s has
+        computed and does not depend on the groups (components, seams, openings, layout).
     """
     pl = panels(garment, up=up, front=front) if plist is None else plist
     lab = panel_labels(pl, garment.n_faces)
-    return replace(garment, face_group=lab, group_names=tuple(p.name for p in pl))
+    named = replace(garment, face_group=lab, group_names=tuple(p.name for p in pl))
+    # the same cloth (arrays): its derived structure reads what this garment's has computed
+    named.cache[SAME_CLOTH] = garment
+    return named

@@ -29,6 +29,7 @@ import numpy as np
 from ptailor.geometry.labels import component_labels
 from ptailor.model.boundary import boundary_curves, boundary_loops
 from ptailor.model.garment import (
+    SAME_CLOTH,
     Garment,
     Panel,
     group_panel_names,
@@ -52,7 +53,10 @@ class GarmentStructure:
     """The derived structure of one garment for one pair of body axes (read-only).
 
     Every attribute is computed on first access and then kept. Arrays are shared with
-    every consumer: do not write to them.
+    every consumer: do not write to them. A garment
+    :func:`~ptailor.model.garment.with_panel_names` made takes the attributes that do not
+    depend on the groups (all but ``panels``) from its source garment's structure when
+    that has computed them.
 
     Attributes
     ----------
@@ -88,11 +92,22 @@ class GarmentStructure:
         self.front = front
         self._loops: dict[int, list[np.ndarray]] = {}
 
+    def _same(self, name: str):
+        """Attribute ``name`` as already computed for the garment of the same cloth (the
+        one :func:`~ptailor.model.garment.with_panel_names` named), or None."""
+        same = self.garment.cache.get(SAME_CLOTH)
+        if same is None:
+            return None
+        return structure(same, up=self.up, front=self.front).__dict__.get(name)
+
     @cached_property
     def panel_components(self) -> tuple[np.ndarray, int]:
         """``(labels, count)``: the connected components of ``F2``, a label per triangle
         (the panel index: ``face_panel``), before the panels are named."""
         g = self.garment
+        same = self._same("panel_components")
+        if same is not None:
+            return same
         lab = component_labels(g.F2, len(g.V2))
         return lab, int(lab.max()) + 1 if lab.size else 0
 
@@ -106,28 +121,36 @@ class GarmentStructure:
 
     @cached_property
     def face_panel(self) -> np.ndarray:
-        return panel_labels(self.panels, self.garment.n_faces)
+        same = self._same("face_panel")
+        return same if same is not None else panel_labels(self.panels, self.garment.n_faces)
 
     @cached_property
     def vertex_panel(self) -> np.ndarray:
-        return vertex_labels(self.panels, len(self.garment.V2))
+        same = self._same("vertex_panel")
+        return same if same is not None else vertex_labels(self.panels, len(self.garment.V2))
 
     @cached_property
     def seam_halfedges(self) -> np.ndarray:
-        return seam_halfedges(self.garment.F3, self.garment.F2)
+        same = self._same("seam_halfedges")
+        return same if same is not None else seam_halfedges(self.garment.F3, self.garment.F2)
 
     @cached_property
     def seams(self) -> list[Seam]:
-        return seams(self.garment.F3, self.garment.F2, self.face_panel)
+        g, same = self.garment, self._same("seams")
+        return same if same is not None else seams(g.F3, g.F2, self.face_panel)
 
     @cached_property
     def drape_boundary(self) -> tuple[list[np.ndarray], np.ndarray]:
         g = self.garment
-        return boundary_curves(g.F3, V=g.V3, F2=g.F2)
+        same = self._same("drape_boundary")
+        return same if same is not None else boundary_curves(g.F3, V=g.V3, F2=g.F2)
 
     @cached_property
     def openings(self) -> list[Opening]:
         g = self.garment
+        same = self._same("openings")
+        if same is not None:
+            return same
         return openings(
             g.V3, g.F3, up=self.up, front=self.front, F2=g.F2, curves=self.drape_boundary
         )
@@ -135,6 +158,9 @@ class GarmentStructure:
     @cached_property
     def layout(self) -> PanelLayout:
         g = self.garment
+        same = self._same("layout")
+        if same is not None:
+            return same
         lab, n_p = self.panel_components
         return panel_layout(
             g.V3,
