@@ -60,11 +60,12 @@ def scale(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         ax = unit_vector(step["axis"], "axis")
     c = region_centroid(V3, g.F3, faces)
     A = scale_matrix(step["direction"], ax, float(step["factor"]))
-    handles = np.unique(g.F3[faces])
-    moved = c + (V3[handles] - c) @ A.T
-    used = np.unique(g.F3)
     in_region = np.zeros(len(V3), dtype=bool)
-    in_region[handles] = True
+    in_region[g.F3[faces]] = True
+    handles = np.flatnonzero(in_region)  # sorted, as np.unique (a mask is cheaper)
+    moved = c + (V3[handles] - c) @ A.T
+    used = np.zeros(len(V3), dtype=bool)
+    used[g.F3] = True
     if np.all(in_region[used]):
         V_new = V3.copy()
         V_new[handles] = moved
