@@ -21,13 +21,13 @@ d. each registered edit operation at 100k (scale, scale_seam, shorten, extend, c
    of the same run and against the plain sleeve's flatten (<= 0.5x);
 e. ``ptailor batch -j 2`` over 40 sleeves of about 10k triangles (every output, baseline
    on): garments per minute (>= 200) and the ratio to ``ptailor adjust`` run one by one on
-   the same garments (a subset with ``--quick``);
+   the first 10 of the same garments (5 with ``--quick``);
 f. the imports of a default ``ptailor adjust`` (``-X importtime``, top-level imports summed,
    minus those of a bare interpreter; <= 0.4 s) and ``ptailor --help`` (<= 0.1 s).
 
 Times are medians over ``--repeat`` runs (default 3). ``--quick``: one run of most things,
 the not-developable flatten and the edits at 30k instead of 100k, 20 garments in the
-catalogue (5 of them one by one), no 300k ``adjust``; a few minutes. BLAS runs on one
+catalogue, no 300k ``adjust``; a few minutes. BLAS runs on one
 thread (as ptailor's processes do). Subprocesses read and write compiled bytecode under
 ``bench/results/pycache`` (an installed package has its ``.pyc`` files; ``--no-pycache`` runs
 them as this environment does). The machine's load is written into the results: numbers
@@ -388,7 +388,7 @@ class Bench:
 
     def section_e(self) -> None:
         n = 20 if self.quick else 40
-        n_one = 5 if self.quick else n
+        n_one = 5 if self.quick else 10  # adjust one by one: the first garments, as a rate
         print(f"e. ptailor batch -j 2 over {n} garments of about 10k triangles", flush=True)
         cat = self.folder / "catalogue"
         cat.mkdir(exist_ok=True)
