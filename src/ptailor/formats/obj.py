@@ -17,6 +17,7 @@ import numpy as np
 
 from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
+from ptailor.formats.obj_scan import Scan, scan
 
 if TYPE_CHECKING:
     from ptailor.model.garment import Garment
@@ -95,6 +96,12 @@ def _floats(bodies: list[bytes], path: str, what: str, width: int) -> np.ndarray
             arr = np.array([r[:ncol] for r in rows], dtype=np.float64)
         except ValueError as exc:
             raise PtailorError(f"unreadable '{what}' record ({exc})", path=path) from None
+    return _coords(arr, path, what, width)
+
+
+def _coords(arr: np.ndarray, path: str, what: str, width: int) -> np.ndarray:
+    """``(k, c)`` record numbers as ``(k, width)`` coordinates (padded with 0, or cut),
+    each checked finite and within ``OBJ_COORD_MAX``."""
     if arr.shape[1] < 2:
         raise PtailorError(f"'{what}' records need at least 2 coordinates", path=path)
     if arr.shape[1] < width:
@@ -138,6 +145,14 @@ def _faces(
         if nums is None or nums.size != corners_per.sum() * (k + 1):
             raise PtailorError("faces mix corner formats (v, v/vt, v/vt/vn, v//vn)", path=path)
         nums = nums.reshape(-1, k + 1)
+    return _fan(nums, corners_per, k, nv, nt, path)
+
+
+def _fan(
+    nums: np.ndarray, corners_per: np.ndarray, k: int, nv: int, nt: int, path: str
+) -> tuple[np.ndarray, np.ndarray | None, np.ndarray]:
+    """Corner fields ``nums`` ((c, k + 1) ints, file order) of polygons of ``corners_per``
+    corners as fan triangles: ``(fv, fvt or None, polygon index of each triangle)``."""
     if np.any(corners_per < 3):
         bad = int(np.flatnonzero(corners_per < 3)[0])
         raise PtailorError(f"face {bad + 1} has fewer than 3 corners", path=path)
@@ -165,7 +180,7 @@ def _faces(
     # fan triangulation, vectorised over polygons
     start = np.concatenate([[0], np.cumsum(corners_per)[:-1]])
     ntri = corners_per - 2
-    poly = np.repeat(np.arange(len(bodies)), ntri)
+    poly = np.repeat(np.arange(len(corners_per)), ntri)
     local = np.arange(ntri.sum()) - np.repeat(np.cumsum(ntri) - ntri, ntri)
     base = start[poly]
     tri = np.stack([base, base + local + 1, base + local + 2], axis=1)
@@ -209,8 +224,9 @@ def read_obj(path: str | Path) -> ObjMesh:
             return _parse(raw, spath)
 
 
-def _check_text(raw: bytes, spath: str) -> bytes:
-    """The file's bytes without a UTF-8 BOM, with \\n line ends; line lengths checked."""
+def _check_text(raw: bytes, spath: str) -> tuple[bytes, np.ndarray]:
+    """The file's bytes without a UTF-8 BOM, with \\n line ends, and the positions of its
+    \\n; line lengths checked."""
     if raw.startswith(b"\xef\xbb\xbf"):
         raw = raw[3:]
     if b"\0" in raw:
@@ -227,11 +243,11 @@ def _check_text(raw: bytes, spath: str) -> bytes:
             f"{tol.OBJ_MAX_LINE} bytes an OBJ line may have",
             path=spath,
         )
-    return raw
+    return raw, ends
 
 
-def _parse(raw: bytes, spath: str) -> ObjMesh:
-    raw = _check_text(raw, spath)
+def _header(raw: bytes) -> tuple[str, ...]:
+    """The leading comment lines (without ``#``), for unit hints."""
     header: list[str] = []
     for ln in raw[:4096].decode("utf-8", errors="replace").splitlines():
         ln = ln.strip()
@@ -239,6 +255,27 @@ def _parse(raw: bytes, spath: str) -> ObjMesh:
             break
         if ln:
             header.append(ln.lstrip("#").strip())
+    return tuple(header)
+
+
+def _parse(raw: bytes, spath: str) -> ObjMesh:
+    raw, ends = _check_text(raw, spath)
+    fast = scan(raw, ends)  # a well-formed file in bulk, else None
+    if fast is not None:
+        return _from_scan(fast, spath, _header(raw))
+    return _parse_records(raw, spath, _header(raw))
+
+
+def _from_scan(fast: Scan, spath: str, header: tuple[str, ...]) -> ObjMesh:
+    """The mesh of a bulk scan, checked as :func:`_parse_records` checks it, in its order."""
+    v = _coords(fast.v, spath, "v", 3)
+    vt = _coords(fast.vt, spath, "vt", 2) if fast.vt is not None else np.zeros((0, 2))
+    fv, fvt, poly = _fan(fast.nums, fast.corners_per, fast.slashes, len(v), len(vt), spath)
+    return _mesh(v, vt, fv, fvt, poly, fast.group_lines, fast.face_line_group + 1, header, spath)
+
+
+def _parse_records(raw: bytes, spath: str, header: tuple[str, ...]) -> ObjMesh:
+    """The record-by-record parser: any file, each problem named."""
     # split at g/o records: chunk i follows group name i (chunk 0 has no group)
     parts = _GROUP.split(raw)
     chunks, gnames = (
@@ -253,6 +290,24 @@ def _parse(raw: bytes, spath: str) -> ObjMesh:
     v = _floats(v_b, spath, "v", 3)
     vt = _floats(_records(raw, b"vt"), spath, "vt", 2)
     fv, fvt, poly = _faces(f_b, len(v), len(vt), spath)
+    per_chunk = np.array([len(fc) for fc in f_chunks], dtype=np.int64)
+    face_chunk = np.repeat(np.arange(len(f_chunks)), per_chunk)
+    return _mesh(v, vt, fv, fvt, poly, gnames, face_chunk, header, spath)
+
+
+def _mesh(
+    v: np.ndarray,
+    vt: np.ndarray,
+    fv: np.ndarray,
+    fvt: np.ndarray | None,
+    poly: np.ndarray,
+    gnames: list[str],
+    face_chunk: np.ndarray,
+    header: tuple[str, ...],
+    spath: str,
+) -> ObjMesh:
+    """The mesh, its group names checked; ``face_chunk``: per ``f`` record, 0 before any
+    ``g``/``o`` record, else 1 + the index in ``gnames`` of the last one before it."""
     long_names = [n for n in gnames if len(n) > tol.OBJ_MAX_NAME]
     if long_names:
         raise PtailorError(
@@ -263,10 +318,9 @@ def _parse(raw: bytes, spath: str) -> ObjMesh:
     names = tuple(dict.fromkeys(n for n in gnames if n))
     name_idx = {n: i for i, n in enumerate(names)}
     chunk_group = np.array([-1] + [name_idx.get(n, -1) for n in gnames], dtype=np.int64)
-    per_chunk = np.array([len(fc) for fc in f_chunks], dtype=np.int64)
-    face_group = np.repeat(chunk_group, per_chunk)[poly]
+    face_group = chunk_group[face_chunk][poly]
     return ObjMesh(
-        v=v, vt=vt, fv=fv, fvt=fvt, face_group=face_group, group_names=names, header=tuple(header)
+        v=v, vt=vt, fv=fv, fvt=fvt, face_group=face_group, group_names=names, header=header
     )
 
 
