@@ -209,7 +209,7 @@ def _load_garment(
         pattern_scale = _estimated_pattern_scale(V3, F3, V2, F2, path=spath)
     else:
         pattern_scale = parse_units(pattern_units, what="--pattern-units") * to_units
-    ratio, per_panel = unit_ratios(V3, F3, V2 * pattern_scale, F2)
+    ratio, per_panel = unit_ratios(V3, F3, V2 * pattern_scale, F2, lengths3=fixed.lengths3)
     if not estimated:
         check_units(ratio, path=err_path, pattern_units=pattern_units, drape_units=drape_units)
     record = {

@@ -43,6 +43,13 @@ class UnitMismatchError(PtailorError):
     """Drape and pattern are not in the units they were said to be in (exit 2)."""
 
 
+def _used(idx: np.ndarray, n: int) -> np.ndarray:
+    """``(n,)`` bool: the indices ``idx`` holds (``np.unique`` as a mask, in linear time)."""
+    mask = np.zeros(n, dtype=bool)
+    mask[np.asarray(idx).ravel()] = True
+    return mask
+
+
 def weld_vertices(
     V: np.ndarray, F: np.ndarray, *, distance: float
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -76,9 +83,12 @@ def weld_vertices(
     from scipy.spatial import cKDTree
 
     n = len(V)
-    used = np.unique(F)
+    used = np.flatnonzero(_used(F, n))
     pairs = cKDTree(V[used]).query_pairs(distance, output_type="ndarray")
-    pairs = used[pairs] if len(pairs) else np.zeros((0, 2), dtype=np.int64)
+    if not len(pairs):  # nothing to merge (a welded garment): every vertex its own cluster
+        I = np.arange(n)
+        return V[I], I[F], I, I.copy()
+    pairs = used[pairs]
     A = sp.coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
     _, lab = connected_components(A, directed=False)
     # representative: the lexicographically smallest position in each cluster (then the
@@ -89,7 +99,7 @@ def weld_vertices(
     best = np.full(lab.max() + 1 if n else 0, n, dtype=np.int64)
     np.minimum.at(best, lab, rank)
     rep = order[best]
-    I = np.unique(rep)
+    I = np.flatnonzero(_used(rep, n))
     new_of_rep = np.empty(n, dtype=np.int64)
     new_of_rep[I] = np.arange(len(I))
     J = new_of_rep[rep[lab]]
@@ -145,11 +155,32 @@ def duplicate_faces(F3: np.ndarray, F2: np.ndarray) -> np.ndarray:
     (m,) bool array
         True for every copy after the first.
     """
-    key = np.concatenate([np.sort(F3, axis=1), np.sort(F2, axis=1)], axis=1)
-    _, first = np.unique(key, axis=0, return_index=True)
-    dup = np.ones(len(F3), dtype=bool)
-    dup[first] = False
+    s3, s2 = np.sort(F3, axis=1), np.sort(F2, axis=1)
+    k3, k2 = _face_key(s3), _face_key(s2)
+    if k3 is None or k2 is None:  # too many vertices for one integer per face
+        key = np.concatenate([s3, s2], axis=1)
+        _, first = np.unique(key, axis=0, return_index=True)
+        dup = np.ones(len(F3), dtype=bool)
+        dup[first] = False
+        return dup
+    dup = np.zeros(len(F3), dtype=bool)
+    s3 = np.sort(k3)
+    if not np.any(s3[1:] == s3[:-1]):  # every drape face differs: no copies (the usual case)
+        return dup
+    order = np.lexsort((k2, k3))  # stable: each run of equal faces starts with the first
+    same = (k3[order[1:]] == k3[order[:-1]]) & (k2[order[1:]] == k2[order[:-1]])
+    dup[order[1:][same]] = True
     return dup
+
+
+def _face_key(S: np.ndarray) -> np.ndarray | None:
+    """One int64 per row of ``S`` ((m, 3) ints in ``0 .. n - 1``), equal for equal rows;
+    None when ``n ** 3`` does not fit."""
+    n = int(S.max()) + 1 if S.size else 1
+    if n >= 2_000_000:
+        return None
+    S = S.astype(np.int64, copy=False)
+    return (S[:, 0] * n + S[:, 1]) * n + S[:, 2]
 
 
 def zero_area_faces(V: np.ndarray, F: np.ndarray) -> np.ndarray:
@@ -185,12 +216,14 @@ def non_manifold_edges(F: np.ndarray) -> np.ndarray:
     (k, 2) int array
         Each such edge once, its vertices ascending, rows sorted.
     """
-    E = np.sort(np.stack([F, np.roll(F, -1, axis=1)], axis=2).reshape(-1, 2), axis=1)
-    E = E[E[:, 0] != E[:, 1]]
-    if not len(E):
+    G = F[:, [1, 2, 0]]  # edge k runs from corner k to corner k + 1
+    lo, hi = np.minimum(F, G).ravel(), np.maximum(F, G).ravel()
+    proper = lo != hi
+    lo, hi = lo[proper], hi[proper]
+    if not len(lo):
         return np.zeros((0, 2), dtype=np.int64)
-    n = int(E.max()) + 1
-    key = np.sort(E[:, 0].astype(np.int64) * n + E[:, 1])  # one integer per edge: fast sort
+    n = int(hi.max()) + 1
+    key = np.sort(lo.astype(np.int64) * n + hi)  # one integer per edge: fast sort
     starts = np.flatnonzero(np.r_[True, key[1:] != key[:-1]])
     count = np.diff(np.r_[starts, len(key)])
     many = key[starts[count > 2]]
@@ -198,7 +231,12 @@ def non_manifold_edges(F: np.ndarray) -> np.ndarray:
 
 
 def unit_ratios(
-    V3: np.ndarray, F3: np.ndarray, V2: np.ndarray, F2: np.ndarray
+    V3: np.ndarray,
+    F3: np.ndarray,
+    V2: np.ndarray,
+    F2: np.ndarray,
+    *,
+    lengths3: np.ndarray | None = None,
 ) -> tuple[float, np.ndarray]:
     """Median pattern/drape edge length ratio, of the garment and of each panel.
 
@@ -209,6 +247,8 @@ def unit_ratios(
     V2 : (n2, 2) float array
     F2 : (m, 3) int array
         Panels are its connected components (:func:`ptailor.geometry.component_labels` order).
+    lengths3 : (m, 3) float array, optional
+        ``edge_lengths(V3, F3)`` when already computed (:attr:`IntakeResult.lengths3`).
 
     Returns
     -------
@@ -218,7 +258,7 @@ def unit_ratios(
     per_panel : (p,) float array
         The same median per panel.
     """
-    l3 = edge_lengths(V3, F3).ravel()
+    l3 = (edge_lengths(V3, F3) if lengths3 is None else lengths3).ravel()
     l2 = edge_lengths(V2, F2).ravel()
     lab = np.repeat(component_labels(F2, len(V2)), 3)
     ok = (l3 > 0) & (l2 > 0) & np.isfinite(l2 / np.where(l3 > 0, l3, 1.0))
@@ -298,6 +338,9 @@ class IntakeResult:
     record : dict
         JSON-ready counts (:func:`intake`).
     warnings : list of str
+    lengths3 : (m', 3) float array or None
+        ``edge_lengths(V3, F3)`` when the intake computed it on these arrays (nothing welded
+        or dropped), for :func:`unit_ratios`; else None.
     """
 
     V3: np.ndarray
@@ -308,6 +351,7 @@ class IntakeResult:
     vertex_map: np.ndarray
     record: dict
     warnings: list[str] = field(default_factory=list)
+    lengths3: np.ndarray | None = None
 
 
 def intake(
@@ -353,13 +397,14 @@ def intake(
     rec: dict = {"weld": weld if isinstance(weld, str) else "distance"}
     warnings: list[str] = []
     I = np.arange(len(V3))
-    finite = bool(np.all(np.isfinite(V3[np.unique(F3)]))) if m else False
+    finite = bool(np.all(np.isfinite(V3[_used(F3, len(V3))]))) if m else False
     if not finite or len(F2) != m:
         # check_garment names the problem (NaNs, mismatched faces)
         rec.update(welded_vertices=0, duplicate_faces=0, zero_area_faces_3d=0)
         rec.update(zero_area_faces_2d=0, non_manifold_edges=0)
         return IntakeResult(V3, F3, V2, F2, np.arange(m), I, rec, warnings)
-    mean_edge = float(edge_lengths(V3, F3).mean())
+    lengths3 = edge_lengths(V3, F3)
+    mean_edge = float(lengths3.mean())
     dist = WELD_REL * mean_edge if isinstance(weld, str) else float(weld)
     n_pieces = int(component_labels(F3, len(V3)).max()) + 1
     rec["pieces_before"] = n_pieces
@@ -381,7 +426,8 @@ def intake(
                 "--weld off keeps them apart, so the seams there are not seen"
             )
     z3 = zero_area_faces(V3, F3)
-    z2 = zero_area_faces(V2, F2) if np.all(np.isfinite(V2[np.unique(F2)])) else np.zeros(m, bool)
+    finite2 = np.all(np.isfinite(V2[_used(F2, len(V2))]))
+    z2 = zero_area_faces(V2, F2) if finite2 else np.zeros(m, bool)
     dup = duplicate_faces(F3, F2) & ~(z3 | z2)
     drop = z3 | z2 | dup
     rec["duplicate_faces"] = int(dup.sum())
@@ -392,7 +438,11 @@ def intake(
         raise PtailorError(f"every triangle is zero-area in {what}: nothing to adjust", path=path)
     keep = np.flatnonzero(~drop)
     F3, F2 = F3[keep], F2[keep]
-    rec["pieces_after"] = int(component_labels(F3, len(V3)).max()) + 1  # welded, repaired
+    if not rec["welded_vertices"] and not drop.any():  # V3 and F3 as measured before
+        rec["pieces_after"] = n_pieces
+    else:
+        rec["pieces_after"] = int(component_labels(F3, len(V3)).max()) + 1  # welded, repaired
+        lengths3 = None
     rec["non_manifold_edges"] = len(non_manifold_edges(F3))
     if drop.any():
         warnings.append(
@@ -400,7 +450,7 @@ def intake(
             f"duplicate, {rec['zero_area_faces_3d']} zero-area in 3D, "
             f"{rec['zero_area_faces_2d']} zero-area in 2D"
         )
-    return IntakeResult(V3, F3, V2, F2, keep, I, rec, warnings)
+    return IntakeResult(V3, F3, V2, F2, keep, I, rec, warnings, lengths3)
 
 
 def check_units(

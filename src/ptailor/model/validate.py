@@ -29,8 +29,11 @@ def check_garment(g: Garment, *, path: str | None = None) -> None:
         )
     if len(g.F3) == 0:
         raise PtailorError("no triangles", path=path)
-    used3 = np.unique(g.F3)
-    used2 = np.unique(g.F2)
+    # the vertices the triangles use, as masks (np.unique's rows, in linear time)
+    used3 = np.zeros(len(g.V3), dtype=bool)
+    used3[g.F3.ravel()] = True
+    used2 = np.zeros(len(g.V2), dtype=bool)
+    used2[g.F2.ravel()] = True
     if not np.all(np.isfinite(g.V3[used3])):
         raise PtailorError("NaN or infinite drape coordinates (v)", path=path)
     if not np.all(np.isfinite(g.V2[used2])):
