@@ -271,7 +271,8 @@ def arap_deform(
     steps from the previous ones (:func:`warm_rotations`; the first time from each
     component's rigid fit), the same maxima as a batched 3x3 SVD at a fraction of its cost.
     Global step: the handles are eliminated and the free-free block of the
-    cotangent Laplacian (symmetric positive definite) is factored once with SuperLU; each
+    cotangent Laplacian (symmetric positive definite) is factored once
+    (:func:`ptailor.method.linear.factor`, a sparse Cholesky); each
     iteration is one back-substitution with 3 right-hand sides. The iterations are
     Anderson-accelerated (Peng et al. 2018): a mix of the last iterates whose energy comes
     out higher than its predecessor's is replaced by the plain step (an extra local step),
@@ -343,7 +344,8 @@ def arap_deform(
         (np.ones(2 * F.shape[0]), (F[:, [0, 1]].ravel(), F[:, [1, 2]].ravel())), shape=(n, n)
     )
     from scipy.sparse.csgraph import connected_components
-    from scipy.sparse.linalg import splu
+
+    from ptailor.method.linear import factor
 
     ncomp, comp = connected_components(W_adj, directed=False)
     has_handle = np.zeros(ncomp, dtype=bool)
@@ -381,12 +383,7 @@ def arap_deform(
     L = (sp.diags(np.asarray(Wm.sum(axis=1)).ravel()) - Wm).tocsr()
     Lff = L[:nf, :nf].tocsc()
     Lfh = L[:nf, nf:].tocsr()
-    lu = splu(
-        Lff, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True}
-    )
-
-    def solve(rhs: np.ndarray) -> np.ndarray:
-        return lu.solve(np.asfortranarray(rhs))
+    solve = factor(Lff)  # CHOLMOD; SuperLU where cvxopt is missing
 
     # ---- initial guess: per-component rigid fit, then harmonic residual --------------
     ucomp, hlabel = np.unique(comp[handles], return_inverse=True)

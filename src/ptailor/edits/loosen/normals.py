@@ -11,6 +11,7 @@ import scipy.sparse as sp
 from ptailor.edits.region import region_axis, region_centroid
 from ptailor.geometry.triangles import triangle_areas, triangle_normals
 from ptailor.method.deform import cotangent_weights
+from ptailor.method.linear import factor
 from ptailor.model.garment import Panel, panel_labels
 from ptailor.model.seams import half_edges, seam_halfedges
 
@@ -141,7 +142,9 @@ def normal_smoother(
         vertices no triangle uses are returned unchanged.
     """
     n = len(V)
-    used = np.unique(F)
+    seen = np.zeros(n, dtype=bool)
+    seen[F] = True
+    used = np.flatnonzero(seen)  # as np.unique(F), cheaper
     loc = np.full(n, -1, dtype=np.int64)
     loc[used] = np.arange(used.size)
     Fl = loc[F]
@@ -152,18 +155,11 @@ def normal_smoother(
     mass = np.bincount(Fl.ravel(), weights=np.repeat(area / 3.0, 3), minlength=used.size)
     # a vertex whose triangles are all degenerate keeps its value (positive diagonal)
     mass = np.maximum(mass, MASS_FLOOR_REL * max(float(mass.mean()), 1e-300))
-    from scipy.sparse.linalg import splu
-
-    lu = splu(
-        (sp.diags(mass) + tau * L).tocsc(),
-        permc_spec="MMD_AT_PLUS_A",
-        diag_pivot_thresh=0.0,
-        options={"SymmetricMode": True},
-    )
+    solve = factor((sp.diags(mass) + tau * L).tocsc())  # sparse Cholesky, once
 
     def step(X: np.ndarray) -> np.ndarray:
         out = X.copy()
-        out[used] = lu.solve(np.asfortranarray(mass[:, None] * X[used]))
+        out[used] = solve(mass[:, None] * X[used])
         return out
 
     return step
