@@ -26,7 +26,7 @@ def spd(n: int, seed: int) -> sp.csc_matrix:
 def test_factor_solves_vectors_and_blocks():
     A = spd(50, 0)
     b = np.random.default_rng(1).normal(size=(50, 3))
-    solve = factor(A)
+    solve = factor(A, lower=True)
     np.testing.assert_allclose(A @ solve(b), b, atol=1e-12)
     np.testing.assert_allclose(A @ solve(b[:, 0]), b[:, 0], atol=1e-12)
     assert solve(b[:, 0]).shape == (50,)
@@ -73,7 +73,7 @@ def test_seam_block_from_the_schur_complement_matches_back_substitution(coupled)
     area = 0.5 * np.abs(np.linalg.det(targets))
     B = asap_rows(g.V2, g.F2, np.arange(m)) if coupled else None
     A = stitch_matrix(g.F2, targets, area, pin_w, B, 1000.0)
-    solve = factor(A)
+    solve = factor(A, lower=True)
 
     def solve_many(rhs):
         if coupled:
@@ -91,3 +91,11 @@ def test_seam_block_from_the_schur_complement_matches_back_substitution(coupled)
         np.testing.assert_allclose(G, H, rtol=1e-9, atol=1e-12 * np.abs(H).max())
     C = ease.rows(g.V2)[:, fast.U]
     np.testing.assert_allclose(fast.schur(C), slow.schur(C), rtol=1e-9, atol=1e-12)
+
+
+def test_factor_of_a_lower_triangle_solves_the_symmetric_matrix():
+    A = spd(30, 3)
+    L = sp.tril(A, format="csc")
+    b = np.linspace(-1.0, 2.0, 30)
+    np.testing.assert_allclose(A @ factor(L, lower=True)(b), b, atol=1e-12)
+    np.testing.assert_allclose(A @ linear._superlu(L, lower=True)(b), b, atol=1e-12)

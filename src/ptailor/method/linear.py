@@ -53,7 +53,7 @@ def _finite(A: sp.csc_matrix) -> None:
         )
 
 
-def factor(A: sp.spmatrix):
+def factor(A: sp.spmatrix, *, lower: bool = False):
     """Factor a sparse symmetric positive definite matrix once; return a solve function.
 
     A supernodal Cholesky factorisation (CHOLMOD, from cvxopt) of the lower triangle; its
@@ -66,6 +66,8 @@ def factor(A: sp.spmatrix):
     ----------
     A : (N, N) sparse matrix
         Symmetric (only its lower triangle is read by CHOLMOD).
+    lower : bool
+        ``A`` holds only the lower triangle of the symmetric matrix.
 
     Returns
     -------
@@ -82,11 +84,11 @@ def factor(A: sp.spmatrix):
     try:
         from cvxopt import cholmod
     except ImportError:  # pragma: no cover - cvxopt is a dependency
-        return _superlu(A)
+        return _superlu(A, lower=lower)
     try:
-        return _cholmod(sp.tril(A, format="csc"), cholmod)
+        return _cholmod(A if lower else sp.tril(A, format="csc"), cholmod)
     except ArithmeticError:  # not positive definite numerically: LU decides
-        return _superlu(A)
+        return _superlu(A, lower=lower)
 
 
 def _cvx(L: sp.csc_matrix):
@@ -148,11 +150,15 @@ def _cholmod(L: sp.csc_matrix, cholmod):
     return solve
 
 
-def _superlu(A: sp.csc_matrix):
-    """SuperLU's solve function for ``A`` (symmetric mode)."""
+def _superlu(A: sp.csc_matrix, *, lower: bool = False):
+    """SuperLU's solve function for ``A`` (symmetric mode; ``lower``: ``A`` is the lower
+    triangle of the symmetric matrix)."""
     from scipy.sparse.linalg import splu
 
     from ptailor.errors import PtailorError
+
+    if lower:
+        A = sp.csc_matrix(A + sp.tril(A, -1).T)
 
     try:
         lu = splu(

@@ -11,8 +11,8 @@ from ptailor.geometry.closed_forms import inv2
 from ptailor.model.boundary import boundary_loops
 
 
-def gradient_operators(F: np.ndarray, targets: np.ndarray, n: int) -> tuple[sp.csr_matrix, ...]:
-    """Sparse operators giving each triangle's Jacobian from vertex coordinates.
+def gradient_operator(F: np.ndarray, targets: np.ndarray, n: int) -> sp.csr_matrix:
+    """The sparse operator giving each triangle's Jacobian from vertex coordinates.
 
     Parameters
     ----------
@@ -24,26 +24,31 @@ def gradient_operators(F: np.ndarray, targets: np.ndarray, n: int) -> tuple[sp.c
 
     Returns
     -------
-    D0, D1 : (m, n) sparse matrices
-        ``J[:, c, j] = Dj @ X[:, c]`` for positions ``X (n, 2)``.
+    D : (2m, n) sparse matrix
+        ``D @ X`` for positions ``X (n, 2)`` stacks ``J[:, :, 0]`` over ``J[:, :, 1]``:
+        ``J[:, c, j] = (D @ X)[j m : (j + 1) m, c]``.
     """
     m = len(F)
     Dm = np.array([[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]])
     G = Dm[None] @ inv2(targets)  # (m, 3, 2)
-    rows = np.repeat(np.arange(m), 3)
-    cols = F.ravel()
-    return tuple(sp.csr_matrix((G[:, :, j].ravel(), (rows, cols)), shape=(m, n)) for j in range(2))
+    rows = np.concatenate([np.repeat(np.arange(m), 3), np.repeat(np.arange(m, 2 * m), 3)])
+    cols = np.concatenate([F.ravel(), F.ravel()])
+    vals = np.concatenate([G[:, :, 0].ravel(), G[:, :, 1].ravel()])
+    return sp.csr_matrix((vals, (rows, cols)), shape=(2 * m, n))
 
 
-def _laplacian_triplets(F: np.ndarray, targets: np.ndarray, area: np.ndarray):
-    """Triplets of the triangle ARAP matrix ``sum_i A_i G_i G_i^T`` (the cotangent Laplacian
-    of the targets, ``G_i`` the hat-function gradients of target ``i``)."""
+def _laplacian_lower(F: np.ndarray, targets: np.ndarray, area: np.ndarray, n: int):
+    """The triangle ARAP matrix ``sum_i A_i G_i G_i^T`` (the cotangent Laplacian of the
+    targets, ``G_i`` the hat-function gradients of target ``i``): its diagonal ``(n,)`` and
+    its strictly lower entries as triplets (one per triangle edge, int32 indices)."""
     Dm = np.array([[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]])
     G = Dm[None] @ inv2(targets)  # (m, 3, 2) hat-function gradients
-    K = area[:, None, None] * (G @ np.swapaxes(G, 1, 2))  # (m, 3, 3)
-    rows = np.repeat(F, 3, axis=1).ravel()
-    cols = np.tile(F, (1, 3)).ravel()
-    return rows, cols, K.ravel()
+    diag = np.bincount(F.ravel(), (area[:, None] * np.einsum("mij,mij->mi", G, G)).ravel(), n)
+    a, b = F[:, [0, 1, 2]], F[:, [1, 2, 0]]
+    k = area[:, None] * np.einsum("mij,mij->mi", G, G[:, [1, 2, 0]])  # K[a, b] per edge
+    rows = np.maximum(a, b).ravel().astype(np.int32)
+    cols = np.minimum(a, b).ravel().astype(np.int32)
+    return diag, rows, cols, k.ravel()
 
 
 def stitch_matrix(
@@ -54,8 +59,9 @@ def stitch_matrix(
     B: sp.spmatrix | None = None,
     w_asap: float = 0.0,
 ) -> sp.csc_matrix:
-    """The stitching system: the ARAP matrix plus a diagonal, with the as-similar-as-possible
-    rows ``w_asap B^T B`` over unknowns ``[x; y]`` when ``B`` is given.
+    """The lower triangle of the stitching system: the ARAP matrix plus a diagonal, with
+    the as-similar-as-possible rows ``w_asap B^T B`` over unknowns ``[x; y]`` when ``B`` is
+    given.
 
     Assembled from triplets in one conversion, so explicit zeros stay in the pattern: two
     target sets on one pattern give one sparsity pattern (the baseline shares ours'
@@ -75,18 +81,20 @@ def stitch_matrix(
     Returns
     -------
     (n, n) sparse matrix, or (2n, 2n) with ``B``
+        Lower triangular (CSC, sorted indices, every diagonal entry present).
     """
     n = len(diagonal)
-    r, c, v = _laplacian_triplets(F, targets, area)
-    d = np.arange(n)
+    diag, r, c, v = _laplacian_lower(F, targets, area, n)
+    diag += diagonal
+    d = np.arange(n, dtype=np.int32)
     if B is None:
-        rows, cols, vals = (r, d), (c, d), (v, diagonal)
+        rows, cols, vals = (r, d), (c, d), (v, diag)
         size = n
     else:
-        BtB = (B.T @ B).tocoo()
-        rows = (r, r + n, d, d + n, BtB.row)
-        cols = (c, c + n, d, d + n, BtB.col)
-        vals = (v, v, diagonal, diagonal, w_asap * BtB.data)
+        BtB = sp.tril(B.T @ B, format="coo")
+        rows = (r, r + n, d, d + n, BtB.row.astype(np.int32))
+        cols = (c, c + n, d, d + n, BtB.col.astype(np.int32))
+        vals = (v, v, diag, diag, w_asap * BtB.data)
         size = 2 * n
     return sp.csc_matrix(
         (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(size, size)

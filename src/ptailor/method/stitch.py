@@ -21,11 +21,10 @@ import scipy.sparse as sp
 
 from ptailor import tolerances as tol
 from ptailor.geometry.closed_forms import det2
-from ptailor.geometry.rotations import closest_rotations, rigid_fit_groups
 from ptailor.method.anderson import Anderson
 from ptailor.method.ease import SeamEase
 from ptailor.method.linear import SeamBlock, factor, seam_block, solve_spd
-from ptailor.method.operators import asap_rows, gradient_operators, stitch_matrix
+from ptailor.method.operators import asap_rows, gradient_operator, stitch_matrix
 
 __all__ = ["StitchInfo", "stitch"]
 
@@ -73,7 +72,9 @@ def _vertex_panels(F2: np.ndarray, n: int, vertex_panel: np.ndarray | None) -> n
             (np.ones(3 * m), (F2.ravel(), np.roll(F2, -1, axis=1).ravel())), shape=(n, n)
         )
         vertex_panel = connected_components(adj, directed=False)[1]
-    return np.where(np.isin(np.arange(n), F2), vertex_panel, -1)
+    used = np.zeros(n, dtype=bool)
+    used[F2.ravel()] = True
+    return np.where(used, vertex_panel, -1)
 
 
 def _panel_sizes(V2: np.ndarray, vlab: np.ndarray, n_panels: int) -> np.ndarray:
@@ -102,8 +103,9 @@ def _finite_or_fail(Y: np.ndarray) -> np.ndarray:
 
 def _solver(A: sp.csc_matrix, n: int):
     """``A^-1`` applied to columns over unknowns ``[x; y]``, from one factorisation of the
-    stitching matrix (``n x n`` when x and y decouple, ``2n x 2n`` when coupled)."""
-    solve = factor(A)
+    stitching matrix's lower triangle ``A`` (``n x n`` when x and y decouple, ``2n x 2n``
+    when coupled)."""
+    solve = factor(A, lower=True)
     if A.shape[0] == 2 * n:
         return solve
 
@@ -114,6 +116,41 @@ def _solver(A: sp.csc_matrix, n: int):
         return np.concatenate([sol[:, :c], sol[:, c:]], axis=0)
 
     return solve_many
+
+
+class _PanelIndex:
+    """The used vertices grouped by panel, for per-panel rigid fits and maxima."""
+
+    def __init__(self, vlab: np.ndarray, n_panels: int) -> None:
+        used = np.flatnonzero(vlab >= 0)
+        self.order = used[np.argsort(vlab[used], kind="stable")]
+        self.lab = vlab[self.order]
+        cnt = np.bincount(self.lab, minlength=n_panels)
+        self.cnt = np.maximum(cnt, 1).astype(float)
+        self.start = np.concatenate([[0], np.cumsum(cnt)[:-1]])
+        self.nonempty = cnt > 0
+        self.n_panels = n_panels
+
+    def rigid_misfit(self, P: np.ndarray, Q: np.ndarray) -> np.ndarray:
+        """Per panel, the largest distance from ``Q`` of ``P`` moved by its panel's best
+        rotation and translation onto ``Q``, ``(n_panels,)`` (0 for an empty panel)."""
+        lab, k = self.lab, self.n_panels
+        if not len(lab):
+            return np.zeros(k)
+        p, q = P[self.order], Q[self.order]
+        cp = np.stack([np.bincount(lab, p[:, c], k) for c in range(2)], 1) / self.cnt[:, None]
+        cq = np.stack([np.bincount(lab, q[:, c], k) for c in range(2)], 1) / self.cnt[:, None]
+        a, b = p - cp[lab], q - cq[lab]
+        dot = np.bincount(lab, a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1], k)
+        crs = np.bincount(lab, a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], k)
+        r = np.hypot(dot, crs)
+        ok = r > 0
+        inv = np.divide(1.0, r, out=np.zeros_like(r), where=ok)
+        c, s = np.where(ok, dot * inv, 1.0)[lab], (crs * inv)[lab]
+        d = np.hypot(c * a[:, 0] - s * a[:, 1] - b[:, 0], s * a[:, 0] + c * a[:, 1] - b[:, 1])
+        out = np.zeros(k)
+        out[self.nonempty] = np.maximum.reduceat(d, self.start[self.nonempty])
+        return out
 
 
 class _Problem:
@@ -138,7 +175,9 @@ class _Problem:
         self.V2, self.n, self.pins, self.w_asap = V2, n, pins, w_asap
         vlab = self.vlab = _vertex_panels(F2, n, vertex_panel)
         n_panels = self.n_panels = int(vlab.max()) + 1 if n else 0
-        self.D0, self.D1 = gradient_operators(F2, targets, n)
+        self.m = len(F2)
+        self.D = gradient_operator(F2, targets, n)
+        self.DT = self.D.T.tocsr()
         used = self.used = vlab >= 0
         stiff = np.ones(max(n_panels, 1)) if panel_weight is None else np.asarray(panel_weight)
         # each panel's whole energy scaled by its weight: alone, a panel's solution is the
@@ -159,6 +198,8 @@ class _Problem:
         self.seam_block: SeamBlock | None = None
         self.pin_rhs = pin_w[:, None] * V2
         self.size = _panel_sizes(V2, vlab, n_panels)
+        self._panels = _PanelIndex(vlab, n_panels)
+        self._rot: tuple = (None, None)  # the last iterate's rotations, for reuse
 
     def _asap(self, V2, F2, asap_faces, asap_exclude, panel_weight, stiff):
         """The as-similar-as-possible rows (weighted by panel), or None without any."""
@@ -172,28 +213,45 @@ class _Problem:
     def solve(self, rhs: np.ndarray) -> np.ndarray:
         return self.solve_many(rhs[:, None])[:, 0]
 
-    def jacobians(self, X: np.ndarray) -> np.ndarray:
-        return np.stack([self.D0 @ X, self.D1 @ X], axis=2)  # (m, 2, 2): J[:, c, j] = Dj @ X[:, c]
+    def rotations(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(J, cos, sin)``: the Jacobians ``(2m, 2)`` (``D @ X``) and the closest rotation
+        to each (closed form, ``atan2(J10 - J01, J00 + J11)``; identity for ``J = 0``)."""
+        if self._rot[0] is X:
+            return self._rot[1]
+        m = self.m
+        J = self.D @ X  # rows [0, m): J[:, :, 0]; rows [m, 2m): J[:, :, 1]
+        x = J[:m, 0] + J[m:, 1]
+        y = J[:m, 1] - J[m:, 0]
+        r = np.hypot(x, y)
+        ok = r > 0
+        inv = np.divide(1.0, r, out=np.zeros_like(r), where=ok)
+        cos = np.where(ok, x * inv, 1.0)
+        sin = y * inv
+        self._rot = (X, (J, cos, sin))
+        return J, cos, sin
 
     def energy(self, X: np.ndarray) -> float:
-        J = self.jacobians(X)
-        pins = self.pins
-        e = float(self.area @ ((J - closest_rotations(J)) ** 2).sum(axis=(1, 2)))
+        J, cos, sin = self.rotations(X)
+        m, pins = self.m, self.pins
+        d = (J[:m, 0] - cos) ** 2 + (J[:m, 1] - sin) ** 2
+        d += (J[m:, 0] + sin) ** 2 + (J[m:, 1] - cos) ** 2
+        e = float(self.area @ d)
         e += float((self.pin_w[pins, None] * (X[pins] - self.V2[pins]) ** 2).sum())
         if self.B is not None:
             e += float(self.w_asap * ((self.B @ X.T.ravel()) ** 2).sum())
         return e
 
-    def global_step(self, R: np.ndarray, X_lin: np.ndarray | None) -> np.ndarray:
-        n, area = self.n, self.area
-        rhs = np.empty((n, 2))
-        for c in range(2):
-            rhs[:, c] = self.D0.T @ (area * R[:, c, 0]) + self.D1.T @ (area * R[:, c, 1])
-        rhs += self.pin_rhs
+    def global_step(self, cos: np.ndarray, sin: np.ndarray, X_lin: np.ndarray | None) -> np.ndarray:
+        """The global step for rotations ``[[cos, -sin], [sin, cos]]`` per triangle."""
+        ac, as_ = self.area * cos, self.area * sin
+        W = np.empty((2 * self.m, 2))  # the rotations stacked like the Jacobians
+        W[: self.m, 0], W[: self.m, 1] = ac, as_
+        W[self.m :, 0], W[self.m :, 1] = -as_, ac
+        rhs = self.DT @ W + self.pin_rhs
         y = self.solve(rhs.T.ravel())
         if self.seam_block is not None and X_lin is not None:
             y = self._constrained(y, X_lin)
-        return y.reshape(2, n).T
+        return y.reshape(2, self.n).T
 
     def _constrained(self, y: np.ndarray, X_lin: np.ndarray) -> np.ndarray:
         """Project a global step onto the seam constraints linearised at ``X_lin``."""
@@ -207,15 +265,12 @@ class _Problem:
         return y
 
     def step(self, X: np.ndarray) -> np.ndarray:
-        return self.global_step(closest_rotations(self.jacobians(X)), X)
+        _, cos, sin = self.rotations(X)
+        return self.global_step(cos, sin, X)
 
     def residual(self, X: np.ndarray, GX: np.ndarray) -> np.ndarray:
         """Per panel: the largest vertex move of the step, rigid motion removed, / size."""
-        vlab, used = self.vlab, self.used
-        d = np.linalg.norm(rigid_fit_groups(GX, X, vlab, self.n_panels) - X, axis=1)
-        out = np.zeros(self.n_panels)
-        np.maximum.at(out, vlab[used], d[used])
-        return out / self.size
+        return self._panels.rigid_misfit(GX, X) / self.size
 
     def seams_pending(self, GX: np.ndarray) -> bool:
         """Seam constraints exist, are off, and a seam misses its ratio."""
@@ -394,13 +449,14 @@ def stitch(
         w_pin=w_pin,
         w_asap=w_asap,
     )
-    R0 = np.broadcast_to(np.eye(2), (len(F2), 2, 2)).copy()
-    s = _Iterate(pb, _finite_or_fail(pb.global_step(R0, None)), history)
+    X0 = pb.global_step(np.ones(len(F2)), np.zeros(len(F2)), None)  # identity rotations
+    s = _Iterate(pb, _finite_or_fail(X0), history)
     it, converged, stalled, hist = _iterate(
         pb, s, max_iter=max_iter, step_tol=step_tol, history=history
     )
     X = s.GX  # a plain step: the constraints hold at the last linearisation
     X[~pb.used] = V2[~pb.used]
+    pb._rot = (None, None)  # X changed in place
     viol = float(pb.ease.violation(X).max()) if pb.ease is not None else 0.0
     if pb.seam_block is None and viol > tol.SEAM_EXACT_REL:
         converged = False  # the cap came before the seams could be enforced
