@@ -30,6 +30,8 @@ from ptailor.formats.sheet import Sheet, preview_sheet
 #: Drawn this many times larger, then averaged down: the antialiasing (2: five levels
 #: along an edge; 3 looks the same at 1800 pixels and costs twice as much)
 SUPERSAMPLE = 2
+#: Lines turning by more than this get a round join (less leaves a notch under a pixel).
+_JOIN_COS = float(np.cos(np.radians(12.0)))
 #: Labels of the fill image: 0 white, ``1 + bin`` an error bin (NaN's included), then the
 #: light fill of a panel drawn without triangles.
 _FILL_LABEL = NAN_BIN + 2
@@ -127,13 +129,27 @@ class _Pen:
         self.texts: list[tuple] = []
 
     def line(self, P: np.ndarray, colour: str, width: int) -> None:
-        xy = (np.asarray(P, dtype=np.float64) * self.k - 0.5).ravel().tolist()
-        self.draw.line(xy, fill=_index(colour), width=width, joint="curve")
+        """A polyline (closed when its ends coincide), round joins where it turns."""
+        self._polyline(np.asarray(P, dtype=np.float64) * self.k - 0.5, _index(colour), width)
 
     def dashed(self, P: np.ndarray) -> None:
         for D in dashes(np.asarray(P, dtype=np.float64) * self.k, *self.dash):
-            xy = (D - 0.5).ravel().tolist()
-            self.draw.line(xy, fill=_index(BEFORE), width=self.w_before, joint="curve")
+            self._polyline(D - 0.5, _index(BEFORE), self.w_before)
+
+    def _polyline(self, xy: np.ndarray, ink: int, width: int) -> None:
+        # butt-joined segments in one call, and a round join (a disc) only where the line
+        # turns by more than JOIN_DEG: Pillow's joint="curve" draws one at every vertex
+        self.draw.line(xy.ravel().tolist(), fill=ink, width=width)
+        if width < 3 or len(xy) < 3:
+            return
+        closed = bool(np.all(xy[0] == xy[-1]))
+        Q = np.vstack([xy[-2:-1], xy]) if closed else xy
+        a, b = Q[1:-1] - Q[:-2], Q[2:] - Q[1:-1]
+        na, nb = np.hypot(*a.T), np.hypot(*b.T)
+        cos = (a * b).sum(axis=1) / np.maximum(na * nb, 1e-300)
+        r = width / 2.0
+        for x, y in Q[1:-1][cos < _JOIN_COS].tolist():  # the corners, a few per outline
+            self.draw.ellipse((x - r, y - r, x + r, y + r), fill=ink)
 
     def box(self, x: float, y: float, w: float, h: float, colour: str) -> None:
         """A filled box with a :data:`FRAME` edge as wide as the original outline, centred

@@ -110,27 +110,45 @@ def output_obj(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
     return name
 
 
+def _same(A: np.ndarray, B: np.ndarray) -> bool:
+    return A is B or (A.shape == B.shape and np.array_equal(A, B))
+
+
+def _loop_finder(adj: Adjustment, ctx: OutputContext):
+    """``loops(name, F2, faces)``: a panel's boundary loops, ``boundary_loops(F2[faces])``.
+
+    Taken from the structure the run already cached (the input garment's in the run's axes:
+    the plan drew its pieces from those loops) when it holds a panel of that name with the
+    same triangles; computed otherwise.
+    """
+    lg = ctx.loaded.garment
+    st = structure(lg, up=adj.axes[0], front=adj.axes[1])
+    at = {p.name: i for i, p in enumerate(st.panels)}
+
+    def loops(name: str, F2: np.ndarray, faces: np.ndarray) -> list[np.ndarray]:
+        i = at.get(name)
+        if i is not None and _same(F2, lg.F2) and _same(st.panels[i].faces, faces):
+            return st.panel_loops(i)
+        return boundary_loops(F2[faces])
+
+    return loops
+
+
 def sheet(adj: Adjustment, ctx: OutputContext, *, caller: str = "pattern_svg") -> dict:
     """The arguments both previews take: outlines before and after, triangles, errors, and
     their checked inputs and layout (``layout``, :func:`ptailor.formats.sheet.preview_sheet`,
     computed once for both; ``caller`` names the writer in its errors)."""
     g = adj.garment
     g0 = adj.original if adj.original is not None else adj.state.base
-    s0 = structure(g0)  # the input's panels and their loops, as the adjustment found them
+    s0 = structure(g0)  # the input's panels, as the adjustment found them
     at = {p.name: i for i, p in enumerate(s0.panels)}
+    loops = _loop_finder(adj, ctx)
     before = [
-        [g0.V2[lp] for lp in s0.panel_loops(at[p.name])] if p.name in at else []
+        [g0.V2[lp] for lp in loops(p.name, g0.F2, s0.panels[at[p.name]].faces)]
+        if p.name in at
+        else []
         for p in adj.state.panels
     ]
-    same = g.F2 is g0.F2 or (g.F2.shape == g0.F2.shape and np.array_equal(g.F2, g0.F2))
-
-    def after_loops(p) -> list[np.ndarray]:
-        """A panel's loops: the input's (cached) when it has the same triangles."""
-        i = at.get(p.name)
-        if same and i is not None and np.array_equal(s0.panels[i].faces, p.faces):
-            return s0.panel_loops(i)
-        return boundary_loops(g.F2[p.faces])
-
     tris = []
     errs = []
     for p in adj.state.panels:  # a loop over panels
@@ -138,7 +156,9 @@ def sheet(adj: Adjustment, ctx: OutputContext, *, caller: str = "pattern_svg") -
         errs.append(ctx.errors[p.faces])
     out = {
         "outlines_before": before,
-        "outlines_after": [[g.V2[lp] for lp in after_loops(p)] for p in adj.state.panels],
+        "outlines_after": [
+            [g.V2[lp] for lp in loops(p.name, g.F2, p.faces)] for p in adj.state.panels
+        ],
         "names": [p.name for p in adj.state.panels],
         "units": g.units,
         "title": ctx.title,
