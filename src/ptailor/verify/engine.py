@@ -33,7 +33,8 @@ INSTALL_HINT = "the cloth engine is not installed: pip install 'ptailor[sim]'"
 
 
 class EngineMissingError(PtailorError):
-    """Newton or warp is not installed; the message says how to install them."""
+    """Newton, warp or matplotlib (the picture) is not installed; the message says how to
+    install them."""
 
     def __init__(self) -> None:
         super().__init__(INSTALL_HINT)
@@ -50,9 +51,13 @@ def _modules():
     Raises
     ------
     EngineMissingError
-        When either is not installed.
+        When either is not installed, or matplotlib (which draws ``verify.png``).
     """
+    import importlib.util
+
     try:
+        if importlib.util.find_spec("matplotlib") is None:  # the sim extra's picture
+            raise ImportError("matplotlib")
         import warp as wp
 
         wp.config.log_level = max(wp.config.log_level, wp.LOG_WARNING)  # info goes to stdout
