@@ -296,26 +296,45 @@ def boundary_curves(
     return [c.copy() for c in curves], closed.copy()
 
 
-def _trace(
-    F: np.ndarray, V: np.ndarray | None, F2: np.ndarray | None
-) -> tuple[list[np.ndarray], np.ndarray]:
-    """:func:`boundary_curves` of int64 ``F``, ``F2`` and float ``V`` (or None), traced."""
-    from scipy.sparse.csgraph import breadth_first_order, connected_components
+def _pair_at_vertices(ep_vert: np.ndarray) -> np.ndarray:
+    """Partner of each boundary-edge end when every vertex has exactly two ends."""
+    o = np.argsort(ep_vert, kind="stable")
+    partner = np.empty(len(ep_vert), dtype=np.int64)
+    partner[o[0::2]] = o[1::2]
+    partner[o[1::2]] = o[0::2]
+    return partner
 
-    F = np.asarray(F, dtype=np.int64).reshape(-1, 3)
-    ok = (F[:, 0] != F[:, 1]) & (F[:, 1] != F[:, 2]) & (F[:, 2] != F[:, 0])
-    F = F[ok]
-    if F2 is not None:
-        F2 = np.asarray(F2, dtype=np.int64).reshape(-1, 3)[ok]
+
+def _end_fans(
+    h: np.ndarray,
+    order: np.ndarray,
+    c: np.ndarray,
+    inv: np.ndarray,
+    bh: np.ndarray,
+    F: np.ndarray,
+    V: np.ndarray | None,
+    F2: np.ndarray | None,
+) -> np.ndarray:
+    """The fan (sector of linked corners) of each boundary-edge end, ``(2 * len(bh),)``.
+
+    Parameters
+    ----------
+    h : (3m, 2) int array
+        Half-edges of ``F``.
+    order, inv : (3m,) int arrays
+        :func:`~ptailor.model.seams.edge_groups` of their edge keys.
+    c : (3m,) int array
+        Faces on each half-edge's edge.
+    bh : (b,) int array
+        Boundary half-edges.
+    F, V, F2
+        As in :func:`boundary_curves`.
+    """
+    from scipy.sparse.csgraph import connected_components
+
     m = len(F)
-    if m == 0:
-        return [], np.zeros(0, dtype=bool)
-    h = half_edges(F)
-    order, inv, cnt = edge_groups(edge_keys(h))
-    c = cnt[inv]
     ids = np.arange(3 * m)
     end_corner = 3 * (ids // 3) + (ids % 3 + 1) % 3  # the corner at a half-edge's end
-
     # links: the two faces of a two-face edge; one pair at edges of three or more faces
     # (half-edges by edge, then by id)
     c_order = c[order]
@@ -336,17 +355,41 @@ def _trace(
         shape=(3 * m, 3 * m),
     )
     fan = connected_components(G, directed=False)[1]
+    return np.stack([fan[bh], fan[end_corner[bh]]], axis=1).ravel()
+
+
+def _trace(
+    F: np.ndarray, V: np.ndarray | None, F2: np.ndarray | None
+) -> tuple[list[np.ndarray], np.ndarray]:
+    """:func:`boundary_curves` of int64 ``F``, ``F2`` and float ``V`` (or None), traced."""
+    from scipy.sparse.csgraph import breadth_first_order, connected_components
+
+    F = np.asarray(F, dtype=np.int64).reshape(-1, 3)
+    ok = (F[:, 0] != F[:, 1]) & (F[:, 1] != F[:, 2]) & (F[:, 2] != F[:, 0])
+    F = F[ok]
+    if F2 is not None:
+        F2 = np.asarray(F2, dtype=np.int64).reshape(-1, 3)[ok]
+    m = len(F)
+    if m == 0:
+        return [], np.zeros(0, dtype=bool)
+    h = half_edges(F)
+    order, inv, cnt = edge_groups(edge_keys(h))
+    c = cnt[inv]
 
     # boundary edge ends: end 2j at the start of boundary half-edge j, end 2j+1 at its end
-    bh = ids[c == 1]
+    bh = np.flatnonzero(c == 1)
     nb = len(bh)
     if nb == 0:
         return [], np.zeros(0, dtype=bool)
     E = h[bh]
     ep_vert = E.ravel()
-    ep_fan = np.stack([fan[bh], fan[end_corner[bh]]], axis=1).ravel()
-    ep_other = E[:, ::-1].ravel()
-    partner = _pair_ends(ep_vert, ep_fan, ep_other)
+    if cnt.max() <= 2 and bool((np.bincount(ep_vert)[ep_vert] == 2).all()):
+        # no edge of three faces and two ends at every boundary vertex: both lie in one fan
+        # (a fan is then a cycle of corners or a path with a boundary edge at each end)
+        partner = _pair_at_vertices(ep_vert)
+    else:
+        ep_fan = _end_fans(h, order, c, inv, bh, F, V, F2)
+        partner = _pair_ends(ep_vert, ep_fan, E[:, ::-1].ravel())
 
     # walk: entering an edge at end p, leave at p ^ 1 and enter the partner's edge
     ep = np.arange(2 * nb)
