@@ -132,5 +132,11 @@ def triangle_areas(V: np.ndarray, F: np.ndarray, *, robust: bool = False) -> np.
         s = np.maximum(np.abs(a).max(axis=1), np.abs(b).max(axis=1))
         s = np.where(s > 0, s, 1.0)
         return 0.5 * np.linalg.norm(np.cross(a / s[:, None], b / s[:, None]), axis=1) * s * s
-    a, b, c = V[F[:, 0]], V[F[:, 1]], V[F[:, 2]]
-    return 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    a = V[F[:, 0]]
+    u, w = V[F[:, 1]] - a, V[F[:, 2]] - a
+    # |u x w| written out: the same operations as np.cross and np.linalg.norm (bit for bit),
+    # a third of their time
+    c0 = u[:, 1] * w[:, 2] - u[:, 2] * w[:, 1]
+    c1 = u[:, 2] * w[:, 0] - u[:, 0] * w[:, 2]
+    c2 = u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]
+    return 0.5 * np.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
