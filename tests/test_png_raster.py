@@ -5,7 +5,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ptailor.formats.raster import FONT_DIR, dashes, evenodd_mask, font, triangle_labels
+from ptailor.formats.raster import (
+    FONT_DIR,
+    dashes,
+    evenodd_mask,
+    font,
+    labels_inside,
+    triangle_labels,
+)
 
 
 def inside_triangles(shape, T):
@@ -78,3 +85,13 @@ def test_bundled_font_has_the_legend_glyphs():
     notdef = f.getmask("\uffff").getbbox()
     for ch in "≥–…%äÄéøß":
         assert f.getmask(ch).getbbox() != notdef, ch
+
+
+def test_labels_inside_is_both_in_one_pass():
+    outer = np.array([[2.0, 2.0], [30.0, 2.0], [30.0, 30.0], [2.0, 30.0]])
+    hole = np.array([[10.0, 10.0], [20.0, 10.0], [20.0, 20.0], [10.0, 20.0]])
+    T = np.array([[[3.0, 3.0], [9.0, 3.0], [3.0, 9.5]], [[25.0, 25.0], [21.0, 29.0], [29.0, 28.0]]])
+    labels = np.array([3, 7])
+    inside, lab = labels_inside((32, 32), [outer, hole], T, labels)
+    np.testing.assert_array_equal(inside, evenodd_mask((32, 32), [outer, hole]))
+    np.testing.assert_array_equal(lab, triangle_labels((32, 32), T, labels))

@@ -24,7 +24,7 @@ from ptailor.formats.preview import (
     Pattern,
     bin_colour,
 )
-from ptailor.formats.raster import dashes, evenodd_mask, font, triangle_labels
+from ptailor.formats.raster import dashes, evenodd_mask, font, labels_inside
 from ptailor.formats.sheet import Sheet, preview_sheet
 
 #: Drawn this many times larger, then averaged down: the antialiasing (2: five levels
@@ -70,16 +70,16 @@ def _has_triangles(pat: Pattern, p: int) -> bool:
 def _panel_labels(pat: Pattern, p: int, k_of, box: tuple[int, int]) -> np.ndarray:
     """Fill labels of panel ``p`` over its bounding box ``box`` (rows, columns);
     ``k_of(P)`` maps the panel's pattern points to the box's pixels."""
-    inside = evenodd_mask(box, [k_of(L) for L in pat.after[p]])
+    loops = [k_of(L) for L in pat.after[p]]
     if not _has_triangles(pat, p):
-        return np.where(inside, _FILL_LABEL, 0).astype(np.uint8)
+        return np.where(evenodd_mask(box, loops), _FILL_LABEL, 0).astype(np.uint8)
     V, F = pat.triangles[p]
     bins = pat.bins[p]
     # the most common bin fills the adjusted outline (the triangles' boundary, as the run
     # gives it), the other bins' triangles go over it: only their edges are rasterised
-    dom = int(np.argmax(np.bincount(bins))) if pat.after[p] else -1
+    dom = int(np.argmax(np.bincount(bins))) if loops else -1
     other = bins != dom
-    lab = triangle_labels(box, k_of(V)[F[other]], bins[other] + 1)
+    inside, lab = labels_inside(box, loops, k_of(V)[F[other]], bins[other] + 1)
     # overlapping (flipped) triangles add their labels up: shown in the top bin
     lab = np.where(lab > NAN_BIN + 1, len(ERROR_COLOURS), lab).astype(np.uint8)
     return np.where(lab > 0, lab, inside * np.uint8(dom + 1)).astype(np.uint8)

@@ -79,6 +79,31 @@ def _accumulate(shape, row, col, weights) -> np.ndarray:
     return np.cumsum(diff[:, :w], axis=1, dtype=np.uint8)
 
 
+def _triangle_crossings(T: np.ndarray, labels: np.ndarray):
+    """Crossings (row, col) of the triangles' edges with their weights ``+-label``."""
+    A = T.reshape(-1, 2)
+    B = T[:, [1, 2, 0]].reshape(-1, 2)
+    edge, row, col = _crossings(A, B)
+    # a triangle of positive signed area (x, y as numbers) has its inside left of each
+    # edge: an edge going to larger y is its right side (the row leaves), else its left
+    down = (B[:, 1] > A[:, 1])[edge]
+    D1, D2 = T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]
+    area = D1[:, 0] * D2[:, 1] - D1[:, 1] * D2[:, 0]
+    sign = np.where(down, 1, -1) * np.where(area[edge // 3] >= 0, -1, 1)
+    w = (sign * np.repeat(np.asarray(labels, dtype=np.int64), 3)[edge]) % 256
+    return row, col, w
+
+
+def _loop_crossings(loops: list[np.ndarray]):
+    """Crossings (row, col) of closed loops' edges."""
+    if not loops:
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    A = np.concatenate(loops)
+    B = np.concatenate([np.roll(L, -1, axis=0) for L in loops])
+    _, row, col = _crossings(A, B)
+    return row, col
+
+
 def triangle_labels(shape: tuple[int, int], T: np.ndarray, labels: np.ndarray) -> np.ndarray:
     """Each pixel's label: that of the triangle covering its centre, 0 where none does.
 
@@ -87,7 +112,7 @@ def triangle_labels(shape: tuple[int, int], T: np.ndarray, labels: np.ndarray) -
     shape : (int, int)
         Rows and columns of the result.
     T : (m, 3, 2) float array
-        Triangles in pixel coordinates, all of one orientation (a tiling: no two overlap).
+        Triangles in pixel coordinates, either orientation (a tiling: no two overlap).
     labels : (m,) int array
         Labels, 1 to 255.
 
@@ -105,17 +130,7 @@ def triangle_labels(shape: tuple[int, int], T: np.ndarray, labels: np.ndarray) -
     """
     if len(T) == 0:
         return np.zeros(shape, dtype=np.uint8)
-    A = T.reshape(-1, 2)
-    B = T[:, [1, 2, 0]].reshape(-1, 2)
-    edge, row, col = _crossings(A, B)
-    # a triangle of positive signed area (x, y as numbers) has its inside left of each
-    # edge: an edge going to larger y is its right side (the row leaves), else its left
-    down = (B[:, 1] > A[:, 1])[edge]
-    D1, D2 = T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]
-    area = D1[:, 0] * D2[:, 1] - D1[:, 1] * D2[:, 0]
-    sign = np.where(down, 1, -1) * np.where(area[edge // 3] >= 0, -1, 1)
-    w = (sign * np.repeat(np.asarray(labels, dtype=np.int64), 3)[edge]) % 256
-    return _accumulate(shape, row, col, w)
+    return _accumulate(shape, *_triangle_crossings(T, labels))
 
 
 def evenodd_mask(shape: tuple[int, int], loops: list[np.ndarray]) -> np.ndarray:
@@ -131,12 +146,31 @@ def evenodd_mask(shape: tuple[int, int], loops: list[np.ndarray]) -> np.ndarray:
     -------
     (rows, cols) bool array
     """
-    if not loops:
-        return np.zeros(shape, dtype=bool)
-    A = np.concatenate(loops)
-    B = np.concatenate([np.roll(L, -1, axis=0) for L in loops])
-    _, row, col = _crossings(A, B)
+    row, col = _loop_crossings(loops)
     return (_accumulate(shape, row, col, np.ones(len(row), dtype=np.uint8)) & 1).astype(bool)
+
+
+def labels_inside(
+    shape: tuple[int, int], loops: list[np.ndarray], T: np.ndarray, labels: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`evenodd_mask` of ``loops`` and :func:`triangle_labels` of ``T`` in one pass.
+
+    The loops' crossings weigh 128 (modulo 256 the sum's top bit is the even-odd parity),
+    the triangles' their labels, which must then stay below 128 (overlaps included).
+
+    Returns
+    -------
+    inside : (rows, cols) bool array
+    labels : (rows, cols) uint8 array
+    """
+    r1, c1 = _loop_crossings(loops)
+    if len(T):
+        r2, c2, w2 = _triangle_crossings(T, labels)
+    else:
+        r2 = c2 = w2 = np.zeros(0, dtype=np.int64)
+    w = np.concatenate([np.full(len(r1), 128, dtype=np.int64), w2])
+    acc = _accumulate(shape, np.concatenate([r1, r2]), np.concatenate([c1, c2]), w)
+    return (acc & 128).astype(bool), acc & 127
 
 
 def dashes(P: np.ndarray, on: float, off: float) -> list[np.ndarray]:

@@ -52,15 +52,16 @@ def _outermost(loops: list[np.ndarray], V2: np.ndarray) -> np.ndarray:
     return loops[k] if areas[k] > 0 else loops[k][::-1]
 
 
-def _edge_partners(F2: np.ndarray, F3: np.ndarray | None, panel_list: list[Panel]):
-    """Sorted 2D edge keys of the pattern's half-edges and the panel across each (or -1)."""
+def _edge_partners(F2: np.ndarray, F3: np.ndarray | None, panel_list: list[Panel], pairs=None):
+    """Sorted 2D edge keys of the pattern's half-edges and the panel across each (or -1);
+    ``pairs``: ``seam_halfedges(F3, F2)`` when a cache has it."""
     m = len(F2)
     keys = edge_keys(half_edges(F2), n=int(F2.max(initial=0)) + 1)
     partner = np.full(3 * m, -1, dtype=np.int64)
     if F3 is not None and m:
         face = np.repeat(np.arange(m), 3)
         flab = panel_labels(panel_list, m)
-        pairs = seam_halfedges(F3, F2)
+        pairs = seam_halfedges(F3, F2) if pairs is None else pairs
         partner[pairs[:, 0]] = flab[face[pairs[:, 1]]]
         partner[pairs[:, 1]] = flab[face[pairs[:, 0]]]
     order = np.argsort(keys, kind="stable")
@@ -141,6 +142,7 @@ def mesh_pieces(
     V3: np.ndarray | None = None,
     grain: np.ndarray | None = None,
     loops: Callable[[Panel], list[np.ndarray]] | None = None,
+    seam_pairs: np.ndarray | None = None,
 ) -> list[Piece]:
     """Pieces drawn from a triangulated pattern: outline, turn points, notches, grain line.
 
@@ -168,12 +170,15 @@ def mesh_pieces(
         ``loops(panel)``: the panel's boundary loops, ``boundary_loops(F2[panel.faces])``,
         when a cache has them (:meth:`ptailor.model.structure.GarmentStructure.panel_loops`);
         computed here otherwise.
+    seam_pairs : (s, 2) int array, optional
+        ``seam_halfedges(F3, F2)`` when a cache has it
+        (:attr:`ptailor.model.structure.GarmentStructure.seam_halfedges`).
 
     Returns
     -------
     list of Piece
     """
-    keys, partner = _edge_partners(F2, F3, panel_list)
+    keys, partner = _edge_partners(F2, F3, panel_list, seam_pairs)
     n_v = int(F2.max(initial=0)) + 1
     to3 = np.zeros(n_v, dtype=np.int64)
     if F3 is not None:

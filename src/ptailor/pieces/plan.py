@@ -159,11 +159,12 @@ def piece_plan(
     PtailorError
         A file piece that matches no panel.
     """
-    loops = None
+    loops = pairs = None
     if panel_list is None:
         st = structure(garment, up=up, front=front)
         panel_list = st.panels
         loops = st.panel_loops  # cached: the previews' outlines read them again
+        pairs = st.seam_halfedges
     V2, F2 = garment.V2, garment.F2
     file_pieces: list[Piece] = []
     matches: list[PieceMatch] = []
@@ -174,7 +175,7 @@ def piece_plan(
     grain = grain_directions(V2, F2, garment.V3, garment.F3, panel_list, up=up)
     drawn = mesh_pieces(
         V2, F2, rest, F3=garment.F3, V3=garment.V3, grain=grain,
-        loops=None if loops is None else (lambda p: loops(p.index)),
+        loops=None if loops is None else (lambda p: loops(p.index)), seam_pairs=pairs,
     )  # fmt: skip
     pieces = file_pieces + drawn
     matches = matches + [
