@@ -1,6 +1,10 @@
 """Issue 15's speed goals, measured side by side in one run: medians, ratios, pass/fail.
 
     python bench/bench_speed.py [--quick] [--repeat N] [--only a,b,c,d,e,f] [--out FILE]
+                                [--compare EARLIER.json] [--no-pycache]
+
+Before/after in one session: run it once on the old tree (``PYTHONPATH=OLD/src``, with
+``--out before.json``), then on the new one with ``--compare before.json``.
 
 Sections (each goal as a ratio to something measured in the same run where it can be):
 
@@ -514,12 +518,22 @@ def import_times(cmd: list[str], env: dict) -> dict[str, float]:
     return out
 
 
-def print_goals(res: dict) -> None:
+def print_goals(res: dict, before: dict | None = None) -> None:
+    """The goals table; with ``before`` (an earlier results file) its values and now / then."""
     print("\nissue 15 goals (medians; ratios measured in this run)")
-    print(f"{'goal':<28} {'measured':>10} {'limit':>8}  verdict  note")
+    head = f"{'goal':<28} {'measured':>10} {'limit':>8}  verdict"
+    old = (before or {}).get("goals", {})
+    if before is not None:
+        head += f"  {'before':>10} {'now/before':>10}"
+    print(head + "  note")
     for name, g in res["goals"].items():
         flag = "ok" if g["ok"] else "MISSED"
-        print(f"{name:<28} {g['value']:>10.3f} {g['limit']:>8g}  {flag:<7}  {g['note']}")
+        line = f"{name:<28} {g['value']:>10.3f} {g['limit']:>8g}  {flag:<7}"
+        if before is not None:
+            then = old.get(name, {}).get("value")
+            ratio = g["value"] / then if then else float("nan")
+            line += f"  {then if then is not None else float('nan'):>10.3f} {ratio:>10.2f}"
+        print(f"{line}  {g['note']}")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -533,7 +547,11 @@ def main(argv: list[str] | None = None) -> int:
         help="subprocesses as this environment runs them (default: with cached bytecode)",
     )
     ap.add_argument("--out", type=Path, default=RESULTS)
+    ap.add_argument(
+        "--compare", type=Path, default=None, help="an earlier speed.json: its goals beside"
+    )
     args = ap.parse_args(argv)
+    before = json.loads(args.compare.read_text()) if args.compare else None  # (fails early)
     t_start = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="ptailor-bench-speed-") as td:
         bench = Bench(args, Path(td))
@@ -549,7 +567,7 @@ def main(argv: list[str] | None = None) -> int:
     res = bench.res
     res["seconds"] = time.perf_counter() - t_start
     res["load_average_end"] = [round(x, 2) for x in os.getloadavg()]
-    print_goals(res)
+    print_goals(res, before)
     print(
         f"\n{'quick' if args.quick else 'full'} run in {res['seconds']:.0f} s; load average "
         f"{res['machine']['load_average']} at the start, {res['load_average_end']} at the end"
