@@ -83,7 +83,7 @@ def test_bundled_font_has_the_legend_glyphs():
     assert f.getname()[0] == "DejaVu Sans"
     assert font(40, bold=True).getname() == ("DejaVu Sans", "Bold")
     notdef = f.getmask("\uffff").getbbox()
-    for ch in "≥–…%äÄéøß":
+    for ch in "≥–…%äÄéøßΩλЖжЁ×≤":
         assert f.getmask(ch).getbbox() != notdef, ch
 
 
