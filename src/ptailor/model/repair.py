@@ -80,15 +80,15 @@ def weld_vertices(
     J : (n,) int array
         New index of each old vertex.
     """
-    from scipy.spatial import cKDTree
-
     n = len(V)
     used = np.flatnonzero(_used(F, n))
-    pairs = cKDTree(V[used]).query_pairs(distance, output_type="ndarray")
-    if not len(pairs):  # nothing to merge (a welded garment): every vertex its own cluster
+    if _clearly_apart(V[used], distance):  # a welded garment: every vertex its own cluster
         I = np.arange(n)
         return V[I], I[F], I, I.copy()
-    pairs = used[pairs]
+    from scipy.spatial import cKDTree  # (0.1-0.2 s to import: only when needed)
+
+    pairs = cKDTree(V[used]).query_pairs(distance, output_type="ndarray")
+    pairs = used[pairs] if len(pairs) else np.zeros((0, 2), dtype=np.int64)
     A = sp.coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
     _, lab = connected_components(A, directed=False)
     # representative: the lexicographically smallest position in each cluster (then the
@@ -104,6 +104,29 @@ def weld_vertices(
     new_of_rep[I] = np.arange(len(I))
     J = new_of_rep[rep[lab]]
     return V[I], J[F], I, J
+
+
+#: a generic unit direction (no garment's axis): projections on it are seldom close
+_DIRECTION = np.array([0.5377, 0.8314, 0.1402]) / np.linalg.norm([0.5377, 0.8314, 0.1402])
+
+
+def _clearly_apart(P: np.ndarray, distance: float, *, rounds: int = 32) -> bool:
+    """True when no two points of ``P`` ((k, 3) floats) lie within ``distance`` by a margin
+    far above rounding, False when unsure: points that close project on a unit direction
+    that close, so each is compared with its next neighbours in projection order."""
+    if len(P) < 2 or P.shape[1] != 3:
+        return len(P) < 2
+    reach = distance * (1 + 1e-6) + float(np.abs(P).max()) * 1e-9
+    order = np.argsort(p := P @ _DIRECTION)
+    p = p[order]
+    for k in range(1, rounds + 1):
+        close = np.flatnonzero(p[k:] - p[:-k] <= reach)
+        if not close.size:
+            return True
+        a, b = order[close], order[close + k]
+        if np.any(np.sqrt(((P[a] - P[b]) ** 2).sum(axis=1)) <= reach):
+            return False
+    return False
 
 
 def weld_joins_panels(F3: np.ndarray, face_panel: np.ndarray, J: np.ndarray) -> int:
@@ -155,14 +178,10 @@ def duplicate_faces(F3: np.ndarray, F2: np.ndarray) -> np.ndarray:
     (m,) bool array
         True for every copy after the first.
     """
-    s3, s2 = np.sort(F3, axis=1), np.sort(F2, axis=1)
-    k3, k2 = _face_key(s3), _face_key(s2)
+    k3, k2 = _face_key(F3), _face_key(F2)
     if k3 is None or k2 is None:  # too many vertices for one integer per face
-        key = np.concatenate([s3, s2], axis=1)
-        _, first = np.unique(key, axis=0, return_index=True)
-        dup = np.ones(len(F3), dtype=bool)
-        dup[first] = False
-        return dup
+        key = np.concatenate([np.sort(F3, axis=1), np.sort(F2, axis=1)], axis=1)
+        return ~np.isin(np.arange(len(F3)), np.unique(key, axis=0, return_index=True)[1])
     dup = np.zeros(len(F3), dtype=bool)
     s3 = np.sort(k3)
     if not np.any(s3[1:] == s3[:-1]):  # every drape face differs: no copies (the usual case)
@@ -173,14 +192,16 @@ def duplicate_faces(F3: np.ndarray, F2: np.ndarray) -> np.ndarray:
     return dup
 
 
-def _face_key(S: np.ndarray) -> np.ndarray | None:
-    """One int64 per row of ``S`` ((m, 3) ints in ``0 .. n - 1``), equal for equal rows;
-    None when ``n ** 3`` does not fit."""
-    n = int(S.max()) + 1 if S.size else 1
+def _face_key(F: np.ndarray) -> np.ndarray | None:
+    """One int64 per row of ``F`` ((m, 3) ints in ``0 .. n - 1``), equal for rows with the
+    same corners in any order; None when ``n ** 3`` does not fit."""
+    n = int(F.max()) + 1 if F.size else 1
     if n >= 2_000_000:
         return None
-    S = S.astype(np.int64, copy=False)
-    return (S[:, 0] * n + S[:, 1]) * n + S[:, 2]
+    a, b, c = (F[:, k].astype(np.int64) for k in range(3))
+    lo = np.minimum(np.minimum(a, b), c)
+    hi = np.maximum(np.maximum(a, b), c)
+    return (lo * n + (a + b + c - lo - hi)) * n + hi
 
 
 def zero_area_faces(V: np.ndarray, F: np.ndarray) -> np.ndarray:
@@ -231,12 +252,7 @@ def non_manifold_edges(F: np.ndarray) -> np.ndarray:
 
 
 def unit_ratios(
-    V3: np.ndarray,
-    F3: np.ndarray,
-    V2: np.ndarray,
-    F2: np.ndarray,
-    *,
-    lengths3: np.ndarray | None = None,
+    V3: np.ndarray, F3: np.ndarray, V2: np.ndarray, F2: np.ndarray, *, lengths3=None
 ) -> tuple[float, np.ndarray]:
     """Median pattern/drape edge length ratio, of the garment and of each panel.
 
@@ -438,11 +454,9 @@ def intake(
         raise PtailorError(f"every triangle is zero-area in {what}: nothing to adjust", path=path)
     keep = np.flatnonzero(~drop)
     F3, F2 = F3[keep], F2[keep]
-    if not rec["welded_vertices"] and not drop.any():  # V3 and F3 as measured before
-        rec["pieces_after"] = n_pieces
-    else:
-        rec["pieces_after"] = int(component_labels(F3, len(V3)).max()) + 1  # welded, repaired
-        lengths3 = None
+    same = not rec["welded_vertices"] and not drop.any()  # V3 and F3 as measured before
+    rec["pieces_after"] = n_pieces if same else int(component_labels(F3, len(V3)).max()) + 1
+    lengths3 = lengths3 if same else None
     rec["non_manifold_edges"] = len(non_manifold_edges(F3))
     if drop.any():
         warnings.append(
