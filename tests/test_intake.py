@@ -387,3 +387,40 @@ def test_dxf_pattern_reports_where_its_units_came_from(runner, tmp_path):
     assert r.exit_code == 0, r.output
     u = json.loads((out2 / "report.json").read_text())["intake"]["units"]
     assert u["pattern_source"] == "command line"
+
+
+def test_no_pair_shortcut_agrees_with_the_k_d_tree():
+    """``_clearly_apart`` says "no pair" only where ``query_pairs`` finds none (issue 15)."""
+    from scipy.spatial import cKDTree
+
+    from ptailor.model.repair import _clearly_apart
+
+    rng = np.random.default_rng(0)
+    apart = 0
+    for _ in range(400):
+        n = int(rng.integers(2, 300))
+        P = rng.uniform(-1, 1, (n, 3)) * 10 ** rng.uniform(-3, 3)
+        if rng.random() < 0.3:  # on a grid: many equal projections' neighbours
+            P = np.round(P, int(rng.integers(0, 3)))
+        d = float(10 ** rng.uniform(-6, 0)) * float(np.abs(P).max())
+        for _ in range(int(rng.integers(0, 3))):  # pairs near the distance
+            i, j = rng.integers(0, n, 2)
+            P[j] = P[i] + rng.normal(size=3) * d * rng.choice([0.5, 1.0, 1.0000001, 2]) / 3**0.5
+        if _clearly_apart(P, d):
+            apart += 1
+            assert len(cKDTree(P).query_pairs(d, output_type="ndarray")) == 0
+    assert apart > 50
+
+
+def test_duplicate_faces_keys_match_unique_rows():
+    rng = np.random.default_rng(1)
+    for _ in range(200):
+        m, n = int(rng.integers(1, 200)), int(rng.integers(3, 15))
+        F3, F2 = rng.integers(0, n, (m, 3)), rng.integers(0, n, (m, 3))
+        if rng.random() < 0.5:
+            F2 = F3.copy()
+            F2[::3] = rng.permuted(F2[::3], axis=1)
+        key = np.concatenate([np.sort(F3, axis=1), np.sort(F2, axis=1)], axis=1)
+        want = np.ones(m, dtype=bool)
+        want[np.unique(key, axis=0, return_index=True)[1]] = False
+        assert np.array_equal(duplicate_faces(F3, F2), want)
