@@ -11,11 +11,13 @@ from ptailor.model.names import seam_names
 from ptailor.model.structure import structure
 from ptailor.pipeline import Adjustment, seam_factors, seam_mode
 from ptailor.report.metrics import (
+    ScaleReference,
     boundary_deviation,
     flipped,
     intrinsic_scale_error,
     panel_areas,
     panel_sizes,
+    scale_reference,
     summary_stats,
 )
 
@@ -34,16 +36,33 @@ def _error_frame(adj: Adjustment) -> tuple[np.ndarray, np.ndarray | None]:
     return flipv, adj.result.targets if polar else None
 
 
-def triangle_errors(adj: Adjustment) -> np.ndarray:
+def error_reference(adj: Adjustment) -> ScaleReference:
+    """What :func:`triangle_errors` measures against (computed once when the uniform
+    baseline is measured too: :func:`build_report`'s ``reference``)."""
+    st = adj.state
+    g = st.base
+    flipv, target = _error_frame(adj)
+    return scale_reference(g.V2 * flipv, g.F2, g.V3, st.V3, g.F3, target=target)
+
+
+def triangle_errors(adj: Adjustment, *, reference: ScaleReference | None = None) -> np.ndarray:
     """Each adjusted triangle's relative intrinsic-scale error, ``(m,)``.
 
-    See :func:`ptailor.report.metrics.intrinsic_scale_error`.
+    See :func:`ptailor.report.metrics.intrinsic_scale_error`; ``reference``:
+    :func:`error_reference` of ``adj``, when the caller has it.
     """
     st = adj.state
     g = st.base
     flipv, target = _error_frame(adj)
     return intrinsic_scale_error(
-        g.V2 * flipv, adj.result.V2 * flipv, g.F2, g.V3, st.V3, g.F3, target=target
+        g.V2 * flipv,
+        adj.result.V2 * flipv,
+        g.F2,
+        g.V3,
+        st.V3,
+        g.F3,
+        target=target,
+        reference=reference,
     )
 
 
@@ -56,6 +75,7 @@ def build_report(
     timing_s: dict[str, float],
     errors: np.ndarray | None = None,
     extra: dict | None = None,
+    reference: ScaleReference | None = None,
 ) -> dict:
     """Assemble the report.
 
@@ -73,6 +93,9 @@ def build_report(
         :func:`triangle_errors`, when already computed.
     extra : dict, optional
         More top-level sections (``pieces``, ...), inserted before ``timing_s``.
+    reference : ScaleReference, optional
+        :func:`error_reference` of ``adj``, when already computed (the baseline's errors
+        are measured against it).
 
     Returns
     -------
@@ -109,7 +132,16 @@ def build_report(
         areab = panel_areas(Vb, g.F2, flab, n)
         sizeb = panel_sizes(Vb, vlab, n)
         errb = summary_stats(
-            intrinsic_scale_error(g.V2 * flipv, Vb * flipv, g.F2, g.V3, st.V3, g.F3, target=target),
+            intrinsic_scale_error(
+                g.V2 * flipv,
+                Vb * flipv,
+                g.F2,
+                g.V3,
+                st.V3,
+                g.F3,
+                target=target,
+                reference=reference,
+            ),
             flab,
             n,
         )

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from ptailor.geometry.closed_forms import inv2, sqrt_spd2
@@ -74,6 +76,46 @@ def boundary_deviation(
     return out
 
 
+@dataclass(frozen=True)
+class ScaleReference:
+    """What :func:`intrinsic_scale_error` measures a new pattern against: the same for
+    every pattern of one edited garment (the adjusted one and the uniform baseline).
+
+    Attributes
+    ----------
+    U0 : (m, 2, 2) float array
+        Stretch of each original pattern triangle onto its original drape triangle.
+    E3e : (m, 3, 2) float array
+        Edge matrices of the edited drape.
+    target : (m, 2, 2) float array
+        The polar scale-preserving targets.
+    """
+
+    U0: np.ndarray
+    E3e: np.ndarray
+    target: np.ndarray
+
+
+def scale_reference(
+    V2: np.ndarray,
+    F2: np.ndarray,
+    V3: np.ndarray,
+    V3_edit: np.ndarray,
+    F3: np.ndarray,
+    *,
+    target: np.ndarray | None = None,
+) -> ScaleReference:
+    """The :class:`ScaleReference` of a garment (arguments as in
+    :func:`intrinsic_scale_error`)."""
+    E2 = edge_matrices(V2, F2)
+    E3, E3e = edge_matrices(V3, F3), edge_matrices(V3_edit, F3)
+    J0 = E3 @ inv2(E2)
+    U0 = sqrt_spd2(np.swapaxes(J0, 1, 2) @ J0)
+    if target is None:
+        target = intrinsic_targets(V2, F2, V3, V3_edit, F3, intrinsic="polar")
+    return ScaleReference(U0=U0, E3e=E3e, target=target)
+
+
 def intrinsic_scale_error(
     V2: np.ndarray,
     V2_new: np.ndarray,
@@ -83,6 +125,7 @@ def intrinsic_scale_error(
     F3: np.ndarray,
     *,
     target: np.ndarray | None = None,
+    reference: ScaleReference | None = None,
 ) -> np.ndarray:
     """Per-triangle relative change of the intrinsic scale, frame-free.
 
@@ -101,21 +144,22 @@ def intrinsic_scale_error(
     F3 : (m, 3) int array
     target : (m, 2, 2) float array, optional
         The polar targets, when the caller has them (they are recomputed otherwise).
+    reference : ScaleReference, optional
+        :func:`scale_reference` of these arguments, when the caller measures several new
+        patterns of one garment (``V2``, ``V3``, ``V3_edit`` and ``target`` are then not
+        read).
 
     Returns
     -------
     (m,) float array
     """
-    E2 = edge_matrices(V2, F2)
+    if reference is None:
+        reference = scale_reference(V2, F2, V3, V3_edit, F3, target=target)
     E2n = edge_matrices(V2_new, F2)
-    E3, E3e = edge_matrices(V3, F3), edge_matrices(V3_edit, F3)
-    J0 = E3 @ inv2(E2)
-    U0 = sqrt_spd2(np.swapaxes(J0, 1, 2) @ J0)
-    if target is None:
-        target = intrinsic_targets(V2, F2, V3, V3_edit, F3, intrinsic="polar")
-    S = closest_rotations(E2n @ inv2(target))
-    Jn = E3e @ inv2(E2n) @ S
+    S = closest_rotations(E2n @ inv2(reference.target))
+    Jn = reference.E3e @ inv2(E2n) @ S
     Mn = sqrt_spd2(np.swapaxes(Jn, 1, 2) @ Jn)
+    U0 = reference.U0
     num = np.linalg.norm(Mn - U0, axis=(1, 2))
     return num / np.linalg.norm(U0, axis=(1, 2))
 

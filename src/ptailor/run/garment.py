@@ -22,7 +22,7 @@ from ptailor.output import check_output_dir, staged_dir, write_json
 from ptailor.pieces import carry_plan
 from ptailor.pipeline import Adjustment, adjustment
 from ptailor.recipe import Recipe
-from ptailor.report.build import build_report, triangle_errors
+from ptailor.report.build import build_report, error_reference, triangle_errors
 from ptailor.run.checks import (
     check_finite_report,
     check_finite_result,
@@ -112,7 +112,7 @@ def staged_run(
     t1 = time.perf_counter()
     adj = _adjustment(loaded.garment, recipe, options, edits, shown=shown)
     t2 = time.perf_counter()
-    errors = _checked_errors(adj, shown=shown)
+    errors, reference = _checked_errors(adj, shown=shown)
     redrapes, timing, t3 = None, {"load": t1 - t0, **adj.timing_s}, t2
     if options.verify:  # the re-drape check (the engine was checked before any file was read)
         from ptailor.run.verify import adjustment_redrapes
@@ -133,7 +133,16 @@ def staged_run(
         title=f"{Path(garment).name}: {Path(recipe.source).name}"
         + (f", seam allowance {allowance:g} {loaded.garment.units}" if allowance else ""),
     )
-    staged = _Staged(adj, ctx, options, timing=timing, start=t3, redrapes=redrapes, edits=edits)
+    staged = _Staged(
+        adj,
+        ctx,
+        options,
+        timing=timing,
+        start=t3,
+        redrapes=redrapes,
+        edits=edits,
+        reference=reference,
+    )
     with _staged_folder(
         out, staged, shown=shown, display=display_inputs or {}, extra_files=extra_files
     ) as report:
@@ -144,7 +153,8 @@ def staged_run(
 class _Staged:
     """What is written: the adjustment, the writers' context, the options, the timing so
     far and when the writing phase started (``perf_counter``); with ``--verify`` the
-    re-drapes and the edits' options (their body and axes, for the picture)."""
+    re-drapes and the edits' options (their body and axes, for the picture); what the
+    errors were measured against (the report measures the baseline against it too)."""
 
     adj: Adjustment
     ctx: OutputContext
@@ -153,6 +163,7 @@ class _Staged:
     start: float
     redrapes: Any = None
     edits: Any = None
+    reference: Any = None
 
 
 @contextmanager
@@ -196,6 +207,7 @@ def _report(loaded: LoadedGarment, staged: _Staged, timing: dict) -> dict:
         warnings=run_warnings(loaded, adj, ctx.errors, ctx.plan, ctx.pieces, options),
         timing_s=timing,
         errors=ctx.errors,
+        reference=staged.reference,
         extra={
             "pattern": pattern_section(loaded, ctx.plan, ctx.pieces, options.seam_allowance),
             "intake": loaded.intake,
@@ -236,12 +248,15 @@ def _adjustment(garment, recipe: Recipe, options: RunOptions, edits, *, shown: s
         raise PtailorError(exc.message, path=shown) from None
 
 
-def _checked_errors(adj: Adjustment, *, shown: str) -> np.ndarray:
-    """The intrinsic-scale error per triangle, the result checked finite."""
+def _checked_errors(adj: Adjustment, *, shown: str) -> tuple[np.ndarray, Any]:
+    """The intrinsic-scale error per triangle, the result checked finite; and what the
+    errors were measured against, when the report measures the uniform baseline too (else
+    None)."""
     with np.errstate(all="ignore"):
-        errors = triangle_errors(adj)
+        reference = error_reference(adj)
+        errors = triangle_errors(adj, reference=reference)
     check_finite_result(adj, errors, path=shown)
-    return errors
+    return errors, reference if adj.baseline is not None else None
 
 
 def _read(inputs: dict[str, str], options: RunOptions) -> dict[str, str]:
