@@ -29,8 +29,12 @@ def panel_sizes(V2: np.ndarray, vlab: np.ndarray, n: int) -> np.ndarray:
     lab, P = vlab[used], V2[used]
     lo = np.full((n, 2), np.inf)
     hi = np.full((n, 2), -np.inf)
-    np.minimum.at(lo, lab, P)
-    np.maximum.at(hi, lab, P)
+    if len(lab):  # per label: runs of one stable sort (ufunc.at is 5x slower)
+        order = np.argsort(lab, kind="stable")
+        sl, Ps = lab[order], P[order]
+        starts = np.flatnonzero(np.r_[True, sl[1:] != sl[:-1]])
+        lo[sl[starts]] = np.minimum.reduceat(Ps, starts, axis=0)
+        hi[sl[starts]] = np.maximum.reduceat(Ps, starts, axis=0)
     return np.where(np.isfinite(hi - lo), hi - lo, 0.0)
 
 
