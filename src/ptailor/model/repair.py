@@ -282,13 +282,14 @@ def unit_ratios(
     n_p = int(lab.max()) + 1 if lab.size else 0
     if not r.size:
         return float("nan"), np.full(n_p, np.nan)
-    # per-panel medians without a loop: sort by (panel, ratio), take each run's middle
-    order = np.lexsort((r, lab))
-    rs, ls = r[order], lab[order]
-    start = np.searchsorted(ls, np.arange(n_p))
-    count = np.bincount(ls, minlength=n_p)
-    lo = start + (count - 1) // 2
-    hi = start + count // 2
+    # per-panel medians: the ratios grouped by panel, each run's middle two values
+    order = np.argsort(lab, kind="stable") if n_p <= 64 else np.lexsort((r, lab))
+    rs, count = r[order], np.bincount(lab, minlength=n_p)
+    start = np.cumsum(count) - count
+    lo, hi = start + (count - 1) // 2, start + count // 2
+    for p in np.flatnonzero(count).tolist() if n_p <= 64 else []:  # select, not sort
+        a, b = start[p], start[p] + count[p]
+        rs[a:b] = np.partition(rs[a:b], [lo[p] - a, hi[p] - a])
     per = np.where(
         count > 0, 0.5 * (rs[np.minimum(lo, len(rs) - 1)] + rs[np.minimum(hi, len(rs) - 1)]), np.nan
     )
@@ -355,8 +356,7 @@ class IntakeResult:
         JSON-ready counts (:func:`intake`).
     warnings : list of str
     lengths3 : (m', 3) float array or None
-        ``edge_lengths(V3, F3)`` when the intake computed it on these arrays (nothing welded
-        or dropped), for :func:`unit_ratios`; else None.
+        ``edge_lengths(V3, F3)`` for :func:`unit_ratios` when nothing was welded or dropped.
     """
 
     V3: np.ndarray
