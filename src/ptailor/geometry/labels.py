@@ -57,9 +57,12 @@ def component_labels(F: np.ndarray, n: int) -> np.ndarray:
     m = len(F)
     if m == 0:
         return np.zeros(0, dtype=np.int64)
-    rows = np.repeat(np.arange(m), 3)
-    A = sp.coo_matrix((np.ones(3 * m), (rows, F.ravel())), shape=(m, n)).tocsr()
-    _, vlab = connected_components(A.T @ A, directed=False)
+    F = np.asarray(F)
+    # two edges of each triangle connect its three vertices (no incidence product needed)
+    G = sp.coo_matrix(
+        (np.ones(2 * m), (np.r_[F[:, 0], F[:, 1]], np.r_[F[:, 1], F[:, 2]])), shape=(n, n)
+    )
+    _, vlab = connected_components(G, directed=False)
     flab = vlab[F[:, 0]]
     # renumber by first appearance so labels are stable under vertex renumbering
     # (the first face of each label: the stable sort's first of each run)

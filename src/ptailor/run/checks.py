@@ -54,10 +54,10 @@ def check_engine() -> None:
 
 def check_seam_allowance(garment, allowance: float) -> None:
     """Refuse a seam allowance above ``tol.SEAM_ALLOWANCE_MAX_REL`` of the largest piece."""
-    from ptailor.model.garment import panels
+    from ptailor.model.structure import structure
 
     diag = 0.0
-    for p in panels(garment):  # a loop over panels
+    for p in structure(garment).panels:  # a loop over panels (kept for the run's later use)
         P = garment.V2[p.vertices]
         diag = max(diag, float(np.linalg.norm(P.max(axis=0) - P.min(axis=0))))
     if not allowance <= tol.SEAM_ALLOWANCE_MAX_REL * diag:
