@@ -309,7 +309,8 @@ def pattern_png(
     _draw_footer(pen, s)
     img = img.convert("RGB")
     pen.write(ImageDraw.Draw(img))
-    rgb = np.asarray(img.reduce(SUPERSAMPLE))
+    img = img.reduce(SUPERSAMPLE)
+    rgb = np.frombuffer(img.tobytes(), dtype=np.uint8).reshape(ph, pw, 3)  # not asarray: 2x
     with open(os.fspath(path), "wb") as f:
         f.write(png_bytes(rgb, dpi=dpi))
     return pw, ph
@@ -349,7 +350,7 @@ def png_bytes(rgb: np.ndarray, *, dpi: float = 150) -> bytes:
             b"\x89PNG\r\n\x1a\n",
             _chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0)),
             _chunk(b"pHYs", struct.pack(">IIB", ppm, ppm, 1)),
-            _chunk(b"IDAT", zlib.compress(raw.tobytes(), 1)),
+            _chunk(b"IDAT", zlib.compress(raw, 1)),
             _chunk(b"IEND", b""),
         ]
     )
