@@ -55,8 +55,8 @@ class GarmentStructure:
     Every attribute is computed on first access and then kept. Arrays are shared with
     every consumer: do not write to them. A garment
     :func:`~ptailor.model.garment.with_panel_names` made takes the attributes that do not
-    depend on the groups (all but ``panels``) from its source garment's structure when
-    that has computed them.
+    depend on the groups from its source garment's structure when that has computed them,
+    and its panels when their names are its groups.
 
     Attributes
     ----------
@@ -113,6 +113,10 @@ class GarmentStructure:
 
     @cached_property
     def panels(self) -> list[Panel]:
+        same = self._same("panels")
+        written = tuple(p.name for p in same) if same is not None else ()
+        if written == self.garment.group_names and len(set(written)) == len(written) > 0:
+            return same  # the groups are these panels' names, one group each: panels() again
         lab, n_p = self.panel_components
         names = group_panel_names(self.garment, lab, n_p)
         # names from geometry (no group names a panel): this structure's layout, once
