@@ -49,3 +49,86 @@ def test_structure_is_cached_per_garment_and_axes():
     assert g3.cache == {} and len(structure(g3).panels) == len(s.panels)
     # the garment's arrays are untouched
     assert np.array_equal(g.V3, lantern_sleeve().V3)
+
+
+def _ungrouped(g):
+    """``g`` without its OBJ groups: every panel named from the drape's geometry."""
+    from dataclasses import replace
+
+    return replace(g, face_group=np.full(g.n_faces, -1), group_names=())
+
+
+def test_ungrouped_panels_name_from_the_structures_own_layout():
+    g = _ungrouped(bodice())
+    s = structure(g)
+    assert [p.name for p in s.panels] == [p.name for p in panels(g)]
+    assert "layout" in s.__dict__  # the layout panels() needed is the structure's, kept
+    lab, n_p = s.panel_components
+    assert np.array_equal(lab, s.face_panel) and n_p == len(s.panels)
+
+
+def test_named_garment_reads_its_sources_structure():
+    from ptailor.model.garment import with_panel_names
+
+    g = _ungrouped(bodice())
+    s = structure(g)
+    for name in ("panels", "seams", "openings", "layout", "drape_boundary"):
+        getattr(s, name)
+    named = with_panel_names(g, plist=s.panels)
+    t = structure(named)
+    assert t is not s
+    assert t.panels is s.panels  # its groups are these names: nothing recomputed
+    assert t.layout is s.layout and t.openings is s.openings and t.seams is s.seams
+    assert [p.name for p in panels(named)] == [p.name for p in s.panels]
+    # other axes: the source's structure for those axes (nothing computed there yet)
+    other = structure(named, up=(0.0, 0.0, 1.0), front=(0.0, 1.0, 0.0))
+    assert other.__dict__.get("layout") is None
+    # a garment with other names as groups does not take the source's panels
+    renamed = with_panel_names(g, plist=[replace_name(p, f"x{p.index}") for p in s.panels])
+    assert [p.name for p in structure(renamed).panels] == [f"x{p.index}" for p in s.panels]
+
+
+def replace_name(p, name):
+    from dataclasses import replace
+
+    return replace(p, name=name)
+
+
+def test_boundary_and_seams_are_kept_by_content_and_handed_out_as_copies():
+    from ptailor.model import memo
+
+    g = lantern_sleeve()
+    memo.clear()
+    a, ca = boundary_curves(g.F2.copy())
+    a[0][:] = -1  # the caller's copy
+    b, cb = boundary_curves(g.F2)
+    assert b[0].min() >= 0 and np.array_equal(ca, cb)
+    p = seam_halfedges(g.F3, g.F2)
+    p[:] = 0
+    assert seam_halfedges(g.F3.copy(), g.F2.copy()).max() > 0
+    assert memo.array_key(g.F2) == memo.array_key(g.F2.copy())
+    assert memo.array_key(g.F2) != memo.array_key(g.F2.astype(np.int32))
+
+
+def test_boundary_fast_path_pairs_ends_as_the_fans_do():
+    """Without T-edges and with two ends at every boundary vertex, pairing the ends by
+    vertex is the fans' pairing (and the shortcut is not taken otherwise)."""
+    from ptailor.model import boundary as bd
+
+    taken = 0
+    for g in (bodice(), lantern_sleeve()):
+        rng = np.random.default_rng(3)
+        subsets = [np.ones(g.n_faces, bool)] + [rng.random(g.n_faces) < 0.97 for _ in range(6)]
+        for F in [g.F3[k] for k in subsets] + [g.F2[k] for k in subsets]:
+            F = np.asarray(F, dtype=np.int64)
+            h = bd.half_edges(F)
+            order, inv, cnt = bd.edge_groups(bd.edge_keys(h))
+            c = cnt[inv]
+            bh = np.flatnonzero(c == 1)
+            ends = h[bh].ravel()
+            fans = bd._end_fans(h, order, c, inv, bh, F, None, None)
+            partner = bd._pair_ends(ends, fans, h[bh][:, ::-1].ravel())
+            if cnt.max() <= 2 and (np.bincount(ends)[ends] == 2).all():
+                taken += 1
+                assert np.array_equal(partner, bd._pair_at_vertices(ends))
+    assert taken >= 2
