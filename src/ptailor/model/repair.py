@@ -219,7 +219,7 @@ def zero_area_faces(V: np.ndarray, F: np.ndarray) -> np.ndarray:
     """
     used = np.zeros(len(V), dtype=bool)
     used[F.ravel()] = True
-    d = float(np.ptp(V[used], axis=0).max()) if used.any() else 0.0
+    d = float(np.ptp(V if used.all() else V[used], axis=0).max()) if used.any() else 0.0
     area = triangle_areas(V, F)
     repeated = (F[:, 0] == F[:, 1]) | (F[:, 1] == F[:, 2]) | (F[:, 2] == F[:, 0])
     return repeated | (area <= tol.ZERO_AREA_REL * max(d, 1e-300) ** 2)
@@ -413,7 +413,7 @@ def intake(
     rec: dict = {"weld": weld if isinstance(weld, str) else "distance"}
     warnings: list[str] = []
     I = np.arange(len(V3))
-    finite = bool(np.all(np.isfinite(V3[_used(F3, len(V3))]))) if m else False
+    finite = m and (np.isfinite(V3).all() or np.isfinite(V3[_used(F3, len(V3))]).all())
     if not finite or len(F2) != m:
         # check_garment names the problem (NaNs, mismatched faces)
         rec.update(welded_vertices=0, duplicate_faces=0, zero_area_faces_3d=0)
@@ -442,7 +442,7 @@ def intake(
                 "--weld off keeps them apart, so the seams there are not seen"
             )
     z3 = zero_area_faces(V3, F3)
-    finite2 = np.all(np.isfinite(V2[_used(F2, len(V2))]))
+    finite2 = np.isfinite(V2).all() or np.isfinite(V2[_used(F2, len(V2))]).all()
     z2 = zero_area_faces(V2, F2) if finite2 else np.zeros(m, bool)
     dup = duplicate_faces(F3, F2) & ~(z3 | z2)
     drop = z3 | z2 | dup

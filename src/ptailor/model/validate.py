@@ -29,14 +29,10 @@ def check_garment(g: Garment, *, path: str | None = None) -> None:
         )
     if len(g.F3) == 0:
         raise PtailorError("no triangles", path=path)
-    # the vertices the triangles use, as masks (np.unique's rows, in linear time)
-    used3 = np.zeros(len(g.V3), dtype=bool)
-    used3[g.F3.ravel()] = True
-    used2 = np.zeros(len(g.V2), dtype=bool)
-    used2[g.F2.ravel()] = True
-    if not np.all(np.isfinite(g.V3[used3])):
+    used3, used2 = _used_rows(g.V3, g.F3), _used_rows(g.V2, g.F2)
+    if not np.all(np.isfinite(used3)):
         raise PtailorError("NaN or infinite drape coordinates (v)", path=path)
-    if not np.all(np.isfinite(g.V2[used2])):
+    if not np.all(np.isfinite(used2)):
         raise PtailorError("NaN or infinite pattern coordinates (vt)", path=path)
     # one pattern vertex must sit on one drape vertex
     to3 = np.full(len(g.V2), -1, dtype=np.int64)
@@ -47,8 +43,8 @@ def check_garment(g: Garment, *, path: str | None = None) -> None:
             path=path,
         )
     with np.errstate(all="ignore"):
-        diag3 = float(np.ptp(g.V3[used3], axis=0).max())
-        diag2 = float(np.ptp(g.V2[used2], axis=0).max())
+        diag3 = float(np.ptp(used3, axis=0).max())
+        diag2 = float(np.ptp(used2, axis=0).max())
     for name, d in (("drape coordinates (v)", diag3), ("pattern coordinates (vt)", diag2)):
         # squared sizes and areas must stay finite (an overflow here is no garment)
         if not (np.isfinite(d) and d <= tol.GARMENT_SIZE_MAX):
@@ -66,3 +62,11 @@ def check_garment(g: Garment, *, path: str | None = None) -> None:
                 f"{bad.size} zero-area triangle(s) in {name}, first is face {int(bad[0]) + 1}",
                 path=path,
             )
+
+
+def _used_rows(V: np.ndarray, F: np.ndarray) -> np.ndarray:
+    """The rows of ``V`` the triangles ``F`` use, in order (``V[np.unique(F)]``): ``V``
+    itself when they use every row (no copy), else a copy through a mask (linear time)."""
+    used = np.zeros(len(V), dtype=bool)
+    used[F.ravel()] = True
+    return V if used.all() else V[used]
