@@ -237,34 +237,6 @@ def test_written_with_ezdxfs_gerber_exporter(tmp_path):
     assert text.rstrip().endswith("EOF")
 
 
-@pytest.mark.parametrize("units", ["mm", "cm", "in"])
-def test_text_is_what_ezdxfs_gerber_exporter_writes(units):
-    """The writer formats the file itself (no ezdxf import); byte for byte what ezdxf's
-    Gerber D6673 exporter saves for the same entities: every mark kind, open and closed
-    polylines, notch angles, -0.0, tiny and large numbers, non-ASCII text."""
-    import io
-
-    from ezdxf.addons import gerber_D6673
-
-    from ptailor.formats.dxf.writer import dxf_plan, dxf_text, ezdxf_document
-
-    odd = bodice(-0.0, 1e-300)
-    odd = Piece(
-        name="Ärmel  links",
-        outline=odd.outline * np.array([1.0, 123456.789]),
-        turn=odd.turn,
-        notches=np.array([[-0.0, 0.0], [1e-17, 5.0]]),
-        notch_angles=np.array([0.0, 33.3]),
-        mirror=np.array([[0.0, 0.0], [0.0, 9.0]]),
-        annotations=("Annotation: tab\there",),
-        size="M",
-    )
-    plan = dxf_plan(pattern(units, pieces=(bodice(), odd, bodice(100, 0))), layout="keep")
-    ref = io.StringIO()
-    gerber_D6673.export_stream(ezdxf_document(plan), ref)
-    assert dxf_text(plan) == ref.getvalue()
-
-
 def test_write_errors_name_the_file(tmp_path):
     bad = Piece("Bad", np.array([[0.0, 0.0], [np.nan, 1.0], [1.0, 1.0]]))
     with pytest.raises(PtailorError, match=r"'Bad'.*finite") as exc:

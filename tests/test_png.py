@@ -197,16 +197,11 @@ def test_does_not_import_matplotlib(tmp_path, squares):
     subprocess.run([sys.executable, "-c", code], check=True)
 
 
-def test_png_bytes_decode_to_the_pixels(tmp_path):
-    """The PNG encoder (unfiltered rows, zlib): Pillow reads back the very pixels and dpi."""
-    import io
-
-    from ptailor.formats.png import png_bytes
-
-    rgb = np.random.default_rng(3).integers(0, 256, (37, 53, 3), dtype=np.uint8)
-    data = png_bytes(rgb, dpi=150)
-    assert data.startswith(SIGNATURE)
-    with Image.open(io.BytesIO(data)) as im:
-        assert im.mode == "RGB" and im.size == (53, 37)
-        np.testing.assert_array_equal(np.asarray(im), rgb)
+def test_the_dpi_is_in_the_file(tmp_path, squares):
+    """Pillow encodes the preview with its physical pixel size (pHYs)."""
+    before, after, names, tris, errs = squares
+    out = tmp_path / "p.png"
+    pattern_png(out, before, after, names, triangles=tris, errors=errs, dpi=150)
+    with Image.open(out) as im:
+        assert im.mode == "RGB"
         assert im.info["dpi"] == pytest.approx((150.0, 150.0), abs=0.02)

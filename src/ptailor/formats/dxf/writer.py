@@ -51,17 +51,16 @@ def write_dxf(path: str | Path, pattern: PatternFile, *, layout: str = "auto") -
     outlines are written counter-clockwise. ``Creation Date`` comes from
     ``SOURCE_DATE_EPOCH`` when set, so reruns give the same bytes.
 
-    The text is what ezdxf's Gerber D6673 exporter
-    (:func:`ezdxf.addons.gerber_D6673.export_file`) writes for the same entities, byte for
-    byte (:func:`dxf_text`; ``tests/test_dxf.py`` checks it against ezdxf): an empty HEADER,
-    BLOCKS without ``*Model_Space``/``*Paper_Space``, no TABLES, as Gerber's importer
-    wants. It is formatted here, without importing ezdxf (a quarter of a second).
+    The document is built with ezdxf and saved with its Gerber D6673 exporter
+    (:func:`ezdxf.addons.gerber_D6673.export_file`): an empty HEADER, BLOCKS without
+    ``*Model_Space``/``*Paper_Space``, no TABLES, as Gerber's importer wants.
     """
+    from ezdxf.addons import gerber_D6673
+
     spath = str(path)
-    text = dxf_text(dxf_plan(pattern, layout=layout, path=spath))
+    doc = _document(dxf_plan(pattern, layout=layout, path=spath))
     try:
-        with open(spath, "w", encoding="ascii", errors="replace") as fp:
-            fp.write(text)
+        gerber_D6673.export_file(doc, spath)
     except OSError as exc:
         raise PtailorError(f"cannot write: {exc.strerror or exc}", path=spath) from exc
 
@@ -221,60 +220,8 @@ def _piece_entities(p: Piece) -> tuple[DxfEntity, ...]:
     return tuple(out)
 
 
-#: A 2D vertex of a polyline (x, y; the format's float text is ``str(float)``, as ezdxf's)
-_VERTEX = "  0\nVERTEX\n  8\n{layer}\n 10\n{{}}\n 20\n{{}}\n 30\n0.0\n 70\n0\n"
-
-
-def _xyz(code: int, x: float, y: float) -> str:
-    return f"{code:3d}\n{x}\n{code + 10:3d}\n{y}\n{code + 20:3d}\n0.0\n"
-
-
-def _entity_text(e: DxfEntity) -> str:
-    """One entity's DXF R12 tags, as ezdxf's R12 tag writer gives them (no handles)."""
-    pts = np.asarray(e.pts, dtype=np.float64)
-    head = f"  0\n{e.kind}\n  8\n{e.layer}\n"
-    if e.kind == "POLYLINE":
-        verts = _VERTEX.format(layer=e.layer)
-        body = "".join(map(verts.format, pts[:, 0].tolist(), pts[:, 1].tolist()))
-        flags = 1 if e.closed else 0
-        return (
-            f"{head} 66\n1\n{_xyz(10, 0.0, 0.0)} 70\n{flags}\n{body}  0\nSEQEND\n  8\n{e.layer}\n"
-        )
-    x, y = pts[0].tolist()
-    if e.kind == "POINT":
-        angle = "" if e.angle is None else f" 50\n{float(e.angle)}\n"
-        return f"{head}{_xyz(10, x, y)}{angle}"
-    if e.kind == "LINE":
-        x1, y1 = pts[1].tolist()
-        return f"{head}{_xyz(10, x, y)}{_xyz(11, x1, y1)}"
-    return f"{head}{_xyz(10, x, y)} 40\n{float(e.height)}\n  1\n{e.text}\n"
-
-
-def dxf_text(plan: DxfPlan) -> str:
-    """The DXF R12 text of ``plan`` in the Gerber flavour (see :func:`write_dxf`).
-
-    Each block is INSERTed at the origin on layer 1, then the modelspace text follows.
-    """
-    out = ["  0\nSECTION\n  2\nHEADER\n  0\nENDSEC\n  0\nSECTION\n  2\nBLOCKS\n"]
-    for name, ents in plan.blocks:
-        out.append(
-            f"  0\nBLOCK\n  8\n0\n  2\n{name}\n 70\n0\n{_xyz(10, 0.0, 0.0)}  3\n{name}\n  1\n\n"
-        )
-        out += [_entity_text(e) for e in ents]
-        out.append("  0\nENDBLK\n  8\n0\n")
-    out.append("  0\nENDSEC\n  0\nSECTION\n  2\nENTITIES\n")
-    out += [
-        f"  0\nINSERT\n  8\n{L_BOUNDARY}\n  2\n{name}\n{_xyz(10, 0.0, 0.0)}"
-        for name, _ in plan.blocks
-    ]
-    out += [_entity_text(e) for e in plan.texts]
-    out.append("  0\nENDSEC\n  0\nEOF\n")
-    return "".join(out)
-
-
-def ezdxf_document(plan: DxfPlan) -> Any:
-    """An ezdxf R12 document holding ``plan``'s blocks, INSERTs and style text: what
-    :func:`dxf_text` matches when saved with ezdxf's Gerber D6673 exporter (for tests)."""
+def _document(plan: DxfPlan) -> Any:
+    """An ezdxf R12 document holding ``plan``'s blocks, INSERTs and style text."""
     from ezdxf.document import Drawing
 
     doc = Drawing.new("R12")  # not ezdxf.new: it sets $INSUNITS and warns that R12 has none
