@@ -1,7 +1,9 @@
 """Wavefront OBJ with ``v`` = drape and ``vt`` = pattern (faces ``f v/vt[/vn]``).
 
 The layout CLO 3D, Marvelous Designer and the public garment datasets use. Parsing is
-vectorised: each record kind is joined and converted by numpy in one call.
+vectorised: a well-formed file is scanned in bulk (:mod:`ptailor.formats.obj_scan`, the
+same arrays), anything unusual is parsed record kind by record kind here, each record kind
+joined and converted by numpy in one call, every problem named with the file.
 """
 
 from __future__ import annotations
