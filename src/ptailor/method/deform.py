@@ -235,7 +235,9 @@ def _check_inputs(V, F, handles, handle_positions):
     handles = handles.astype(np.int64, copy=False)
     if handles.size and (handles.min() < 0 or handles.max() >= n):
         raise ValueError(f"handles index vertices outside 0..{n - 1}")
-    if np.unique(handles).size != handles.size:
+    seen = np.zeros(n, dtype=bool)
+    seen[handles] = True
+    if np.count_nonzero(seen) != handles.size:
         raise ValueError("handles has repeated vertex indices")
     Q = np.asarray(handle_positions, dtype=np.float64)
     if Q.size == 0 and handles.size == 0:
