@@ -12,7 +12,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
@@ -87,6 +86,8 @@ class ClosedCurve:
     """
 
     def __init__(self, P: np.ndarray) -> None:
+        from scipy.spatial import cKDTree  # 0.1 s of imports a run without CAD pieces skips
+
         self.A = P
         self.B = np.roll(P, -1, axis=0)
         seg = np.linalg.norm(self.B - self.A, axis=1)
