@@ -57,7 +57,6 @@ for _p, _n in (
     (_EXP, _DIGIT), (_EXP, _SIGN), (_SIGN, _DIGIT), (_SIGN, _POINT),
 ):  # fmt: skip
     _PAIR_OK[_p * 6 + _n] = True
-_POW10 = 10.0 ** np.arange(23)  # exact doubles
 
 
 @dataclass(frozen=True)
@@ -172,12 +171,8 @@ def _decimals(s: _Section) -> np.ndarray | None:
 
     The text is checked by its pairs of neighbouring byte classes plus: a point next to a
     digit, a sign before a point only at a token's start, at most one point and one
-    exponent per token, the point before it. The mantissa's digits (the point removed) and
-    the exponent are then integers for ``np.fromstring``; with ``m < 2**53`` and
-    ``|e| <= 22`` the value ``m * 10**e`` (``m / 10**-e``) is one correctly rounded IEEE
-    operation on two exact doubles (Clinger's fast path, the one every ``strtod`` takes),
-    so it equals Python's ``float``; the other tokens are converted from their text as the
-    record parser converts them.
+    exponent per token, the point before it; then one ``np.fromstring`` converts it all
+    (correctly rounded, as Python's ``float``).
     """
     buf, cls, tok, end = s.buf, s.cls, s.tok, s.end
     if not _PAIR_OK[cls[:-1] * np.uint8(6) + cls[1:]].all():
@@ -193,41 +188,12 @@ def _decimals(s: _Section) -> np.ndarray | None:
     e_tok = np.searchsorted(tok, exps, side="right") - 1
     if not (_one_each(p_tok) and _one_each(e_tok)):
         return None
-    n = len(tok)
     mant_end = end.copy()  # the mantissa's last byte
     mant_end[e_tok] = exps - 1
     if np.any(points > mant_end[p_tok]):
         return None
-    exp_chars = buf[exps]
-    buf[exps] = _SPACE  # the exponent becomes an integer of its own
-    ints = _fromstring(buf[cls != _POINT], np.int64)
-    if ints is None or ints.size != n + exps.size:
-        return None
-    has_e = np.zeros(n, dtype=bool)
-    has_e[e_tok] = True
-    at = np.arange(n) + (np.cumsum(has_e) - has_e)  # each mantissa's place in ints
-    m = ints[at]
-    x = np.zeros(n, dtype=np.int64)
-    x[e_tok] = np.clip(ints[at[e_tok] + 1], -(10**6), 10**6)
-    frac = np.zeros(n, dtype=np.int64)
-    frac[p_tok] = mant_end[p_tok] - points
-    e10 = x - frac
-    small = (m < 2**53) & (m > -(2**53))
-    m = np.abs(np.where(small, m, 0)).astype(np.float64)
-    fast = small & ((np.abs(e10) <= 22) | (m == 0))
-    e = np.clip(e10, -22, 22)
-    val = np.where(e >= 0, m * _POW10[np.maximum(e, 0)], m / _POW10[np.maximum(-e, 0)])
-    val = np.where(buf[tok] == _MINUS, -val, val)
-    slow = np.flatnonzero(~fast)
-    if slow.size:  # the record parser's conversion, on these tokens' text
-        buf[exps] = exp_chars
-        raw = buf.tobytes()
-        text = [raw[i : j + 1] for i, j in zip(tok[slow].tolist(), end[slow].tolist(), strict=True)]
-        try:
-            val[slow] = np.array(text, dtype=np.float64)
-        except ValueError:
-            return None
-    return val
+    vals = _fromstring(buf, np.float64)
+    return vals if vals is not None and vals.size == len(tok) else None
 
 
 def _corners(a, starts, lengths, rows):
