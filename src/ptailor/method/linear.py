@@ -102,11 +102,9 @@ def _cvx(L: sp.csc_matrix):
 
 def _symbolic(L: sp.csc_matrix, cholmod) -> _Symbolic:
     """The analysis for ``L``'s pattern: the active cache's, else a new one (cached)."""
-    from cvxopt import matrix
 
     for sym in _SHARED or ():
         if np.array_equal(sym.indptr, L.indptr) and np.array_equal(sym.indices, L.indices):
-            sym.S.V = matrix(L.data)
             return sym
     S = _cvx(L)
     saved = cholmod.options.get("supernodal")
@@ -134,12 +132,15 @@ def _cholmod(L: sp.csc_matrix, cholmod):
     token = object()
 
     def refactor() -> None:
-        if sym.owner is not token:  # another factorisation of this pattern came since
-            sym.S.V = matrix(data)
+        if sym.owner is not token:  # new, or another factorisation of this pattern came since
+            if sym.owner is not None:
+                sym.S.V = matrix(data)
             cholmod.numeric(sym.S, sym.F)
             sym.owner = token
 
     refactor()
+    if not _SHARED or sym not in _SHARED:
+        sym.S = None  # nobody else refactors it: the factor alone serves the solves
 
     def solve(b: np.ndarray) -> np.ndarray:
         refactor()

@@ -177,7 +177,6 @@ class _Problem:
         n_panels = self.n_panels = int(vlab.max()) + 1 if n else 0
         self.m = len(F2)
         self.D = gradient_operator(F2, targets, n)
-        self.DT = self.D.T.tocsr()
         used = self.used = vlab >= 0
         stiff = np.ones(max(n_panels, 1)) if panel_weight is None else np.asarray(panel_weight)
         # each panel's whole energy scaled by its weight: alone, a panel's solution is the
@@ -247,7 +246,7 @@ class _Problem:
         W = np.empty((2 * self.m, 2))  # the rotations stacked like the Jacobians
         W[: self.m, 0], W[: self.m, 1] = ac, as_
         W[self.m :, 0], W[self.m :, 1] = -as_, ac
-        rhs = self.DT @ W + self.pin_rhs
+        rhs = self.D.T @ W + self.pin_rhs
         y = self.solve(rhs.T.ravel())
         if self.seam_block is not None and X_lin is not None:
             y = self._constrained(y, X_lin)
