@@ -99,3 +99,16 @@ def test_factor_of_a_lower_triangle_solves_the_symmetric_matrix():
     b = np.linspace(-1.0, 2.0, 30)
     np.testing.assert_allclose(A @ factor(L, lower=True)(b), b, atol=1e-12)
     np.testing.assert_allclose(A @ linear._superlu(L, lower=True)(b), b, atol=1e-12)
+
+
+def test_without_cvxopt_superlu_and_back_substitution_serve(monkeypatch):
+    import sys
+
+    A = spd(30, 4)
+    b = np.linspace(0.0, 1.0, 30)
+    expected = factor(A)(b)
+    monkeypatch.setitem(sys.modules, "cvxopt", None)  # import cvxopt fails
+    np.testing.assert_allclose(factor(A)(b), expected, rtol=1e-10)
+    assert linear._schur_inverses(A, np.array([3, 7]), [np.array([0, 1])]) is None
+    with pytest.raises(PtailorError, match="cannot be factored"):
+        factor(sp.csc_matrix(np.zeros((3, 3))))
