@@ -38,11 +38,38 @@ def test_shared_symbolic_reuses_the_analysis_and_keeps_each_solve_exact():
     with shared_symbolic():
         sa = factor(A)
         sb = factor(B)
-        assert len(linear._SHARED) == 1  # one analysis for both
+        assert len(linear._SHARED.get()) == 1  # one analysis for both
         np.testing.assert_allclose(B @ sb(b), b, atol=1e-10)
         np.testing.assert_allclose(A @ sa(b), b, atol=1e-10)  # refactors its own values
         np.testing.assert_allclose(B @ sb(b), b, atol=1e-10)
-    assert linear._SHARED is None
+    assert linear._SHARED.get() is None
+
+
+def test_shared_analyses_are_per_thread():
+    """Two garments flattened in threads of one process (a Dask worker) never share an
+    analysis or see each other's: each thread's shared_symbolic block is its own."""
+    import threading
+
+    seen: dict[int, int] = {}
+    barrier = threading.Barrier(2)
+
+    def run(k: int) -> None:
+        A = spd(60 + k, k)  # different patterns
+        with shared_symbolic():
+            solve = factor(A)
+            barrier.wait()  # both blocks open at once
+            seen[k] = len(linear._SHARED.get())
+            b = np.ones(60 + k)
+            np.testing.assert_allclose(A @ solve(b), b, atol=1e-10)
+            barrier.wait()
+
+    threads = [threading.Thread(target=run, args=(k,)) for k in (0, 1)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert seen == {0: 1, 1: 1}
+    assert linear._SHARED.get() is None
 
 
 def test_factor_falls_back_to_lu_when_not_positive_definite():

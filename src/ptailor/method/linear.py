@@ -3,6 +3,8 @@ block of its inverse, and the small Schur-complement systems of the seam constra
 
 from __future__ import annotations
 
+import contextvars
+import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -26,7 +28,15 @@ class _Symbolic:
     owner: object = None
 
 
-_SHARED: list[_Symbolic] | None = None  # active within shared_symbolic()
+#: the analyses shared within :func:`shared_symbolic` (per thread and task: a context
+#: variable, so garments run in threads of one process, as a Dask worker does, never see
+#: each other's)
+_SHARED: contextvars.ContextVar[list[_Symbolic] | None] = contextvars.ContextVar(
+    "ptailor_shared_symbolic", default=None
+)
+#: ``cvxopt.cholmod.options`` is one dict per process: an analysis sets it, calls CHOLMOD
+#: and restores it under this lock, so a concurrent analysis never runs with its options
+_OPTIONS = threading.Lock()
 
 
 @contextmanager
@@ -35,12 +45,11 @@ def shared_symbolic() -> Iterator[None]:
     symbolic analysis (ordering, supernodes): the uniform baseline's matrix has ours'
     pattern, so it costs only its numeric factorisation. Solves stay exact: a solve whose
     factor was overwritten by a later factorisation refactors its own values first."""
-    global _SHARED
-    saved, _SHARED = _SHARED, []
+    token = _SHARED.set([])
     try:
         yield
     finally:
-        _SHARED = saved
+        _SHARED.reset(token)
 
 
 def _finite(A: sp.csc_matrix) -> None:
@@ -103,22 +112,22 @@ def _cvx(L: sp.csc_matrix):
 def _symbolic(L: sp.csc_matrix, cholmod) -> _Symbolic:
     """The analysis for ``L``'s pattern: the active cache's, else a new one (cached)."""
 
-    for sym in _SHARED or ():
+    shared = _SHARED.get()
+    for sym in shared or ():
         if np.array_equal(sym.indptr, L.indptr) and np.array_equal(sym.indices, L.indices):
             return sym
     S = _cvx(L)
-    saved = cholmod.options.get("supernodal")
-    cholmod.options["supernodal"] = 2
-    try:
-        F = cholmod.symbolic(S, uplo="L")
-    finally:
-        if saved is None:
-            del cholmod.options["supernodal"]
-        else:
-            cholmod.options["supernodal"] = saved
+    with _OPTIONS:
+        saved = dict(cholmod.options)
+        cholmod.options.update(supernodal=2)
+        try:
+            F = cholmod.symbolic(S, uplo="L")
+        finally:
+            cholmod.options.clear()
+            cholmod.options.update(saved)
     sym = _Symbolic(L.indptr, L.indices, S, F)
-    if _SHARED is not None:
-        _SHARED.append(sym)
+    if shared is not None:
+        shared.append(sym)
     return sym
 
 
@@ -139,7 +148,8 @@ def _cholmod(L: sp.csc_matrix, cholmod):
             sym.owner = token
 
     refactor()
-    if not _SHARED or sym not in _SHARED:
+    shared = _SHARED.get()
+    if not shared or sym not in shared:
         sym.S = None  # nobody else refactors it: the factor alone serves the solves
 
     def solve(b: np.ndarray) -> np.ndarray:
@@ -302,16 +312,17 @@ def _schur_inverses(A: sp.spmatrix, unknowns: np.ndarray, groups) -> list[np.nda
     last = np.zeros(N, dtype=bool)
     last[unknowns] = True
     p = np.concatenate([p0[~last[p0]], unknowns[np.concatenate(groups)]])
-    saved = dict(cholmod.options)
-    cholmod.options.update(supernodal=2, nmethods=1)  # this order, not AMD's
-    try:
-        F = cholmod.symbolic(S, p=matrix(p.astype(int)), uplo="L")
-        cholmod.numeric(S, F)
-    except (ArithmeticError, ValueError):
-        return None
-    finally:
-        cholmod.options.clear()
-        cholmod.options.update(saved)
+    with _OPTIONS:
+        saved = dict(cholmod.options)
+        cholmod.options.update(supernodal=2, nmethods=1)  # this order, not AMD's
+        try:
+            F = cholmod.symbolic(S, p=matrix(p.astype(int)), uplo="L")
+            cholmod.numeric(S, F)
+        except (ArithmeticError, ValueError):
+            return None
+        finally:
+            cholmod.options.clear()
+            cholmod.options.update(saved)
     pos = matrix(np.arange(N, dtype=float))
     cholmod.solve(F, pos, sys=8)  # where each unknown sits in the (postordered) factor
     pos = np.rint(np.asarray(pos).ravel()).astype(np.int64)
