@@ -45,6 +45,7 @@ def real_garment(request):
 # Re-measure when adding a test that runs the CLI on real garments, a batch or a fuzzing
 # campaign, and add it here.
 SLOW: dict[str, frozenset[str]] = {
+    "test_outputs_imports": frozenset({"test_writing_all_formats_does_not_import_matplotlib"}),
     "test_bad_dxf": frozenset(
         {
             "test_many_shuffled_boundary_parts_chain_in_linear_time",
