@@ -130,6 +130,32 @@ def test_moved_and_flipped_pieces_match_by_shape_with_the_right_rigid_map():
     assert np.linalg.det(m[1].R) < 0
 
 
+def _two_overlapping_squares():
+    """Two identical square panels at one spot of the pattern, named "left" and "right"."""
+    from ptailor.model.garment import Panel
+
+    V, F = _grid(4, 4)
+    V2 = np.concatenate([V, V])
+    F2 = np.concatenate([F, F + len(V)])
+    m = len(F)
+    plist = [
+        Panel(0, "left", np.arange(m), np.arange(len(V)), False),
+        Panel(1, "right", np.arange(m, 2 * m), np.arange(len(V), 2 * len(V)), False),
+    ]
+    return V2, F2, plist
+
+
+@pytest.mark.parametrize("shift", [0.0, 500.0])  # where they lie (position), moved (shape)
+def test_tied_pieces_go_to_the_panels_with_their_names(shift):
+    V2, F2, plist = _two_overlapping_squares()
+    outline = mesh_pieces(V2, F2, plist)[0].outline + shift
+    for names in (["right", "left"], ["left", "right"]):
+        pieces = [Piece(name=n, outline=outline.copy()) for n in names]
+        m = match_pieces(pieces, V2, F2, plist)
+        assert [plist[x.panel].name for x in m] == names
+        assert {x.how for x in m} == {"position" if shift == 0 else "shape"}
+
+
 def test_a_piece_that_matches_no_panel_is_an_error_naming_it():
     g = lantern_sleeve()
     plist, _ = _pieces(g)

@@ -81,6 +81,10 @@ PIECE_MATCH_REL = 0.01
 #: ... and, when moved, after the best rigid fit (rotation, reflection, translation) when
 #: its area is within this fraction of the panel's.
 PIECE_AREA_REL = 0.1
+#: Match costs (relative to the piece's diagonal) closer than this are a tie, and a tie goes
+#: to the panel with the piece's name (a pattern whose panels overlap, like tee6's four
+#: sleeves at one spot, or identical sleeve pieces matched by shape).
+PIECE_TIE_REL = 1e-6
 #: A DXF piece's cut line may lie this far (cm, on average) outside the drape's mesh of the
 #: sew line: a seam allowance (both thresholds above widen by it).
 PIECE_ALLOWANCE_CM = 2.5

@@ -218,6 +218,13 @@ def match_pieces(
         distance between the outlines is below ``PIECE_MATCH_REL`` of its diagonal plus
         this, and its area within ``PIECE_AREA_REL`` plus the panel's perimeter times this.
 
+    Notes
+    -----
+    Costs within ``PIECE_TIE_REL`` of each other are a tie, and a tie goes to the panel with
+    the piece's name: panels that overlap where they lie (tee6's four sleeves share one spot
+    of its pattern) or identical pieces placed by shape are matched by name, not by the
+    last digits of their costs.
+
     Returns
     -------
     list of PieceMatch
@@ -230,8 +237,9 @@ def match_pieces(
     """
     outs = [_Outline.of(piece_curve(pc)) for pc in pieces]
     pans = [_Outline.of(V2[outer_loop(F2, p.faces, V2)]) for p in panel_list]
-    matches = _position_matches(outs, pans, allowance)
-    matches.update(_shape_matches(outs, pans, matches, allowance))
+    same = np.array([[pc.name == p.name for p in panel_list] for pc in pieces], dtype=bool)
+    matches = _position_matches(outs, pans, allowance, same)
+    matches.update(_shape_matches(outs, pans, matches, allowance, same))
     missing = [i for i in range(len(pieces)) if i not in matches]
     if missing:
         used = {m.panel for m in matches.values()}
@@ -258,8 +266,29 @@ def _position_cost(piece: _Outline, panel: _Outline, allowance: float) -> float:
     return d / piece.diag
 
 
+def _named_ties(cost: np.ndarray, same: np.ndarray) -> np.ndarray:
+    """``cost`` for the assignment with ties broken by name: costs compare on a grid of
+    ``tol.PIECE_TIE_REL`` and, within one step, a piece goes to the panel with its name
+    (infeasible pairs, ``>= 1e6``, stay as they are).
+
+    Parameters
+    ----------
+    cost : (p, q) float array
+        Relative costs, 1e6 where a pair cannot match.
+    same : (p, q) bool array
+        Whether each piece has each panel's name.
+
+    Returns
+    -------
+    (p, q) float array
+    """
+    step = tol.PIECE_TIE_REL
+    tied = np.round(cost / step) * step - 0.5 * step * same
+    return np.where(cost < 1e6, tied, cost)
+
+
 def _position_matches(
-    outs: list[_Outline], pans: list[_Outline], allowance: float
+    outs: list[_Outline], pans: list[_Outline], allowance: float, same: np.ndarray
 ) -> dict[int, PieceMatch]:
     """Pieces that lie on a panel, assigned one panel each (by least total cost)."""
     from scipy.optimize import linear_sum_assignment
@@ -271,7 +300,7 @@ def _position_matches(
             cost[i, j] = _position_cost(po, pn, allowance)
     matches: dict[int, PieceMatch] = {}
     ok = np.where(cost < thr[:, None], cost, 1e6)
-    rows, cols = linear_sum_assignment(ok)
+    rows, cols = linear_sum_assignment(_named_ties(ok, same))
     for i, j in zip(rows.tolist(), cols.tolist(), strict=True):
         if ok[i, j] < 1e6:
             c = float(cost[i, j])
@@ -280,7 +309,11 @@ def _position_matches(
 
 
 def _shape_matches(
-    outs: list[_Outline], pans: list[_Outline], found: dict[int, PieceMatch], allowance: float
+    outs: list[_Outline],
+    pans: list[_Outline],
+    found: dict[int, PieceMatch],
+    allowance: float,
+    same: np.ndarray,
 ) -> dict[int, PieceMatch]:
     """The pieces not in ``found`` fitted by shape onto the panels left, one panel each."""
     from scipy.optimize import linear_sum_assignment
@@ -298,7 +331,7 @@ def _shape_matches(
                 fits[i, j] = fit
                 shape_cost[a, b] = fit[2]
     matches: dict[int, PieceMatch] = {}
-    rr, cc = linear_sum_assignment(shape_cost)
+    rr, cc = linear_sum_assignment(_named_ties(shape_cost, same[np.ix_(rest, free_panels)]))
     for a, b in zip(rr.tolist(), cc.tolist(), strict=True):
         if shape_cost[a, b] < 1e6:
             i, j = rest[a], free_panels[b]
