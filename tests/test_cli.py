@@ -86,6 +86,30 @@ def test_outputs_are_deterministic(runner, sleeve, recipe, tmp_path):
     assert ra == rb
 
 
+def test_report_has_no_negative_zero(runner, sleeve, recipe, tmp_path):
+    """A number that rounds to zero is written 0.0, never -0.0 (the sleeve's seams meet
+    their ratios to rounding, on both sides of zero)."""
+    import math
+
+    assert run(runner, "adjust", sleeve, recipe, "-o", tmp_path / "o").exit_code == 0
+    text = (tmp_path / "o" / "report.json").read_text()
+    zeros = []
+
+    def walk(x):
+        if isinstance(x, dict):
+            for v in x.values():
+                walk(v)
+        elif isinstance(x, list):
+            for v in x:
+                walk(v)
+        elif isinstance(x, float) and x == 0.0:
+            zeros.append(math.copysign(1.0, x))
+
+    walk(json.loads(text))
+    assert zeros and min(zeros) > 0  # some zeros, none negative
+    assert "-0.0" not in text
+
+
 def test_method_uniform_override_and_json(runner, sleeve, recipe, tmp_path):
     r = run(runner, "adjust", sleeve, recipe, "-o", tmp_path / "o", "--method", "uniform", "--json")
     assert r.exit_code == 0

@@ -23,7 +23,8 @@ from ptailor.report.metrics import (
 
 
 def _r(x: float, nd: int = 6) -> float:
-    return round(float(x), nd)
+    """``x`` rounded to ``nd`` decimals, a negative that rounds to zero written as 0.0."""
+    return round(float(x), nd) + 0.0
 
 
 def _error_frame(adj: Adjustment) -> tuple[np.ndarray, np.ndarray | None]:
