@@ -45,6 +45,7 @@ def real_garment(request):
 # Re-measure when adding a test that runs the CLI on real garments, a batch or a fuzzing
 # campaign, and add it here.
 SLOW: dict[str, frozenset[str]] = {
+    "test_obj_scan": frozenset({"test_scan_matches_record_parser_on_mutants"}),
     "test_outputs_imports": frozenset({"test_writing_all_formats_does_not_import_matplotlib"}),
     "test_bad_dxf": frozenset(
         {
