@@ -94,22 +94,6 @@ def replace_name(p, name):
     return replace(p, name=name)
 
 
-def test_boundary_and_seams_are_kept_by_content_and_handed_out_as_copies():
-    from ptailor.model import memo
-
-    g = lantern_sleeve()
-    memo.clear()
-    a, ca = boundary_curves(g.F2.copy())
-    a[0][:] = -1  # the caller's copy
-    b, cb = boundary_curves(g.F2)
-    assert b[0].min() >= 0 and np.array_equal(ca, cb)
-    p = seam_halfedges(g.F3, g.F2)
-    p[:] = 0
-    assert seam_halfedges(g.F3.copy(), g.F2.copy()).max() > 0
-    assert memo.array_key(g.F2) == memo.array_key(g.F2.copy())
-    assert memo.array_key(g.F2) != memo.array_key(g.F2.astype(np.int32))
-
-
 def test_boundary_fast_path_pairs_ends_as_the_fans_do():
     """Without T-edges and with two ends at every boundary vertex, pairing the ends by
     vertex is the fans' pairing (and the shortcut is not taken otherwise)."""

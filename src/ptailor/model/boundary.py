@@ -32,7 +32,6 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from ptailor.model.memo import array_key, keep, recall
 from ptailor.model.seams import edge_groups, edge_keys, half_edges
 
 
@@ -280,20 +279,11 @@ def boundary_curves(
         from one end to the other.
     closed : (c,) bool array
         Whether each curve is a closed loop.
-
-    Notes
-    -----
-    The result is kept by the content of ``F``, ``V`` and ``F2``
-    (:mod:`ptailor.model.memo`): the flatten, its baseline, the pieces and the outputs
-    each ask for a panel's loops and trace them once between them. Callers get copies.
     """
     F = np.asarray(F, dtype=np.int64).reshape(-1, 3)
     V = None if V is None else np.asarray(V, dtype=np.float64)
     F2 = None if F2 is None else np.asarray(F2, dtype=np.int64).reshape(-1, 3)
-    key = array_key(F, V, F2)
-    kept = recall("boundary_curves", key)
-    curves, closed = kept if kept is not None else keep("boundary_curves", key, _trace(F, V, F2))
-    return [c.copy() for c in curves], closed.copy()
+    return _trace(F, V, F2)
 
 
 def _pair_at_vertices(ep_vert: np.ndarray) -> np.ndarray:

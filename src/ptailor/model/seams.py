@@ -13,8 +13,6 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ptailor.model.memo import array_key, keep, recall
-
 
 @dataclass(frozen=True)
 class Seam:
@@ -143,17 +141,10 @@ def seam_halfedges(F3: np.ndarray, F2: np.ndarray) -> np.ndarray:
     represented by its smallest half-edge id, the base by one of its half-edges that runs
     against the other side's (so the pair is consistently oriented where the cloth is),
     else its smallest. Faces with a repeated drape vertex are ignored.
-
-    The result is kept by the content of ``F3`` and ``F2`` (:mod:`ptailor.model.memo`:
-    the seams, the seam ease and the pieces each ask for it); callers get a copy.
     """
     F3 = np.asarray(F3, dtype=np.int64).reshape(-1, 3)
     F2 = np.asarray(F2, dtype=np.int64).reshape(-1, 3)
-    key = array_key(F3, F2)
-    pairs = recall("seam_halfedges", key)
-    if pairs is None:
-        pairs = keep("seam_halfedges", key, _seam_halfedges(F3, F2))
-    return pairs.copy()
+    return _seam_halfedges(F3, F2)
 
 
 def _seam_halfedges(F3: np.ndarray, F2: np.ndarray) -> np.ndarray:
