@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from ptailor import __version__
@@ -23,8 +25,25 @@ from ptailor.report.metrics import (
 
 
 def _r(x: float, nd: int = 6) -> float:
-    """``x`` rounded to ``nd`` decimals, a negative that rounds to zero written as 0.0."""
-    return round(float(x), nd) + 0.0
+    return round(float(x), nd)
+
+
+def without_negative_zeros(obj: Any) -> Any:
+    """``obj`` with every float ``-0.0`` written as ``0.0`` (a new object; dicts, lists and
+    tuples walked): a number that rounds to zero reads the same on either side of it.
+
+    Examples
+    --------
+    >>> without_negative_zeros({"a": [-0.0, 1.5, "x"], "b": round(-1e-9, 6)})
+    {'a': [0.0, 1.5, 'x'], 'b': 0.0}
+    """
+    if isinstance(obj, float):
+        return obj + 0.0
+    if isinstance(obj, dict):
+        return {k: without_negative_zeros(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [without_negative_zeros(v) for v in obj]
+    return obj
 
 
 def _error_frame(adj: Adjustment) -> tuple[np.ndarray, np.ndarray | None]:

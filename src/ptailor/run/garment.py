@@ -22,7 +22,12 @@ from ptailor.output import check_output_dir, staged_dir, write_json
 from ptailor.pieces import carry_plan
 from ptailor.pipeline import Adjustment, adjustment
 from ptailor.recipe import Recipe
-from ptailor.report.build import build_report, error_reference, triangle_errors
+from ptailor.report.build import (
+    build_report,
+    error_reference,
+    triangle_errors,
+    without_negative_zeros,
+)
 from ptailor.run.checks import (
     check_finite_report,
     check_finite_result,
@@ -190,6 +195,7 @@ def _staged_folder(
         for role, path in {**_read(ctx.loaded.inputs, options), **display}.items():
             report["inputs"][role]["path"] = path
         report["outputs"] = sorted(["report.json", *written])
+        report = without_negative_zeros(report)
         check_finite_report(report, path=shown)
         yield report
         write_json(tmp / "report.json", report)
