@@ -71,18 +71,17 @@ def triangle_errors(adj: Adjustment, *, reference: ScaleReference | None = None)
     See :func:`ptailor.report.metrics.intrinsic_scale_error`; ``reference``:
     :func:`error_reference` of ``adj``, when the caller has it.
     """
+    return _scale_errors(adj, adj.result.V2, reference)
+
+
+def _scale_errors(adj: Adjustment, V2: np.ndarray, reference: ScaleReference | None):
+    """Each triangle's relative intrinsic-scale error in the pattern ``V2`` (ours or the
+    baseline's), ``(m,)``."""
     st = adj.state
     g = st.base
     flipv, target = _error_frame(adj)
     return intrinsic_scale_error(
-        g.V2 * flipv,
-        adj.result.V2 * flipv,
-        g.F2,
-        g.V3,
-        st.V3,
-        g.F3,
-        target=target,
-        reference=reference,
+        g.V2 * flipv, V2 * flipv, g.F2, g.V3, st.V3, g.F3, target=target, reference=reference
     )
 
 
@@ -128,7 +127,6 @@ def build_report(
     up, front = adj.axes
     gs = structure(g, up=up, front=front)
     flab, vlab, seam_list = gs.face_panel, gs.vertex_panel, gs.seams
-    flipv, target = _error_frame(adj)
     orient = np.array([-1.0 if p.mirrored else 1.0 for p in st.panels])[flab]
     V2a = adj.result.V2
     err = triangle_errors(adj) if errors is None else errors
@@ -152,16 +150,7 @@ def build_report(
         areab = panel_areas(Vb, g.F2, flab, n)
         sizeb = panel_sizes(Vb, vlab, n)
         errb = summary_stats(
-            intrinsic_scale_error(
-                g.V2 * flipv,
-                Vb * flipv,
-                g.F2,
-                g.V3,
-                st.V3,
-                g.F3,
-                target=target,
-                reference=reference,
-            ),
+            _scale_errors(adj, Vb, reference),
             flab,
             n,
         )
