@@ -35,6 +35,31 @@ def test_structure_matches_direct_computation():
         assert all(np.array_equal(a, b) for a, b in zip(s.panel_loops(p.index), want, strict=True))
 
 
+def test_structure_seams_reuse_its_seam_halfedges(monkeypatch):
+    """The seams are built from the structure's half-edge pairs, not from a second trace."""
+    import importlib
+
+    seams_module = importlib.import_module("ptailor.model.seams")  # (the package's
+    # ``seams`` attribute is the function)
+    g = bodice()
+    s = structure(g)
+    pairs = s.seam_halfedges
+    want = seams(g.F3, g.F2, s.face_panel)
+
+    def traced_again(*args, **kwargs):
+        raise AssertionError("seam_halfedges computed a second time")
+
+    monkeypatch.setattr(seams_module, "seam_halfedges", traced_again)
+    got = s.seams
+    assert [x.panels for x in got] == [x.panels for x in want]
+    for a, b in zip(got, want, strict=True):
+        assert np.array_equal(a.edges3, b.edges3) and np.array_equal(a.edges_a, b.edges_a)
+        assert np.array_equal(a.edges_b, b.edges_b)
+    assert [x.panels for x in seams(g.F3, g.F2, s.face_panel, halfedges=pairs)] == [
+        x.panels for x in want
+    ]
+
+
 def test_structure_is_cached_per_garment_and_axes():
     g = lantern_sleeve()
     s = structure(g)

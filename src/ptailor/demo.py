@@ -1,13 +1,12 @@
 """The demo's generated garments and bundled recipes.
 
-Light on purpose (no numpy at import): ``ptailor demo --sample`` takes its choices from
-:data:`DEFAULT_RECIPES`, which names every generated sample of :data:`ptailor.samples.SAMPLES`
-(a test holds the two equal) with the bundled recipe the demo runs on it by default.
+Light on purpose (no numpy, no ``importlib.resources`` at import: every command imports
+it): ``ptailor demo --sample`` takes its choices from :data:`DEFAULT_RECIPES`, which names
+every generated sample of :data:`ptailor.samples.SAMPLES` (a test holds the two equal) with
+the bundled recipe the demo runs on it by default.
 """
 
 from __future__ import annotations
-
-from importlib import resources
 
 #: sample -> its default bundled recipe (``recipes/NAME.yaml``); the keys are the samples
 #: ``ptailor demo --sample`` offers, in the order it lists them
@@ -23,6 +22,8 @@ SAMPLE_NAMES = tuple(DEFAULT_RECIPES)
 
 def bundled_recipe(name: str) -> str:
     """Text of a recipe shipped in ``ptailor/recipes`` (the project's ``recipes/``)."""
+    from importlib import resources  # (9 ms: not on ``ptailor adjust``'s path)
+
     from ptailor.errors import PtailorError
 
     path = resources.files("ptailor") / "recipes" / f"{name}.yaml"

@@ -254,7 +254,13 @@ def seam_curve_labels(F3: np.ndarray, pairs: np.ndarray, face_panel: np.ndarray)
     return np.unique(_chain(e3, key), return_inverse=True)[1].ravel()
 
 
-def seams(F3: np.ndarray, F2: np.ndarray, face_panel: np.ndarray) -> list[Seam]:
+def seams(
+    F3: np.ndarray,
+    F2: np.ndarray,
+    face_panel: np.ndarray,
+    *,
+    halfedges: np.ndarray | None = None,
+) -> list[Seam]:
     """Find the seams of a garment, T-seams included (:func:`seam_halfedges`).
 
     Parameters
@@ -263,6 +269,9 @@ def seams(F3: np.ndarray, F2: np.ndarray, face_panel: np.ndarray) -> list[Seam]:
         Drape and pattern triangles.
     face_panel : (m,) int array
         Panel index of each triangle.
+    halfedges : (k, 2) int array, optional
+        ``seam_halfedges(F3, F2)`` when the caller already has it (a garment's
+        structure); computed here otherwise.
 
     Returns
     -------
@@ -275,7 +284,7 @@ def seams(F3: np.ndarray, F2: np.ndarray, face_panel: np.ndarray) -> list[Seam]:
     h3 = half_edges(F3)
     h2 = half_edges(F2)
     face = np.repeat(np.arange(m), 3)
-    pairs = seam_halfedges(F3, F2)
+    pairs = seam_halfedges(F3, F2) if halfedges is None else halfedges
     first, second = pairs[:, 0], pairs[:, 1]
     # align the second side's 2D edge to the first side's 3D direction
     same_dir = h3[first, 0] == h3[second, 0]

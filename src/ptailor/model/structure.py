@@ -141,7 +141,9 @@ class GarmentStructure:
     @cached_property
     def seams(self) -> list[Seam]:
         g, same = self.garment, self._same("seams")
-        return same if same is not None else seams(g.F3, g.F2, self.face_panel)
+        if same is not None:
+            return same
+        return seams(g.F3, g.F2, self.face_panel, halfedges=self.seam_halfedges)
 
     @cached_property
     def drape_boundary(self) -> tuple[list[np.ndarray], np.ndarray]:
