@@ -77,6 +77,26 @@ def test_robust_areas_do_not_overflow():
     assert np.isclose(a, 0.5e280)
 
 
+def test_robust_areas_are_the_scaled_cross_product_bit_for_bit():
+    """The written-out robust areas equal ``|a/s x b/s| s^2`` through np.cross and
+    np.linalg.norm exactly (any scale, zero, NaN and infinite coordinates)."""
+    rng = np.random.default_rng(7)
+    V = rng.normal(size=(400, 3)) * 10.0 ** rng.integers(-150, 150, size=(400, 1))
+    V[3] = np.nan
+    V[5] = [np.inf, 0.0, 1.0]
+    V[8:11] = 0.0
+    F = np.vstack([rng.integers(0, 400, size=(2000, 3)), [[8, 9, 10], [3, 4, 6], [5, 6, 7]]])
+    a = V[F[:, 1]] - V[F[:, 0]]
+    b = V[F[:, 2]] - V[F[:, 0]]
+    with np.errstate(all="ignore"):
+        s = np.maximum(np.abs(a).max(axis=1), np.abs(b).max(axis=1))
+        s = np.where(s > 0, s, 1.0)
+        want = 0.5 * np.linalg.norm(np.cross(a / s[:, None], b / s[:, None]), axis=1) * s * s
+        got = triangle_areas(V, F, robust=True)
+    assert np.array_equal(got, want, equal_nan=True)
+    assert got[-3] == 0.0 and np.isnan(got[-2])
+
+
 def test_closed_forms():
     rng = np.random.default_rng(1)
     A = rng.normal(size=(50, 2, 2))

@@ -439,3 +439,33 @@ def test_mirror_image_swaps_the_seam_names(key):
     assert sorted(mirror) == sorted(swap_sides(n) for n in names)
     # and the garment's own names are left/right symmetric (the drapes are nearly so)
     assert sorted(names) == sorted(swap_sides(n) for n in names)
+
+
+def test_panel_measures_extents_and_centroids_are_the_plain_reductions():
+    """The per-panel extents and centroids, computed corner by corner, equal the plain
+    reductions over each face's corners exactly (shuffled faces, an empty panel label)."""
+    from ptailor.model.names.measures import panel_measures
+    from ptailor.model.openings import body_frame
+
+    g = cone_skirt()
+    rng = np.random.default_rng(3)
+    perm = rng.permutation(g.n_faces)
+    F3 = g.F3[perm]
+    lab = panel_labels(panels(g), g.n_faces)[perm]
+    lab = np.where(lab > 0, lab + 1, lab)  # label 1 unused
+    n_p = int(lab.max()) + 1
+    frame = body_frame((0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+    pm = panel_measures(g.V3, F3, lab, n_p, frame)
+    Xc = (g.V3 @ frame.T)[F3]
+    for p in range(n_p):
+        sel = lab == p
+        if not sel.any():
+            assert np.all(pm.lo_abs[p] == np.inf) and np.all(pm.hi_abs[p] == -np.inf)
+            continue
+        assert np.array_equal(pm.lo_abs[p], Xc[sel].min(axis=(0, 1)))
+        assert np.array_equal(pm.hi_abs[p], Xc[sel].max(axis=(0, 1)))
+    area = triangle_areas(g.V3, F3)
+    At = np.bincount(lab, area, minlength=n_p)
+    fc = Xc.mean(axis=1)
+    cen = np.stack([np.bincount(lab, area * fc[:, k], minlength=n_p) for k in range(3)], 1)
+    assert np.array_equal(pm.cen_abs, cen / np.maximum(At, 1e-300)[:, None])
