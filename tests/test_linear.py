@@ -175,3 +175,21 @@ def test_factor_by_component_falls_back_to_lu_for_an_indefinite_block():
     A = sp.csc_matrix(A)
     b = np.random.default_rng(6).normal(size=A.shape[0])
     np.testing.assert_allclose(factor(A)(b), np.linalg.solve(A.toarray(), b), rtol=1e-9)
+
+
+def test_blocks_of_one_pattern_keep_their_own_factors(monkeypatch):
+    """Two panels of one mesh (front and back) give blocks of one pattern: each keeps its
+    own factor, so solving does not refactor one over the other."""
+    from cvxopt import cholmod
+
+    A = sp.block_diag([spd(20, 1), spd(20, 2)], format="csc")
+    b = np.random.default_rng(7).normal(size=40)
+    calls = []
+    numeric = cholmod.numeric
+    monkeypatch.setattr(cholmod, "numeric", lambda *a: calls.append(1) or numeric(*a))
+    with shared_symbolic():
+        solve = factor(A)
+        assert len(linear._SHARED.get()) == 2
+        for _ in range(3):
+            np.testing.assert_allclose(A @ solve(b), b, atol=1e-10)
+    assert len(calls) == 2  # one numeric factorisation per block, none per solve

@@ -119,11 +119,11 @@ def _blockwise(L: sp.csc_matrix, cholmod):
     local = np.empty(L.shape[0], dtype=np.int32)
     for g in groups:
         local[g] = np.arange(len(g), dtype=np.int32)
-    parts = []
+    parts, taken = [], []
     for g in groups:  # a component's columns hold only its rows (increasing order kept)
         C = L[:, g]
         block = sp.csc_matrix((C.data, local[C.indices], C.indptr), shape=(len(g), len(g)))
-        parts.append((g, _cholmod(block, cholmod)))
+        parts.append((g, _cholmod(block, cholmod, taken)))
 
     def solve(b: np.ndarray) -> np.ndarray:
         rhs = np.asarray(b, dtype=float).reshape(len(b), -1)
@@ -144,11 +144,15 @@ def _cvx(L: sp.csc_matrix):
     return spmatrix(matrix(L.data), matrix(L.indices.astype(int)), matrix(cols), (n, n))
 
 
-def _symbolic(L: sp.csc_matrix, cholmod) -> _Symbolic:
-    """The analysis for ``L``'s pattern: the active cache's, else a new one (cached)."""
+def _symbolic(L: sp.csc_matrix, cholmod, taken: list[_Symbolic]) -> _Symbolic:
+    """The analysis for ``L``'s pattern: the active cache's, else a new one (cached); never
+    one of ``taken`` (the other blocks of one matrix: two panels of one mesh have one
+    pattern, but each needs its own factor)."""
 
     shared = _SHARED.get()
     for sym in shared or ():
+        if any(sym is t for t in taken):
+            continue
         if np.array_equal(sym.indptr, L.indptr) and np.array_equal(sym.indices, L.indices):
             return sym
     S = _cvx(L)
@@ -166,13 +170,16 @@ def _symbolic(L: sp.csc_matrix, cholmod) -> _Symbolic:
     return sym
 
 
-def _cholmod(L: sp.csc_matrix, cholmod):
-    """CHOLMOD's solve function for the lower triangle ``L`` (sorted indices)."""
+def _cholmod(L: sp.csc_matrix, cholmod, taken: list[_Symbolic] | None = None):
+    """CHOLMOD's solve function for the lower triangle ``L`` (sorted indices); its analysis
+    is appended to ``taken``."""
     from cvxopt import matrix
 
     L.sort_indices()
     data = L.data
-    sym = _symbolic(L, cholmod)
+    taken = [] if taken is None else taken
+    sym = _symbolic(L, cholmod, taken)
+    taken.append(sym)
     token = object()
 
     def refactor() -> None:
