@@ -193,3 +193,15 @@ def test_blocks_of_one_pattern_keep_their_own_factors(monkeypatch):
         for _ in range(3):
             np.testing.assert_allclose(A @ solve(b), b, atol=1e-10)
     assert len(calls) == 2  # one numeric factorisation per block, none per solve
+
+
+def test_stitch_matrix_holds_no_triplet_sized_arrays():
+    """The assembled matrix's arrays are its own size, not views of the triplets' (each
+    inner edge comes twice), which would stay resident through the whole solve."""
+    from ptailor.method.operators import stitch_matrix
+
+    F = np.array([[0, 1, 2], [0, 2, 3], [0, 3, 4]])
+    targets = np.tile(np.eye(2), (3, 1, 1))
+    A = stitch_matrix(F, targets, np.ones(3), np.ones(5))
+    for arr in (A.data, A.indices):
+        assert arr.base is None or np.asarray(arr.base).size == A.nnz
