@@ -139,3 +139,69 @@ def test_without_cvxopt_superlu_and_back_substitution_serve(monkeypatch):
     assert linear._schur_inverses(A, np.array([3, 7]), [np.array([0, 1])]) is None
     with pytest.raises(PtailorError, match="cannot be factored"):
         factor(sp.csc_matrix(np.zeros((3, 3))))
+
+
+def scattered_blocks(seed: int) -> tuple[sp.csc_matrix, int]:
+    """Two SPD blocks on interleaved unknowns plus three isolated unknowns (identity rows:
+    the vertices no triangle uses), as the stitching matrix of two panels; and how many
+    blocks the factorisation should see (two components, the singletons as one)."""
+    M = sp.block_diag([spd(30, seed), spd(20, seed + 1), 2.0 * sp.eye(3)], format="csc")
+    q = np.random.default_rng(seed).permutation(M.shape[0])
+    A = sp.csc_matrix(M[q][:, q])
+    assert A.nnz == M.nnz  # the explicit zeros kept: each path one component
+    return A, 3
+
+
+def test_factor_by_component_matches_the_whole_solve():
+    A, blocks = scattered_blocks(3)
+    b = np.random.default_rng(4).normal(size=(A.shape[0], 2))
+    expected = np.linalg.solve(A.toarray(), b)
+    for solve in (factor(A), factor(sp.tril(A, format="csc"), lower=True)):
+        np.testing.assert_allclose(solve(b), expected, rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(solve(b[:, 1]), expected[:, 1], rtol=1e-10, atol=1e-12)
+    with shared_symbolic():
+        sa = factor(A)
+        sb = factor(2.0 * A)  # same pattern: every block's analysis is shared
+        assert len(linear._SHARED.get()) == blocks
+        np.testing.assert_allclose(sa(b), expected, rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(sb(b), 0.5 * expected, rtol=1e-10, atol=1e-12)
+
+
+def test_factor_by_component_falls_back_to_lu_for_an_indefinite_block():
+    A, _ = scattered_blocks(5)
+    A = A.tolil()
+    i = int(np.flatnonzero(A.diagonal() == 2.0)[0])  # an isolated unknown
+    A[i, i] = -2.0  # that block is no longer positive definite: LU solves the whole
+    A = sp.csc_matrix(A)
+    b = np.random.default_rng(6).normal(size=A.shape[0])
+    np.testing.assert_allclose(factor(A)(b), np.linalg.solve(A.toarray(), b), rtol=1e-9)
+
+
+def test_blocks_of_one_pattern_keep_their_own_factors(monkeypatch):
+    """Two panels of one mesh (front and back) give blocks of one pattern: each keeps its
+    own factor, so solving does not refactor one over the other."""
+    from cvxopt import cholmod
+
+    A = sp.block_diag([spd(20, 1), spd(20, 2)], format="csc")
+    b = np.random.default_rng(7).normal(size=40)
+    calls = []
+    numeric = cholmod.numeric
+    monkeypatch.setattr(cholmod, "numeric", lambda *a: calls.append(1) or numeric(*a))
+    with shared_symbolic():
+        solve = factor(A)
+        assert len(linear._SHARED.get()) == 2
+        for _ in range(3):
+            np.testing.assert_allclose(A @ solve(b), b, atol=1e-10)
+    assert len(calls) == 2  # one numeric factorisation per block, none per solve
+
+
+def test_stitch_matrix_holds_no_triplet_sized_arrays():
+    """The assembled matrix's arrays are its own size, not views of the triplets' (each
+    inner edge comes twice), which would stay resident through the whole solve."""
+    from ptailor.method.operators import stitch_matrix
+
+    F = np.array([[0, 1, 2], [0, 2, 3], [0, 3, 4]])
+    targets = np.tile(np.eye(2), (3, 1, 1))
+    A = stitch_matrix(F, targets, np.ones(3), np.ones(5))
+    for arr in (A.data, A.indices):
+        assert arr.base is None or np.asarray(arr.base).size == A.nnz
