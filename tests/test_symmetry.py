@@ -88,7 +88,6 @@ def test_an_asymmetric_garment_has_a_positive_rms():
     assert sagittal_plane(g.V3, g.F3).rms < 1e-9
 
 
-
 def test_a_symmetric_surface_is_measured_without_searching_triangles(monkeypatch):
     # mirrored vertices that land on vertices need no closest-point search on triangles
     # (nor trimesh's import, about 0.2 s of CPU in a fresh process)
@@ -105,6 +104,7 @@ def test_a_symmetric_surface_is_measured_without_searching_triangles(monkeypatch
     V[V[:, 0] > 0, 0] *= 1.1  # asymmetric: the triangles are searched
     with pytest.raises(AssertionError, match="closest_point"):
         sagittal_plane(V, g.F3)
+
 
 def test_body_plane_is_fitted_to_the_body():
     import trimesh
