@@ -230,6 +230,26 @@ def test_symmetric_recipe_mirrors_a_one_sided_step():
     assert one.log[0].get("mirrored") is None
 
 
+def test_a_mirrored_loosen_analyses_its_matrix_pattern_once(monkeypatch):
+    # both applications diffuse normals over the same triangles: one symbolic analysis
+    from cvxopt import cholmod
+
+    calls = []
+    symbolic = cholmod.symbolic
+
+    def counted(*args, **kwargs):
+        calls.append(1)
+        return symbolic(*args, **kwargs)
+
+    monkeypatch.setattr(cholmod, "symbolic", counted)
+    g = lantern_sleeve()
+    box = "{box: {min: [0, 18, -50], max: [50, 38, 50]}}"
+    rec = parse_recipe(f"steps: [{{op: loosen, region: {box}, by: 1, symmetric: true}}]")
+    st = apply_steps(g, rec, options=EditOptions())
+    assert st.log[-1]["mirrored"] is True and "smoothing" in st.log[-1]["mirror"]
+    assert len(calls) == 1
+
+
 def test_symmetric_steps_with_a_body_use_its_plane_and_its_mirror():
     import trimesh
 

@@ -151,13 +151,23 @@ def normal_smoother(
     loc[used] = np.arange(used.size)
     Fl = loc[F]
     Vl = V[used]
-    W = cotangent_weights(Vl, Fl)
-    L = sp.diags(np.asarray(W.sum(axis=1)).ravel()) - W
+    W = cotangent_weights(Vl, Fl).tocoo()
     area = triangle_areas(Vl, Fl)
     mass = np.bincount(Fl.ravel(), weights=np.repeat(area / 3.0, 3), minlength=used.size)
     # a vertex whose triangles are all degenerate keeps its value (positive diagonal)
     mass = np.maximum(mass, MASS_FLOOR_REL * max(float(mass.mean()), 1e-300))
-    solve = factor((sp.diags(mass) + tau * L).tocsc())  # sparse Cholesky, once
+    # M + tau (diag(W 1) - W), assembled so that its pattern is the mesh's edges whatever
+    # the values (an edge whose cotangents cancel stays an explicit zero): matrices over the
+    # same triangles share one symbolic analysis (a mirrored step's two applications)
+    diag = np.arange(used.size)
+    A = sp.csc_matrix(
+        (
+            np.concatenate([-(tau * W.data), mass + tau * np.asarray(W.sum(axis=1)).ravel()]),
+            (np.concatenate([W.row, diag]), np.concatenate([W.col, diag])),
+        ),
+        shape=W.shape,
+    )
+    solve = factor(A)  # sparse Cholesky, once
 
     def step(X: np.ndarray) -> np.ndarray:
         out = X.copy()
