@@ -25,6 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ptailor import tolerances as tol
+from ptailor.geometry.labels import used_indices
 
 __all__ = ["geodesic_distance"]
 
@@ -53,27 +54,6 @@ def _gather_rows(indptr: np.ndarray, indices: np.ndarray, rows: np.ndarray) -> n
         return np.empty(0, dtype=indices.dtype)
     offset = np.repeat(start - np.cumsum(count) + count, count)
     return indices[offset + np.arange(total)]
-
-
-def _distinct(idx: np.ndarray, seen: np.ndarray) -> np.ndarray:
-    """``np.unique(idx)`` for indices into ``seen``, by flags instead of a sort.
-
-    Parameters
-    ----------
-    idx : (k,) int array
-        Indices ``0 .. len(seen) - 1``, repeats allowed.
-    seen : (N,) bool array
-        All False; set and cleared again here (a scratch array of the caller's).
-
-    Returns
-    -------
-    (j,) int array
-        The distinct indices, increasing.
-    """
-    seen[idx] = True
-    out = np.flatnonzero(seen)
-    seen[out] = False
-    return out
 
 
 def _corner_updates(V: np.ndarray, FT: np.ndarray, D: np.ndarray) -> np.ndarray:
@@ -255,9 +235,6 @@ def geodesic_distance(
     pending = np.zeros(n, dtype=bool)
     tau = step
     active = np.unique(src)
-    # scratch flags for _distinct (all False between calls), one per triangle and vertex
-    tri_seen = np.zeros(F.shape[0], dtype=bool)
-    vert_seen = np.zeros(n, dtype=bool)
     iterations = 0
     while max_iter is None or iterations < max_iter:
         if active.size == 0:
@@ -268,7 +245,7 @@ def geodesic_distance(
             active = waiting[d[waiting] <= tau]
             pending[active] = False
         iterations += 1
-        FT = F[_distinct(_gather_rows(VT.indptr, VT.indices, active), tri_seen)]
+        FT = F[used_indices(_gather_rows(VT.indptr, VT.indices, active), F.shape[0])]
         cand = _corner_updates(V, FT, d[FT]).ravel()
         target = FT.ravel()
         old = d[target]
@@ -276,7 +253,7 @@ def geodesic_distance(
         target, cand, old = target[lower], cand[lower], old[lower]
         np.minimum.at(d, target, cand)
         # a significant decrease inside the band propagates, now or when tau passes it
-        moved = _distinct(target[old - cand > GEODESIC_REL_TOL * (cand + h)], vert_seen)
+        moved = used_indices(target[old - cand > GEODESIC_REL_TOL * (cand + h)], n)
         moved = moved[d[moved] < band]
         now = d[moved] < tau
         active = moved[now]

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from ptailor.errors import PtailorError
+from ptailor.geometry.labels import used_indices
 from ptailor.geometry.triangles import triangle_areas, triangle_normals
 from ptailor.model.garment import Garment, Panel
 from ptailor.model.openings import body_frame
@@ -268,9 +269,7 @@ def sagittal_plane(
     from scipy.spatial import cKDTree
 
     w_all, centroid = _vertex_areas(V, F)
-    seen = np.zeros(len(V), dtype=bool)
-    seen[F] = True
-    used = np.flatnonzero(seen)  # as np.unique(F), cheaper
+    used = used_indices(F, len(V))
     P, w = V[used], w_all[used]
     left = body_frame(up, front)[0]
     n, c = left.copy(), centroid.copy()
