@@ -88,6 +88,24 @@ def test_an_asymmetric_garment_has_a_positive_rms():
     assert sagittal_plane(g.V3, g.F3).rms < 1e-9
 
 
+def test_a_symmetric_surface_is_measured_without_searching_triangles(monkeypatch):
+    # mirrored vertices that land on vertices need no closest-point search on triangles
+    # (nor trimesh's import, about 0.2 s of CPU in a fresh process)
+    import trimesh.triangles
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("closest_point searched on a mirror-symmetric surface")
+
+    monkeypatch.setattr(trimesh.triangles, "closest_point", refuse)
+    g = cone_skirt()
+    pl = sagittal_plane(g.V3, g.F3)
+    assert pl.rms < 1e-9 and pl.max < 1e-9
+    V = g.V3.copy()
+    V[V[:, 0] > 0, 0] *= 1.1  # asymmetric: the triangles are searched
+    with pytest.raises(AssertionError, match="closest_point"):
+        sagittal_plane(V, g.F3)
+
+
 def test_body_plane_is_fitted_to_the_body():
     import trimesh
 
@@ -210,6 +228,26 @@ def test_symmetric_recipe_mirrors_a_one_sided_step():
     # the box takes a few more triangles on the right, pushed out by the first application
     assert rec["mirror"]["triangles"] == pytest.approx(rec["triangles"], rel=0.15)
     assert one.log[0].get("mirrored") is None
+
+
+def test_a_mirrored_loosen_analyses_its_matrix_pattern_once(monkeypatch):
+    # both applications diffuse normals over the same triangles: one symbolic analysis
+    from cvxopt import cholmod
+
+    calls = []
+    symbolic = cholmod.symbolic
+
+    def counted(*args, **kwargs):
+        calls.append(1)
+        return symbolic(*args, **kwargs)
+
+    monkeypatch.setattr(cholmod, "symbolic", counted)
+    g = lantern_sleeve()
+    box = "{box: {min: [0, 18, -50], max: [50, 38, 50]}}"
+    rec = parse_recipe(f"steps: [{{op: loosen, region: {box}, by: 1, symmetric: true}}]")
+    st = apply_steps(g, rec, options=EditOptions())
+    assert st.log[-1]["mirrored"] is True and "smoothing" in st.log[-1]["mirror"]
+    assert len(calls) == 1
 
 
 def test_symmetric_steps_with_a_body_use_its_plane_and_its_mirror():

@@ -13,6 +13,7 @@ from ptailor.edits.registry import Param, register
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.edits.surgery import split_keep
 from ptailor.errors import PtailorError
+from ptailor.geometry.labels import used_indices
 from ptailor.model.symmetry import SagittalPlane, mirror_points
 
 VIEWS = ("front", "back", "left", "right", "top", "bottom")
@@ -237,7 +238,7 @@ def cut(state: EditState, step: dict, *, options: EditOptions) -> EditState:
             return sketch_field(X, step, options=options)
 
         what = "sketch"
-        used = np.unique(state.base.F3)
+        used = used_indices(state.base.F3, len(V))
         frame = view_frame(step["view"], up=options.up, front=options.front)
         X2 = V[used] @ frame[:2].T
         lo, hi = X2.min(axis=0), X2.max(axis=0)
@@ -253,7 +254,7 @@ def cut(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     if step["symmetric"]:
         # remove what the cut removes and what its mirror image removes
         phi = np.minimum(phi, field(sagittal_mirror(V, state.base.F3, options=options)))
-    used = np.unique(state.base.F3)
+    used = used_indices(state.base.F3, len(V))
     if np.all(phi[used] >= 0):
         raise PtailorError(f"the cut's {what} misses the garment: nothing to remove")
     res = split_keep(state, phi)

@@ -13,6 +13,7 @@ from ptailor.edits.region import body_axis, unit_vector
 from ptailor.edits.registry import Param, register
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.errors import PtailorError
+from ptailor.geometry.labels import used_indices
 from ptailor.method.deform import arap_deform
 from ptailor.model.garment import panel_labels
 from ptailor.model.seams import Seam, seams
@@ -189,8 +190,8 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
     ax = unit_vector(ax, "the seam's axis")
     f = float(step["factor"])
     by_name = {p.name: p for p in state.panels}
-    part_v = np.unique(g.F3[by_name[part].faces])
-    other_v = np.setdiff1d(np.unique(g.F3[by_name[other].faces]), ring)
+    part_v = used_indices(g.F3[by_name[part].faces], len(g.V3))
+    other_v = np.setdiff1d(used_indices(g.F3[by_name[other].faces], len(g.V3)), ring)
     fixed: list[np.ndarray] = []
     for spec in step["fix"]:
         if isinstance(spec, list):

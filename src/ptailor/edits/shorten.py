@@ -26,6 +26,7 @@ from ptailor.edits.registry import Param, register
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.edits.surgery import SplitResult, split_keep
 from ptailor.errors import PtailorError
+from ptailor.geometry.labels import used_indices
 from ptailor.method.geodesic import geodesic_distance
 from ptailor.model.garment import panel_labels
 
@@ -93,7 +94,7 @@ def _pattern_field(state: EditState, loop: np.ndarray, by: float) -> tuple:
     oe = opening_edges(g.F3, g.F2, loop)
     flab = panel_labels(state.panels, g.n_faces)
     field, d2 = opening_pattern_distance(g, state.panels, oe.a2, oe.b2, flab[oe.face], reach=by)
-    used = np.unique(g.F2)
+    used = used_indices(g.F2, len(g.V2))
     v3of2 = np.zeros(len(g.V2), dtype=np.int64)
     v3of2[g.F2.ravel()] = g.F3.ravel()
     return field, drape_value(v3of2[used], d2[used], len(g.V3)), flab
@@ -175,7 +176,7 @@ def shorten(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     by = float(step["by"])
     measure = step.get("measure") or "drape"
     g = state.base
-    used = np.unique(g.F3)
+    used = used_indices(g.F3, len(g.V3))
     lv = state.V3 if measure != "pattern" else None
     if lv is not None:
         ring = lv[loop]

@@ -25,6 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ptailor import tolerances as tol
+from ptailor.geometry.labels import used_indices
 
 __all__ = ["geodesic_distance"]
 
@@ -244,7 +245,7 @@ def geodesic_distance(
             active = waiting[d[waiting] <= tau]
             pending[active] = False
         iterations += 1
-        FT = F[np.unique(_gather_rows(VT.indptr, VT.indices, active))]
+        FT = F[used_indices(_gather_rows(VT.indptr, VT.indices, active), F.shape[0])]
         cand = _corner_updates(V, FT, d[FT]).ravel()
         target = FT.ravel()
         old = d[target]
@@ -252,7 +253,7 @@ def geodesic_distance(
         target, cand, old = target[lower], cand[lower], old[lower]
         np.minimum.at(d, target, cand)
         # a significant decrease inside the band propagates, now or when tau passes it
-        moved = np.unique(target[old - cand > GEODESIC_REL_TOL * (cand + h)])
+        moved = used_indices(target[old - cand > GEODESIC_REL_TOL * (cand + h)], n)
         moved = moved[d[moved] < band]
         now = d[moved] < tau
         active = moved[now]

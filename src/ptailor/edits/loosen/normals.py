@@ -8,7 +8,7 @@ from collections.abc import Callable
 import numpy as np
 import scipy.sparse as sp
 
-from ptailor.edits.region import region_axis, region_centroid
+from ptailor.edits.region import region_axis
 from ptailor.geometry.triangles import triangle_areas, triangle_normals
 from ptailor.method.deform import cotangent_weights
 from ptailor.method.linear import factor
@@ -95,10 +95,12 @@ def outward_normals(
     sign, group = panel_orientation(F3, F2, plist)
     fp = panel_labels(plist, len(F3))
     a, b, c = V[F3[:, 0]], V[F3[:, 1]], V[F3[:, 2]]
-    cross = triangle_normals(V, F3, unit=False) * sign[fp][:, None]
-    every = np.arange(len(F3))
-    ax = region_axis(V, F3, every)
-    r = (a + b + c) / 3.0 - region_centroid(V, F3, every)
+    cross = triangle_normals(V, F3, unit=False)
+    ax = region_axis(V, F3, np.arange(len(F3)))
+    mid = (a + b + c) / 3.0
+    twice_area = np.linalg.norm(cross, axis=1)  # region_centroid's, with this cross product
+    r = mid - (mid * twice_area[:, None]).sum(axis=0) / max(float(twice_area.sum()), 1e-300)
+    cross *= sign[fp][:, None]
     r -= (r @ ax)[:, None] * ax
     fg = group[fp]
     outward = np.bincount(fg, weights=np.einsum("ij,ij->i", cross, r), minlength=group.max() + 1)
@@ -149,13 +151,23 @@ def normal_smoother(
     loc[used] = np.arange(used.size)
     Fl = loc[F]
     Vl = V[used]
-    W = cotangent_weights(Vl, Fl)
-    L = sp.diags(np.asarray(W.sum(axis=1)).ravel()) - W
+    W = cotangent_weights(Vl, Fl).tocoo()
     area = triangle_areas(Vl, Fl)
     mass = np.bincount(Fl.ravel(), weights=np.repeat(area / 3.0, 3), minlength=used.size)
     # a vertex whose triangles are all degenerate keeps its value (positive diagonal)
     mass = np.maximum(mass, MASS_FLOOR_REL * max(float(mass.mean()), 1e-300))
-    solve = factor((sp.diags(mass) + tau * L).tocsc())  # sparse Cholesky, once
+    # M + tau (diag(W 1) - W), assembled so that its pattern is the mesh's edges whatever
+    # the values (an edge whose cotangents cancel stays an explicit zero): matrices over the
+    # same triangles share one symbolic analysis (a mirrored step's two applications)
+    diag = np.arange(used.size)
+    A = sp.csc_matrix(
+        (
+            np.concatenate([-(tau * W.data), mass + tau * np.asarray(W.sum(axis=1)).ravel()]),
+            (np.concatenate([W.row, diag]), np.concatenate([W.col, diag])),
+        ),
+        shape=W.shape,
+    )
+    solve = factor(A)  # sparse Cholesky, once
 
     def step(X: np.ndarray) -> np.ndarray:
         out = X.copy()
