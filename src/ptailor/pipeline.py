@@ -322,6 +322,14 @@ def _adjust(
         "max_iter": int(settings["max_iter"]),
         "panel_list": state.panels,
     }
+    seams = seam_mode(settings["seams"])
+    # the seams the run's structure already found (the input garment's, when no step
+    # changed the cloth): not again inside the flatten
+    pairs = (
+        structure(state.base, up=options.up, front=options.front).seam_halfedges
+        if seams == "ease"
+        else None
+    )
     with shared_symbolic():  # the baseline's matrix has the pattern of ours
         with numeric_failures("flatten"):
             result = flatten(
@@ -329,8 +337,9 @@ def _adjust(
                 state.V3,
                 method=settings["method"],
                 intrinsic=settings["intrinsic"],
-                seams=seam_mode(settings["seams"]),
+                seams=seams,
                 seam_factors=seam_factors(state),
+                seam_pairs=pairs,
                 **kw,
             )
         t2 = time.perf_counter()

@@ -109,6 +109,7 @@ def seam_ease(
     factors: dict[tuple[int, int], float] | None = None,
     granularity: Granularity = "edge",
     min_length_rel: float = 1e-6,
+    pairs: np.ndarray | None = None,
 ) -> SeamEase | None:
     """The seam-ease constraints of a garment, at the ratios its pattern ``V2`` has.
 
@@ -129,13 +130,17 @@ def seam_ease(
         seam curve (only the totals match).
     min_length_rel : float
         Edge pairs with a side shorter than this times the mean seam edge get no row.
+    pairs : (s, 2) int array, optional
+        ``seam_halfedges(F3, F2)`` when the caller already has it (a garment's
+        :attr:`~ptailor.model.structure.GarmentStructure.seam_halfedges`); computed
+        otherwise.
 
     Returns
     -------
     SeamEase or None
         None when the garment has no seams.
     """
-    pairs = seam_halfedges(F3, F2)
+    pairs = seam_halfedges(F3, F2) if pairs is None else pairs
     if len(pairs) == 0:
         return None
     h2 = half_edges(F2)

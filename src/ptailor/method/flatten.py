@@ -133,6 +133,7 @@ def flatten(
     step_tol: float = tol.ARAP_STEP_TOL,
     history: int = tol.ANDERSON_HISTORY,
     panel_list: list[Panel] | None = None,
+    seam_pairs: np.ndarray | None = None,
 ) -> FlattenResult:
     """Adjust a garment's pattern to an edited drape.
 
@@ -168,6 +169,9 @@ def flatten(
         Solver settings (see :func:`ptailor.method.stitch.stitch`).
     panel_list : list of Panel, optional
         ``panels(garment)``, when the caller already has it.
+    seam_pairs : (s, 2) int array, optional
+        ``seam_halfedges(garment.F3, garment.F2)``, when the caller already has it
+        (``structure(garment).seam_halfedges``); used with ``seams="ease"``.
 
     Returns
     -------
@@ -189,7 +193,9 @@ def flatten(
     ease, weight = None, None
     if seams == "ease":
         flab = panel_labels(plist, m)
-        ease = seam_ease(garment.F3, garment.F2, V2, face_panel=flab, factors=seam_factors)
+        ease = seam_ease(
+            garment.F3, garment.F2, V2, face_panel=flab, factors=seam_factors, pairs=seam_pairs
+        )
         kept = panel_strain(garment.V3, V3_edit, garment.F3, flab, len(plist)) < tol.KEPT_STRAIN
         if frozen_panels is not None:
             kept |= np.asarray(frozen_panels, dtype=bool)
