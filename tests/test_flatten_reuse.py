@@ -14,7 +14,6 @@ import ptailor.method.ease as ease_module
 import ptailor.pipeline as pipeline
 from ptailor.method.ease import seam_ease
 from ptailor.method.flatten import flatten
-from ptailor.method.operators import asap_rows
 from ptailor.model.garment import Garment, panel_labels, panels
 from ptailor.model.seams import seam_halfedges
 from ptailor.model.structure import structure
@@ -103,21 +102,3 @@ def test_flatten_with_and_without_seam_pairs_is_the_same():
     plain = flatten(g, V3)
     given = flatten(g, V3, seam_pairs=seam_halfedges(g.F3, g.F2))
     np.testing.assert_array_equal(plain.V2, given.V2)
-
-
-@pytest.mark.parametrize("key", sorted(GARMENTS))
-def test_asap_rows_from_the_structures_panel_loops_are_the_computed_ones(key):
-    g = GARMENTS[key]()
-    st = structure(g)
-    asap = np.arange(len(st.panels)) % 2 == 0 if len(st.panels) > 2 else np.ones(2, bool)
-    faces = np.flatnonzero(asap[st.face_panel])
-    given = [lp for i in np.flatnonzero(asap)[::-1] for lp in st.panel_loops(int(i))]
-    computed = asap_rows(g.V2, g.F2, faces)
-    from_loops = asap_rows(g.V2, g.F2, faces, loops=given)
-    assert computed.shape[0] > 0
-    for a, b in zip(
-        (computed.indptr, computed.indices, computed.data),
-        (from_loops.indptr, from_loops.indices, from_loops.data),
-        strict=True,
-    ):
-        np.testing.assert_array_equal(a, b)

@@ -107,12 +107,7 @@ def stitch_matrix(
 
 
 def asap_rows(
-    V2: np.ndarray,
-    F2: np.ndarray,
-    faces: np.ndarray,
-    *,
-    exclude: np.ndarray | None = None,
-    loops: list[np.ndarray] | None = None,
+    V2: np.ndarray, F2: np.ndarray, faces: np.ndarray, *, exclude: np.ndarray | None = None
 ) -> sp.csr_matrix:
     """Rows of the linear as-similar-as-possible term for the boundary of some triangles.
 
@@ -125,11 +120,6 @@ def asap_rows(
         Triangles whose boundary loops get the term (whole panels).
     exclude : (n,) bool array, optional
         Boundary vertices that get no term (an outline being edited there).
-    loops : list of (k,) int arrays, optional
-        ``boundary_loops(F2[faces])`` when the caller already has it, or the loops of the
-        whole panels ``faces`` covers (``structure(g).panel_loops(i)``) in any order:
-        ordered here as ``boundary_loops`` orders them (longest first, ties by their vertex
-        sequences), so the rows come out the same. Computed when not given.
 
     Returns
     -------
@@ -137,10 +127,7 @@ def asap_rows(
         Row ``k`` is ``n_k . (x_(k+1) - x_(k-1))`` over unknowns ``[x; y]``.
     """
     n = len(V2)
-    if loops is None:
-        loops = boundary_loops(F2[faces]) if len(faces) else []
-    else:  # a loop over the outlines, as boundary_loops sorts them
-        loops = sorted(loops, key=lambda lp: (-len(lp), np.asarray(lp).tolist()))
+    loops = boundary_loops(F2[faces]) if len(faces) else []
     loops = [lp for lp in loops if len(lp) >= 3]
     if not loops:
         return sp.csr_matrix((0, 2 * n))
