@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import time
 import warnings as _warnings
-from contextlib import contextmanager
+from contextlib import contextmanager, nullcontext
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -330,7 +330,9 @@ def _adjust(
         if seams == "ease"
         else None
     )
-    with shared_symbolic():  # the baseline's matrix has the pattern of ours
+    # the baseline's matrix has the pattern of ours: one analysis for both; without a
+    # baseline none is kept for later (the factor alone serves ours: 19 MB less at 300k)
+    with shared_symbolic() if baseline else nullcontext():
         with numeric_failures("flatten"):
             result = flatten(
                 state.base,
