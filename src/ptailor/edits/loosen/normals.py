@@ -147,27 +147,18 @@ def normal_smoother(
     seen = np.zeros(n, dtype=bool)
     seen[F] = True
     used = np.flatnonzero(seen)  # as np.unique(F), cheaper
-    loc = np.full(n, -1, dtype=np.int64)
-    loc[used] = np.arange(used.size)
-    Fl = loc[F]
-    Vl = V[used]
-    W = cotangent_weights(Vl, Fl).tocoo()
+    if used.size == n:  # every vertex used (a drape): no renumbering, no copies
+        Fl, Vl = F, V
+    else:
+        loc = np.full(n, -1, dtype=np.int64)
+        loc[used] = np.arange(used.size)
+        Fl, Vl = loc[F], V[used]
+    W = cotangent_weights(Vl, Fl)
     area = triangle_areas(Vl, Fl)
     mass = np.bincount(Fl.ravel(), weights=np.repeat(area / 3.0, 3), minlength=used.size)
     # a vertex whose triangles are all degenerate keeps its value (positive diagonal)
     mass = np.maximum(mass, MASS_FLOOR_REL * max(float(mass.mean()), 1e-300))
-    # M + tau (diag(W 1) - W), assembled so that its pattern is the mesh's edges whatever
-    # the values (an edge whose cotangents cancel stays an explicit zero): matrices over the
-    # same triangles share one symbolic analysis (a mirrored step's two applications)
-    diag = np.arange(used.size)
-    A = sp.csc_matrix(
-        (
-            np.concatenate([-(tau * W.data), mass + tau * np.asarray(W.sum(axis=1)).ravel()]),
-            (np.concatenate([W.row, diag]), np.concatenate([W.col, diag])),
-        ),
-        shape=W.shape,
-    )
-    solve = factor(A)  # sparse Cholesky, once
+    solve = factor(_lower_system(W, mass, tau=tau), lower=True)  # sparse Cholesky, once
 
     def step(X: np.ndarray) -> np.ndarray:
         out = X.copy()
@@ -175,6 +166,47 @@ def normal_smoother(
         return out
 
     return step
+
+
+def _lower_system(W: sp.csr_matrix, mass: np.ndarray, *, tau: float) -> sp.csc_matrix:
+    """The lower triangle of ``diag(mass) + tau (diag(W 1) - W)``, CSC with sorted indices.
+
+    Its pattern is the diagonal and the mesh's edges whatever the values (an edge whose
+    cotangents cancel stays an explicit zero): matrices over the same triangles share one
+    symbolic analysis (a mirrored step's two applications). Built straight from ``W``'s
+    rows (symmetric, sorted: row ``i``'s entries right of the diagonal are column ``i``
+    of the lower triangle), without the conversions and the triangle extraction of a
+    general assembly.
+
+    Parameters
+    ----------
+    W : (k, k) scipy.sparse.csr_matrix
+        Symmetric cotangent weights with sorted indices and no diagonal
+        (:func:`ptailor.method.deform.cotangent_weights`).
+    mass : (k,) float array
+    tau : float, keyword-only
+
+    Returns
+    -------
+    (k, k) scipy.sparse.csc_matrix
+    """
+    k = W.shape[0]
+    W = sp.csr_matrix(W)
+    W.sort_indices()
+    rows = np.repeat(np.arange(k), np.diff(W.indptr))
+    right = W.indices > rows
+    indptr = np.zeros(k + 1, dtype=np.int64)
+    np.cumsum(np.bincount(rows[right], minlength=k) + 1, out=indptr[1:])
+    first = indptr[:-1]  # each column's diagonal entry comes first
+    off = np.ones(int(indptr[-1]), dtype=bool)
+    off[first] = False
+    data = np.empty(off.size)
+    indices = np.empty(off.size, dtype=np.int64)
+    data[first] = mass + tau * np.bincount(rows, weights=W.data, minlength=k)  # in row order
+    indices[first] = np.arange(k)
+    data[off] = -(tau * W.data[right])
+    indices[off] = W.indices[right]
+    return sp.csc_matrix((data, indices, indptr), shape=(k, k))
 
 
 def unit_rows(X: np.ndarray) -> np.ndarray:
