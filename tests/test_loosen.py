@@ -106,6 +106,37 @@ def test_mirrored_cylinder_loosens_outward():
 LANTERN_BOX = {"box": {"min": [-50, 18, -50], "max": [50, 38, 50]}}
 
 
+def test_loosen_takes_the_seam_pairs_the_flatten_uses(monkeypatch):
+    """The offset's orientation takes the seam half-edges of the garment's structure (which
+    the flatten after it uses too): computed once per adjustment, and the same normals."""
+    import ptailor.model.structure as structure_mod
+    from ptailor.edits.loosen import panel_orientation
+    from ptailor.model.seams import seam_halfedges
+
+    g = lantern_sleeve()
+    pl = panels(g)
+    pairs = seam_halfedges(g.F3, g.F2)
+    for a, b in zip(
+        panel_orientation(g.F3, g.F2, pl),
+        panel_orientation(g.F3, g.F2, pl, pairs=pairs),
+        strict=True,
+    ):
+        np.testing.assert_array_equal(a, b)
+    np.testing.assert_array_equal(
+        outward_normals(g.V3, g.F3, g.F2, pl), outward_normals(g.V3, g.F3, g.F2, pl, pairs=pairs)
+    )
+    calls = []
+
+    def counted(F3, F2):
+        calls.append(len(F3))
+        return seam_halfedges(F3, F2)
+
+    monkeypatch.setattr(structure_mod, "seam_halfedges", counted)
+    monkeypatch.setattr("ptailor.edits.loosen.normals.seam_halfedges", counted)
+    adjustment(g, recipe({"op": "loosen", "region": LANTERN_BOX, "by": 1.0}), baseline=False)
+    assert calls == [len(g.F3)]
+
+
 def test_lantern_middle_ring_grows_by_by_and_the_ends_stay():
     by = 2.0
     g = lantern_sleeve()  # sleeve y 8..48, cuff y 0..8, rows 1 cm apart

@@ -93,7 +93,7 @@ def _corner_updates(V: np.ndarray, FT: np.ndarray, D: np.ndarray) -> np.ndarray:
     dA = D[:, [1, 2, 0]]
     dB = D[:, [2, 0, 1]]
     aa = np.einsum("kcd,kcd->kc", a, a)
-    bb = np.einsum("kcd,kcd->kc", b, b)
+    bb = aa[:, [2, 0, 1]]  # |C -> B|^2 is |B -> C|^2, corner B's aa (bit for bit: squares)
     ab = np.einsum("kcd,kcd->kc", a, b)
     cand = np.minimum(dA + np.sqrt(aa), dB + np.sqrt(bb))
 

@@ -40,6 +40,7 @@ from ptailor.edits.registry import Param, register
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.method.deform import arap_deform
 from ptailor.model.garment import panel_labels
+from ptailor.model.structure import structure
 
 __all__ = [
     "FALLOFF_BY",
@@ -108,7 +109,11 @@ def loosen(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     if step.get("by") is not None:
         faces = region_faces(step.get("region") or "all", g, V3, state.panels)
         by = float(step["by"]) * (1.0 if step["op"] == "loosen" else -1.0)
-        V_new, sigma = offset_region(V3, g.F3, g.F2, state.panels, faces, by=by, up=options.up)
+        # the seam pairs the flatten after the edit takes from the same structure
+        pairs = structure(g, up=options.up, front=options.front).seam_halfedges
+        V_new, sigma = offset_region(
+            V3, g.F3, g.F2, state.panels, faces, by=by, up=options.up, pairs=pairs
+        )
         rec = {
             "op": step["op"],
             "by": float(step["by"]),

@@ -20,7 +20,7 @@ MASS_FLOOR_REL = 1e-9
 
 
 def panel_orientation(
-    F3: np.ndarray, F2: np.ndarray, plist: list[Panel]
+    F3: np.ndarray, F2: np.ndarray, plist: list[Panel], *, pairs: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray]:
     """Flips that orient the drape triangles of all panels consistently.
 
@@ -33,6 +33,9 @@ def panel_orientation(
     ----------
     F3, F2 : (m, 3) int arrays
     plist : list of Panel
+    pairs : (k, 2) int array, optional, keyword-only
+        :func:`ptailor.model.seams.seam_halfedges` of ``F3, F2`` when already known (the
+        garment's structure holds them); computed otherwise.
 
     Returns
     -------
@@ -43,7 +46,7 @@ def panel_orientation(
     """
     n_p = len(plist)
     fp = panel_labels(plist, len(F3))
-    pairs = seam_halfedges(F3, F2)
+    pairs = seam_halfedges(F3, F2) if pairs is None else pairs
     h3 = half_edges(F3)
     pa, pb = fp[pairs[:, 0] // 3], fp[pairs[:, 1] // 3]
     agree = np.where(h3[pairs[:, 0], 0] == h3[pairs[:, 1], 0], -1.0, 1.0)
@@ -67,7 +70,12 @@ def panel_orientation(
 
 
 def outward_normals(
-    V: np.ndarray, F3: np.ndarray, F2: np.ndarray, plist: list[Panel]
+    V: np.ndarray,
+    F3: np.ndarray,
+    F2: np.ndarray,
+    plist: list[Panel],
+    *,
+    pairs: np.ndarray | None = None,
 ) -> np.ndarray:
     """Outward, area-weighted unit vertex normals of a drape.
 
@@ -85,6 +93,8 @@ def outward_normals(
     V : (n, 3) float array
     F3, F2 : (m, 3) int arrays
     plist : list of Panel
+    pairs : (k, 2) int array, optional, keyword-only
+        The seam half-edge pairs of ``F3, F2`` when known (:func:`panel_orientation`).
 
     Returns
     -------
@@ -92,7 +102,7 @@ def outward_normals(
         Unit normals (the sum of the oriented face normals times twice the face areas,
         normalised); zero at vertices no triangle uses.
     """
-    sign, group = panel_orientation(F3, F2, plist)
+    sign, group = panel_orientation(F3, F2, plist, pairs=pairs)
     fp = panel_labels(plist, len(F3))
     a, b, c = V[F3[:, 0]], V[F3[:, 1]], V[F3[:, 2]]
     cross = triangle_normals(V, F3, unit=False)
@@ -161,6 +171,8 @@ def normal_smoother(
     solve = factor(_lower_system(W, mass, tau=tau), lower=True)  # sparse Cholesky, once
 
     def step(X: np.ndarray) -> np.ndarray:
+        if used.size == n:
+            return solve(mass[:, None] * X)
         out = X.copy()
         out[used] = solve(mass[:, None] * X[used])
         return out

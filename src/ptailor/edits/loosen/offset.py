@@ -159,6 +159,7 @@ def offset_region(
     *,
     by: float,
     up: tuple[float, float, float] = (0.0, 1.0, 0.0),
+    pairs: np.ndarray | None = None,
 ) -> tuple[np.ndarray, float]:
     """Offset a region along its smoothed outward normals.
 
@@ -200,6 +201,10 @@ def offset_region(
         Signed offset: positive outward (loosen), negative inward (tighten).
     up : (3,) float tuple, keyword-only
         The garment's up axis, for the error message.
+    pairs : (k, 2) int array, optional, keyword-only
+        :func:`ptailor.model.seams.seam_halfedges` of ``F3, F2`` when known (the garment's
+        structure holds them, and the flatten after the edit uses the same); computed
+        otherwise.
 
     Returns
     -------
@@ -222,7 +227,7 @@ def offset_region(
     moving = np.flatnonzero(w > 0.0)
     sigma = max(SMOOTH_BY * abs(by), SMOOTH_EDGES * h)
     step = normal_smoother(V, F3, tau=sigma * sigma / (2.0 * SMOOTH_STEPS))
-    N0 = outward_normals(V, F3, F2, plist)
+    N0 = outward_normals(V, F3, F2, plist, pairs=pairs)
     # region triangles that move, their panels and areas: the smoothed normals must still
     # follow each panel's surface (area-weighted mean cosine to the raw normals)
     live = (w[T] > 0.0).any(axis=1)
