@@ -125,6 +125,10 @@ def _blockwise(L: sp.csc_matrix, cholmod):
         block = sp.csc_matrix((C.data, local[C.indices], C.indptr), shape=(len(g), len(g)))
         parts.append((g, _cholmod(block, cholmod, taken)))
 
+    # a component of consecutive unknowns (each panel's, as the pattern numbers them) is a
+    # slice: its right-hand side a view, not a gathered copy
+    parts = [(_as_slice(g), part) for g, part in parts]
+
     def solve(b: np.ndarray) -> np.ndarray:
         rhs = np.asarray(b, dtype=float).reshape(len(b), -1)
         out = np.empty_like(rhs)
@@ -133,6 +137,13 @@ def _blockwise(L: sp.csc_matrix, cholmod):
         return out.reshape(np.shape(b))
 
     return solve
+
+
+def _as_slice(g: np.ndarray) -> slice | np.ndarray:
+    """``g`` (increasing indices) as a slice when they are consecutive, else ``g``."""
+    if len(g) and g[-1] - g[0] == len(g) - 1:
+        return slice(int(g[0]), int(g[-1]) + 1)
+    return g
 
 
 def _cvx(L: sp.csc_matrix):
