@@ -152,8 +152,9 @@ class _PanelIndex:
         inv = np.divide(1.0, r, out=np.zeros_like(r), where=ok)
         c = np.repeat(np.where(ok, dot * inv, 1.0), cnt)
         s = np.repeat(crs * inv, cnt)
-        d = np.hypot(c * a0 - s * a1 - b0, s * a0 + c * a1 - b1)
-        out[self.nonempty] = np.maximum.reduceat(d, start)
+        dx, dy = c * a0 - s * a1 - b0, s * a0 + c * a1 - b1
+        d = dx * dx + dy * dy  # squared: the square root of the maxima only
+        out[self.nonempty] = np.sqrt(np.maximum.reduceat(d, start))
         return out
 
 
