@@ -67,7 +67,9 @@ def _stretch(E2inv: np.ndarray, E3: np.ndarray) -> np.ndarray:
     """:func:`stretch_tensors` from the inverse pattern edge matrices (shared by the two
     drapes of a target)."""
     J = E3 @ E2inv
-    return sqrt_spd2(np.swapaxes(J, 1, 2) @ J)
+    # J^T J with J^T made contiguous: matmul's product of a transposed view is 2.4x slower
+    # (the same sums, bit for bit)
+    return sqrt_spd2(np.ascontiguousarray(np.swapaxes(J, 1, 2)) @ J)
 
 
 def intrinsic_targets(
