@@ -114,3 +114,17 @@ def test_blockwise_leaves_an_unsorted_matrix_as_it_was():
     b = np.arange(1.0, 5.0)
     np.testing.assert_allclose(factor(L, lower=True)(b), np.linalg.solve(A, b), rtol=1e-12)
     assert np.array_equal(L.indices, before[0]) and np.array_equal(L.data, before[1])
+
+
+def test_panel_sizes_are_the_bounding_box_diagonals():
+    from ptailor.method.stitch import _panel_sizes
+
+    rng = np.random.default_rng(11)
+    vlab = np.array([2, 0, -1, 2, 0, 0, 2, -1])  # panel 1 is empty
+    V = rng.normal(size=(8, 2))
+    V[vlab < 0] = 1e6  # unused vertices never count
+    got = _panel_sizes(V, vlab, 3)
+    for p in (0, 2):
+        box = np.ptp(V[vlab == p], axis=0)
+        assert got[p] == np.linalg.norm(box)
+    assert got[1] == np.inf  # no vertices: an infinite size, no step ever counts
