@@ -64,6 +64,14 @@ def central_vertices(V2: np.ndarray, vlab: np.ndarray, n_panels: int) -> np.ndar
     return used[order[first]]
 
 
+def _edge_lengths(V: np.ndarray, F: np.ndarray) -> np.ndarray:
+    """``(m, 3)`` lengths of the edges ``(F[:, k], F[:, k + 1])``: the squares summed by
+    coordinate (what ``norm(axis=2)`` sums in the same order, without its short-axis
+    reduction, 3x slower)."""
+    d = V[F[:, [1, 2, 0]]] - V[F]
+    return np.sqrt(d[..., 0] * d[..., 0] + d[..., 1] * d[..., 1] + d[..., 2] * d[..., 2])
+
+
 def panel_strain(
     V3: np.ndarray, V3_edit: np.ndarray, F3: np.ndarray, face_panel: np.ndarray, n_panels: int
 ) -> np.ndarray:
@@ -77,9 +85,7 @@ def panel_strain(
     face_panel : (m,) int array
     n_panels : int
     """
-    E = np.stack([F3, np.roll(F3, -1, axis=1)], axis=2)  # (m, 3, 2)
-    l0 = np.linalg.norm(V3[E[..., 1]] - V3[E[..., 0]], axis=2)
-    l1 = np.linalg.norm(V3_edit[E[..., 1]] - V3_edit[E[..., 0]], axis=2)
+    l0, l1 = _edge_lengths(V3, F3), _edge_lengths(V3_edit, F3)
     strain = (np.abs(l1 - l0) / np.maximum(l0, 1e-300)).max(axis=1)
     out = np.zeros(n_panels)
     np.maximum.at(out, face_panel, strain)

@@ -60,8 +60,16 @@ def stretch_tensors(E2: np.ndarray, E3: np.ndarray) -> np.ndarray:
     -------
     (m, 2, 2) float array
     """
-    J = E3 @ inv2(E2)
-    return sqrt_spd2(np.swapaxes(J, 1, 2) @ J)
+    return _stretch(inv2(E2), E3)
+
+
+def _stretch(E2inv: np.ndarray, E3: np.ndarray) -> np.ndarray:
+    """:func:`stretch_tensors` from the inverse pattern edge matrices (shared by the two
+    drapes of a target)."""
+    J = E3 @ E2inv
+    # J^T J with J^T made contiguous: matmul's product of a transposed view is 2.4x slower
+    # (the same sums, bit for bit)
+    return sqrt_spd2(np.ascontiguousarray(np.swapaxes(J, 1, 2)) @ J)
 
 
 def intrinsic_targets(
@@ -96,8 +104,9 @@ def intrinsic_targets(
     E2 = edge_matrices(V2, F2)
     E3e = edge_matrices(V3_edit, F3)
     if intrinsic == "polar":
-        U0 = stretch_tensors(E2, edge_matrices(V3, F3))
-        U1 = stretch_tensors(E2, E3e)
+        E2inv = inv2(E2)
+        U0 = _stretch(E2inv, edge_matrices(V3, F3))
+        U1 = _stretch(E2inv, E3e)
         return inv2(U0) @ U1 @ E2
     te = local_frames(E3e)
     if intrinsic == "paper":

@@ -121,8 +121,10 @@ def _blockwise(L: sp.csc_matrix, cholmod):
         local[g] = np.arange(len(g), dtype=np.int32)
     parts, taken = [], []
     for g in groups:  # a component's columns hold only its rows (increasing order kept)
-        C = L[:, g]
-        block = sp.csc_matrix((C.data, local[C.indices], C.indptr), shape=(len(g), len(g)))
+        # a component of consecutive unknowns (each panel's, as the pattern numbers them)
+        # is a slice: its columns cut from L's arrays, its right-hand sides views
+        g = _as_slice(g)
+        block = _column_block(L, g, local)
         parts.append((g, _cholmod(block, cholmod, taken)))
 
     def solve(b: np.ndarray) -> np.ndarray:
@@ -133,6 +135,29 @@ def _blockwise(L: sp.csc_matrix, cholmod):
         return out.reshape(np.shape(b))
 
     return solve
+
+
+def _column_block(L: sp.csc_matrix, g: slice | np.ndarray, local: np.ndarray) -> sp.csc_matrix:
+    """The columns ``g`` of ``L`` over their own rows (``local``: each row's position in
+    its component): for a slice, cut from ``L``'s arrays (the same entries in the same
+    order as indexing gives, without its copies; views: only of sorted columns, which
+    the factorisation never sorts in place)."""
+    if isinstance(g, slice) and L.has_sorted_indices:
+        a, b = L.indptr[g.start], L.indptr[g.stop]
+        k = g.stop - g.start
+        ptr = L.indptr[g.start : g.stop + 1] - a
+        return sp.csc_matrix((L.data[a:b], L.indices[a:b] - g.start, ptr), shape=(k, k))
+    if isinstance(g, slice):
+        g = np.arange(g.start, g.stop)
+    C = L[:, g]
+    return sp.csc_matrix((C.data, local[C.indices], C.indptr), shape=(len(g), len(g)))
+
+
+def _as_slice(g: np.ndarray) -> slice | np.ndarray:
+    """``g`` (increasing indices) as a slice when they are consecutive, else ``g``."""
+    if len(g) and g[-1] - g[0] == len(g) - 1:
+        return slice(int(g[0]), int(g[-1]) + 1)
+    return g
 
 
 def _cvx(L: sp.csc_matrix):

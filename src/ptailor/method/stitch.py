@@ -15,6 +15,7 @@ The matrix never changes: it is factored once and each iteration back-substitute
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
@@ -81,11 +82,16 @@ def _panel_sizes(V2: np.ndarray, vlab: np.ndarray, n_panels: int) -> np.ndarray:
     """Bounding-box diagonal per panel, for a scale-free convergence test."""
     size = np.ones(max(n_panels, 1))
     if n_panels:
-        used = vlab >= 0
+        used = np.flatnonzero(vlab >= 0)
+        order = used[np.argsort(vlab[used], kind="stable")]  # by panel: one segment each
+        cnt = np.bincount(vlab[order], minlength=n_panels)
+        has = cnt > 0
+        start = np.concatenate([[0], np.cumsum(cnt[has])[:-1]]).astype(np.intp)
         lo = np.full((n_panels, 2), np.inf)
         hi = np.full((n_panels, 2), -np.inf)
-        np.minimum.at(lo, vlab[used], V2[used])
-        np.maximum.at(hi, vlab[used], V2[used])
+        if len(order):  # extremes are exact in any order: the same as ufunc.at's, 3x faster
+            lo[has] = np.minimum.reduceat(V2[order], start, axis=0)
+            hi[has] = np.maximum.reduceat(V2[order], start, axis=0)
         size = np.maximum(np.linalg.norm(hi - lo, axis=1), 1e-300)
     return size
 
@@ -126,30 +132,34 @@ class _PanelIndex:
         self.order = used[np.argsort(vlab[used], kind="stable")]
         self.lab = vlab[self.order]
         cnt = np.bincount(self.lab, minlength=n_panels)
-        self.cnt = np.maximum(cnt, 1).astype(float)
-        self.start = np.concatenate([[0], np.cumsum(cnt)[:-1]])
         self.nonempty = cnt > 0
+        self.count = cnt[self.nonempty]  # members of each non-empty panel
+        self.start = np.concatenate([[0], np.cumsum(self.count)[:-1]]).astype(np.intp)
         self.n_panels = n_panels
 
     def rigid_misfit(self, P: np.ndarray, Q: np.ndarray) -> np.ndarray:
         """Per panel, the largest distance from ``Q`` of ``P`` moved by its panel's best
-        rotation and translation onto ``Q``, ``(n_panels,)`` (0 for an empty panel)."""
-        lab, k = self.lab, self.n_panels
-        if not len(lab):
-            return np.zeros(k)
-        p, q = P[self.order], Q[self.order]
-        cp = np.stack([np.bincount(lab, p[:, c], k) for c in range(2)], 1) / self.cnt[:, None]
-        cq = np.stack([np.bincount(lab, q[:, c], k) for c in range(2)], 1) / self.cnt[:, None]
-        a, b = p - cp[lab], q - cq[lab]
-        dot = np.bincount(lab, a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1], k)
-        crs = np.bincount(lab, a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], k)
+        rotation and translation onto ``Q``, ``(n_panels,)`` (0 for an empty panel).
+
+        The members are sorted by panel: each panel's sums are one segment's
+        (``reduceat``), its centroid and rotation spread back by ``repeat``."""
+        k, start, cnt = self.n_panels, self.start, self.count
+        out = np.zeros(k)
+        if not len(self.lab):
+            return out
+        pq = np.concatenate((P, Q), axis=1)[self.order]  # (N, 4): p, q per member
+        pq -= np.repeat(np.add.reduceat(pq, start, axis=0) / cnt[:, None], cnt, axis=0)
+        a0, a1, b0, b1 = pq.T
+        dot = np.add.reduceat(a0 * b0 + a1 * b1, start)
+        crs = np.add.reduceat(a0 * b1 - a1 * b0, start)
         r = np.hypot(dot, crs)
         ok = r > 0
         inv = np.divide(1.0, r, out=np.zeros_like(r), where=ok)
-        c, s = np.where(ok, dot * inv, 1.0)[lab], (crs * inv)[lab]
-        d = np.hypot(c * a[:, 0] - s * a[:, 1] - b[:, 0], s * a[:, 0] + c * a[:, 1] - b[:, 1])
-        out = np.zeros(k)
-        out[self.nonempty] = np.maximum.reduceat(d, self.start[self.nonempty])
+        c = np.repeat(np.where(ok, dot * inv, 1.0), cnt)
+        s = np.repeat(crs * inv, cnt)
+        dx, dy = c * a0 - s * a1 - b0, s * a0 + c * a1 - b1
+        d = dx * dx + dy * dy  # squared: the square root of the maxima only
+        out[self.nonempty] = np.sqrt(np.maximum.reduceat(d, start))
         return out
 
 
@@ -210,6 +220,11 @@ class _Problem:
                 B = sp.diags(np.sqrt(stiff[self.vlab[B.indices[B.indptr[:-1]] % self.n]])) @ B
         return None if B is None or B.shape[0] == 0 else B
 
+    @cached_property
+    def _Dt(self) -> sp.csc_matrix:
+        """``D^T``, a view of ``D``'s arrays (the transpose object built once, not per step)."""
+        return self.D.T
+
     def solve(self, rhs: np.ndarray) -> np.ndarray:
         return self.solve_many(rhs[:, None])[:, 0]
 
@@ -224,7 +239,7 @@ class _Problem:
         y = J[:m, 1] - J[m:, 0]
         r = np.hypot(x, y)
         ok = r > 0
-        inv = np.divide(1.0, r, out=np.zeros_like(r), where=ok)
+        inv = 1.0 / np.where(ok, r, np.inf)  # 0 where r is 0 (or NaN)
         cos = np.where(ok, x * inv, 1.0)
         sin = y * inv
         self._rot = (X, (J, cos, sin))
@@ -233,8 +248,18 @@ class _Problem:
     def energy(self, X: np.ndarray) -> float:
         J, cos, sin = self.rotations(X)
         m, pins = self.m, self.pins
-        d = (J[:m, 0] - cos) ** 2 + (J[:m, 1] - sin) ** 2
-        d += (J[m:, 0] + sin) ** 2 + (J[m:, 1] - cos) ** 2
+        # |J - R|_F^2 per triangle, (a^2 + b^2) + (c^2 + d^2) in place (4 temporaries)
+        d = J[:m, 0] - cos
+        d *= d
+        t = J[:m, 1] - sin
+        t *= t
+        d += t
+        t = J[m:, 0] + sin
+        t *= t
+        u = J[m:, 1] - cos
+        u *= u
+        t += u
+        d += t
         e = float(self.area @ d)
         e += float((self.pin_w[pins, None] * (X[pins] - self.V2[pins]) ** 2).sum())
         if self.B is not None:
@@ -247,7 +272,7 @@ class _Problem:
         W = np.empty((2 * self.m, 2))  # the rotations stacked like the Jacobians
         W[: self.m, 0], W[: self.m, 1] = ac, as_
         W[self.m :, 0], W[self.m :, 1] = -as_, ac
-        rhs = self.D.T @ W + self.pin_rhs
+        rhs = self._Dt @ W + self.pin_rhs
         y = self.solve(rhs.T.ravel())
         if self.seam_block is not None and X_lin is not None:
             y = self._constrained(y, X_lin)
