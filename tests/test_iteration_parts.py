@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from ptailor.geometry.triangles import edge_lengths
 from ptailor.method.anderson import Anderson
-from ptailor.method.flatten import _edge_lengths, panel_strain
+from ptailor.method.flatten import panel_strain
 from ptailor.method.linear import factor
 from ptailor.method.stitch import _PanelIndex
 
@@ -80,7 +81,10 @@ def test_edge_lengths_are_the_norms_bit_for_bit():
     V = rng.normal(size=(40, 3)) * 10.0 ** rng.integers(-3, 4, (40, 1))
     F = rng.integers(0, 40, (60, 3))
     E = np.stack([F, np.roll(F, -1, axis=1)], axis=2)
-    assert np.array_equal(_edge_lengths(V, F), np.linalg.norm(V[E[..., 1]] - V[E[..., 0]], axis=2))
+    assert np.array_equal(edge_lengths(V, F), np.linalg.norm(V[E[..., 1]] - V[E[..., 0]], axis=2))
+    V2 = V[:, :2]  # and in the plane
+    ref2 = np.linalg.norm(V2[E[..., 1]] - V2[E[..., 0]], axis=2)
+    assert np.array_equal(edge_lengths(V2, F), ref2)
     strain = panel_strain(V, 1.5 * V, F, np.arange(60) % 2, 3)
     np.testing.assert_allclose(strain, [0.5, 0.5, 0.0])
 

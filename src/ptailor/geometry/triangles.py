@@ -46,7 +46,13 @@ def edge_lengths(V: np.ndarray, F: np.ndarray) -> np.ndarray:
     >>> edge_lengths(np.array([[0.0, 0], [3, 0], [0, 4]]), np.array([[0, 1, 2]]))
     array([[3., 5., 4.]])
     """
-    return np.linalg.norm(V[np.roll(F, -1, axis=1)] - V[F], axis=2)
+    d = V[F[:, [1, 2, 0]]] - V[F]
+    # the squares summed coordinate by coordinate: what norm(axis=2) sums, in the same
+    # order (bit for bit), without its slow reduction over a short axis (3x the time)
+    sq = d[..., 0] * d[..., 0]
+    for k in range(1, d.shape[2]):
+        sq += d[..., k] * d[..., k]
+    return np.sqrt(sq)
 
 
 def signed_areas_2d(V2: np.ndarray, F2: np.ndarray) -> np.ndarray:

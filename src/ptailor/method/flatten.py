@@ -9,7 +9,7 @@ import numpy as np
 
 from ptailor import tolerances as tol
 from ptailor.geometry.rotations import rigid_fit_groups
-from ptailor.geometry.triangles import edge_matrices
+from ptailor.geometry.triangles import edge_lengths, edge_matrices
 from ptailor.method.ease import seam_ease
 from ptailor.method.intrinsic import Intrinsic, intrinsic_targets
 from ptailor.method.stitch import StitchInfo, stitch
@@ -64,14 +64,6 @@ def central_vertices(V2: np.ndarray, vlab: np.ndarray, n_panels: int) -> np.ndar
     return used[order[first]]
 
 
-def _edge_lengths(V: np.ndarray, F: np.ndarray) -> np.ndarray:
-    """``(m, 3)`` lengths of the edges ``(F[:, k], F[:, k + 1])``: the squares summed by
-    coordinate (what ``norm(axis=2)`` sums in the same order, without its short-axis
-    reduction, 3x slower)."""
-    d = V[F[:, [1, 2, 0]]] - V[F]
-    return np.sqrt(d[..., 0] * d[..., 0] + d[..., 1] * d[..., 1] + d[..., 2] * d[..., 2])
-
-
 def panel_strain(
     V3: np.ndarray, V3_edit: np.ndarray, F3: np.ndarray, face_panel: np.ndarray, n_panels: int
 ) -> np.ndarray:
@@ -85,7 +77,7 @@ def panel_strain(
     face_panel : (m,) int array
     n_panels : int
     """
-    l0, l1 = _edge_lengths(V3, F3), _edge_lengths(V3_edit, F3)
+    l0, l1 = edge_lengths(V3, F3), edge_lengths(V3_edit, F3)
     strain = (np.abs(l1 - l0) / np.maximum(l0, 1e-300)).max(axis=1)
     out = np.zeros(n_panels)
     np.maximum.at(out, face_panel, strain)

@@ -8,7 +8,7 @@ from collections.abc import Callable
 import numpy as np
 import scipy.sparse as sp
 
-from ptailor.edits.region import region_axis
+from ptailor.edits.region import region_axis, region_centroid
 from ptailor.geometry.triangles import triangle_areas, triangle_normals
 from ptailor.method.deform import cotangent_weights
 from ptailor.method.linear import factor
@@ -105,12 +105,10 @@ def outward_normals(
     sign, group = panel_orientation(F3, F2, plist, pairs=pairs)
     fp = panel_labels(plist, len(F3))
     a, b, c = V[F3[:, 0]], V[F3[:, 1]], V[F3[:, 2]]
-    cross = triangle_normals(V, F3, unit=False)
-    ax = region_axis(V, F3, np.arange(len(F3)))
-    mid = (a + b + c) / 3.0
-    twice_area = np.linalg.norm(cross, axis=1)  # region_centroid's, with this cross product
-    r = mid - (mid * twice_area[:, None]).sum(axis=0) / max(float(twice_area.sum()), 1e-300)
-    cross *= sign[fp][:, None]
+    cross = triangle_normals(V, F3, unit=False) * sign[fp][:, None]
+    every = np.arange(len(F3))
+    ax = region_axis(V, F3, every)
+    r = (a + b + c) / 3.0 - region_centroid(V, F3, every)
     r -= (r @ ax)[:, None] * ax
     fg = group[fp]
     outward = np.bincount(fg, weights=np.einsum("ij,ij->i", cross, r), minlength=group.max() + 1)
@@ -181,19 +179,17 @@ def normal_smoother(
 
 
 def _lower_system(W: sp.csr_matrix, mass: np.ndarray, *, tau: float) -> sp.csc_matrix:
-    """The lower triangle of ``diag(mass) + tau (diag(W 1) - W)``, CSC with sorted indices.
+    """The lower triangle of ``diag(mass) + tau (diag(W 1) - W)``, CSC.
 
     Its pattern is the diagonal and the mesh's edges whatever the values (an edge whose
-    cotangents cancel stays an explicit zero): matrices over the same triangles share one
-    symbolic analysis (a mirrored step's two applications). Built straight from ``W``'s
-    rows (symmetric, sorted: row ``i``'s entries right of the diagonal are column ``i``
-    of the lower triangle), without the conversions and the triangle extraction of a
-    general assembly.
+    cotangents cancel stays an explicit zero: one assembly from triplets, where sparse
+    arithmetic would drop it), so matrices over the same triangles share one symbolic
+    analysis (a mirrored step's two applications).
 
     Parameters
     ----------
     W : (k, k) scipy.sparse.csr_matrix
-        Symmetric cotangent weights with sorted indices and no diagonal
+        Symmetric cotangent weights with no diagonal
         (:func:`ptailor.method.deform.cotangent_weights`).
     mass : (k,) float array
     tau : float, keyword-only
@@ -203,22 +199,12 @@ def _lower_system(W: sp.csr_matrix, mass: np.ndarray, *, tau: float) -> sp.csc_m
     (k, k) scipy.sparse.csc_matrix
     """
     k = W.shape[0]
-    W = sp.csr_matrix(W)
-    W.sort_indices()
-    rows = np.repeat(np.arange(k), np.diff(W.indptr))
-    right = W.indices > rows
-    indptr = np.zeros(k + 1, dtype=np.int64)
-    np.cumsum(np.bincount(rows[right], minlength=k) + 1, out=indptr[1:])
-    first = indptr[:-1]  # each column's diagonal entry comes first
-    off = np.ones(int(indptr[-1]), dtype=bool)
-    off[first] = False
-    data = np.empty(off.size)
-    indices = np.empty(off.size, dtype=np.int64)
-    data[first] = mass + tau * np.bincount(rows, weights=W.data, minlength=k)  # in row order
-    indices[first] = np.arange(k)
-    data[off] = -(tau * W.data[right])
-    indices[off] = W.indices[right]
-    return sp.csc_matrix((data, indices, indptr), shape=(k, k))
+    W = W.sorted_indices().tocoo()  # each row summed in column order
+    Wl = sp.tril(W, k=-1)
+    diag = mass + tau * np.bincount(W.row, weights=W.data, minlength=k)
+    rows = np.concatenate([np.arange(k), Wl.row])
+    cols = np.concatenate([np.arange(k), Wl.col])
+    return sp.csc_matrix((np.concatenate([diag, -tau * Wl.data]), (rows, cols)), shape=(k, k))
 
 
 def unit_rows(X: np.ndarray) -> np.ndarray:
