@@ -15,10 +15,8 @@ W_ASAP = 1000.0
 KEPT_STRAIN = 1e-3
 #: ... by this factor on their whole energy: the edited panels absorb the seams' cost.
 KEPT_PANEL_WEIGHT = 100.0
-#: Seam constraints switch on when the free stitching's last step falls below this
-#: (relative to the panel size) ...
-SEAM_START_STEP = 1e-4
-#: ... and only if a seam edge then misses its ratio by more than this (relative).
+#: Seam constraints switch on at the first iteration where a seam edge misses its ratio by
+#: more than this (relative).
 SEAM_EXACT_REL = 1e-9
 #: A seam edge whose two sides miss their target ratio by more than this (relative) after
 #: the solve is reported as a warning.

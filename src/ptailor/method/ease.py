@@ -91,13 +91,71 @@ class SeamEase:
             vals = np.concatenate([d[:, 0], d[:, 1], -d[:, 0], -d[:, 1]])
             return rows, cols, vals
 
-        norm = 1.0 / np.sqrt(1.0 + self.ratio**2)
-        ra, ca, va = side(self.ea, -(self.ratio * norm)[self.row])
-        rb, cb, vb = side(self.eb, norm[self.row])
+        coef_a, coef_b = self._coefficients()
+        ra, ca, va = side(self.ea, coef_a)
+        rb, cb, vb = side(self.eb, coef_b)
         return sp.csr_matrix(
             (np.concatenate([va, vb]), (np.concatenate([ra, rb]), np.concatenate([ca, cb]))),
             shape=(self.n_rows, 2 * n),
         )
+
+    def _coefficients(self) -> tuple[np.ndarray, np.ndarray]:
+        """Each edge's coefficient in its row: ``-r / sqrt(1 + r^2)`` on side a,
+        ``1 / sqrt(1 + r^2)`` on side b, two ``(s,)`` float arrays."""
+        norm = 1.0 / np.sqrt(1.0 + self.ratio**2)
+        return -(self.ratio * norm)[self.row], norm[self.row]
+
+    def curvature(self, X: np.ndarray, lam: np.ndarray) -> tuple[sp.csr_matrix, np.ndarray]:
+        """The constraints' curvature at ``X`` under multipliers ``lam``, projected.
+
+        A side's length ``|e|`` is linear along its direction ``d`` but curved across it:
+        its Hessian in the edge vector is ``n n^T / |e|`` with ``n`` the unit normal of the
+        edge. Row ``g`` weighted by its multiplier ``lam_g`` adds, for each of its edges
+        with coefficient ``c`` (see :meth:`rows`), ``lam_g c n n^T / |e|`` to the Hessian of
+        the Lagrangian. Kept where it is positive (the side the panel pushes against the
+        constraint: without it, that side's edges can turn, zigzag, and keep their
+        projected length while growing their true length), dropped where negative (the
+        Hessian projected onto the positive semi-definite cone, as projected Newton does).
+
+        The global step adds ``1/2 sum_e kappa_e (n_e . (e(x) - e(X)))^2``: zero at
+        ``X``, so a fixed point of the iteration is unchanged by it.
+
+        Parameters
+        ----------
+        X : (n, 2) float array
+            Where the constraints are linearised.
+        lam : (k,) float array
+            Multipliers of the rows (``A x + C^T lam = b``).
+
+        Returns
+        -------
+        P : (p, 2n) sparse matrix
+            One row per kept edge over unknowns ``[x; y]``: ``n_e . (x_1 - x_0)``.
+        kappa : (p,) float array
+            Each row's curvature weight, ``> 0``.
+        """
+        n = len(X)
+        ca, cb = self._coefficients()
+        E = np.concatenate([self.ea, self.eb])
+        c = np.concatenate([ca, cb]) * np.concatenate([lam[self.row], lam[self.row]])
+        e = X[E[:, 1]] - X[E[:, 0]]
+        length = np.linalg.norm(e, axis=1)
+        keep = (c > 0) & (length > 0)
+        E, e, length = E[keep], e[keep], length[keep]
+        kappa = c[keep] / length
+        nx, ny = -e[:, 1] / length, e[:, 0] / length
+        p = len(E)
+        P = sp.csr_matrix(
+            (
+                np.concatenate([nx, ny, -nx, -ny]),
+                (
+                    np.tile(np.arange(p), 4),
+                    np.concatenate([E[:, 1], E[:, 1] + n, E[:, 0], E[:, 0] + n]),
+                ),
+            ),
+            shape=(p, 2 * n),
+        )
+        return P, kappa
 
 
 def seam_ease(

@@ -270,14 +270,16 @@ class SeamBlock:
     U: np.ndarray
     blocks: list[tuple[np.ndarray, np.ndarray]]
 
-    def schur(self, C: sp.spmatrix) -> np.ndarray:
-        """``C G C^T`` for constraint rows ``C (r, 2q)`` over ``U``, ``(r, r)`` dense."""
+    def schur(self, C: sp.spmatrix, D: sp.spmatrix | None = None) -> np.ndarray:
+        """``C G D^T`` (default ``D = C``) for rows ``C (r, 2q)`` and ``D (t, 2q)`` over
+        ``U``, ``(r, t)`` dense."""
         C = sp.csc_matrix(C)
-        M = np.zeros((C.shape[0], C.shape[0]))
+        D = C if D is None else sp.csc_matrix(D)
+        M = np.zeros((C.shape[0], D.shape[0]))
         for idx, G in self.blocks:
-            Cb = C[:, idx]
-            if Cb.nnz:
-                M += Cb @ (Cb @ G).T
+            Cb, Db = C[:, idx], D[:, idx]
+            if Cb.nnz and Db.nnz:
+                M += Cb @ (Db @ G).T  # G is symmetric
         return M
 
 

@@ -203,8 +203,8 @@ class _Problem:
         # the seam block, if the seams switch on, factors the matrix once more: assembled
         # again then rather than held through the iterations (15 MB at 300k triangles)
         self._F2, self._targets = F2, targets
-        # the seam constraints switch on once the free iterations have settled and only if
-        # they miss a seam (an identity edit or a uniform scale never pays for them)
+        # the seam constraints switch on at the first iteration that misses a seam (an
+        # identity edit or a uniform scale never pays for them)
         self.seam_block: SeamBlock | None = None
         self.pin_rhs = pin_w[:, None] * V2
         self.size = _panel_sizes(V2, vlab, n_panels)
@@ -279,15 +279,42 @@ class _Problem:
         return y.reshape(2, self.n).T
 
     def _constrained(self, y: np.ndarray, X_lin: np.ndarray) -> np.ndarray:
-        """Project a global step onto the seam constraints linearised at ``X_lin``."""
-        C = self.ease.rows(X_lin)
-        M = self.seam_block.schur(C[:, self.seam_block.U])
-        lam = solve_spd(M, C @ y)
-        if lam is not None:
-            y_c = y - self.solve(C.T @ lam)
-            if np.all(np.isfinite(y_c)):
-                y = y_c  # else the constraints are skipped this step (reported)
-        return y
+        """The global step ``y = A^-1 b`` under the seam constraints linearised at
+        ``X_lin``, a sequential-quadratic-programming step.
+
+        First the multipliers of the plain projection, ``lam = (C S C^T)^-1 C y`` (``S``
+        the seam block of ``A^-1``). Then the step with the constraints' curvature under
+        those multipliers (:meth:`SeamEase.curvature`: ``1/2 sum kappa (P (x - X_lin))^2``
+        added to the energy) and the constraints, by Woodbury on the seam block: with the
+        rows ``Q = [P; C]``,
+
+            (Q S Q^T + diag(1/kappa, 0)) nu = Q y - [P X_lin; 0],   x = y - A^-1 Q^T nu
+
+        one back-substitution and two small dense solves. Without the curvature the
+        linearised constraints let a compressed seam side zigzag (its edges turn and keep
+        their projected length), and the iterations crawl on fine meshes: 100+ iterations
+        at 82k triangles where 25 do with it."""
+        blk, ease = self.seam_block, self.ease
+        C = ease.rows(X_lin)
+        CU = C[:, blk.U]
+        M_cc = blk.schur(CU)
+        lam = solve_spd(M_cc, C @ y)
+        if lam is None:
+            return y  # the constraints are skipped this step (reported)
+        P, kappa = ease.curvature(X_lin, lam)
+        if len(kappa):
+            PU = P[:, blk.U]
+            M_pc = blk.schur(PU, CU)
+            M = np.block([[blk.schur(PU), M_pc], [M_pc.T, M_cc]])
+            M[np.arange(len(kappa)), np.arange(len(kappa))] += 1.0 / kappa
+            r = np.concatenate([P @ y - P @ X_lin.T.ravel(), C @ y])
+            nu = solve_spd(M, r)
+            if nu is not None:
+                y_c = y - self.solve(P.T @ nu[: len(kappa)] + C.T @ nu[len(kappa) :])
+                if np.all(np.isfinite(y_c)):
+                    return y_c
+        y_c = y - self.solve(C.T @ lam)  # no curvature (none, or its solve failed)
+        return y_c if np.all(np.isfinite(y_c)) else y
 
     def step(self, X: np.ndarray) -> np.ndarray:
         _, cos, sin = self.rotations(X)
@@ -374,13 +401,11 @@ def _iterate(
         hist.append(float(s.res.max(initial=0.0)))
         stall = _stalls(hist[since:])
         done = not len(s.res) or s.res.max() <= step_tol
-        settled = done or stall or s.res.max() <= tol.SEAM_START_STEP or it > max_iter // 2
         if stall and pb.seams_settled(s.GX):
             stalled = True  # a long run that no longer improves: stop (deterministically)
             break
-        if stall:
-            since = len(hist)  # the seams switch on below; give them their own window
-        if settled and pb.seams_pending(s.GX):
+        if pb.seams_pending(s.GX):  # from the first iteration that misses a seam
+            since = len(hist)  # the constrained iterations get their own stall window
             pb.seams_on()
             acc.reset()
             s.plain()
@@ -437,10 +462,11 @@ def stitch(
         Outline vertices left free even on those panels.
     ease : SeamEase, optional
         Seam-length constraints (:func:`ptailor.method.ease.seam_ease`), enforced exactly
-        with Lagrange multipliers: each global step solves the KKT system through a Schur
-        complement on the one factorisation. They switch on once the free iterations
-        settle (last step below ``tol.SEAM_START_STEP``, or half of ``max_iter``) and
-        only when a seam misses its ratio by more than ``tol.SEAM_EXACT_REL``.
+        with Lagrange multipliers and their curvature: each global step is a
+        sequential-quadratic-programming step solved through a Schur complement on the one
+        factorisation (:meth:`_Problem._constrained`). They switch on at the first
+        iteration where a seam misses its ratio by more than ``tol.SEAM_EXACT_REL`` (an
+        identity edit or a uniform scale never pays for them).
     panel_weight : (n_panels,) float array, optional
         Each panel's whole energy (ARAP, pin, as-similar-as-possible) is scaled by its
         weight. A panel alone comes out the same; where seam constraints tie panels, a
