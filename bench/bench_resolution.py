@@ -73,12 +73,16 @@ def recipe(edit: str, names: dict, *, symmetric: bool) -> str:
     if edit == "loosen":
         step = f"{{op: loosen, region: {{panels: {names['torso']}}}, by: 2, symmetric: {sym}}}"
     elif edit == "sleeve":
-        step = (f"{{op: scale, region: {{panels: {names['sleeve']}}}, direction: around, "
-                f"axis: auto, factor: 1.1, symmetric: {sym}}}")
+        step = (
+            f"{{op: scale, region: {{panels: {names['sleeve']}}}, direction: around, "
+            f"axis: auto, factor: 1.1, symmetric: {sym}}}"
+        )
     else:
         a, part = names["gather"]
-        step = (f"{{op: scale_seam, seam: [{a}, {part}], part: {part}, direction: around, "
-                f"factor: 1.2, symmetric: {sym}}}")
+        step = (
+            f"{{op: scale_seam, seam: [{a}, {part}], part: {part}, direction: around, "
+            f"factor: 1.2, symmetric: {sym}}}"
+        )
     return f"units: cm\nsteps:\n  - {step}\n"  # fmt: skip
 
 
@@ -86,12 +90,11 @@ def worst_seam(report: dict, out: Path) -> tuple[float, float]:
     """The largest ``|mismatch|`` of the report's seams (cm), and the largest difference
     between the report's seam lengths after and those of ``garment.obj``'s ``vt`` (cm): what
     the report claims, and whether a reader of the written garment sees the same."""
-    from ptailor.formats.garment import load_garment
     from ptailor.model.garment import panel_labels, panels
     from ptailor.model.seams import seams
 
     worst = max((abs(s["mismatch"]) for s in report.get("seams", [])), default=0.0)
-    g = load_garment(out / "garment.obj", pattern_units="cm", drape_units="cm").garment
+    g = written_garment(out / "garment.obj")
     plist = panels(g)
     found = seams(g.F3, g.F2, panel_labels(plist, len(g.F2)))
     written = sorted(sorted(s.lengths(g.V2)) for s in found)
@@ -117,12 +120,23 @@ def run_case(src: Path, rec: Path, out: Path, units: tuple[str, str], *, lean: b
     return {"wall_s": wall, "cpu_s": cpu, "rss_mb": rss, "report": report}
 
 
-def written_pattern(path: Path) -> tuple[np.ndarray, int]:
-    """A written garment's pattern ``vt`` and its number of triangles."""
-    from ptailor.formats.obj import read_obj
+def written_garment(path: Path):
+    """A written ``garment.obj`` read in the units its header states."""
+    import re
 
-    m = read_obj(path)
-    return m.vt, len(m.fv)
+    from ptailor.formats.garment import load_garment
+
+    with path.open() as fh:
+        head = fh.readline() + fh.readline()
+    m = re.search(r"v: ([0-9.eE+-]+) cm per unit; vt: ([0-9.eE+-]+) cm per unit", head)
+    pu, du = (f"{m.group(2)}cm", f"{m.group(1)}cm") if m else ("cm", "cm")
+    return load_garment(path, pattern_units=pu, drape_units=du).garment
+
+
+def written_pattern(path: Path) -> tuple[np.ndarray, int]:
+    """A written garment's pattern (cm) and its number of triangles."""
+    g = written_garment(path)
+    return g.V2, len(g.F2)
 
 
 def libigl_case(src: Path, out: Path, units: tuple[str, str]) -> dict:
@@ -132,7 +146,7 @@ def libigl_case(src: Path, out: Path, units: tuple[str, str]) -> dict:
     from ptailor.model.garment import panels, vertex_labels
 
     g = load_garment(src, pattern_units=units[0], drape_units=units[1]).garment
-    e = load_garment(out / "garment.obj", pattern_units="cm", drape_units="cm").garment
+    e = written_garment(out / "garment.obj")
     plist = panels(g)
     pins = central_vertices(g.V2, vertex_labels(plist, len(g.V2)), len(plist))
     r = libigl_arap(e.V3, g.F3, g.V2, g.F2, pins, 1)
@@ -140,7 +154,7 @@ def libigl_case(src: Path, out: Path, units: tuple[str, str]) -> dict:
     return r
 
 
-def main() -> None:  # noqa: C901 - a benchmark's loop over its cases
+def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--garments", default=",".join(GARMENTS))
     ap.add_argument("--levels", default="0,1,2")
@@ -183,8 +197,12 @@ def main() -> None:  # noqa: C901 - a benchmark's loop over its cases
                         full = None
                         if a.full_adjust and edit == a.edits.split(",")[0] and not sym:
                             f = run_case(src, rec, tmp / "full", (pu, du), lean=False)
-                            full = {"wall_s": f["wall_s"], "cpu_s": f["cpu_s"],
-                                    "rss_mb": f["rss_mb"], "timing_s": f["report"]["timing_s"]}
+                            full = {
+                                "wall_s": f["wall_s"],
+                                "cpu_s": f["cpu_s"],
+                                "rss_mb": f["rss_mb"],
+                                "timing_s": f["report"]["timing_s"],
+                            }
                         sol = rep["solver"]
                         row = {
                             "garment": gname, "x": 4**lev, "edit": key,

@@ -22,9 +22,7 @@ from pathlib import Path
 import numpy as np
 
 
-def midpoint_subdivision(
-    V: np.ndarray, F: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def midpoint_subdivision(V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """One level of midpoint subdivision of one mesh.
 
     Parameters

@@ -32,31 +32,43 @@ class Anderson:
     _gram: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     _f: np.ndarray | None = None
     _g: np.ndarray | None = None
+    _DF: np.ndarray | None = None  # (m, N): row j the j-th residual difference (ring buffer)
+    _DG: np.ndarray | None = None  # (m, N): the image differences, same rows
+    _slot: list[int] = field(default_factory=list)  # buffer row of each kept difference
 
     def reset(self) -> None:
         """Forget the history (after a rejected step)."""
         self._df.clear()
         self._dg.clear()
+        self._slot.clear()
         self._gram = np.zeros((0, 0))
         self._f = self._g = None
 
     def _record(self, f: np.ndarray, gx: np.ndarray) -> None:
         """Append the differences to the last residual and image; drop the oldest."""
         if self._f is not None:
-            df, dg = f - self._f, gx - self._g
+            if self._DF is None or self._DF.shape[1] != len(f):
+                self._DF = np.empty((self.m, len(f)))
+                self._DG = np.empty((self.m, len(f)))
             H = self._gram
-            if len(self._df) == self.m:
+            slot = len(self._slot)
+            if slot == self.m:  # the oldest row is reused
+                slot = self._slot.pop(0)
                 self._df.pop(0)
                 self._dg.pop(0)
                 H = H[1:, 1:]
-            col = np.array([d @ df for d in self._df] + [df @ df])
+            df, dg = self._DF[slot], self._DG[slot]
+            np.subtract(f, self._f, out=df)
+            np.subtract(gx, self._g, out=dg)
+            self._slot.append(slot)
+            self._df.append(df)
+            self._dg.append(dg)
+            col = self._DF[self._slot] @ df  # one matrix-vector product for the new column
             k = len(col)
             Hn = np.empty((k, k))
             Hn[:-1, :-1] = H
             Hn[-1], Hn[:, -1] = col, col
             self._gram = Hn
-            self._df.append(df)
-            self._dg.append(dg)
         self._f, self._g = f, gx
 
     def next(self, x: np.ndarray, gx: np.ndarray) -> np.ndarray:
@@ -83,16 +95,14 @@ class Anderson:
             s = np.maximum(np.sqrt(np.diag(self._gram)), 1e-300)
             H = self._gram / s[:, None] / s[None, :]
             H[np.diag_indices_from(H)] += 1e-10
-            rhs = np.array([d @ f for d in self._df]) / s
+            rhs = (self._DF[self._slot] @ f) / s
             try:
                 gamma = np.linalg.solve(H, rhs) / s
             except (np.linalg.LinAlgError, ValueError):
                 gamma = np.full(len(s), np.nan)
             out = gx
             if np.all(np.isfinite(gamma)):
-                out = gx.copy()
-                for c, d in zip(gamma, self._dg, strict=True):
-                    out -= c * d
+                out = gx - gamma @ self._DG[self._slot]
         if out is gx or not np.all(np.isfinite(out)):
             self.reset()  # a non-finite mix: fall back to the plain step
             return gx

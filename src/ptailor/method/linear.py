@@ -8,6 +8,7 @@ import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
@@ -270,16 +271,48 @@ class SeamBlock:
     U: np.ndarray
     blocks: list[tuple[np.ndarray, np.ndarray]]
 
-    def schur(self, C: sp.spmatrix, D: sp.spmatrix | None = None) -> np.ndarray:
+    @cached_property
+    def _by_block(self) -> tuple[np.ndarray, np.ndarray]:
+        """Positions in ``U`` block after block, and each block's range in that order."""
+        order = np.concatenate([idx for idx, _ in self.blocks]) if self.blocks else self.U[:0]
+        bounds = np.cumsum([0] + [len(idx) for idx, _ in self.blocks])
+        return order, bounds
+
+    @cached_property
+    def _local(self) -> np.ndarray:
+        """Position in ``U`` of each unknown (-1 off the seams), ``(max(U) + 1,)`` int."""
+        local = np.full(int(self.U.max(initial=-1)) + 1, -1, dtype=np.int64)
+        local[self.U] = np.arange(len(self.U))
+        return local
+
+    def restrict(self, C: sp.spmatrix) -> sp.csr_matrix:
+        """Rows over all unknowns ``[x; y]`` that touch only seam unknowns, as rows over
+        ``U`` (``C[:, U]``, by renumbering the columns: no column search)."""
+        C = sp.csr_matrix(C)
+        cols = self._local[C.indices]
+        return sp.csr_matrix((C.data, cols, C.indptr), shape=(C.shape[0], len(self.U)))
+
+    def products(self, C: sp.spmatrix) -> list[tuple[sp.csc_matrix, np.ndarray]]:
+        """Per block, rows ``C (r, 2q)`` over ``U`` cut to the block's unknowns and their
+        product with the block's ``G``: the pieces of :meth:`schur`, kept to pair the same
+        rows with others without multiplying them again."""
+        order, bounds = self._by_block
+        Cb_all = sp.csc_matrix(C)[:, order]  # block after block: each block is a slice
+        out = []
+        for k, (_, G) in enumerate(self.blocks):
+            Cb = Cb_all[:, bounds[k] : bounds[k + 1]]
+            out.append((Cb, Cb @ G if Cb.nnz else None))
+        return out
+
+    def schur(self, C, D=None) -> np.ndarray:
         """``C G D^T`` (default ``D = C``) for rows ``C (r, 2q)`` and ``D (t, 2q)`` over
-        ``U``, ``(r, t)`` dense."""
-        C = sp.csc_matrix(C)
-        D = C if D is None else sp.csc_matrix(D)
-        M = np.zeros((C.shape[0], D.shape[0]))
-        for idx, G in self.blocks:
-            Cb, Db = C[:, idx], D[:, idx]
-            if Cb.nnz and Db.nnz:
-                M += Cb @ (Db @ G).T  # G is symmetric
+        ``U`` (sparse, or their :meth:`products`), ``(r, t)`` dense."""
+        Cp = C if isinstance(C, list) else self.products(C)
+        Dp = Cp if D is None else D if isinstance(D, list) else self.products(D)
+        M = np.zeros((Cp[0][0].shape[0], Dp[0][0].shape[0])) if Cp else np.zeros((0, 0))
+        for (Cb, _), (Db, DG) in zip(Cp, Dp, strict=True):
+            if Cb.nnz and DG is not None:
+                M += Cb @ DG.T  # G is symmetric: C G D^T = C (D G)^T
         return M
 
 

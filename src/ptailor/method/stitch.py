@@ -296,14 +296,14 @@ class _Problem:
         at 82k triangles where 25 do with it."""
         blk, ease = self.seam_block, self.ease
         C = ease.rows(X_lin)
-        CU = C[:, blk.U]
+        CU = blk.products(blk.restrict(C))
         M_cc = blk.schur(CU)
         lam = solve_spd(M_cc, C @ y)
         if lam is None:
             return y  # the constraints are skipped this step (reported)
         P, kappa = ease.curvature(X_lin, lam)
         if len(kappa):
-            PU = P[:, blk.U]
+            PU = blk.products(blk.restrict(P))
             M_pc = blk.schur(PU, CU)
             M = np.block([[blk.schur(PU), M_pc], [M_pc.T, M_cc]])
             M[np.arange(len(kappa)), np.arange(len(kappa))] += 1.0 / kappa
@@ -397,7 +397,8 @@ def _iterate(
     acc = Anderson(m=history)
     it, converged, stalled, since = 0, False, False, 0
     hist: list[float] = []
-    for it in range(1, max_iter + 1):
+    while it < max_iter:
+        it += 1
         hist.append(float(s.res.max(initial=0.0)))
         stall = _stalls(hist[since:])
         done = not len(s.res) or s.res.max() <= step_tol

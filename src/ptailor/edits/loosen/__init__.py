@@ -33,7 +33,7 @@ from ptailor.edits.loosen.normals import (
     panel_orientation,
     turned_faces,
 )
-from ptailor.edits.loosen.offset import FALLOFF_BY, FALLOFF_EDGES, falloff_weights, offset_region
+from ptailor.edits.loosen.offset import FALLOFF_BY, falloff_weights, offset_region
 from ptailor.edits.loosen.silhouette import ROW_EDGES, row_crossings, silhouette_targets
 from ptailor.edits.region import region_faces
 from ptailor.edits.registry import Param, register
@@ -44,7 +44,6 @@ from ptailor.model.structure import structure
 
 __all__ = [
     "FALLOFF_BY",
-    "FALLOFF_EDGES",
     "falloff_weights",
     "loosen",
     "normal_smoother",
