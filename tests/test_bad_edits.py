@@ -348,8 +348,12 @@ def test_gather_on_a_panel_a_later_cut_removes(garments, tmp_path):
         assert "back" not in [p["name"] for p in rep["panels"]] or rep
 
 
-def test_a_large_max_iter_that_cannot_converge_stops_early(garments, tmp_path):
-    """Campaign seed 12 case 1200: max_iter 10000 on a limit cycle ran 62 s (time limit 20)."""
+def test_a_large_max_iter_on_a_former_limit_cycle_converges(garments, tmp_path):
+    """Campaign seed 12 case 1200: max_iter 10000 on a limit cycle ran 62 s (time limit 20).
+
+    The cycle was the linearised seam constraints letting a compressed seam side turn
+    back and forth; with their curvature in the step (issue 21) the case converges in a
+    few iterations, its seams met, with no warning."""
     import time
 
     r = raw_recipe(
@@ -359,4 +363,6 @@ def test_a_large_max_iter_that_cannot_converge_stops_early(garments, tmp_path):
     t0 = time.perf_counter()
     rep = finite_run(garments["sleeve"], r, tmp_path)
     assert time.perf_counter() - t0 < 15
-    assert any("without progress" in w or "converg" in w for w in rep["warnings"])
+    assert rep["solver"]["converged"] and rep["solver"]["iterations"] < 50
+    assert rep["solver"]["seam_violation"] < 1e-9
+    assert not [w for w in rep["warnings"] if "converg" in w or "progress" in w]
