@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import time
 import warnings as _warnings
+from collections.abc import Callable
 from contextlib import contextmanager, nullcontext
 from dataclasses import dataclass, field, replace
 
@@ -258,6 +259,17 @@ def seam_factors(state: EditState) -> dict[tuple[int, int], float]:
     return out
 
 
+#: ``progress(stage, iteration, residual)``: the run's stages and stitching iterations
+Progress = Callable[[str, int, "float | None"], None]
+
+
+def _stage(progress: Progress | None, stage: str) -> Callable[[int, float], None] | None:
+    """The stitching's ``progress(iteration, residual)`` as ``stage``'s."""
+    if progress is None:
+        return None
+    return lambda it, res: progress(stage, it, res)
+
+
 def adjustment(
     garment: Garment,
     recipe: Recipe,
@@ -266,6 +278,7 @@ def adjustment(
     intrinsic: str | None = None,
     baseline: bool = True,
     options: EditOptions | None = None,
+    progress: Progress | None = None,
 ) -> Adjustment:
     """Run a recipe on a garment and adjust its pattern.
 
@@ -278,6 +291,10 @@ def adjustment(
     baseline : bool
         Also compute uniform flattening for the report.
     options : EditOptions, optional
+    progress : callable, optional
+        ``progress(stage, iteration, residual)``: called with ``("edit", 0, None)`` before
+        the steps and once per stitching iteration of ``"flatten"`` and ``"baseline"``
+        (a progress line's feed; the result does not depend on it).
 
     Returns
     -------
@@ -293,7 +310,7 @@ def adjustment(
     check_flatten_settings(settings)
     notes: list[str] = []
     with caught_warnings(notes):
-        adj = _adjust(garment, recipe, settings, baseline, options)
+        adj = _adjust(garment, recipe, settings, baseline, options, progress)
     return replace(adj, notes=tuple(notes))
 
 
@@ -303,9 +320,12 @@ def _adjust(
     settings: dict,
     baseline: bool,
     options: EditOptions | None,
+    progress: Progress | None = None,
 ) -> Adjustment:
     """:func:`adjust` once its settings are resolved."""
     t0 = time.perf_counter()
+    if progress is not None:
+        progress("edit", 0, None)
     options = options or EditOptions()
     # panel names (from the file, else from the drape in the run's axes) fixed once
     named = structure(garment, up=options.up, front=options.front).panels
@@ -342,6 +362,7 @@ def _adjust(
                 seams=seams,
                 seam_factors=seam_factors(state),
                 seam_pairs=pairs,
+                progress=_stage(progress, "flatten"),
                 **kw,
             )
         t2 = time.perf_counter()
@@ -351,7 +372,14 @@ def _adjust(
                 base = (
                     result
                     if settings["method"] == "uniform"
-                    else flatten(state.base, state.V3, method="uniform", seams="free", **kw)
+                    else flatten(
+                        state.base,
+                        state.V3,
+                        method="uniform",
+                        seams="free",
+                        progress=_stage(progress, "baseline"),
+                        **kw,
+                    )
                 )
     t3 = time.perf_counter()
     timing = {"edit": t1 - t0, "flatten": t2 - t1, "baseline": t3 - t2}

@@ -82,6 +82,7 @@ def adjust(
     from pathlib import Path
 
     from ptailor.cli.options import check_engine_first, run_options
+    from ptailor.cli.progress import progress_line
     from ptailor.output import check_output_dir
     from ptailor.recipe import load_recipe
     from ptailor.report.build import summary_lines
@@ -93,7 +94,8 @@ def adjust(
     check_output_dir(out, [garment, recipe, drape, body])
     rec = load_recipe(recipe)
     options = run_options(rec, params)
-    report = run_garment(garment, rec, out, options=options, drape=drape)
+    with progress_line(quiet=quiet) as progress:
+        report = run_garment(garment, rec, out, options=options, drape=drape, progress=progress)
     if as_json:
         click.echo(json.dumps(report, indent=2))
     elif not quiet:

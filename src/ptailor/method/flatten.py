@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Literal
 
@@ -132,6 +133,7 @@ def flatten(
     history: int = tol.ANDERSON_HISTORY,
     panel_list: list[Panel] | None = None,
     seam_pairs: np.ndarray | None = None,
+    progress: Callable[[int, float], None] | None = None,
 ) -> FlattenResult:
     """Adjust a garment's pattern to an edited drape.
 
@@ -170,6 +172,9 @@ def flatten(
     seam_pairs : (s, 2) int array, optional
         ``seam_halfedges(garment.F3, garment.F2)``, when the caller already has it
         (``structure(garment).seam_halfedges``); used with ``seams="ease"``.
+    progress : callable, optional
+        ``progress(iteration, residual)`` once per stitching iteration
+        (:func:`ptailor.method.stitch.stitch`).
 
     Returns
     -------
@@ -217,6 +222,7 @@ def flatten(
         max_iter=max_iter,
         step_tol=step_tol,
         history=history,
+        progress=progress,
     )
     X = rigid_fit_groups(X, V2, vlab, len(plist))
     X[:, 0] *= sign

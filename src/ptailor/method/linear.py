@@ -310,7 +310,7 @@ class SeamBlock:
         Cp = C if isinstance(C, list) else self.products(C)
         Dp = Cp if D is None else D if isinstance(D, list) else self.products(D)
         M = np.zeros((Cp[0][0].shape[0], Dp[0][0].shape[0])) if Cp else np.zeros((0, 0))
-        for (Cb, _), (Db, DG) in zip(Cp, Dp, strict=True):
+        for (Cb, _), (_, DG) in zip(Cp, Dp, strict=True):
             if Cb.nnz and DG is not None:
                 M += Cb @ DG.T  # G is symmetric: C G D^T = C (D G)^T
         return M

@@ -14,6 +14,7 @@ The matrix never changes: it is factored once and each iteration back-substitute
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -390,16 +391,24 @@ def _stalls(h: list[float]) -> bool:
 
 
 def _iterate(
-    pb: _Problem, s: _Iterate, *, max_iter: int, step_tol: float, history: int
+    pb: _Problem,
+    s: _Iterate,
+    *,
+    max_iter: int,
+    step_tol: float,
+    history: int,
+    progress: Callable[[int, float], None] | None = None,
 ) -> tuple[int, bool, bool, list[float]]:
     """Local/global iterations from ``s`` (updated); ``(iterations, converged, stalled,
-    residual history)``."""
+    residual history)``. ``progress(iteration, residual)`` is called once per iteration."""
     acc = Anderson(m=history)
     it, converged, stalled, since = 0, False, False, 0
     hist: list[float] = []
     while it < max_iter:
         it += 1
         hist.append(float(s.res.max(initial=0.0)))
+        if progress is not None:
+            progress(it, hist[-1])
         stall = _stalls(hist[since:])
         done = not len(s.res) or s.res.max() <= step_tol
         if stall and pb.seams_settled(s.GX):
@@ -436,6 +445,7 @@ def stitch(
     max_iter: int = tol.ARAP_MAX_ITER,
     step_tol: float = tol.ARAP_STEP_TOL,
     history: int = tol.ANDERSON_HISTORY,
+    progress: Callable[[int, float], None] | None = None,
 ) -> tuple[np.ndarray, StitchInfo]:
     """Stitch per-triangle targets into continuous panels.
 
@@ -481,6 +491,9 @@ def stitch(
         rigid motion) by more than this fraction of the panel's size.
     history : int
         Anderson history length; 0 for plain local/global.
+    progress : callable, optional
+        ``progress(iteration, residual)``, called once per iteration (the largest panel
+        residual before it): a progress line's feed. Nothing else depends on it.
 
     Returns
     -------
@@ -504,7 +517,7 @@ def stitch(
     X0 = pb.global_step(np.ones(len(F2)), np.zeros(len(F2)), None)  # identity rotations
     s = _Iterate(pb, _finite_or_fail(X0), history)
     it, converged, stalled, hist = _iterate(
-        pb, s, max_iter=max_iter, step_tol=step_tol, history=history
+        pb, s, max_iter=max_iter, step_tol=step_tol, history=history, progress=progress
     )
     X = s.GX  # a plain step: the constraints hold at the last linearisation
     X[~pb.used] = V2[~pb.used]

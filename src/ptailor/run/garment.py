@@ -20,7 +20,7 @@ from ptailor.errors import PtailorError
 from ptailor.formats.garment import LoadedGarment
 from ptailor.output import check_output_dir, staged_dir, write_json
 from ptailor.pieces import carry_plan
-from ptailor.pipeline import Adjustment, adjustment
+from ptailor.pipeline import Adjustment, Progress, adjustment
 from ptailor.recipe import Recipe
 from ptailor.report.build import (
     build_report,
@@ -49,6 +49,7 @@ def run_garment(
     drape: str | None = None,
     display_inputs: dict[str, str] | None = None,
     extra_files: dict[str, str] | None = None,
+    progress: Progress | None = None,
 ) -> dict:
     """Load, adjust and write one garment; return the report (:func:`staged_run`'s
     parameters)."""
@@ -60,6 +61,7 @@ def run_garment(
         drape=drape,
         display_inputs=display_inputs,
         extra_files=extra_files,
+        progress=progress,
     ) as report:
         pass
     return report
@@ -75,6 +77,7 @@ def staged_run(
     drape: str | None = None,
     display_inputs: dict[str, str] | None = None,
     extra_files: dict[str, str] | None = None,
+    progress: Progress | None = None,
 ) -> Iterator[dict]:
     """Load, adjust and stage one garment; yield the report before ``out`` is put in place.
 
@@ -99,6 +102,9 @@ def staged_run(
         Role to the path the report shows (default: the path read).
     extra_files : dict, optional
         File name to text, written into the output folder too.
+    progress : callable, optional
+        ``progress(stage, iteration, residual)`` (:func:`ptailor.pipeline.adjustment`'s,
+        and ``("read", 0, None)``, ``("write", 0, None)``): a progress line's feed.
 
     Yields
     ------
@@ -110,12 +116,14 @@ def staged_run(
     shown = (display_inputs or {}).get("garment", garment)  # the garment errors name
     edits = edit_options(recipe, options)
     t0 = time.perf_counter()
+    if progress is not None:
+        progress("read", 0, None)
     loaded = load_input(garment, drape, recipe, options)
     plan = plan_pieces(loaded, edits, options)
     if options.seam_allowance:
         check_seam_allowance(loaded.garment, options.seam_allowance)
     t1 = time.perf_counter()
-    adj = _adjustment(loaded.garment, recipe, options, edits, shown=shown)
+    adj = _adjustment(loaded.garment, recipe, options, edits, shown=shown, progress=progress)
     t2 = time.perf_counter()
     errors, reference = _checked_errors(adj, shown=shown)
     redrapes, timing, t3 = None, {"load": t1 - t0, **adj.timing_s}, t2
@@ -138,6 +146,8 @@ def staged_run(
         title=f"{Path(garment).name}: {Path(recipe.source).name}"
         + (f", seam allowance {allowance:g} {loaded.garment.units}" if allowance else ""),
     )
+    if progress is not None:
+        progress("write", 0, None)
     staged = _Staged(
         adj,
         ctx,
@@ -236,7 +246,9 @@ def _write_redrapes(tmp: Path, staged: _Staged) -> list[str]:
     )
 
 
-def _adjustment(garment, recipe: Recipe, options: RunOptions, edits, *, shown: str) -> Adjustment:
+def _adjustment(
+    garment, recipe: Recipe, options: RunOptions, edits, *, shown: str, progress=None
+) -> Adjustment:
     """:func:`ptailor.pipeline.adjustment`, an error the garment decides naming it."""
     try:
         return adjustment(
@@ -246,6 +258,7 @@ def _adjustment(garment, recipe: Recipe, options: RunOptions, edits, *, shown: s
             intrinsic=options.intrinsic,
             baseline=options.baseline,
             options=edits,
+            progress=progress,
         )
     except PtailorError as exc:
         if exc.path is not None:
