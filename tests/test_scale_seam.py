@@ -35,9 +35,11 @@ def test_around_widens_the_sleeve_bottom_keeps_the_top_and_the_cuff():
     V, V0 = adj.result.V2, g.V2
     assert edge_length(V, V0, sleeve.vertices, np.max) == pytest.approx(28.0, rel=1e-3)
     assert edge_length(V, V0, sleeve.vertices, np.min) == pytest.approx(1.3 * 28.0, rel=1e-3)
-    # the cuff's pattern is kept (to 1e-5: the seam's new ratio is met edge by edge, the
-    # kept cuff 100x stiffer than the edited sleeve)
-    np.testing.assert_allclose(np.ptp(V[cuff.vertices], axis=0), [40.0, 8.0], rtol=1e-5)
+    # the cuff's pattern is kept (exactly at the fixed point: 40 x 8 to 1e-12 iterated to a
+    # step of 1e-13; to 2e-5 at the solver's step tolerance of 1e-7, its convergence rate
+    # about 0.95 here: the seam's new ratio is met edge by edge, the kept cuff 100x stiffer
+    # than the edited sleeve)
+    np.testing.assert_allclose(np.ptp(V[cuff.vertices], axis=0), [40.0, 8.0], rtol=3e-5)
     # the armhole did not move in 3D
     top = np.isclose(g.V3[:, 1], g.V3[:, 1].max())
     np.testing.assert_allclose(adj.state.V3[top], g.V3[top], atol=1e-9)

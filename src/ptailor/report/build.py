@@ -7,6 +7,7 @@ from typing import Any
 import numpy as np
 
 from ptailor import __version__
+from ptailor import tolerances as tol
 from ptailor.digest import file_sha256
 from ptailor.geometry.labels import scatter_labels
 from ptailor.model.names import seam_names
@@ -220,6 +221,10 @@ def build_report(
             "seams": seam_mode(adj.settings["seams"]),
             "seam_violation": float(f"{info.seam_violation:.3g}"),
             "residual": float(f"{max(info.panel_residual, default=0.0):.3g}"),
+            # what "converged" means: every panel's last step (its largest vertex move,
+            # rigid motion removed) at most `step` of the panel's size, and every seam edge
+            # within `seam_violation` (relative) of its ratio
+            "converged_when": {"step": tol.ARAP_STEP_TOL, "seam_violation": tol.SEAM_EXACT_REL},
         },
         "panels": panels_out,
         "seams": seams_out,

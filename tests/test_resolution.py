@@ -1,0 +1,185 @@
+"""One answer per garment, whatever its resolution (issue 21).
+
+The same garment subdivided (``bench/subdivide.py``: every triangle split at its edge
+midpoints, drape and pattern alike) is the same surface and the same pattern, so an edit
+of it must give the same adjusted pattern at the original vertices, and the stitching must
+converge in about as many iterations with every seam at its ratio. Tolerances: 0.25 mm for
+the flatten alone (the same edited drape, subdivided), 0.5 mm for the whole adjustment (the
+edit too runs at each resolution), on garments about 1 m across.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from ptailor import samples
+from ptailor.model.garment import Garment, panels
+from ptailor.model.seams import seams
+from ptailor.recipe import parse_recipe
+from tests.conftest import ROOT, real_path
+
+sys.path.insert(0, str(ROOT / "bench"))
+from subdivide import midpoint_subdivision, subdivide_garment, subdivide_obj  # noqa: E402
+
+LOOSEN = (ROOT / "src/ptailor/recipes/loosen-waist.yaml").read_text()
+GATHER = (
+    "units: cm\nsteps: [{op: scale_seam, seam: [sleeve, cuff], part: sleeve, "
+    "direction: around, factor: 1.3, fix: [waist]}]"
+)
+SCALE = (
+    "units: cm\nsteps: [{op: scale, region: {box: {min: [-50, 20, -50], max: [50, 60, 50]}}, "
+    "direction: around, factor: 1.1}]"
+)
+CASES = {
+    "bodice-loosen": (samples.bodice, LOOSEN),
+    "lantern-gather": (samples.lantern_sleeve, GATHER),
+    "bodice-scale": (samples.bodice, SCALE),
+}
+
+
+def subdivided(g: Garment, levels: int = 1) -> Garment:
+    V3, F3, V2, F2, parent = subdivide_garment(g.V3, g.F3, g.V2, g.F2, levels=levels)
+    return dataclasses.replace(g, V3=V3, F3=F3, V2=V2, F2=F2, face_group=g.face_group[parent])
+
+
+def test_midpoint_subdivision_splits_each_triangle_in_four_with_its_orientation():
+    V = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0], [2.0, 2.0]])
+    F = np.array([[0, 1, 2], [1, 3, 2]])
+    W, G, E = midpoint_subdivision(V, F)
+    assert len(G) == 8 and len(W) == 4 + 5  # 5 distinct edges
+    np.testing.assert_array_equal(W[:4], V)
+    np.testing.assert_allclose(W[4:], 0.5 * (V[E[:, 0]] + V[E[:, 1]]))
+
+    def area(P, T):
+        a, b, c = P[T[:, 0]], P[T[:, 1]], P[T[:, 2]]
+        return 0.5 * ((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
+
+    np.testing.assert_allclose(area(W, G), np.repeat(area(V, F) / 4, 4))  # same winding
+    assert V.shape == (4, 2) and F.shape == (2, 3)  # inputs untouched
+
+
+def test_a_subdivided_garment_keeps_its_panels_seams_and_lengths():
+    g = samples.bodice()
+    s = subdivided(g)
+    assert s.n_faces == 4 * g.n_faces
+    np.testing.assert_array_equal(s.V2[: len(g.V2)], g.V2)
+    np.testing.assert_array_equal(s.V3[: len(g.V3)], g.V3)
+    pa, ps = panels(g), panels(s)
+    assert [p.name for p in pa] == [p.name for p in ps]
+
+    def seam_lengths(garment, plist):
+        lab = np.zeros(garment.n_faces, dtype=np.int64)
+        for i, p in enumerate(plist):
+            lab[p.faces] = i
+        return sorted(sorted(x.lengths(garment.V2)) for x in seams(garment.F3, garment.F2, lab))
+
+    np.testing.assert_allclose(seam_lengths(s, ps), seam_lengths(g, pa), rtol=1e-12)
+
+
+def test_subdivide_obj_writes_the_same_garment_four_times_finer(tmp_path):
+    from ptailor.formats.garment import load_garment
+    from ptailor.formats.obj import write_garment
+
+    g = samples.lantern_sleeve()
+    src, dst = tmp_path / "g.obj", tmp_path / "g4.obj"
+    write_garment(src, g, header=["units: cm"])
+    assert subdivide_obj(src, dst, levels=1) == 4 * g.n_faces
+    s = load_garment(dst).garment
+    assert [p.name for p in panels(s)] == [p.name for p in panels(g)]  # groups kept
+    np.testing.assert_allclose(s.V2[: len(g.V2)], g.V2, atol=1e-5)
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_the_flatten_of_one_edit_agrees_at_1x_and_4x(case):
+    """The 1x edited drape subdivided and flattened at 4x: within 0.25 mm of the 1x pattern
+    at the 1x vertices, converged, seams met."""
+    from ptailor import pipeline as pl
+    from ptailor.method.flatten import flatten
+
+    make, text = CASES[case]
+    g = make()
+    calls = []
+
+    def keep(garment, V3, **kw):
+        calls.append((garment, V3, kw))
+        return flatten(garment, V3, **kw)
+
+    pl_flatten, pl.flatten = pl.flatten, keep
+    try:
+        a1 = pl.adjustment(g, parse_recipe(text), baseline=False)
+    finally:
+        pl.flatten = pl_flatten
+    base, V3e, kw = calls[0]
+    kw = {k: v for k, v in kw.items() if k not in ("panel_list", "seam_pairs")}
+    assert kw.get("outline_free") is None
+    fine = subdivided(base)
+    V3f = subdivide_garment(V3e, base.F3, base.V2, base.F2, levels=1)[0]
+    r = flatten(fine, V3f, **kw)
+    n = len(a1.result.V2)
+    assert r.info.converged and a1.result.info.converged
+    assert r.info.seam_violation < 1e-9
+    assert r.info.iterations <= a1.result.info.iterations + 5
+    assert np.linalg.norm(r.V2[:n] - a1.result.V2, axis=1).max() < 0.025
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_one_adjustment_agrees_at_1x_and_4x(case):
+    """The whole adjustment (edit and flatten) of the garment and of the same garment
+    subdivided: within 0.5 mm at the 1x vertices."""
+    from ptailor.pipeline import adjustment
+
+    make, text = CASES[case]
+    g = make()
+    a1 = adjustment(g, parse_recipe(text), baseline=False)
+    a4 = adjustment(subdivided(g), parse_recipe(text), baseline=False)
+    n = len(g.V2)
+    assert a4.result.info.converged and a4.result.info.seam_violation < 1e-9
+    assert np.linalg.norm(a4.result.V2[:n] - a1.result.V2, axis=1).max() < 0.05
+
+
+def test_loosen_smooths_over_lengths_of_the_edit_not_of_the_mesh():
+    from ptailor.pipeline import adjustment
+
+    g = samples.bodice()
+    logs = [
+        adjustment(x, parse_recipe(LOOSEN), baseline=False).state.log[0]["smoothing"]
+        for x in (g, subdivided(g))
+    ]
+    assert logs == [1.5, 1.5]
+
+
+@pytest.fixture(scope="module")
+def tee6_16x(tmp_path_factory) -> Path:
+    src = real_path("tee6")
+    dst = tmp_path_factory.mktemp("res") / "tee6_x16.obj"
+    subdivide_obj(src, dst, levels=2)
+    return dst
+
+
+def test_a_production_resolution_tee_loosened_converges_with_its_seams_closed(tee6_16x, tmp_path):
+    """Issue 21's reproduction: the shared tee subdivided 1 -> 16 (82k triangles), the
+    torso loosened by 2 cm. Before the seam constraints' curvature: the 100-iteration cap,
+    residual 1.4e-5, seams 1e-5 off (a compressed seam side zigzagging under linearised
+    constraints). Now about 21 iterations, seams exact, no warning, and within 1.5 mm of the
+    1x garment's pattern at its vertices (the loosen's own discretisation; 0.6 mm of it is
+    the stitching's)."""
+    from ptailor.formats.garment import load_garment
+    from ptailor.pipeline import adjustment, solver_warnings
+
+    rec = parse_recipe("units: cm\nsteps: [{op: loosen, region: {panels: [front, back]}, by: 2}]")
+    u = "0.3333cm"
+    g16 = load_garment(tee6_16x, pattern_units=u, drape_units=u).garment
+    g1 = load_garment(real_path("tee6"), pattern_units=u, drape_units=u).garment
+    a16 = adjustment(g16, rec, baseline=False)
+    info = a16.result.info
+    assert info.converged and info.iterations <= 35 and not info.stalled
+    assert info.seam_violation < 1e-9
+    assert not solver_warnings(a16)
+    a1 = adjustment(g1, rec, baseline=False)
+    n = len(g1.V2)
+    assert np.linalg.norm(a16.result.V2[:n] - a1.result.V2, axis=1).max() < 0.15
