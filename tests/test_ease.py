@@ -275,7 +275,7 @@ def test_the_curvature_is_the_lengths_hessian_on_the_side_that_pushes():
     """``SeamEase.curvature``: for each edge whose row's multiplier and coefficient agree in
     sign, ``kappa (n . delta)^2`` is the second-order change of ``lam c |e|`` (``|e|``'s
     Hessian is ``n n^T / |e|``); the other edges get no row."""
-    V, F, ea, eb, vlab = two_squares(4)
+    V, _, ea, eb, _ = two_squares(4)
     k = len(ea)
     ease = SeamEase(ea=ea, eb=eb, row=np.arange(k), ratio=np.full(k, 1.3))
     rng = np.random.default_rng(3)

@@ -24,7 +24,7 @@ from ptailor.recipe import parse_recipe
 from tests.conftest import ROOT, real_path
 
 sys.path.insert(0, str(ROOT / "bench"))
-from subdivide import midpoint_subdivision, subdivide_garment, subdivide_obj  # noqa: E402
+from subdivide import midpoint_subdivision, subdivide_garment, subdivide_obj
 
 LOOSEN = (ROOT / "src/ptailor/recipes/loosen-waist.yaml").read_text()
 GATHER = (
