@@ -97,12 +97,23 @@ def worst_seam(report: dict, out: Path) -> tuple[float, float]:
     g = written_garment(out / "garment.obj")
     plist = panels(g)
     found = seams(g.F3, g.F2, panel_labels(plist, len(g.F2)))
-    written = sorted(sorted(s.lengths(g.V2)) for s in found)
-    claimed = sorted(sorted(s["length_after"]) for s in report.get("seams", []))
-    if len(written) != len(claimed):
+    names = [p.name for p in plist]
+
+    def keyed(items):  # seams grouped by their two panels, then by their lengths
+        groups: dict = {}
+        for pair, lengths in items:
+            groups.setdefault(tuple(sorted(pair)), []).append(sorted(lengths))
+        return {k: sorted(v) for k, v in groups.items()}
+
+    written = keyed(([names[i] for i in s.panels], s.lengths(g.V2)) for s in found)
+    claimed = keyed((s["panels"], s["length_after"]) for s in report.get("seams", []))
+    if written.keys() != claimed.keys():
         return worst, float("inf")
-    diff = max((abs(a - b) for w, c in zip(written, claimed, strict=True)
-                for a, b in zip(w, c, strict=True)), default=0.0)  # fmt: skip
+    diff = max(
+        (abs(a - b) for k in written for w, c in zip(written[k], claimed[k], strict=True)
+         for a, b in zip(w, c, strict=True)),
+        default=0.0,
+    )  # fmt: skip
     return worst, diff
 
 
@@ -154,6 +165,26 @@ def libigl_case(src: Path, out: Path, units: tuple[str, str]) -> dict:
     return r
 
 
+def markdown_table(rows: list[dict]) -> str:
+    """The results as a markdown table: garment x resolution x edit -> iterations,
+    seconds, ratios to libigl, worst seam, agreement with 1x."""
+    head = (
+        "| garment | x | triangles | edit | iterations | converged | flatten s | libigl s "
+        "| flatten / libigl | lean / libigl | worst seam cm | vs 1x mm |\n"
+        "|---|---:|---:|---|---:|---|---:|---:|---:|---:|---:|---:|"
+    )
+    out = [head]
+    for r in rows:
+        agree = "" if r["agree_1x_cm"] is None else f"{10 * r['agree_1x_cm']:.2f}"
+        out.append(
+            f"| {r['garment']} | {r['x']} | {r['triangles']:,} | {r['edit']} | "
+            f"{r['iterations']} | {'yes' if r['converged'] else '**no**'} | "
+            f"{r['flatten_s']:.2f} | {r['libigl_s']:.2f} | {r['flatten_over_libigl']:.2f} | "
+            f"{r['lean_over_libigl']:.2f} | {r['worst_seam_cm']:.1e} | {agree} |"
+        )
+    return "\n".join(out)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--garments", default=",".join(GARMENTS))
@@ -162,7 +193,13 @@ def main() -> None:
     ap.add_argument("--no-symmetric", action="store_true")
     ap.add_argument("--full-adjust", action="store_true")
     ap.add_argument("--out", default=str(RESULTS))
+    ap.add_argument(
+        "--table", metavar="RESULTS", help="print a results file as a table, run nothing"
+    )
     a = ap.parse_args()
+    if a.table:
+        print(markdown_table(json.loads(Path(a.table).read_text())["rows"]))
+        return
     if not (SHARED / "garments").is_dir():
         sys.exit(f"bench_resolution: no garments under {SHARED} (set PTAILOR_SHARED)")
     levels = [int(x) for x in a.levels.split(",")]
