@@ -281,7 +281,9 @@ def test_the_curvature_is_the_lengths_hessian_on_the_side_that_pushes():
     rng = np.random.default_rng(3)
     X = V + 0.05 * rng.standard_normal(V.shape)
     lam = rng.standard_normal(k)
-    P, kappa = ease.curvature(X, lam)
+    P, kappa = ease.curvature(X, lam, min_rel=0.0)
+    _, strong = ease.curvature(X, lam)  # by default the weak edges are left out
+    np.testing.assert_array_equal(strong, kappa[kappa >= 0.05 * kappa.max()])
     norm = 1.0 / np.sqrt(1.0 + 1.3**2)
     c_a, c_b = -1.3 * norm * lam, norm * lam
     assert len(kappa) == int((c_a > 0).sum() + (c_b > 0).sum()) and np.all(kappa > 0)

@@ -18,6 +18,9 @@ KEPT_PANEL_WEIGHT = 100.0
 #: Seam constraints switch on at the first iteration where a seam edge misses its ratio by
 #: more than this (relative).
 SEAM_EXACT_REL = 1e-9
+#: The seam constraints' curvature (the stitching's SQP step) leaves out the edges whose
+#: weight is below this fraction of the largest (ptailor.method.ease.SeamEase.curvature)
+SEAM_CURVATURE_MIN_REL = 0.05
 #: A seam edge whose two sides miss their target ratio by more than this (relative) after
 #: the solve is reported as a warning.
 SEAM_WARN_REL = 1e-4

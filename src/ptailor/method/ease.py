@@ -21,6 +21,7 @@ from typing import Literal
 import numpy as np
 import scipy.sparse as sp
 
+from ptailor import tolerances as tol
 from ptailor.model.seams import half_edges, seam_halfedges
 
 Granularity = Literal["edge", "seam"]
@@ -105,7 +106,9 @@ class SeamEase:
         norm = 1.0 / np.sqrt(1.0 + self.ratio**2)
         return -(self.ratio * norm)[self.row], norm[self.row]
 
-    def curvature(self, X: np.ndarray, lam: np.ndarray) -> tuple[sp.csr_matrix, np.ndarray]:
+    def curvature(
+        self, X: np.ndarray, lam: np.ndarray, *, min_rel: float = tol.SEAM_CURVATURE_MIN_REL
+    ) -> tuple[sp.csr_matrix, np.ndarray]:
         """The constraints' curvature at ``X`` under multipliers ``lam``, projected.
 
         A side's length ``|e|`` is linear along its direction ``d`` but curved across it:
@@ -126,6 +129,10 @@ class SeamEase:
             Where the constraints are linearised.
         lam : (k,) float array
             Multipliers of the rows (``A x + C^T lam = b``).
+        min_rel : float, keyword-only
+            Edges whose weight is below this fraction of the largest get no row: they
+            change the step by little and each row costs a row of the step's dense solve
+            (about half the rows of a loosened tee; the fixed point is the same).
 
         Returns
         -------
@@ -143,6 +150,9 @@ class SeamEase:
         keep = (c > 0) & (length > 0)
         E, e, length = E[keep], e[keep], length[keep]
         kappa = c[keep] / length
+        if len(kappa):
+            strong = kappa >= min_rel * kappa.max()
+            E, e, length, kappa = E[strong], e[strong], length[strong], kappa[strong]
         nx, ny = -e[:, 1] / length, e[:, 0] / length
         p = len(E)
         P = sp.csr_matrix(
