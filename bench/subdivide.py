@@ -16,7 +16,6 @@ original vertices. ``v`` records that no face uses are kept (their indices do no
 from __future__ import annotations
 
 import argparse
-import re
 from pathlib import Path
 
 import numpy as np
@@ -80,28 +79,18 @@ def subdivide_garment(
 def subdivide_obj(src: str | Path, dst: str | Path, *, levels: int = 1) -> int:
     """Read ``src``, subdivide it ``levels`` times, write ``dst`` (the file's groups kept when
     they are contiguous); return the number of triangles written."""
-    from ptailor.formats.obj import read_obj, write_obj
+    from ptailor.formats.obj import read_obj
+    from unweld import write_derived
 
     m = read_obj(src)
     if m.fvt is None:
         raise SystemExit(f"{src}: no vt indices in the faces (no pattern to subdivide)")
     V3, F3, V2, F2, parent = subdivide_garment(m.v, m.fv, m.vt, m.fvt, levels=levels)
-    grouped = bool(m.group_names) and bool(np.all(np.diff(m.face_group) >= 0))
-    write_obj(
-        dst,
-        V3=V3,
-        F3=F3,
-        V2=V2,
-        F2=F2,
-        face_panel=(np.maximum(m.face_group, 0)[parent] if grouped
-                    else np.zeros(len(F3), dtype=np.int64)),
-        panel_names=list(m.group_names) if grouped else ["-"],
+    write_derived(
+        dst, m, V3=V3, F3=F3, V2=V2, F2=F2, parent=parent,
         header=[*m.header, f"subdivided {levels}x (1 -> {4**levels}) from {Path(src).name} "
                 "by bench/subdivide.py"],
     )  # fmt: skip
-    if not grouped:  # the source names no groups: write none
-        text = Path(dst).read_text()
-        Path(dst).write_text(re.sub(r"(?m)^g -\n", "", text))
     return len(F3)
 
 

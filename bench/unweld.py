@@ -66,30 +66,53 @@ def unweld(
     return I, G
 
 
+def write_derived(
+    dst: str | Path,
+    m,
+    *,
+    V3: np.ndarray,
+    F3: np.ndarray,
+    V2: np.ndarray,
+    F2: np.ndarray,
+    parent: np.ndarray,
+    header: list[str],
+) -> None:
+    """Write a garment made from the OBJ ``m`` (a :class:`ptailor.formats.obj.ObjMesh`):
+    triangle ``i`` of ``F3``/``F2`` comes from ``m``'s face ``parent[i]`` and keeps its
+    group when the file's groups are contiguous (``write_obj`` groups by panel); a file
+    without groups is written without any."""
+    from ptailor.formats.obj import write_obj
+
+    grouped = bool(m.group_names) and bool(np.all(np.diff(m.face_group) >= 0))
+    face_panel = np.maximum(m.face_group, 0)[parent] if grouped else np.zeros(len(F3), np.int64)
+    write_obj(
+        dst,
+        V3=V3,
+        F3=F3,
+        V2=V2,
+        F2=F2,
+        face_panel=face_panel,
+        panel_names=list(m.group_names) if grouped else ["-"],
+        header=header,
+    )
+    if not grouped:  # the source names no groups: write none
+        text = Path(dst).read_text()
+        Path(dst).write_text(re.sub(r"(?m)^g -\n", "", text))
+
+
 def unweld_obj(
     src: str | Path, dst: str | Path, *, every_vertex: bool = False, shuffle: int | None = None
 ) -> int:
     """Read ``src``, unweld its drape, write ``dst`` (one ``g`` group per panel kept as in the
     file when it has groups); return the number of drape vertices written."""
-    from ptailor.formats.obj import read_obj, write_obj
+    from ptailor.formats.obj import read_obj
 
     m = read_obj(src)
     I, G = unweld(m.fv, m.fvt, len(m.vt), every_vertex=every_vertex, shuffle=shuffle)
-    grouped = bool(m.group_names) and bool(np.all(np.diff(m.face_group) >= 0))
-    # write_obj groups triangles by face_panel: contiguous file groups keep the face order
-    write_obj(
-        dst,
-        V3=m.v[I],
-        F3=G,
-        V2=m.vt,
-        F2=m.fvt,
-        face_panel=np.maximum(m.face_group, 0) if grouped else np.zeros(len(G), dtype=np.int64),
-        panel_names=list(m.group_names) if grouped else ["-"],
+    write_derived(
+        dst, m, V3=m.v[I], F3=G, V2=m.vt, F2=m.fvt, parent=np.arange(len(G)),
         header=[f"unwelded from {Path(src).name} by bench/unweld.py"],
-    )
-    if not grouped:  # the source names no groups: write none
-        text = Path(dst).read_text()
-        Path(dst).write_text(re.sub(r"(?m)^g -\n", "", text))
+    )  # fmt: skip
     return len(I)
 
 
