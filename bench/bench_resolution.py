@@ -86,15 +86,14 @@ def recipe(edit: str, names: dict, *, symmetric: bool) -> str:
     return f"units: cm\nsteps:\n  - {step}\n"  # fmt: skip
 
 
-def worst_seam(report: dict, out: Path) -> tuple[float, float]:
+def worst_seam(report: dict, g) -> tuple[float, float]:
     """The largest ``|mismatch|`` of the report's seams (cm), and the largest difference
-    between the report's seam lengths after and those of ``garment.obj``'s ``vt`` (cm): what
-    the report claims, and whether a reader of the written garment sees the same."""
+    between the report's seam lengths after and those of the written garment ``g``'s pattern
+    (cm): what the report claims, and whether a reader of ``garment.obj`` sees the same."""
     from ptailor.model.garment import panel_labels, panels
     from ptailor.model.seams import seams
 
     worst = max((abs(s["mismatch"]) for s in report.get("seams", [])), default=0.0)
-    g = written_garment(out / "garment.obj")
     plist = panels(g)
     found = seams(g.F3, g.F2, panel_labels(plist, len(g.F2)))
     names = [p.name for p in plist]
@@ -144,20 +143,12 @@ def written_garment(path: Path):
     return load_garment(path, pattern_units=pu, drape_units=du).garment
 
 
-def written_pattern(path: Path) -> tuple[np.ndarray, int]:
-    """A written garment's pattern (cm) and its number of triangles."""
-    g = written_garment(path)
-    return g.V2, len(g.F2)
-
-
-def libigl_case(src: Path, out: Path, units: tuple[str, str]) -> dict:
-    """libigl's ARAP on the run's edited drape, same mesh, one pin per panel."""
-    from ptailor.formats.garment import load_garment
+def libigl_case(g, e) -> dict:
+    """libigl's ARAP on the run's edited drape (``e``, the written garment), on the input
+    garment ``g``'s mesh, one pin per panel."""
     from ptailor.method.flatten import central_vertices
     from ptailor.model.garment import panels, vertex_labels
 
-    g = load_garment(src, pattern_units=units[0], drape_units=units[1]).garment
-    e = written_garment(out / "garment.obj")
     plist = panels(g)
     pins = central_vertices(g.V2, vertex_labels(plist, len(g.V2)), len(plist))
     r = libigl_arap(e.V3, g.F3, g.V2, g.F2, pins, 1)
@@ -202,6 +193,8 @@ def main() -> None:
         return
     if not (SHARED / "garments").is_dir():
         sys.exit(f"bench_resolution: no garments under {SHARED} (set PTAILOR_SHARED)")
+    from ptailor.formats.garment import load_garment
+
     levels = [int(x) for x in a.levels.split(",")]
     rows: list[dict] = []
     with tempfile.TemporaryDirectory(prefix="ptailor-res-") as tmp:
@@ -214,6 +207,7 @@ def main() -> None:
                 if lev:
                     src = tmp / f"{gname}_x{4**lev}.obj"
                     subdivide_obj(SHARED / "garments" / rel, src, levels=lev)
+                g_in = load_garment(src, pattern_units=pu, drape_units=du).garment
                 for edit in a.edits.split(","):
                     for sym in [False] if a.no_symmetric else [False, True]:
                         key = f"{edit}{'_sym' if sym else ''}"
@@ -222,15 +216,16 @@ def main() -> None:
                         out = tmp / "out"
                         r = run_case(src, rec, out, (pu, du), lean=True)
                         rep = r["report"]
-                        vt, n_tri = written_pattern(out / "garment.obj")
+                        e = written_garment(out / "garment.obj")
+                        vt, n_tri = e.V2, len(e.F2)
                         agree = None
                         if lev == 0:
                             base[key] = vt
                         elif key in base:
                             n1 = len(base[key])
                             agree = float(np.linalg.norm(vt[:n1] - base[key], axis=1).max())
-                        seam_worst, seam_check = worst_seam(rep, out)
-                        igl = libigl_case(src, out, (pu, du))
+                        seam_worst, seam_check = worst_seam(rep, e)
+                        igl = libigl_case(g_in, e)
                         full = None
                         if a.full_adjust and edit == a.edits.split(",")[0] and not sym:
                             f = run_case(src, rec, tmp / "full", (pu, du), lean=False)

@@ -27,8 +27,6 @@ class Anderson:
     """
 
     m: int = 5
-    _df: list[np.ndarray] = field(default_factory=list)
-    _dg: list[np.ndarray] = field(default_factory=list)
     _gram: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     _f: np.ndarray | None = None
     _g: np.ndarray | None = None
@@ -38,8 +36,6 @@ class Anderson:
 
     def reset(self) -> None:
         """Forget the history (after a rejected step)."""
-        self._df.clear()
-        self._dg.clear()
         self._slot.clear()
         self._gram = np.zeros((0, 0))
         self._f = self._g = None
@@ -54,15 +50,11 @@ class Anderson:
             slot = len(self._slot)
             if slot == self.m:  # the oldest row is reused
                 slot = self._slot.pop(0)
-                self._df.pop(0)
-                self._dg.pop(0)
                 H = H[1:, 1:]
             df, dg = self._DF[slot], self._DG[slot]
             np.subtract(f, self._f, out=df)
             np.subtract(gx, self._g, out=dg)
             self._slot.append(slot)
-            self._df.append(df)
-            self._dg.append(dg)
             col = self._DF[self._slot] @ df  # one matrix-vector product for the new column
             k = len(col)
             Hn = np.empty((k, k))
@@ -89,7 +81,7 @@ class Anderson:
         with np.errstate(all="ignore"):
             f = gx - x
             self._record(f, gx)
-            if not self._df:
+            if not self._slot:
                 return gx
             # least squares min |f_k - dF gamma|, scaled columns and a tiny ridge for stability
             s = np.maximum(np.sqrt(np.diag(self._gram)), 1e-300)

@@ -147,12 +147,10 @@ class SeamEase:
         c = np.concatenate([ca, cb]) * np.concatenate([lam[self.row], lam[self.row]])
         e = X[E[:, 1]] - X[E[:, 0]]
         length = np.linalg.norm(e, axis=1)
-        keep = (c > 0) & (length > 0)
-        E, e, length = E[keep], e[keep], length[keep]
-        kappa = c[keep] / length
-        if len(kappa):
-            strong = kappa >= min_rel * kappa.max()
-            E, e, length, kappa = E[strong], e[strong], length[strong], kappa[strong]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            kappa = np.where((c > 0) & (length > 0), c / length, 0.0)
+        keep = (kappa > 0) & (kappa >= min_rel * kappa.max(initial=0.0))
+        E, e, length, kappa = E[keep], e[keep], length[keep], kappa[keep]
         nx, ny = -e[:, 1] / length, e[:, 0] / length
         p = len(E)
         P = sp.csr_matrix(
