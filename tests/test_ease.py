@@ -99,6 +99,59 @@ def test_a_seam_that_must_stay_equal_meets_in_the_middle():
     assert info.seam_violation < 1e-10
 
 
+def test_a_curves_totals_hold_while_its_pairs_keep_their_proportions():
+    """Pair ratios that vary along the seam (ease put where the design wants it) and an
+    edit that lengthens the seam's edges unevenly (A stretched more at the top): with the
+    curve's total, ``sum L_b = total * sum L_a`` exactly and every pair's ratio moves by one
+    common factor; with pair ratios alone the totals drift."""
+    V, F, ea, eb, vlab = two_squares(8)
+    W = V.copy()
+    a = vlab == 0
+    W[a, 1] = V[a, 1] + 0.4 * V[a, 1] ** 2  # A's seam edges 1.0x at the bottom, 1.8x at top
+    T = edge_matrices(W, F)
+    k = len(ea)
+    ratio = 0.9 + 0.2 * np.arange(k) / (k - 1)  # side b over side a, 0.9 -> 1.1
+    total = 1.0
+    pins = np.array([0, len(V) // 2])
+    pairs_only = SeamEase(ea=ea, eb=eb, row=np.arange(k), ratio=ratio)
+    with_total = SeamEase(
+        ea=ea, eb=eb, row=np.arange(k), ratio=ratio, curve=np.zeros(k, dtype=np.int64),
+        total=np.array([total]),
+    )  # fmt: skip
+    for ease in (pairs_only, with_total):
+        X, info = stitch(V, F, T, pins=pins, vertex_panel=vlab, ease=ease)
+        assert info.converged and info.seam_violation < 1e-9
+        each_a = np.linalg.norm(X[ea[:, 1]] - X[ea[:, 0]], axis=1)
+        each_b = np.linalg.norm(X[eb[:, 1]] - X[eb[:, 0]], axis=1)
+        moved = (each_b / each_a) / ratio
+        if ease is pairs_only:
+            np.testing.assert_allclose(moved, 1.0, rtol=1e-8)
+            assert abs(each_b.sum() / each_a.sum() - total) > 1e-3  # the totals drift
+        else:
+            assert each_b.sum() / each_a.sum() == pytest.approx(total, rel=1e-9)
+            np.testing.assert_allclose(moved, moved[0], rtol=1e-8)  # one factor
+            assert abs(moved[0] - 1.0) > 1e-3
+
+
+def test_seam_ease_gives_each_curve_between_two_panels_its_total():
+    g = lantern_sleeve()
+    plist = panels(g)
+    flab = panel_labels(plist, g.n_faces)
+    ease = seam_ease(g.F3, g.F2, g.V2, face_panel=flab, factors={(0, 1): 1.5})
+    pa = flab[ease_faces(ease, g.F2, "a")]
+    pb = flab[ease_faces(ease, g.F2, "b")]
+    assert np.all(ease.curve[pa == pb] == -1)  # the sleeve's own seam: pairs only
+    on = ease.curve >= 0
+    la, lb = ease.lengths(g.V2)  # one row per pair
+    for c in np.unique(ease.curve[on]):
+        sel = ease.curve == c
+        sleeve_a = bool(np.all(pa[sel] == 0))
+        gain = 1 / 1.5 if sleeve_a else 1.5
+        assert ease.total[c] == pytest.approx(gain * lb[sel].sum() / la[sel].sum(), rel=1e-12)
+    # at the pattern itself, the totals' factor is 1 on every curve: the ratios are the pairs'
+    np.testing.assert_allclose(ease.ratios(g.V2), ease.ratio, rtol=1e-12)
+
+
 def ease_faces(ease: SeamEase, F2: np.ndarray, side: str) -> np.ndarray:
     """The triangle holding each row's side-``a`` (or ``b``) edge (one edge per row)."""
     E = ease.ea if side == "a" else ease.eb

@@ -21,6 +21,11 @@ SEAM_EXACT_REL = 1e-9
 #: The seam constraints' curvature (the stitching's SQP step) leaves out the edges whose
 #: weight is below this fraction of the largest (ptailor.method.ease.SeamEase.curvature)
 SEAM_CURVATURE_MIN_REL = 0.05
+#: A seam curve whose edge pairs' ratios all lie within this (relative) of its total's
+#: ratio gets no total row (ptailor.method.ease.seam_ease): the pairs hold its total to
+#: this fraction of its length (0.001 cm on a 1 m seam); a simulated pattern's float noise
+#: is about 3e-6.
+SEAM_TOTAL_UNIFORM_REL = 1e-5
 #: A seam edge whose two sides miss their target ratio by more than this (relative) after
 #: the solve is reported as a warning.
 SEAM_WARN_REL = 1e-4

@@ -39,12 +39,21 @@ class SeamEase:
         The constraint row each edge pair belongs to.
     ratio : (k,) float array
         Target length ratio ``L_b / L_a`` of each row.
+    curve : (s,) int array, optional
+        With one row per edge pair: the seam curve of each pair (-1: none), whose two
+        sides' totals keep ``total``: each pair's ratio is scaled, one factor per curve,
+        so that ``sum L_b = total * sum L_a`` along the curve while the pairs keep their
+        ratios' proportions (see :meth:`ratios`).
+    total : (c,) float array, optional
+        Target ratio of each curve's side totals.
     """
 
     ea: np.ndarray
     eb: np.ndarray
     row: np.ndarray
     ratio: np.ndarray
+    curve: np.ndarray | None = None
+    total: np.ndarray | None = None
 
     @property
     def n_rows(self) -> int:
@@ -62,10 +71,44 @@ class SeamEase:
         k = self.n_rows
         return np.bincount(self.row, la, k), np.bincount(self.row, lb, k)
 
+    def ratios(self, X: np.ndarray) -> np.ndarray:
+        """Each row's target ratio at ``X``, ``(k,)`` float: :attr:`ratio`, scaled on each
+        seam curve by ``total * sum L_a / sum (ratio L_a)`` (``L_a`` at ``X``).
+
+        One ratio per edge pair keeps the ease where the design put it (balance points
+        meet all along the seam), but as the edit lengthens some of a curve's edges more
+        than others, the totals drift from the curve's ratio (0.1 mm on a 50 cm armhole).
+        The one factor per curve, taken at the iterate like the edges' directions, makes
+        both hold at the fixed point: the curve's totals at their ratio, and its pairs at
+        ratios in the original proportions."""
+        if self.curve is None or self.total is None:
+            return self.ratio
+        la = np.linalg.norm(X[self.ea[:, 1]] - X[self.ea[:, 0]], axis=1)
+        on = self.curve >= 0
+        c, nc = self.curve[on], len(self.total)
+        want = self.total * np.bincount(c, la[on], nc)
+        have = np.bincount(c, (self.ratio[self.row] * la)[on], nc)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            f = np.where(have > 0, want / have, 1.0)
+        f = np.where(np.isfinite(f) & (f > 0), f, 1.0)
+        gain = np.ones(len(la))
+        gain[on] = f[c]
+        return (
+            self.ratio
+            * np.bincount(self.row, gain, self.n_rows)
+            / np.bincount(self.row, minlength=self.n_rows)
+        )
+
     def violation(self, X: np.ndarray) -> np.ndarray:
-        """Relative mismatch ``|L_b - r L_a| / L_b`` of each row, ``(k,)`` float."""
+        """Relative mismatch ``|L_b - r L_a| / L_b`` of each row (``r`` its
+        :meth:`ratios` at ``X``), ``(k,)`` float."""
         la, lb = self.lengths(X)
-        return np.abs(lb - self.ratio * la) / np.maximum(lb, 1e-300)
+        return np.abs(lb - self.ratios(X) * la) / np.maximum(lb, 1e-300)
+
+    @property
+    def n_totals(self) -> int:
+        """Number of seam curves whose totals are constrained, ``t``."""
+        return 0 if self.curve is None or self.total is None else len(self.total)
 
     def rows(self, X: np.ndarray) -> sp.csr_matrix:
         """The constraints linearised at positions ``X``.
@@ -77,34 +120,63 @@ class SeamEase:
 
         Returns
         -------
-        (k, 2n) sparse matrix
-            Over unknowns ``[x; y]``; row ``g`` is ``(L_b - r_g L_a) / sqrt(1 + r_g^2)``
-            with each edge's length replaced by its projection on its current direction.
+        (k + t, 2n) sparse matrix
+            Over unknowns ``[x; y]``; row ``g < k`` is ``(L_b - r_g L_a) / sqrt(1 + r_g^2)``
+            (``r_g`` the row's :meth:`ratios` at ``X``), row ``k + c`` the same for curve
+            ``c``'s totals at its ``total``, with each edge's length replaced by its
+            projection on its current direction.
         """
-        n = len(X)
+        n, k = len(X), self.n_rows
 
-        def side(E: np.ndarray, coef: np.ndarray) -> tuple[np.ndarray, ...]:
+        def side(E, coef, row) -> tuple[np.ndarray, ...]:
             e = X[E[:, 1]] - X[E[:, 0]]
             d = e / np.maximum(np.linalg.norm(e, axis=1), 1e-300)[:, None]
             d = d * coef[:, None]
-            rows = np.tile(self.row, 4)
+            rows = np.tile(row, 4)
             cols = np.concatenate([E[:, 1], E[:, 1] + n, E[:, 0], E[:, 0] + n])
             vals = np.concatenate([d[:, 0], d[:, 1], -d[:, 0], -d[:, 1]])
             return rows, cols, vals
 
-        coef_a, coef_b = self._coefficients()
-        ra, ca, va = side(self.ea, coef_a)
-        rb, cb, vb = side(self.eb, coef_b)
-        return sp.csr_matrix(
-            (np.concatenate([va, vb]), (np.concatenate([ra, rb]), np.concatenate([ca, cb]))),
-            shape=(self.n_rows, 2 * n),
-        )
+        coef_a, coef_b = self._coefficients(self.ratios(X))
+        parts = [side(self.ea, coef_a, self.row), side(self.eb, coef_b, self.row)]
+        if self.n_totals:
+            on = self.curve >= 0
+            c = self.curve[on]
+            norm = 1.0 / np.sqrt(1.0 + self.total**2)
+            parts.append(side(self.ea[on], -(self.total * norm)[c], k + c))
+            parts.append(side(self.eb[on], norm[c], k + c))
+        r, c, v = (np.concatenate(x) for x in zip(*parts, strict=True))
+        return sp.csr_matrix((v, (r, c)), shape=(k + self.n_totals, 2 * n))
 
-    def _coefficients(self) -> tuple[np.ndarray, np.ndarray]:
-        """Each edge's coefficient in its row: ``-r / sqrt(1 + r^2)`` on side a,
-        ``1 / sqrt(1 + r^2)`` on side b, two ``(s,)`` float arrays."""
-        norm = 1.0 / np.sqrt(1.0 + self.ratio**2)
-        return -(self.ratio * norm)[self.row], norm[self.row]
+    def total_columns(self, X: np.ndarray) -> np.ndarray | None:
+        """The rows' derivatives in each curve's factor (:meth:`ratios`), ``(k + t, t)``
+        float, or None without curve totals.
+
+        The step treats each curve's factor as an unknown of its own, beside the
+        positions: the pairs' rows keep their proportions whatever it is, and the curve's
+        total row fixes it, so one step meets both (the factor taken at the iterate alone
+        would lag a step behind and slow the iterations about twofold)."""
+        t = self.n_totals
+        if not t:
+            return None
+        k = self.n_rows
+        la = np.linalg.norm(X[self.ea[:, 1]] - X[self.ea[:, 0]], axis=1)
+        r = self.ratios(X)[self.row]
+        on = self.curve >= 0
+        B = np.zeros((k + t, t))
+        # d/df of (L_b - ratio f L_a) / sqrt(1 + (ratio f)^2), the norm taken as constant
+        np.add.at(
+            B,
+            (self.row[on], self.curve[on]),
+            -(self.ratio[self.row] * la / np.sqrt(1.0 + r**2))[on],
+        )
+        return B
+
+    def _coefficients(self, ratio: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Each edge's coefficient in its row for the rows' ``ratio``: ``-r / sqrt(1 + r^2)``
+        on side a, ``1 / sqrt(1 + r^2)`` on side b, two ``(s,)`` float arrays."""
+        norm = 1.0 / np.sqrt(1.0 + ratio**2)
+        return -(ratio * norm)[self.row], norm[self.row]
 
     def curvature(
         self, X: np.ndarray, lam: np.ndarray, *, min_rel: float = tol.SEAM_CURVATURE_MIN_REL
@@ -127,8 +199,9 @@ class SeamEase:
         ----------
         X : (n, 2) float array
             Where the constraints are linearised.
-        lam : (k,) float array
-            Multipliers of the rows (``A x + C^T lam = b``).
+        lam : (k,) or (k + t,) float array
+            Multipliers of the rows (``A x + C^T lam = b``), the curves' total rows'
+            last (:meth:`rows`).
         min_rel : float, keyword-only
             Edges whose weight is below this fraction of the largest get no row: they
             change the step by little and each row costs a row of the step's dense solve
@@ -142,9 +215,17 @@ class SeamEase:
             Each row's curvature weight, ``> 0``.
         """
         n = len(X)
-        ca, cb = self._coefficients()
+        ca, cb = self._coefficients(self.ratios(X))
         E = np.concatenate([self.ea, self.eb])
-        c = np.concatenate([ca, cb]) * np.concatenate([lam[self.row], lam[self.row]])
+        c_a, c_b = ca * lam[self.row], cb * lam[self.row]
+        if self.n_totals and len(lam) > self.n_rows:  # the curves' total rows, too
+            on = self.curve >= 0
+            cv = self.curve[on]
+            norm = 1.0 / np.sqrt(1.0 + self.total**2)
+            lt = lam[self.n_rows :][cv]
+            c_a[on] -= (self.total * norm)[cv] * lt
+            c_b[on] += norm[cv] * lt
+        c = np.concatenate([c_a, c_b])
         e = X[E[:, 1]] - X[E[:, 0]]
         length = np.linalg.norm(e, axis=1)
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -218,20 +299,34 @@ def seam_ease(
     ea, eb, pa, pb, la, lb = ea[ok], eb[ok], pa[ok], pb[ok], la[ok], lb[ok]
     if len(ea) == 0:
         return None
-    if granularity == "edge":
-        row = np.arange(len(ea))
-    else:
-        from ptailor.model.seams import seam_curve_labels
+    from ptailor.model.seams import seam_curve_labels
 
-        row = seam_curve_labels(F3, pairs[ok], face_panel)
+    curve = seam_curve_labels(F3, pairs[ok], face_panel)
+    row = np.arange(len(ea)) if granularity == "edge" else curve
     k = int(row.max()) + 1
     ratio = np.bincount(row, lb, k) / np.bincount(row, la, k)
-    if factors:
-        gain = np.ones(len(ea))
-        for (p, q), f in factors.items():  # a loop over the gathered seams
-            if p != q:
-                gain[(pa == p) & (pb == q)] = 1.0 / f  # ratio is side b (on q) over side a
-                gain[(pa == q) & (pb == p)] = f
-        # a row's pairs share their panels, so one gain per row
-        ratio = ratio * np.bincount(row, gain, k) / np.bincount(row, minlength=k)
-    return SeamEase(ea=ea, eb=eb, row=row, ratio=ratio)
+    gain = np.ones(len(ea))
+    for (p, q), f in (factors or {}).items():  # a loop over the gathered seams
+        if p != q:
+            gain[(pa == p) & (pb == q)] = 1.0 / f  # ratio is side b (on q) over side a
+            gain[(pa == q) & (pb == p)] = f
+    # a row's pairs share their panels, so one gain per row
+    ratio = ratio * np.bincount(row, gain, k) / np.bincount(row, minlength=k)
+    if granularity != "edge":
+        return SeamEase(ea=ea, eb=eb, row=row, ratio=ratio)
+    # the curves' totals: where each curve's pairs all run from one panel to another
+    # (a tube's own seam, both sides on one panel, keeps its pairs' ratios only) and
+    # their ratios differ
+    nc = int(curve.max()) + 1
+    lo = np.bincount(curve, pa < pb, nc)
+    hi = np.bincount(curve, pa > pb, nc)
+    cnt = np.bincount(curve, minlength=nc)
+    whole = (lo == cnt) | (hi == cnt)
+    total = np.bincount(curve, lb * gain, nc) / np.maximum(np.bincount(curve, la, nc), 1e-300)
+    # a curve whose pairs all have about its total's ratio needs no total row: the pairs
+    # hold the total to that fraction of its length
+    off = np.abs(ratio[row] / total[curve] - 1.0) > tol.SEAM_TOTAL_UNIFORM_REL
+    whole &= np.bincount(curve, off, nc) > 0
+    number = np.full(nc, -1, dtype=np.int64)
+    number[whole] = np.arange(int(whole.sum()))  # the whole curves, renumbered
+    return SeamEase(ea=ea, eb=eb, row=row, ratio=ratio, curve=number[curve], total=total[whole])

@@ -465,3 +465,47 @@ def solve_spd(M: np.ndarray, r: np.ndarray) -> np.ndarray | None:
     except (np.linalg.LinAlgError, ValueError):
         return None
     return out if np.all(np.isfinite(out)) else None
+
+
+def solve_bordered(M: np.ndarray, B: np.ndarray | None, r: np.ndarray) -> np.ndarray | None:
+    """``u`` of ``[[M, B], [B^T, 0]] [u; w] = [r; 0]`` for a symmetric positive
+    (semi-)definite ``M`` (the seam step's system with free factors ``w``, one per column
+    of ``B``): by the range space on ``M' = M + rho B B^T`` (the same solution, as
+    ``B^T u = 0``; positive definite where ``M`` is singular only along directions ``B``
+    sees, as when a curve's total row is the sum of its pairs' rows),
+    ``(B^T M'^-1 B) w = B^T M'^-1 r``, ``u = M'^-1 (r - B w)``. Without ``B``,
+    :func:`solve_spd`. None when there is no finite solution.
+
+    Parameters
+    ----------
+    M : (k, k) float array
+    B : (k, t) float array or None
+        Columns with disjoint supports (each row in at most one column: a seam curve's
+        pairs), so ``B B^T`` is one rank-1 block per column.
+    r : (k,) float array
+    """
+    import scipy.linalg as sla
+
+    if B is None or B.shape[1] == 0:
+        return solve_spd(M, r)
+    if not (np.all(np.isfinite(M)) and np.all(np.isfinite(B)) and np.all(np.isfinite(r))):
+        return None
+    Mp = M.copy()
+    rho = float(np.abs(np.diag(M)).max(initial=0.0)) / max(float((B * B).sum(1).max()), 1e-300)
+    for j in range(B.shape[1]):  # a loop over the seam curves
+        idx = np.flatnonzero(B[:, j])
+        b = B[idx, j]
+        Mp[np.ix_(idx, idx)] += rho * np.outer(b, b)
+    rhs = np.column_stack([r, B])
+    try:
+        sol = sla.cho_solve(sla.cho_factor(Mp, overwrite_a=True), rhs)
+    except (sla.LinAlgError, ValueError):
+        sol = solve_spd(M + rho * (B @ B.T), rhs)  # least squares, if singular after all
+        if sol is None:
+            return None
+    u0, MB = sol[:, 0], sol[:, 1:]
+    w = solve_spd(B.T @ MB, B.T @ u0)
+    if w is None:
+        return None
+    u = u0 - MB @ w
+    return u if np.all(np.isfinite(u)) else None

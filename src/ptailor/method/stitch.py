@@ -25,7 +25,7 @@ from ptailor import tolerances as tol
 from ptailor.geometry.closed_forms import det2
 from ptailor.method.anderson import Anderson
 from ptailor.method.ease import SeamEase
-from ptailor.method.linear import SeamBlock, factor, seam_block, solve_spd
+from ptailor.method.linear import SeamBlock, factor, seam_block, solve_bordered
 from ptailor.method.operators import asap_rows, gradient_operator, stitch_matrix
 
 __all__ = ["StitchInfo", "stitch"]
@@ -297,9 +297,10 @@ class _Problem:
         cap at 82k triangles where 21 do with it."""
         blk, ease = self.seam_block, self.ease
         C = ease.rows(X_lin)
+        B = ease.total_columns(X_lin)  # each curve's factor free within the step
         CU = blk.products(blk.restrict(C))
         M_cc = blk.schur(CU)
-        lam = solve_spd(M_cc, C @ y)
+        lam = solve_bordered(M_cc, B, C @ y)
         if lam is None:
             return y  # the constraints are skipped this step (reported)
         P, kappa = ease.curvature(X_lin, lam)
@@ -309,7 +310,8 @@ class _Problem:
             M = np.block([[blk.schur(PU), M_pc], [M_pc.T, M_cc]])
             M[np.arange(len(kappa)), np.arange(len(kappa))] += 1.0 / kappa
             r = np.concatenate([P @ (y - X_lin.T.ravel()), C @ y])
-            nu = solve_spd(M, r)
+            BP = None if B is None else np.vstack([np.zeros((len(kappa), B.shape[1])), B])
+            nu = solve_bordered(M, BP, r)
             if nu is not None:
                 y_c = y - self.solve(P.T @ nu[: len(kappa)] + C.T @ nu[len(kappa) :])
                 if np.all(np.isfinite(y_c)):
@@ -523,8 +525,8 @@ def stitch(
     X[~pb.used] = V2[~pb.used]
     pb._rot = (None, None)  # X changed in place
     viol = float(pb.ease.violation(X).max()) if pb.ease is not None else 0.0
-    if pb.seam_block is None and viol > tol.SEAM_EXACT_REL:
-        converged = False  # the cap came before the seams could be enforced
+    if viol > tol.SEAM_EXACT_REL:
+        converged = False  # the cap came before the seams were enforced, or they were skipped
     return X, StitchInfo(
         iterations=it,
         energy=pb.energy(X),
