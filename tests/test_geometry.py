@@ -236,3 +236,27 @@ def test_edge_matrices():
     V = np.array([[0.0, 0, 0], [1, 0, 0], [0, 2, 0]])
     E = edge_matrices(V, np.array([[0, 1, 2]]))
     assert E.shape == (1, 3, 2) and np.allclose(E[0], [[1, 0], [0, 2], [0, 0]])
+
+
+def test_segment_moments_are_the_curves_not_the_vertices():
+    """A polyline's centroid and second moment by arc length: splitting its segments at
+    their midpoints changes neither, while its vertices' mean moves toward the split part."""
+    from ptailor.geometry.segments import segment_moments
+
+    rng = np.random.default_rng(5)
+    V = np.cumsum(rng.uniform(0.1, 2.0, (9, 3)), axis=0)
+    E = np.stack([np.arange(8), np.arange(1, 9)], axis=1)
+    c, S = segment_moments(V, E)
+    # split the first three segments at their midpoints
+    mid = 0.5 * (V[E[:3, 0]] + V[E[:3, 1]])
+    W = np.concatenate([V, mid])
+    k = np.arange(9, 12)
+    E2 = np.concatenate([np.stack([E[:3, 0], k], 1), np.stack([k, E[:3, 1]], 1), E[3:]])
+    c2, S2 = segment_moments(W, E2)
+    np.testing.assert_allclose(c2, c, rtol=1e-12)
+    np.testing.assert_allclose(S2, S, rtol=1e-12, atol=1e-12)
+    assert np.linalg.norm(W.mean(axis=0) - V.mean(axis=0)) > 1e-2  # the vertices' mean moves
+    # a straight segment: centroid at its middle, second moment L^2 / 12 along it
+    c1, S1 = segment_moments(np.array([[0.0, 0, 0], [2.0, 0, 0]]), np.array([[0, 1]]))
+    np.testing.assert_allclose(c1, [1.0, 0, 0])
+    np.testing.assert_allclose(S1, np.diag([4.0 / 12, 0, 0]), atol=1e-15)

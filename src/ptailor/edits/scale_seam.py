@@ -14,6 +14,7 @@ from ptailor.edits.registry import Param, register
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.errors import PtailorError
 from ptailor.geometry.labels import used_indices
+from ptailor.geometry.segments import segment_moments
 from ptailor.method.deform import arap_deform
 from ptailor.model.garment import panel_labels
 from ptailor.model.seams import Seam, seams
@@ -74,6 +75,17 @@ def seam_vertices(state: EditState, pair: list[str]) -> np.ndarray:
     PtailorError
         Unknown panel names, or panels that share no seam.
     """
+    return np.unique(seam_edges(state, pair).ravel())
+
+
+def seam_edges(state: EditState, pair: list[str]) -> np.ndarray:
+    """Drape edges ``(e, 2)`` of the seam between two named panels.
+
+    Raises
+    ------
+    PtailorError
+        Unknown panel names, or panels that share no seam.
+    """
     by_name = {p.name: p.index for p in state.panels}
     unknown = [n for n in pair if n not in by_name]
     if unknown:
@@ -84,7 +96,7 @@ def seam_vertices(state: EditState, pair: list[str]) -> np.ndarray:
     found = [s for s in state_seams(state) if s.panels == want]
     if not found:
         raise PtailorError(f"panels {pair[0]} and {pair[1]} share no seam")
-    return np.unique(np.concatenate([s.edges3.ravel() for s in found]))
+    return np.concatenate([s.edges3 for s in found])
 
 
 def _part_targets(
@@ -182,11 +194,13 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
     other = b if part == a else a
     ring = seam_vertices(state, [a, b])
     P = V3[ring]
-    c = P.mean(axis=0)
+    # the seam line's centroid and plane by arc length: the same however finely it is
+    # meshed (its vertices' mean moves toward its finely meshed parts)
+    c, S = segment_moments(V3, seam_edges(state, [a, b]))
     if options.body is not None:
         ax = body_axis(P, np.asarray(options.body.vertices, dtype=float))
     else:
-        ax = np.linalg.eigh((P - c).T @ (P - c))[1][:, 0]  # the seam plane's normal
+        ax = np.linalg.eigh(S)[1][:, 0]  # the seam plane's normal
     ax = unit_vector(ax, "the seam's axis")
     f = float(step["factor"])
     by_name = {p.name: p for p in state.panels}

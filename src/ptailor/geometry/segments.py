@@ -56,3 +56,40 @@ def nearest_segment_distance(P: np.ndarray, A: np.ndarray, B: np.ndarray) -> np.
         return np.zeros(len(P))
     d, _ = segment_feet(P[:, None, :], A[None], B[None])
     return d.min(axis=1)
+
+
+def segment_moments(V: np.ndarray, E: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Centroid and second moment of a set of straight segments as a curve, by arc length.
+
+    ``c = sum |e| m_e / L`` (``m_e`` the midpoint, ``L`` the total length) and
+    ``S = sum |e| ((m_e - c)(m_e - c)^T + d_e d_e^T / 12) / L`` (``d_e`` the segment's
+    vector): the moments of the curve itself, so splitting a segment at its midpoint
+    changes neither (a mesh's seam vertices weighted equally would shift toward its
+    finely meshed parts).
+
+    Parameters
+    ----------
+    V : (n, k) float array
+    E : (e, 2) int array
+        Segments by their end vertices.
+
+    Returns
+    -------
+    c : (k,) float array
+    S : (k, k) float array
+        Both of the vertices' mean and scatter (per vertex) when every segment has zero
+        length.
+    """
+    A, B = V[E[:, 0]], V[E[:, 1]]
+    d = B - A
+    w = np.linalg.norm(d, axis=1)
+    total = float(w.sum())
+    if not total > 0:
+        P = V[np.unique(E)]
+        c = P.mean(axis=0)
+        return c, (P - c).T @ (P - c) / max(len(P), 1)
+    m = 0.5 * (A + B)
+    c = (w @ m) / total
+    r = m - c
+    S = ((r * w[:, None]).T @ r + (d * w[:, None]).T @ d / 12.0) / total
+    return c, S
