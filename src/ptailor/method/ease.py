@@ -22,7 +22,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ptailor import tolerances as tol
-from ptailor.model.seams import half_edges, seam_halfedges
+from ptailor.model.seams import half_edges, seam_curve_labels, seam_halfedges
 
 Granularity = Literal["edge", "seam"]
 
@@ -299,8 +299,6 @@ def seam_ease(
     ea, eb, pa, pb, la, lb = ea[ok], eb[ok], pa[ok], pb[ok], la[ok], lb[ok]
     if len(ea) == 0:
         return None
-    from ptailor.model.seams import seam_curve_labels
-
     curve = seam_curve_labels(F3, pairs[ok], face_panel)
     row = np.arange(len(ea)) if granularity == "edge" else curve
     k = int(row.max()) + 1
