@@ -31,6 +31,14 @@ SEAM_TOTAL_UNIFORM_REL = 1e-5
 SEAM_WARN_REL = 1e-4
 #: Anderson acceleration history of the stitching iterations (0: plain local/global).
 ANDERSON_HISTORY = 10
+#: The stitching takes a Newton step when its largest residual fell by less than
+#: NEWTON_CRAWL over the last NEWTON_WINDOW iterations (a slender panel's bending, where
+#: local/global steps crawl); each solves its model by at most NEWTON_CG_MAX
+#: preconditioned conjugate-gradient iterations, to NEWTON_CG_RTOL of the first residual.
+NEWTON_WINDOW = 5
+NEWTON_CRAWL = 0.5
+NEWTON_CG_MAX = 40
+NEWTON_CG_RTOL = 1e-3
 #: Right-hand sides per back-substitution batch when the seam block of ``A^-1`` is formed
 #: (SuperLU slows down twentyfold per column beyond about 32).
 SEAM_BLOCK_CHUNK = 16

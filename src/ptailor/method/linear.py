@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import contextvars
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from functools import cached_property
@@ -469,12 +469,31 @@ def solve_spd(M: np.ndarray, r: np.ndarray) -> np.ndarray | None:
 
 def solve_bordered(M: np.ndarray, B: np.ndarray | None, r: np.ndarray) -> np.ndarray | None:
     """``u`` of ``[[M, B], [B^T, 0]] [u; w] = [r; 0]`` for a symmetric positive
-    (semi-)definite ``M`` (the seam step's system with free factors ``w``, one per column
-    of ``B``): by the range space on ``M' = M + rho B B^T`` (the same solution, as
-    ``B^T u = 0``; positive definite where ``M`` is singular only along directions ``B``
-    sees, as when a curve's total row is the sum of its pairs' rows),
-    ``(B^T M'^-1 B) w = B^T M'^-1 r``, ``u = M'^-1 (r - B w)``. Without ``B``,
-    :func:`solve_spd`. None when there is no finite solution.
+    (semi-)definite ``M``: :func:`bordered_solver` applied once. None when there is no
+    finite solution.
+
+    Parameters
+    ----------
+    M : (k, k) float array
+    B : (k, t) float array or None
+    r : (k,) float array
+    """
+    solve = bordered_solver(M, B)
+    return None if solve is None else solve(r)
+
+
+def bordered_solver(
+    M: np.ndarray, B: np.ndarray | None
+) -> Callable[[np.ndarray], np.ndarray | None] | None:
+    """The solution operator ``r -> u`` of ``[[M, B], [B^T, 0]] [u; w] = [r; 0]`` for a
+    symmetric positive (semi-)definite ``M`` (the seam step's system with free factors
+    ``w``, one per column of ``B``), factored once for many right-hand sides.
+
+    By the range space on ``M' = M + rho B B^T`` (the same solution, as ``B^T u = 0``;
+    positive definite where ``M`` is singular only along directions ``B`` sees, as when a
+    curve's total row is the sum of its pairs' rows): ``(B^T M'^-1 B) w = B^T M'^-1 r``,
+    ``u = M'^-1 (r - B w)``. Without ``B``, :func:`solve_spd`'s Cholesky (least squares
+    where singular).
 
     Parameters
     ----------
@@ -482,13 +501,24 @@ def solve_bordered(M: np.ndarray, B: np.ndarray | None, r: np.ndarray) -> np.nda
     B : (k, t) float array or None
         Columns with disjoint supports (each row in at most one column: a seam curve's
         pairs), so ``B B^T`` is one rank-1 block per column.
-    r : (k,) float array
+
+    Returns
+    -------
+    callable or None
+        ``solve(r)``, ``r`` a ``(k,)`` float array, giving ``u`` or None where it is not
+        finite; None when ``M`` or ``B`` is not finite or the system has no solution.
     """
     import scipy.linalg as sla
 
+    if not np.all(np.isfinite(M)):
+        return None
     if B is None or B.shape[1] == 0:
-        return solve_spd(M, r)
-    if not (np.all(np.isfinite(M)) and np.all(np.isfinite(B)) and np.all(np.isfinite(r))):
+        try:
+            cho = sla.cho_factor(M)
+        except (sla.LinAlgError, ValueError):
+            return lambda r: solve_spd(M, r)  # least squares, if singular
+        return lambda r: _finite_or_none(sla.cho_solve(cho, r)) if np.all(np.isfinite(r)) else None
+    if not np.all(np.isfinite(B)):
         return None
     Mp = M.copy()
     rho = float(np.abs(np.diag(M)).max(initial=0.0)) / max(float((B * B).sum(1).max()), 1e-300)
@@ -496,16 +526,28 @@ def solve_bordered(M: np.ndarray, B: np.ndarray | None, r: np.ndarray) -> np.nda
         idx = np.flatnonzero(B[:, j])
         b = B[idx, j]
         Mp[np.ix_(idx, idx)] += rho * np.outer(b, b)
-    rhs = np.column_stack([r, B])
     try:
-        sol = sla.cho_solve(sla.cho_factor(Mp, overwrite_a=True), rhs)
+        cho = sla.cho_factor(Mp, overwrite_a=True)
+        inner = lambda rhs: sla.cho_solve(cho, rhs)  # noqa: E731
     except (sla.LinAlgError, ValueError):
-        sol = solve_spd(M + rho * (B @ B.T), rhs)  # least squares, if singular after all
-        if sol is None:
-            return None
-    u0, MB = sol[:, 0], sol[:, 1:]
-    w = solve_spd(B.T @ MB, B.T @ u0)
-    if w is None:
+        Ms = M + rho * (B @ B.T)  # least squares, if singular after all
+        inner = lambda rhs: solve_spd(Ms, rhs)  # noqa: E731
+    MB = inner(B)
+    if MB is None:
         return None
-    u = u0 - MB @ w
+    S = B.T @ MB
+
+    def solve(r: np.ndarray) -> np.ndarray | None:
+        if not np.all(np.isfinite(r)):
+            return None
+        u0 = inner(r)
+        if u0 is None:
+            return None
+        w = solve_spd(S, B.T @ u0)
+        return None if w is None else _finite_or_none(u0 - MB @ w)
+
+    return solve
+
+
+def _finite_or_none(u: np.ndarray) -> np.ndarray | None:
     return u if np.all(np.isfinite(u)) else None

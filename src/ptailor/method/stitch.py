@@ -25,7 +25,7 @@ from ptailor import tolerances as tol
 from ptailor.geometry.closed_forms import det2
 from ptailor.method.anderson import Anderson
 from ptailor.method.ease import SeamEase
-from ptailor.method.linear import SeamBlock, factor, seam_block, solve_bordered
+from ptailor.method.linear import SeamBlock, bordered_solver, factor, seam_block
 from ptailor.method.operators import asap_rows, gradient_operator, stitch_matrix
 
 __all__ = ["StitchInfo", "stitch"]
@@ -53,6 +53,9 @@ class StitchInfo:
     stalled : bool
         The iterations stopped before ``max_iter`` because the largest residual made no
         progress over ``tol.ARAP_STALL_ITER`` iterations (not converged).
+    newton_steps : int
+        Iterations that were a Newton step (:meth:`_Problem.newton`), taken where the
+        local/global steps crawl.
     """
 
     iterations: int
@@ -62,6 +65,7 @@ class StitchInfo:
     seam_violation: float = 0.0
     history: tuple[float, ...] = ()
     stalled: bool = False
+    newton_steps: int = 0
 
 
 def _vertex_panels(F2: np.ndarray, n: int, vertex_panel: np.ndarray | None) -> np.ndarray:
@@ -164,6 +168,32 @@ class _PanelIndex:
         return out
 
 
+@dataclass(frozen=True)
+class _SeamStep:
+    """The seam rows of one linearisation and the solver of their Woodbury system, kept
+    to project further right-hand sides onto the same constraints (:meth:`_Problem.newton`).
+
+    Attributes
+    ----------
+    X : (n, 2) float array
+        Where the constraints were linearised (the object itself: compared by identity).
+    Q : (r, 2n) sparse matrix
+        The curvature rows over the constraint rows, ``[P; C]``.
+    solve : callable
+        ``nu = solve(Q y)``: the multipliers of the rows for the plain solution ``y``.
+    P : (p, 2n) sparse matrix or None
+        The curvature rows (None without).
+    kappa : (p,) float array
+        Their weights.
+    """
+
+    X: np.ndarray
+    Q: sp.csr_matrix
+    solve: Callable[[np.ndarray], np.ndarray | None]
+    P: sp.csr_matrix | None
+    kappa: np.ndarray
+
+
 class _Problem:
     """The stitching energy of one pattern: its factored matrix, steps and measures."""
 
@@ -211,6 +241,7 @@ class _Problem:
         self.size = _panel_sizes(V2, vlab, n_panels)
         self._panels = _PanelIndex(vlab, n_panels)
         self._rot: tuple = (None, None)  # the last iterate's rotations, for reuse
+        self._seam_step: _SeamStep | None = None  # the last constrained step's rows
 
     def _asap(self, V2, F2, asap_faces, asap_exclude, panel_weight, stiff):
         """The as-similar-as-possible rows (weighted by panel), or None without any."""
@@ -296,11 +327,13 @@ class _Problem:
         their projected length), and the iterations crawl on fine meshes: the 100-iteration
         cap at 82k triangles where 21 do with it."""
         blk, ease = self.seam_block, self.ease
+        self._seam_step = None
         C = ease.rows(X_lin)
         B = ease.total_columns(X_lin)  # each curve's factor free within the step
         CU = blk.products(blk.restrict(C))
         M_cc = blk.schur(CU)
-        lam = solve_bordered(M_cc, B, C @ y)
+        cc = bordered_solver(M_cc, B)
+        lam = None if cc is None else cc(C @ y)
         if lam is None:
             return y  # the constraints are skipped this step (reported)
         P, kappa = ease.curvature(X_lin, lam)
@@ -309,15 +342,118 @@ class _Problem:
             M_pc = blk.schur(PU, CU)
             M = np.block([[blk.schur(PU), M_pc], [M_pc.T, M_cc]])
             M[np.arange(len(kappa)), np.arange(len(kappa))] += 1.0 / kappa
-            r = np.concatenate([P @ (y - X_lin.T.ravel()), C @ y])
             BP = None if B is None else np.vstack([np.zeros((len(kappa), B.shape[1])), B])
-            nu = solve_bordered(M, BP, r)
+            full = bordered_solver(M, BP)
+            nu = None
+            if full is not None:
+                nu = full(np.concatenate([P @ (y - X_lin.T.ravel()), C @ y]))
             if nu is not None:
                 y_c = y - self.solve(P.T @ nu[: len(kappa)] + C.T @ nu[len(kappa) :])
                 if np.all(np.isfinite(y_c)):
+                    self._seam_step = _SeamStep(X_lin, sp.vstack([P, C]).tocsr(), full, P, kappa)
                     return y_c
         y_c = y - self.solve(C.T @ lam)  # no curvature (none, or its solve failed)
-        return y_c if np.all(np.isfinite(y_c)) else y
+        if not np.all(np.isfinite(y_c)):
+            return y
+        self._seam_step = _SeamStep(X_lin, C, cc, None, np.zeros(0))
+        return y_c
+
+    def _project(self, R: np.ndarray, seam: _SeamStep | None) -> np.ndarray:
+        """``z`` minimising ``1/2 z^T (A + P^T kappa P) z - R . z`` with ``C z`` on the
+        seams' linearisation ``seam`` (its curves' factors free), ``(n, 2)``: the
+        local/global step's own system, applied to another right-hand side ``R (n, 2)``."""
+        y = self.solve(R.T.ravel())
+        if seam is not None:
+            nu = seam.solve(seam.Q @ y)
+            if nu is not None:
+                y = y - self.solve(seam.Q.T @ nu)
+        return y.reshape(2, self.n).T
+
+    def _rotation_hessian(self, X: np.ndarray, V: np.ndarray) -> np.ndarray:
+        """The part of the energy's Hessian the local/global step leaves out, applied to
+        ``V (n, 2)``: ``sum_i A_i alpha_i (t_i . J_i(V)) D_i^T t_i`` (half-energy units).
+
+        At the closest rotation ``R_i`` (angle ``theta``) of ``J_i``, ``R_i`` turns with
+        ``J_i`` along ``t_i = dR/dtheta`` only, at the rate ``1 / r_i`` (``r_i = s1 + s2``,
+        the sum of ``J_i``'s singular values): the Hessian of ``|J - R(J)|^2 / 2`` is
+        ``I - t t^T / r``, whose one eigenvalue below 1 is the twist's, ``1 - 2 / r``.
+        Projected onto the positive semi-definite cone (Teran et al.'s per-element
+        projection): ``alpha = 1 / r`` where ``r >= 2``, ``1/2`` (the twist free) where
+        the triangle is compressed."""
+        J, cos, sin = self.rotations(X)
+        m = self.m
+        r = np.hypot(J[:m, 0] + J[m:, 1], J[:m, 1] - J[m:, 0])
+        alpha = np.where(r >= 2.0, 1.0 / np.maximum(r, 2.0), 0.5)
+        JV = self.D @ V
+        # t = [[-sin, -cos], [cos, -sin]] in J's (coordinate, target axis) layout
+        coef = self.area * alpha * (cos * (JV[:m, 1] - JV[m:, 0]) - sin * (JV[:m, 0] + JV[m:, 1]))
+        W = np.empty((2 * m, 2))
+        W[:m, 0], W[:m, 1] = -sin * coef, cos * coef
+        W[m:, 0], W[m:, 1] = -cos * coef, -sin * coef
+        return self._Dt @ W
+
+    def _hessian(self, X: np.ndarray, V: np.ndarray, seam: _SeamStep | None) -> np.ndarray:
+        """The projected Hessian of the half energy with the seams' curvature at ``X``,
+        applied to ``V (n, 2)``."""
+        JV = self.D @ V
+        JV[: self.m] *= self.area[:, None]
+        JV[self.m :] *= self.area[:, None]
+        out = self._Dt @ JV + self.pin_w[:, None] * V - self._rotation_hessian(X, V)
+        v = None
+        if self.B is not None:
+            v = V.T.ravel()
+            out += (self.w_asap * (self.B.T @ (self.B @ v))).reshape(2, self.n).T
+        if seam is not None and seam.P is not None:
+            v = V.T.ravel() if v is None else v
+            out += (seam.P.T @ (seam.kappa * (seam.P @ v))).reshape(2, self.n).T
+        return out
+
+    def newton(
+        self, X: np.ndarray, GX: np.ndarray, *, max_cg: int, rtol: float
+    ) -> tuple[np.ndarray, int]:
+        """A Newton step from ``X`` and the conjugate-gradient iterations it took.
+
+        The step minimises the quadratic model of the energy at ``X`` with its projected
+        Hessian (:meth:`_rotation_hessian`; the seams' curvature and linearised
+        constraints as the local/global step has them) by conjugate gradients
+        preconditioned by the local/global step's own system (a constraint
+        preconditioner: every iterate meets the linearised seams), started from the
+        local/global step ``GX - X``, which minimises the model with that system's
+        Hessian. Where the two Hessians agree the start is the answer; where they do not
+        (a slender panel's bending: the local/global step's matrix is stiff there and the
+        iterations crawl) a few iterations find what hundreds of local/global steps
+        would. Stops when the preconditioned residual has fallen by ``rtol``, after
+        ``max_cg`` iterations, or at a direction without positive curvature.
+        ``GX`` must be the step from ``X`` (the seams linearised at ``X``)."""
+        seam = None
+        if self.seam_block is not None:
+            seam = self._seam_step
+            if seam is None or seam.X is not X:
+                return GX, 0  # the constraints were skipped at X: no model to refine
+        d = GX - X
+        res = -self._rotation_hessian(X, d)  # the model's gradient at d, C^T lam left out
+        z = self._project(res, seam)
+        rz = rz0 = float((res * z).sum())
+        if not rz > 0:
+            return GX, 0
+        p = -z
+        k = 0
+        while k < max_cg:
+            k += 1
+            Hp = self._hessian(X, p, seam)
+            curv = float((p * Hp).sum())
+            if not curv > 0:
+                break
+            a = rz / curv
+            d += a * p
+            res += a * Hp
+            z = self._project(res, seam)
+            rz_new = float((res * z).sum())
+            if not rz_new > rtol * rtol * rz0:
+                break
+            p = -z + (rz_new / rz) * p
+            rz = rz_new
+        return X + d, k
 
     def step(self, X: np.ndarray) -> np.ndarray:
         _, cos, sin = self.rotations(X)
@@ -385,6 +521,35 @@ class _Iterate:
         acc.reset()
         return False
 
+    def newton(self, *, max_cg: int, rtol: float) -> tuple[bool, float]:
+        """A Newton step (:meth:`_Problem.newton`) from ``X``, kept, like an accelerated
+        iterate, when the energy after a plain step from it is below the plain step's;
+        ``(kept, its largest panel move over the panel's size)``."""
+        pb = self.pb
+        if self.pb._seam_step is not None and self.pb._seam_step.X is not self.X:
+            self.GX = pb.step(self.X)  # the seams linearised at X again (after a rejection)
+        Xn, _ = pb.newton(self.X, self.GX, max_cg=max_cg, rtol=rtol)
+        if not np.all(np.isfinite(Xn)):
+            return False, np.inf
+        move = pb.residual(self.X, Xn)
+        GXn = pb.step(Xn)
+        e_n = pb.energy(GXn) if np.all(np.isfinite(GXn)) else np.inf
+        e_gx = self.e_gx if self.history else pb.energy(self.GX)
+        if e_n < e_gx:
+            # the step is the Newton move and the plain step after it, whichever is larger
+            res = np.maximum(move, pb.residual(Xn, GXn))
+            self.X, self.GX, self.e_gx, self.res = Xn, GXn, e_n, res
+            return True, float(move.max(initial=0.0))
+        return False, float(move.max(initial=0.0))
+
+
+def _crawls(h: list[float], last: int) -> bool:
+    """The largest residual fell by less than ``tol.NEWTON_CRAWL`` over the last
+    ``tol.NEWTON_WINDOW`` iterations, none of them a Newton step (``last``: the iteration
+    count at the last one)."""
+    w = tol.NEWTON_WINDOW
+    return len(h) - last > w and h[-1] > tol.NEWTON_CRAWL * h[-1 - w]
+
 
 def _stalls(h: list[float]) -> bool:
     """The largest residual of the last ``ARAP_STALL_ITER`` iterations is no real gain."""
@@ -399,12 +564,14 @@ def _iterate(
     max_iter: int,
     step_tol: float,
     history: int,
+    newton_cg: int = tol.NEWTON_CG_MAX,
     progress: Callable[[int, float], None] | None = None,
-) -> tuple[int, bool, bool, list[float]]:
+) -> tuple[int, bool, bool, list[float], int]:
     """Local/global iterations from ``s`` (updated); ``(iterations, converged, stalled,
-    residual history)``. ``progress(iteration, residual)`` is called once per iteration."""
+    residual history, Newton steps)``. ``progress(iteration, residual)`` is called once
+    per iteration."""
     acc = Anderson(m=history)
-    it, converged, stalled, since = 0, False, False, 0
+    it, converged, stalled, since, last, newton = 0, False, False, 0, 0, 0
     hist: list[float] = []
     while it < max_iter:
         it += 1
@@ -417,18 +584,31 @@ def _iterate(
             stalled = True  # a long run that no longer improves: stop (deterministically)
             break
         if pb.seams_pending(s.GX):  # from the first iteration that misses a seam
-            since = len(hist)  # the constrained iterations get their own stall window
+            since = last = len(hist)  # the constrained iterations get their own windows
             pb.seams_on()
             acc.reset()
             s.plain()
             continue
-        if done:
+        # Where the steps crawl, a Newton step; and a run that took one ends only when a
+        # Newton step moves no more than the tolerance either (a crawl's small steps say
+        # little of the distance left). A run that converges fast never takes one.
+        if newton_cg and (_crawls(hist, last) or (done and newton)):
+            last = len(hist)
+            kept, move = s.newton(max_cg=newton_cg, rtol=tol.NEWTON_CG_RTOL)
+            newton += kept
+            if done and move <= step_tol:
+                converged = True
+                break
+            if kept:
+                acc.reset()
+                continue
+        if done and not newton:
             converged = True
             break
         if history and s.accelerated(acc):
             continue
         s.plain()
-    return it, converged, stalled, hist
+    return it, converged, stalled, hist, newton
 
 
 def stitch(
@@ -447,6 +627,7 @@ def stitch(
     max_iter: int = tol.ARAP_MAX_ITER,
     step_tol: float = tol.ARAP_STEP_TOL,
     history: int = tol.ANDERSON_HISTORY,
+    newton_cg: int = tol.NEWTON_CG_MAX,
     progress: Callable[[int, float], None] | None = None,
 ) -> tuple[np.ndarray, StitchInfo]:
     """Stitch per-triangle targets into continuous panels.
@@ -493,6 +674,10 @@ def stitch(
         rigid motion) by more than this fraction of the panel's size.
     history : int
         Anderson history length; 0 for plain local/global.
+    newton_cg : int
+        Conjugate-gradient iterations at most of a Newton step (:meth:`_Problem.newton`),
+        taken where the largest residual fell by less than ``tol.NEWTON_CRAWL`` over
+        ``tol.NEWTON_WINDOW`` iterations; 0 for none.
     progress : callable, optional
         ``progress(iteration, residual)``, called once per iteration (the largest panel
         residual before it): a progress line's feed. Nothing else depends on it.
@@ -518,8 +703,14 @@ def stitch(
     )
     X0 = pb.global_step(np.ones(len(F2)), np.zeros(len(F2)), None)  # identity rotations
     s = _Iterate(pb, _finite_or_fail(X0), history)
-    it, converged, stalled, hist = _iterate(
-        pb, s, max_iter=max_iter, step_tol=step_tol, history=history, progress=progress
+    it, converged, stalled, hist, newton = _iterate(
+        pb,
+        s,
+        max_iter=max_iter,
+        step_tol=step_tol,
+        history=history,
+        newton_cg=newton_cg,
+        progress=progress,
     )
     X = s.GX  # a plain step: the constraints hold at the last linearisation
     X[~pb.used] = V2[~pb.used]
@@ -535,4 +726,5 @@ def stitch(
         seam_violation=viol,
         history=tuple(hist),
         stalled=stalled,
+        newton_steps=newton,
     )
