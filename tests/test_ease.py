@@ -356,3 +356,18 @@ def test_the_curvature_is_the_lengths_hessian_on_the_side_that_pushes():
     quad = float(kappa @ (P @ delta) ** 2)
     assert quad == pytest.approx(second, rel=1e-4)
     assert np.abs(P @ x0 - P @ X.T.ravel()).max() == 0.0  # zero at the linearisation point
+
+
+def test_side_zigzag_tells_a_sawtooth_from_a_bend():
+    from ptailor.method.ease import side_zigzag
+
+    x = np.linspace(0.0, 10.0, 21)
+    V0 = np.c_[x, np.zeros_like(x)]
+    E = np.c_[np.arange(20), np.arange(1, 21)]
+    bent = np.c_[10 * np.sin(x / 10), 10 - 10 * np.cos(x / 10)]  # an arc: a bend
+    saw = V0 + np.c_[np.zeros_like(x), 0.05 * (np.arange(21) % 2)]  # every other vertex out
+    assert side_zigzag(V0, V0, E).max() == 0.0
+    assert side_zigzag(V0, bent, E).max() < 1e-6
+    z = side_zigzag(V0, saw, E)
+    assert z[2:-2].min() > 0.3  # next to the ends a neighbour has no turning to compare
+    assert z[0] == z[1] == z[-2] == z[-1] == 0.0

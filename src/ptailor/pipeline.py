@@ -18,7 +18,7 @@ from ptailor.geometry.labels import used_indices
 from ptailor.geometry.triangles import triangle_areas
 from ptailor.method.flatten import FlattenResult, flatten
 from ptailor.method.linear import shared_symbolic
-from ptailor.model.garment import Garment, panel_labels, with_panel_names
+from ptailor.model.garment import Garment, panel_labels, vertex_labels, with_panel_names
 from ptailor.model.structure import structure
 from ptailor.model.symmetry import sagittal_plane
 from ptailor.recipe import Recipe
@@ -424,5 +424,35 @@ def solver_warnings(adj: Adjustment) -> list[str]:
             f"seam ease met only to {100 * info.seam_violation:.2g} % (relative length"
             " mismatch of the worst seam edge)"
         )
+    out.extend(_zigzag_warnings(adj))
     out.extend(adj.notes)
+    return out
+
+
+def _zigzag_warnings(adj: Adjustment) -> list[str]:
+    """One line per panel whose seam side the stitching zigzagged
+    (:func:`ptailor.method.ease.side_zigzag` above ``tol.SEAM_ZIGZAG_RAD``)."""
+    if adj.settings.get("seams") != "ease":
+        return []
+    from ptailor.method.ease import side_zigzag
+    from ptailor.model.seams import half_edges
+
+    g = adj.state.base
+    pairs = structure(g).seam_halfedges
+    if not len(pairs):
+        return []
+    z = side_zigzag(g.V2, adj.result.V2, half_edges(g.F2)[np.asarray(pairs).ravel()])
+    bad = z > tol.SEAM_ZIGZAG_RAD
+    if not bad.any():
+        return []
+    lab = vertex_labels(adj.state.panels, len(g.V2))
+    out = []
+    for p in np.unique(lab[bad & (lab >= 0)]):  # a loop over the panels that zigzag
+        on = bad & (lab == p)
+        out.append(
+            f"seam side on panel {adj.state.panels[p].name} zigzags: its outline's turning"
+            f" alternates by up to {np.degrees(z[on].max()):.0f} degrees at {int(on.sum())}"
+            " vertices (a side the seam stretches gains length by a sawtooth on a fine mesh;"
+            " docs/method.md)"
+        )
     return out

@@ -29,6 +29,11 @@ SEAM_TOTAL_UNIFORM_REL = 1e-5
 #: A seam edge whose two sides miss their target ratio by more than this (relative) after
 #: the solve is reported as a warning.
 SEAM_WARN_REL = 1e-4
+#: A seam side whose outline turning alternates vertex to vertex by more than this (radians)
+#: after the stitching is reported as zigzagging (:func:`ptailor.method.ease.side_zigzag`).
+#: An edit that stretches a jagged simulated outline evens it out, which alternates too (up
+#: to 0.25 rad on the shared garments); the sawtooth of a stretched side at 16x reaches 1.9.
+SEAM_ZIGZAG_RAD = 0.5
 #: Anderson acceleration history of the stitching iterations (0: plain local/global).
 ANDERSON_HISTORY = 10
 #: The stitching takes a Newton step when its largest residual fell by less than

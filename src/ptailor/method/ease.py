@@ -328,3 +328,53 @@ def seam_ease(
     number = np.full(nc, -1, dtype=np.int64)
     number[whole] = np.arange(int(whole.sum()))  # the whole curves, renumbered
     return SeamEase(ea=ea, eb=eb, row=row, ratio=ratio, curve=number[curve], total=total[whole])
+
+
+def side_zigzag(V0: np.ndarray, V1: np.ndarray, E: np.ndarray) -> np.ndarray:
+    """How much each seam-side vertex's turning alternates with its neighbours' from ``V0``
+    to ``V1``: a sawtooth the stitching made, not a bend.
+
+    At a vertex ``k`` of a side (its edges ``u -> k`` and ``k -> w`` both in ``E``), ``dt_k``
+    is the change of the outline's turning angle; a bend changes neighbours' alike, a
+    sawtooth (every other vertex pushed out) alternates, so the measure is
+    ``|dt_k - (dt_u + dt_w) / 2|`` where the neighbours have a turning too.
+
+    A side the seam constraint stretches (its panel wants it shorter than its partner asks)
+    can gain true length by zigzagging at a cost that a fine mesh makes small: the exact
+    length constraint then has a sawtooth minimum (measured on the shared long-sleeve at 16x
+    its resolution: 0.58 rad at every other vertex of the back's side seam).
+
+    Parameters
+    ----------
+    V0, V1 : (n, 2) float arrays
+        The pattern before and after.
+    E : (s, 2) int array
+        The seam sides' edges as half-edges of their triangles (each side a chain).
+
+    Returns
+    -------
+    (n,) float array
+        The alternation in radians per vertex (0 off the sides' inner vertices).
+    """
+    n = len(V0)
+    E = np.asarray(E, dtype=np.int64).reshape(-1, 2)
+    out = np.zeros(n)
+    if not len(E):
+        return out
+    prev = np.full(n, -1, dtype=np.int64)
+    nxt = np.full(n, -1, dtype=np.int64)
+    prev[E[:, 1]] = E[:, 0]
+    nxt[E[:, 0]] = E[:, 1]
+    k = np.flatnonzero((prev >= 0) & (nxt >= 0))
+
+    def turning(V: np.ndarray) -> np.ndarray:
+        a = V[k] - V[prev[k]]
+        b = V[nxt[k]] - V[k]
+        return np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], (a * b).sum(1))
+
+    dt = np.full(n, np.nan)
+    dt[k] = np.angle(np.exp(1j * (turning(V1) - turning(V0))))  # wrapped to (-pi, pi]
+    u, w = dt[prev[k]], dt[nxt[k]]
+    both = np.isfinite(u) & np.isfinite(w)
+    out[k[both]] = np.abs(dt[k[both]] - 0.5 * (u[both] + w[both]))
+    return out
