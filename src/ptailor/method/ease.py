@@ -331,13 +331,14 @@ def seam_ease(
 
 
 def side_zigzag(V0: np.ndarray, V1: np.ndarray, E: np.ndarray) -> np.ndarray:
-    """How much each seam-side vertex's turning alternates with its neighbours' from ``V0``
-    to ``V1``: a sawtooth the stitching made, not a bend.
+    """How much more each seam-side vertex's turning alternates with its neighbours' in
+    ``V1`` than in ``V0``: a sawtooth the stitching made, not a bend.
 
-    At a vertex ``k`` of a side (its edges ``u -> k`` and ``k -> w`` both in ``E``), ``dt_k``
-    is the change of the outline's turning angle; a bend changes neighbours' alike, a
-    sawtooth (every other vertex pushed out) alternates, so the measure is
-    ``|dt_k - (dt_u + dt_w) / 2|`` where the neighbours have a turning too.
+    At a vertex ``k`` of a side (its edges ``u -> k`` and ``k -> w`` both in ``E``) with
+    turning angle ``t_k``, a bend turns neighbours alike and a sawtooth (every other vertex
+    pushed out) alternately, so its alternation is ``|t_k - (t_u + t_w) / 2|`` where the
+    neighbours have a turning too; the measure is its growth from ``V0`` to ``V1``
+    (an edit that evens out a jagged outline lowers it: 0 then).
 
     A side the seam constraint stretches (its panel wants it shorter than its partner asks)
     can gain true length by zigzagging at a cost that a fine mesh makes small: the exact
@@ -354,7 +355,8 @@ def side_zigzag(V0: np.ndarray, V1: np.ndarray, E: np.ndarray) -> np.ndarray:
     Returns
     -------
     (n,) float array
-        The alternation in radians per vertex (0 off the sides' inner vertices).
+        The growth of the alternation in radians per vertex, ``>= 0`` (0 off the sides'
+        inner vertices).
     """
     n = len(V0)
     E = np.asarray(E, dtype=np.int64).reshape(-1, 2)
@@ -367,14 +369,14 @@ def side_zigzag(V0: np.ndarray, V1: np.ndarray, E: np.ndarray) -> np.ndarray:
     nxt[E[:, 0]] = E[:, 1]
     k = np.flatnonzero((prev >= 0) & (nxt >= 0))
 
-    def turning(V: np.ndarray) -> np.ndarray:
+    def alternation(V: np.ndarray) -> np.ndarray:
         a = V[k] - V[prev[k]]
         b = V[nxt[k]] - V[k]
-        return np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], (a * b).sum(1))
+        t = np.full(n, np.nan)
+        t[k] = np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], (a * b).sum(1))
+        return np.abs(t[k] - 0.5 * (t[prev[k]] + t[nxt[k]]))  # NaN without both turnings
 
-    dt = np.full(n, np.nan)
-    dt[k] = np.angle(np.exp(1j * (turning(V1) - turning(V0))))  # wrapped to (-pi, pi]
-    u, w = dt[prev[k]], dt[nxt[k]]
-    both = np.isfinite(u) & np.isfinite(w)
-    out[k[both]] = np.abs(dt[k[both]] - 0.5 * (u[both] + w[both]))
+    grow = alternation(V1) - alternation(V0)
+    ok = np.isfinite(grow)
+    out[k[ok]] = np.maximum(grow[ok], 0.0)
     return out
