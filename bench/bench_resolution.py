@@ -157,21 +157,24 @@ def libigl_case(g, e) -> dict:
 
 
 def markdown_table(rows: list[dict]) -> str:
-    """The results as a markdown table: garment x resolution x edit -> iterations,
-    seconds, ratios to libigl, worst seam, agreement with 1x."""
+    """The results as a markdown table: garment x resolution x edit -> iterations (Newton
+    steps among them), seconds, ratios to libigl, worst seam, a zigzag warning, agreement
+    with 1x."""
     head = (
-        "| garment | x | triangles | edit | iterations | converged | flatten s | libigl s "
-        "| flatten / libigl | lean / libigl | worst seam cm | vs 1x mm |\n"
-        "|---|---:|---:|---|---:|---|---:|---:|---:|---:|---:|---:|"
+        "| garment | x | triangles | edit | iterations | Newton | converged | flatten s "
+        "| libigl s | flatten / libigl | lean / libigl | worst seam cm | zigzag | vs 1x mm |\n"
+        "|---|---:|---:|---|---:|---:|---|---:|---:|---:|---:|---:|---|---:|"
     )
     out = [head]
     for r in rows:
         agree = "" if r["agree_1x_cm"] is None else f"{10 * r['agree_1x_cm']:.2f}"
+        newton = "" if r.get("newton_steps") is None else str(r["newton_steps"])
+        zig = "**yes**" if any("zigzags" in w for w in r.get("warnings", ())) else ""
         out.append(
             f"| {r['garment']} | {r['x']} | {r['triangles']:,} | {r['edit']} | "
-            f"{r['iterations']} | {'yes' if r['converged'] else '**no**'} | "
+            f"{r['iterations']} | {newton} | {'yes' if r['converged'] else '**no**'} | "
             f"{r['flatten_s']:.2f} | {r['libigl_s']:.2f} | {r['flatten_over_libigl']:.2f} | "
-            f"{r['lean_over_libigl']:.2f} | {r['worst_seam_cm']:.1e} | {agree} |"
+            f"{r['lean_over_libigl']:.2f} | {r['worst_seam_cm']:.1e} | {zig} | {agree} |"
         )
     return "\n".join(out)
 
@@ -240,6 +243,7 @@ def main() -> None:
                             "garment": gname, "x": 4**lev, "edit": key,
                             "triangles": n_tri,
                             "iterations": sol["iterations"], "converged": sol["converged"],
+                            "newton_steps": sol.get("newton_steps"),
                             "seam_violation": sol.get("seam_violation"),
                             "worst_seam_cm": seam_worst, "report_vs_obj_cm": seam_check,
                             "warnings": rep["warnings"],
