@@ -177,10 +177,11 @@ class _SeamStep:
     ----------
     X : (n, 2) float array
         Where the constraints were linearised (the object itself: compared by identity).
-    Q : (r, 2n) sparse matrix
-        The curvature rows over the constraint rows, ``[P; C]``.
+    C : (k + t, 2n) sparse matrix
+        The constraint rows.
     solve : callable
-        ``nu = solve(Q y)``: the multipliers of the rows for the plain solution ``y``.
+        ``nu = solve(Q y)``: the multipliers of the rows :attr:`Q` for the plain solution
+        ``y``.
     P : (p, 2n) sparse matrix or None
         The curvature rows (None without).
     kappa : (p,) float array
@@ -188,10 +189,16 @@ class _SeamStep:
     """
 
     X: np.ndarray
-    Q: sp.csr_matrix
+    C: sp.csr_matrix
     solve: Callable[[np.ndarray], np.ndarray | None]
     P: sp.csr_matrix | None
     kappa: np.ndarray
+
+    @cached_property
+    def Q(self) -> sp.csr_matrix:
+        """The curvature rows over the constraint rows, ``[P; C]`` (built when a Newton
+        step needs them, not every step)."""
+        return self.C if self.P is None else sp.vstack([self.P, self.C]).tocsr()
 
 
 class _Problem:
@@ -350,7 +357,7 @@ class _Problem:
             if nu is not None:
                 y_c = y - self.solve(P.T @ nu[: len(kappa)] + C.T @ nu[len(kappa) :])
                 if np.all(np.isfinite(y_c)):
-                    self._seam_step = _SeamStep(X_lin, sp.vstack([P, C]).tocsr(), full, P, kappa)
+                    self._seam_step = _SeamStep(X_lin, C, full, P, kappa)
                     return y_c
         y_c = y - self.solve(C.T @ lam)  # no curvature (none, or its solve failed)
         if not np.all(np.isfinite(y_c)):
@@ -410,8 +417,9 @@ class _Problem:
 
     def newton(
         self, X: np.ndarray, GX: np.ndarray, *, max_cg: int, rtol: float
-    ) -> tuple[np.ndarray, int]:
-        """A Newton step from ``X`` and the conjugate-gradient iterations it took.
+    ) -> tuple[np.ndarray, int] | None:
+        """A Newton step from ``X`` and the conjugate-gradient iterations it took; None
+        where the seam constraints were skipped at ``X`` (no model to refine).
 
         The step minimises the quadratic model of the energy at ``X`` with its projected
         Hessian (:meth:`_rotation_hessian`; the seams' curvature and linearised
@@ -429,7 +437,7 @@ class _Problem:
         if self.seam_block is not None:
             seam = self._seam_step
             if seam is None or seam.X is not X:
-                return GX, 0  # the constraints were skipped at X: no model to refine
+                return None
         d = GX - X
         res = -self._rotation_hessian(X, d)  # the model's gradient at d, C^T lam left out
         z = self._project(res, seam)
@@ -528,7 +536,10 @@ class _Iterate:
         pb = self.pb
         if self.pb._seam_step is not None and self.pb._seam_step.X is not self.X:
             self.GX = pb.step(self.X)  # the seams linearised at X again (after a rejection)
-        Xn, _ = pb.newton(self.X, self.GX, max_cg=max_cg, rtol=rtol)
+        step = pb.newton(self.X, self.GX, max_cg=max_cg, rtol=rtol)
+        if step is None:  # no model: the plain step's move is all there is to judge by
+            return False, float(self.res.max(initial=0.0))
+        Xn = step[0]
         if not np.all(np.isfinite(Xn)):
             return False, np.inf
         move = pb.residual(self.X, Xn)
