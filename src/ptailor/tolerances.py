@@ -34,6 +34,12 @@ SEAM_WARN_REL = 1e-4
 #: An edit that stretches a jagged simulated outline evens it out, which alternates too (up
 #: to 0.25 rad on the shared garments); the sawtooth of a stretched side at 16x reaches 1.9.
 SEAM_ZIGZAG_RAD = 0.5
+#: Seam sides get a bending stiffness ``mu = SEAM_BEND * size^3`` (``size`` the panel's
+#: diagonal; ptailor.method.bend), which keeps a side the seam stretches from a sawtooth
+#: on fine meshes and moves a smooth side by about 1e-5 of its panel's size. Vertices whose
+#: target turning exceeds SEAM_BEND_CORNER_RAD are corners and get none.
+SEAM_BEND = 1e-7
+SEAM_BEND_CORNER_RAD = 0.35
 #: Anderson acceleration history of the stitching iterations (0: plain local/global).
 ANDERSON_HISTORY = 10
 #: The stitching takes a Newton step when its largest residual fell by less than
@@ -44,6 +50,8 @@ NEWTON_WINDOW = 5
 NEWTON_CRAWL = 0.5
 NEWTON_CG_MAX = 40
 NEWTON_CG_RTOL = 1e-3
+#: A Newton step that does not lower the energy is halved up to this many times.
+NEWTON_BACKTRACK = 3
 #: Right-hand sides per back-substitution batch when the seam block of ``A^-1`` is formed
 #: (SuperLU slows down twentyfold per column beyond about 32).
 SEAM_BLOCK_CHUNK = 16

@@ -24,6 +24,7 @@ import scipy.sparse as sp
 from ptailor import tolerances as tol
 from ptailor.geometry.closed_forms import det2
 from ptailor.method.anderson import Anderson
+from ptailor.method.bend import SeamBend, seam_bend
 from ptailor.method.ease import SeamEase
 from ptailor.method.linear import SeamBlock, bordered_solver, factor, seam_block
 from ptailor.method.operators import asap_rows, gradient_operator, stitch_matrix
@@ -236,16 +237,23 @@ class _Problem:
         pin_w[pins] = w_pin * stiff[vlab[pins]]
         pin_w[~used] = 1.0
         self.B = self._asap(V2, F2, asap_faces, asap_exclude, panel_weight, stiff)
-        self.solve_many = _solver(stitch_matrix(F2, targets, self.area, pin_w, self.B, w_asap), n)
         self.ease = None if ease is not None and not ease.n_rows else ease
+        self.size = _panel_sizes(V2, vlab, n_panels)
+        self.bend: SeamBend | None = None
+        if self.ease is not None and tol.SEAM_BEND > 0:
+            mu = np.zeros(n)
+            mu[used] = tol.SEAM_BEND * self.size[vlab[used]] ** 3 * stiff[vlab[used]]
+            self.bend = seam_bend(F2, targets, self.ease.vertices(), mu, np.maximum(vlab, 0))
+        self._bend_H = None if self.bend is None else self.bend.matrix()  # (n, n)
+        self._bend_M = None if self.bend is None else sp.tril(self._bend_H)
         # the seam block, if the seams switch on, factors the matrix once more: assembled
         # again then rather than held through the iterations (15 MB at 300k triangles)
         self._F2, self._targets = F2, targets
+        self.solve_many = _solver(self._matrix(), n)
         # the seam constraints switch on at the first iteration that misses a seam (an
         # identity edit or a uniform scale never pays for them)
         self.seam_block: SeamBlock | None = None
         self.pin_rhs = pin_w[:, None] * V2
-        self.size = _panel_sizes(V2, vlab, n_panels)
         self._panels = _PanelIndex(vlab, n_panels)
         self._rot: tuple = (None, None)  # the last iterate's rotations, for reuse
         self._seam_step: _SeamStep | None = None  # the last constrained step's rows
@@ -258,6 +266,14 @@ class _Problem:
             if panel_weight is not None and B.shape[0]:
                 B = sp.diags(np.sqrt(stiff[self.vlab[B.indices[B.indptr[:-1]] % self.n]])) @ B
         return None if B is None or B.shape[0] == 0 else B
+
+    def _matrix(self) -> sp.csc_matrix:
+        """The lower triangle of the stitching system (with the seam sides' bending)."""
+        A = stitch_matrix(self._F2, self._targets, self.area, self.pin_w, self.B, self.w_asap)
+        if self._bend_M is None:
+            return A
+        L = self._bend_M if A.shape[0] == self.n else sp.block_diag([self._bend_M] * 2)
+        return sp.csc_matrix(A + L)
 
     @cached_property
     def _Dt(self) -> sp.csc_matrix:
@@ -303,6 +319,8 @@ class _Problem:
         e += float((self.pin_w[pins, None] * (X[pins] - self.V2[pins]) ** 2).sum())
         if self.B is not None:
             e += float(self.w_asap * ((self.B @ X.T.ravel()) ** 2).sum())
+        if self.bend is not None:
+            e += self.bend.energy(X)
         return e
 
     def global_step(self, cos: np.ndarray, sin: np.ndarray, X_lin: np.ndarray | None) -> np.ndarray:
@@ -312,6 +330,8 @@ class _Problem:
         W[: self.m, 0], W[: self.m, 1] = ac, as_
         W[self.m :, 0], W[self.m :, 1] = -as_, ac
         rhs = self._Dt @ W + self.pin_rhs
+        if self.bend is not None:
+            rhs = rhs + self.bend.rhs(X_lin)
         y = self.solve(rhs.T.ravel())
         if self.seam_block is not None and X_lin is not None:
             y = self._constrained(y, X_lin)
@@ -406,6 +426,8 @@ class _Problem:
         JV[: self.m] *= self.area[:, None]
         JV[self.m :] *= self.area[:, None]
         out = self._Dt @ JV + self.pin_w[:, None] * V - self._rotation_hessian(X, V)
+        if self._bend_H is not None:
+            out += self._bend_H @ V
         v = None
         if self.B is not None:
             v = V.T.ravel()
@@ -489,10 +511,9 @@ class _Problem:
 
     def seams_on(self) -> None:
         """Switch the seam constraints on: the seam block of ``A^-1``, once."""
-        A = stitch_matrix(self._F2, self._targets, self.area, self.pin_w, self.B, self.w_asap)
         self.seam_block = seam_block(
             self.solve_many, self.ease, np.maximum(self.vlab, 0), self.n,
-            coupled=self.B is not None, A=A,
+            coupled=self.B is not None, A=self._matrix(),
         )  # fmt: skip
 
 
@@ -532,26 +553,33 @@ class _Iterate:
     def newton(self, *, max_cg: int, rtol: float) -> tuple[bool, float]:
         """A Newton step (:meth:`_Problem.newton`) from ``X``, kept, like an accelerated
         iterate, when the energy after a plain step from it is below the plain step's;
-        ``(kept, its largest panel move over the panel's size)``."""
+        where it is not, the step halved up to ``tol.NEWTON_BACKTRACK`` times (a
+        backtracking line search). ``(kept, the largest panel move over the panel's size
+        of the last step tried)``."""
         pb = self.pb
         if self.pb._seam_step is not None and self.pb._seam_step.X is not self.X:
             self.GX = pb.step(self.X)  # the seams linearised at X again (after a rejection)
         step = pb.newton(self.X, self.GX, max_cg=max_cg, rtol=rtol)
         if step is None:  # no model: the plain step's move is all there is to judge by
             return False, float(self.res.max(initial=0.0))
-        Xn = step[0]
-        if not np.all(np.isfinite(Xn)):
+        d = step[0] - self.X
+        if not np.all(np.isfinite(d)):
             return False, np.inf
-        move = pb.residual(self.X, Xn)
-        GXn = pb.step(Xn)
-        e_n = pb.energy(GXn) if np.all(np.isfinite(GXn)) else np.inf
         e_gx = self.e_gx if self.history else pb.energy(self.GX)
-        if e_n < e_gx:
-            # the step is the Newton move and the plain step after it, whichever is larger
-            res = np.maximum(move, pb.residual(Xn, GXn))
-            self.X, self.GX, self.e_gx, self.res = Xn, GXn, e_n, res
-            return True, float(move.max(initial=0.0))
-        return False, float(move.max(initial=0.0))
+        t, move = 1.0, 0.0
+        for _ in range(tol.NEWTON_BACKTRACK + 1):
+            Xn = self.X + t * d
+            mv = pb.residual(self.X, Xn)
+            move = float(mv.max(initial=0.0))
+            GXn = pb.step(Xn)
+            e_n = pb.energy(GXn) if np.all(np.isfinite(GXn)) else np.inf
+            if e_n < e_gx:
+                # the step is the Newton move and the plain step after it, whichever is larger
+                res = np.maximum(mv, pb.residual(Xn, GXn))
+                self.X, self.GX, self.e_gx, self.res = Xn, GXn, e_n, res
+                return True, move
+            t *= 0.5
+        return False, move
 
 
 def _crawls(h: list[float], last: int) -> bool:
@@ -607,7 +635,9 @@ def _iterate(
             last = len(hist)
             kept, move = s.newton(max_cg=newton_cg, rtol=tol.NEWTON_CG_RTOL)
             newton += kept
-            if done and move <= step_tol:
+            if done and (move <= step_tol or not kept):
+                # converged: the Newton step is below the tolerance, or no step along it
+                # lowers the energy (the model has nothing better than the plain steps)
                 converged = True
                 break
             if kept:
