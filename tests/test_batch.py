@@ -596,3 +596,52 @@ def test_dxf_patterns_with_their_drapes_in_a_folder(tmp_path):
     r = run("batch", recipe, cat, "-o", out, "-j", "1", "--json", "-q", "--formats", "dxf")
     recs = {Path(x["garment"]).name: x["status"] for x in map(json.loads, r.stdout.splitlines())}
     assert recs["cone_skirt.dxf"] == "ok" and recs["lantern_sleeve.dxf"] == "skipped"
+
+
+@pytest.mark.parametrize("target", ["garment", "recipe", "notes", "report", "binary"])
+def test_the_log_never_overwrites_an_input_or_a_file_that_is_not_a_log(
+    tmp_path, recipe, catalogue, target
+):
+    """Issue 22: ``--log garment.obj`` destroyed the garment, ``--log recipe.yaml`` replaced
+    the recipe with JSON lines (exit 0). An input of the run or a file that is not a
+    ptailor log is exit 2 before anything runs, the file untouched, no output."""
+    out = tmp_path / "out"
+    (tmp_path / "notes.txt").write_text("my notes\n")
+    (tmp_path / "report.json").write_text('{"panels": []}\n')
+    (tmp_path / "blob.bin").write_bytes(b"\xff\xfe\x00garbage")
+    log = {
+        "garment": catalogue / "a_sleeve.obj",
+        "recipe": recipe,
+        "notes": tmp_path / "notes.txt",
+        "report": tmp_path / "report.json",
+        "binary": tmp_path / "blob.bin",
+    }[target]
+    before = log.read_bytes()
+    r = run("batch", recipe, catalogue / "a_*.obj", "-o", out, "--log", log, *FAST)
+    assert r.exit_code == 2
+    assert str(log) in r.stderr and "--log" in r.stderr
+    assert log.read_bytes() == before
+    assert not out.exists()
+
+
+def test_the_log_replaces_its_own_kind_and_an_empty_file(tmp_path, recipe, catalogue):
+    out, log = tmp_path / "out", tmp_path / "log.jsonl"
+    log.write_text("")
+    args = ("batch", recipe, catalogue / "a_*.obj", "-o", out, "--log", log, *FAST)
+    assert run(*args).exit_code == 0
+    assert [x["status"] for x in records(log)] == ["ok"]
+    assert run(*args).exit_code == 0  # an earlier run's log: replaced by this run's records
+    assert [x["status"] for x in records(log)] == ["skipped"]
+    log.write_text(log.read_text() + "not a record\n")
+    assert run(*args).exit_code == 2
+
+
+def test_the_log_is_not_the_drape_beside_a_dxf_garment(tmp_path, recipe, catalogue):
+    from ptailor.batch.records import log_problem
+
+    dxf = catalogue / "a_sleeve.dxf"
+    dxf.write_text("0\nEOF\n")
+    drape = catalogue / "a_sleeve.obj"
+    assert log_problem(drape, [dxf, drape]) is not None
+    r = run("batch", recipe, dxf, "-o", tmp_path / "out", "--log", drape, *FAST)
+    assert r.exit_code == 2 and "input of this run" in r.stderr

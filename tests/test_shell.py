@@ -189,3 +189,24 @@ def _gnu_parallel() -> bool:
 def test_adjust_parallel_with_gnu_parallel(tmp_path):
     r = _adjust_parallel(tmp_path, _ptailor_env(JOBS="2", PARALLEL_TOOL="parallel"))
     _check_adjust_parallel(tmp_path, r)
+
+
+@pytest.mark.parametrize("name", ["summary.csv", "batch.jsonl"])
+def test_adjust_catalogue_leaves_a_users_files_in_outroot_alone(tmp_path, name):
+    """Issue 22: the script removed OUTROOT/batch.jsonl and wrote OUTROOT/summary.csv over
+    whatever they were. A file of either name that the tools did not write is exit 2,
+    untouched, before any garment runs."""
+    cat = tmp_path / "cat"
+    _catalogue(cat)
+    rec = tmp_path / "r.yaml"
+    rec.write_text("steps: [{op: scale, factor: 1.2}]\n")
+    out = tmp_path / "out"
+    out.mkdir()
+    mine = out / name
+    mine.write_text("my,own,table\n1,2,3\n")
+    cmd = [str(CLI / "adjust-catalogue"), str(rec), str(cat), str(out), "-q"]
+    r = subprocess.run(cmd, capture_output=True, text=True, env=_ptailor_env(), timeout=300)
+    assert r.returncode == 2, r.stderr
+    assert name in r.stderr
+    assert mine.read_text() == "my,own,table\n1,2,3\n"
+    assert sorted(p.name for p in out.iterdir()) == [name]

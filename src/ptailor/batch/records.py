@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
+from pathlib import Path
 
 from ptailor.batch.gates import (
     area_change,
@@ -69,6 +70,63 @@ def verify_numbers(report: dict) -> dict:
         vs = [v for p in panels.values() if (v := verify_number(p, measure)) is not None]
         out[f"verify_{measure}_p95"] = round(max(vs), 6) if vs else None
     return out
+
+
+def is_record(line: str) -> bool:
+    """Whether ``line`` is one of :func:`record_line`'s (a JSON object with a garment and a
+    known status)."""
+    try:
+        r = json.loads(line)
+    except ValueError:
+        return False
+    return isinstance(r, dict) and "garment" in r and r.get("status") in STATUSES
+
+
+def log_problem(path: str | Path, inputs: Iterable[str | Path]) -> str | None:
+    """Why a batch may not write its log to ``path``, or None where it may: the file is
+    absent, empty, or a log of ptailor's records (which the run replaces). An input of the
+    run (a garment, the drape beside a DXF, the recipe) or any other file is refused, so
+    that ``--log garment.obj`` cannot destroy the garment.
+
+    Parameters
+    ----------
+    path : str or Path
+        The log.
+    inputs : iterable of str or Path
+        The run's input files.
+
+    Returns
+    -------
+    str or None
+        The problem, for an error message naming ``path``.
+    """
+    import os
+
+    p = Path(path)
+    if not p.exists():
+        return None
+    for q in inputs:
+        try:
+            if os.path.samefile(p, q):
+                return "is an input of this run; name another file for the log"
+        except OSError:
+            continue
+    if not p.is_file():
+        return "is not a regular file"
+    try:
+        with p.open(encoding="utf-8", errors="strict") as fh:
+            for line in fh:
+                if line.strip() and not is_record(line):
+                    return (
+                        "exists and is not a ptailor batch log (a line that is not a record); "
+                        "the log is only created or replaced where it is one: remove the file "
+                        "or name another"
+                    )
+    except UnicodeDecodeError:
+        return "exists and is not a ptailor batch log (not text); remove it or name another"
+    except OSError as exc:
+        return f"cannot be read ({exc.strerror or exc})"
+    return None
 
 
 def record_line(record: dict) -> str:

@@ -112,7 +112,9 @@ def gate_options(fn):
     "--log",
     type=click.Path(dir_okay=False),
     default=None,
-    help="Write one JSON record per garment to this file (JSON lines, input order).",
+    help="Write one JSON record per garment to this file (JSON lines, input order). An "
+    "existing file is replaced only when it is such a log (an input of the run, or any "
+    "other file, is exit 2).",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON records on stdout.")
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar and no summary (failures only).")
@@ -212,11 +214,31 @@ def batch(
     )
     if not paths:
         raise PtailorError(f"no garments: {' '.join(garments)} matched no files")
+    if log:
+        _check_log(log, paths, recipe)
     todo = make_jobs(paths, out, rec, options=options, gates=gates, force=force, timeout=timeout)
     bar = not quiet and sys.stderr.isatty()
     result = _run(todo, workers=workers, scheduler=scheduler, log=log, as_json=as_json, bar=bar)
     _summary(result, len(todo), quiet=quiet)
     ctx.exit(result.exit_status)
+
+
+def _check_log(log: str, paths: list[str], recipe: str) -> None:
+    """Exit 2 before anything runs where the log would overwrite an input of the run or a
+    file that is not a ptailor log (:func:`ptailor.batch.records.log_problem`)."""
+    from pathlib import Path
+
+    from ptailor.batch.records import log_problem
+    from ptailor.errors import PtailorError
+
+    inputs = [Path(p) for p in paths]
+    inputs += [p.with_suffix(ext) for p in inputs if p.suffix.lower() == ".dxf"
+               for ext in (".obj", ".OBJ")]  # fmt: skip
+    if recipe != "-":
+        inputs.append(Path(recipe))
+    problem = log_problem(log, inputs)
+    if problem:
+        raise PtailorError(f"--log {problem}", path=log)
 
 
 def _run(todo, *, workers: int, scheduler, log, as_json: bool, bar: bool):
