@@ -62,6 +62,7 @@ SLOW: dict[str, frozenset[str]] = {
     ),
     "test_bad_obj": frozenset(
         {
+            "test_a_flat_drape_ends_with_a_warning_that_says_why",
             "test_bom_and_crlf_sleeve_give_the_same_garment",
             "test_corpus_adjust_and_inspect",
             "test_duplicated_faces_all_formats",

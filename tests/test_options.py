@@ -80,3 +80,40 @@ def test_body_option(tmp_path):
     )
     assert r.exit_code == 2 and str(bad) in r.output
     assert not (tmp_path / "o2").exists()
+
+
+_NUMERIC_BATCH_OPTIONS = (
+    "--max-area-change",
+    "--max-boundary-deviation",
+    "--max-intrinsic-error",
+    "--max-seam-mismatch",
+    "--max-verify-stretch",
+    "--max-verify-displacement",
+    "--timeout",
+)
+
+
+@pytest.mark.parametrize("option", _NUMERIC_BATCH_OPTIONS)
+@pytest.mark.parametrize("value", ["nan", "NaN", "inf", "-inf", "1e400"])
+def test_numeric_options_that_are_not_finite_numbers_are_refused(tmp_path, option, value):
+    """Issue 22: a gate of ``nan`` never fired (exit 0), ``--timeout nan`` failed every
+    garment and ``--timeout inf`` was an internal error. Each is exit 2 naming the option,
+    before any file is read."""
+    g = tmp_path / "g.obj"
+    write_garment(g, cone_skirt(n_around=8, n_along=3))
+    rec = tmp_path / "r.yaml"
+    rec.write_text("steps: [{op: scale, factor: 1.1}]\n")
+    out = tmp_path / "out"
+    args = ["batch", str(rec), str(g), "-o", str(out), option, value]
+    r = CliRunner().invoke(cli, args)
+    assert r.exit_code == 2, r.output
+    assert option in r.output
+    assert not out.exists()
+
+
+def test_the_timeout_has_a_bound():
+    from ptailor import tolerances as tol
+
+    r = CliRunner().invoke(cli, ["batch", "r.yaml", "g.obj", "-o", "o", "--timeout", "1e12"])
+    assert r.exit_code == 2 and "--timeout" in r.output
+    assert tol.BATCH_TIMEOUT_MAX_S >= 86400  # a day at least

@@ -406,8 +406,15 @@ def solver_warnings(adj: Adjustment) -> list[str]:
     info = adj.result.info
     out = []
     res = np.asarray(info.panel_residual)
-    if not info.converged and len(res):
-        bad = np.argsort(-res)[: int(np.sum(res > tol.ARAP_STEP_TOL))]
+    bad = np.argsort(-res)[: int(np.sum(res > tol.ARAP_STEP_TOL))]
+    if not info.converged and len(res) and not len(bad):
+        out.append(
+            f"solver stopped with every panel's step below {tol.ARAP_STEP_TOL:g} but its seam"
+            f" constraints met only to {info.seam_violation:.2g} (relative; converged needs"
+            f" {tol.SEAM_EXACT_REL:g}): its seam rows are likely dependent (a flat or"
+            " self-touching drape whose weld joined what is not sewn?)"
+        )
+    elif not info.converged and len(res):
         names = ", ".join(f"{adj.state.panels[i].name} ({res[i]:.2g})" for i in bad[:5])
         more = f" and {len(bad) - 5} more" if len(bad) > 5 else ""
         why = (

@@ -243,3 +243,5 @@ LIBRARY_WARNINGS_MAX = 20
 #: ``batch --timeout``: a garment past its timeout that does not stop (stuck in native code)
 #: has its worker killed max(this, a quarter of the timeout) seconds later.
 TIMEOUT_GRACE_S = 5.0
+#: The longest ``batch --timeout`` (seconds: 30 days); beyond it a timer overflows.
+BATCH_TIMEOUT_MAX_S = 2_592_000.0

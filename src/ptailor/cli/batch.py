@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import click
 
+from ptailor import tolerances as tol
 from ptailor.cli.options import (
+    Finite,
     axes_options,
     baseline_option,
     dxf_options,
@@ -60,7 +62,7 @@ def gate_options(fn):
     for name, metavar, fails in reversed(_LIMIT_GATES):
         fn = click.option(
             name,
-            type=click.FloatRange(min=0),
+            type=Finite(min=0),
             default=None,
             metavar=metavar,
             help=f"Gate: fail a garment with {fails}",
@@ -100,7 +102,7 @@ def gate_options(fn):
 )
 @click.option(
     "--timeout",
-    type=click.FloatRange(min=0, min_open=True),
+    type=Finite(min=0, max=tol.BATCH_TIMEOUT_MAX_S, min_open=True),
     default=None,
     metavar="SECONDS",
     help="Per garment: one still running after SECONDS is stopped and failed (failure: "

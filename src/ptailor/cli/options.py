@@ -19,6 +19,22 @@ WELD_HELP = (
 )
 
 
+class Finite(click.FloatRange):
+    """A float option that must be a finite number within its range: ``nan`` passes every
+    range comparison (a gate of ``nan`` never fired) and ``inf`` overflows what takes it
+    (``--timeout inf``), so both are exit 2 naming the option."""
+
+    name = "finite number"
+
+    def convert(self, value, param, ctx):
+        import math
+
+        rv = super().convert(value, param, ctx)
+        if not math.isfinite(rv):
+            self.fail(f"{value!r} is not a finite number.", param, ctx)
+        return rv
+
+
 def weld_option(fn):
     """``--weld auto|off|DISTANCE``."""
     return click.option(

@@ -92,22 +92,37 @@ def _floats(bodies: list[bytes], path: str, what: str, width: int) -> np.ndarray
     arr = _numbers(bodies, np.float64)
     if arr is None:
         # ragged records (an optional w, colours on some lines): the slow, exact path
+        rows = [b.split() for b in bodies]
+        counts = np.array([len(r) for r in rows])
+        _check_count(counts, bodies, path, what, width)
         try:
-            rows = [b.split() for b in bodies]
-            ncol = min(len(r) for r in rows)
-            arr = np.array([r[:ncol] for r in rows], dtype=np.float64)
+            arr = np.array([r[:width] for r in rows], dtype=np.float64)
         except ValueError as exc:
             raise PtailorError(f"unreadable '{what}' record ({exc})", path=path) from None
     return _coords(arr, path, what, width)
 
 
+def _check_count(counts: np.ndarray, bodies: list[bytes] | None, path: str, what: str,
+                 width: int) -> None:  # fmt: skip
+    """Every ``what`` record has at least ``width`` values (``v x y z``, ``vt u v``): a
+    short one is an error naming it, not a reason to cut every record to its length (one
+    ``v`` without z once flattened the whole drape)."""
+    short = np.flatnonzero(counts < width)
+    if not len(short):
+        return
+    i = int(short[0])
+    text = "" if bodies is None else ": '" + bodies[i].decode("utf-8", "replace")[:60] + "'"
+    raise PtailorError(
+        f"'{what}' record {i + 1} has {int(counts[i])} value(s), needs {width}{text}"
+        f" ({len(short)} such record(s))",
+        path=path,
+    )
+
+
 def _coords(arr: np.ndarray, path: str, what: str, width: int) -> np.ndarray:
-    """``(k, c)`` record numbers as ``(k, width)`` coordinates (padded with 0, or cut),
+    """``(k, c)`` record numbers (``c >= width``) as ``(k, width)`` coordinates (cut),
     each checked finite and within ``OBJ_COORD_MAX``."""
-    if arr.shape[1] < 2:
-        raise PtailorError(f"'{what}' records need at least 2 coordinates", path=path)
-    if arr.shape[1] < width:
-        arr = np.hstack([arr, np.zeros((len(arr), width - arr.shape[1]))])
+    _check_count(np.full(len(arr), arr.shape[1]), None, path, what, width)
     arr = arr[:, :width]
     with np.errstate(invalid="ignore"):
         bad = ~(np.abs(arr) <= tol.OBJ_COORD_MAX)  # NaN compares False: caught too

@@ -447,24 +447,48 @@ def _schur_inverses(A: sp.spmatrix, unknowns: np.ndarray, groups) -> list[np.nda
     return out
 
 
+def spd_factor(M: np.ndarray) -> Callable[[np.ndarray], np.ndarray | None] | None:
+    """The solution operator of a small symmetric positive (semi-)definite ``M``, factored
+    once: Cholesky; where ``M`` is singular (dependent seam rows, as on a degenerate drape),
+    Cholesky of ``M + eps I`` (``eps`` 1e-12, then 1e-9 of the largest diagonal entry: the
+    least-squares solution to that precision, at a Cholesky's cost); least squares only
+    where neither factors. None when ``M`` is not finite.
+
+    A least-squares solve per right-hand side (an SVD of the whole seam system) once made
+    every step of a degenerate run cost 20 s."""
+    import scipy.linalg as sla
+
+    if not np.all(np.isfinite(M)):
+        return None
+    d = float(np.abs(np.diag(M)).max(initial=0.0)) if M.size else 0.0
+    for eps in (0.0, 1e-12, 1e-9):
+        try:
+            A = M if eps == 0.0 else M + (eps * max(d, 1e-300)) * np.eye(len(M))
+            cho = sla.cho_factor(A)
+        except (sla.LinAlgError, ValueError):
+            continue
+        return lambda r: _finite_or_none(sla.cho_solve(cho, r)) if np.all(np.isfinite(r)) else None
+
+    def lstsq(r: np.ndarray) -> np.ndarray | None:
+        if not np.all(np.isfinite(r)):
+            return None
+        try:
+            return _finite_or_none(np.linalg.lstsq(M, r, rcond=None)[0])
+        except (np.linalg.LinAlgError, ValueError):
+            return None
+
+    return lstsq
+
+
 def solve_spd(M: np.ndarray, r: np.ndarray) -> np.ndarray | None:
-    """Solve a small symmetric positive (semi-)definite system, least squares if singular.
+    """Solve a small symmetric positive (semi-)definite system (:func:`spd_factor`).
 
     None when there is no finite solution (the caller skips the constraints).
     """
-    import scipy.linalg as sla
-
-    if not (np.all(np.isfinite(M)) and np.all(np.isfinite(r))):
+    if not np.all(np.isfinite(r)):
         return None
-    try:
-        return sla.cho_solve(sla.cho_factor(M), r)
-    except (sla.LinAlgError, ValueError):
-        pass
-    try:
-        out = np.linalg.lstsq(M, r, rcond=None)[0]
-    except (np.linalg.LinAlgError, ValueError):
-        return None
-    return out if np.all(np.isfinite(out)) else None
+    solve = spd_factor(M)
+    return None if solve is None else solve(r)
 
 
 def solve_bordered(M: np.ndarray, B: np.ndarray | None, r: np.ndarray) -> np.ndarray | None:
@@ -508,16 +532,11 @@ def bordered_solver(
         ``solve(r)``, ``r`` a ``(k,)`` float array, giving ``u`` or None where it is not
         finite; None when ``M`` or ``B`` is not finite or the system has no solution.
     """
-    import scipy.linalg as sla
 
     if not np.all(np.isfinite(M)):
         return None
     if B is None or B.shape[1] == 0:
-        try:
-            cho = sla.cho_factor(M)
-        except (sla.LinAlgError, ValueError):
-            return lambda r: solve_spd(M, r)  # least squares, if singular
-        return lambda r: _finite_or_none(sla.cho_solve(cho, r)) if np.all(np.isfinite(r)) else None
+        return spd_factor(M)
     if not np.all(np.isfinite(B)):
         return None
     Mp = M.copy()
@@ -526,12 +545,9 @@ def bordered_solver(
         idx = np.flatnonzero(B[:, j])
         b = B[idx, j]
         Mp[np.ix_(idx, idx)] += rho * np.outer(b, b)
-    try:
-        cho = sla.cho_factor(Mp, overwrite_a=True)
-        inner = lambda rhs: sla.cho_solve(cho, rhs)  # noqa: E731
-    except (sla.LinAlgError, ValueError):
-        Ms = M + rho * (B @ B.T)  # least squares, if singular after all
-        inner = lambda rhs: solve_spd(Ms, rhs)  # noqa: E731
+    inner = spd_factor(Mp)
+    if inner is None:
+        return None
     MB = inner(B)
     if MB is None:
         return None
