@@ -584,3 +584,36 @@ def test_inspect_real_tank_sizes():
     info = json.loads(r26.output)
     assert info["size"] == "26" and len(info["sizes"]) == 14
     assert info["pieces"][0]["size_cm"][0] < 63.0
+
+
+def _outline_extents(path) -> list[list[float]]:
+    doc = ezdxf.readfile(path)
+    out = []
+    for block in doc.blocks:
+        for e in block:
+            if e.dxftype() == "POLYLINE" and e.dxf.layer == "1":
+                P = np.array([[v.dxf.location.x, v.dxf.location.y] for v in e.vertices])
+                out.append(np.ptp(P, axis=0).round(6).tolist())
+    return sorted(out)
+
+
+def test_a_recipe_in_metres_writes_its_dxf_in_millimetres(tmp_path):
+    """Issue 22: ``units: m`` passed ``validate``, then ``adjust`` computed everything and
+    exited 2 at the DXF ("cannot write DXF in 'm'"). Any recipe unit is written: metric in
+    millimetres (ASTM/AAMA METRIC), the same file as the same recipe in cm."""
+    from ptailor.demo import sample_obj_text
+
+    g = tmp_path / "sleeve.obj"
+    g.write_text(sample_obj_text("lantern_sleeve"))
+    step = "steps: [{op: scale, region: all, direction: around, axis: auto, factor: 1.2}]\n"
+    extents = []
+    for unit in ("m", "cm"):
+        rec = tmp_path / f"{unit}.yaml"
+        rec.write_text(f"units: {unit}\n{step}")
+        out = tmp_path / unit
+        r = CliRunner().invoke(
+            cli, ["adjust", str(g), str(rec), "-o", str(out), "--no-baseline", "-q"]
+        )
+        assert r.exit_code == 0, r.output
+        extents.append(_outline_extents(out / "pattern.dxf"))
+    np.testing.assert_allclose(extents[0], extents[1], atol=1e-3)  # mm

@@ -15,7 +15,6 @@ import numpy as np
 
 from ptailor.errors import PtailorError
 from ptailor.formats.dxf.astm import (
-    CM_PER_UNIT,
     L_BOUNDARY,
     L_DRILL,
     L_GRAIN,
@@ -103,8 +102,10 @@ def dxf_plan(pattern: PatternFile, *, layout: str = "auto", path: str | None = N
     -------
     DxfPlan
     """
-    if pattern.units not in CM_PER_UNIT:
-        raise PtailorError(f"cannot write DXF in {pattern.units!r} (mm, cm or in)", path=path)
+    from ptailor.model.units import CM_PER
+
+    if pattern.units not in CM_PER:
+        raise PtailorError(f"cannot write DXF in {pattern.units!r} (mm, cm, m or in)", path=path)
     for p in pattern.pieces:
         if len(p.outline) < 3 or not np.all(np.isfinite(p.outline)):
             raise PtailorError(
@@ -119,8 +120,9 @@ def dxf_plan(pattern: PatternFile, *, layout: str = "auto", path: str | None = N
                 path=path,
             )
     pieces = layout_pieces(pattern.pieces, layout=layout)
-    if pattern.units == "cm":
-        pieces = tuple(_map_piece(p, 10.0, np.zeros(2)) for p in pieces)
+    if pattern.units not in ("mm", "in"):  # a metric file is in mm (ASTM/AAMA "METRIC")
+        to_mm = CM_PER[pattern.units] / CM_PER["mm"]
+        pieces = tuple(_map_piece(p, to_mm, np.zeros(2)) for p in pieces)
     used: set[str] = set()
     blocks = tuple((_block_name(p.name, used), _piece_entities(p)) for p in pieces)
 
