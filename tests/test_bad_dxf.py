@@ -308,9 +308,21 @@ def test_text_length_limit(tmp_path):
 def test_quantity_limit(tmp_path):
     p = square(tmp_path, quantity="99999999999999999999")
     cli_fails(p, match=r"piece 'FRONT': 'Quantity: 9+' is over the limit of 1000")
-    p = square(tmp_path, "q2.dxf", quantity="1e300")
-    (piece,) = read_dxf(p).pieces  # not a count: kept as an annotation
-    assert piece.quantity == 1 and "Quantity: 1e300" in piece.annotations
+
+
+@pytest.mark.parametrize("text", ["1e300", "-1", "nan", "two", "1.5", "3,-1", "inf"])
+def test_a_quantity_that_is_not_a_count_names_the_piece(tmp_path, text):
+    """Issue 22: these were read as 1, silently, and the output carried both
+    ``Quantity: 1`` and the original text."""
+    p = square(tmp_path, quantity=text)
+    cli_fails(p, match=r"piece 'FRONT': 'Quantity: .*' is not a count")
+
+
+@pytest.mark.parametrize(("text", "count"), [("2", 2), ("2.0", 2), ("1,1", 2), (" 3 ", 3)])
+def test_a_quantity_that_is_a_count_is_read_once(tmp_path, text, count):
+    (piece,) = read_dxf(square(tmp_path, quantity=text)).pieces
+    assert piece.quantity == count
+    assert not any("QUANTITY" in a.upper() for a in piece.annotations)
 
 
 # ---- the checked-in corpus ----------------------------------------------------------------

@@ -207,7 +207,12 @@ def test_units_override_and_bad_units(tmp_path):
     with pytest.raises(PtailorError, match="units"):
         read_dxf(out, units="furlong")
     with pytest.raises(PtailorError, match="cannot write"):
-        write_dxf(tmp_path / "m.dxf", pattern("m"))
+        write_dxf(tmp_path / "f.dxf", pattern("furlong"))
+    write_dxf(tmp_path / "m.dxf", pattern("m"))  # metres: written in millimetres (issue 22)
+    np.testing.assert_allclose(
+        read_dxf(tmp_path / "m.dxf").pieces[0].outline,
+        1000 * pattern("m").pieces[0].outline,
+    )
 
 
 def test_output_is_deterministic(tmp_path, monkeypatch):

@@ -175,9 +175,13 @@ def parse_piece_text(c: Candidate, spath: str = "") -> None:
             c.size = v
         elif layer == L_BOUNDARY and k == "QUANTITY" and not c.has_quantity:
             q = parse_quantity(v)
-            if q is None:
-                notes.append(text)
-            elif q[0] > _tol.DXF_MAX_QUANTITY:
+            if q is None:  # once read as 1, silently, with the text kept as a note beside it
+                raise PtailorError(
+                    f"piece {c.name or c.block!r}: 'Quantity: {v[:40]}' is not a count (a whole"
+                    " number >= 0, or ASTM's 'a,b': a cut as drawn, b mirrored)",
+                    path=spath,
+                )
+            if q[0] > _tol.DXF_MAX_QUANTITY:
                 raise PtailorError(
                     f"piece {c.name or c.block!r}: 'Quantity: {v}' is over the limit of "
                     f"{_tol.DXF_MAX_QUANTITY}",
