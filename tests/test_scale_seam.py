@@ -126,3 +126,13 @@ def test_body_axis_drives_auto_axes():
         baseline=False,
     )
     assert abs(np.asarray(adj.state.log[0]["axis"]) @ d) > 0.99
+
+
+def test_a_fix_on_the_seam_being_moved_is_an_error_not_ignored():
+    """Issue 22: ``fix`` naming the seam the step scales was silently ignored
+    (``fixed_vertices: 0``)."""
+    g = lantern_sleeve()
+    with pytest.raises(PtailorError, match=r"lies on the seam \[sleeve, cuff\] this step moves"):
+        adjustment(g, parse_recipe(step("around", fix="[[sleeve, cuff]]")), baseline=False)
+    a = adjustment(g, parse_recipe(step("around")), baseline=False)  # fix: [waist] holds
+    assert a.state.log[-1]["fixed_vertices"] > 0

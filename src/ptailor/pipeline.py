@@ -432,6 +432,9 @@ def solver_warnings(adj: Adjustment) -> list[str]:
             " mismatch of the worst seam edge)"
         )
     out.extend(_zigzag_warnings(adj))
+    out.extend(
+        f"{rec.get('op')} step: {w}" for rec in adj.state.log for w in rec.get("warnings", ())
+    )
     out.extend(adj.notes)
     return out
 

@@ -245,3 +245,6 @@ LIBRARY_WARNINGS_MAX = 20
 TIMEOUT_GRACE_S = 5.0
 #: The longest ``batch --timeout`` (seconds: 30 days); beyond it a timer overflows.
 BATCH_TIMEOUT_MAX_S = 2_592_000.0
+#: ``axis: auto`` on a region that is no tube falls back to its longest extent; more than
+#: this many degrees from the garment's up is a warning (ptailor.edits.scale).
+AUTO_AXIS_UP_DEG = 30.0

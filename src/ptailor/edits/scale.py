@@ -54,8 +54,10 @@ def scale(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     """
     g, V3 = state.base, state.V3
     faces = region_faces(step["region"], g, V3, state.panels)
+    warnings: list[str] = []
     if step["axis"] == "auto":
         ax = region_axis(V3, g.F3, faces, body=options.body)
+        warnings += auto_axis_warnings(V3, g.F3, faces, ax, options)
     else:
         ax = unit_vector(step["axis"], "axis")
     c = region_centroid(V3, g.F3, faces)
@@ -87,4 +89,31 @@ def scale(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         "centroid": [round(float(x), 6) for x in c],
         "triangles": int(faces.size),
     }
+    if warnings:
+        rec["warnings"] = warnings
     return replace(state, V3=V_new, even=even, log=(*state.log, rec))
+
+
+def auto_axis_warnings(
+    V3: np.ndarray, F3: np.ndarray, faces: np.ndarray, ax: np.ndarray, options: EditOptions
+) -> list[str]:
+    """A warning where ``axis: auto`` had no tube to go by (the region's normals avoid no
+    one direction: a whole T-shirt, torso and sleeves) and its fallback, the direction of
+    largest extent, lies more than ``tol.AUTO_AXIS_UP_DEG`` from the garment's up: the
+    shared tshirt's came out 55 degrees from vertical, and a symmetric ``along`` x1.1 grew
+    one sleeve 10.8 % and the other 2.8 %. A tube's axis (a sleeve's: horizontal in a
+    T-pose) and a body's are what they are."""
+    from ptailor import tolerances as tol
+    from ptailor.geometry.tube_axis import tube_axis
+
+    if options.body is not None or tube_axis(V3, F3[faces]) is not None:
+        return []
+    up = unit_vector(options.up, "up")
+    angle = float(np.degrees(np.arccos(min(1.0, abs(float(ax @ up))))))
+    if angle <= tol.AUTO_AXIS_UP_DEG:
+        return []
+    return [
+        f"axis: auto found no tube in the region and took its longest extent, {angle:.0f}"
+        f" degrees from the garment's up {list(options.up)}: give the axis (axis: [x, y, z])"
+        " or a smaller region (one sleeve, the torso)"
+    ]

@@ -212,6 +212,11 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
             fixed.append(seam_vertices(state, spec))
         else:
             fixed.append(find_opening(state, spec, options=options)[1])
+        if not len(np.setdiff1d(fixed[-1], ring)):  # once silently ignored (0 fixed vertices)
+            raise PtailorError(
+                f"fix: {spec} lies on the seam [{a}, {b}] this step moves: it cannot stay put;"
+                " fix an opening or another seam"
+            )
     fixed_v = np.setdiff1d(np.unique(np.concatenate(fixed)), ring) if fixed else np.zeros(0, int)
     handles, targets = _part_targets(
         V3, part_v, other_v, fixed_v, c=c, ax=ax, f=f, direction=step["direction"]
