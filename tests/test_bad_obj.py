@@ -51,6 +51,7 @@ EXPECTED = {
     "v_all_without_z.obj": "'v' record 1 has 2 value(s), needs 3",
     "vt_one_value.obj": "'vt' record 2 has 1 value(s), needs 2",
     "v_with_w.obj": None,
+    "v_bare_line.obj": "'v' record 3 has 0 value(s), needs 3 (1",  # skipped, it shifted indices
 }
 
 

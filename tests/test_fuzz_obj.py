@@ -101,3 +101,20 @@ def test_base_sample_adjusts():
     with tempfile.TemporaryDirectory() as td:
         res = fuzz.check_case(base(), Path(td))
     assert res == [("exit0", "adjust"), ("exit0", "inspect")]
+
+
+@settings()
+@given(st.randoms(use_true_random=False), st.sampled_from([b"v", b"vt"]))
+def test_a_short_record_anywhere_is_refused_naming_it(rnd, tag):
+    """Issue 22: one ``v`` without z cut every record to its length (the whole drape lost
+    z, exit 0). Any one ``v`` or ``vt`` record short of a value is a PtailorError naming
+    the record."""
+    lines = base().split(b"\n")
+    rows = [k for k, ln in enumerate(lines) if ln.startswith(tag + b" ")]
+    k = rows[rnd.randrange(len(rows))]
+    lines[k] = b" ".join(lines[k].split()[: rnd.randint(1, 2 if tag == b"v" else 1)])
+    with tempfile.TemporaryDirectory() as td:
+        p = Path(td) / "m.obj"
+        p.write_bytes(b"\n".join(lines))
+        with pytest.raises(PtailorError, match=rf"'{tag.decode()}' record {rows.index(k) + 1} has"):
+            read_obj(p)

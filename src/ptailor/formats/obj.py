@@ -60,7 +60,9 @@ _GROUP = re.compile(rb"^[go](?:[ \t]+([^\r\n]*?))?[ \t]*\r?$", re.M)
 
 def _records(raw: bytes, tag: bytes) -> list[bytes]:
     """Bodies of the records ``tag ...`` (text after the tag), in file order."""
-    return re.findall(rb"^" + tag + rb"[ \t]+([^\r\n]*)", raw, re.M)
+    # a bare tag (a line "v" alone) is a record too, of no values: skipping it would shift
+    # every later index by one
+    return re.findall(rb"^" + tag + rb"(?:[ \t]+([^\r\n]*)|[ \t]*(?=\r?$))", raw, re.M)
 
 
 _HUGE_INDEX = "face refers to a missing vertex (index out of range: beyond any file's size)"
@@ -111,7 +113,8 @@ def _check_count(counts: np.ndarray, bodies: list[bytes] | None, path: str, what
     if not len(short):
         return
     i = int(short[0])
-    text = "" if bodies is None else ": '" + bodies[i].decode("utf-8", "replace")[:60] + "'"
+    body = b"" if bodies is None else bodies[i].strip()
+    text = f": '{body.decode('utf-8', 'replace')[:60]}'" if body else ""
     raise PtailorError(
         f"'{what}' record {i + 1} has {int(counts[i])} value(s), needs {width}{text}"
         f" ({len(short)} such record(s))",

@@ -246,6 +246,22 @@ def _kinds(a: np.ndarray, starts: np.ndarray, lengths: np.ndarray) -> tuple[np.n
     return v, vt, f, g
 
 
+def _bare_records(a: np.ndarray, starts: np.ndarray, lengths: np.ndarray) -> bool:
+    """Whether a line is a bare ``v``, ``vt`` or ``f`` (a record of no values, for the
+    record parser to name: skipped, it would shift every later index)."""
+    n = len(a)
+
+    def at(off: int) -> np.ndarray:
+        return np.where(lengths > off, a[np.minimum(starts + off, n - 1)], 0)
+
+    c0, c1 = at(0), at(1)
+    cr = c1 == _CR
+    v_or_f = ((c0 == ord("v")) | (c0 == ord("f"))) & ((lengths == 1) | (cr & (lengths == 2)))
+    vt = (c0 == ord("v")) & (c1 == ord("t"))
+    vt &= (lengths == 2) | ((at(2) == _CR) & (lengths == 3))
+    return bool(v_or_f.any() or vt.any())
+
+
 def scan(raw: bytes, ends: np.ndarray) -> Scan | None:
     """Scan a well-formed OBJ in bulk, or return None (see the module's docstring).
 
@@ -269,7 +285,7 @@ def scan(raw: bytes, ends: np.ndarray) -> Scan | None:
     starts = np.concatenate([[0], ends + 1])
     lengths = np.concatenate([ends, [n]]) - starts
     vrows, vtrows, frows, grows = _kinds(a, starts, lengths)
-    if not vrows.any() or not frows.any():
+    if not vrows.any() or not frows.any() or _bare_records(a, starts, lengths):
         return None
     v = _floats(a, starts, lengths, vrows, 1)
     if v is None:
