@@ -234,6 +234,7 @@ SLOW: dict[str, frozenset[str]] = {
             "test_a_garment_stuck_past_its_timeout_has_its_worker_killed",
             "test_a_signal_while_writing_leaves_no_staging_and_the_old_output",
             "test_batch_timeout_fails_the_garment_and_writes_nothing",
+            "test_kill_9_of_a_batch_ends_its_workers_and_keeps_the_records_it_had",
             "test_sigterm_at_random_times_never_leaves_staging",
         }
     ),

@@ -510,3 +510,100 @@ def test_a_signal_at_each_step_of_staging_leaves_no_staging(tmp_path, monkeypatc
         assert read_marker(out) == ["report.json"]
     else:
         assert not out.exists()
+
+
+def test_a_full_disk_leaves_no_parent_folder_it_made(tmp_path, garment, recipe, monkeypatch):
+    """Issue 22: ``-o mnt/new/sub/out`` on a full disk left ``new/sub`` behind."""
+    import ptailor.run.garment
+
+    def full(tmp, *a, **k):
+        raise OSError(28, "No space left on device", str(tmp / "garment.obj"))
+
+    monkeypatch.setattr(ptailor.run.garment, "write_outputs", full)
+    (tmp_path / "mnt").mkdir()
+    out = tmp_path / "mnt" / "new" / "sub" / "out"
+    line = error_line(adjust(garment, recipe, out))
+    assert "No space left on device" in line
+    assert sorted(p.name for p in (tmp_path / "mnt").iterdir()) == []
+
+
+def test_a_staging_folder_no_live_process_holds_is_removed_by_the_next_run(
+    tmp_path, garment, recipe
+):
+    """Issue 22: ``kill -9`` during ``adjust`` left ``.OUT.XXXXXXXX.tmp`` and later runs
+    never removed it. The next run on that output removes the staging folders of its own
+    kind that no live process holds (a writer holds a lock on its folder), and leaves a
+    held one alone."""
+    import fcntl
+
+    out = tmp_path / "out"
+    assert adjust(garment, recipe, out).exit_code == 0  # an earlier output: kept as it is
+    stale = tmp_path / f".{staging_stem('out')}.abcd1234.tmp"
+    held = tmp_path / f".{staging_stem('out')}.held5678.tmp"
+    old = tmp_path / f".{staging_stem('out')}.old-{stale.name}"
+    for d in (stale, held, old):
+        d.mkdir()
+        (d / "garment.obj").write_text("partial")
+    other = tmp_path / ".notes.abcd1234.tmp"  # another output's: not ours to touch
+    other.mkdir()
+    fd = os.open(held, os.O_RDONLY)
+    fcntl.flock(fd, fcntl.LOCK_EX)
+    try:
+        r = adjust(garment, recipe, out)
+        assert r.exit_code == 0, r.output
+        assert not stale.exists() and not old.exists()
+        assert held.exists() and other.exists()
+    finally:
+        os.close(fd)
+
+
+def _children(pid: int) -> list[int]:
+    out = subprocess.run(["pgrep", "-P", str(pid)], capture_output=True, text=True)
+    return [int(x) for x in out.stdout.split()]
+
+
+def _alive(pid: int) -> bool:
+    try:
+        with open(f"/proc/{pid}/stat") as fh:
+            return fh.read().split(")")[-1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/proc and pgrep")
+def test_kill_9_of_a_batch_ends_its_workers_and_keeps_the_records_it_had(tmp_path, recipe):
+    """Issue 22: ``kill -9`` of ``ptailor batch`` left its workers alive and idle, holding
+    its stdout (``ptailor batch ... | tee`` never ended), and its log empty with 8 of 9
+    folders complete (records waited for input order). Workers now end within a second of
+    their batch, and the log holds each record as it became known (with its index)."""
+    cat = tmp_path / "cat"
+    cat.mkdir()
+    for i in range(8):
+        write_garment(cat / f"g{i}.obj", sample_for_triangles(3000 + 400 * i))
+    out, log = tmp_path / "out", tmp_path / "log.jsonl"
+    cmd = [sys.executable, "-m", "ptailor", "batch", str(recipe), str(cat / "*.obj"),
+           "-o", str(out), "-j", "2", "--log", str(log), "-q", *FAST]  # fmt: skip
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    try:
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline and not (
+            log.exists() and log.read_text().count("\n") >= 2
+        ):
+            time.sleep(0.05)
+        workers = _children(p.pid)
+        assert workers, "no worker processes"
+        p.kill()
+        p.wait()
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline and any(_alive(w) for w in workers):
+            time.sleep(0.05)
+        assert not any(_alive(w) for w in workers)
+        p.stdout.read()  # every writer of the pipe is gone: no hang
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            p.kill()
+    recs = [json.loads(ln) for ln in log.read_text().splitlines()]
+    assert len(recs) >= 2 and all(r["status"] == "ok" for r in recs)
+    assert len({r["index"] for r in recs}) == len(recs)
+    for r in recs:
+        assert (Path(r["out"]) / "garment.obj").is_file() or (out / Path(r["out"]).name).is_dir()

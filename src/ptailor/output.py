@@ -99,6 +99,94 @@ def remove_staging(out: str | Path) -> list[str]:
     return handled
 
 
+def _missing_parents(out: Path) -> list[Path]:
+    """The folders above ``out`` that do not exist yet, deepest first."""
+    out = Path(os.path.abspath(out))
+    missing = []
+    for d in out.parents:
+        if d.exists() or d.is_symlink():
+            break
+        missing.append(d)
+    return missing
+
+
+def _remove_empty(folders: list[Path]) -> None:
+    """Remove ``folders`` (deepest first) while they are empty: what a failed run made."""
+    for d in folders:
+        try:
+            d.rmdir()
+        except OSError:
+            return
+
+
+def _hold(folder: Path) -> int | None:
+    """Lock ``folder`` for this process (an advisory ``flock``, released by the kernel
+    however the process ends); the descriptor to close when done, None where locks are not
+    available."""
+    try:
+        import fcntl
+    except ImportError:  # not POSIX
+        return None
+    try:
+        fd = os.open(folder, os.O_RDONLY)
+    except OSError:
+        return None
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        os.close(fd)
+        return None
+    return fd
+
+
+def _held(folder: Path) -> bool:
+    """Whether a live process holds ``folder`` (:func:`_hold`); True where it cannot be
+    told (no locks, or the folder cannot be opened): only a folder known to be free is
+    removed."""
+    try:
+        import fcntl
+    except ImportError:
+        return True
+    try:
+        fd = os.open(folder, os.O_RDONLY)
+    except OSError:
+        return True
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        return True
+    finally:
+        os.close(fd)  # (closing releases the probe's lock)
+    return False
+
+
+def remove_stale_staging(out: str | Path) -> list[str]:
+    """Remove the staging folders of ``out`` that no live process holds: a writer killed
+    with SIGKILL (which no handler sees) left them, and :func:`remove_staging` removes
+    them only for a batch's garments whose workers are known to be gone. A folder being
+    written holds a lock (:func:`_hold`); the previous output moved aside
+    (``.NAME.old-.NAME.XXXXXXXX.tmp``) is held through the staging folder named in it, and
+    is moved back when ``out`` is missing. Returns the names handled."""
+    out = Path(out)
+    if not out.parent.is_dir():
+        return []
+    pat = staging_pattern(out.name)
+    handled = []
+    for p in sorted(out.parent.iterdir()):
+        m = pat.match(p.name)
+        if not m or not p.is_dir() or p.is_symlink():
+            continue
+        writer = p.with_name(p.name.split(".old-", 1)[1]) if m.group(1) else p
+        if writer.is_dir() and _held(writer):
+            continue
+        if m.group(1) and not out.exists():
+            p.rename(out)
+        else:
+            shutil.rmtree(p, ignore_errors=True)
+        handled.append(p.name)
+    return handled
+
+
 _ANY_STAGING = re.compile(r"(?:^|(?<=/))\.([^/]+?)\.(?:old-\.[^/]+?\.)?[a-z0-9_]{8}\.tmp(?=/|$)")
 
 
@@ -335,24 +423,34 @@ def staged_dir(out: str | Path):
     out = Path(out)
     real = _real(out, shown)
     tmp = None
+    hold = None
+    made = _missing_parents(real)  # removed again if the run fails (a full disk)
     try:
         with deferred_signals():  # a signal as mkdtemp returns must not orphan the folder
             real.parent.mkdir(parents=True, exist_ok=True)
+            remove_stale_staging(real)
             tmp = new_staging_dir(real)
+            hold = _hold(tmp)
         yield tmp
         _commit(tmp, real, shown)
     except BaseException as exc:
         if tmp is None:
+            _remove_empty(made)
             if isinstance(exc, OSError):
                 raise _os_error(exc, shown, "cannot create the output folder") from None
             raise
         with deferred_signals():
             shutil.rmtree(tmp, ignore_errors=True)
+            if not real.exists():
+                _remove_empty(made)
         if isinstance(exc, OSError):
             raise _os_error(exc, shown) from None
         if isinstance(exc, PtailorError) and str(tmp) in str(exc):
             raise PtailorError(str(exc).replace(str(tmp), shown)) from None
         raise
+    finally:
+        if hold is not None:
+            os.close(hold)
 
 
 def write_json(path: Path, data: dict) -> None:

@@ -248,3 +248,5 @@ BATCH_TIMEOUT_MAX_S = 2_592_000.0
 #: ``axis: auto`` on a region that is no tube falls back to its longest extent; more than
 #: this many degrees from the garment's up is a warning (ptailor.edits.scale).
 AUTO_AXIS_UP_DEG = 30.0
+#: A batch worker checks this often (seconds) that its batch is alive, and ends if not.
+WORKER_PARENT_POLL_S = 0.5

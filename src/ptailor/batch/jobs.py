@@ -78,7 +78,9 @@ class GarmentJob:
     def record(self, status: str, **values: Any) -> dict:
         """A record for this garment with every key of :data:`RECORD_KEYS`."""
         rec = dict.fromkeys(RECORD_KEYS)
-        rec.update(garment=self.garment, out=self.out, status=status, note=self.note)
+        rec.update(
+            index=self.index + 1, garment=self.garment, out=self.out, status=status, note=self.note
+        )
         rec.update(values)
         return rec
 
@@ -186,6 +188,7 @@ _IN_JOB = False
 #: a garment past its ``--timeout`` that does not stop (stuck in native code) has its
 #: worker killed this much later: max(this, a quarter of the timeout) seconds
 TIMEOUT_GRACE_S = tolerances.TIMEOUT_GRACE_S
+WORKER_PARENT_POLL_S = tolerances.WORKER_PARENT_POLL_S
 
 
 class JobTimeoutError(BaseException):
@@ -216,6 +219,24 @@ def enter_worker(stop, timed_out=None) -> None:
     signal.signal(signal.SIGINT, _on_sigint)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)  # terminate() ends a worker at once
     signal.signal(signal.SIGALRM, _on_alarm)
+    _watch_parent()
+
+
+def _watch_parent(period: float = WORKER_PARENT_POLL_S) -> None:
+    """End this worker when the batch that started it is gone: ``kill -9`` of ``ptailor
+    batch`` once left its workers alive and idle, holding its stdout and stderr (a
+    ``ptailor batch ... | tee`` never ended). A daemon thread polls the parent's pid; the
+    garment the worker was on keeps its staging folder, which the next run on that output
+    removes (:func:`ptailor.run.outputs.remove_stale_staging`)."""
+    parent = os.getppid()
+
+    def watch() -> None:
+        while True:
+            time.sleep(period)
+            if os.getppid() != parent:
+                os._exit(1)
+
+    threading.Thread(target=watch, name="ptailor-parent-watch", daemon=True).start()
 
 
 def _watchdog(job: GarmentJob, finished: threading.Event) -> None:

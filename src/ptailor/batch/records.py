@@ -19,6 +19,7 @@ from ptailor.batch.gates import (
 
 #: a record's keys, in the order they are written
 RECORD_KEYS = (
+    "index",
     "garment",
     "out",
     "status",

@@ -244,8 +244,13 @@ def _check_log(log: str, paths: list[str], recipe: str) -> None:
 
 
 def _run(todo, *, workers: int, scheduler, log, as_json: bool, bar: bool):
-    """Run the jobs: records to the log and stdout, a progress bar, SIGTERM as Ctrl-C."""
+    """Run the jobs: records to the log and stdout, a progress bar, SIGTERM as Ctrl-C.
+
+    The log gets each record when it is known (completion order, each with its input
+    ``index``: a run killed with SIGKILL keeps every garment it finished), and at the end
+    is rewritten in input order; stdout (``--json``) gets them in input order."""
     import contextlib
+    import os
     import signal
     import sys
 
@@ -257,35 +262,51 @@ def _run(todo, *, workers: int, scheduler, log, as_json: bool, bar: bool):
         logf = open(log, "w") if log else None  # noqa: SIM115 - closed below
     except OSError as exc:
         raise PtailorError(f"cannot write the log ({exc.strerror or exc})", path=log) from None
+    result = None
     try:
 
         def on_record(r: dict) -> None:
-            line = record_line(r)
-            if logf is not None:
-                logf.write(line + "\n")
-                logf.flush()
             if as_json:
-                click.echo(line)
+                click.echo(record_line(r))
+
+        def on_done(r: dict, progress=None) -> None:
+            if logf is not None:
+                logf.write(record_line(r) + "\n")
+                logf.flush()
+            if progress is not None:
+                progress.update(1)
 
         with contextlib.suppress(ValueError):  # (only the main thread can)
             old_term = signal.signal(signal.SIGTERM, _interrupt)  # SIGTERM is Ctrl-C too
         if not bar:
-            return run_batch(todo, workers=workers, scheduler=scheduler, on_record=on_record)
+            result = run_batch(
+                todo, workers=workers, scheduler=scheduler, on_record=on_record, on_done=on_done
+            )
+            return result
         with click.progressbar(
             length=len(todo), label="adjusting", file=sys.stderr, show_pos=True
         ) as progress:
-            return run_batch(
+            result = run_batch(
                 todo,
                 workers=workers,
                 scheduler=scheduler,
                 on_record=on_record,
-                on_done=lambda r: progress.update(1),
+                on_done=lambda r: on_done(r, progress),
             )
+            return result
     finally:
         if old_term is not None:
             signal.signal(signal.SIGTERM, old_term)
         if logf is not None:
             logf.close()
+            if result is not None:  # the whole run's records, in input order
+                tmp = f"{log}.{os.getpid()}.tmp"
+                with contextlib.suppress(OSError):
+                    with open(tmp, "w") as fh:
+                        fh.writelines(record_line(r) + "\n" for r in result.records)
+                    os.replace(tmp, log)
+                with contextlib.suppress(OSError):
+                    os.unlink(tmp)
 
 
 def _summary(result, n: int, *, quiet: bool) -> None:
