@@ -186,3 +186,34 @@ def test_mutate_is_deterministic_and_changes_the_file(demo):
     data = (demo / "pattern.dxf").read_bytes()
     muts = [("hot", 0.5, "nan"), ("drop", 0.1, 2)]
     assert mutate(data, muts) == mutate(data, muts) != data
+
+
+@given(
+    st.one_of(
+        st.text(alphabet=st.characters(codec="ascii", exclude_categories=("Cc",)), max_size=12),
+        st.integers(-5, 2000).map(str),
+        st.floats(allow_nan=True, allow_infinity=True).map(repr),
+        st.tuples(st.integers(-3, 9), st.integers(-3, 9)).map(lambda t: f"{t[0]},{t[1]}"),
+    )
+)
+def test_a_quantity_is_a_count_read_once_or_an_error_naming_the_piece(text):
+    """Issue 22: ``Quantity:`` values that are not counts were read as 1 and written back
+    twice. Whatever the text: a count (the piece's quantity, no note repeating it), or a
+    PtailorError naming the piece."""
+    import tempfile
+
+    from ptailor.errors import PtailorError
+    from ptailor.formats.dxf import parse_quantity, read_dxf
+    from tests.test_bad_dxf import square
+
+    with tempfile.TemporaryDirectory() as td:
+        p = square(Path(td), quantity=text)
+        try:
+            (piece,) = read_dxf(p).pieces
+        except PtailorError as exc:
+            assert "piece 'FRONT'" in str(exc) or "FRONT" in str(exc) or str(p) in str(exc)
+            return
+    q = parse_quantity(text.strip())
+    if text.strip():  # an empty value is no quantity: the default 1
+        assert q is not None and piece.quantity == q[0]
+    assert not any("QUANTITY" in a.upper() for a in piece.annotations)

@@ -117,3 +117,27 @@ def test_the_timeout_has_a_bound():
     r = CliRunner().invoke(cli, ["batch", "r.yaml", "g.obj", "-o", "o", "--timeout", "1e12"])
     assert r.exit_code == 2 and "--timeout" in r.output
     assert tol.BATCH_TIMEOUT_MAX_S >= 86400  # a day at least
+
+
+def test_any_number_given_to_a_gate_is_refused_unless_finite_and_in_range(tmp_path):
+    """Issue 22, as a property: a gate takes exactly the finite numbers >= 0."""
+    hypothesis = pytest.importorskip("hypothesis")
+    from hypothesis import given
+    from hypothesis import strategies as st
+
+    rec = tmp_path / "r.yaml"
+    rec.write_text("steps: [{op: scale, factor: 1.1}]\n")
+    missing = tmp_path / "none" / "g.obj"  # exit 2 later, for a different reason
+
+    @given(
+        st.sampled_from(_NUMERIC_BATCH_OPTIONS[:-1]),
+        st.floats(allow_nan=True, allow_infinity=True),
+    )
+    @hypothesis.settings(max_examples=60, deadline=None)
+    def check(option, x):
+        args = ["batch", str(rec), str(missing), "-o", str(tmp_path / "o"), option, repr(x)]
+        r = CliRunner().invoke(cli, args)
+        bad = not (np.isfinite(x) and x >= 0)
+        assert (option in r.output and "Invalid value" in r.output) == bad, (x, r.output)
+
+    check()
