@@ -607,3 +607,18 @@ def test_kill_9_of_a_batch_ends_its_workers_and_keeps_the_records_it_had(tmp_pat
     assert len({r["index"] for r in recs}) == len(recs)
     for r in recs:
         assert (Path(r["out"]) / "garment.obj").is_file() or (out / Path(r["out"]).name).is_dir()
+
+
+@pytest.mark.parametrize(("finished", "says"), [(True, "its output is complete"),
+                                                 (False, "nothing written")])  # fmt: skip
+def test_a_signal_outside_the_command_ends_with_its_one_line(finished, says):
+    """Issue 22: a signal in the last milliseconds, after the output was in place, ended
+    the process without its one-line message."""
+    code = (
+        "import ptailor.cli.main as m, signal; "
+        f"m._FINISHED = {finished}; m._die(signal.SIGTERM, None)"
+    )
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert r.returncode == 128 + signal.SIGTERM
+    when = "after the command finished" if finished else "before the command started"
+    assert r.stderr.strip() == f"ptailor: interrupted (SIGTERM) {when}: {says}"

@@ -64,15 +64,30 @@ def _on_signal(signum, frame) -> None:
     raise Interrupted(signum)
 
 
+#: whether the command has finished (for :func:`_die`'s one line)
+_FINISHED = False
+
+
 def _die(signum, frame) -> None:
     """Before and after the command: a signal ends the process at once with 128 + it (the
-    output is complete or not written; no "Aborted!" and no exit 1 from click)."""
+    output is complete or not written; no "Aborted!" and no exit 1 from click), with its
+    one line (a signal in the last milliseconds, after the output was in place, once ended
+    the process without a word)."""
     import os
+    import signal
     import sys
 
     for f in (sys.stdout, sys.stderr):
         with __import__("contextlib").suppress(Exception):
             f.flush()
+    name = signal.Signals(signum).name
+    what = (
+        "after the command finished: its output is complete"
+        if _FINISHED
+        else "before the command started: nothing written"
+    )
+    with __import__("contextlib").suppress(OSError):
+        os.write(2, f"ptailor: interrupted ({name}) {what}\n".encode())
     os._exit(128 + signum)
 
 
@@ -124,6 +139,8 @@ class _Group(click.Group):
             click.echo(f"ptailor: interrupted ({name}): no partial output left", err=True)
             ctx.exit(128 + signum)
         finally:
+            global _FINISHED
+            _FINISHED = True
             for s, h in saved.items():
                 with contextlib.suppress(ValueError, OSError, TypeError):
                     signal.signal(s, _die if self._process else h)
