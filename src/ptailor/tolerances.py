@@ -250,3 +250,6 @@ BATCH_TIMEOUT_MAX_S = 2_592_000.0
 AUTO_AXIS_UP_DEG = 30.0
 #: A batch worker checks this often (seconds) that its batch is alive, and ends if not.
 WORKER_PARENT_POLL_S = 0.5
+#: A scale_seam ``fix`` that the part's scaling would move by more than this fraction of
+#: the garment's size lies inside the scaled part: an error (ptailor.edits.scale_seam).
+FIX_INSIDE_REL = 0.005

@@ -134,10 +134,9 @@ def _part_targets(
     # the part scales from 1 at its fixed end (or far end) to the factor at the seam,
     # linearly along the axis: a straight tube becomes a frustum, exactly developable
     s_part = (V3[part_v] - c) @ ax
+    own = fixed_v[np.isin(fixed_v, part_v)]  # the part's fixed end (not the other sleeve's)
     anchor = (
-        float(((V3[fixed_v] - c) @ ax).mean())
-        if len(fixed_v) and np.isin(fixed_v, part_v).any()
-        else float(s_part[np.argmax(np.abs(s_part))])
+        float(((V3[own] - c) @ ax).mean()) if len(own) else float(s_part[np.argmax(np.abs(s_part))])
     )
     t = np.clip(1.0 - s_part / anchor, 0.0, 1.0) if anchor != 0 else np.ones(len(part_v))
     d = V3[part_v] - c
@@ -156,6 +155,39 @@ def _part_targets(
     handles = np.concatenate([handles, fixed_v[keep]])
     targets = np.concatenate([targets, V3[fixed_v[keep]]])
     return handles, targets
+
+
+def _hold_fixed(
+    V3: np.ndarray,
+    handles: np.ndarray,
+    targets: np.ndarray,
+    fixed_v: np.ndarray,
+    fix: list,
+    part: str,
+) -> np.ndarray:
+    """``targets`` with every fixed vertex at its place: what ``fix`` names stays put
+    exactly (the part's scaled field once moved a fixed cuff opening by 2 mm and a fixed
+    seam of the part by 2.1 cm, as if unfixed). A fixed line the scaling moves by more
+    than ``tol.FIX_INSIDE_REL`` of the garment's size lies inside the scaled part, where
+    it cannot stay put without tearing the part's scaling: an error naming it."""
+    from ptailor import tolerances as tol
+
+    if not len(fixed_v):
+        return targets
+    row = np.full(len(V3), -1, dtype=np.int64)
+    row[handles] = np.arange(len(handles))
+    r = row[fixed_v]
+    move = np.linalg.norm(targets[r] - V3[fixed_v], axis=1)
+    size = float(np.linalg.norm(np.ptp(V3, axis=0))) or 1.0
+    if move.max(initial=0.0) > tol.FIX_INSIDE_REL * size:
+        raise PtailorError(
+            f"fix: {fix} lies inside the scaled part {part}, where this step moves it by up"
+            f" to {move.max():.3g} (units of the drape): it cannot stay put; fix the part's"
+            " far opening or a seam outside it"
+        )
+    out = targets.copy()
+    out[r] = V3[fixed_v]
+    return out
 
 
 @register(
@@ -221,6 +253,7 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
     handles, targets = _part_targets(
         V3, part_v, other_v, fixed_v, c=c, ax=ax, f=f, direction=step["direction"]
     )
+    targets = _hold_fixed(V3, handles, targets, fixed_v, step["fix"], part)
     V_new = arap_deform(V3, g.F3, handles, targets)
     changed = np.any(np.abs(V_new - V3) > 0, axis=1)
     even = state.even.copy()
