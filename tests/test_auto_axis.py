@@ -59,3 +59,56 @@ def test_the_shared_tshirt_scaled_as_a_whole_along_auto_says_its_axis_leans():
     assert len(w) == 1 and "55 degrees" in w[0] and w[0].startswith("scale step:")
     text = text.replace("axis: auto", "axis: [0, 1, 0]")
     assert not any("axis" in x for x in solver_warnings(adjustment(g, parse_recipe(text))))
+
+
+def test_a_name_selects_its_panel_or_else_its_family():
+    from types import SimpleNamespace
+
+    from ptailor.edits.region import panels_named
+    from ptailor.errors import PtailorError
+
+    plist = [SimpleNamespace(name=n) for n in ("front_left", "front_right", "back", "back_yoke")]
+    assert [p.name for p in panels_named(["front"], plist)] == ["front_left", "front_right"]
+    assert [p.name for p in panels_named(["back"], plist)] == ["back"]  # its own panel only
+    assert [p.name for p in panels_named(["front", "front_left"], plist)] == [
+        "front_left",
+        "front_right",
+    ]
+    with pytest.raises(PtailorError, match="no panel named fro "):
+        panels_named(["fro"], plist)
+
+
+def test_each_part_of_a_region_scales_about_its_own_axis():
+    """Two tubes side by side, tilted apart (sleeves in an A-pose): each 1.2 around its own
+    axis, its length kept (one axis through both would widen them along their lengths)."""
+    import dataclasses
+
+    from ptailor.edits.scale import region_parts
+
+    a = cylinder(circumference=30.0, n_around=16, n_along=6)
+    tilt = np.radians(30)
+    Ra = np.array([[np.cos(tilt), -np.sin(tilt), 0], [np.sin(tilt), np.cos(tilt), 0], [0, 0, 1]])
+    Rb = Ra.T
+    V = np.concatenate([a.V3 @ Ra.T + [-30, 0, 0], a.V3 @ Rb.T + [30, 0, 0]])
+    F3 = np.concatenate([a.F3, a.F3 + len(a.V3)])
+    g = dataclasses.replace(
+        a,
+        V3=V,
+        F3=F3,
+        V2=np.concatenate([a.V2, a.V2 + np.array([100.0, 0.0])]),
+        F2=np.concatenate([a.F2, a.F2 + len(a.V2)]),
+        face_group=np.concatenate([a.face_group, a.face_group + 1]),
+        group_names=("tube_left", "tube_right"),
+    )
+    assert [len(p) for p in region_parts(g.F3, np.arange(len(F3)), len(V))] == [len(a.F3)] * 2
+    text = "steps: [{op: scale, region: {panels: [tube]}, direction: around, factor: 1.2}]"
+    adj = adjustment(g, parse_recipe(text), baseline=False)
+    rec = adj.state.log[-1]
+    axes = np.array([p["axis"] for p in rec["parts"]])
+    expect = np.array([Ra[:, 1], Rb[:, 1]])
+    assert np.allclose(np.abs((axes * expect).sum(1)), 1.0, atol=1e-6)
+    n = len(a.V3)
+    for R, sl in ((Ra, slice(0, n)), (Rb, slice(n, 2 * n))):
+        along0 = np.ptp(V[sl] @ R[:, 1])
+        along1 = np.ptp(adj.state.V3[sl] @ R[:, 1])
+        assert along1 == pytest.approx(along0, rel=1e-6)

@@ -144,3 +144,33 @@ def test_deeper_neckline_cuts_the_front_only_down_to_the_sketch():
     assert st.V3[front, 1].max() > 39 and st.V3[np.abs(st.V3[:, 0]) < 0.5, 1].min() < 1
     top_centre = st.V3[(np.abs(st.V3[:, 0]) < 0.3) & front, 1].max()
     assert top_centre == pytest.approx(29.9, abs=0.3)
+
+
+@pytest.mark.parametrize("key", ["tee6", "tshirt", "longsleeve"])
+def test_wider_sleeves_widens_the_sleeves_of_a_real_shirt_and_not_the_shirt(key):
+    """Issue 23, item 5: ``wider-sleeves.yaml`` used ``region: all`` with ``axis: auto``,
+    which on a real tee scaled the whole shirt (front +27.5 %). Now the sleeve family
+    (``sleeve_left``, ``sleeve_right_front``, ...), each sleeve about its own arm: the
+    sleeves' pattern area +20 %, the torso's within 2 %."""
+    from ptailor.formats.garment import load_garment
+    from tests.conftest import REAL, real_path
+
+    pu = REAL[key][1]
+    g = load_garment(real_path(key), pattern_units=pu, drape_units="cm" if pu == "auto" else pu)
+    g = g.garment
+    rec = load_recipe(Path(__file__).resolve().parents[1] / "recipes" / "wider-sleeves.yaml")
+    a = adjustment(g, rec, baseline=False)
+    assert a.result.info.converged
+    assert len(a.state.log[-1]["parts"]) == 2  # one per arm
+
+    def area(V2, faces):
+        T = V2[g.F2[faces]]
+        e1, e2 = T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]
+        return 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]).sum()
+
+    for p in a.state.panels:
+        change = area(a.result.V2, p.faces) / area(g.V2, p.faces) - 1
+        if p.name.startswith("sleeve"):
+            assert 0.18 < change < 0.23, (p.name, change)
+        elif p.name in ("front", "back"):
+            assert abs(change) < 0.02, (p.name, change)

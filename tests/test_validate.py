@@ -102,7 +102,7 @@ def test_unknown_keys_point_at_the_key(tmp_path):
 
 
 def test_several_files_stdin_and_json(tmp_path):
-    good = RECIPES / "wider-sleeves.yaml"
+    good = RECIPES / "wider-around.yaml"
     bad = tmp_path / "b.yaml"
     bad.write_text("steps:\n  - op: shorten\n    opening: hem\n    by: -2\n")
     r = run(good, bad, tmp_path / "missing.yaml")

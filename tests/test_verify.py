@@ -23,7 +23,7 @@ from ptailor.verify.measure import (
 )
 from ptailor.verify.rest import rest_shapes
 
-WIDER = files("ptailor.recipes") / "wider-sleeves.yaml"
+WIDER = files("ptailor.recipes") / "wider-around.yaml"
 ARM_RADIUS = 4.6  # cm: 28.9 around, the lantern's cuff (28) is worn a little tight
 
 

@@ -79,7 +79,7 @@ def test_problems_name_a_climb_and_a_revisit():
 def test_demo_a_dxf_adjustment_and_a_batch_walk_down(tmp_path):
     demo = tmp_path / "demo"
     assert problems(chains(["demo", str(demo)])) == []
-    recipe = str(ROOT / "recipes" / "wider-sleeves.yaml")
+    recipe = str(ROOT / "recipes" / "wider-around.yaml")
     dxf = ["adjust", str(demo / "pattern.dxf"), recipe, "--drape", str(demo / "garment.obj")]
     assert problems(chains([*dxf, "-o", str(tmp_path / "dxf")])) == []
     batch = ["batch", recipe, str(demo / "sample.obj"), "-o", str(tmp_path / "batch"), "-j", "1"]

@@ -11,9 +11,9 @@ from __future__ import annotations
 #: sample -> its default bundled recipe (``recipes/NAME.yaml``); the keys are the samples
 #: ``ptailor demo --sample`` offers, in the order it lists them
 DEFAULT_RECIPES = {
-    "lantern_sleeve": "wider-sleeves",
+    "lantern_sleeve": "wider-around",
     "cone_skirt": "fuller-skirt",
-    "cylinder": "wider-sleeves",
+    "cylinder": "wider-around",
     "bodice": "loosen-waist",
 }
 #: the samples ``ptailor demo --sample`` offers

@@ -253,3 +253,7 @@ WORKER_PARENT_POLL_S = 0.5
 #: A scale_seam ``fix`` that the part's scaling would move by more than this fraction of
 #: the garment's size lies inside the scaled part: an error (ptailor.edits.scale_seam).
 FIX_INSIDE_REL = 0.005
+#: ``scale`` with ``axis: auto`` scales each connected part of its region about its own
+#: axis (both sleeves: each around its arm) when every part holds at least this fraction
+#: of the region's triangles; else the region as one.
+REGION_PART_MIN = 0.1

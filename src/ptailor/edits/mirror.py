@@ -162,7 +162,10 @@ def mirror_step(
     out = dict(step)
     reg = step.get("region")
     if isinstance(reg, dict) and "panels" in reg:
-        out["region"] = {**reg, "panels": [r.panel(n) for n in reg["panels"]]}
+        from ptailor.edits.region import panels_named
+
+        names = [p.name for p in panels_named(reg["panels"], before.panels)]  # families named
+        out["region"] = {**reg, "panels": [r.panel(n) for n in names]}
     if isinstance(step.get("seam"), list):
         out["seam"] = [r.panel(n) for n in step["seam"]]
     if "part" in step:

@@ -56,13 +56,8 @@ def region_faces(region: Any, garment: Garment, V3: np.ndarray, plist: list[Pane
     if region == "all":
         return np.arange(m)
     if "panels" in region:
-        by_name = {p.name: p for p in plist}
-        unknown = [n for n in region["panels"] if n not in by_name]
-        if unknown:
-            raise PtailorError(
-                f"no panel named {', '.join(unknown)} (this garment has: {', '.join(by_name)})"
-            )
-        faces = np.unique(np.concatenate([by_name[n].faces for n in region["panels"]]))
+        chosen = panels_named(region["panels"], plist)
+        faces = np.unique(np.concatenate([p.faces for p in chosen]))
     else:
         lo, hi = np.asarray(region["box"]["min"]), np.asarray(region["box"]["max"])
         inside = np.all((lo <= V3) & (hi >= V3), axis=1)
@@ -70,6 +65,32 @@ def region_faces(region: Any, garment: Garment, V3: np.ndarray, plist: list[Pane
     if faces.size == 0:
         raise PtailorError(f"region {region!r} selects no triangle of the garment")
     return faces
+
+
+def panels_named(names: list[str], plist: list) -> list:
+    """The panels a region's names select: the panel of that name, or where there is none,
+    its family, every panel named ``NAME_...`` (``sleeve`` selects ``sleeve_left`` and
+    ``sleeve_right_front``; ``front`` a tank top's ``front_left`` and ``front_right``), so
+    that one recipe serves garments cut differently.
+
+    Raises
+    ------
+    PtailorError
+        A name that selects no panel (listing the garment's).
+    """
+    by_name = {p.name: p for p in plist}
+    out: dict[str, object] = {}
+    unknown = []
+    for n in names:
+        family = [by_name[n]] if n in by_name else [p for p in plist if p.name.startswith(n + "_")]
+        if not family:
+            unknown.append(n)
+        out.update((p.name, p) for p in family)
+    if unknown:
+        raise PtailorError(
+            f"no panel named {', '.join(unknown)} (this garment has: {', '.join(by_name)})"
+        )
+    return list(out.values())
 
 
 def body_axis(P: np.ndarray, body_vertices: np.ndarray, *, k: int = 16) -> np.ndarray:

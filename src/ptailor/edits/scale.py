@@ -6,6 +6,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.edits.checks import axis, choice, number, region
 from ptailor.edits.region import region_axis, region_centroid, region_faces, unit_vector
 from ptailor.edits.registry import Param, register
@@ -55,17 +56,28 @@ def scale(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     g, V3 = state.base, state.V3
     faces = region_faces(step["region"], g, V3, state.panels)
     warnings: list[str] = []
-    if step["axis"] == "auto":
-        ax = region_axis(V3, g.F3, faces, body=options.body)
-        warnings += auto_axis_warnings(V3, g.F3, faces, ax, options)
-    else:
-        ax = unit_vector(step["axis"], "axis")
-    c = region_centroid(V3, g.F3, faces)
-    A = scale_matrix(step["direction"], ax, float(step["factor"]))
+    # with axis: auto, each connected part of the region about its own axis and centroid
+    # (both sleeves of a shirt: each around its own arm, not around one axis through both)
+    parts = region_parts(g.F3, faces, len(V3)) if step["axis"] == "auto" else [faces]
     in_region = np.zeros(len(V3), dtype=bool)
     in_region[g.F3[faces]] = True
     handles = np.flatnonzero(in_region)  # sorted, as np.unique (a mask is cheaper)
-    moved = c + (V3[handles] - c) @ A.T
+    moved = V3[handles].copy()
+    row = np.full(len(V3), -1, dtype=np.int64)
+    row[handles] = np.arange(len(handles))
+    records = []
+    for part in parts:  # a loop over the region's connected parts (a few)
+        if step["axis"] == "auto":
+            ax = region_axis(V3, g.F3, part, body=options.body)
+            warnings += auto_axis_warnings(V3, g.F3, part, ax, options)
+        else:
+            ax = unit_vector(step["axis"], "axis")
+        c = region_centroid(V3, g.F3, part)
+        A = scale_matrix(step["direction"], ax, float(step["factor"]))
+        r = row[np.unique(g.F3[part])]
+        moved[r] = c + (V3[handles[r]] - c) @ A.T
+        records.append((ax, c, int(part.size)))
+    ax, c = records[0][0], records[0][1]
     used = np.zeros(len(V3), dtype=bool)
     used[g.F3] = True
     if np.all(in_region[used]):
@@ -89,9 +101,49 @@ def scale(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         "centroid": [round(float(x), 6) for x in c],
         "triangles": int(faces.size),
     }
+    if len(records) > 1:
+        rec["parts"] = [
+            {
+                "axis": [round(float(x), 6) for x in a],
+                "centroid": [round(float(x), 6) for x in cc],
+                "triangles": t,
+            }
+            for a, cc, t in records
+        ]
     if warnings:
         rec["warnings"] = warnings
     return replace(state, V3=V_new, even=even, log=(*state.log, rec))
+
+
+def region_parts(F3: np.ndarray, faces: np.ndarray, n: int) -> list[np.ndarray]:
+    """The region's triangles ``faces`` split into its connected parts on the drape
+    (triangles sharing a vertex), largest first; the whole region as one part where a
+    part holds less than ``tol.REGION_PART_MIN`` of its triangles.
+
+    Parameters
+    ----------
+    F3 : (m, 3) int array
+    faces : (k,) int array
+    n : int
+        Drape vertices.
+
+    Returns
+    -------
+    list of (k_i,) int arrays
+    """
+    import scipy.sparse as sp
+    from scipy.sparse.csgraph import connected_components
+
+    T = F3[faces]
+    adj = sp.csr_matrix(
+        (np.ones(3 * len(T)), (T.ravel(), np.roll(T, -1, axis=1).ravel())), shape=(n, n)
+    )
+    lab = connected_components(adj, directed=False)[1][T[:, 0]]
+    _, inv, cnt = np.unique(lab, return_inverse=True, return_counts=True)
+    if len(cnt) == 1 or cnt.min() < tol.REGION_PART_MIN * len(faces):
+        return [faces]  # one part, or crumbs (a box through a fold): the region as one
+    order = np.argsort(-cnt, kind="stable")
+    return [faces[inv == k] for k in order]
 
 
 def auto_axis_warnings(
