@@ -185,3 +185,31 @@ def test_near_layer_v_notch_removes_only_the_notch():
     assert 0 < adj.state.log[0]["removed_triangles"] < 200
     assert lost_area < 200
     assert kept[:, 1].min() == pytest.approx(g.V3[:, 1].min())
+
+
+def test_a_cut_that_splits_a_panel_reports_each_part_with_its_share():
+    """Issue 23, item 4: a V-neck through a collar split it into ``collar`` and ``collar_1``;
+    the report gave ``collar`` -96 % area and ``collar_1`` ``area_before`` 0. The step
+    record gives each panel's removed fraction and its parts' shares, the report each
+    part's share of the original's area as ``area_before``, and a cut that removes most
+    of a panel warns."""
+    from ptailor.pipeline import solver_warnings
+    from ptailor.recipe import parse_recipe
+    from ptailor.report.build import build_report
+    from ptailor.samples import bodice
+
+    g = bodice()
+    sketch = "[[-4, 80], [0, -20], [4, 80]]"  # a V through the front's whole height
+    text = f"steps: [{{op: cut, view: front, sketch: {sketch}, remove: above, layers: near}}]"
+    a = adjustment(g, parse_recipe(text), baseline=False)
+    front = a.state.log[-1]["panels"]["front"]
+    assert set(front["parts"]) == {"front", "front_1"}
+    assert front["removed"] + sum(front["parts"].values()) == pytest.approx(1.0, abs=1e-6)
+    assert "back" not in a.state.log[-1]["panels"]  # untouched
+    r = build_report(a, inputs={}, units_note={}, warnings=[], timing_s={})
+    by = {p["name"]: p for p in r["panels"]}
+    for name in ("front", "front_1"):
+        assert by[name]["area_after"] == pytest.approx(by[name]["area_before"], rel=1e-3)
+    wide = text.replace("[[-4, 80], [0, -20], [4, 80]]", "[[-40, 80], [0, -20], [40, 80]]")
+    a = adjustment(g, parse_recipe(wide), baseline=False)
+    assert any("removes" in w and "of panel front" in w for w in solver_warnings(a))

@@ -257,3 +257,5 @@ FIX_INSIDE_REL = 0.005
 #: axis (both sleeves: each around its arm) when every part holds at least this fraction
 #: of the region's triangles; else the region as one.
 REGION_PART_MIN = 0.1
+#: A cut or shorten that removes more than this fraction of a panel's pattern area says so.
+SURGERY_REMOVED_WARN = 0.5

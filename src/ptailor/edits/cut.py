@@ -11,7 +11,7 @@ from ptailor.edits.checks import VEC3, boolean, choice, is_number, vector3, with
 from ptailor.edits.region import region_centroid, unit_vector
 from ptailor.edits.registry import Param, register
 from ptailor.edits.state import EditOptions, EditState
-from ptailor.edits.surgery import split_keep
+from ptailor.edits.surgery import panel_changes, split_keep
 from ptailor.errors import PtailorError
 from ptailor.geometry.labels import used_indices
 from ptailor.model.symmetry import SagittalPlane, mirror_points
@@ -258,11 +258,15 @@ def cut(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     if np.all(phi[used] >= 0):
         raise PtailorError(f"the cut's {what} misses the garment: nothing to remove")
     res = split_keep(state, phi)
+    panels, warnings = panel_changes(state, res)
     rec = {
         "op": "cut",
         "by": what,
         "removed_triangles": res.removed_triangles,
         "split_triangles": res.split_triangles,
         "new_edge_vertices": len(res.new_vertices3),
+        "panels": panels,
     }
+    if warnings:
+        rec["warnings"] = warnings
     return replace(res.state, log=(*state.log, rec))

@@ -347,3 +347,46 @@ def split_keep(
         on_level2=map2[zero2],
         source3=zero3,
     )
+
+
+def panel_changes(before: EditState, res: SplitResult) -> tuple[dict, list[str]]:
+    """What a split did to each panel of ``before``: the fraction of its pattern area
+    removed and the panels it became (each with its share of the original's area), for
+    the step record; and a warning for a panel that lost more than
+    ``tol.SURGERY_REMOVED_WARN`` of its area (a cut sketched too high on a taller garment
+    once removed most of two bodice panels and said only ``removed_triangles``).
+
+    Returns
+    -------
+    panels : dict
+        ``{name: {"removed": fraction, "parts": {new name: share}}}`` for the panels the
+        split touched (some area removed, or split into several).
+    warnings : list of str
+    """
+    from ptailor import tolerances as tol
+    from ptailor.geometry.triangles import signed_areas_2d
+    from ptailor.model.garment import panel_labels
+
+    g0, g1 = before.base, res.state.base
+    n0 = len(before.panels)
+    lab0 = panel_labels(before.panels, g0.n_faces)
+    a0 = np.bincount(lab0, np.abs(signed_areas_2d(g0.V2, g0.F2)), n0)
+    lab1 = panel_labels(res.state.panels, g1.n_faces)
+    area1 = np.abs(signed_areas_2d(g1.V2, g1.F2))
+    src = lab0[res.face_parent]  # each new triangle's panel before the split
+    kept = np.bincount(src, area1, n0)
+    out: dict = {}
+    warnings = []
+    for p in before.panels:  # a loop over the panels
+        i = p.index
+        mine = np.flatnonzero(src == i)
+        parts = {}
+        for q in np.unique(lab1[mine]):
+            share = float(area1[mine[lab1[mine] == q]].sum()) / max(float(a0[i]), 1e-300)
+            parts[res.state.panels[int(q)].name] = round(share, 6)
+        removed = 1.0 - float(kept[i]) / max(float(a0[i]), 1e-300)
+        if removed > 1e-9 or len(parts) > 1 or list(parts) != [p.name]:
+            out[p.name] = {"removed": round(removed, 6), "parts": parts}
+        if removed > tol.SURGERY_REMOVED_WARN:
+            warnings.append(f"removes {100 * removed:.0f} % of panel {p.name}'s pattern area")
+    return out, warnings

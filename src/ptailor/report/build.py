@@ -86,6 +86,26 @@ def _scale_errors(adj: Adjustment, V2: np.ndarray, reference: ScaleReference | N
     )
 
 
+def _split_parts_before(st, g0, orig: dict, area0: np.ndarray) -> np.ndarray:
+    """``area_before`` of the panels a cut split: each part's share of its original's area
+    (the step record's ``panels``), not the whole original for the part that kept its name
+    and 0 for the others (a V-neck through a collar read -96 % and 0 where 57 % was cut)."""
+    from ptailor.geometry.triangles import signed_areas_2d
+
+    index = {p.name: p.index for p in st.panels}
+    out = area0.copy()
+    for rec in st.log:
+        for name, info in (rec.get("panels") or {}).items():
+            parts = info.get("parts", {}) if isinstance(info, dict) else {}
+            if len(parts) < 2 or name not in orig:
+                continue
+            whole = float(np.abs(signed_areas_2d(g0.V2, g0.F2[orig[name][0]])).sum())
+            for q, share in parts.items():
+                if q in index:
+                    out[index[q]] = share * whole
+    return out
+
+
 def build_report(
     adj: Adjustment,
     *,
@@ -142,6 +162,7 @@ def build_report(
     vlab0 = scatter_labels([orig[p.name][1] for p in kept], len(g0.V2), labels=ids)
     keep0 = flab0 >= 0
     area0 = panel_areas(g0.V2, g0.F2[keep0], flab0[keep0], n)
+    area0 = _split_parts_before(st, g0, orig, area0)
     area1 = panel_areas(V2a, g.F2, flab, n)
     size0 = panel_sizes(g0.V2, vlab0, n)
     size1 = panel_sizes(V2a, vlab, n)
