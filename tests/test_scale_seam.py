@@ -178,3 +178,67 @@ def test_the_shared_long_sleeves_fixed_cuff_stays_put_under_an_armhole_gather():
     cuff = find_opening(state, "cuff_left", options=EditOptions())[1]
     size = float(np.linalg.norm(np.ptp(g.V3, axis=0)))
     assert np.abs(a.state.V3[cuff] - g.V3[cuff]).max() < 1e-6 * size
+
+
+def two_panels_on_one_sleeve():
+    """A tube (``sleeve``) whose top row is two panels, ``front`` (x > 0) and ``back``:
+    one seam line (an armhole) in two halves."""
+    import dataclasses
+
+    from ptailor.samples import cylinder
+
+    g = cylinder(circumference=40.0, n_around=24, n_along=8)
+    cent = g.V3[g.F3].mean(axis=1)
+    top = cent[:, 1] > g.V3[:, 1].max() - 20.0 / 8 - 1e-9
+    grp = np.where(top, np.where(cent[:, 0] > 0, 1, 2), 0)
+    F2, V2, n = g.F2.copy(), [g.V2], len(g.V2)
+    for k in (1, 2):  # the two bands get pattern vertices of their own, moved apart
+        fk = np.flatnonzero(grp == k)
+        u, inv = np.unique(g.F2[fk], return_inverse=True)
+        V2.append(g.V2[u] + np.array([0.0, 10.0 * k]))
+        F2[fk] = (n + inv).reshape(-1, 3)
+        n += len(u)
+    return dataclasses.replace(
+        g, V2=np.concatenate(V2), F2=F2, face_group=grp, group_names=("sleeve", "front", "back")
+    )
+
+
+def test_a_gather_acts_on_the_whole_seam_line():
+    """Issue 23, item 1: a gather named by one half of an armhole gathered that half, and
+    the other half grew on both sides (the back panel's armhole +14 % on a real tee). The
+    seam line is the whole armhole: 1.2 on every seam of it, and the panels across it keep
+    their pattern length there."""
+    from ptailor.report.build import build_report
+
+    g = two_panels_on_one_sleeve()
+    text = (
+        "steps: [{op: scale_seam, seam: [front, sleeve], part: sleeve, direction: around, "
+        "factor: 1.2}]"
+    )
+    a = adjustment(g, parse_recipe(text), baseline=False)
+    assert a.state.log[-1]["seam_line"] == ["front", "back"]
+    r = build_report(a, inputs={}, units_note={}, warnings=[], timing_s={})
+    line = [s for s in r["seams"] if "sleeve" in s["panels"] and s["panels"] != ["sleeve"] * 2]
+    assert len(line) == 2
+    for s in line:
+        i = s["panels"].index("sleeve")
+        assert s["length_after"][i] == pytest.approx(1.2 * s["length_before"][i], rel=1e-4)
+        assert s["length_after"][1 - i] == pytest.approx(s["length_before"][1 - i], rel=1e-4)
+
+
+def test_the_shared_long_sleeves_back_armhole_keeps_its_length_under_a_front_gather():
+    from ptailor.report.build import build_report
+
+    g = load_garment(real_path("longsleeve"), pattern_units="auto", drape_units="cm").garment
+    text = (
+        "units: cm\nsteps: [{op: scale_seam, seam: [front, sleeve_left], part: sleeve_left, "
+        "direction: around, factor: 1.2}]"
+    )
+    a = adjustment(g, parse_recipe(text), baseline=False)
+    assert a.result.info.converged
+    r = build_report(a, inputs={}, units_note={}, warnings=[], timing_s={})
+    (back,) = [s for s in r["seams"] if sorted(s["panels"]) == ["back", "sleeve_left"]]
+    i = back["panels"].index("back")
+    before, after = back["length_before"], back["length_after"]
+    assert after[i] == pytest.approx(before[i], rel=2e-3)  # was +13 %
+    assert after[1 - i] == pytest.approx(1.2 * before[1 - i], rel=1e-2)

@@ -259,3 +259,6 @@ FIX_INSIDE_REL = 0.005
 REGION_PART_MIN = 0.1
 #: A cut or shorten that removes more than this fraction of a panel's pattern area says so.
 SURGERY_REMOVED_WARN = 0.5
+#: A seam of the scaled part continues a scale_seam's seam line where it leaves their
+#: shared end vertex within this many degrees of straight on (ptailor.edits.scale_seam).
+SEAM_LINE_TURN_DEG = 60.0

@@ -99,6 +99,61 @@ def seam_edges(state: EditState, pair: list[str]) -> np.ndarray:
     return np.concatenate([s.edges3 for s in found])
 
 
+def seam_line(state: EditState, part: str, other: str) -> list[str]:
+    """The panels ``part`` meets across the seam line through its seam with ``other``, in
+    order found (``other`` first): the paper's seam line is "the line created by joining
+    two or more pieces of fabric", the whole armhole, not its front half.
+
+    From the named seam, a seam of ``part`` with another panel joins the line where it
+    continues it: it shares an end vertex with the line and leaves that vertex at more than
+    ``tol.SEAM_LINE_TURN_DEG`` from the line's own way in (the back half of an armhole
+    continues the front half at the underarm and the shoulder point; a two-piece sleeve's
+    own seam, meeting the armhole square, does not). ``part``'s seams with itself (a tube's
+    closing seam) never join.
+    """
+    from ptailor import tolerances as tol
+
+    V3 = state.V3
+    by_name = {p.name: p.index for p in state.panels}
+    names = {p.index: p.name for p in state.panels}
+    ip = by_name[part]
+    curves: dict[str, list[np.ndarray]] = {}
+    for sm in state_seams(state):  # a loop over seams (tens)
+        if ip in sm.panels and sm.panels[0] != sm.panels[1]:
+            x = names[sm.panels[1] if sm.panels[0] == ip else sm.panels[0]]
+            curves.setdefault(x, []).append(sm.edges3)
+    edges = {x: np.concatenate(e) for x, e in curves.items()}
+    line = [other]
+    E = edges[other]
+    cos_max = float(np.cos(np.radians(180.0 - tol.SEAM_LINE_TURN_DEG)))
+
+    def ends(Ex: np.ndarray) -> dict[int, np.ndarray]:
+        """End vertices of a chain of edges with the unit direction leaving each."""
+        v, c = np.unique(Ex.ravel(), return_counts=True)
+        out = {}
+        for u in v[c == 1].tolist():  # a chain has two ends
+            e = Ex[(Ex == u).any(axis=1)][0]
+            w = e[1] if e[0] == u else e[0]
+            d = V3[w] - V3[u]
+            out[u] = d / max(float(np.linalg.norm(d)), 1e-300)
+        return out
+
+    grown = True
+    while grown:  # a loop over the line's panels (a few)
+        grown = False
+        mine = ends(E)
+        for x, Ex in edges.items():
+            if x in line:
+                continue
+            for u, d in ends(Ex).items():
+                if u in mine and float(d @ mine[u]) < cos_max:  # leaves u the line's way on
+                    line.append(x)
+                    E = np.concatenate([E, Ex])
+                    grown = True
+                    break
+    return line
+
+
 def _part_targets(
     V3: np.ndarray,
     part_v: np.ndarray,
@@ -224,11 +279,14 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
             "scaled on one side; name two different panels"
         )
     other = b if part == a else a
-    ring = seam_vertices(state, [a, b])
+    seam_edges(state, [a, b])  # (names and the seam checked first)
+    others = seam_line(state, part, other)  # the whole line: both halves of an armhole
+    line_edges = np.concatenate([seam_edges(state, [part, x]) for x in others])
+    ring = np.unique(line_edges.ravel())
     P = V3[ring]
     # the seam line's centroid and plane by arc length: the same however finely it is
     # meshed (its vertices' mean moves toward its finely meshed parts)
-    c, S = segment_moments(V3, seam_edges(state, [a, b]))
+    c, S = segment_moments(V3, line_edges)
     if options.body is not None:
         ax = body_axis(P, np.asarray(options.body.vertices, dtype=float))
     else:
@@ -237,7 +295,8 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
     f = float(step["factor"])
     by_name = {p.name: p for p in state.panels}
     part_v = used_indices(g.F3[by_name[part].faces], len(g.V3))
-    other_v = np.setdiff1d(used_indices(g.F3[by_name[other].faces], len(g.V3)), ring)
+    across = np.concatenate([by_name[x].faces for x in others])
+    other_v = np.setdiff1d(used_indices(g.F3[across], len(g.V3)), ring)
     fixed: list[np.ndarray] = []
     for spec in step["fix"]:
         if isinstance(spec, list):
@@ -270,14 +329,15 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
         "seam_vertices": len(ring),
         "fixed_vertices": len(fixed_v),
         "pattern_kept": other,
+        "seam_line": others,
         "seam_ratio_factor": f if step["direction"] == "around" else 1.0,
     }
-    gather = ((part, other, f),) if step["direction"] == "around" else ()
+    gather = tuple((part, x, f) for x in others) if step["direction"] == "around" else ()
     return replace(
         state,
         V3=V_new,
         even=even,
-        frozen=state.frozen | {other},
+        frozen=state.frozen | set(others),
         gathers=(*state.gathers, *gather),
         log=(*state.log, rec),
     )
