@@ -213,3 +213,27 @@ def test_a_cut_that_splits_a_panel_reports_each_part_with_its_share():
     wide = text.replace("[[-4, 80], [0, -20], [4, 80]]", "[[-40, 80], [0, -20], [40, 80]]")
     a = adjustment(g, parse_recipe(wide), baseline=False)
     assert any("removes" in w and "of panel front" in w for w in solver_warnings(a))
+
+
+def test_a_cut_keeps_the_names_of_the_seams_it_did_not_make():
+    """Issue 23, item 4: a V-neck through the shared long-sleeve's collar renamed its seams
+    (``collar_left`` -> ``yoke_front_left``, ``neckline_front`` -> ``neckline_left``). A
+    seam of the cut garment that lies on a seam of the input keeps its name; the second
+    piece of a seam the cut split is ``NAME_2``."""
+    from ptailor.report.build import build_report
+
+    g = load_garment(real_path("longsleeve"), pattern_units="auto", drape_units="cm").garment
+
+    def seam_names_after(text: str) -> list[str]:
+        a = adjustment(g, parse_recipe(text), baseline=False)
+        r = build_report(a, inputs={}, units_note={}, warnings=[], timing_s={})
+        return sorted(s["name"] for s in r["seams"])
+
+    before = seam_names_after("units: cm\nsteps: []")
+    cut = (
+        "units: cm\nsteps: [{op: cut, view: front, sketch: [[-12, 150], [0, 118], [12, 150]], "
+        "remove: above, layers: near}]"
+    )
+    after = seam_names_after(cut)
+    assert set(before) <= set(after)
+    assert all(n[:-2] in before and n.endswith("_2") for n in set(after) - set(before))

@@ -86,6 +86,42 @@ def _scale_errors(adj: Adjustment, V2: np.ndarray, reference: ScaleReference | N
     )
 
 
+def _stable_seam_names(adj, seam_list: list, now: list[str]) -> list[str]:
+    """Seam names kept across surgery: a seam of the edited garment that lies on a seam of
+    the input takes that seam's name (the second piece of one seam ``NAME_2``, ...), so a
+    cut does not rename the seams it did not create (a V-neck once turned
+    ``shoulder_right`` into ``shoulder_right_right``). Seams with no such seam keep ``now``.
+    """
+    from scipy.spatial import cKDTree
+
+    g0, g = adj.original, adj.state.base
+    if g0 is None or g0 is g or (g0.F3.shape == g.F3.shape and np.array_equal(g0.F3, g.F3)):
+        return now
+    up, front = adj.axes
+    s0 = structure(g0, up=up, front=front)
+    names0 = seam_names(g0.V3, s0.seams, s0.layout, [p.name for p in s0.panels])
+    owner = np.full(len(g0.V3), -1, dtype=np.int64)  # an input vertex's seam (one of them)
+    for k, sm in enumerate(s0.seams):  # a loop over seams
+        owner[np.asarray(sm.edges3).ravel()] = k
+    size = float(np.linalg.norm(np.ptp(g0.V3, axis=0))) or 1.0
+    tree = cKDTree(g0.V3)
+    out = list(now)
+    taken: dict[int, int] = {}
+    for i, sm in enumerate(seam_list):  # a loop over seams
+        v = np.unique(np.asarray(sm.edges3).ravel())
+        d, j = tree.query(g.V3[v])
+        hit = owner[j[d <= 1e-9 * size]]
+        hit = hit[hit >= 0]
+        if not len(hit):
+            continue
+        k = int(np.bincount(hit).argmax())
+        taken[k] = taken.get(k, 0) + 1
+        out[i] = names0[k] if taken[k] == 1 else f"{names0[k]}_{taken[k]}"
+    if len(set(out)) < len(out):  # a clash with a new seam's name: the names as computed
+        return now
+    return out
+
+
 def _split_parts_before(st, g0, orig: dict, area0: np.ndarray) -> np.ndarray:
     """``area_before`` of the panels a cut split: each part's share of its original's area
     (the step record's ``panels``), not the whole original for the part that kept its name
@@ -203,7 +239,7 @@ def build_report(
     gathers = seam_factors(st)
     seams_out = []
     layout = gs.layout
-    seam_name = seam_names(g.V3, seam_list, layout, names)
+    seam_name = _stable_seam_names(adj, seam_list, seam_names(g.V3, seam_list, layout, names))
     for si, s in enumerate(seam_list):  # one record per seam
         la0, lb0 = s.lengths(g.V2)
         la1, lb1 = s.lengths(V2a)
