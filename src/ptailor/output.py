@@ -143,20 +143,10 @@ def _held(folder: Path) -> bool:
     """Whether a live process holds ``folder`` (:func:`_hold`); True where it cannot be
     told (no locks, or the folder cannot be opened): only a folder known to be free is
     removed."""
-    try:
-        import fcntl
-    except ImportError:
+    fd = _hold(folder)
+    if fd is None:
         return True
-    try:
-        fd = os.open(folder, os.O_RDONLY)
-    except OSError:
-        return True
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except OSError:
-        return True
-    finally:
-        os.close(fd)  # (closing releases the probe's lock)
+    os.close(fd)  # (closing releases the probe's lock)
     return False
 
 

@@ -155,7 +155,6 @@ def auto_axis_warnings(
     shared tshirt's came out 55 degrees from vertical, and a symmetric ``along`` x1.1 grew
     one sleeve 10.8 % and the other 2.8 %. A tube's axis (a sleeve's: horizontal in a
     T-pose) and a body's are what they are."""
-    from ptailor import tolerances as tol
     from ptailor.geometry.tube_axis import tube_axis
 
     if options.body is not None or tube_axis(V3, F3[faces]) is not None:

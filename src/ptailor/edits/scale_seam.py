@@ -279,9 +279,9 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
             "scaled on one side; name two different panels"
         )
     other = b if part == a else a
-    seam_edges(state, [a, b])  # (names and the seam checked first)
+    named = seam_edges(state, [a, b])  # (names and the seam checked first)
     others = seam_line(state, part, other)  # the whole line: both halves of an armhole
-    line_edges = np.concatenate([seam_edges(state, [part, x]) for x in others])
+    line_edges = np.concatenate([named, *(seam_edges(state, [part, x]) for x in others[1:])])
     ring = np.unique(line_edges.ravel())
     P = V3[ring]
     # the seam line's centroid and plane by arc length: the same however finely it is
