@@ -195,6 +195,25 @@ def test_blocks_of_one_pattern_keep_their_own_factors(monkeypatch):
     assert len(calls) == 2  # one numeric factorisation per block, none per solve
 
 
+def test_equal_blocks_share_one_factor_and_solve_together(monkeypatch):
+    """x and y of a panel the as-similar-as-possible rows leave apart are two equal blocks
+    of the coupled matrix: factored once and solved as two columns, with the same answer
+    as separate factors; a block of equal pattern but other values keeps its own."""
+    from cvxopt import cholmod
+
+    a, b2 = spd(30, 3), spd(30, 4)
+    A = sp.block_diag([a, b2, a], format="csc")  # blocks 0 and 2 equal, 1 not
+    rhs = np.random.default_rng(8).normal(size=(90, 3))
+    calls = []
+    numeric = cholmod.numeric
+    monkeypatch.setattr(cholmod, "numeric", lambda *x: calls.append(1) or numeric(*x))
+    solve = factor(A)
+    assert len(calls) == 2
+    expected = np.linalg.solve(A.toarray(), rhs)
+    np.testing.assert_allclose(solve(rhs), expected, rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(solve(rhs[:, 0]), expected[:, 0], rtol=1e-10, atol=1e-12)
+
+
 def test_stitch_matrix_holds_no_triplet_sized_arrays():
     """The assembled matrix's arrays are its own size, not views of the triplets' (each
     inner edge comes twice), which would stay resident through the whole solve."""

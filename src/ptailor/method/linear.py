@@ -120,22 +120,49 @@ def _blockwise(L: sp.csc_matrix, cholmod):
     local = np.empty(L.shape[0], dtype=np.int32)
     for g in groups:
         local[g] = np.arange(len(g), dtype=np.int32)
-    parts, taken = [], []
+    parts: list[tuple[list, Callable]] = []
+    taken: list[_Symbolic] = []
+    seen: dict[tuple[int, int], list[tuple[sp.csc_matrix, list]]] = {}
     for g in groups:  # a component's columns hold only its rows (increasing order kept)
         # a component of consecutive unknowns (each panel's, as the pattern numbers them)
         # is a slice: its columns cut from L's arrays, its right-hand sides views
         g = _as_slice(g)
         block = _column_block(L, g, local)
-        parts.append((g, _cholmod(block, cholmod, taken)))
+        twin = _twin(block, seen.setdefault((block.shape[0], block.nnz), []))
+        if twin is not None:  # x and y of a panel the as-similar-as-possible rows leave
+            twin.append(g)  # apart: one factor, solved for both at once
+            continue
+        members = [g]
+        seen[(block.shape[0], block.nnz)].append((block, members))
+        parts.append((members, _cholmod(block, cholmod, taken)))
 
     def solve(b: np.ndarray) -> np.ndarray:
         rhs = np.asarray(b, dtype=float).reshape(len(b), -1)
+        c = rhs.shape[1]
         out = np.empty_like(rhs)
-        for g, part in parts:
-            out[g] = part(rhs[g])
+        for members, part in parts:
+            if len(members) == 1:
+                out[members[0]] = part(rhs[members[0]])
+                continue
+            sol = part(np.concatenate([rhs[g] for g in members], axis=1))
+            for j, g in enumerate(members):
+                out[g] = sol[:, j * c : (j + 1) * c]
         return out.reshape(np.shape(b))
 
     return solve
+
+
+def _twin(block: sp.csc_matrix, candidates: list[tuple[sp.csc_matrix, list]]) -> list | None:
+    """The members' list of an earlier block equal to ``block`` (pattern and values), or
+    None."""
+    for other, members in candidates:
+        if (
+            np.array_equal(other.indptr, block.indptr)
+            and np.array_equal(other.indices, block.indices)
+            and np.array_equal(other.data, block.data)
+        ):
+            return members
+    return None
 
 
 def _column_block(L: sp.csc_matrix, g: slice | np.ndarray, local: np.ndarray) -> sp.csc_matrix:
