@@ -214,6 +214,41 @@ def test_equal_blocks_share_one_factor_and_solve_together(monkeypatch):
     np.testing.assert_allclose(solve(rhs[:, 0]), expected[:, 0], rtol=1e-10, atol=1e-12)
 
 
+def test_seam_factor_splits_the_constrained_solve_exactly():
+    """With the seam unknowns last in each block's factor: the whole solve, the seam values
+    from the forward substitution alone, the solve less a seam correction from the same
+    forward substitution, and the seam block of the inverse all match dense algebra; equal
+    blocks with the same seam unknowns share one factor."""
+    a, b2 = spd(30, 3), spd(40, 4)
+    A = sp.block_diag([a, b2, a, 2.0 * sp.identity(3)], format="csc")
+    N = A.shape[0]
+    Ai = np.linalg.inv(A.toarray())
+    rng = np.random.default_rng(9)
+    b = rng.normal(size=(N, 2))
+    for last, parts in ((rng.choice(N, 25, replace=False), 4), (np.r_[1, 5, 7, 71, 75, 77], 3)):
+        f = linear.SeamFactor(sp.tril(A, format="csc"), last)
+        assert len(f._parts) == parts
+        E = np.zeros((N, len(last)))
+        E[last, np.arange(len(last))] = 1.0
+        w = rng.normal(size=(len(last), 2))
+        np.testing.assert_allclose(f(b), Ai @ b, atol=1e-12)
+        G = np.zeros((len(last), len(last)))
+        for idx, Gb in f.blocks():
+            G[np.ix_(idx, idx)] = Gb
+        np.testing.assert_allclose(G, Ai[np.ix_(last, last)], atol=1e-12)
+        Z = f.forward(b)
+        np.testing.assert_allclose(f.seam_values(Z, 2), (Ai @ b)[last], atol=1e-12)
+        np.testing.assert_allclose(f.finish(Z, 2, w), Ai @ (b - E @ w), atol=1e-12)
+        np.testing.assert_allclose(f.finish(Z, 2), Ai @ b, atol=1e-12)  # Z unchanged
+
+
+def test_seam_factor_refuses_an_indefinite_block():
+    A = spd(20, 5).tolil()
+    A[3, 3] = -5.0
+    with pytest.raises(ArithmeticError):
+        linear.SeamFactor(sp.tril(sp.csc_matrix(A), format="csc"), np.array([0, 1]))
+
+
 def test_stitch_matrix_holds_no_triplet_sized_arrays():
     """The assembled matrix's arrays are its own size, not views of the triplets' (each
     inner edge comes twice), which would stay resident through the whole solve."""

@@ -131,3 +131,37 @@ def test_newton_steps_keep_the_seams_exact():
     assert info.seam_violation <= 1e-9
     la, lb = ease.lengths(X)
     np.testing.assert_allclose(lb, la, rtol=1e-9)
+
+
+def test_the_split_factor_and_two_solves_give_one_answer(monkeypatch):
+    """The constrained steps through the factor that orders the seam unknowns last (one
+    forward and one back-substitution) and through two plain solves (as without CHOLMOD)
+    reach the same pattern, Newton steps included."""
+    import ptailor.method.stitch as st
+
+    Va, Fa = strip(60, 2, 48.0, 0.8, 0.0)
+    Vb, Fb = strip(60, 2, 48.0, 0.8, 0.8)
+    V = np.r_[Va, Vb]
+    F = np.r_[Fa, Fb + len(Va)]
+    T = bending_targets(V, F, 60.0)
+    top = np.arange(61) * 3 + 2
+    bottom = len(Va) + np.arange(61) * 3
+    ease = SeamEase(
+        ea=np.c_[top[1:], top[:-1]], eb=np.c_[bottom[:-1], bottom[1:]],
+        row=np.arange(60), ratio=np.full(60, 1.02),
+    )  # fmt: skip
+    kw = dict(
+        pins=np.array([len(Va) // 2, len(Va) + len(Vb) // 2]),
+        vertex_panel=np.r_[np.zeros(len(Va), int), np.ones(len(Vb), int)],
+        ease=ease, max_iter=300,
+    )  # fmt: skip
+    made = []
+    split = st._split_solver
+    monkeypatch.setattr(st, "_split_solver", lambda *a: made.append(split(*a)) or made[-1])
+    X1, info1 = stitch(V, F, T, **kw)
+    assert made and made[0] is not None
+    monkeypatch.setattr(st, "_split_solver", lambda *a: None)
+    X2, info2 = stitch(V, F, T, **kw)
+    assert info1.converged and info2.converged and info1.newton_steps >= 1
+    assert info1.iterations == info2.iterations
+    np.testing.assert_allclose(X1, X2, atol=1e-9 * 48.0)

@@ -27,6 +27,7 @@ class _Symbolic:
     S: object  # cvxopt.spmatrix, lower triangle
     F: object  # cvxopt CHOLMOD factor
     owner: object = None
+    perm: np.ndarray | None = None  # the ordering asked for (None: CHOLMOD's choice)
 
 
 #: the analyses shared within :func:`shared_symbolic` (per thread and task: a context
@@ -108,18 +109,9 @@ def _blockwise(L: sp.csc_matrix, cholmod):
     together, their block diagonal). The same fill as one factorisation, but smaller
     analyses: at 300,000 triangles the factors take 166 MB instead of 222 MB and 10 %
     less time to compute."""
-    from scipy.sparse.csgraph import connected_components
-
-    ones = np.ones(len(L.indices), dtype=np.int8)  # explicit zeros count: the pattern's graph
-    k, label = connected_components(sp.csc_matrix((ones, L.indices, L.indptr), L.shape), False)
-    if k == 1:
+    groups, local = _components(L)
+    if len(groups) == 1:
         return _cholmod(L, cholmod)
-    size = np.bincount(label, minlength=k)
-    label = np.where(size[label] > 1, label, k)  # singletons: one diagonal block
-    groups = _groups(label)
-    local = np.empty(L.shape[0], dtype=np.int32)
-    for g in groups:
-        local[g] = np.arange(len(g), dtype=np.int32)
     parts: list[tuple[list, Callable]] = []
     taken: list[_Symbolic] = []
     seen: dict[tuple[int, int], list[tuple[sp.csc_matrix, list]]] = {}
@@ -152,17 +144,204 @@ def _blockwise(L: sp.csc_matrix, cholmod):
     return solve
 
 
+class SeamFactor:
+    """``A^-1`` from CHOLMOD factors that eliminate the seam unknowns last, so that the
+    seam step's two solves cost about one.
+
+    The matrix is factored per connected block (:func:`factor`'s blocks; equal blocks
+    once, solved together), each in AMD's order with its seam unknowns moved to the end:
+    ``P A P^T = L L^T`` with the trailing block ``T`` of ``L`` the Cholesky factor of the
+    Schur complement onto the seam unknowns. Then ``A^-1`` restricted to them is
+    ``T^-T T^-1`` (:meth:`blocks`), the seam values of ``A^-1 b`` follow from the forward
+    substitution ``z = L^-1 P b`` by ``T^-T z_s`` (:meth:`seam_values`), and
+    ``A^-1 (b - E w)`` for ``w`` on the seam unknowns from the same ``z`` by
+    ``z_s -= T^-1 w`` and one back-substitution (:meth:`finish`): the constrained step
+    ``x = A^-1 b - A^-1 C^T nu`` with ``nu`` from ``C A^-1 b`` takes one forward and one
+    back-substitution instead of two of each.
+
+    Parameters
+    ----------
+    L : (N, N) sparse matrix
+        Lower triangle of the symmetric positive definite matrix.
+    last : (s,) int array
+        The seam unknowns (distinct), in the order :meth:`seam_values` uses.
+
+    Raises
+    ------
+    ArithmeticError
+        A block is not positive definite, or CHOLMOD did not keep the seam unknowns last
+        (the caller factors otherwise).
+    """
+
+    def __init__(self, L: sp.spmatrix, last: np.ndarray) -> None:
+        from cvxopt import amd, cholmod
+
+        L = sp.csc_matrix(L)
+        _finite(L)
+        L.sort_indices()
+        N = L.shape[0]
+        self.N, self.last = N, np.asarray(last, dtype=np.int64)
+        slot = np.full(N, -1, dtype=np.int64)
+        slot[self.last] = np.arange(len(self.last))
+        groups, local = _components(L)
+        self._parts: list[dict] = []
+        taken: list[_Symbolic] = []
+        seen: dict[tuple[int, int], list[dict]] = {}
+        for g in groups:
+            g = _as_slice(g)
+            block = _column_block(L, g, local)
+            sl = slot[g]
+            seam = np.flatnonzero(sl >= 0)
+            seam = seam[np.argsort(sl[seam], kind="stable")]  # in the order of ``last``
+            key = (block.shape[0], block.nnz)
+            twin = next(
+                (
+                    q
+                    for q in seen.get(key, ())
+                    if np.array_equal(q["seam"], seam) and _equal(q["block"], block)
+                ),
+                None,
+            )
+            if twin is not None:
+                twin["members"].append(g)
+                twin["slots"].append(sl[twin["order"]])
+                continue
+            perm = None
+            if len(seam):
+                p0 = np.asarray(amd.order(_cvx(block))).ravel()
+                is_seam = np.zeros(block.shape[0], dtype=bool)
+                is_seam[seam] = True
+                perm = np.concatenate([p0[~is_seam[p0]], seam])
+            solve, getfactor = _factor_part(block, cholmod, taken, perm)
+            part = {"block": block, "members": [g], "solve": solve, "seam": seam, "T": None}
+            order = seam
+            if len(seam):
+                k, ns = block.shape[0], len(seam)
+                pos = solve(np.arange(k, dtype=float), 8)  # each unknown's place in the factor
+                pos = np.rint(pos).astype(np.int64)
+                order = np.argsort(pos[seam], kind="stable")
+                ib = pos[seam][order]
+                if not np.array_equal(ib, np.arange(k - ns, k)):
+                    raise ArithmeticError("the seam unknowns are not last in the factor")
+                order = seam[order]
+                part["trailing"] = (getfactor, ib)
+            part.update(order=order, slots=[sl[order]])  # each member's places in ``last``
+            seen.setdefault(key, []).append(part)
+            self._parts.append(part)
+
+    @staticmethod
+    def _T(part: dict) -> np.ndarray | None:
+        """The block's trailing factor ``T`` (read out of CHOLMOD's factor once, when the
+        seam step first needs it), None without seam unknowns."""
+        if part["T"] is None and "trailing" in part:
+            from cvxopt import matrix
+
+            getfactor, ib = part.pop("trailing")
+            Lf = getfactor()
+            idx = matrix(ib.astype(int))
+            part["T"] = np.tril(np.array(matrix(Lf[idx, idx])))
+        return part["T"]
+
+    def __call__(self, b: np.ndarray) -> np.ndarray:
+        """``A^-1 b`` for ``b`` ``(N,)`` or ``(N, c)``."""
+        rhs = np.asarray(b, dtype=float).reshape(len(b), -1)
+        c = rhs.shape[1]
+        out = np.empty_like(rhs)
+        for part in self._parts:
+            sol = part["solve"](np.concatenate([rhs[g] for g in part["members"]], axis=1))
+            for j, g in enumerate(part["members"]):
+                out[g] = sol[:, j * c : (j + 1) * c]
+        return out.reshape(np.shape(b))
+
+    def forward(self, b: np.ndarray) -> list[np.ndarray]:
+        """The forward substitutions ``z = L^-1 P b`` of each block, ``b`` ``(N, c)``."""
+        out = []
+        for part in self._parts:
+            rhs = np.concatenate([b[g] for g in part["members"]], axis=1)
+            out.append(part["solve"](part["solve"](rhs, 7), 4))
+        return out
+
+    def seam_values(self, Z: list[np.ndarray], c: int) -> np.ndarray:
+        """``(A^-1 b)`` at the seam unknowns, ``(s, c)`` in the order of ``last``, from
+        :meth:`forward`'s ``Z`` (``c`` columns of ``b``)."""
+        from scipy.linalg import solve_triangular
+
+        out = np.zeros((len(self.last), c))
+        for part, z in zip(self._parts, Z, strict=True):
+            T = self._T(part)
+            if T is None:
+                continue
+            ns = len(T)
+            ys = solve_triangular(T, z[-ns:], lower=True, trans="T", check_finite=False)
+            for j, slots in enumerate(part["slots"]):
+                out[slots] = ys[:, j * c : (j + 1) * c]
+        return out
+
+    def finish(self, Z: list[np.ndarray], c: int, w: np.ndarray | None = None) -> np.ndarray:
+        """``A^-1 (b - E w)`` from :meth:`forward`'s ``Z`` for ``w`` ``(s, c)`` on the seam
+        unknowns (``E`` their columns of the identity; None: ``A^-1 b``), ``(N, c)``.
+        ``Z`` is not changed."""
+        from scipy.linalg import solve_triangular
+
+        out = np.empty((self.N, c))
+        for part, z in zip(self._parts, Z, strict=True):
+            T = self._T(part) if w is not None else None
+            if T is not None:
+                ns = len(T)
+                ws = np.concatenate([w[slots] for slots in part["slots"]], axis=1)
+                z = z.copy()
+                z[-ns:] -= solve_triangular(T, ws, lower=True, check_finite=False)
+            sol = part["solve"](part["solve"](z, 5), 8)
+            for j, g in enumerate(part["members"]):
+                out[g] = sol[:, j * c : (j + 1) * c]
+        return out
+
+    def blocks(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        """``A^-1`` on each block's seam unknowns: (positions in ``last``, ``(k, k)``
+        dense), one per member of a block with seam unknowns (zero across blocks)."""
+        from scipy.linalg import lapack
+
+        out = []
+        for part in self._parts:
+            T = self._T(part)
+            if T is None:
+                continue
+            G, info = lapack.dpotri(T, lower=1)
+            if info != 0 or not np.all(np.isfinite(G)):
+                raise ArithmeticError("the seam block of the inverse is not finite")
+            G = np.tril(G) + np.tril(G, -1).T
+            out += [(slots, G) for slots in part["slots"]]
+        return out
+
+
+def _components(L: sp.csc_matrix) -> tuple[list[np.ndarray], np.ndarray]:
+    """The connected components of ``L``'s pattern (explicit zeros count), singletons
+    together as one diagonal block, and each unknown's position in its component."""
+    from scipy.sparse.csgraph import connected_components
+
+    ones = np.ones(len(L.indices), dtype=np.int8)
+    k, label = connected_components(sp.csc_matrix((ones, L.indices, L.indptr), L.shape), False)
+    size = np.bincount(label, minlength=k)
+    label = np.where(size[label] > 1, label, k)
+    groups = _groups(label)
+    local = np.empty(L.shape[0], dtype=np.int32)
+    for g in groups:
+        local[g] = np.arange(len(g), dtype=np.int32)
+    return groups, local
+
+
 def _twin(block: sp.csc_matrix, candidates: list[tuple[sp.csc_matrix, list]]) -> list | None:
-    """The members' list of an earlier block equal to ``block`` (pattern and values), or
-    None."""
-    for other, members in candidates:
-        if (
-            np.array_equal(other.indptr, block.indptr)
-            and np.array_equal(other.indices, block.indices)
-            and np.array_equal(other.data, block.data)
-        ):
-            return members
-    return None
+    """The members' list of an earlier block equal to ``block``, or None."""
+    return next((members for other, members in candidates if _equal(other, block)), None)
+
+
+def _equal(a: sp.csc_matrix, b: sp.csc_matrix) -> bool:
+    """The same pattern and values (sorted CSC)."""
+    return (
+        np.array_equal(a.indptr, b.indptr)
+        and np.array_equal(a.indices, b.indices)
+        and np.array_equal(a.data, b.data)
+    )
 
 
 def _column_block(L: sp.csc_matrix, g: slice | np.ndarray, local: np.ndarray) -> sp.csc_matrix:
@@ -197,27 +376,26 @@ def _cvx(L: sp.csc_matrix):
     return spmatrix(matrix(L.data), matrix(L.indices.astype(int)), matrix(cols), (n, n))
 
 
-def _symbolic(L: sp.csc_matrix, cholmod, taken: list[_Symbolic]) -> _Symbolic:
-    """The analysis for ``L``'s pattern: the active cache's, else a new one (cached); never
-    one of ``taken`` (the other blocks of one matrix: two panels of one mesh have one
-    pattern, but each needs its own factor)."""
-
+def _symbolic(
+    L: sp.csc_matrix, cholmod, taken: list[_Symbolic], perm: np.ndarray | None = None
+) -> _Symbolic:
+    """The analysis for ``L``'s pattern (in the ordering ``perm``, default CHOLMOD's
+    choice): the active cache's, else a new one (cached); never one of ``taken`` (the
+    other blocks of one matrix: two panels of one mesh have one pattern, but each needs
+    its own factor)."""
     shared = _SHARED.get()
     for sym in shared or ():
         if any(sym is t for t in taken):
             continue
-        if np.array_equal(sym.indptr, L.indptr) and np.array_equal(sym.indices, L.indices):
+        if (
+            np.array_equal(sym.indptr, L.indptr)
+            and np.array_equal(sym.indices, L.indices)
+            and (sym.perm is None) == (perm is None)
+            and (perm is None or np.array_equal(sym.perm, perm))
+        ):
             return sym
     S = _cvx(L)
-    with _OPTIONS:
-        saved = dict(cholmod.options)
-        cholmod.options.update(supernodal=2, nmethods=3)  # the least fill of 3 orderings
-        try:
-            F = cholmod.symbolic(S, uplo="L")
-        finally:
-            cholmod.options.clear()
-            cholmod.options.update(saved)
-    sym = _Symbolic(L.indptr, L.indices, S, F)
+    sym = _Symbolic(L.indptr, L.indices, S, _analysis(S, cholmod, perm), perm=perm)
     if shared is not None:
         shared.append(sym)
     return sym
@@ -226,12 +404,42 @@ def _symbolic(L: sp.csc_matrix, cholmod, taken: list[_Symbolic]) -> _Symbolic:
 def _cholmod(L: sp.csc_matrix, cholmod, taken: list[_Symbolic] | None = None):
     """CHOLMOD's solve function for the lower triangle ``L`` (sorted indices); its analysis
     is appended to ``taken``."""
+    return _factor_part(L, cholmod, taken)[0]
+
+
+def _analysis(S, cholmod, perm: np.ndarray | None):
+    """CHOLMOD's symbolic analysis of ``S`` (supernodal): the least fill of three
+    orderings, or ``perm`` as it is (no postordering, so its last unknowns stay last)."""
+    from cvxopt import matrix
+
+    with _OPTIONS:
+        saved = dict(cholmod.options)
+        cholmod.options.update(supernodal=2, nmethods=3 if perm is None else 1)
+        if perm is not None:
+            cholmod.options["postorder"] = False
+        try:
+            if perm is None:
+                return cholmod.symbolic(S, uplo="L")
+            return cholmod.symbolic(S, p=matrix(perm.astype(int)), uplo="L")
+        finally:
+            cholmod.options.clear()
+            cholmod.options.update(saved)
+
+
+def _factor_part(
+    L: sp.csc_matrix, cholmod, taken: list[_Symbolic] | None = None, perm=None
+) -> tuple[Callable[..., np.ndarray], Callable[[], object]]:
+    """:func:`_cholmod`'s solve function, ``solve(b, sys=0)`` (CHOLMOD's ``sys``: 0 the
+    whole solve, 4 and 5 ``L`` and ``L^T``, 7 and 8 the permutation and its inverse), in
+    the ordering ``perm`` (default CHOLMOD's), and ``getfactor()``: the
+    factor ``L`` as a cvxopt sparse matrix (with a ``perm``, the matrix is kept for it:
+    CHOLMOD's factor turns symbolic when read out, and is factored again)."""
     from cvxopt import matrix
 
     L.sort_indices()
     data = L.data
     taken = [] if taken is None else taken
-    sym = _symbolic(L, cholmod, taken)
+    sym = _symbolic(L, cholmod, taken, perm)
     taken.append(sym)
     token = object()
 
@@ -244,18 +452,27 @@ def _cholmod(L: sp.csc_matrix, cholmod, taken: list[_Symbolic] | None = None):
 
     refactor()
     shared = _SHARED.get()
-    if not shared or sym not in shared:
+    if perm is None and (not shared or sym not in shared):
         # nobody else refactors it: the factor alone serves the solves (the matrix's
         # copies go: 16 MB at 300k triangles)
         sym.S, data = None, None
 
-    def solve(b: np.ndarray) -> np.ndarray:
+    def solve(b: np.ndarray, sys: int = 0) -> np.ndarray:
         refactor()
         B = matrix(np.asarray(b, dtype=float).reshape(len(b), -1, order="F"))
-        cholmod.solve(sym.F, B)
+        cholmod.solve(sym.F, B, sys=sys)
         return np.asarray(B).reshape(np.shape(b))
 
-    return solve
+    def getfactor():
+        refactor()  # this matrix's values in the factor and in sym.S
+        Lf = cholmod.getfactor(sym.F)
+        # reading it out leaves CHOLMOD's factor unusable: analysed and factored again
+        # (in the same ordering: the same factor)
+        sym.F = _analysis(sym.S, cholmod, perm)
+        cholmod.numeric(sym.S, sym.F)
+        return Lf
+
+    return solve, getfactor
 
 
 def _superlu(A: sp.csc_matrix, *, lower: bool = False):

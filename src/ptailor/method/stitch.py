@@ -26,7 +26,7 @@ from ptailor.geometry.closed_forms import det2
 from ptailor.method.anderson import Anderson
 from ptailor.method.bend import SeamBend, seam_bend
 from ptailor.method.ease import SeamEase
-from ptailor.method.linear import SeamBlock, bordered_solver, factor, seam_block
+from ptailor.method.linear import SeamBlock, SeamFactor, bordered_solver, factor, seam_block
 from ptailor.method.operators import asap_rows, gradient_operator, stitch_matrix
 
 __all__ = ["StitchInfo", "stitch"]
@@ -130,6 +130,87 @@ def _solver(A: sp.csc_matrix, n: int):
     return solve_many
 
 
+class _SplitSolve:
+    """``A^-1`` over unknowns ``[x; y]`` through a :class:`SeamFactor` that eliminates the
+    seam unknowns ``U = [verts; verts + n]`` last: the constrained step's two solves in
+    about the time of one (:class:`_Solved`), and the seam block of ``A^-1`` from the same
+    factorisation (no second one when the seams switch on)."""
+
+    def __init__(self, A: sp.csc_matrix, n: int, verts: np.ndarray) -> None:
+        self.n, self.q = n, len(verts)
+        self.coupled = A.shape[0] == 2 * n
+        self.U = np.concatenate([verts, verts + n])
+        self.fac = SeamFactor(A, self.U if self.coupled else verts)
+
+    def _cols(self, v: np.ndarray, k: int) -> np.ndarray:
+        """A vector over ``[x; y]`` (length ``2k``) as the factor's columns."""
+        return v[:, None] if self.coupled else v.reshape(2, k).T
+
+    def _vec(self, X: np.ndarray) -> np.ndarray:
+        return X[:, 0] if self.coupled else X.T.ravel()
+
+    def solve_many(self, rhs: np.ndarray) -> np.ndarray:
+        if self.coupled:
+            return self.fac(rhs)
+        n, c = self.n, rhs.shape[1]
+        sol = self.fac(np.concatenate([rhs[:n], rhs[n:]], axis=1))
+        return np.concatenate([sol[:, :c], sol[:, c:]], axis=0)
+
+    def forward(self, b: np.ndarray) -> list[np.ndarray]:
+        return self.fac.forward(self._cols(b, self.n))
+
+    def seam(self, Z: list[np.ndarray]) -> np.ndarray:
+        """``(A^-1 b)[U]``, ``(2q,)``."""
+        return self._vec(self.fac.seam_values(Z, 1 if self.coupled else 2))
+
+    def finish(self, Z: list[np.ndarray], w: np.ndarray | None) -> np.ndarray:
+        """``A^-1 (b - E_U w)``, ``(2n,)``."""
+        c = 1 if self.coupled else 2
+        return self._vec(self.fac.finish(Z, c, None if w is None else self._cols(w, self.q)))
+
+    def seam_block(self) -> SeamBlock:
+        blocks = self.fac.blocks()
+        if not self.coupled:  # one n x n block per panel serves x and y
+            blocks += [(g + self.q, G) for g, G in blocks]
+        return SeamBlock(U=self.U, blocks=blocks)
+
+
+def _split_solver(A: sp.csc_matrix, n: int, verts: np.ndarray) -> _SplitSolve | None:
+    """:class:`_SplitSolve` where CHOLMOD factors ``A`` with the seam unknowns last; None
+    otherwise (no cvxopt, a block not positive definite: :func:`factor` decides)."""
+    try:
+        return _SplitSolve(A, n, verts)
+    except (ImportError, ArithmeticError, ValueError):
+        return None
+
+
+class _Solved:
+    """``y = A^-1 b`` under way: its seam values ``y[U]`` at once, the whole vector (less
+    ``A^-1 E_U w`` for ``w`` on the seam unknowns) on request, from one forward and one
+    back-substitution where the factor splits the seam unknowns off (:class:`_SplitSolve`),
+    else from one solve (and one more for ``w``)."""
+
+    def __init__(self, pb: _Problem, b: np.ndarray) -> None:
+        self.pb, self.U = pb, pb.seam_block.U
+        if pb._split is not None:
+            self._Z = pb._split.forward(b)
+            self.seam = pb._split.seam(self._Z)
+        else:
+            self._y = pb.solve(b)
+            self.seam = self._y[self.U]
+
+    def full(self, w: np.ndarray | None = None) -> np.ndarray:
+        """``A^-1 (b - E_U w)`` over ``[x; y]``, ``(2n,)``."""
+        pb = self.pb
+        if pb._split is not None:
+            return pb._split.finish(self._Z, w)
+        if w is None:
+            return self._y
+        r = np.zeros(2 * pb.n)
+        r[self.U] = w
+        return self._y - pb.solve(r)
+
+
 class _PanelIndex:
     """The used vertices grouped by panel, for per-panel rigid fits and maxima."""
 
@@ -181,12 +262,14 @@ class _SeamStep:
     C : (k + t, 2n) sparse matrix
         The constraint rows.
     solve : callable
-        ``nu = solve(Q y)``: the multipliers of the rows :attr:`Q` for the plain solution
-        ``y``.
+        ``nu = solve(QU y[U])``: the multipliers of the rows :attr:`QU` for the plain
+        solution ``y``.
     P : (p, 2n) sparse matrix or None
         The curvature rows (None without).
     kappa : (p,) float array
         Their weights.
+    parts : tuple of sparse matrices
+        ``P`` (where given) and ``C`` over the seam unknowns, the pieces of :attr:`QU`.
     """
 
     X: np.ndarray
@@ -194,12 +277,13 @@ class _SeamStep:
     solve: Callable[[np.ndarray], np.ndarray | None]
     P: sp.csr_matrix | None
     kappa: np.ndarray
+    parts: tuple[sp.csr_matrix, ...] = ()
 
     @cached_property
-    def Q(self) -> sp.csr_matrix:
-        """The curvature rows over the constraint rows, ``[P; C]`` (built when a Newton
-        step needs them, not every step)."""
-        return self.C if self.P is None else sp.vstack([self.P, self.C]).tocsr()
+    def QU(self) -> sp.csr_matrix:
+        """The curvature rows over the constraint rows, ``[P; C]``, over the seam unknowns
+        ``U`` (built when a Newton step needs them, not every step)."""
+        return self.parts[0] if len(self.parts) == 1 else sp.vstack(self.parts).tocsr()
 
 
 class _Problem:
@@ -249,13 +333,18 @@ class _Problem:
         # the seam block, if the seams switch on, factors the matrix once more: assembled
         # again then rather than held through the iterations (15 MB at 300k triangles)
         self._F2, self._targets = F2, targets
-        self.solve_many = _solver(self._matrix(), n)
+        A = self._matrix()
+        # with seam constraints, one factorisation that eliminates the seam unknowns last
+        self._split = None if self.ease is None else _split_solver(A, n, self.ease.vertices())
+        self.solve_many = self._split.solve_many if self._split is not None else _solver(A, n)
+        del A
         # the seam constraints switch on at the first iteration that misses a seam (an
         # identity edit or a uniform scale never pays for them)
         self.seam_block: SeamBlock | None = None
         self.pin_rhs = pin_w[:, None] * V2
         self._panels = _PanelIndex(vlab, n_panels)
         self._rot: tuple = (None, None)  # the last iterate's rotations, for reuse
+        self._twist_at: tuple | None = None  # and their Hessian's twist weights
         self._seam_step: _SeamStep | None = None  # the last constrained step's rows
 
     def _asap(self, V2, F2, asap_faces, asap_exclude, panel_weight, stiff):
@@ -332,12 +421,13 @@ class _Problem:
         rhs = self._Dt @ W + self.pin_rhs
         if self.bend is not None:
             rhs = rhs + self.bend.rhs(X_lin)
-        y = self.solve(rhs.T.ravel())
         if self.seam_block is not None and X_lin is not None:
-            y = self._constrained(y, X_lin)
+            y = self._constrained(_Solved(self, rhs.T.ravel()), X_lin)
+        else:
+            y = self.solve(rhs.T.ravel())
         return y.reshape(2, self.n).T
 
-    def _constrained(self, y: np.ndarray, X_lin: np.ndarray) -> np.ndarray:
+    def _constrained(self, sol: _Solved, X_lin: np.ndarray) -> np.ndarray:
         """The global step ``y = A^-1 b`` under the seam constraints linearised at
         ``X_lin``, a sequential-quadratic-programming step.
 
@@ -357,15 +447,18 @@ class _Problem:
         self._seam_step = None
         C = ease.rows(X_lin)
         B = ease.total_columns(X_lin)  # each curve's factor free within the step
-        CU = blk.products(blk.restrict(C))
+        CR = blk.restrict(C)  # over the seam unknowns U, as y's seam values
+        CU = blk.products(CR)
         M_cc = blk.schur(CU)
         cc = bordered_solver(M_cc, B)
-        lam = None if cc is None else cc(C @ y)
+        ys = sol.seam
+        lam = None if cc is None else cc(CR @ ys)
         if lam is None:
-            return y  # the constraints are skipped this step (reported)
+            return sol.full()  # the constraints are skipped this step (reported)
         P, kappa = ease.curvature(X_lin, lam)
         if len(kappa):
-            PU = blk.products(blk.restrict(P))
+            PR = blk.restrict(P)
+            PU = blk.products(PR)
             M_pc = blk.schur(PU, CU)
             M = np.block([[blk.schur(PU), M_pc], [M_pc.T, M_cc]])
             M[np.arange(len(kappa)), np.arange(len(kappa))] += 1.0 / kappa
@@ -373,27 +466,27 @@ class _Problem:
             full = bordered_solver(M, BP)
             nu = None
             if full is not None:
-                nu = full(np.concatenate([P @ (y - X_lin.T.ravel()), C @ y]))
+                nu = full(np.concatenate([PR @ (ys - X_lin.T.ravel()[blk.U]), CR @ ys]))
             if nu is not None:
-                y_c = y - self.solve(P.T @ nu[: len(kappa)] + C.T @ nu[len(kappa) :])
+                y_c = sol.full(PR.T @ nu[: len(kappa)] + CR.T @ nu[len(kappa) :])
                 if np.all(np.isfinite(y_c)):
-                    self._seam_step = _SeamStep(X_lin, C, full, P, kappa)
+                    self._seam_step = _SeamStep(X_lin, C, full, P, kappa, (PR, CR))
                     return y_c
-        y_c = y - self.solve(C.T @ lam)  # no curvature (none, or its solve failed)
+        y_c = sol.full(CR.T @ lam)  # no curvature (none, or its solve failed)
         if not np.all(np.isfinite(y_c)):
-            return y
-        self._seam_step = _SeamStep(X_lin, C, cc, None, np.zeros(0))
+            return sol.full()
+        self._seam_step = _SeamStep(X_lin, C, cc, None, np.zeros(0), (CR,))
         return y_c
 
     def _project(self, R: np.ndarray, seam: _SeamStep | None) -> np.ndarray:
         """``z`` minimising ``1/2 z^T (A + P^T kappa P) z - R . z`` with ``C z`` on the
         seams' linearisation ``seam`` (its curves' factors free), ``(n, 2)``: the
         local/global step's own system, applied to another right-hand side ``R (n, 2)``."""
-        y = self.solve(R.T.ravel())
-        if seam is not None:
-            nu = seam.solve(seam.Q @ y)
-            if nu is not None:
-                y = y - self.solve(seam.Q.T @ nu)
+        if seam is None:
+            return self.solve(R.T.ravel()).reshape(2, self.n).T
+        sol = _Solved(self, R.T.ravel())
+        nu = seam.solve(seam.QU @ sol.seam)
+        y = sol.full() if nu is None else sol.full(seam.QU.T @ nu)
         return y.reshape(2, self.n).T
 
     def _rotation_hessian(self, X: np.ndarray, V: np.ndarray) -> np.ndarray:
@@ -407,25 +500,42 @@ class _Problem:
         Projected onto the positive semi-definite cone (Teran et al.'s per-element
         projection): ``alpha = 1 / r`` where ``r >= 2``, ``1/2`` (the twist free) where
         the triangle is compressed."""
+        return self._Dt @ self._rotation_weights(X, self.D @ V)
+
+    def _rotation_weights(self, X: np.ndarray, JV: np.ndarray) -> np.ndarray:
+        """:meth:`_rotation_hessian` before ``D^T``, from ``JV = D V``, ``(2m, 2)``."""
+        cos, sin, w = self._twist(X)
+        m = self.m
+        # t = [[-sin, -cos], [cos, -sin]] in J's (coordinate, target axis) layout
+        coef = w * (cos * (JV[:m, 1] - JV[m:, 0]) - sin * (JV[:m, 0] + JV[m:, 1]))
+        W = np.empty((2 * m, 2))
+        W[:m, 0], W[:m, 1] = -sin * coef, cos * coef
+        W[m:, 0], W[m:, 1] = -cos * coef, -sin * coef
+        return W
+
+    def _twist(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(cos, sin, area * alpha)`` of :meth:`_rotation_hessian` at ``X`` (kept for the
+        conjugate-gradient iterations of one Newton step, all at one ``X``)."""
+        cached = self._twist_at
+        if cached is not None and cached[0] is X:
+            return cached[1]
         J, cos, sin = self.rotations(X)
         m = self.m
         r = np.hypot(J[:m, 0] + J[m:, 1], J[:m, 1] - J[m:, 0])
         alpha = np.where(r >= 2.0, 1.0 / np.maximum(r, 2.0), 0.5)
-        JV = self.D @ V
-        # t = [[-sin, -cos], [cos, -sin]] in J's (coordinate, target axis) layout
-        coef = self.area * alpha * (cos * (JV[:m, 1] - JV[m:, 0]) - sin * (JV[:m, 0] + JV[m:, 1]))
-        W = np.empty((2 * m, 2))
-        W[:m, 0], W[:m, 1] = -sin * coef, cos * coef
-        W[m:, 0], W[m:, 1] = -cos * coef, -sin * coef
-        return self._Dt @ W
+        out = (cos, sin, self.area * alpha)
+        self._twist_at = (X, out)
+        return out
 
     def _hessian(self, X: np.ndarray, V: np.ndarray, seam: _SeamStep | None) -> np.ndarray:
         """The projected Hessian of the half energy with the seams' curvature at ``X``,
-        applied to ``V (n, 2)``."""
+        applied to ``V (n, 2)``: one product with ``D`` and one with ``D^T``."""
         JV = self.D @ V
+        W = self._rotation_weights(X, JV)
         JV[: self.m] *= self.area[:, None]
         JV[self.m :] *= self.area[:, None]
-        out = self._Dt @ JV + self.pin_w[:, None] * V - self._rotation_hessian(X, V)
+        JV -= W
+        out = self._Dt @ JV + self.pin_w[:, None] * V
         if self._bend_H is not None:
             out += self._bend_H @ V
         v = None
@@ -511,6 +621,12 @@ class _Problem:
 
     def seams_on(self) -> None:
         """Switch the seam constraints on: the seam block of ``A^-1``, once."""
+        if self._split is not None:
+            try:
+                self.seam_block = self._split.seam_block()
+                return
+            except ArithmeticError:  # the trailing factor is not usable: solve as before
+                self._split = None
         self.seam_block = seam_block(
             self.solve_many, self.ease, np.maximum(self.vlab, 0), self.n,
             coupled=self.B is not None, A=self._matrix(),
@@ -755,7 +871,7 @@ def stitch(
     )
     X = s.GX  # a plain step: the constraints hold at the last linearisation
     X[~pb.used] = V2[~pb.used]
-    pb._rot = (None, None)  # X changed in place
+    pb._rot, pb._twist_at = (None, None), None  # X changed in place
     viol = float(pb.ease.violation(X).max()) if pb.ease is not None else 0.0
     if viol > tol.SEAM_EXACT_REL:
         converged = False  # the cap came before the seams were enforced, or they were skipped
