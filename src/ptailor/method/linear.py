@@ -536,27 +536,41 @@ class SeamBlock:
         cols = self._local[C.indices]
         return sp.csr_matrix((C.data, cols, C.indptr), shape=(C.shape[0], len(self.U)))
 
-    def products(self, C: sp.spmatrix) -> list[tuple[sp.csc_matrix, np.ndarray]]:
-        """Per block, rows ``C (r, 2q)`` over ``U`` cut to the block's unknowns and their
-        product with the block's ``G``: the pieces of :meth:`schur`, kept to pair the same
-        rows with others without multiplying them again."""
+    def products(self, C: sp.spmatrix) -> tuple[int, list]:
+        """Per block, the rows of ``C (r, 2q)`` over ``U`` that touch the block, cut to its
+        unknowns, and their product with the block's ``G``: the pieces of :meth:`schur`,
+        kept to pair the same rows with others without multiplying them again.
+
+        Returns
+        -------
+        (r, list of ((r_b,) int array, (r_b, k_b) sparse, (r_b, k_b) float array))
+            The rows of ``C``, and per block with rows the rows' positions, the rows and
+            their product (a row touches few blocks: the products are ``r_b x k_b``, not
+            ``r x k_b``, 60 MB apiece at 300,000 triangles)."""
         order, bounds = self._by_block
         Cb_all = sp.csc_matrix(C)[:, order]  # block after block: each block is a slice
         out = []
         for k, (_, G) in enumerate(self.blocks):
             Cb = Cb_all[:, bounds[k] : bounds[k + 1]]
-            out.append((Cb, Cb @ G if Cb.nnz else None))
-        return out
+            if not Cb.nnz:
+                continue
+            rows = np.unique(Cb.indices)
+            Cr = sp.csr_matrix(Cb)[rows]
+            out.append((k, rows, Cr, Cr @ G))
+        return C.shape[0], out
 
-    def schur(self, C, D=None) -> np.ndarray:
+    def schur(self, C, D=None, *, out: np.ndarray | None = None) -> np.ndarray:
         """``C G D^T`` (default ``D = C``) for rows ``C (r, 2q)`` and ``D (t, 2q)`` over
-        ``U`` (sparse, or their :meth:`products`), ``(r, t)`` dense."""
-        Cp = C if isinstance(C, list) else self.products(C)
-        Dp = Cp if D is None else D if isinstance(D, list) else self.products(D)
-        M = np.zeros((Cp[0][0].shape[0], Dp[0][0].shape[0])) if Cp else np.zeros((0, 0))
-        for (Cb, _), (_, DG) in zip(Cp, Dp, strict=True):
-            if Cb.nnz and DG is not None:
-                M += Cb @ DG.T  # G is symmetric: C G D^T = C (D G)^T
+        ``U`` (sparse, or their :meth:`products`), ``(r, t)`` dense; added to ``out`` (a
+        zero view of a larger matrix, say) where given."""
+        Cp = C if isinstance(C, tuple) else self.products(C)
+        Dp = Cp if D is None else D if isinstance(D, tuple) else self.products(D)
+        M = np.zeros((Cp[0], Dp[0])) if out is None else out
+        d_by_block = {k: (rows, DG) for k, rows, _, DG in Dp[1]}
+        for k, rows, Cr, _ in Cp[1]:
+            if k in d_by_block:
+                drows, DG = d_by_block[k]
+                M[np.ix_(rows, drows)] += Cr @ DG.T  # G is symmetric: C G D^T = C (D G)^T
         return M
 
 

@@ -459,9 +459,13 @@ class _Problem:
         if len(kappa):
             PR = blk.restrict(P)
             PU = blk.products(PR)
-            M_pc = blk.schur(PU, CU)
-            M = np.block([[blk.schur(PU), M_pc], [M_pc.T, M_cc]])
-            M[np.arange(len(kappa)), np.arange(len(kappa))] += 1.0 / kappa
+            kp = len(kappa)
+            M = np.zeros((kp + len(M_cc), kp + len(M_cc)))  # [[P S P^T, P S C^T], [., M_cc]]
+            blk.schur(PU, out=M[:kp, :kp])
+            blk.schur(PU, CU, out=M[:kp, kp:])
+            M[kp:, :kp] = M[:kp, kp:].T
+            M[kp:, kp:] = M_cc
+            M[np.arange(kp), np.arange(kp)] += 1.0 / kappa
             BP = None if B is None else np.vstack([np.zeros((len(kappa), B.shape[1])), B])
             full = bordered_solver(M, BP)
             nu = None
