@@ -239,3 +239,89 @@ def test_the_shared_long_sleeves_back_armhole_keeps_its_length_under_a_front_gat
     before, after = back["length_before"], back["length_after"]
     assert after[i] == pytest.approx(before[i], rel=2e-3)  # was +13 %
     assert after[1 - i] == pytest.approx(1.2 * before[1 - i], rel=1e-2)
+
+
+def test_a_seam_line_named_by_its_stem_scales_like_its_seam():
+    """Issue 23: a seam line is named by the stem of its seams' names (``inspect`` lists
+    it); ``seam: NAME`` with ``part`` acts on the whole line, the same as naming one of its
+    seams by its panels."""
+    from ptailor.model.names import seam_names
+    from ptailor.model.seam_lines import seam_lines
+    from ptailor.model.structure import structure
+
+    g = two_panels_on_one_sleeve()
+    st = structure(g)
+    names = seam_names(g.V3, st.seams, st.layout, [p.name for p in st.panels])
+    (line,) = [
+        ln for ln in seam_lines(g.V3, st.seams, names) if st.panels[ln.part].name == "sleeve"
+    ]
+    assert len(line.seams) == 2 and {st.panels[i].name for i in line.panels} == {"front", "back"}
+    results = []
+    for seam in (f"{line.name}", "[front, sleeve]", names[line.seams[1]]):
+        text = f"steps: [{{op: scale_seam, seam: {seam}, part: sleeve, factor: 1.2}}]"
+        a = adjustment(g, parse_recipe(text), baseline=False)
+        assert a.state.log[-1]["seam_line"] in (["front", "back"], ["back", "front"])
+        results.append(a.result.V2)
+    np.testing.assert_allclose(results[0], results[1], atol=1e-9)
+    np.testing.assert_allclose(results[2], results[1], atol=1e-6)  # the line from its other half
+
+
+def test_an_unknown_seam_name_lists_the_parts_seams_and_lines():
+    g = two_panels_on_one_sleeve()
+    text = "steps: [{op: scale_seam, seam: armhole, part: sleeve, factor: 1.2}]"
+    with pytest.raises(
+        PtailorError, match=r"no seam or seam line named 'armhole' on sleeve.*lines: waist"
+    ):
+        adjustment(g, parse_recipe(text), baseline=False)
+    text = "steps: [{op: scale_seam, seam: waistband_front, part: sleeve, factor: 1.2}]"
+    with pytest.raises(PtailorError, match=r"joins .* not sleeve"):
+        adjustment(g, parse_recipe(text), baseline=False)
+
+
+@pytest.mark.parametrize("seam", [3, "", ["front"], [1, 2]])
+def test_a_seam_that_is_neither_two_panels_nor_a_name_is_refused(seam):
+    from ptailor.recipe import validate
+
+    recipe, probs = validate(
+        {"steps": [{"op": "scale_seam", "seam": seam, "part": "sleeve", "factor": 1.2}]}
+    )
+    assert recipe is None and any("seam line's name" in p for p in probs), probs
+
+
+def test_the_shared_long_sleeves_armhole_by_name_symmetric_too():
+    """On the shared long-sleeve, ``seam: armhole_left`` (the line ``inspect`` lists) gives
+    the pattern of ``[front, sleeve_left]``; with ``symmetric: true`` the name resolves
+    before it is mirrored (the right armhole)."""
+    g = load_garment(real_path("longsleeve"), pattern_units="auto", drape_units="cm").garment
+    out = {}
+    for seam in ("armhole_left", "[front, sleeve_left]"):
+        text = (
+            f"units: cm\nsteps: [{{op: scale_seam, seam: {seam}, part: sleeve_left, "
+            "factor: 1.2, symmetric: true}]"
+        )
+        a = adjustment(g, parse_recipe(text), baseline=False)
+        assert a.result.info.converged
+        out[seam] = a.result.V2
+    np.testing.assert_allclose(out["armhole_left"], out["[front, sleeve_left]"], atol=1e-9)
+
+
+def test_inspect_names_the_shared_long_sleeves_seam_lines():
+    from ptailor.summary import garment_summary, summary_text
+
+    loaded = load_garment(real_path("longsleeve"), pattern_units="auto", drape_units="cm")
+    info = garment_summary(loaded)
+    lines = {(ln["name"], ln["part"]): ln for ln in info["seam_lines"]}
+    for side in ("left", "right"):
+        ln = lines[(f"armhole_{side}", f"sleeve_{side}")]
+        assert sorted(ln["seams"]) == [f"armhole_{side}_back", f"armhole_{side}_front"]
+        assert sorted(ln["panels"]) == ["back", "front"]
+    assert "seam lines" in summary_text(info) and "armhole_left " in summary_text(info)
+
+
+def test_seam_name_stems_are_whole_words():
+    from ptailor.model.seam_lines import name_stem
+
+    assert name_stem(["armhole_left_front", "armhole_left_back"]) == "armhole_left"
+    assert name_stem(["waist_front", "waist_front_left", "waist_back_left"]) == "waist"
+    assert name_stem(["side_left", "sides_left"]) == ""
+    assert name_stem(["collar"]) == "collar"

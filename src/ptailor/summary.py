@@ -9,6 +9,7 @@ from ptailor.formats.garment import LoadedGarment
 from ptailor.geometry.triangles import signed_areas_2d
 from ptailor.model.names import seam_names
 from ptailor.model.pieces import PatternFile
+from ptailor.model.seam_lines import seam_lines
 from ptailor.model.structure import structure
 from ptailor.model.units import CM_PER
 from ptailor.report.metrics import panel_sizes
@@ -28,7 +29,9 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
     dict
         ``panels`` (with ``position``, a phrase, and ``centroid`` in the wearer's frame
         ``(left, up, front)`` from the centre line and the lowest point), ``seams`` (with a
-        ``name`` from where they run), ``openings``, ``units``, ``triangles``.
+        ``name`` from where they run), ``seam_lines`` (name, the part seen from, the panels
+        across, its seams: :func:`ptailor.model.seam_lines.seam_lines`), ``openings``,
+        ``units``, ``triangles``.
     """
     g = loaded.garment
     st = structure(g, up=up, front=front)
@@ -51,7 +54,8 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
     ]
     out_s = []
     seam_list = st.seams
-    for s, sname in zip(seam_list, seam_names(g.V3, seam_list, layout, names), strict=True):
+    snames = seam_names(g.V3, seam_list, layout, names)
+    for s, sname in zip(seam_list, snames, strict=True):
         la, lb = s.lengths(g.V2)
         out_s.append(
             {
@@ -61,6 +65,15 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
                 "lengths": [round(la, 3), round(lb, 3)],
             }
         )
+    out_l = [
+        {
+            "name": ln.name,
+            "part": names[ln.part],
+            "panels": [names[i] for i in ln.panels],
+            "seams": [snames[i] for i in ln.seams],
+        }
+        for ln in seam_lines(g.V3, seam_list, snames)
+    ]
     out_o = [
         {
             "name": o.name,
@@ -78,6 +91,7 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
         "triangles": g.n_faces,
         "panels": out_p,
         "seams": out_s,
+        "seam_lines": out_l,
         "openings": out_o,
         "units": units,
         "intake": loaded.intake,
@@ -106,6 +120,10 @@ def summary_text(info: dict) -> str:
             f"  {s['name']:<24} {a} / {b}: {s['lengths'][0]:.2f} / {s['lengths'][1]:.2f}"
             f" ({s['edges']} edges)"
         )
+    if info.get("seam_lines"):
+        lines.append("seam lines (a recipe's seam: NAME with part: PART scales the whole line):")
+        for ln in info["seam_lines"]:
+            lines.append(f"  {ln['name']:<24} {ln['part']}: {', '.join(ln['seams'])}")
     lines.append("openings:")
     for o in info["openings"]:
         c = ", ".join(f"{x:.1f}" for x in o["centroid"])

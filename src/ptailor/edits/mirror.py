@@ -166,7 +166,11 @@ def mirror_step(
 
         names = [p.name for p in panels_named(reg["panels"], before.panels)]  # families named
         out["region"] = {**reg, "panels": [r.panel(n) for n in names]}
-    if isinstance(step.get("seam"), list):
+    if isinstance(step.get("seam"), str) and "part" in step:
+        from ptailor.edits.scale_seam import resolve_seam  # a name: its panels, then mirrored
+
+        out["seam"] = [r.panel(n) for n in resolve_seam(before, step["seam"], step["part"])]
+    elif isinstance(step.get("seam"), list):
         out["seam"] = [r.panel(n) for n in step["seam"]]
     if "part" in step:
         out["part"] = r.panel(step["part"])

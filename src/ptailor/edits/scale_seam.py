@@ -17,6 +17,7 @@ from ptailor.geometry.labels import used_indices
 from ptailor.geometry.segments import segment_moments
 from ptailor.method.deform import arap_deform
 from ptailor.model.garment import panel_labels
+from ptailor.model.seam_lines import seam_line as model_seam_line
 from ptailor.model.seams import Seam, seams
 from ptailor.model.structure import structure
 
@@ -48,9 +49,26 @@ def fix_list(x: Any, where: str) -> list[str]:
     return probs
 
 
+@with_schema({"anyOf": [PAIR_SCHEMA, {"type": "string", "minLength": 1}]})
+def seam_spec(x: Any, where: str) -> list[str]:
+    """A seam: its two panels ``[a, b]``, or a seam's or seam line's name."""
+    if isinstance(x, str) and x:
+        return []
+    ok = isinstance(x, list) and len(x) == 2 and all(isinstance(n, str) for n in x)
+    return (
+        []
+        if ok
+        else [
+            f"{where}: expected two panel names [a, b] or a seam's or seam line's name "
+            f"(armhole_left), got {x!r}"
+        ]
+    )
+
+
 def part_in_seam(step: dict, where: str) -> list[str]:
-    """The scaled part is one of the seam's two panels."""
-    if step["part"] not in step["seam"]:
+    """The scaled part is one of the seam's two panels (a named seam: checked on the
+    garment)."""
+    if isinstance(step["seam"], list) and step["part"] not in step["seam"]:
         return [f"{where}.part: {step['part']!r} is not one of the seam's panels {step['seam']}"]
     return []
 
@@ -101,57 +119,76 @@ def seam_edges(state: EditState, pair: list[str]) -> np.ndarray:
 
 def seam_line(state: EditState, part: str, other: str) -> list[str]:
     """The panels ``part`` meets across the seam line through its seam with ``other``, in
-    order found (``other`` first): the paper's seam line is "the line created by joining
-    two or more pieces of fabric", the whole armhole, not its front half.
-
-    From the named seam, a seam of ``part`` with another panel joins the line where it
-    continues it: it shares an end vertex with the line and leaves that vertex at more than
-    ``tol.SEAM_LINE_TURN_DEG`` from the line's own way in (the back half of an armhole
-    continues the front half at the underarm and the shoulder point; a two-piece sleeve's
-    own seam, meeting the armhole square, does not). ``part``'s seams with itself (a tube's
-    closing seam) never join.
-    """
-    from ptailor import tolerances as tol
-
-    V3 = state.V3
+    order found (``other`` first): :func:`ptailor.model.seam_lines.seam_line` by name."""
     by_name = {p.name: p.index for p in state.panels}
     names = {p.index: p.name for p in state.panels}
+    line = model_seam_line(state.V3, state_seams(state), by_name[part], by_name[other])
+    return [names[i] for i in line]
+
+
+def state_seam_names(state: EditState) -> list[str]:
+    """The names of :func:`state_seams` (as ``inspect`` and the report give them).
+
+    Raises
+    ------
+    PtailorError
+        The state's panels are not the garment's own (after a cut or an extension: seams
+        are named by their panels there).
+    """
+    from ptailor.model.names import seam_names
+
+    st = structure(state.base)
+    if state.panels is not st.panels:
+        raise PtailorError(
+            "seams are named by name only on the garment as read; after a cut or an "
+            "extension name a seam by its two panels, [a, b]"
+        )
+    return seam_names(state.base.V3, st.seams, st.layout, [p.name for p in st.panels])
+
+
+def resolve_seam(state: EditState, seam: Any, part: str) -> list[str]:
+    """The two panels of a step's ``seam``: ``[a, b]`` as it is, or a name: a seam's
+    (``armhole_left_front``) or a seam line's of ``part`` (``armhole_left``: the stem of
+    its seams' names, :func:`ptailor.model.seam_lines.seam_lines`; else the stem of the
+    name of a seam of ``part``, as ``armhole_left`` of a two-piece sleeve's front half),
+    resolved to the first seam of ``part`` it names: the step then acts on the whole line
+    through that seam (:func:`seam_line`).
+
+    Raises
+    ------
+    PtailorError
+        No seam or line of that name on ``part`` (the message lists those there are).
+    """
+    if isinstance(seam, list):
+        return list(seam)
+    from ptailor.model.seam_lines import seam_lines
+
+    seam_list = state_seams(state)
+    names = state_seam_names(state)
+    pname = {p.index: p.name for p in state.panels}
+    by_name = {p.name: p.index for p in state.panels}
+    if part not in by_name:
+        raise PtailorError(f"no panel named {part} (this garment has: {', '.join(by_name)})")
     ip = by_name[part]
-    curves: dict[str, list[np.ndarray]] = {}
-    for sm in state_seams(state):  # a loop over seams (tens)
-        if ip in sm.panels and sm.panels[0] != sm.panels[1]:
-            x = names[sm.panels[1] if sm.panels[0] == ip else sm.panels[0]]
-            curves.setdefault(x, []).append(sm.edges3)
-    edges = {x: np.concatenate(e) for x, e in curves.items()}
-    line = [other]
-    E = edges[other]
-    cos_max = float(np.cos(np.radians(180.0 - tol.SEAM_LINE_TURN_DEG)))
-
-    def ends(Ex: np.ndarray) -> dict[int, np.ndarray]:
-        """End vertices of a chain of edges with the unit direction leaving each."""
-        v, c = np.unique(Ex.ravel(), return_counts=True)
-        out = {}
-        for u in v[c == 1].tolist():  # a chain has two ends
-            e = Ex[(Ex == u).any(axis=1)][0]
-            w = e[1] if e[0] == u else e[0]
-            d = V3[w] - V3[u]
-            out[u] = d / max(float(np.linalg.norm(d)), 1e-300)
-        return out
-
-    grown = True
-    while grown:  # a loop over the line's panels (a few)
-        grown = False
-        mine = ends(E)
-        for x, Ex in edges.items():
-            if x in line:
-                continue
-            for u, d in ends(Ex).items():
-                if u in mine and float(d @ mine[u]) < cos_max:  # leaves u the line's way on
-                    line.append(x)
-                    E = np.concatenate([E, Ex])
-                    grown = True
-                    break
-    return line
+    for s, nm in zip(seam_list, names, strict=True):
+        if nm == seam:
+            if ip not in s.panels:
+                raise PtailorError(
+                    f"seam {seam!r} joins {pname[s.panels[0]]} and {pname[s.panels[1]]}, not {part}"
+                )
+            return [pname[s.panels[0]], pname[s.panels[1]]]
+    for ln in seam_lines(state.V3, seam_list, names):
+        if ln.part == ip and ln.name == seam:
+            return [part, pname[ln.panels[0]]]
+    mine = [nm for s, nm in zip(seam_list, names, strict=True) if ip in s.panels]
+    for s, nm in zip(seam_list, names, strict=True):  # a stem of one of part's seams' names
+        if ip in s.panels and s.panels[0] != s.panels[1] and nm.startswith(seam + "_"):
+            return [pname[s.panels[0]], pname[s.panels[1]]]  # (a two-piece sleeve's half)
+    lines = [ln.name for ln in seam_lines(state.V3, seam_list, names) if ln.part == ip]
+    raise PtailorError(
+        f"no seam or seam line named {seam!r} on {part} (its seams: {', '.join(mine) or 'none'}"
+        f"; its seam lines: {', '.join(lines) or 'none'})"
+    )
 
 
 def _part_targets(
@@ -248,7 +285,12 @@ def _hold_fixed(
 @register(
     "scale_seam",
     {
-        "seam": Param(panel_pair, required=True, doc="the seam between two panels, by name"),
+        "seam": Param(
+            seam_spec,
+            required=True,
+            doc="the seam: its two panels [a, b], or a seam's or seam line's name "
+            "(armhole_left_front, armhole_left)",
+        ),
         "part": Param(name, required=True, doc="the panel on the side that is scaled"),
         "direction": Param(choice("around", "along"), default="around"),
         "factor": Param(number(gt=0.0, le=100.0), required=True),
@@ -271,8 +313,8 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
     keeps the seam at that new ratio (``gathers``).
     """
     g, V3 = state.base, state.V3
-    a, b = step["seam"]
     part = step["part"]
+    a, b = resolve_seam(state, step["seam"], part)
     if a == b:
         raise PtailorError(
             f"seam [{a}, {b}]: a panel's seam with itself (a tube's closing seam) cannot be "
