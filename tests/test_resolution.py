@@ -186,12 +186,13 @@ def test_a_production_resolution_tee_loosened_converges_with_its_seams_closed(te
     assert np.linalg.norm(a16.result.V2[:n] - a1.result.V2, axis=1).max() < 0.15
 
 
-def test_the_dress_skirt_widened_converges_near_its_optimum_with_newton_steps(monkeypatch):
-    """The shared dress, its skirt 1.1 around: its 46 x 7.6 cm bodice strip bends, where
+def test_the_dress_skirt_widened_converges_near_its_optimum(monkeypatch):
+    """The shared dress, its skirt 1.1 around: its 46 x 7.6 cm bodice strip bent, where
     local/global steps crawl (the 100-iteration cap, 1.7 mm from the optimum, before the
-    Newton steps). Now converged in under 50 iterations with at least one Newton step, every
-    seam at its ratio, and within 0.05 mm of the same run iterated to a 100 times smaller
-    step (which ends with a Newton step of that size)."""
+    Newton steps; 28 iterations with them). The strip shares no vertex with the skirt: it
+    now moves rigidly in the edit and keeps its pattern, and the run converges in 20
+    iterations, every seam at its ratio, within 0.05 mm of the same run iterated to a 100
+    times smaller step."""
     from ptailor.formats.garment import load_garment
     from ptailor.pipeline import adjustment, solver_warnings
 
@@ -202,7 +203,7 @@ def test_the_dress_skirt_widened_converges_near_its_optimum_with_newton_steps(mo
     )
     a = adjustment(g, parse_recipe(text), baseline=False)
     info = a.result.info
-    assert info.converged and info.iterations < 50 and info.newton_steps >= 1
+    assert info.converged and info.iterations < 30
     assert info.seam_violation < 1e-9 and not solver_warnings(a)
     import ptailor.method.flatten as flatten_module
 

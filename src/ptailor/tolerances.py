@@ -14,7 +14,7 @@ W_ASAP = 1000.0
 #: (untouched by the edits), and panels a step keeps, are stiffer in the stitching ...
 KEPT_STRAIN = 1e-3
 #: ... by this factor on their whole energy: the edited panels absorb the seams' cost.
-KEPT_PANEL_WEIGHT = 100.0
+KEPT_PANEL_WEIGHT = 1000.0
 #: Seam constraints switch on at the first iteration where a seam edge misses its ratio by
 #: more than this (relative).
 SEAM_EXACT_REL = 1e-9

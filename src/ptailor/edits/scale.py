@@ -8,6 +8,7 @@ import numpy as np
 
 from ptailor import tolerances as tol
 from ptailor.edits.checks import axis, choice, number, region
+from ptailor.edits.follow import rigid_apart
 from ptailor.edits.region import region_axis, region_centroid, region_faces, unit_vector
 from ptailor.edits.registry import Param, register
 from ptailor.edits.state import EditOptions, EditState
@@ -85,6 +86,7 @@ def scale(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         V_new[handles] = moved
     else:
         V_new = arap_deform(V3, g.F3, handles, moved)
+        V_new = rigid_apart(V3, V_new, g.F3, state.panels, in_region, handles, moved)
     face_in = np.zeros(g.n_faces, dtype=bool)
     face_in[faces] = True
     changed = np.any(V_new != V3, axis=1)

@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from ptailor.edits.checks import choice, number, with_schema
+from ptailor.edits.follow import rigid_apart
 from ptailor.edits.opening import find_opening, opening_spec
 from ptailor.edits.region import body_axis, unit_vector
 from ptailor.edits.registry import Param, register
@@ -356,6 +357,9 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
     )
     targets = _hold_fixed(V3, handles, targets, fixed_v, step["fix"], part)
     V_new = arap_deform(V3, g.F3, handles, targets)
+    held = np.zeros(len(V3), dtype=bool)
+    held[handles] = True
+    V_new = rigid_apart(V3, V_new, g.F3, state.panels, held, handles, targets)
     changed = np.any(np.abs(V_new - V3) > 0, axis=1)
     even = state.even.copy()
     for p in state.panels:  # a loop over panels
