@@ -237,3 +237,40 @@ def test_a_cut_keeps_the_names_of_the_seams_it_did_not_make():
     after = seam_names_after(cut)
     assert set(before) <= set(after)
     assert all(n[:-2] in before and n.endswith("_2") for n in set(after) - set(before))
+
+
+def test_a_sketch_measured_from_an_opening_cuts_the_same_wherever_the_garment_sits():
+    """``origin: waist``: the sketch's [0, 0] is the waist's centre front (its lowest point
+    on the near layer), so the same recipe cuts the same notch on a garment moved 30 cm up
+    and 5 cm across, where drape coordinates would miss it."""
+    import dataclasses
+
+    from ptailor.pipeline import adjustment
+    from ptailor.recipe import parse_recipe
+    from ptailor.samples import cone_skirt
+
+    text = (
+        "steps: [{op: cut, view: front, origin: waist, sketch: [[-8, 1], [0, -8], [8, 1]], "
+        "remove: above, layers: near}]"
+    )
+    g = cone_skirt()
+    moved = dataclasses.replace(g, V3=g.V3 + np.array([5.0, 30.0, 0.0]))
+    a, b = (adjustment(x, parse_recipe(text), baseline=False) for x in (g, moved))
+    ra, rb = a.state.log[-1], b.state.log[-1]
+    assert ra["removed_triangles"] == rb["removed_triangles"] > 0
+    assert rb["origin"] == pytest.approx([ra["origin"][0] + 5.0, ra["origin"][1] + 30.0])
+    assert ra["origin"][1] == pytest.approx(g.V3[:, 1].max())  # the waist's front point
+    np.testing.assert_allclose(a.result.V2, b.result.V2, atol=1e-6)
+    top = a.state.V3[np.unique(a.state.base.F3), 1].max() - a.state.V3[:, 1].min()
+    assert top == pytest.approx(np.ptp(g.V3[:, 1]))  # the back keeps its full height
+
+
+def test_a_sketch_origin_that_is_no_opening_names_the_openings():
+    from ptailor.errors import PtailorError
+    from ptailor.pipeline import adjustment
+    from ptailor.recipe import parse_recipe
+    from ptailor.samples import cone_skirt
+
+    text = "steps: [{op: cut, view: front, origin: neckline, sketch: [[-8, 1], [8, 1]]}]"
+    with pytest.raises(PtailorError, match=r"neckline.*(hem|waist)"):
+        adjustment(cone_skirt(), parse_recipe(text), baseline=False)

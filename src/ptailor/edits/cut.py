@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from ptailor.edits.checks import VEC3, boolean, choice, is_number, vector3, with_schema
+from ptailor.edits.opening import find_opening, opening_spec
 from ptailor.edits.region import region_centroid, unit_vector
 from ptailor.edits.registry import Param, register
 from ptailor.edits.state import EditOptions, EditState
@@ -179,11 +180,33 @@ def segments_meet_box(Q: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> bool:
     return bool(np.any(ok & (t0 <= t1)))
 
 
-def sketch_field(V: np.ndarray, step: dict, *, options: EditOptions) -> np.ndarray:
-    """Field whose negative side is what a sketch cut removes."""
+def sketch_origin(state: EditState, step: dict, *, options: EditOptions) -> np.ndarray:
+    """Where a sketch's ``[0, 0]`` lies in its view, ``(2,)``: the view's own origin, or
+    with ``origin: OPENING`` that opening's centre across and its lowest point up (a
+    neckline's front neck point in the front view), so one sketch fits garments of any
+    height and placement."""
+    if step.get("origin") is None:
+        return np.zeros(2)
+    frame = view_frame(step["view"], up=options.up, front=options.front)
+    _, loop = find_opening(state, step["origin"], options=options)
+    X = state.V3[loop] @ frame[:2].T
+    if step["layers"] == "near":  # the layer facing the viewer: its lowest point
+        used = used_indices(state.base.F3, len(state.V3))
+        mid = float(np.median(state.V3[used] @ frame[2]))
+        near = state.V3[loop] @ frame[2] <= mid
+        if near.any():
+            return np.array([float(X[:, 0].mean()), float(X[near, 1].min())])
+    return np.array([float(X[:, 0].mean()), float(X[:, 1].min())])
+
+
+def sketch_field(
+    V: np.ndarray, step: dict, *, options: EditOptions, origin: np.ndarray | None = None
+) -> np.ndarray:
+    """Field whose negative side is what a sketch cut removes (the sketch's points offset
+    by ``origin``, :func:`sketch_origin`)."""
     frame = view_frame(step["view"], up=options.up, front=options.front)
     X = V @ frame.T  # (right, up, depth)
-    Q = np.asarray(step["sketch"], float)
+    Q = np.asarray(step["sketch"], float) + (0.0 if origin is None else origin)
     side = polyline_side(X[:, :2], Q)
     # which way is "above" / "left" for this polyline's direction of travel
     travel = Q[-1] - Q[0]
@@ -213,6 +236,11 @@ def one_tool(step: dict, where: str) -> list[str]:
         "sketch": Param(sketch_spec, doc="polyline [[u, v], ...] in the view's image plane"),
         "remove": Param(choice("above", "below", "left", "right"), default="above"),
         "layers": Param(choice("both", "near"), default="both"),
+        "origin": Param(
+            opening_spec,
+            doc="an opening: the sketch is measured from its centre across and its lowest "
+            "point up in the view (a neckline: the front neck point)",
+        ),
         "symmetric": Param(boolean, default=False, doc="also cut the mirror image"),
     },
     check=one_tool,
@@ -233,9 +261,10 @@ def cut(state: EditState, step: dict, *, options: EditOptions) -> EditState:
 
         what = "plane"
     else:
+        o = sketch_origin(state, step, options=options)
 
         def field(X: np.ndarray) -> np.ndarray:
-            return sketch_field(X, step, options=options)
+            return sketch_field(X, step, options=options, origin=o)
 
         what = "sketch"
         used = used_indices(state.base.F3, len(V))
@@ -243,7 +272,7 @@ def cut(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         X2 = V[used] @ frame[:2].T
         lo, hi = X2.min(axis=0), X2.max(axis=0)
         pad = 1e-9 * max(float(np.max(hi - lo)), 1e-300)
-        if not segments_meet_box(np.asarray(step["sketch"], float), lo - pad, hi + pad):
+        if not segments_meet_box(np.asarray(step["sketch"], float) + o, lo - pad, hi + pad):
             raise PtailorError(
                 "the cut's sketch misses the garment: it does not overlap the garment in its "
                 f"view (the garment spans "
@@ -262,6 +291,11 @@ def cut(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     rec = {
         "op": "cut",
         "by": what,
+        **(
+            {"origin": [round(float(x), 6) for x in o]}
+            if what == "sketch" and step.get("origin") is not None
+            else {}
+        ),
         "removed_triangles": res.removed_triangles,
         "split_triangles": res.split_triangles,
         "new_edge_vertices": len(res.new_vertices3),
