@@ -262,7 +262,9 @@ SLOW: dict[str, frozenset[str]] = {
             "test_tshirt_mirrored_panel_scales_and_keeps_orientation",
         }
     ),
-    "test_recipes": frozenset({"test_recipe_validates_and_runs"}),
+    "test_recipes": frozenset(
+        {"test_recipe_validates_and_runs", "test_recipe_runs_on_the_shared_garments_it_names"}
+    ),
     "test_scale_seam": frozenset(
         {
             "test_around_widens_the_sleeve_bottom_keeps_the_top_and_the_cuff",

@@ -180,3 +180,39 @@ def test_the_sleeve_recipes_change_the_sleeves_of_a_real_shirt_and_not_the_shirt
             assert low < change < high, (p.name, change)
         elif p.name in ("front", "back"):
             assert abs(change) < 0.02, (p.name, change)
+
+
+def _garment_cases() -> list[tuple[Path, str]]:
+    """(recipe, shared garment) for every garment a recipe's '# garments:' line names."""
+    out = []
+    for p in RECIPES:
+        for ln in p.read_text().splitlines():
+            if ln.startswith("# garments:"):
+                out += [(p, k.strip()) for k in ln.split(":", 1)[1].split(",") if k.strip()]
+    return out
+
+
+@pytest.mark.parametrize(
+    ("path", "key"), _garment_cases(), ids=[f"{p.stem}-{k}" for p, k in _garment_cases()]
+)
+def test_recipe_runs_on_the_shared_garments_it_names(path, key):
+    """Issue 23, item 5: every bundled recipe does what its name says on the real garments
+    it is written for (its '# garments:' line): it runs, converges with every seam at its
+    ratio and no flipped triangle, and no cut takes most of a panel."""
+    from ptailor.formats.garment import load_garment
+    from ptailor.report.build import build_report
+    from tests.conftest import REAL, real_path
+
+    units = "0.3333cm" if key == "tee6" else "auto"
+    g = load_garment(
+        real_path(key), pattern_units=units, drape_units="0.3333cm" if key == "tee6" else "cm"
+    ).garment
+    assert REAL[key]
+    adj = adjustment(g, load_recipe(path), baseline=False)
+    info = adj.result.info
+    assert info.converged and info.seam_violation <= 1e-9
+    r = build_report(adj, inputs={}, units_note={}, warnings=[], timing_s={})
+    assert sum(p["flipped_triangles"] for p in r["panels"]) == 0
+    for rec in adj.state.log:
+        for w in rec.get("warnings", []):
+            assert "removes" not in w, w

@@ -180,15 +180,35 @@ def segments_meet_box(Q: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> bool:
     return bool(np.any(ok & (t0 <= t1)))
 
 
+@with_schema({"anyOf": [{"$ref": "#/$defs/opening"}, {"type": "array", "minItems": 1}]})
+def origin_spec(x: Any, where: str) -> list[str]:
+    """An opening, or a list of openings (the first the garment has)."""
+    if isinstance(x, list):
+        if not x:
+            return [f"{where}: expected an opening or a list of openings, got []"]
+        return [p for i, o in enumerate(x) for p in opening_spec(o, f"{where}[{i}]")]
+    return opening_spec(x, where)
+
+
 def sketch_origin(state: EditState, step: dict, *, options: EditOptions) -> np.ndarray:
     """Where a sketch's ``[0, 0]`` lies in its view, ``(2,)``: the view's own origin, or
     with ``origin: OPENING`` that opening's centre across and its lowest point up (a
     neckline's front neck point in the front view), so one sketch fits garments of any
-    height and placement."""
-    if step.get("origin") is None:
+    height and placement. A list of openings takes the first the garment has."""
+    spec = step.get("origin")
+    if spec is None:
         return np.zeros(2)
     frame = view_frame(step["view"], up=options.up, front=options.front)
-    _, loop = find_opening(state, step["origin"], options=options)
+    if isinstance(spec, list):
+        for i, o in enumerate(spec):
+            try:
+                _, loop = find_opening(state, o, options=options)
+                break
+            except PtailorError:
+                if i == len(spec) - 1:
+                    raise
+    else:
+        _, loop = find_opening(state, spec, options=options)
     X = state.V3[loop] @ frame[:2].T
     if step["layers"] == "near":  # the layer facing the viewer: its lowest point
         used = used_indices(state.base.F3, len(state.V3))
@@ -237,9 +257,10 @@ def one_tool(step: dict, where: str) -> list[str]:
         "remove": Param(choice("above", "below", "left", "right"), default="above"),
         "layers": Param(choice("both", "near"), default="both"),
         "origin": Param(
-            opening_spec,
-            doc="an opening: the sketch is measured from its centre across and its lowest "
-            "point up in the view (a neckline: the front neck point)",
+            origin_spec,
+            doc="an opening (or a list: the first the garment has): the sketch is measured "
+            "from its centre across and its lowest point up in the view (a neckline: the "
+            "front neck point)",
         ),
         "symmetric": Param(boolean, default=False, doc="also cut the mirror image"),
     },
