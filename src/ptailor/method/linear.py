@@ -554,8 +554,11 @@ class SeamBlock:
             Cb = Cb_all[:, bounds[k] : bounds[k + 1]]
             if not Cb.nnz:
                 continue
-            rows = np.unique(Cb.indices)
-            Cr = sp.csr_matrix(Cb)[rows]
+            rows = np.unique(Cb.indices)  # CSC: its row indices, renumbered onto ``rows``
+            Cr = sp.csc_matrix(
+                (Cb.data, np.searchsorted(rows, Cb.indices), Cb.indptr),
+                shape=(len(rows), Cb.shape[1]),
+            )
             out.append((k, rows, Cr, Cr @ G))
         return C.shape[0], out
 
