@@ -105,3 +105,39 @@ def test_the_shared_long_sleeves_collars_keep_their_pattern_when_both_sleeves_wi
     for name in ("collar_front", "collar_back"):
         assert panel(r, name)["boundary_deviation"] < 0.002
         assert panel(r, name)["intrinsic_scale_error"]["p95"] < 3e-4
+
+
+def similarity_residual(A: np.ndarray, B: np.ndarray) -> tuple[float, float]:
+    """The largest distance of ``B`` from the best similarity of ``A`` (2D), and its scale."""
+    a, b = A - A.mean(0), B - B.mean(0)
+    za, zb = a[:, 0] + 1j * a[:, 1], b[:, 0] + 1j * b[:, 1]
+    c = (np.conj(za) @ zb) / (np.conj(za) @ za)
+    return float(np.abs(c * za - zb).max()), float(abs(c))
+
+
+@pytest.mark.parametrize(
+    ("make", "region", "strip"),
+    [(three_bands, "middle", "band"), (three_bands, "middle", "lower"), (None, "sleeve", "cuff")],
+)
+def test_a_strip_sewn_to_the_edit_grows_without_bending(make, region, strip):
+    """Issue 23, item 3: a band sewn to a panel made 10 % wider around followed as rigidly as
+    possible, became a frustum and its pattern an arc (the lantern's 40 x 8 cm cuff 2.6 cm
+    off its outline, intrinsic-scale error p95 1.7 %). A strip sewn to the region now
+    follows by similarities: its pattern is its own, 1.1 times larger, to 0.5 % of its
+    length."""
+    from ptailor.samples import lantern_sleeve
+
+    g = (make or lantern_sleeve)()
+    text = (
+        f"steps: [{{op: scale, region: {{panels: [{region}]}}, direction: around, axis: auto, "
+        "factor: 1.1}]"
+    )
+    a = adjustment(g, parse_recipe(text), baseline=False)
+    assert a.result.info.converged
+    p = next(p for p in a.state.panels if p.name == strip)
+    v = np.unique(g.F2[p.faces])
+    resid, scale = similarity_residual(g.V2[v], a.result.V2[v])
+    assert resid < 0.005 * np.ptp(g.V2[v], axis=0).max()
+    assert scale == pytest.approx(1.1, abs=0.01)
+    r = build_report(a, inputs={}, units_note={}, warnings=[], timing_s={})
+    assert panel(r, strip)["intrinsic_scale_error"]["p95"] < 1e-3

@@ -4,36 +4,77 @@ from __future__ import annotations
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.method.deform import arap_deform
+from ptailor.model.garment import Garment
+
+
+def strip_panels(g: Garment, plist: list) -> np.ndarray:
+    """Panels whose pattern is a strip (a band, a cuff, a collar stand): the rectangle with
+    the panel's pattern area and outline length is at least
+    ``model.names.roles._STRIP_ASPECT`` (3.5) times as long as it is wide, ``(k,)`` bool.
+
+    Parameters
+    ----------
+    g : Garment
+    plist : list of Panel
+    """
+    from ptailor.geometry.triangles import signed_areas_2d
+    from ptailor.model.names.roles import strip_shape
+
+    out = np.zeros(len(plist), dtype=bool)
+    if not plist:
+        return out
+    area = np.zeros(len(plist))
+    perim = np.zeros(len(plist))
+    a2 = np.abs(signed_areas_2d(g.V2, g.F2))
+    for p in plist:  # a loop over panels
+        T = g.F2[p.faces]
+        e = np.sort(np.concatenate([T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]]), axis=1)
+        u, c = np.unique(e, axis=0, return_counts=True)
+        b = u[c == 1]  # the outline's edges (each used by one triangle)
+        perim[p.index] = float(np.linalg.norm(g.V2[b[:, 1]] - g.V2[b[:, 0]], axis=1).sum())
+        area[p.index] = float(a2[p.faces].sum())
+    return strip_shape(perim, area)[1]
 
 
 def rigid_apart(
-    V3: np.ndarray,
+    g: Garment,
     V_follow: np.ndarray,
-    F3: np.ndarray,
     plist: list,
     in_region: np.ndarray,
     handles: np.ndarray,
     moved: np.ndarray,
+    *,
+    V3: np.ndarray | None = None,
 ) -> np.ndarray:
-    """The drape after an edit of a region, with the panels that share no vertex with the
-    region moved rigidly: the rest of the garment changes shape only in the panels sewn to
-    the region (a sleeve made wider stretches the body's armhole, not the collar).
+    """The drape after an edit of a region, with the rest kept in shape where it can be:
+    the panels that share no vertex with the region move rigidly, and the strips sewn to it
+    (a cuff below a widened sleeve, a collar stand on a body) follow by similarities, so
+    that they grow along the seam without bending.
 
-    Each connected group of such panels takes the rigid motion that best fits where the
-    as-rigid-as-possible follow-up ``V_follow`` took it (Kabsch), so it goes where the
-    garment goes (a bodice above a skirt scaled about its centre moves up with the waist);
-    then the deformation is solved again with those panels as handles too.
+    Each connected group of panels apart from the region takes the rigid motion that best
+    fits where the as-rigid-as-possible follow-up ``V_follow`` took it (Kabsch), so it goes
+    where the garment goes (a bodice above a skirt scaled about its centre moves up with the
+    waist); then the deformation is solved again with those panels as handles too, and
+    with a uniform scale per vertex allowed on the strips (:func:`strip_panels`) that share
+    a vertex with the region. Larger panels sewn to the region (a body below a widened
+    sleeve) follow as rigidly as possible, as before: by similarities they grew more than
+    the edit needs (a tshirt's front +2.9 % in area for sleeves 20 % wider, under 2 %
+    rigidly).
 
     Parameters
     ----------
-    V3, V_follow : (n, 3) float arrays
-        The drape before the edit, and after it with the rest following freely.
-    F3 : (m, 3) int array
+    g : Garment
+        The garment (its drape ``g.V3`` is the rest shape, unless ``V3`` is given).
+    V_follow : (n, 3) float array
+        The drape after the edit with the rest following freely.
     plist : list of Panel
     in_region : (n,) bool array
     handles : (h,) int array
         The region's vertices (sorted), and ``moved`` ``(h, 3)`` their positions.
+    V3 : (n, 3) float array, keyword-only, optional
+        The drape before the edit (default ``g.V3``).
 
     Returns
     -------
@@ -44,9 +85,25 @@ def rigid_apart(
 
     from ptailor.geometry.rotations import rigid_fits_3d
 
-    apart = [p.faces for p in plist if not in_region[F3[p.faces]].any()]  # a loop over panels
+    V3 = g.V3 if V3 is None else V3
+    F3 = g.F3
+    apart = []
+    similar = np.zeros(len(V3), dtype=bool)
+    strip = None
+    for p in plist:  # a loop over panels
+        v = F3[p.faces].ravel()
+        if not in_region[v].any():
+            apart.append(p.faces)
+        elif not in_region[v].all():
+            strip = strip_panels(g, plist) if strip is None else strip
+            if strip[p.index]:
+                similar[v] = True  # a strip sewn to the region: grows, does not bend
     if not apart:
-        return V_follow
+        if not similar.any():
+            return V_follow
+        return arap_deform(
+            V3, F3, handles, moved, similar=similar, iterations=tol.FOLLOW_SIMILAR_ITER
+        )
     T = F3[np.concatenate(apart)]
     n = len(V3)
     adj = sp.csr_matrix(
@@ -60,4 +117,13 @@ def rigid_apart(
     target = np.einsum("kij,kj->ki", R[comp], V3[fv] - cp[comp]) + cq[comp]
     both = np.concatenate([handles, fv])
     order = np.argsort(both, kind="stable")
-    return arap_deform(V3, F3, both[order], np.concatenate([moved, target])[order])
+    if not similar.any():
+        return arap_deform(V3, F3, both[order], np.concatenate([moved, target])[order])
+    return arap_deform(
+        V3,
+        F3,
+        both[order],
+        np.concatenate([moved, target])[order],
+        similar=similar,
+        iterations=tol.FOLLOW_SIMILAR_ITER,
+    )

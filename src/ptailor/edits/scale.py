@@ -86,7 +86,7 @@ def scale(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         V_new[handles] = moved
     else:
         V_new = arap_deform(V3, g.F3, handles, moved)
-        V_new = rigid_apart(V3, V_new, g.F3, state.panels, in_region, handles, moved)
+        V_new = rigid_apart(g, V_new, state.panels, in_region, handles, moved, V3=V3)
     face_in = np.zeros(g.n_faces, dtype=bool)
     face_in[faces] = True
     changed = np.any(V_new != V3, axis=1)

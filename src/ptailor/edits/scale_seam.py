@@ -359,7 +359,7 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
     V_new = arap_deform(V3, g.F3, handles, targets)
     held = np.zeros(len(V3), dtype=bool)
     held[handles] = True
-    V_new = rigid_apart(V3, V_new, g.F3, state.panels, held, handles, targets)
+    V_new = rigid_apart(g, V_new, state.panels, held, handles, targets, V3=V3)
     changed = np.any(np.abs(V_new - V3) > 0, axis=1)
     even = state.even.copy()
     for p in state.panels:  # a loop over panels

@@ -21,6 +21,8 @@ from ptailor.method.anderson import Anderson
 __all__ = ["arap_deform", "cotangent_weights", "warm_rotations"]
 
 DEGENERATE_REL = tol.DEFORM_DEGENERATE_REL
+#: The largest uniform scale (and the inverse the smallest) a ``similar`` cell may take.
+SIMILAR_MAX = 2.0
 UNIFORM_REG = tol.DEFORM_UNIFORM_REG
 COLLINEAR_REL = tol.DEFORM_COLLINEAR_REL
 #: local/global iterations of arap_deform, Anderson-accelerated with this history: 5 end at
@@ -258,6 +260,7 @@ def arap_deform(
     iterations: int = ITERATIONS,
     tol: float = 1e-6,
     anderson: int = ANDERSON,
+    similar: np.ndarray | None = None,
 ) -> np.ndarray:
     """As-rigid-as-possible surface deformation with hard handle constraints.
 
@@ -453,15 +456,27 @@ def arap_deform(
     # (the constant cells of handles surrounded by handles are left out)
     scale = 2.0 * float(np.einsum("tk,tka,tka->", np.abs(wn), E0, E0))
     R = Rc[lab[cells]]  # rotations start from their component's rigid fit
+    sim = None
+    if similar is not None and np.any(similar):
+        sim = np.asarray(similar, dtype=bool)[order][cells]  # cells allowed a uniform scale
+        rho = N @ np.einsum("tk,tka,tka->t", w, E0, E0)  # each cell's rest sum w |e|^2
+        rho = np.where(sim & (rho > 0), rho, 1.0)
+    s_cell = np.ones(cells.size)
 
     def local(R: np.ndarray) -> tuple[np.ndarray, float]:
-        """Best rotations for ``Xa`` (S_c = sum over the triangles at c of w e e'^T), and
-        the energy with them."""
+        """Best rotations (and, on ``similar`` cells, uniform scales) for ``Xa`` (S_c =
+        sum over the triangles at c of w e e'^T), and the energy with them."""
         E1 = (G @ Xa).reshape(m2, 3, 3)
         Sc = (N @ (wE0T @ E1).reshape(m2, 9)).reshape(cells.size, 3, 3)
         R, tr = warm_rotations(Sc, R)
         deformed_part = float(np.einsum("tk,tka,tka->", wn, E1, E1))
-        return R, rest_part + deformed_part - 2.0 * float(tr.sum())
+        if sim is None:
+            return R, rest_part + deformed_part - 2.0 * float(tr.sum())
+        # s = tr(R S) / rho minimises |e' - s R e|^2 over the cell: energy s^2 rho - 2 s tr
+        s = np.where(sim, np.clip(tr / rho, 1.0 / SIMILAR_MAX, SIMILAR_MAX), 1.0)
+        s_cell[:] = s
+        extra = float(((s * s - 1.0) * rho * sim).sum() - 2.0 * ((s - 1.0) * tr).sum())
+        return R, rest_part + deformed_part - 2.0 * float(tr.sum()) + extra
 
     acc = Anderson(m=anderson)
     E_prev, x_plain, mixed = np.inf, None, False
@@ -476,7 +491,8 @@ def arap_deform(
             break
         E_prev = energy
         # global step: L x = b / 3, b_a = sum over edges (a, b) of w (R_c0 + R_c1 + R_c2) e_ab
-        RsumT = (C @ np.swapaxes(R, 1, 2).reshape(-1, 9)).reshape(m1, 3, 3)  # contiguous
+        Rs = R if sim is None else R * s_cell[:, None, None]
+        RsumT = (C @ np.swapaxes(Rs, 1, 2).reshape(-1, 9)).reshape(m1, 3, 3)  # contiguous
         b = D @ (wE0_1 @ RsumT).reshape(-1, 3)
         x_plain = solve(b / 3.0 - rhs_h)
         if it == iterations - 1:  # the result is a plain step: its energy is no higher
