@@ -51,8 +51,12 @@ def edge_ratio(adj, g, V2):
 
 
 def test_fuller_cone_skirt_pattern_is_the_exact_development():
-    """A developable garment stays developable: the new pattern is isometric to the new drape."""
-    g = cone_skirt()
+    """A developable garment stays developable: the new pattern is isometric to the new drape
+    (the recipe names the skirt panels, ``skirt_front`` and ``skirt_back`` of the cone skirt
+    without panel names)."""
+    from ptailor.samples import unnamed_skirt
+
+    g = unnamed_skirt()
     adj = adjustment(
         g, load_recipe(Path(__file__).resolve().parents[1] / "recipes/fuller-skirt.yaml")
     )

@@ -55,7 +55,7 @@ ALL_SAMPLES = [
 
 
 def test_registry() -> None:
-    assert set(SAMPLES) == {"lantern_sleeve", "cylinder", "cone_skirt", "bodice"}
+    assert set(SAMPLES) == {"lantern_sleeve", "cylinder", "cone_skirt", "bodice", "skirt"}
     for name, make in SAMPLES.items():
         assert isinstance(make(), Garment), name
 

@@ -12,9 +12,10 @@ from __future__ import annotations
 #: ``ptailor demo --sample`` offers, in the order it lists them
 DEFAULT_RECIPES = {
     "lantern_sleeve": "wider-around",
-    "cone_skirt": "fuller-skirt",
+    "cone_skirt": "v-neck-front",
     "cylinder": "wider-around",
     "bodice": "loosen-waist",
+    "skirt": "fuller-skirt",
 }
 #: the samples ``ptailor demo --sample`` offers
 SAMPLE_NAMES = tuple(DEFAULT_RECIPES)

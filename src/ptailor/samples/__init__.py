@@ -12,7 +12,8 @@ congruent to its drape triangle (or stretched by exactly the stated factor), so 
 scales are known in closed form.
 
 Modules: :mod:`~ptailor.samples.grid` (the building blocks), :mod:`~ptailor.samples.tubes`
-(lantern sleeve, cylinder, T-seam tube), :mod:`~ptailor.samples.cones` (cone skirt, bodice).
+(lantern sleeve, cylinder, T-seam tube), :mod:`~ptailor.samples.cones` (cone skirt, bodice,
+the cone skirt without panel names).
 :data:`SAMPLES` names the ones ``ptailor demo --sample`` offers; every sample a bundled
 recipe names (its ``# sample: NAME`` line) is among them.
 """
@@ -22,7 +23,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from ptailor.model.garment import Garment
-from ptailor.samples.cones import bodice, cone_skirt
+from ptailor.samples.cones import bodice, cone_skirt, unnamed_skirt
 from ptailor.samples.grid import PANEL_GAP
 from ptailor.samples.tubes import cylinder, lantern_sleeve, sample_for_triangles, tseam_tube
 
@@ -35,6 +36,7 @@ __all__ = [
     "lantern_sleeve",
     "sample_for_triangles",
     "tseam_tube",
+    "unnamed_skirt",
 ]
 
 #: Samples by name, for the demo and the CLI.
@@ -43,4 +45,5 @@ SAMPLES: dict[str, Callable[..., Garment]] = {
     "cylinder": cylinder,
     "cone_skirt": cone_skirt,
     "bodice": bodice,
+    "skirt": unnamed_skirt,
 }

@@ -123,3 +123,18 @@ def bodice(
         n_around=n_around,
         n_along=n_along,
     )
+
+
+def unnamed_skirt(**options: float) -> Garment:
+    """:func:`cone_skirt` without panel names, as an export that carries no groups names
+    it: ptailor names its panels from the drape (``skirt_front``, ``skirt_back``), so a
+    recipe for skirts (``{panels: [skirt]}``) is tested on it as on a real dress.
+
+    Parameters
+    ----------
+    **options
+        :func:`cone_skirt`'s keyword-only options.
+    """
+    import dataclasses
+
+    return dataclasses.replace(cone_skirt(**options), group_names=())
