@@ -92,11 +92,10 @@ def _stable_seam_names(adj, seam_list: list, now: list[str]) -> list[str]:
     cut does not rename the seams it did not create (a V-neck once turned
     ``shoulder_right`` into ``shoulder_right_right``). Seams with no such seam keep ``now``.
     """
-    from scipy.spatial import cKDTree
-
     g0, g = adj.original, adj.state.base
     if g0 is None or g0 is g or (g0.F3.shape == g.F3.shape and np.array_equal(g0.F3, g.F3)):
         return now
+    from scipy.spatial import cKDTree  # (0.1 s: only after surgery)
     up, front = adj.axes
     s0 = structure(g0, up=up, front=front)
     names0 = seam_names(g0.V3, s0.seams, s0.layout, [p.name for p in s0.panels])
