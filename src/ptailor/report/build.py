@@ -96,6 +96,7 @@ def _stable_seam_names(adj, seam_list: list, now: list[str]) -> list[str]:
     if g0 is None or g0 is g or (g0.F3.shape == g.F3.shape and np.array_equal(g0.F3, g.F3)):
         return now
     from scipy.spatial import cKDTree  # (0.1 s: only after surgery)
+
     up, front = adj.axes
     s0 = structure(g0, up=up, front=front)
     names0 = seam_names(g0.V3, s0.seams, s0.layout, [p.name for p in s0.panels])
