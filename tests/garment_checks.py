@@ -1,4 +1,5 @@
-"""Assertions that an adjusted garment is valid (shared by the edit tests)."""
+"""Assertions that an adjusted garment is valid, and garments built for them (shared by the
+edit tests)."""
 
 from __future__ import annotations
 
@@ -48,3 +49,21 @@ def adjust_sample_cli(tmp_path, step: str, *, sample: str = "cone_skirt"):
     rec = tmp_path / "r.yaml"
     rec.write_text(f"steps: [{step}]\n")
     return CliRunner().invoke(cli, ["adjust", str(src), str(rec), "-o", str(tmp_path / "o")])
+
+
+def regrouped(g, grp, names):
+    """Garment ``g`` with its faces in groups ``grp`` (``(m,)`` int, 0 keeping ``g``'s
+    pattern vertices) named ``names``: each other group gets pattern vertices of its own,
+    moved apart (10 cm up per group), so the groups are panels sewn where they meet."""
+    import dataclasses
+
+    F2, V2, n = g.F2.copy(), [g.V2], len(g.V2)
+    for k in range(1, int(grp.max()) + 1):
+        fk = np.flatnonzero(grp == k)
+        u, inv = np.unique(g.F2[fk], return_inverse=True)
+        V2.append(g.V2[u] + np.array([0.0, 10.0 * k]))
+        F2[fk] = (n + inv).reshape(-1, 3)
+        n += len(u)
+    return dataclasses.replace(
+        g, V2=np.concatenate(V2), F2=F2, face_group=grp, group_names=tuple(names)
+    )

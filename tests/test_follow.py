@@ -3,8 +3,6 @@ rigidly and keep their pattern (issue 23, item 3)."""
 
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 import pytest
 
@@ -16,6 +14,7 @@ from ptailor.recipe import parse_recipe
 from ptailor.report.build import build_report
 from ptailor.samples import cylinder
 from tests.conftest import real_path
+from tests.garment_checks import regrouped
 
 
 def three_bands():
@@ -25,16 +24,7 @@ def three_bands():
     cent = g.V3[g.F3].mean(axis=1)
     y0, h = g.V3[:, 1].min(), np.ptp(g.V3[:, 1])
     grp = np.minimum(((cent[:, 1] - y0) / h * 3).astype(int), 2)
-    F2, V2, n = g.F2.copy(), [g.V2], len(g.V2)
-    for k in (1, 2):  # the upper bands get pattern vertices of their own, moved apart
-        fk = np.flatnonzero(grp == k)
-        u, inv = np.unique(g.F2[fk], return_inverse=True)
-        V2.append(g.V2[u] + np.array([0.0, 10.0 * k]))
-        F2[fk] = (n + inv).reshape(-1, 3)
-        n += len(u)
-    return dataclasses.replace(
-        g, V2=np.concatenate(V2), F2=F2, face_group=grp, group_names=("lower", "middle", "band")
-    )
+    return regrouped(g, grp, ("lower", "middle", "band"))
 
 
 def rigid_residual(P: np.ndarray, Q: np.ndarray) -> float:

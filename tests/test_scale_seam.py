@@ -180,24 +180,14 @@ def test_the_shared_long_sleeves_fixed_cuff_stays_put_under_an_armhole_gather():
 def two_panels_on_one_sleeve():
     """A tube (``sleeve``) whose top row is two panels, ``front`` (x > 0) and ``back``:
     one seam line (an armhole) in two halves."""
-    import dataclasses
-
     from ptailor.samples import cylinder
+    from tests.garment_checks import regrouped
 
     g = cylinder(circumference=40.0, n_around=24, n_along=8)
     cent = g.V3[g.F3].mean(axis=1)
     top = cent[:, 1] > g.V3[:, 1].max() - 20.0 / 8 - 1e-9
     grp = np.where(top, np.where(cent[:, 0] > 0, 1, 2), 0)
-    F2, V2, n = g.F2.copy(), [g.V2], len(g.V2)
-    for k in (1, 2):  # the two bands get pattern vertices of their own, moved apart
-        fk = np.flatnonzero(grp == k)
-        u, inv = np.unique(g.F2[fk], return_inverse=True)
-        V2.append(g.V2[u] + np.array([0.0, 10.0 * k]))
-        F2[fk] = (n + inv).reshape(-1, 3)
-        n += len(u)
-    return dataclasses.replace(
-        g, V2=np.concatenate(V2), F2=F2, face_group=grp, group_names=("sleeve", "front", "back")
-    )
+    return regrouped(g, grp, ("sleeve", "front", "back"))
 
 
 def test_a_gather_acts_on_the_whole_seam_line():

@@ -53,17 +53,12 @@ def fix_list(x: Any, where: str) -> list[str]:
 @with_schema({"anyOf": [PAIR_SCHEMA, {"type": "string", "minLength": 1}]})
 def seam_spec(x: Any, where: str) -> list[str]:
     """A seam: its two panels ``[a, b]``, or a seam's or seam line's name."""
-    if isinstance(x, str) and x:
+    if (isinstance(x, str) and x) or not panel_pair(x, where):
         return []
-    ok = isinstance(x, list) and len(x) == 2 and all(isinstance(n, str) for n in x)
-    return (
-        []
-        if ok
-        else [
-            f"{where}: expected two panel names [a, b] or a seam's or seam line's name "
-            f"(armhole_left), got {x!r}"
-        ]
-    )
+    return [
+        f"{where}: expected two panel names [a, b] or a seam's or seam line's name "
+        f"(armhole_left), got {x!r}"
+    ]
 
 
 def part_in_seam(step: dict, where: str) -> list[str]:
@@ -178,17 +173,17 @@ def resolve_seam(state: EditState, seam: Any, part: str) -> list[str]:
                     f"seam {seam!r} joins {pname[s.panels[0]]} and {pname[s.panels[1]]}, not {part}"
                 )
             return [pname[s.panels[0]], pname[s.panels[1]]]
-    for ln in seam_lines(state.V3, seam_list, names):
-        if ln.part == ip and ln.name == seam:
+    lines = [ln for ln in seam_lines(state.V3, seam_list, names) if ln.part == ip]
+    for ln in lines:
+        if ln.name == seam:
             return [part, pname[ln.panels[0]]]
     mine = [nm for s, nm in zip(seam_list, names, strict=True) if ip in s.panels]
     for s, nm in zip(seam_list, names, strict=True):  # a stem of one of part's seams' names
         if ip in s.panels and s.panels[0] != s.panels[1] and nm.startswith(seam + "_"):
             return [pname[s.panels[0]], pname[s.panels[1]]]  # (a two-piece sleeve's half)
-    lines = [ln.name for ln in seam_lines(state.V3, seam_list, names) if ln.part == ip]
     raise PtailorError(
         f"no seam or seam line named {seam!r} on {part} (its seams: {', '.join(mine) or 'none'}"
-        f"; its seam lines: {', '.join(lines) or 'none'})"
+        f"; its seam lines: {', '.join(ln.name for ln in lines) or 'none'})"
     )
 
 
