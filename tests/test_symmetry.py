@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from click.testing import CliRunner
 
+from ptailor.cli.main import cli
 from ptailor.edits import EditOptions
 from ptailor.edits.mirror import mirror_state, mirror_step
 from ptailor.errors import PtailorError, RecipeError
@@ -489,3 +491,64 @@ def test_centred_step_is_applied_once():
     cuff = adj.state.panels[1]
     _np.testing.assert_allclose(_np.ptp(adj.result.V2[cuff.vertices], axis=0), [48, 8], rtol=1e-6)
     assert adj.state.log[-1]["mirrored"] == "self"
+
+
+def test_a_region_of_mirror_pairs_is_applied_once():
+    """[sleeve, sleeve_1] mirrors to [sleeve_1, sleeve]: the same panels, so a symmetric
+    step is applied once (it used to be applied twice, in the listed order's mirror: the
+    dress's skirt widened by 1.1 twice)."""
+    g = two_sleeves()
+    step = "{op: scale, region: {panels: [sleeve, sleeve_1]}, direction: around, factor: 1.2}"
+    one = adjustment(g, parse_recipe(f"steps: [{step}]"), baseline=False)
+    both = adjustment(g, parse_recipe(f"symmetric: true\nsteps: [{step}]"), baseline=False)
+    assert both.state.log[-1]["mirrored"] == "self"
+    np.testing.assert_allclose(both.state.V3, one.state.V3, atol=1e-9)
+    np.testing.assert_allclose(both.result.V2, one.result.V2, atol=1e-6)
+
+
+def test_is_centred_compares_the_panels_a_region_selects():
+    from types import SimpleNamespace
+
+    from ptailor.edits.mirror import is_centred
+
+    plist = [
+        SimpleNamespace(name=n) for n in ("skirt_front", "skirt_back_left", "skirt_back_right")
+    ]
+    a = {"op": "scale", "region": {"panels": ["skirt"]}}
+    b = {
+        "op": "scale",
+        "region": {"panels": ["skirt_front", "skirt_back_right", "skirt_back_left"]},
+    }
+    c = {"op": "scale", "region": {"panels": ["skirt_front", "skirt_back_right"]}}
+    assert is_centred(a, b, panels=plist)
+    assert not is_centred(a, c, panels=plist)
+
+
+def test_a_symmetric_region_that_overlaps_its_mirror_is_refused():
+    from types import SimpleNamespace
+
+    from ptailor.edits.mirror import overlap_error
+
+    plist = [SimpleNamespace(name=n) for n in ("front", "sleeve_left", "sleeve_right")]
+    step = {"op": "loosen", "region": {"panels": ["front", "sleeve_left"]}}
+    mstep = {"op": "loosen", "region": {"panels": ["front", "sleeve_right"]}}
+    err = overlap_error(step, mstep, panels=plist)
+    assert err is not None and "front" in str(err) and "sleeve_left" in str(err)
+    assert overlap_error(step, {"op": "loosen", "region": {"panels": ["sleeve_right"]}},
+                         panels=plist) is None  # fmt: skip
+
+
+def test_tee6_symmetric_loosen_of_front_and_one_sleeve_exits_2(tmp_path):
+    rec = tmp_path / "r.yaml"
+    rec.write_text(
+        "units: cm\nsteps: [{op: loosen, region: {panels: [front, sleeve_left_front]}, by: 1,"
+        " symmetric: true}]\n"
+    )
+    res = CliRunner().invoke(
+        cli,
+        ["adjust", str(real_path("tee6")), str(rec), "-o", str(tmp_path / "o"),
+         "--pattern-units", "0.3333cm", "--drape-units", "0.3333cm", "--no-baseline"],
+    )  # fmt: skip
+    assert res.exit_code == 2, res.output
+    assert "own mirror" in res.output and "front" in res.output
+    assert not (tmp_path / "o").exists()

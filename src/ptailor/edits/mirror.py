@@ -194,11 +194,15 @@ def _restore(after: EditState, pre: EditState, mirrored: EditState, plane) -> Ed
     return replace(back, base=base, V3=V3)
 
 
-def is_centred(step: dict, mstep: dict) -> bool:
+def is_centred(step: dict, mstep: dict, *, panels: list | None = None) -> bool:
     """A step that is its own mirror image: renaming changed nothing, it names no side.
 
-    Geometric references (a box, a plane, a sketch or silhouette) are never taken as
-    centred: their mirror image is another place.
+    A region's panels compare as sets of the panels they select (``[front, back_left,
+    back_right]`` mirrors to ``[front, back_right, back_left]``: the same panels, so the
+    step is applied once, not twice); ``panels`` (the garment's, before the step) expands
+    families (``skirt`` selects every ``skirt_...``). Geometric references (a box, a plane,
+    a sketch or silhouette) are never taken as centred: their mirror image is another
+    place.
     """
     reg = step.get("region")
     geometric = (isinstance(reg, dict) and "box" in reg) or any(
@@ -208,7 +212,45 @@ def is_centred(step: dict, mstep: dict) -> bool:
         isinstance(v, str) and (v.endswith("_left") or v.endswith("_right"))
         for v in [step.get("opening"), *(step.get("fix") or [])]
     )
-    return not geometric and not sided and mstep == step
+    if geometric or sided:
+        return False
+    return _canonical(step, panels) == _canonical(mstep, panels)
+
+
+def _region_panels(step: dict, panels: list | None) -> frozenset[str] | None:
+    """The names of the panels a step's ``region: {panels: [...]}`` selects, None without."""
+    reg = step.get("region")
+    if not (isinstance(reg, dict) and "panels" in reg):
+        return None
+    if panels is None:
+        return frozenset(reg["panels"])
+    from ptailor.edits.region import panels_named
+
+    return frozenset(p.name for p in panels_named(reg["panels"], panels))
+
+
+def _canonical(step: dict, panels: list | None) -> dict:
+    """A step with its region's panels as the set they select."""
+    sel = _region_panels(step, panels)
+    if sel is None:
+        return step
+    return {**step, "region": {**step["region"], "panels": sel}}
+
+
+def overlap_error(step: dict, mstep: dict, *, panels: list) -> PtailorError | None:
+    """A symmetric step whose region and mirror region share panels but differ (``[front,
+    sleeve_left]`` mirrors to ``[front, sleeve_right]``): applied twice, the shared panels
+    would get the edit twice. None where they are disjoint or the same."""
+    a, b = _region_panels(step, panels), _region_panels(mstep, panels)
+    if a is None or b is None or a == b or not (a & b):
+        return None
+    both = ", ".join(sorted(a & b))
+    return PtailorError(
+        f"step '{step['op']}' with symmetric: its region's panels {both} are their own mirror"
+        f" images, so the mirrored application would edit them a second time; split the step:"
+        f" one step for {both} (not symmetric), one symmetric step for"
+        f" {', '.join(sorted(a - b))}"
+    )
 
 
 def apply_mirrored(
@@ -251,11 +293,14 @@ def apply_mirrored(
         once = op.apply(state, step, options=options)
         m = mirror_state(once, plane)
         mstep = mirror_step(step, before=state, mirrored=m, plane=plane, options=options)
-        if is_centred(step, mstep):
+        if is_centred(step, mstep, panels=state.panels):
             # its own mirror image (region all, a front panel, the hem): applied once
             rec1 = once.log[n_log:]
             rec = {**(rec1[-1] if rec1 else {"op": op.name}), "mirrored": "self"}
             return replace(once, log=(*state.log, rec))
+        overlap = overlap_error(step, mstep, panels=state.panels)
+        if overlap is not None:
+            raise overlap
         m_after = op.apply(m, mstep, options=mirror_options(options, plane))
     out = _restore(m_after, once, m, plane)
     rec1 = once.log[n_log:]
