@@ -99,8 +99,9 @@ def test_corpus_is_complete():
 def test_corpus_adjust_and_inspect(name, recipe, tmp_path):
     path = CORPUS / name
     out = tmp_path / "out"
-    assert_contract(_adjust(path, recipe, out), out, path, EXPECTED[name])
-    r = CliRunner().invoke(cli, ["inspect", str(path)])
+    units = ("--drape-units", "cm", "--pattern-units", "cm")  # 10 cm squares: units given
+    assert_contract(_adjust(path, recipe, out, *units), out, path, EXPECTED[name])
+    r = CliRunner().invoke(cli, ["inspect", str(path), *units])
     assert r.exit_code == (0 if EXPECTED[name] is None else 2), r.output
     if r.exit_code == 2:
         assert str(path) in r.output and len(r.output.strip().splitlines()) == 1

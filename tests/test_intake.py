@@ -186,7 +186,7 @@ def test_welded_garment_is_not_touched(runner):
     rec = info["intake"]
     assert rec["welded_vertices"] == 0 and rec["duplicate_faces"] == 0
     assert rec["zero_area_faces_3d"] == rec["zero_area_faces_2d"] == 0
-    assert rec["units"]["pattern_source"] == "command line"
+    assert rec["units"]["pattern_source"] == "default, size checked"
     assert rec["topology"]["non_manifold_edges"] == 0
 
 
@@ -203,7 +203,7 @@ def test_real_unwelded_gives_the_same_seams_openings_and_pattern(runner, tmp_pat
     units = REAL[key][1]
     dst = tmp_path / f"{key}_unwelded.obj"
     unweld_mod.unweld_obj(src, dst, shuffle=3)
-    opts = ("--pattern-units", units)
+    opts = ("--pattern-units", units, "--drape-units", "cm")
     a, b = _inspect(runner, src, *opts), _inspect(runner, dst, *opts)
     assert a["intake"]["welded_vertices"] == 0
     assert b["intake"]["welded_vertices"] > 0 and b["intake"]["pieces_after"] == 1
@@ -237,7 +237,7 @@ def test_adjust_report_has_intake(runner, tmp_path):
     report = json.loads((out / "report.json").read_text())
     it = report["intake"]
     assert it["weld"] == "auto" and it["welded_vertices"] > 0 and it["pieces_before"] == 2
-    assert it["units"]["pattern_source"] == "command line"
+    assert it["units"]["pattern_source"] == "default, size checked"
     assert UNIT_RATIO_RANGE[0] < it["units"]["pattern_drape_ratio"] < UNIT_RATIO_RANGE[1]
     # the output garment is welded: it reads back with nothing to weld
     again = load_garment(out / "garment.obj")

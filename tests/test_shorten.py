@@ -81,13 +81,13 @@ def test_shorten_hem_on_real_garments(key, tmp_path):
         str(path),
         parse_recipe(f"steps: [{{op: shorten, opening: hem, by: {by}}}]"),
         tmp_path / "o",
-        options=RunOptions(pattern_units=REAL[key][1]),
+        options=RunOptions(pattern_units=REAL[key][1], drape_units="cm"),
     )
     again = run_garment(
         str(tmp_path / "o" / "garment.obj"),
         parse_recipe("steps: []"),
         tmp_path / "o2",
-        options=RunOptions(pattern_units=REAL[key][1]),
+        options=RunOptions(pattern_units=REAL[key][1], drape_units="cm"),
     )
     assert len(again["panels"]) == len(rep["panels"])
 

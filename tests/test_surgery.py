@@ -149,13 +149,13 @@ def test_plane_cut_on_real_garments(key, tmp_path):
         str(path),
         rec,
         tmp_path / "o",
-        options=RunOptions(pattern_units=REAL[key][1], baseline=False),
+        options=RunOptions(pattern_units=REAL[key][1], drape_units="cm", baseline=False),
     )
     again = run_garment(
         str(tmp_path / "o" / "garment.obj"),
         parse_recipe("steps: []"),
         tmp_path / "o2",
-        options=RunOptions(pattern_units=REAL[key][1], baseline=False),
+        options=RunOptions(pattern_units=REAL[key][1], drape_units="cm", baseline=False),
     )
     assert sum(p["triangles"] for p in again["panels"]) == b.n_faces
 

@@ -227,7 +227,8 @@ def test_panels_touching_at_one_boundary_vertex(tmp_path):
         V3=V3, F3=F3, V2=V2, F2=F2, face_group=np.full(len(F3), -1), group_names=(), units="cm"
     )
     write_garment(tmp_path / "bow.obj", g)
-    r = CliRunner().invoke(cli, ["inspect", str(tmp_path / "bow.obj")], catch_exceptions=False)
+    args = ["inspect", str(tmp_path / "bow.obj"), "--drape-units", "cm", "--pattern-units", "cm"]
+    r = CliRunner().invoke(cli, args, catch_exceptions=False)  # 6 cm across: units given
     assert r.exit_code == 0, r.output
 
 

@@ -83,7 +83,11 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
         }
         for o in st.openings
     ]
+    read = loaded.intake.get("units", {})
     units = {"computation": g.units}
+    units.update(
+        {k: read[k] for k in ("pattern", "pattern_source", "drape", "drape_source") if k in read}
+    )
     if loaded.pattern_units_estimated:
         units["pattern_scale_estimate"] = round(loaded.pattern_scale, 6)
     return {
@@ -192,13 +196,16 @@ def pattern_summary_text(info: dict) -> str:
     else:
         lines.append("sizes: none named in the file")
     lines.append(f"units: {u} ({info['units']['note']})")
-    lines.append(f"  {'piece':<20} {'size (' + u + ')':>19} {'size (cm)':>17}  qty  notches  grain")
+    in_cm = u == "cm"  # one size column when the file is in cm
+    cm_head = "" if in_cm else f" {'size (cm)':>17}"
+    lines.append(f"  {'piece':<20} {'size (' + u + ')':>19}{cm_head}  qty  notches  grain")
     for p in info["pieces"]:
         w, h = p["size"]
         wc, hc = p["size_cm"]
         grain = f"yes {p['grain_angle']:.1f} deg" if p["grain"] else "no"
+        cm = "" if in_cm else f" {wc:7.1f} x {hc:7.1f}"
         lines.append(
-            f"  {p['name']:<20} {w:8.2f} x {h:8.2f} {wc:7.1f} x {hc:7.1f}"
+            f"  {p['name']:<20} {w:8.2f} x {h:8.2f}{cm}"
             f"  {p['quantity']:>3}  {p['notches']:>7}  {grain}"
         )
     lines.append(f"{n} piece{'s' if n != 1 else ''}")

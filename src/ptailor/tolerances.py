@@ -149,6 +149,19 @@ OBJ_COORD_MAX = 1e6
 #: Centimetres per unit of a scaled unit (``--pattern-units 0.5cm``): from 1 micrometre
 #: to 1 kilometre.
 UNIT_CM_RANGE = (1e-4, 1e5)
+#: A garment read in a unit nobody gave (``--drape-units``/``--pattern-units`` left at the
+#: ``cm`` default, a DXF that says only ``METRIC``) must be of human size
+#: (:mod:`ptailor.model.size`): its drape's largest extent, and its largest piece's length,
+#: in this range (cm: a sock to a gown in T-pose) ...
+GARMENT_EXTENT_CM = (15.0, 250.0)
+#: ... the drape at most this thick in its thinnest principal direction (cm: a body is 20-45
+#: cm deep and the shared garments 27-51 cm; a Garment-Pattern-Generator tee in 1/300 m
+#: read as cm is 93; a hooped gown needs its units given) ...
+GARMENT_THICKNESS_MAX_CM = 80.0
+#: ... its largest piece at least this long (cm) ...
+PIECE_LENGTH_MIN_CM = 10.0
+#: ... and no piece wider (its smaller principal extent) than the widest cloth (cm).
+PIECE_WIDTH_MAX_CM = 160.0
 #: Largest length given as an option (``--seam-allowance``, ``--weld``), centimetres.
 LENGTH_MAX_CM = 1e4
 #: Longest panel name drawn in a preview (longer ones are shortened with an ellipsis).

@@ -70,7 +70,6 @@ def inspect(
         **info.get("intake", {}),
         "topology": topology(loaded.garment.V3, loaded.garment.F3),
     }
-    info["units"].update({"pattern": pattern_units, "drape": drape_units})
     if as_json:
         click.echo(json.dumps(info, indent=2))
     else:

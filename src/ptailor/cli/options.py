@@ -42,6 +42,23 @@ def weld_option(fn):
     )(fn)
 
 
+def parse_unit_options(pattern_units: str | None, drape_units: str | None) -> None:
+    """``--pattern-units`` and ``--drape-units`` checked before any file is read (None: not
+    given, ``cm`` with the size check of :func:`ptailor.model.size.check_size`).
+
+    Raises
+    ------
+    PtailorError
+        An unknown or absurd unit (exit 2).
+    """
+    from ptailor.formats.garment import parse_units
+
+    if pattern_units is not None and pattern_units != "auto":
+        parse_units(pattern_units, what="--pattern-units")
+    if drape_units is not None:
+        parse_units(drape_units, what="--drape-units")
+
+
 def parse_weld_option(weld: str, *, units: str):
     """``--weld`` checked before any file is read: ``auto``, ``off`` or a distance in ``units``.
 
@@ -68,16 +85,16 @@ def units_options(fn):
         [
             click.option(
                 "--pattern-units",
-                default="cm",
-                show_default=True,
+                default=None,
                 help=f"Unit of the pattern coordinates: {UNIT_HELP}, or auto (a [0,1] atlas, "
-                "scale estimated from the drape).",
+                "scale estimated from the drape) [default: cm, if the garment is then of "
+                "human size, else exit 2].",
             ),
             click.option(
                 "--drape-units",
-                default="cm",
-                show_default=True,
-                help=f"Unit of the drape: {UNIT_HELP}.",
+                default=None,
+                help=f"Unit of the drape: {UNIT_HELP} [default: cm, if the garment is then of "
+                "human size, else exit 2].",
             ),
             weld_option,
         ]
@@ -251,7 +268,8 @@ def run_options(recipe, params: Mapping[str, Any]):
     parsed parameters (click's ``ctx.params``).
 
     ``--formats``, ``--seam-allowance`` and ``--weld`` are checked against ``recipe``'s
-    units (exit 2 before any garment is read); ``--no-baseline`` is ``baseline``'s negation;
+    units, ``--pattern-units`` and ``--drape-units`` on their own (exit 2 before any garment
+    is read); ``--no-baseline`` is ``baseline``'s negation;
     every other parameter named as a field is taken as given, the rest ignored.
 
     Raises
@@ -267,6 +285,7 @@ def run_options(recipe, params: Mapping[str, Any]):
         params["formats"], params["seam_allowance"], units=recipe.units
     )
     parse_weld_option(params["weld"], units=recipe.units)
+    parse_unit_options(params.get("pattern_units"), params.get("drape_units"))
     values = {f.name: params[f.name] for f in fields(RunOptions) if f.name in params}
     values.update(
         formats=fmts, seam_allowance=allowance, baseline=not params.get("no_baseline", False)

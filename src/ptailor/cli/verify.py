@@ -60,8 +60,7 @@ def verify(
     """
     import json
 
-    from ptailor.cli.options import check_engine_first, parse_weld_option
-    from ptailor.formats.garment import parse_units
+    from ptailor.cli.options import check_engine_first, parse_unit_options, parse_weld_option
     from ptailor.model.units import CM_PER
     from ptailor.run.checks import check_verify_options
     from ptailor.run.options import RunOptions
@@ -70,9 +69,7 @@ def verify(
     check_verify_options(rest, max_steps)
     check_engine_first({"verify": True})  # (before any file is read)
     units = drape_units if drape_units in CM_PER else "cm"
-    if pattern_units != "auto":
-        parse_units(pattern_units, what="--pattern-units")
-    parse_units(drape_units, what="--drape-units")
+    parse_unit_options(pattern_units, drape_units)
     parse_weld_option(weld, units=units)
     options = RunOptions(
         pattern_units=pattern_units,

@@ -16,6 +16,7 @@ from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
 from ptailor.model.garment import Garment
 from ptailor.model.pieces import PatternFile
 from ptailor.model.repair import check_units, intake, unit_ratios
+from ptailor.model.size import check_size, garment_size
 from ptailor.model.units import CM_PER, factor
 from ptailor.model.validate import check_garment
 
@@ -128,8 +129,8 @@ def load_garment(
     *,
     drape: str | Path | None = None,
     units: str = "cm",
-    pattern_units: str = "cm",
-    drape_units: str = "cm",
+    pattern_units: str | None = "cm",
+    drape_units: str | None = "cm",
     size: str | None = None,
     dxf_units: str | None = None,
     weld: str | float = "auto",
@@ -145,9 +146,14 @@ def load_garment(
         OBJ whose ``v`` is the drape, with the same faces as ``path``.
     units : str
         Computation (and report) unit.
-    pattern_units, drape_units : str
+    pattern_units, drape_units : str or None
         File units: ``mm``, ``cm``, ``m``, ``in``, a scaled unit such as ``0.3333cm``, or
         for the pattern ``auto`` (normalised atlas: scale estimated from the drape's area).
+        None: not given, read as ``cm`` but only if the garment then has a human size
+        (:func:`ptailor.model.size.size_problem`: the drape when ``drape_units`` is None,
+        the pieces when ``pattern_units`` is None, or ``auto`` with the drape's unit not
+        given); else :class:`UnitMismatchError` naming the options and the units under which
+        it would be of that size.
     weld : str or float
         ``auto``, ``off`` or a distance in ``units`` (:func:`parse_weld`,
         :func:`ptailor.model.repair.intake`).
@@ -162,7 +168,8 @@ def load_garment(
     ------
     PtailorError
         Naming the file and the problem; a pattern/drape length ratio outside [0.5, 2]
-        (a unit mistake) names the unit options and the ratio.
+        (a unit mistake) names the unit options and the ratio, as does a garment of no human
+        size read in units not given.
     """
     # numeric warnings of the repairs and checks are not printed: every value they concern
     # is checked (check_garment), and a failure is one line naming the file
@@ -198,6 +205,8 @@ def _load_garment(
         )
     mesh, (V3, F3, V2, F2), inputs, err_path = _read_meshes(path, drape)
     spath = str(path)
+    drape_given, pattern_given = drape_units is not None, pattern_units is not None
+    drape_units, pattern_units = drape_units or "cm", pattern_units or "cm"
     d_cm = parse_units(drape_units, what="--drape-units")
     to_units = 1.0 / CM_PER[units] if units in CM_PER else factor("cm", units)
     drape_scale = d_cm * to_units
@@ -219,9 +228,13 @@ def _load_garment(
         "units": {
             "computation": units,
             "pattern": pattern_units,
-            "pattern_source": "estimate" if estimated else "command line",
+            "pattern_source": "estimate"
+            if estimated
+            else "command line"
+            if pattern_given
+            else "default, size checked",
             "drape": drape_units,
-            "drape_source": "command line",
+            "drape_source": "command line" if drape_given else "default, size checked",
             "pattern_drape_ratio": round(ratio, 6) if np.isfinite(ratio) else None,
             "pattern_drape_ratio_per_panel": [
                 round(float(x), 6) if np.isfinite(x) else None for x in per_panel
@@ -238,6 +251,19 @@ def _load_garment(
         units=units,
     )
     check_garment(g, path=err_path)
+    check_pieces = not pattern_given or (estimated and not drape_given)
+    if not drape_given or check_pieces:
+        measured = garment_size(
+            None if drape_given else g.V3,
+            g.F3,
+            g.V2 if check_pieces else g.V2[:0],
+            g.F2 if check_pieces else g.F2[:0],
+        )
+        check_size(
+            measured.scaled(1.0 / to_units),
+            path=err_path,
+            options=_not_given(drape_given, pattern_given),
+        )
     return LoadedGarment(
         garment=g,
         drape_scale=drape_scale,
@@ -280,6 +306,13 @@ def _read_meshes(path: str | Path, drape: str | Path | None):
     return mesh, (dmesh.v, dmesh.fv, V2, F2), {"garment": spath, "drape": dpath}, dpath
 
 
+def _not_given(drape_given: bool, pattern_given: bool) -> str:
+    """The unit options a size check stands in for, in words."""
+    names = [n for n, given in (("--drape-units", drape_given), ("--pattern-units", pattern_given))
+             if not given]  # fmt: skip
+    return " and ".join(names) or "--drape-units"
+
+
 def _estimated_pattern_scale(V3, F3, V2, F2, *, path: str) -> float:
     """``--pattern-units auto``: the scale that gives the pattern the drape's area."""
     if not (np.all(np.isfinite(V2)) and np.all(np.isfinite(V3))):
@@ -296,7 +329,7 @@ def _load_pattern_pair(
     drape: str | Path | None,
     *,
     units: str,
-    drape_units: str,
+    drape_units: str | None,
     size: str | None,
     dxf_units: str | None,
 ) -> LoadedGarment:
@@ -326,7 +359,7 @@ def _load_pattern_pair(
         vt=dmesh.vt,
         fvt=dmesh.fvt,
         header=tuple(getattr(dmesh, "header", ()) or ()),
-        drape_cm=parse_units(drape_units, what="--drape-units"),
+        drape_cm=parse_units(drape_units or "cm", what="--drape-units"),
         fixed=dxf_units is not None,
     )
     pattern = replace(pattern, units_note=f"{pattern.units_note}; {vt_note}")

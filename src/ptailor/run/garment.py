@@ -217,9 +217,7 @@ def _report(loaded: LoadedGarment, staged: _Staged, timing: dict) -> dict:
     return build_report(
         adj,
         inputs=_read(loaded.inputs, options),
-        units_note=units_section(
-            loaded, drape_units=options.drape_units, pattern_units=options.pattern_units
-        ),
+        units_note=units_section(loaded),
         warnings=run_warnings(loaded, adj, ctx.errors, ctx.plan, ctx.pieces, options),
         timing_s=timing,
         errors=ctx.errors,

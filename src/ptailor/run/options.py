@@ -17,9 +17,10 @@ class RunOptions:
 
     Attributes
     ----------
-    pattern_units, drape_units : str
+    pattern_units, drape_units : str or None
         File units (``mm``, ``cm``, ``m``, ``in``, a scaled unit such as ``0.3333cm``; the
-        pattern also ``auto``), see :func:`ptailor.formats.garment.load_garment`.
+        pattern also ``auto``), see :func:`ptailor.formats.garment.load_garment`; None: not
+        given (``cm``, if the garment is then of human size).
     weld : str or float
         ``auto``, ``off`` or a distance (``0.1mm``; a bare number in the recipe's units).
     method, intrinsic : str, optional
@@ -50,8 +51,8 @@ class RunOptions:
         The re-drapes' step cap (default: the engine's).
     """
 
-    pattern_units: str = "cm"
-    drape_units: str = "cm"
+    pattern_units: str | None = None
+    drape_units: str | None = None
     weld: str | float = "auto"
     method: str | None = None
     intrinsic: str | None = None

@@ -9,12 +9,17 @@ from ptailor.formats.garment import LoadedGarment
 from ptailor.pieces import CarriedPiece, PiecePlan
 
 
-def units_section(loaded: LoadedGarment, *, drape_units: str, pattern_units: str) -> dict:
-    """The report's ``units``: computation, drape and pattern units (and the estimate)."""
+def units_section(loaded: LoadedGarment) -> dict:
+    """The report's ``units``: computation, drape and pattern units as read, where each came
+    from (``command line``, ``default (size checked)``, ``estimate``, ``file``), and the
+    estimate."""
+    read = loaded.intake.get("units", {})
     note = {
         "computation": loaded.garment.units,
-        "drape": drape_units,
-        "pattern": pattern_units if loaded.pattern is None else loaded.pattern.units,
+        "drape": read.get("drape", "cm"),
+        "drape_source": read.get("drape_source"),
+        "pattern": read.get("pattern", "cm") if loaded.pattern is None else loaded.pattern.units,
+        "pattern_source": read.get("pattern_source"),
     }
     if loaded.pattern is not None:
         note["pattern_note"] = loaded.pattern.units_note

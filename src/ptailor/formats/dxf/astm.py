@@ -23,11 +23,6 @@ LAYOUTS = ("auto", "keep", "row")
 REL_TOL = 1e-3
 #: consecutive outline points closer than this (relative) are one point
 REL_DUP = 1e-9
-#: a METRIC file whose largest piece is smaller than this many units is in centimetres
-#: (a pattern's largest piece is 5-200 cm: 50-2000 in mm); otherwise METRIC is millimetres
-CM_BELOW = 25.0
-#: a pattern's largest piece, in cm, outside this range means the units are wrong
-PLAUSIBLE_CM = (2.0, 500.0)
 #: a file that names no unit is in millimetres when its largest piece exceeds this
 MM_ABOVE = 300.0
 

@@ -13,7 +13,7 @@ from ptailor.formats.dxf.assembly import (
     piece_candidates,
     sizes_from_block_names,
 )
-from ptailor.formats.dxf.astm import CM_PER_UNIT, PLAUSIBLE_CM
+from ptailor.formats.dxf.astm import CM_PER_UNIT
 from ptailor.formats.dxf.document import (
     check_counts,
     header_number,
@@ -24,7 +24,7 @@ from ptailor.formats.dxf.document import (
     recover_warning,
 )
 from ptailor.formats.dxf.grading import fill_from_sample
-from ptailor.formats.dxf.units import file_units
+from ptailor.formats.dxf.units import file_units, size_in
 from ptailor.model.pieces import PatternFile
 
 
@@ -113,12 +113,9 @@ def _read(spath: str, size: str | None, units: str | None, log: list[str]) -> Pa
         pieces,
         header_number(doc, "$MEASUREMENT"),
     )
-    largest = max((float(p.extent.max()) for p in pieces), default=0.0) * CM_PER_UNIT[unit]
-    if pieces and not PLAUSIBLE_CM[0] <= largest <= PLAUSIBLE_CM[1]:
-        warnings += (
-            f"the largest piece is {largest:.4g} cm read in {unit} ({note}): check the units "
-            "(--dxf-units)",
-        )
+    problem = size_in(pieces, unit) if pieces else None
+    if problem is not None:
+        warnings += (f"read in {unit} ({note}), {problem}: check the units (--dxf-units)",)
     return PatternFile(
         pieces=pieces,
         units=unit,

@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from ptailor.formats.dxf.astm import CM_BELOW, CM_PER_UNIT, INSUNITS, MM_ABOVE
+from ptailor.formats.dxf.astm import CM_PER_UNIT, INSUNITS, MM_ABOVE
 from ptailor.model.pieces import PatternFile, Piece
 
 
@@ -26,8 +26,9 @@ def file_units(
     In order: the caller's override; ``Units: ENGLISH`` (inches); ``$INSUNITS`` in the
     header (mm, cm or in; an inch code under ``Units: METRIC`` is ignored); then, for
     ``METRIC``, ``$MEASUREMENT = 1`` or nothing said, millimetres, as AAMA/ASTM exports
-    write metric patterns, unless the coordinates cannot be millimetres: a largest piece
-    under ``CM_BELOW`` units (under 2.5 cm in mm) is in centimetres. A file that says
+    write metric patterns, unless the pieces are of a garment's size only in centimetres
+    (:func:`ptailor.model.size.size_problem`: a METRIC file in cm whose largest piece
+    reads 7.3 cm in mm is in cm). A file that says
     nothing is in mm when its largest piece exceeds ``MM_ABOVE`` units, else cm. A drape, when there
     is one, has the last word (:func:`ptailor.formats.garment._load_dxf_pair`).
     """
@@ -55,12 +56,32 @@ def file_units(
             unit,
             f"no units in the file; {unit} judged from the piece sizes (largest {largest:.4g})",
         )
-    if 0 < largest < CM_BELOW:
+    if pieces and size_in(pieces, "cm") is None and size_in(pieces, "mm") is not None:
         return "cm", (
-            f"{src}; cm, as the coordinates are too small for mm (largest piece "
+            f"{src}; cm, as the pieces are of garment size only in cm (largest piece "
             f"{largest:.4g} units)"
         )
     return "mm", f"{src}; mm, as AAMA/ASTM metric files are written (largest piece {largest:.4g})"
+
+
+def size_in(pieces: tuple[Piece, ...], unit: str) -> str | None:
+    """What is not of a garment's size about the pieces read in ``unit``, or None
+    (:func:`ptailor.model.size.size_problem`; each piece measured along its principal
+    axes)."""
+    from ptailor.model.size import GarmentSize, size_problem
+
+    ext = np.array(
+        [_principal_extent(p.outline) for p in pieces if len(p.outline) >= 3], dtype=np.float64
+    ).reshape(-1, 2)
+    return size_problem(GarmentSize(extent=float("nan"), pieces=ext * CM_PER_UNIT[unit]))
+
+
+def _principal_extent(P: np.ndarray) -> tuple[float, float]:
+    """An outline's length and width along its principal axes."""
+    Q = np.asarray(P, dtype=np.float64) - np.mean(P, axis=0)
+    _, axes = np.linalg.eigh(Q.T @ Q)
+    ext = np.ptp(Q @ axes, axis=0)
+    return float(ext.max()), float(ext.min())
 
 
 #: a drape's ``vt`` is taken in a unit when its size, judged from the drape's area, is
