@@ -82,6 +82,15 @@ SLOW: dict[str, frozenset[str]] = {
             "test_worker_pool_isolates_failures_quietly",
         }
     ),
+    "test_manifest": frozenset(
+        {
+            "test_a_dxf_row_with_its_own_drape_size_and_unit",
+            "test_a_missing_column_or_empty_cell_takes_the_command_line",
+            "test_csv_and_json_lines_manifests_give_what_separate_runs_give",
+            "test_real_garments_with_their_own_units_in_one_manifest",
+            "test_rerun_skips_every_row_and_a_changed_unit_redoes_that_garment_only",
+        }
+    ),
     "test_cli": frozenset(
         {
             "test_adjust_writes_outputs_and_can_adjust_its_own_output",
@@ -276,6 +285,8 @@ SLOW: dict[str, frozenset[str]] = {
     "test_shell": frozenset(
         {
             "test_adjust_catalogue_finds_garments_and_writes_a_csv_summary",
+            "test_adjust_catalogue_follows_symbolic_links",
+            "test_adjust_catalogue_writes_a_manifest_that_batch_takes",
             "test_adjust_each_runs_every_garment_and_reports_failures",
             "test_adjust_parallel_falls_back_to_xargs_without_gnu_parallel",
         }

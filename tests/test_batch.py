@@ -429,6 +429,43 @@ def test_output_names_and_staging_clean_up(tmp_path):
     assert (out / "report.json").is_file()
 
 
+def test_given_names_are_kept_and_stems_avoid_them():
+    names = pb.output_names(["a/x.obj", "b/y.obj", "c/x.obj"], ["y", None, None])
+    assert [n for n, _ in names] == ["y", "y-2", "x"]
+    assert names[1][1] == "stem 'y' is another garment's given name: folder y-2"
+    assert names[0][1] is None and names[2][1] is None
+
+
+def _summary_of(statuses: list[str], ran: int | None, seconds: float = 30.0) -> str:
+    blank = dict.fromkeys(pb.RECORD_KEYS)
+    recs = [{**blank, "garment": f"g{k}.obj", "status": s} for k, s in enumerate(statuses)]
+    result = pb.BatchResult(records=recs, seconds=seconds, where="in-process", ran=ran)
+    return next(ln for ln in pb.summary_lines(result) if ln.startswith("time"))
+
+
+def test_the_summary_rates_only_the_garments_run():
+    """Issue 24: a rerun where every garment was unchanged printed '48466 garments/min'."""
+    line = _summary_of(["skipped"] * 4, ran=0, seconds=0.005)
+    assert "0 done, 4 skipped, 0 failed; none run" in line and "garments/min" not in line
+    # a gate failing on an unchanged folder is no garment run
+    line = _summary_of(["skipped", "failed"], ran=0)
+    assert "0 done, 1 skipped, 1 failed; none run" in line
+    line = _summary_of(["ok", "skipped", "skipped", "failed"], ran=2)
+    assert "1 done, 2 skipped, 1 failed; 4.0 garments/min over the 2 run (in-process)" in line
+
+
+def test_a_batch_of_unchanged_garments_says_so(tmp_path, recipe, catalogue):
+    args = ("batch", recipe, catalogue / "[ab]_*.obj", "-o", tmp_path / "out", "-j", "1", *FAST)
+    r = run(*args)
+    assert r.exit_code == 0 and "2 done, 0 skipped, 0 failed;" in r.stderr
+    assert "garments/min over the 2 run" in r.stderr
+    r = run(*args)
+    assert r.exit_code == 0
+    last = r.stderr.splitlines()[-1]
+    assert last.startswith("time") and "0 done, 2 skipped, 0 failed; none run" in last
+    assert "garments/min" not in r.stderr
+
+
 def _garments(folder: Path, sizes: list[int]) -> None:
     """Lantern sleeves g00.obj, g01.obj, ... of about these many triangles."""
     folder.mkdir(parents=True, exist_ok=True)

@@ -210,3 +210,89 @@ def test_adjust_catalogue_leaves_a_users_files_in_outroot_alone(tmp_path, name):
     assert name in r.stderr
     assert mine.read_text() == "my,own,table\n1,2,3\n"
     assert sorted(p.name for p in out.iterdir()) == [name]
+
+
+def _adjust_catalogue(*args, timeout: float = 300) -> subprocess.CompletedProcess:
+    cmd = [str(CLI / "adjust-catalogue"), *[str(a) for a in args]]
+    return subprocess.run(cmd, capture_output=True, text=True, env=_ptailor_env(), timeout=timeout)
+
+
+def _linked_catalogue(tmp_path: Path) -> tuple[Path, Path]:
+    """A catalogue whose garments are reached only through symbolic links: a link to an OBJ
+    and a link to a folder of them (as catalogues shared between teams are often built)."""
+    store = tmp_path / "store"
+    (store / "skirts").mkdir(parents=True)
+    (store / "sleeve.obj").write_text(sample_obj_text("lantern_sleeve"))
+    (store / "skirts" / "skirt.obj").write_text(sample_obj_text("cone_skirt"))
+    cat = tmp_path / "cat"
+    cat.mkdir()
+    (cat / "sleeve.obj").symlink_to(store / "sleeve.obj")
+    (cat / "skirts").symlink_to(store / "skirts", target_is_directory=True)
+    rec = tmp_path / "r.yaml"
+    rec.write_text("steps: [{op: scale, factor: 1.2}]\n")
+    return cat, rec
+
+
+def test_adjust_catalogue_follows_symbolic_links(tmp_path):
+    """Issue 24: `find -type f` skipped OBJs reached through links (exit 2, no garments).
+    A link to OUTROOT inside the catalogue does not make its outputs garments."""
+    cat, rec = _linked_catalogue(tmp_path)
+    out = tmp_path / "out"
+    out.mkdir()
+    (cat / "results").symlink_to(out, target_is_directory=True)
+    for expect in ("ok", "skipped"):
+        r = _adjust_catalogue(rec, cat, out, "-j", "1", "-q")
+        assert r.returncode == 0, r.stderr
+        recs = [json.loads(ln) for ln in (out / "batch.jsonl").read_text().splitlines()]
+        assert [Path(x["garment"]).name for x in recs] == ["skirt.obj", "sleeve.obj"]
+        assert [x["status"] for x in recs] == [expect, expect]
+    assert sorted(p.name for p in out.iterdir()) == [
+        "batch.jsonl",
+        "skirt",
+        "sleeve",
+        "summary.csv",
+    ]
+
+
+def test_adjust_catalogue_writes_a_manifest_that_batch_takes(tmp_path):
+    import csv
+
+    from tests.test_pattern_io import _setup
+
+    cat, rec = _linked_catalogue(tmp_path)
+    _setup(cat)  # cat/lantern_sleeve.dxf + its drape cat/lantern_sleeve.obj: one garment
+    out = tmp_path / "out"
+    manifest = cat / "units.csv"
+    r = _adjust_catalogue(rec, cat, out, "-j", "1", "--write-manifest", manifest)
+    assert r.returncode == 0, r.stderr
+    assert "--manifest" in r.stderr and not out.exists()  # nothing run
+    with open(manifest, newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert list(rows[0]) == ["garment", "pattern_units", "drape_units", "dxf_units"]
+    # relative to the manifest's folder; the DXF's drape is not a garment of its own
+    assert [x["garment"] for x in rows] == ["lantern_sleeve.dxf", "skirts/skirt.obj", "sleeve.obj"]
+    assert all(x["pattern_units"] == x["drape_units"] == x["dxf_units"] == "" for x in rows)
+    # a user fills in a unit; batch takes the manifest
+    rows[0]["dxf_units"] = "mm"
+    with open(manifest, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    batch = [sys.executable, "-m", "ptailor", "batch", str(rec), "--manifest", str(manifest)]
+    batch += ["-o", str(out), "-j", "1", "--json", "-q", "--formats", "obj"]
+    r = subprocess.run(batch, capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    recs = [json.loads(ln) for ln in r.stdout.splitlines()]
+    assert [x["status"] for x in recs] == ["ok"] * 3
+    stamp = json.loads((out / "lantern_sleeve" / "batch.json").read_text())
+    assert stamp["options"]["dxf_units"] == "mm"
+    # an existing manifest (the user's edits) is never replaced; no garments: exit 2
+    before = manifest.read_bytes()
+    r = _adjust_catalogue(rec, cat, out, f"--write-manifest={manifest}", timeout=60)
+    assert r.returncode == 2 and "exists" in r.stderr and manifest.read_bytes() == before
+    empty, other = tmp_path / "empty", tmp_path / "other.csv"
+    empty.mkdir()
+    r = _adjust_catalogue(rec, empty, out, "--write-manifest", other, timeout=60)
+    assert r.returncode == 2 and "no garments" in r.stderr and not other.exists()
+    r = _adjust_catalogue("--help", timeout=60)
+    assert "--write-manifest FILE" in r.stdout and "symbolic links" in r.stdout.lower()

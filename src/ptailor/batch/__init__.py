@@ -3,6 +3,7 @@
 The library side, without click. Modules, in the order a batch goes through them:
 
 - :mod:`~ptailor.batch.inputs`: the garments the arguments name, their drapes, folder names;
+- :mod:`~ptailor.batch.manifest`: or the garments a manifest names, each with its own options;
 - :mod:`~ptailor.batch.stamp`: the ``batch.json`` stamp that lets unchanged garments skip;
 - :mod:`~ptailor.batch.gates`: quality gates, reading the report strictly;
 - :mod:`~ptailor.batch.jobs`: :class:`GarmentJob` and :func:`run_job`, one garment to a record;
@@ -17,6 +18,7 @@ from ptailor.batch.executors import Executor, executor_for, run_batch
 from ptailor.batch.gates import GateFailedError, Gates, area_change, gate_failures, seam_mismatch
 from ptailor.batch.inputs import drape_for, expand_garments, output_names
 from ptailor.batch.jobs import GarmentJob, check_unchanged, job_stamp, make_jobs, run_job
+from ptailor.batch.manifest import ManifestRow, read_manifest
 from ptailor.batch.records import (
     RECORD_KEYS,
     STATUSES,
@@ -37,6 +39,7 @@ __all__ = [
     "GarmentJob",
     "GateFailedError",
     "Gates",
+    "ManifestRow",
     "area_change",
     "check_unchanged",
     "drape_for",
@@ -48,6 +51,7 @@ __all__ = [
     "make_jobs",
     "make_stamp",
     "output_names",
+    "read_manifest",
     "recipe_digest",
     "record_line",
     "remove_staging",

@@ -369,6 +369,7 @@ def run_batch(
         interrupted=interrupted,
         seconds=time.perf_counter() - t0,
         where=executor.where,
+        ran=sum(final[j.index]["status"] in ("ok", "failed") for j in todo),
     )
 
 

@@ -116,23 +116,38 @@ def _without_drapes(paths: list[str]) -> list[str]:
     return [p for p in paths if os.path.realpath(p) not in drapes]
 
 
-def output_names(paths: Sequence[str]) -> list[tuple[str, str | None]]:
+def output_names(
+    paths: Sequence[str], names: Sequence[str | None] | None = None
+) -> list[tuple[str, str | None]]:
     """One folder name per garment: the file's stem, made unique in input order.
 
     The first garment with a stem gets it; later ones get ``stem-2``, ``stem-3``, ...
-    (skipping names that are some other garment's stem).
+    (skipping names that are some other garment's stem or given name).
+
+    Parameters
+    ----------
+    paths : list of str
+        The garments.
+    names : list of (str or None), optional
+        Names given (a manifest's ``name`` column; distinct, checked by the caller), None
+        where the stem decides.
 
     Returns
     -------
     list of (name, note)
-        ``note`` says why a name is not the stem (``None`` when it is).
+        ``note`` says why a name is not the stem (``None`` when it is, or was given).
     """
+    given = list(names) if names is not None else [None] * len(paths)
     stems = [Path(p).stem or "garment" for p in paths]
-    taken = set(stems)
-    used: set[str] = set()
+    fixed = {n for n in given if n is not None}
+    taken = set(stems) | fixed
+    used = set(fixed)
     first: dict[str, str] = {}
     out = []
-    for p, stem in zip(paths, stems, strict=True):
+    for p, stem, name in zip(paths, stems, given, strict=True):
+        if name is not None:
+            out.append((name, None))
+            continue
         if stem not in used:
             used.add(stem)
             first[stem] = p
@@ -143,5 +158,6 @@ def output_names(paths: Sequence[str]) -> list[tuple[str, str | None]]:
             k += 1
         name = f"{stem}-{k}"
         used.add(name)
-        out.append((name, f"stem {stem!r} is shared with {first[stem]}: folder {name}"))
+        why = f"shared with {first[stem]}" if stem in first else "another garment's given name"
+        out.append((name, f"stem {stem!r} is {why}: folder {name}"))
     return out

@@ -16,13 +16,14 @@ import signal
 import threading
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
 from ptailor import tolerances
 from ptailor.batch.gates import GateFailedError, Gates, gate_failures
 from ptailor.batch.inputs import drape_for, output_names
+from ptailor.batch.manifest import ManifestRow, as_rows
 from ptailor.batch.records import RECORD_KEYS, key_numbers
 from ptailor.batch.stamp import STAMP, inputs_digest, make_stamp, recipe_digest, up_to_date
 from ptailor.errors import PtailorError
@@ -55,8 +56,8 @@ class GarmentJob:
     force : bool
         Redo even when the folder's stamp matches.
     drape_abs : str or None
-        For a CAD pattern: its drape OBJ (:func:`~ptailor.batch.inputs.drape_for`), read
-        and stamped with it.
+        For a CAD pattern: its drape OBJ (:func:`~ptailor.batch.inputs.drape_for`, or a
+        manifest's ``drape``), read and stamped with it; ``drape`` is the path as shown.
     timeout : float or None
         Seconds the garment may take in its worker process (``failure: timeout`` past it).
     """
@@ -74,6 +75,7 @@ class GarmentJob:
     force: bool = False
     drape_abs: str | None = None
     timeout: float | None = None
+    drape: str | None = None
 
     def record(self, status: str, **values: Any) -> dict:
         """A record for this garment with every key of :data:`RECORD_KEYS`."""
@@ -86,7 +88,10 @@ class GarmentJob:
 
     def shown(self, text: str) -> str:
         """A message with the absolute paths written as given."""
-        return text.replace(self.out_abs, self.out).replace(self.garment_abs, self.garment)
+        text = text.replace(self.out_abs, self.out).replace(self.garment_abs, self.garment)
+        if self.drape_abs is not None and self.drape is not None:
+            text = text.replace(self.drape_abs, self.drape)
+        return text
 
     def failed(self, exc: BaseException) -> dict:
         """The record of a job whose worker raised ``exc`` (an internal error)."""
@@ -102,7 +107,7 @@ class GarmentJob:
 
 
 def make_jobs(
-    garments: Sequence[str],
+    garments: Sequence[str | ManifestRow],
     out: str | Path,
     recipe,
     *,
@@ -112,26 +117,52 @@ def make_jobs(
     timeout: float | None = None,
 ) -> list[GarmentJob]:
     """One :class:`GarmentJob` per garment, output folders named by
-    :func:`~ptailor.batch.inputs.output_names`."""
+    :func:`~ptailor.batch.inputs.output_names`.
+
+    Parameters
+    ----------
+    garments : list of (str or ManifestRow)
+        Paths, or a manifest's rows (:func:`~ptailor.batch.manifest.read_manifest`): a
+        row's drape, name and options override the defaults (its options go into the
+        garment's stamp like the command line's).
+    out : str or Path
+        The output root.
+    recipe : Recipe
+        Validated.
+    options : RunOptions, optional
+        Every garment's options (the command line's).
+    gates, force, timeout
+        As :class:`GarmentJob`'s.
+
+    Returns
+    -------
+    list of GarmentJob
+    """
+    rows = as_rows(garments)
+    paths = [r.garment for r in rows]
+    names = output_names(paths, [r.name for r in rows])
+    base = options or RunOptions()
     digest = recipe_digest(recipe)
     out_abs = Path(out).resolve()
     jobs = []
-    for i, (g, (name, note)) in enumerate(zip(garments, output_names(garments), strict=True)):
+    for i, (row, (name, note)) in enumerate(zip(rows, names, strict=True)):
+        drape = row.drape if row.drape is not None else drape_for(row.garment)
         jobs.append(
             GarmentJob(
                 index=i,
-                garment=g,
-                garment_abs=os.path.abspath(g),
+                garment=row.garment,
+                garment_abs=os.path.abspath(row.garment),
                 out=os.path.join(str(out), name),
                 out_abs=str(out_abs / name),
                 note=note,
                 recipe=recipe,
                 recipe_sha=digest,
-                options=options or RunOptions(),
+                options=replace(base, **row.options) if row.options else base,
                 gates=gates or Gates(),
                 force=force,
-                drape_abs=None if (d := drape_for(g)) is None else os.path.abspath(d),
+                drape_abs=None if drape is None else os.path.abspath(drape),
                 timeout=timeout,
+                drape=drape,
             )
         )
     return jobs
@@ -315,7 +346,7 @@ def _run_job(job: GarmentJob) -> dict:
     shown = (
         {"garment": job.garment}
         if job.drape_abs is None
-        else {"pattern": job.garment, "drape": drape_for(job.garment)}
+        else {"pattern": job.garment, "drape": job.drape or drape_for(job.garment)}
     )
     try:
         check_output_dir(job.out_abs, [job.recipe.source])  # the recipe is never replaced

@@ -137,12 +137,18 @@ def record_line(record: dict) -> str:
 
 @dataclass
 class BatchResult:
-    """Records in input order (unfinished garments have status ``interrupted``)."""
+    """Records in input order (unfinished garments have status ``interrupted``).
+
+    ``ran`` counts the garments that were run (``ok`` or ``failed`` after being adjusted,
+    not those found unchanged and judged from their stored report); None: every ``ok``
+    and ``failed`` one.
+    """
 
     records: list[dict]
     interrupted: bool = False
     seconds: float = 0.0
     where: str = ""
+    ran: int | None = None
 
     def count(self, status: str) -> int:
         return sum(r["status"] == status for r in self.records)
@@ -180,8 +186,6 @@ class InOrder:
 def _count_lines(result: BatchResult) -> list[str]:
     counts = {s: result.count(s) for s in STATUSES}
     gated = sum(r["failure"] == "gate" for r in result.records)
-    worked = counts["ok"] + counts["failed"]
-    rate = 60.0 * worked / result.seconds if result.seconds > 0 else 0.0
     lines = [
         f"{'garments':<12}{len(result.records):>6}",
         f"{'ok':<12}{counts['ok']:>6}",
@@ -191,11 +195,19 @@ def _count_lines(result: BatchResult) -> list[str]:
     ]
     if counts["interrupted"]:
         lines.append(f"{'interrupted':<12}{counts['interrupted']:>6}   (not done: run again)")
-    lines.append(
-        f"{'time':<12}{result.seconds:>8.1f} s, {rate:.1f} garments/min adjusted "
-        f"(ok + failed; {result.where})"
-    )
+    lines.append(f"{'time':<12}{result.seconds:>8.1f} s: {_rate(result, counts)}")
     return lines
+
+
+def _rate(result: BatchResult, counts: dict[str, int]) -> str:
+    """``3 done, 1 skipped, 0 failed; 20.5 garments/min over the 3 run (where)``: a rate
+    only over the garments run (none when every one was unchanged)."""
+    ran = counts["ok"] + counts["failed"] if result.ran is None else result.ran
+    done = f"{counts['ok']} done, {counts['skipped']} skipped, {counts['failed']} failed"
+    if ran == 0:
+        return f"{done}; none run, so no rate"
+    rate = f"{60.0 * ran / result.seconds:.1f}" if result.seconds > 0 else "-"
+    return f"{done}; {rate} garments/min over the {ran} run ({result.where})"
 
 
 def _failed_line(record: dict) -> str:

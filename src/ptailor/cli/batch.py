@@ -72,7 +72,17 @@ def gate_options(fn):
 
 @click.command()
 @click.argument("recipe", type=click.Path(dir_okay=False, allow_dash=True))
-@click.argument("garments", metavar="GARMENT...", nargs=-1, required=True)
+@click.argument("garments", metavar="[GARMENT...]", nargs=-1)
+@click.option(
+    "--manifest",
+    type=click.Path(dir_okay=False),
+    default=None,
+    metavar="FILE",
+    help="The garments, one a row, instead of GARMENT arguments: CSV with a header row or "
+    "JSON Lines, columns garment (required; relative to the manifest's folder), drape, name "
+    "(the output folder) and pattern_units, drape_units, dxf_units, size, up, front, which "
+    "override the options for that garment (an empty cell: the option's value).",
+)
 @click.option(
     "-o",
     "--out",
@@ -126,6 +136,7 @@ def batch(
     ctx,
     recipe,
     garments,
+    manifest,
     out,
     pattern_units,
     drape_units,
@@ -155,7 +166,8 @@ def batch(
     max_verify_displacement,
     fail_on_flips,
 ) -> None:
-    """Apply RECIPE to every GARMENT, one output folder each under OUT.
+    """Apply RECIPE to every GARMENT (or every row of --manifest), one output folder each
+    under OUT.
 
     GARMENT is an OBJ (v = drape, vt = pattern) or a DXF pattern paired with the OBJ drape
     beside it (X.dxf with X.obj), a glob (quoted: '**/*.obj' is expanded here,
@@ -165,7 +177,8 @@ def batch(
     later garments with the same stem get NAME-2, NAME-3) with a
     batch.json stamp: re-running skips garments whose file, recipe and options are
     unchanged. A garment that fails, breaks a quality gate or runs past --timeout gets no
-    folder; the others go on.
+    folder; the others go on. --manifest FILE gives each garment its own units, axes, DXF
+    size, drape and folder name; the whole manifest is checked before anything runs.
 
     --verify re-drapes each garment with the cloth engine (pip install 'ptailor[sim]'; on
     the GPU warp finds, else the CPU), one simulation at a time per worker.
@@ -179,13 +192,17 @@ def batch(
 
     workers = jobs or os.cpu_count() or 1
     from ptailor.batch import Gates, expand_garments, make_jobs
+    from ptailor.batch.manifest import read_manifest
     from ptailor.cli.options import check_engine_first, run_options
     from ptailor.errors import PtailorError
-    from ptailor.formats.garment import parse_units
     from ptailor.recipe import load_recipe
 
     if timeout is not None and scheduler is not None:
         raise PtailorError("--timeout cannot be used with --scheduler (Dask cannot stop a task)")
+    if manifest is not None and garments:
+        raise PtailorError("give the garments as GARMENT arguments or with --manifest, not both")
+    if manifest is None and not garments:
+        raise PtailorError("no garments: give GARMENT arguments or --manifest FILE")
     if recipe == "-" and "-" in garments:
         raise PtailorError("the recipe and the garment list cannot both come from stdin")
     gates = Gates(
@@ -204,20 +221,20 @@ def batch(
         )
     check_engine_first(ctx.params)  # (before any file is read)
     rec = load_recipe(recipe)
-    if pattern_units != "auto":
-        parse_units(pattern_units, what="--pattern-units")
-    parse_units(drape_units, what="--drape-units")
-    options = run_options(rec, ctx.params)
-    paths = expand_garments(
-        garments,
-        stdin=sys.stdin,
-        exclude_under=out,
-        warn=lambda msg: click.echo(f"ptailor: warning: {msg}", err=True),
-    )
-    if not paths:
-        raise PtailorError(f"no garments: {' '.join(garments)} matched no files")
+    options = run_options(rec, ctx.params)  # (checks the units too)
+    if manifest is not None:
+        paths = read_manifest(manifest, check=_cell_check(ctx))
+    else:
+        paths = expand_garments(
+            garments,
+            stdin=sys.stdin,
+            exclude_under=out,
+            warn=lambda msg: click.echo(f"ptailor: warning: {msg}", err=True),
+        )
+        if not paths:
+            raise PtailorError(f"no garments: {' '.join(garments)} matched no files")
     if log:
-        _check_log(log, paths, recipe)
+        _check_log(log, paths, recipe, manifest)
     todo = make_jobs(paths, out, rec, options=options, gates=gates, force=force, timeout=timeout)
     bar = not quiet and sys.stderr.isatty()
     result = _run(todo, workers=workers, scheduler=scheduler, log=log, as_json=as_json, bar=bar)
@@ -225,19 +242,40 @@ def batch(
     ctx.exit(result.exit_status)
 
 
-def _check_log(log: str, paths: list[str], recipe: str) -> None:
+def _cell_check(ctx: click.Context):
+    """A manifest's option cells checked as the command line checks its options: by the
+    option's own click type (``up``'s choices, ...), units by the parser that reads them."""
+    from ptailor.batch.manifest import UNIT_OPTIONS, check_units
+    from ptailor.errors import PtailorError
+
+    params = {p.name: p for p in ctx.command.params}
+
+    def check(column: str, text: str):
+        param = params[column]
+        try:
+            value = param.type.convert(text, param, ctx)
+        except click.BadParameter as exc:
+            raise PtailorError(f"{column}: {exc.message}") from None
+        return check_units(column, value) if column in UNIT_OPTIONS else value
+
+    return check
+
+
+def _check_log(log: str, paths: list, recipe: str, manifest: str | None = None) -> None:
     """Exit 2 before anything runs where the log would overwrite an input of the run or a
-    file that is not a ptailor log (:func:`ptailor.batch.records.log_problem`)."""
+    file that is not a ptailor log (:func:`ptailor.batch.records.log_problem`); ``paths``
+    are garment paths or a manifest's rows."""
     from pathlib import Path
 
+    from ptailor.batch.manifest import as_rows
     from ptailor.batch.records import log_problem
     from ptailor.errors import PtailorError
 
-    inputs = [Path(p) for p in paths]
+    rows = as_rows(paths)
+    inputs = [Path(r.garment) for r in rows] + [Path(r.drape) for r in rows if r.drape]
     inputs += [p.with_suffix(ext) for p in inputs if p.suffix.lower() == ".dxf"
                for ext in (".obj", ".OBJ")]  # fmt: skip
-    if recipe != "-":
-        inputs.append(Path(recipe))
+    inputs += [Path(f) for f in (recipe, manifest) if f is not None and f != "-"]
     problem = log_problem(log, inputs)
     if problem:
         raise PtailorError(f"--log {problem}", path=log)
