@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from ptailor.formats.garment import LoadedGarment
-from ptailor.geometry.triangles import signed_areas_2d
+from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
 from ptailor.model.names import seam_names
 from ptailor.model.pieces import PatternFile
 from ptailor.model.seam_lines import seam_lines
@@ -27,8 +27,10 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
     Returns
     -------
     dict
-        ``panels`` (with ``position``, a phrase, and ``centroid`` in the wearer's frame
-        ``(left, up, front)`` from the centre line and the lowest point), ``seams`` (with a
+        ``frame`` (what the positions are measured in), ``panels`` (with ``position``, a
+        phrase, ``centroid``, the area-weighted drape centroid in the drape's frame like the
+        openings', and ``wearer``, the same point as ``(left, up, front)`` from the centre
+        line and the lowest point), ``seams`` (with a
         ``name`` from where they run), ``seam_lines`` (name, the part seen from, the panels
         across, its seams: :func:`ptailor.model.seam_lines.seam_lines`), ``openings``,
         ``units``, ``triangles``.
@@ -40,6 +42,10 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
     sizes = panel_sizes(g.V2, vlab, n)
     area = np.bincount(flab, np.abs(signed_areas_2d(g.V2, g.F2)), minlength=n)
     names = [p.name for p in plist]
+    a3 = triangle_areas(g.V3, g.F3)
+    tc = g.V3[g.F3].mean(axis=1) * a3[:, None]  # area-weighted triangle centroids
+    c3 = np.stack([np.bincount(flab, tc[:, j], minlength=n) for j in range(3)], axis=1)
+    c3 /= np.maximum(np.bincount(flab, a3, minlength=n), 1e-300)[:, None]
     out_p = [
         {
             "name": p.name,
@@ -48,7 +54,8 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
             "area": round(float(area[p.index]), 3),
             "orientation": "mirrored (clockwise)" if p.mirrored else "counter-clockwise",
             "position": layout.position(p.index),
-            "centroid": [round(float(x), 3) for x in layout.centroid[p.index]],
+            "centroid": [round(float(x), 3) for x in c3[p.index]],
+            "wearer": [round(float(x), 3) for x in layout.centroid[p.index]],
         }
         for p in plist
     ]
@@ -92,6 +99,10 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
         units["pattern_scale_estimate"] = round(loaded.pattern_scale, 6)
     return {
         "inputs": loaded.inputs,
+        "frame": (
+            f"centroids (panels, openings) in the drape's coordinates, in {g.units}; a panel's"
+            " wearer is (left, up, front) from the centre line and the lowest point"
+        ),
         "triangles": g.n_faces,
         "panels": out_p,
         "seams": out_s,
