@@ -469,3 +469,90 @@ def test_panel_measures_extents_and_centroids_are_the_plain_reductions():
     fc = Xc.mean(axis=1)
     cen = np.stack([np.bincount(lab, area * fc[:, k], minlength=n_p) for k in range(3)], 1)
     assert np.array_equal(pm.cen_abs, cen / np.maximum(At, 1e-300)[:, None])
+
+
+# ---------------------------------------------------------------------------------------
+# names that hold on garments the rules were not tuned on (issue 24)
+# ---------------------------------------------------------------------------------------
+
+
+def rotated_about_up(g: Garment, deg: float) -> Garment:
+    t = np.radians(deg)
+    R = np.array([[np.cos(t), 0.0, np.sin(t)], [0.0, 1.0, 0.0], [-np.sin(t), 0.0, np.cos(t)]])
+    return replace(g, V3=g.V3 @ R.T, face_group=np.full(g.n_faces, -1), group_names=())
+
+
+@pytest.mark.parametrize("deg", [0.0, 30.0, 45.0, 60.0])
+def test_two_halves_whose_seams_sit_off_the_sides_are_front_and_back(deg):
+    """A skirt's halves turned about up (side seams 45 degrees towards the back, as a
+    simulated tee's may sit): each still shares its tier with the other, so it is front or
+    back, never the tube name 'skirt' (the wrap rule fired on both before)."""
+    g = rotated_about_up(cone_skirt(), deg)
+    assert sorted(names_of(g)) == ["skirt_back", "skirt_front"]
+
+
+def test_a_lone_tube_panel_is_still_named_by_its_tier():
+    from ptailor.samples import cylinder
+
+    g = cylinder()
+    g = replace(g, face_group=np.full(g.n_faces, -1), group_names=())
+    assert names_of(g) == ["skirt"]
+
+
+def test_every_name_says_why():
+    plist, lay, _, _ = layout_and_seams(
+        replace(cone_skirt(), face_group=np.full(cone_skirt().n_faces, -1), group_names=())
+    )
+    assert len(lay.why) == len(plist)
+    assert all("body (3D length/width" in w for w in lay.why)
+    front = lay.names.index("skirt_front")
+    assert "front (centroid" in lay.why[front] and "ahead of its tier's mean" in lay.why[front]
+    assert "centre (reaches" in lay.why[front]
+
+
+def test_mirror_names_and_pairs():
+    from ptailor.model.names.roles import mirror_name, mirror_pairs, mirrored_names
+
+    assert mirror_name("bodice_front_left_side") == "bodice_front_right_side"
+    assert mirror_name("leftover") == "leftover"
+    cen = np.array([[10.0, 5.0, 1.0], [-10.2, 5.0, 1.0], [0.0, 3.0, 0.0]])
+    ext = np.full((3, 3), 20.0)
+    pairs = mirror_pairs(cen, np.array([1.0, 1.05, 3.0]), ext, ["left", "right", "centre"])
+    assert pairs == [(0, 1)]
+    assert mirrored_names(["yoke_left", "yoke_right_upper", "front"], pairs) == [
+        "yoke_left",
+        "yoke_right",
+        "front",
+    ]
+
+
+@pytest.mark.parametrize("key", sorted(EXPECTED))
+def test_the_inspect_json_says_why_for_every_panel(key, tmp_path):
+    from click.testing import CliRunner
+
+    from ptailor.cli.main import cli
+
+    units = ["--pattern-units", REAL[key][1], "--drape-units", "cm"]
+    r = CliRunner().invoke(cli, ["inspect", str(real_path(key)), "--json", *units])
+    assert r.exit_code == 0, r.output
+    info = json.loads(r.output)
+    assert all(p["why"] for p in info["panels"])
+    assert "drape's coordinates" in info["frame"]
+
+
+@pytest.mark.parametrize("key", sorted(EXPECTED))
+def test_front_back_and_sleeve_left_select_those_parts_on_every_garment(key):
+    """One recipe for a catalogue: ``front``/``back`` select every front/back torso panel
+    (the dress's bodice and skirt panels too), ``sleeve_left`` the left sleeve's."""
+    from ptailor.edits.region import panels_named
+
+    plist = panels(real(key))
+    fronts = {p.name for p in panels_named(["front"], plist)}
+    backs = {p.name for p in panels_named(["back"], plist)}
+    assert fronts and backs and not fronts & backs
+    assert all("front" in n.split("_") for n in fronts)
+    assert all("back" in n.split("_") for n in backs)
+    if any(n.startswith("sleeve_left") for n in EXPECTED[key]):
+        assert {p.name for p in panels_named(["sleeve_left"], plist)} == {
+            n for n in EXPECTED[key] if n.startswith("sleeve_left")
+        }

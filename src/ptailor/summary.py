@@ -15,6 +15,14 @@ from ptailor.model.units import CM_PER
 from ptailor.report.metrics import panel_sizes
 
 
+def _why(name: str, layout, i: int) -> str:
+    """Why panel ``i`` is called ``name``: the layout's rules, or the file's group name."""
+    why = layout.why[i] if i < len(layout.why) else ""
+    if name != layout.names[i]:
+        return f"the file's group name (its geometry reads {layout.names[i]}: {why})"
+    return why
+
+
 def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> dict:
     """A JSON-ready description of a garment.
 
@@ -56,6 +64,7 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
             "position": layout.position(p.index),
             "centroid": [round(float(x), 3) for x in c3[p.index]],
             "wearer": [round(float(x), 3) for x in layout.centroid[p.index]],
+            "why": _why(p.name, layout, p.index),
         }
         for p in plist
     ]
@@ -128,6 +137,8 @@ def summary_text(info: dict) -> str:
             f"  {p['name']:<24} {p['triangles']:>7} tris  {p['size'][0]:8.2f} x {p['size'][1]:8.2f}"
             f"  {p['orientation']:<20}  {p['position']}"
         )
+        if p.get("why"):
+            lines.append(f"      why: {p['why']}")
     lines.append("seams:")
     for s in info["seams"]:
         a, b = s["panels"]

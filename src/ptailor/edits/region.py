@@ -70,8 +70,10 @@ def region_faces(region: Any, garment: Garment, V3: np.ndarray, plist: list[Pane
 def panels_named(names: list[str], plist: list) -> list:
     """The panels a region's names select: the panel of that name, or where there is none,
     its family, every panel named ``NAME_...`` (``sleeve`` selects ``sleeve_left`` and
-    ``sleeve_right_front``; ``front`` a tank top's ``front_left`` and ``front_right``), so
-    that one recipe serves garments cut differently.
+    ``sleeve_right_front``; ``front`` a tank top's ``front_left`` and ``front_right``), or
+    where there is none, the same on a two-tier garment without its tier (``front`` selects
+    a dress's ``bodice_front``, ``bodice_front_left`` and ``skirt_front``), so that one
+    recipe serves garments cut differently.
 
     Raises
     ------
@@ -83,6 +85,9 @@ def panels_named(names: list[str], plist: list) -> list:
     unknown = []
     for n in names:
         family = [by_name[n]] if n in by_name else [p for p in plist if p.name.startswith(n + "_")]
+        if not family:  # a two-tier garment's: front selects bodice_front and skirt_front_left
+            family = [p for p in plist if _untiered(p.name) in (n,) or
+                      _untiered(p.name).startswith(n + "_")]  # fmt: skip
         if not family:
             unknown.append(n)
         out.update((p.name, p) for p in family)
@@ -91,6 +96,14 @@ def panels_named(names: list[str], plist: list) -> list:
             f"no panel named {', '.join(unknown)} (this garment has: {', '.join(by_name)})"
         )
     return list(out.values())
+
+
+def _untiered(name: str) -> str:
+    """A panel name without its tier (``bodice_front_left`` -> ``front_left``)."""
+    for tier in ("bodice_", "skirt_"):
+        if name.startswith(tier):
+            return name[len(tier) :]
+    return name
 
 
 def body_axis(P: np.ndarray, body_vertices: np.ndarray, *, k: int = 16) -> np.ndarray:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -12,6 +12,9 @@ from ptailor.model.names.roles import (
     base_names,
     faces,
     limbs,
+    mirror_pairs,
+    mirrored_names,
+    reasons,
     sides,
     strip_roles,
     strip_shape,
@@ -51,6 +54,11 @@ class PanelLayout:
     frame : (3, 3) float array
         Rows ``(left, up, front)``.
     openings : list of Opening
+    mirror : (n_p,) int array
+        Each panel's mirror image across the centre line (a centred panel its own, -1 none
+        found): left/right panels whose mirrored centroids and areas match are named alike.
+    why : list of str
+        Per panel, the rules that named it and the measures they used, in words.
     """
 
     names: list[str]
@@ -67,6 +75,8 @@ class PanelLayout:
     h0: float
     frame: np.ndarray
     openings: list[Opening]
+    mirror: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    why: list[str] = field(default_factory=list)
 
     def position(self, p: int) -> str:
         """A short phrase for panel ``p``'s place: side, front/back and height band.
@@ -150,7 +160,17 @@ def panel_layout(
     base = base_names(role, side, face, tier, limb_side, pm.cen_abs)
     origin = np.array([pm.s0, pm.h0, pm.f0])
     rel = pm.cen_abs - origin
-    names = _unique_names(base, pm.At, rel, pm.hi_abs - pm.lo_abs, np.abs(s_rel))
+    ext = pm.hi_abs - pm.lo_abs
+    names = _unique_names(base, pm.At, rel, ext, np.abs(s_rel))
+    pairs = mirror_pairs(rel, pm.At, ext, side)
+    names = mirrored_names(names, pairs)
+    mirror = np.full(n_p, -1, dtype=np.int64)
+    mirror[[p for p in range(n_p) if side[p] == "centre"]] = [
+        p for p in range(n_p) if side[p] == "centre"
+    ]
+    for p, q in pairs:
+        mirror[p], mirror[q] = q, p
+    why = reasons(pm, L, strip, role, side, face, tier, s_rel, touches)
     return PanelLayout(
         names=names,
         role=role,
@@ -166,4 +186,6 @@ def panel_layout(
         h0=pm.h0,
         frame=frame,
         openings=ops,
+        mirror=mirror,
+        why=why,
     )

@@ -16,6 +16,10 @@ _STRIP_TOUCH = 0.4
 _CENTRED = 1.0 / 3.0
 
 _CENTRED_OPENINGS = ("neckline", "hem", "waist", "armhole_left", "armhole_right")
+#: A panel is named as going around the body (a tube) only when it holds at least this
+#: share of its tier's body area: a tee's front whose side seams sit far back still shares
+#: the tier with its back, and is the front.
+_WRAP_SHARE = 0.8
 
 
 def strip_shape(perim: np.ndarray, At: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -147,7 +151,9 @@ def tiers(body: np.ndarray, touches: OpeningTouch, ops: list, pm: PanelMeasures)
 
 def faces(body: np.ndarray, tier: list[str], centred: np.ndarray, pm: PanelMeasures) -> list[str]:
     """``front``/``back`` against the area-weighted mean of the panel's tier (body panels;
-    ``""`` for a tube around the body), else of the garment."""
+    ``""`` for a tube around the body: a panel straddling the tier's mean front coordinate
+    like the centre line, holding at least ``_WRAP_SHARE`` of the tier's area), else of the
+    garment."""
     n_p = len(body)
     cen_abs, At = pm.cen_abs, pm.At
     face = ["front"] * n_p
@@ -159,6 +165,7 @@ def faces(body: np.ndarray, tier: list[str], centred: np.ndarray, pm: PanelMeasu
         fwd, bwd = pm.hi_abs[:, 2] - ft, ft - pm.lo_abs[:, 2]
         wraps = centred & (np.minimum(fwd, bwd) > 0)
         wraps &= np.minimum(fwd, bwd) >= _CENTRED * np.maximum(fwd, bwd)
+        wraps &= At >= _WRAP_SHARE * float(At[members].sum())
         for p in np.flatnonzero(members).tolist():
             # a panel around the body (a tube) is neither front nor back
             face[p] = "" if wraps[p] else "front" if cen_abs[p, 2] >= ft else "back"
@@ -270,6 +277,62 @@ def _unique_names(
     return _suffix_duplicates(out)
 
 
+def mirror_name(name: str) -> str:
+    """``name`` with ``left`` and ``right`` swapped (``bodice_front_left`` ->
+    ``bodice_front_right``; ``armhole_left_upper`` -> ``armhole_right_upper``)."""
+    swap = {"left": "right", "right": "left"}
+    return "_".join(swap.get(w, w) for w in name.split("_"))
+
+
+def mirror_pairs(cen: np.ndarray, area: np.ndarray, ext: np.ndarray, side: list[str]) -> list:
+    """Left/right panels that are each other's mirror image across the centre line.
+
+    Parameters
+    ----------
+    cen : (n_p, 3) float array
+        Centroids ``(left, up, front)`` relative to the centre line.
+    area : (n_p,) float array
+    ext : (n_p, 3) float array
+        Extents per panel.
+    side : list of str
+        ``left``/``right``/``centre`` per panel.
+
+    Returns
+    -------
+    list of (int, int)
+        ``(left panel, right panel)``, nearest pairs first: the mirrored centroids within a
+        tenth of the panel's extent and the areas within 15 %.
+    """
+    left = [p for p, sd in enumerate(side) if sd == "left"]
+    right = [q for q, sd in enumerate(side) if sd == "right"]
+    if not left or not right:
+        return []
+    L, R = np.array(left), np.array(right)
+    M = cen[L] * np.array([-1.0, 1.0, 1.0])
+    d = np.linalg.norm(M[:, None, :] - cen[R][None, :, :], axis=2)
+    scale = np.maximum(np.max(ext[L], axis=1), 1e-12)[:, None]
+    ratio = area[L][:, None] / np.maximum(area[R][None, :], 1e-300)
+    ok = (d <= 0.1 * scale) & (np.abs(ratio - 1.0) <= 0.15)
+    pairs, used_l, used_r = [], set(), set()
+    for i, j in zip(*np.unravel_index(np.argsort(d, axis=None), d.shape), strict=True):
+        if ok[i, j] and i not in used_l and j not in used_r:
+            pairs.append((int(L[i]), int(R[j])))
+            used_l.add(i)
+            used_r.add(j)
+    return pairs
+
+
+def mirrored_names(names: list[str], pairs: list) -> list[str]:
+    """Mirror panels named alike: the right one of each pair takes the left one's name with
+    ``left`` and ``right`` swapped, unless another panel has that name."""
+    out = list(names)
+    for p, q in pairs:
+        want = mirror_name(out[p])
+        if out[q] != want and want not in out:
+            out[q] = want
+    return out
+
+
 def _suffix_duplicates(names: list[str]) -> list[str]:
     """Names still equal get ``_2``, ``_3``, ... in list order (the first keeps its name)."""
     seen: dict[str, int] = {}
@@ -287,3 +350,80 @@ def _suffix_duplicates(names: list[str]) -> list[str]:
         taken.add(f"{n}_{k}")
         out.append(f"{n}_{k}")
     return out
+
+
+def reasons(
+    pm: PanelMeasures,
+    L: np.ndarray,
+    strip: np.ndarray,
+    role: list[str],
+    side: list[str],
+    face: list[str],
+    tier: list[str],
+    s_rel: np.ndarray,
+    touches: OpeningTouch,
+) -> list[str]:
+    """Why each panel has its name: the rules that fired and the measures they used.
+
+    Returns
+    -------
+    list of str
+        One line per panel, for example ``"body (3D length/width 1.4, under 3.5 for a
+        strip); bodice (centroid 32.1 above the hem panels' top 30.5); front (centroid 9.1
+        ahead of its tier's mean); centre (reaches 20.3 left and 21.0 right of the centre
+        line)"``.
+    """
+    n_p = len(role)
+    width = pm.At / np.maximum(L, 1e-300)  # of the rectangle with the panel's area
+    aspect = L / np.maximum(width, 1e-300)
+    names = list(touches.index)
+    on = [
+        [n for n in names if touches(n)[p] > 0] for p in range(n_p)
+    ]  # the openings each panel touches
+    ft: dict[str, float] = {}
+    for t in sorted(set(tier)):
+        m = np.array([role[p] == "body" and tier[p] == t for p in range(n_p)])
+        if m.any():
+            ft[t] = float((pm.cen_abs[m, 2] * pm.At[m]).sum() / max(pm.At[m].sum(), 1e-300))
+    out = []
+    for p in range(n_p):  # a loop over panels
+        touching = f", touches {', '.join(on[p])}" if on[p] else ", touches no opening"
+        if role[p] == "body":
+            short = "" if strip[p] else f", under {_STRIP_ASPECT:g} for a strip"
+            why = [f"body (3D length/width {_r(aspect[p]):.2g}{short}{touching})"]
+        elif role[p] in ("sleeve", "cuff"):
+            why = [
+                f"{role[p]} (in the limb that reaches cuff_{side[p]}, no centred opening{touching})"
+            ]
+        else:
+            why = [
+                f"{role[p]} (a strip: 3D length/width {_r(aspect[p]):.2g} >= {_STRIP_ASPECT:g}"
+                f"{touching})"
+            ]
+        if tier[p]:
+            why.append(f"{tier[p]} (its tier: centroid height {_r(pm.cen_abs[p, 1] - pm.h0):.3g})")
+        if role[p] == "body" and tier[p] in ft:
+            d = float(pm.cen_abs[p, 2] - ft[tier[p]])
+            if not face[p]:
+                why.append("around the body (it straddles its tier's mean front coordinate)")
+            else:
+                where = "ahead of" if d >= 0 else "behind"
+                why.append(f"{face[p]} (centroid {_r(abs(d)):.3g} {where} its tier's mean)")
+        reach_l = float(pm.hi_abs[p, 0] - pm.s0)
+        reach_r = float(pm.s0 - pm.lo_abs[p, 0])
+        if side[p] == "centre":
+            why.append(
+                f"centre (reaches {_r(reach_l):.3g} left and {_r(reach_r):.3g} right of the"
+                " centre line)"
+            )
+        else:
+            why.append(
+                f"{side[p]} (centroid {_r(abs(float(s_rel[p]))):.3g} {side[p]} of the centre line)"
+            )
+        out.append("; ".join(why))
+    return out
+
+
+def _r(x: float) -> float:
+    """A measure as shown: rounded to 1e-6 (sums in another order give the same words)."""
+    return round(float(x), 6) + 0.0

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ptailor.model.names.layout import PanelLayout
-from ptailor.model.names.roles import _suffix_duplicates
+from ptailor.model.names.roles import _suffix_duplicates, mirror_name
 
 #: A seam is vertical when the up component of its principal direction is at least this
 #: (37 degrees from up), level when at most ``_LEVEL`` (53 degrees); in between (a diagonal
@@ -81,7 +81,31 @@ def seam_names(
             upc = 0.5
         mids.append(mid)
         base.append(_seam_base(s.panels, mid, upc, layout, pn))
-    return _qualify(base, np.array(mids).reshape(-1, 3))
+    M = np.array(mids).reshape(-1, 3)
+    return _mirrored(_qualify(base, M), seam_list, M, layout.mirror)
+
+
+def _mirrored(names: list[str], seam_list: list, mids: np.ndarray, mirror: np.ndarray) -> list[str]:
+    """Mirror seams named alike: a seam on the wearer's right whose panels are the mirror
+    images of a left seam's (a centred panel its own) takes the left one's name with
+    ``left`` and ``right`` swapped, unless another seam has that name."""
+    if len(mirror) == 0 or not len(names):
+        return names
+    out = list(names)
+    pairs = [tuple(sorted(int(mirror[p]) for p in s.panels)) for s in seam_list]
+    own = [tuple(sorted(int(p) for p in s.panels)) for s in seam_list]
+    flip = mids * np.array([-1.0, 1.0, 1.0])
+    for i in np.argsort(-mids[:, 0], kind="stable").tolist():  # left seams first
+        if mids[i, 0] <= 0 or -1 in pairs[i]:
+            continue
+        cand = [j for j in range(len(out)) if own[j] == pairs[i] and j != i and mids[j, 0] < 0]
+        if not cand:
+            continue
+        j = min(cand, key=lambda k: float(np.linalg.norm(mids[k] - flip[i])))
+        want = mirror_name(out[i])
+        if out[j] != want and want not in out:
+            out[j] = want
+    return out
 
 
 def _side_of(x: float) -> str:
