@@ -440,7 +440,7 @@ def test_a_fold_piece_matches_its_unfolded_panel_and_is_written_back_as_a_fold_p
 
 def test_a_fold_piece_cut_by_an_edit_is_the_new_panels_half(tmp_path):
     obj, dxf = _fold_setup(tmp_path)
-    shorten = "steps: [{op: shorten, opening: hem, by: 3}]\n"  # the cuff loses a strip
+    shorten = "steps: [{op: shorten, opening: cuff, by: 3}]\n"  # the cuff loses a strip
     r = run("adjust", dxf, _recipe(tmp_path, shorten), "--drape", obj, "-o", tmp_path / "o",
             "--formats", "dxf")  # fmt: skip
     assert r.exit_code == 0, r.output

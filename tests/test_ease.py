@@ -239,9 +239,7 @@ def test_a_cap_that_stops_the_solver_is_a_warning_naming_the_panel():
 
 def test_report_gives_each_seams_ratio_target_and_mismatch():
     g = lantern_sleeve()
-    text = (
-        "steps: [{op: scale_seam, seam: [sleeve, cuff], part: sleeve, factor: 1.3, fix: [waist]}]"
-    )
+    text = "steps: [{op: scale_seam, seam: [sleeve, cuff], part: sleeve, factor: 1.3, fix: [top]}]"
     adj = adjustment(g, parse_recipe(text), baseline=False)
     rep = build_report(adj, inputs={}, units_note={"computation": "cm"}, warnings=[], timing_s={})
     json.dumps(rep)

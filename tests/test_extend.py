@@ -147,8 +147,8 @@ def test_extend_after_a_scale_follows_the_scaled_cuff():
     """The strip grows on the original drape too, so it follows earlier edits: 1.2 x 40."""
     g = lantern_sleeve()
     before = "{op: scale, direction: around, axis: [0, 1, 0], factor: 1.2}, "
-    adj = adjustment(g, extend_recipe("hem", 2, before))
-    assert adj.state.log[-1]["opening"] == "hem"
+    adj = adjustment(g, extend_recipe("cuff", 2, before))  # the lone sleeve's lower end
+    assert adj.state.log[-1]["opening"] == "cuff"
     width, height = strip_size(g, adj)
     assert width == pytest.approx(48.0, rel=0.01)
     assert height == pytest.approx(2.0, rel=0.01)
@@ -303,7 +303,7 @@ def test_extend_pushes_new_rows_out_of_the_body():
     g = lantern_sleeve(n_around=24, n_sleeve=8, n_cuff=4)
     body = icosphere(5.0, [0.0, -4.0, 0.0])  # under the cuff, wider than the tube
     state = apply_steps(g, parse_recipe("steps: []"), options=EditOptions())
-    step = {"op": "extend", "opening": "hem", "by": 4.0, "clearance": 0.25}
+    step = {"op": "extend", "opening": "cuff", "by": 4.0, "clearance": 0.25}
     plain = OPERATIONS["extend"].apply(state, step, options=EditOptions())
     pushed = OPERATIONS["extend"].apply(state, step, options=BodyOptions(body=body))
     n3 = len(g.V3)

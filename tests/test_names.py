@@ -216,7 +216,7 @@ def test_names_from_the_file_win():
     fg = g.face_group.copy()
     fg[fg == 1] = -1
     assert names_of(replace(g, face_group=fg))[0] == "sleeve"
-    assert names_of(replace(g, face_group=fg))[1] != "cuff"
+    assert names_of(replace(g, face_group=fg))[1] == "cuff"  # the geometry agrees
     assert names_of(cone_skirt()) == ["front", "back"]
 
 
@@ -556,3 +556,67 @@ def test_front_back_and_sleeve_left_select_those_parts_on_every_garment(key):
         assert {p.name for p in panels_named(["sleeve_left"], plist)} == {
             n for n in EXPECTED[key] if n.startswith("sleeve_left")
         }
+
+
+def test_a_lone_sleeve_is_a_sleeve_with_a_cuff_and_a_top():
+    """The lantern sample without its groups: a tube 48 long and 28 around is a limb, not a
+    skirt (it was 'skirt', 'skirt_lower', openings 'waist' and 'hem')."""
+    from ptailor.model.openings import openings
+
+    g = lantern_sleeve()
+    bare = replace(g, face_group=np.full(g.n_faces, -1), group_names=())
+    _, lay, _, snames = layout_and_seams(bare)
+    assert lay.names == ["sleeve", "cuff"] and lay.role == ["sleeve", "cuff"]
+    assert sorted(snames) == ["cuff", "cuff_end", "sleeve"]
+    ops = {o.name: o for o in openings(g.V3, g.F3, F2=g.F2)}
+    assert sorted(ops) == ["cuff", "top"]
+    assert ops["top"].centroid[1] > ops["cuff"].centroid[1]
+    assert "reaches cuff" in lay.why[1]
+
+
+@pytest.mark.parametrize(("height", "kind"), [(20.0, ["hem", "waist"]), (40.0, ["cuff", "top"])])
+def test_a_lone_tube_is_a_limb_when_it_is_as_long_as_it_is_around(height, kind):
+    from ptailor.model.openings import openings
+    from ptailor.samples import cylinder
+
+    g = cylinder(circumference=30.0, height=height)
+    assert sorted(o.name for o in openings(g.V3, g.F3, F2=g.F2)) == kind
+
+
+def flat_square(n: int = 8, size: float = 60.0) -> Garment:
+    """One flat square panel standing in the x-y plane (a curtain): its one loop faces
+    front, so no opening rule names it."""
+    u = np.linspace(0.0, size, n + 1)
+    X, Y = np.meshgrid(u, u)
+    V2 = np.stack([X.ravel(), Y.ravel()], axis=1)
+    idx = np.arange((n + 1) ** 2).reshape(n + 1, n + 1)
+    a, b, c, d = (
+        idx[:-1, :-1].ravel(),
+        idx[:-1, 1:].ravel(),
+        idx[1:, 1:].ravel(),
+        idx[1:, :-1].ravel(),
+    )
+    F = np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
+    V3 = np.concatenate([V2, np.zeros((len(V2), 1))], axis=1)
+    return Garment(V3=V3, F3=F, V2=V2, F2=F, face_group=np.full(len(F), -1), group_names=())
+
+
+def test_a_garment_no_rule_recognises_gets_plain_names_and_a_warning(tmp_path):
+    from click.testing import CliRunner
+
+    from ptailor.cli.main import cli
+    from ptailor.formats.obj import write_garment
+
+    g = flat_square()
+    _, lay, _, _ = layout_and_seams(g)
+    assert lay.names == ["panel_0"] and "no rule recognised" in lay.why[0]
+    write_garment(tmp_path / "square.obj", g)
+    (tmp_path / "r.yaml").write_text("steps: []\n")
+    r = CliRunner().invoke(
+        cli,
+        ["adjust", str(tmp_path / "square.obj"), str(tmp_path / "r.yaml"), "-o",
+         str(tmp_path / "o"), "--formats", "obj"],
+    )  # fmt: skip
+    assert r.exit_code == 0, r.output
+    report = json.loads((tmp_path / "o" / "report.json").read_text())
+    assert any("panel_0" in w and "no rule recognised" in w for w in report["warnings"])

@@ -30,7 +30,7 @@ from subdivide import midpoint_subdivision, subdivide_garment, subdivide_obj
 LOOSEN = (ROOT / "src/ptailor/recipes/loosen-waist.yaml").read_text()
 GATHER = (
     "units: cm\nsteps: [{op: scale_seam, seam: [sleeve, cuff], part: sleeve, "
-    "direction: around, factor: 1.3, fix: [waist]}]"
+    "direction: around, factor: 1.3, fix: [top]}]"
 )
 SCALE = (
     "units: cm\nsteps: [{op: scale, region: {box: {min: [-50, 20, -50], max: [50, 60, 50]}}, "

@@ -21,7 +21,7 @@ def edge_length(V2, V0, verts, which) -> float:
     return float(np.linalg.norm(np.diff(V2[o], axis=0), axis=1).sum())
 
 
-def step(direction: str, factor: float = 1.3, fix: str = "[waist]") -> str:
+def step(direction: str, factor: float = 1.3, fix: str = "[top]") -> str:
     return (
         f"steps: [{{op: scale_seam, seam: [sleeve, cuff], part: sleeve, "
         f"direction: {direction}, factor: {factor}, fix: {fix}}}]"
@@ -29,7 +29,7 @@ def step(direction: str, factor: float = 1.3, fix: str = "[waist]") -> str:
 
 
 def test_around_widens_the_sleeve_bottom_keeps_the_top_and_the_cuff():
-    g = lantern_sleeve()  # openings: hem (cuff bottom) and waist (sleeve top, the armhole)
+    g = lantern_sleeve()  # openings: cuff (cuff bottom) and top (sleeve top, the armhole)
     adj = adjustment(g, parse_recipe(step("around")))
     sleeve, cuff = adj.state.panels
     V, V0 = adj.result.V2, g.V2
@@ -134,7 +134,7 @@ def test_a_fix_on_the_seam_being_moved_is_an_error_not_ignored():
     g = lantern_sleeve()
     with pytest.raises(PtailorError, match=r"lies on the seam \[sleeve, cuff\] this step moves"):
         adjustment(g, parse_recipe(step("around", fix="[[sleeve, cuff]]")), baseline=False)
-    a = adjustment(g, parse_recipe(step("around")), baseline=False)  # fix: [waist] holds
+    a = adjustment(g, parse_recipe(step("around")), baseline=False)  # fix: [top] holds
     assert a.state.log[-1]["fixed_vertices"] > 0
 
 
@@ -155,8 +155,8 @@ def test_what_fix_names_stays_put_exactly():
     """Issue 23, item 2: the fixed far opening moved with the part's scaled field (2 mm on
     a real sleeve's cuff). Now it stays where it is to 1e-6 of the garment's size."""
     g = lantern_sleeve()
-    a = adjustment(g, parse_recipe(step("around", fix="[waist]")), baseline=False)
-    assert opening_moved(g, a, "waist") < 1e-6
+    a = adjustment(g, parse_recipe(step("around", fix="[top]")), baseline=False)
+    assert opening_moved(g, a, "top") < 1e-6
 
 
 def test_a_fix_inside_the_scaled_part_is_an_error_saying_why():

@@ -50,7 +50,7 @@ def test_cone_skirt_hem_moves_exactly_inward_waist_untouched():
 
 def test_shorten_then_extend_bookkeeping_on_the_elastic_cuff():
     g = lantern_sleeve()
-    adj = adjustment(g, parse_recipe("steps: [{op: shorten, opening: hem, by: 3}]"))
+    adj = adjustment(g, parse_recipe("steps: [{op: shorten, opening: cuff, by: 3}]"))
     b = adj.state.base
     assert_valid(b, V2=adj.result.V2)
     # the cuff (8 high) lost 3 in 3D and 3 in the pattern (height is isometric there)
@@ -250,7 +250,7 @@ def test_pattern_measure_on_the_cone_skirt_keeps_the_side_seams_one():
 def test_pattern_distance_is_carried_over_seams_into_the_next_panel():
     """Shorten the lantern cuff (8 high) by 10.5: the cuff goes, the sleeve loses 2.5."""
     g = lantern_sleeve()
-    rec = parse_recipe("steps: [{op: shorten, opening: hem, by: 10.5, measure: pattern}]")
+    rec = parse_recipe("steps: [{op: shorten, opening: cuff, by: 10.5, measure: pattern}]")
     adj = adjustment(g, rec)
     b, X = adj.state.base, adj.result.V2
     assert_valid(b, V2=X)
@@ -258,7 +258,7 @@ def test_pattern_distance_is_carried_over_seams_into_the_next_panel():
     step = adj.state.log[-1]
     assert step["amount"]["removed_panels"] == ["cuff"]
     assert step["amount"]["pattern"] == {}  # no cuff edge is left to measure
-    hem = new_edge_vertices(adj)
+    hem = new_edge_vertices(adj, "cuff")  # the sleeve alone is still a lone sleeve
     np.testing.assert_allclose(X[hem, 1] - g.V2[:, 1].min(), 2.5, atol=1e-9)
     np.testing.assert_allclose(np.ptp(X[:, 1]), 37.5, atol=1e-9)
 
@@ -310,10 +310,11 @@ def test_generated_hems_move_exactly_5_in_the_output_pattern(sample, op):
     from ptailor.samples import SAMPLES
 
     g = SAMPLES[sample]()
-    rec = parse_recipe(f"steps: [{{op: {op}, opening: hem, by: 5, measure: pattern}}]")
+    end = "cuff" if sample == "lantern_sleeve" else "hem"  # a lone sleeve's lower end
+    rec = parse_recipe(f"steps: [{{op: {op}, opening: {end}, by: 5, measure: pattern}}]")
     adj = adjustment(g, rec, baseline=False)
     assert_valid(adj.state.base, V2=adj.result.V2)
-    for d in output_edge_distances(g, adj).values():
+    for d in output_edge_distances(g, adj, end).values():
         np.testing.assert_allclose(d, 5.0, atol=1e-6)
 
 

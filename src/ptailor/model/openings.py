@@ -18,6 +18,9 @@ from ptailor.model.boundary import boundary_curves
 _MIN_REL_LENGTH = 0.05
 #: A loop is "horizontal" when its plane normal is within 60 degrees of the up axis.
 _HORIZONTAL_COS = 0.5
+#: a lone tube is a limb when its two loops are at least this many times the longer loop's
+#: length apart
+_LIMB_LENGTH = 1.0
 #: Minimum height of the band below the side loops where the torso is measured (fraction of
 #: the garment's height).
 _BAND_REL = 0.05
@@ -164,9 +167,12 @@ def openings(
          one ``hem``; with one, it is ``hem`` when horizontal and below both sleeve loops'
          centroids, else ``neckline``;
        - legs without a top (trousers): the highest horizontal one is ``waist``;
+       - a lone tube whose two horizontal loops are as far apart as the longer one is long
+         (a sleeve: the lantern sample's are 48 apart and 28 around) is a limb: ``top`` and
+         ``cuff``;
        - neither (skirt, tube): among the horizontal ones the lowest is ``hem`` and, when
-         there are two or more, the highest is ``waist``. A lone tube (a cylinder) therefore
-         gets ``waist`` on top and ``hem`` at the bottom.
+         there are two or more, the highest is ``waist``. A short wide tube (a cylinder
+         20 tall and 30 around) therefore gets ``waist`` on top and ``hem`` at the bottom.
     6. Every other loop is ``opening_<k>``, ``k`` its index in the returned list.
     """
     V3 = np.asarray(V3, dtype=np.float64)
@@ -223,7 +229,9 @@ def openings(
         sleeve_h = min(ch[sl], ch[sr])
 
     # 5. centred loops
-    names.update(_centred_names(centred, horizontal, ch, sleeve_h, has_legs=legs is not None))
+    names.update(
+        _centred_names(centred, horizontal, ch, sleeve_h, has_legs=legs is not None, lengths=length)
+    )
 
     return [
         Opening(
@@ -297,6 +305,7 @@ def _centred_names(
     sleeve_h: float | None,
     *,
     has_legs: bool,
+    lengths: np.ndarray,
 ) -> dict[int, str]:
     """Names of the centred loops (rule 5); ``sleeve_h`` None when the garment is no top."""
     names: dict[int, str] = {}
@@ -315,8 +324,20 @@ def _centred_names(
     elif has_legs:
         if flat:
             names[flat[-1]] = "waist"
+    elif _lone_limb(centred, flat, ch, lengths):
+        names[flat[-1]], names[flat[0]] = "top", "cuff"
     elif flat:
         names[flat[0]] = "hem"
         if len(flat) >= 2:
             names[flat[-1]] = "waist"
     return names
+
+
+def _lone_limb(centred: list[int], flat: list[int], ch: np.ndarray, lengths: np.ndarray) -> bool:
+    """A lone tube that is a sleeve (or a trouser leg), not a skirt: two horizontal loops
+    only, as far apart as the longer one is long at least (the lantern: 48 apart, 28 around;
+    a skirt's hem is longer than the skirt: the cone skirt 57 and 188)."""
+    if len(centred) != 2 or len(flat) != 2:
+        return False
+    lo, hi = flat
+    return float(ch[hi] - ch[lo]) >= _LIMB_LENGTH * float(max(lengths[lo], lengths[hi]))

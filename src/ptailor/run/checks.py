@@ -168,6 +168,17 @@ def input_warnings(loaded) -> list[str]:
     return warnings
 
 
+def naming_warnings(adj: Adjustment) -> list[str]:
+    """A warning when the run's panels could not be named from the geometry (no rule
+    recognised the garment: :func:`ptailor.model.names.layout.recognised`): ``panel_k``."""
+    import re
+
+    from ptailor.model.names.layout import UNRECOGNISED
+
+    plain = [p.name for p in adj.state.panels if re.fullmatch(r"panel_\d+", p.name)]
+    return [f"panels {', '.join(plain)}: {UNRECOGNISED}"] if plain else []
+
+
 def run_warnings(
     loaded, adj: Adjustment, errors: np.ndarray, plan, carried: list, options: RunOptions
 ) -> list[str]:
@@ -188,6 +199,7 @@ def run_warnings(
         *loaded.intake.get("warnings", []),
         *solver_warnings(adj),
         *input_warnings(loaded),
+        *naming_warnings(adj),
         *intrinsic_error_warnings(adj, errors),
         *piece_warnings(plan, carried, options.seam_allowance),
     ]

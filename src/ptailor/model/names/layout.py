@@ -108,6 +108,18 @@ class PanelLayout:
         return f"{self.side[p]}, {self.face[p]}, {band}"
 
 
+#: why a garment's panels are ``panel_k``
+UNRECOGNISED = (
+    "no rule recognised this garment: none of its openings is a neckline, hem, waist, cuff,"
+    " top, leg or armhole (check --up and --front)"
+)
+
+
+def recognised(ops: list[Opening]) -> bool:
+    """Whether the naming rules recognise a garment: at least one opening has a name."""
+    return any(not o.name.startswith("opening_") for o in ops)
+
+
 def panel_layout(
     V3: np.ndarray,
     F3: np.ndarray,
@@ -171,6 +183,9 @@ def panel_layout(
     for p, q in pairs:
         mirror[p], mirror[q] = q, p
     why = reasons(pm, L, strip, role, side, face, tier, s_rel, touches)
+    if not recognised(ops):  # no rule knows this garment: plain names, never a wrong role
+        names = [f"panel_{p}" for p in range(n_p)]
+        why = [UNRECOGNISED] * n_p
     return PanelLayout(
         names=names,
         role=role,

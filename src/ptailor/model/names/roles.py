@@ -104,7 +104,8 @@ def limbs(
     touches: OpeningTouch,
 ) -> tuple[list[str], list[str], list[str]]:
     """Sleeves and cuffs: seam-connected groups of body panels touching no centred opening
-    that reach a cuff.
+    that reach a cuff; on a lone limb (openings ``top`` and ``cuff``) every panel, those at
+    the cuff not reaching the top being cuffs.
 
     Returns
     -------
@@ -116,6 +117,14 @@ def limbs(
     t_centred = sum(touches(n) for n in _CENTRED_OPENINGS)
     free = np.array([role[p] == "body" and t_centred[p] == 0 for p in range(n_p)], dtype=bool)
     limb_side = [""] * n_p
+    if "cuff" in touches.index and "top" in touches.index:  # a lone limb (a sleeve sample)
+        t_top = touches("top")
+        limb = np.flatnonzero(free).tolist()
+        for p in limb:
+            limb_side[p] = "centre"
+            cuffish = touches("cuff")[p] > 0 and t_top[p] == 0 and len(limb) > 1
+            role[p] = "cuff" if cuffish else "sleeve"
+        return role, side, limb_side
     for sname in ("left", "right"):
         tc = touches(f"cuff_{sname}")
         members = _limb_group(sname, tc, free, W, centred, s_rel, limb_side)

@@ -108,6 +108,11 @@ def _mirrored(names: list[str], seam_list: list, mids: np.ndarray, mirror: np.nd
     return out
 
 
+def _sfx(side: str) -> str:
+    """``_left``/``_right``; nothing for a centred (lone) limb."""
+    return f"_{side}" if side in ("left", "right") else ""
+
+
 def _side_of(x: float) -> str:
     return "left" if x > 0 else "right"
 
@@ -132,11 +137,11 @@ def _role_seam(a: int, b: int, lay: PanelLayout) -> str | None:
     ra, rb = lay.role[a], lay.role[b]
     roles = {ra, rb}
     if roles == {"sleeve", "body"}:
-        return f"armhole_{lay.side[a] if ra == 'sleeve' else lay.side[b]}"
+        return f"armhole{_sfx(lay.side[a] if ra == 'sleeve' else lay.side[b])}"
     if roles == {"cuff", "sleeve"}:
-        return f"cuff_{lay.side[a]}"
+        return f"cuff{_sfx(lay.side[a])}"
     if roles <= {"sleeve", "cuff"} and lay.side[a] == lay.side[b]:
-        return f"cuff_{lay.side[a]}_end" if roles == {"cuff"} else f"sleeve_{lay.side[a]}"
+        return f"cuff{_sfx(lay.side[a])}_end" if roles == {"cuff"} else f"sleeve{_sfx(lay.side[a])}"
     if "strap" in roles and roles <= {"strap", "body", "collar"}:
         return f"strap_{lay.side[a] if ra == 'strap' else lay.side[b]}"
     fixed = {
