@@ -404,7 +404,8 @@ def test_pattern_measure_refuses_an_offset_that_closes_the_opening():
     g = annulus()
     ops = openings(g.V3, g.F3)
     hole = min(range(len(ops)), key=lambda i: ops[i].length)
-    with pytest.raises(PtailorError, match=r"by 1\.5: in the pattern of front the opening is"):
+    # a flat ring no opening rule recognises: its panel is panel_0
+    with pytest.raises(PtailorError, match=r"by 1\.5: in the pattern of panel_0 the opening is"):
         adjustment(g, pattern_recipe(f"{{loop: {hole}}}", 1.5))
 
 

@@ -620,3 +620,114 @@ def test_a_garment_no_rule_recognises_gets_plain_names_and_a_warning(tmp_path):
     assert r.exit_code == 0, r.output
     report = json.loads((tmp_path / "o" / "report.json").read_text())
     assert any("panel_0" in w and "no rule recognised" in w for w in report["warnings"])
+
+
+@pytest.mark.parametrize(
+    ("gores", "expected"),
+    [
+        (2, ["skirt_front", "skirt_back"]),
+        (4, ["skirt_front_right", "skirt_front_left", "skirt_back_left", "skirt_back_right"]),
+        (6, ["skirt_front_right", "skirt_front", "skirt_front_left", "skirt_back_left",
+             "skirt_back", "skirt_back_right"]),
+    ],
+)  # fmt: skip
+def test_gored_skirts_are_named_front_back_and_by_side(gores, expected):
+    """Skirts of 2-6 gores the rules were not tuned on: front/back by side, mirror gores
+    and seams named alike, and ``front``/``back`` select every front/back gore."""
+    from ptailor.edits.region import panels_named
+    from ptailor.model.names.roles import mirror_name
+    from ptailor.samples import gored_skirt
+
+    g = gored_skirt(gores=gores)
+    plist, lay, _, snames = layout_and_seams(g)
+    assert lay.names == expected
+    for name in lay.names + snames:  # every left name has its right mirror
+        assert mirror_name(name) in lay.names + snames
+    fronts = {p.name for p in panels_named(["front"], plist)}
+    assert fronts == {n for n in expected if "_front" in n}
+    assert "skirt_side_left" in snames and "skirt_side_right" in snames
+
+
+def test_a_front_in_halves_is_selected_by_front_and_sewn_at_the_centre_front():
+    from ptailor.edits.region import panels_named
+    from ptailor.samples import halved_bodice
+
+    g = halved_bodice()
+    plist, lay, _, snames = layout_and_seams(g)
+    assert sorted(lay.names) == ["skirt_back", "skirt_front_left", "skirt_front_right"]
+    assert {p.name for p in panels_named(["front"], plist)} == {
+        "skirt_front_left",
+        "skirt_front_right",
+    }
+    assert "skirt_center_front" in snames
+
+
+@pytest.mark.parametrize("make", ["gored_skirt", "halved_bodice"])
+def test_one_recipe_for_front_and_back_runs_on_the_generated_kinds(make):
+    from ptailor import samples
+
+    g = getattr(samples, make)()
+    rec = parse_recipe("units: cm\nsteps: [{op: loosen, region: {panels: [front, back]}, by: 1}]")
+    a = adjustment(g, rec, baseline=False)
+    assert a.result.info.converged and a.result.info.seam_violation < 1e-6
+
+
+TEE_NAMES = {
+    "two": ["sleeve_right_front", "front", "sleeve_left_front", "sleeve_right_back", "back",
+            "sleeve_left_back"],
+    "one": ["sleeve_right", "front", "sleeve_left", "back"],
+    "none": ["front", "back"],
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("sleeves", sorted(TEE_NAMES))
+def test_a_generated_tee_is_named_front_back_and_sleeves(sleeves):
+    from ptailor.samples import flat_tee
+
+    g = flat_tee(sleeves=sleeves)
+    _, lay, _, snames = layout_and_seams(g)
+    assert lay.names == TEE_NAMES[sleeves]
+    assert {"shoulder_left", "shoulder_right", "side_left", "side_right"} <= set(snames)
+    assert ("armhole_left_front" in snames) == (sleeves != "none")
+    assert sorted(o.name for o in lay.openings) == ["cuff_left", "cuff_right", "hem", "neckline"]
+
+
+@pytest.mark.parametrize("sleeves", ["two", "one"])
+def test_the_tees_names_hold_when_it_is_turned_mirrored_and_subdivided(sleeves):
+    """The same tee turned 20 degrees about up, mirrored, subdivided (4x) and written in mm:
+    the same names (left and right swapped in the mirror)."""
+    from ptailor.samples import flat_tee
+
+    g = flat_tee(sleeves=sleeves)
+    want = TEE_NAMES[sleeves]
+    assert layout_and_seams(rotated_about_up(g, 20.0))[1].names == want
+    assert layout_and_seams(mirrored(g))[1].names == [swap_sides(n) for n in want]
+    fine = subdivided_garment(g)
+    assert layout_and_seams(fine)[1].names == want
+    big = replace(g, V3=g.V3 * 10.0, V2=g.V2 * 10.0)  # mm: the rules are scale-free
+    assert layout_and_seams(big)[1].names == want
+
+
+def subdivided_garment(g: Garment) -> Garment:
+    import sys
+
+    from tests.conftest import ROOT
+
+    sys.path.insert(0, str(ROOT / "bench"))
+    from subdivide import subdivide_garment
+
+    V3, F3, V2, F2, parent = subdivide_garment(g.V3, g.F3, g.V2, g.F2, levels=1)
+    return replace(g, V3=V3, F3=F3, V2=V2, F2=F2, face_group=g.face_group[parent])
+
+
+def test_one_catalogue_recipe_runs_on_the_generated_tee():
+    from ptailor.samples import flat_tee
+
+    g = flat_tee(sleeves="two")
+    rec = parse_recipe(
+        "units: cm\nsteps:\n  - {op: loosen, region: {panels: [front, back]}, by: 1}\n"
+        "  - {op: scale, region: {panels: [sleeve_left]}, direction: around, axis: auto,"
+        " factor: 1.1}\n"
+    )
+    a = adjustment(g, rec, baseline=False)
+    assert a.result.info.converged and a.result.info.seam_violation < 1e-6

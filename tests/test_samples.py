@@ -392,3 +392,25 @@ def test_sample_for_triangles_all_small_sizes_within_5_percent() -> None:
     counts = np.array([sample_for_triangles(n).n_faces for n in range(100, 400, 7)])
     req = np.arange(100, 400, 7)
     assert (np.abs(counts - req) <= 0.05 * req).all()
+
+
+def test_split_pattern_duplicates_only_the_vertices_on_the_cut():
+    from ptailor.samples.grid import split_pattern
+
+    V2 = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    F2 = np.array([[0, 1, 2], [0, 2, 3]])
+    W, G, src = split_pattern(V2, F2, np.array([0, 1]))
+    assert len(W) == 6  # 0 and 2 are on the cut: one copy per side
+    np.testing.assert_array_equal(W[G], V2[F2])  # the same triangles
+    assert set(G[0]) & set(G[1]) == set()
+    np.testing.assert_array_equal(W, V2[src])
+
+
+def test_gored_skirt_is_the_cone_skirt_cut_and_refuses_odd_gores():
+    from ptailor.samples import cone_skirt, gored_skirt
+
+    g, s = cone_skirt(), gored_skirt(gores=6)
+    np.testing.assert_array_equal(s.V3, g.V3)
+    np.testing.assert_array_equal(s.V2[s.F2], g.V2[g.F2])
+    with pytest.raises(ValueError, match="even"):
+        gored_skirt(gores=3)

@@ -13,7 +13,8 @@ scales are known in closed form.
 
 Modules: :mod:`~ptailor.samples.grid` (the building blocks), :mod:`~ptailor.samples.tubes`
 (lantern sleeve, cylinder, T-seam tube), :mod:`~ptailor.samples.cones` (cone skirt, bodice,
-the cone skirt without panel names).
+the cone skirt without panel names, a gored skirt, a bodice with its front in halves),
+:mod:`~ptailor.samples.tee` (a flat tee with one- or two-piece sleeves or none).
 :data:`SAMPLES` names the ones ``ptailor demo --sample`` offers; every sample a bundled
 recipe names (its ``# sample: NAME`` line) is among them.
 """
@@ -23,8 +24,9 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from ptailor.model.garment import Garment
-from ptailor.samples.cones import bodice, cone_skirt, unnamed_skirt
+from ptailor.samples.cones import bodice, cone_skirt, gored_skirt, halved_bodice, unnamed_skirt
 from ptailor.samples.grid import PANEL_GAP
+from ptailor.samples.tee import flat_tee
 from ptailor.samples.tubes import cylinder, lantern_sleeve, sample_for_triangles, tseam_tube
 
 __all__ = [
@@ -33,6 +35,9 @@ __all__ = [
     "bodice",
     "cone_skirt",
     "cylinder",
+    "flat_tee",
+    "gored_skirt",
+    "halved_bodice",
     "lantern_sleeve",
     "sample_for_triangles",
     "tseam_tube",

@@ -138,3 +138,58 @@ def unnamed_skirt(**options: float) -> Garment:
     import dataclasses
 
     return dataclasses.replace(cone_skirt(**options), group_names=())
+
+
+def gored_skirt(*, gores: int = 4, **options: float) -> Garment:
+    """:func:`cone_skirt` cut into ``gores`` panels of equal angle around the body, without
+    panel names (a skirt of 2, 4 or 6 gores as an export with no groups).
+
+    The gore seams are at the angles ``2 pi k / gores`` from the wearer's left (the first on
+    the left side), so an even count has side seams at +-x and, from 4 up, a centre-front
+    and centre-back seam; each pattern piece is its part of the developed halves.
+
+    Parameters
+    ----------
+    gores : int
+        Panels: an even number, at least 2 (the cone skirt's front and back halves are cut
+        further).
+    **options
+        :func:`cone_skirt`'s keyword-only options.
+    """
+    import dataclasses
+
+    from ptailor.samples.grid import check_count, split_pattern
+
+    check_count("gores", gores, 2)
+    if gores % 2:
+        raise ValueError(f"gores must be even (the front and back halves are cut), got {gores}")
+    g = cone_skirt(**options)
+    c = g.V3[g.F3].mean(axis=1)
+    angle = np.mod(np.arctan2(c[:, 2], c[:, 0]), 2.0 * np.pi)
+    lab = np.minimum((angle / (2.0 * np.pi / gores)).astype(np.int64), gores - 1)
+    V2, F2, _ = split_pattern(g.V2, g.F2, lab)
+    return dataclasses.replace(
+        g, V2=V2, F2=F2, face_group=np.full(g.n_faces, -1, dtype=np.int64), group_names=()
+    )
+
+
+def halved_bodice(**options: float) -> Garment:
+    """:func:`bodice` with its front cut in halves at the centre front (a tank top's
+    ``front_left`` and ``front_right``) and no panel names.
+
+    Parameters
+    ----------
+    **options
+        :func:`bodice`'s keyword-only options.
+    """
+    import dataclasses
+
+    from ptailor.samples.grid import split_pattern
+
+    g = bodice(**options)
+    c = g.V3[g.F3].mean(axis=1)
+    lab = np.where(c[:, 2] < 0, 0, np.where(c[:, 0] >= 0, 1, 2))  # back, front left, right
+    V2, F2, _ = split_pattern(g.V2, g.F2, lab)
+    return dataclasses.replace(
+        g, V2=V2, F2=F2, face_group=np.full(g.n_faces, -1, dtype=np.int64), group_names=()
+    )

@@ -161,3 +161,35 @@ def assemble_grids(
     :func:`quad_faces` takes them (pattern indices already offset)."""
     faces = [quad_faces(idx3, idx2) for idx3, idx2 in grids]
     return assemble(V3, [f[0] for f in faces], V2s, [f[1] for f in faces], names)
+
+
+def split_pattern(
+    V2: np.ndarray, F2: np.ndarray, labels: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Cut a pattern into pieces along the edges between differently labelled triangles.
+
+    Every pattern vertex used by triangles of several labels is duplicated, one copy per
+    label, so each label's triangles become a piece of their own (the drape, untouched,
+    keeps them sewn: the new edges are seams).
+
+    Parameters
+    ----------
+    V2 : (n, 2) float array
+    F2 : (m, 3) int array
+    labels : (m,) int array
+        The new piece of each triangle.
+
+    Returns
+    -------
+    V2 : (k, 2) float array
+        The pattern vertices, one per (vertex, label) pair used.
+    F2 : (m, 3) int array
+    source : (k,) int array
+        Each new vertex's vertex in the input.
+    """
+    F2 = np.asarray(F2, dtype=np.int64)
+    lab = np.repeat(np.asarray(labels, dtype=np.int64), 3)
+    key = F2.ravel() * (int(lab.max(initial=0)) + 1) + lab
+    uniq, inv = np.unique(key, return_inverse=True)
+    source = uniq // (int(lab.max(initial=0)) + 1)
+    return np.asarray(V2, dtype=np.float64)[source], inv.reshape(F2.shape), source
