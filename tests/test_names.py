@@ -731,3 +731,18 @@ def test_one_catalogue_recipe_runs_on_the_generated_tee():
     )
     a = adjustment(g, rec, baseline=False)
     assert a.result.info.converged and a.result.info.seam_violation < 1e-6
+
+
+@pytest.mark.parametrize("key", sorted(EXPECTED))
+def test_one_catalogue_recipe_runs_on_every_shared_garment(key):
+    """Acceptance (issue 24): ``{panels: [front, back]}`` and, where the garment has one,
+    ``{panels: [sleeve_left]}`` run as they stand on each shared garment."""
+    g = real(key)
+    steps = ["  - {op: loosen, region: {panels: [front, back]}, by: 1}"]
+    if any(n.startswith("sleeve_left") for n in EXPECTED[key]):
+        steps.append(
+            "  - {op: scale, region: {panels: [sleeve_left]}, direction: around, axis: auto,"
+            " factor: 1.1}"
+        )
+    a = adjustment(g, parse_recipe("units: cm\nsteps:\n" + "\n".join(steps) + "\n"), baseline=False)
+    assert a.result.info.converged and a.result.info.seam_violation < 1e-6

@@ -165,3 +165,23 @@ def test_a_metric_dxf_in_cm_reads_as_the_same_pieces_as_the_mm_one(tmp_path):
         np.testing.assert_allclose(a["size_cm"], b["size_cm"], rtol=1e-6)
     text = run("inspect", dst).output
     assert text.count("size (cm)") == 1  # one size column for a file in cm
+
+
+def test_a_garment_beside_a_body_of_another_size_is_exit_2_unless_its_units_are_given(tmp_path):
+    """A body written in metres read as cm (1.7 'cm' tall) beside a 30 cm bodice."""
+    import trimesh
+
+    body = tmp_path / "body.obj"
+    trimesh.creation.box(extents=(0.5, 1.7, 0.3)).export(body)
+    garment = tmp_path / "b.obj"
+    write_garment(garment, bodice())
+    rec = tmp_path / "r.yaml"
+    rec.write_text("units: cm\nsteps: []\n")
+    out = tmp_path / "out"
+    res = run("adjust", garment, rec, "-o", out, "--body", body, "--no-baseline")
+    assert res.exit_code == 2, res.output
+    assert "--body-units" in res.output and "--drape-units" in res.output
+    assert not out.exists()
+    ok = run("adjust", garment, rec, "-o", out, "--body", body, "--body-units", "m",
+             "--no-baseline", "-q")  # fmt: skip
+    assert ok.exit_code == 0, ok.output

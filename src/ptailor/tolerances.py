@@ -162,6 +162,8 @@ GARMENT_THICKNESS_MAX_CM = 80.0
 PIECE_LENGTH_MIN_CM = 10.0
 #: ... and no piece wider (its smaller principal extent) than the widest cloth (cm).
 PIECE_WIDTH_MAX_CM = 160.0
+#: ... and beside a ``--body``, its drape's largest extent this many times the body's.
+BODY_SIZE_RATIO = (0.1, 1.5)
 #: Largest length given as an option (``--seam-allowance``, ``--weld``), centimetres.
 LENGTH_MAX_CM = 1e4
 #: Longest panel name drawn in a preview (longer ones are shortened with an ellipsis).

@@ -154,6 +154,36 @@ def piece_warnings(plan, carried: list, seam_allowance: float | None) -> list[st
     return warnings
 
 
+def check_size_against_body(garment, body, *, path: str) -> None:
+    """A garment read in the default unit (``--drape-units`` not given) beside a ``--body``
+    must be of the body's size: its drape's largest extent between ``tol.BODY_SIZE_RATIO``
+    times the body's; else :class:`~ptailor.model.repair.UnitMismatchError` (exit 2).
+
+    Parameters
+    ----------
+    garment : Garment
+    body : trimesh.Trimesh
+        In the garment's computation unit.
+    path : str
+        The garment file, named in the message.
+    """
+    from ptailor.model.repair import UnitMismatchError
+
+    used = np.unique(garment.F3)
+    g_ext = float(np.ptp(garment.V3[used], axis=0).max())
+    b_ext = float(np.max(body.extents))
+    lo, hi = tol.BODY_SIZE_RATIO
+    if b_ext > 0 and not lo <= g_ext / b_ext <= hi:
+        u = garment.units
+        raise UnitMismatchError(
+            f"read in cm (--drape-units not given) the garment is {g_ext:.4g} {u} across and"
+            f" the body (--body, in --body-units) {b_ext:.4g} {u}: a garment is {lo:g}-{hi:g}"
+            f" times its body's size; give the garment's units with --drape-units and"
+            f" --pattern-units (or check --body-units)",
+            path=path,
+        )
+
+
 def input_warnings(loaded) -> list[str]:
     """What reading the pattern said, and the pattern scale when it was estimated
     (``loaded``: a :class:`~ptailor.formats.garment.LoadedGarment`)."""

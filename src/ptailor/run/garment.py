@@ -32,6 +32,7 @@ from ptailor.run.checks import (
     check_finite_report,
     check_finite_result,
     check_seam_allowance,
+    check_size_against_body,
     run_warnings,
 )
 from ptailor.run.inputs import checked_recipe, edit_options, load_input, plan_pieces
@@ -119,6 +120,8 @@ def staged_run(
     if progress is not None:
         progress("read", 0, None)
     loaded = load_input(garment, drape, recipe, options)
+    if edits.body is not None and options.drape_units is None:
+        check_size_against_body(loaded.garment, edits.body, path=shown)
     plan = plan_pieces(loaded, edits, options)
     if options.seam_allowance:
         check_seam_allowance(loaded.garment, options.seam_allowance)
