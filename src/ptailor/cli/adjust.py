@@ -7,6 +7,7 @@ import click
 from ptailor.cli.options import (
     axes_options,
     baseline_option,
+    body_options,
     dxf_options,
     garment_options,
     output_options,
@@ -32,13 +33,7 @@ from ptailor.cli.options import (
     default=None,
     help="Override how intrinsic scale targets are formed.",
 )
-@click.option(
-    "--body",
-    type=click.Path(dir_okay=False),
-    default=None,
-    help="Watertight body mesh: extended rows are pushed out of it.",
-)
-@click.option("--body-units", default="cm", show_default=True, help="Unit of the body mesh.")
+@body_options
 @verify_options
 @baseline_option
 @output_options

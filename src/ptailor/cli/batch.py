@@ -9,6 +9,7 @@ from ptailor.cli.options import (
     Finite,
     axes_options,
     baseline_option,
+    body_options,
     dxf_options,
     output_options,
     units_options,
@@ -93,6 +94,7 @@ def gate_options(fn):
 @units_options
 @axes_options
 @baseline_option
+@body_options
 @verify_options
 @output_options
 @dxf_options
@@ -140,6 +142,8 @@ def batch(
     out,
     pattern_units,
     drape_units,
+    body,
+    body_units,
     weld,
     up,
     front,

@@ -210,6 +210,21 @@ def max_steps_option(name: str = "--max-steps"):
     )
 
 
+def body_options(fn):
+    """``--body`` (a file or ``auto``) and ``--body-units``: the body a garment is worn on."""
+    fn = click.option(
+        "--body-units", default="cm", show_default=True, help="Unit of the body mesh."
+    )(fn)
+    return click.option(
+        "--body",
+        type=click.Path(dir_okay=False),
+        default=None,
+        help="Watertight body mesh in the garment's frame (rows that extend adds are pushed "
+        "out of it; the re-drapes collide with it), or auto: GarmentCode's mean body fitted "
+        "to the drape (pose, scale and place; the fit goes into the report and verify.json).",
+    )(fn)
+
+
 def verify_options(fn):
     """``--verify``, ``--verify-rest``, ``--verify-max-steps``: the re-drape check."""
     for opt in reversed(

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ptailor.cli.options import AXES, max_steps_option, rest_option, units_options
+from ptailor.cli.options import AXES, body_options, max_steps_option, rest_option, units_options
 
 
 @click.command()
@@ -20,14 +20,7 @@ from ptailor.cli.options import AXES, max_steps_option, rest_option, units_optio
 @units_options
 @click.option("--up", default=None, type=click.Choice(AXES), help="Up axis [default: y].")
 @click.option("--front", default=None, type=click.Choice(AXES), help="Front axis [default: z].")
-@click.option(
-    "--body",
-    type=click.Path(dir_okay=False),
-    default=None,
-    help="Watertight body mesh in the garment's frame: the re-drapes collide with it (the "
-    "top opening is pinned either way).",
-)
-@click.option("--body-units", default="cm", show_default=True, help="Unit of the body mesh.")
+@body_options
 @rest_option()
 @max_steps_option()
 @click.option("--json", "as_json", is_flag=True, help="Print verify.json on stdout.")

@@ -10,7 +10,7 @@ from __future__ import annotations
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -35,7 +35,13 @@ from ptailor.run.checks import (
     check_size_against_body,
     run_warnings,
 )
-from ptailor.run.inputs import checked_recipe, edit_options, load_input, plan_pieces
+from ptailor.run.inputs import (
+    checked_recipe,
+    edit_options,
+    fitted_body,
+    load_input,
+    plan_pieces,
+)
 from ptailor.run.options import RunOptions
 from ptailor.run.outputs import OutputContext, write_outputs
 from ptailor.run.sections import pattern_section, units_section
@@ -113,14 +119,18 @@ def staged_run(
         The report, as ``report.json`` will hold it.
     """
     recipe = checked_recipe(recipe, options)
-    check_output_dir(out, [garment, drape, options.body])
+    check_output_dir(out, [garment, drape, options.body if options.body != "auto" else None])
     shown = (display_inputs or {}).get("garment", garment)  # the garment errors name
     edits = edit_options(recipe, options)
     t0 = time.perf_counter()
     if progress is not None:
         progress("read", 0, None)
     loaded = load_input(garment, drape, recipe, options)
-    if edits.body is not None and options.drape_units is None:
+    body_fit = None
+    if options.body == "auto":
+        body, body_fit = fitted_body(loaded.garment, up=edits.up, front=edits.front, path=shown)
+        edits = replace(edits, body=body)
+    elif edits.body is not None and options.drape_units is None:
         check_size_against_body(loaded.garment, edits.body, path=shown)
     plan = plan_pieces(loaded, edits, options)
     if options.seam_allowance:
@@ -160,6 +170,7 @@ def staged_run(
         redrapes=redrapes,
         edits=edits,
         reference=reference,
+        body_fit=body_fit,
     )
     with _staged_folder(
         out, staged, shown=shown, display=display_inputs or {}, extra_files=extra_files
@@ -182,6 +193,7 @@ class _Staged:
     redrapes: Any = None
     edits: Any = None
     reference: Any = None
+    body_fit: dict | None = None  # --body auto: the fit's record
 
 
 @contextmanager
@@ -229,6 +241,7 @@ def _report(loaded: LoadedGarment, staged: _Staged, timing: dict) -> dict:
             "pattern": pattern_section(loaded, ctx.plan, ctx.pieces, options.seam_allowance),
             "intake": loaded.intake,
             **({"verify": staged.redrapes.section} if staged.redrapes is not None else {}),
+            **({"body_fit": staged.body_fit} if staged.body_fit is not None else {}),
         },
     )
 
@@ -280,5 +293,7 @@ def _checked_errors(adj: Adjustment, *, shown: str) -> tuple[np.ndarray, Any]:
 
 
 def _read(inputs: dict[str, str], options: RunOptions) -> dict[str, str]:
-    """Role to the path read: ``inputs`` and the body."""
-    return {**inputs, **({"body": options.body} if options.body else {})}
+    """Role to the path read: ``inputs`` and the body (a fitted body, ``--body auto``, is
+    no file read: the report's ``body_fit`` records it)."""
+    body = options.body if options.body not in (None, "auto") else None
+    return {**inputs, **({"body": body} if body else {})}

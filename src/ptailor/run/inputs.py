@@ -34,14 +34,43 @@ def load_body(path: str, *, units: str, to: str):
 
 
 def edit_options(recipe: Recipe, options: RunOptions) -> EditOptions:
-    """The edits' options: the garment's axes (the options', else the recipe's) and the body."""
+    """The edits' options: the garment's axes (the options', else the recipe's) and the body
+    (``--body auto`` is fitted once the garment is read: :func:`fitted_body`)."""
     up, front = resolve_axes(options.up, options.front, recipe)
-    body = options.body
+    body = options.body if options.body != "auto" else None
     return EditOptions(
         up=up,
         front=front,
         body=load_body(body, units=options.body_units, to=recipe.units) if body else None,
     )
+
+
+def fitted_body(garment, *, up, front, path: str | None = None):
+    """``--body auto``: the mean body fitted to a garment's drape
+    (:func:`ptailor.verify.fit.fit_body`), as a trimesh in the garment's frame and units,
+    and the fit's record.
+
+    Raises
+    ------
+    PtailorError
+        A drape the body cannot be fitted to (exit 2).
+    """
+    import trimesh
+
+    from ptailor.model.openings import openings
+    from ptailor.model.units import CM_PER
+    from ptailor.verify.fit import fit_body
+
+    fit = fit_body(
+        garment.V3,
+        garment.F3,
+        openings=openings(garment.V3, garment.F3, up=up, front=front, F2=garment.F2),
+        up=up,
+        front=front,
+        cm_per_unit=CM_PER.get(garment.units, 1.0),
+        path=path,
+    )
+    return trimesh.Trimesh(fit.V, fit.F, process=False), fit.record()
 
 
 def load_input(

@@ -290,17 +290,22 @@ def verify_garment(
         What ``verify.json`` holds.
     """
     from ptailor.recipe import resolve_axes
-    from ptailor.run.inputs import load_body
+    from ptailor.run.inputs import fitted_body, load_body
 
     check_verify_options(options.verify_rest, options.verify_max_steps)
     check_engine()
-    check_output_dir(out, [garment, original, options.body])
+    auto = options.body == "auto"
+    check_output_dir(out, [garment, original, None if auto else options.body])
     axes = resolve_axes(options.up, options.front)
     orig = None if original is None else _load(original, options, units)
     edited = _load(garment, _same_pattern_scale(options, orig, units), units)
     orig = orig or edited
     same_faces(edited.garment, orig.garment, garment=garment, original=original or garment)
-    body = load_body(options.body, units=options.body_units, to=units) if options.body else None
+    fit = None
+    if auto:  # fitted to the original drape, the one the garment was simulated on
+        body, fit = fitted_body(orig.garment, up=axes[0], front=axes[1], path=original or garment)
+    else:
+        body = load_body(options.body, units=options.body_units, to=units) if options.body else None
     inp = garment_redrape(edited.garment, orig.garment, axes=axes)
     t0 = time.perf_counter()
     res = redrape_check(
@@ -312,9 +317,11 @@ def verify_garment(
         max_steps=options.verify_max_steps,
     )
     inputs = {"garment": garment, "original": original or garment}
-    if options.body:
+    if options.body and not auto:
         inputs["body"] = options.body
     doc = {"inputs": inputs, "units": units, "verify": res.section}
+    if fit is not None:
+        doc["body_fit"] = fit
     with staged_dir(out) as tmp:
         written = write_verify_files(tmp, res, loaded=edited, body=body, axes=axes)
         doc["outputs"] = sorted(["verify.json", *written])

@@ -1,0 +1,248 @@
+"""A body for every garment: GarmentCode's mean body, posed and fitted to a drape.
+
+``--body auto`` places a body inside a garment so that the re-drape check has something to
+hang the cloth on. ptailor ships GarmentCode's MIT mean body (``verify/bodies``: A-pose and
+T-pose, decimated by pymeshlab to 7,002 vertices, in metres, y up, z front, feet at 0;
+``bench/make_bodies.py`` makes them from ``../shared/bodies``). The fit is a similarity:
+
+1. *Pose*: a top whose cuffs lie more than ``T_POSE_DEG`` from straight down, seen from
+   the neckline, takes the T-pose body, every other garment the A-pose one.
+2. *Anchor*: where the garment hangs. A top's neckline centroid goes to the body's neck
+   base (``NECK_HEIGHT`` of its height, on the torso's mid-depth), a skirt's or trousers'
+   waist centroid to its waist (``WAIST_HEIGHT``). A drape with neither is refused.
+3. *Scale*: the largest body scale (about the anchor, in ``SCALE_RANGE``) at which at most
+   ``INSIDE_MAX`` of the torso's vertices (those no farther out than the hem reaches: a
+   sleeve at another angle than the body's arm does not decide) lie inside the body (moved up to
+   ``OFFSET_CM`` up, down, forward or back from the anchor, the best kept), by bisection; each
+   vertex is inside when it lies behind the nearest body vertex's normal (a KD-tree query:
+   the body's vertices are about 1.5 cm apart, the test is that exact).
+
+No rotation is fitted: the garment's ``up``/``front`` axes say how it is worn.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from importlib import resources
+
+import numpy as np
+
+from ptailor.errors import PtailorError
+from ptailor.model.openings import Opening, body_frame
+
+__all__ = ["BodyFit", "fit_body", "mean_body"]
+
+#: the sleeves' angle from straight down (degrees) above which the T-pose body is taken
+T_POSE_DEG = 70.0
+#: the neck base and the waist, as fractions of the body's height
+NECK_HEIGHT = 0.835
+WAIST_HEIGHT = 0.61
+#: body scales tried, and the most garment vertices left inside the body
+SCALE_RANGE = (0.5, 1.5)
+INSIDE_MAX = 0.005
+#: bisection steps on the scale
+SCALE_STEPS = 10
+#: the body's offsets from the anchor tried, up/down and front/back: up to this (cm), in steps
+OFFSET_CM = 6.0
+OFFSET_STEP_CM = 2.0
+#: garment vertices the fit looks at, at most (evenly subsampled)
+FIT_POINTS = 6000
+
+
+@dataclass(frozen=True)
+class BodyFit:
+    """A body fitted to a garment.
+
+    Attributes
+    ----------
+    V : (k, 3) float array
+        The body's vertices in the garment's coordinates and units.
+    F : (f, 3) int array
+        Outward triangles.
+    pose : str
+        ``a`` or ``t``.
+    scale : float
+        Against the mean body (1.72 m tall).
+    anchor : str
+        ``neckline`` or ``waist``.
+    inside : float
+        Fraction of the garment's vertices inside the body.
+    gap_rms, gap_median : float
+        The garment's vertices' distances to the nearest body vertex (garment units).
+    """
+
+    V: np.ndarray
+    F: np.ndarray
+    pose: str
+    scale: float
+    anchor: str
+    inside: float
+    gap_rms: float
+    gap_median: float
+
+    def record(self) -> dict:
+        """The fit as ``verify.json`` and the report hold it."""
+        return {
+            "body": "GarmentCode mean body (MIT)",
+            "pose": f"{self.pose}-pose",
+            "scale": round(self.scale, 4),
+            "anchor": self.anchor,
+            "inside_fraction": round(self.inside, 5),
+            "gap_rms": round(self.gap_rms, 4),
+            "gap_median": round(self.gap_median, 4),
+        }
+
+
+def mean_body(pose: str) -> tuple[np.ndarray, np.ndarray]:
+    """The shipped mean body, ``(V, F)`` in metres (y up, z front, feet at 0).
+
+    Parameters
+    ----------
+    pose : str
+        ``a`` or ``t``.
+    """
+    ref = resources.files("ptailor.verify") / "bodies" / f"body_{pose}pose.npz"
+    with resources.as_file(ref) as path, np.load(path) as data:
+        return data["V"].astype(np.float64), data["F"].astype(np.int64)
+
+
+def _vertex_normals(V: np.ndarray, F: np.ndarray) -> np.ndarray:
+    """Area-weighted unit vertex normals of an outward mesh."""
+    c = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    N = np.zeros_like(V)
+    for k in range(3):  # the three corners
+        np.add.at(N, F[:, k], c)
+    return N / np.maximum(np.linalg.norm(N, axis=1, keepdims=True), 1e-300)
+
+
+def _inside(P: np.ndarray, V: np.ndarray, N: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per point: inside (behind its nearest body vertex's normal) and that distance."""
+    from scipy.spatial import cKDTree
+
+    d, i = cKDTree(V).query(P)
+    return np.einsum("ij,ij->i", P - V[i], N[i]) < 0.0, d
+
+
+def _pose(ops: dict[str, Opening], frame: np.ndarray) -> str:
+    """``t`` when a top's cuffs lie more than :data:`T_POSE_DEG` from straight down."""
+    if not {"neckline", "cuff_left", "cuff_right"} <= ops.keys():
+        return "a"
+    neck = ops["neckline"].centroid @ frame.T
+    angles = []
+    for side in ("cuff_left", "cuff_right"):
+        d = ops[side].centroid @ frame.T - neck
+        angles.append(np.degrees(np.arccos(np.clip(-d[1] / np.linalg.norm(d), -1.0, 1.0))))
+    return "t" if float(np.mean(angles)) > T_POSE_DEG else "a"
+
+
+def fit_body(
+    V3: np.ndarray,
+    F3: np.ndarray,
+    *,
+    openings: list[Opening],
+    up=(0.0, 1.0, 0.0),
+    front=(0.0, 0.0, 1.0),
+    cm_per_unit: float = 1.0,
+    path: str | None = None,
+) -> BodyFit:
+    """Fit the mean body to a garment's drape (see the module docstring).
+
+    Parameters
+    ----------
+    V3 : (n, 3) float array
+    F3 : (m, 3) int array
+    openings : list of Opening
+        The drape's named openings (:func:`ptailor.model.openings.openings`).
+    up, front : 3-vectors
+        How the garment is worn.
+    cm_per_unit : float, keyword-only
+        The drape's unit.
+    path : str, optional
+        The file named in errors.
+
+    Returns
+    -------
+    BodyFit
+
+    Raises
+    ------
+    PtailorError
+        A drape with no neckline and no waist (nothing to hang it on), or one the body
+        cannot be fitted inside at any scale in :data:`SCALE_RANGE`.
+    """
+    frame = body_frame(up, front)  # rows: left, up, front (the body's x, y, z)
+    ops = {o.name: o for o in openings}
+    anchor = "neckline" if "neckline" in ops else "waist" if "waist" in ops else None
+    if anchor is None:
+        raise PtailorError(
+            "--body auto: the drape has neither a neckline nor a waist to hang it on a body "
+            f"(its openings: {', '.join(sorted(ops)) or 'none'}); give a body with --body FILE",
+            path=path,
+        )
+    pose = _pose(ops, frame)
+    BV, BF = mean_body(pose)
+    BN = _vertex_normals(BV, BF)
+    to_m = cm_per_unit / 100.0
+    used = np.unique(np.asarray(F3))
+    P = (np.asarray(V3, dtype=np.float64)[used] @ frame.T) * to_m  # body axes, metres
+    a_g = (ops[anchor].centroid @ frame.T) * to_m
+    # the torso decides: the vertices no farther out than the hem (or the waist) reaches,
+    # so a sleeve at another angle than the body's arm does not shrink the body
+    bottom = ops.get("hem") or ops.get("waist")
+    if bottom is not None:
+        reach = float(np.abs((V3[bottom.loop] @ frame[0]) * to_m - a_g[0]).max())
+        torso = np.abs(P[:, 0] - a_g[0]) <= reach
+        if torso.sum() >= 100:
+            P = P[torso]
+    P = P[:: max(1, len(P) // FIT_POINTS)]
+    h = float(BV[:, 1].max() - BV[:, 1].min())
+    y_a = h * (NECK_HEIGHT if anchor == "neckline" else WAIST_HEIGHT)
+    band = BV[np.abs(BV[:, 1] - y_a) < 0.02 * h]
+    a_b = np.array([0.0, y_a, 0.5 * float(band[:, 2].min() + band[:, 2].max())])
+
+    # the anchor is where the garment hangs, not a landmark it hits exactly: offsets of the
+    # body up/down and front/back (cm) tried at each scale, the least inside kept
+    steps = np.arange(-OFFSET_CM, OFFSET_CM + 1e-9, OFFSET_STEP_CM) / 100.0
+    offsets = np.stack(np.meshgrid(steps, steps, indexing="ij"), -1).reshape(-1, 2)
+    offsets = offsets[np.argsort(np.abs(offsets).sum(axis=1), kind="stable")]  # nearest first
+    best: dict[float, np.ndarray] = {}
+
+    def placed(s: float, off=(0.0, 0.0)) -> np.ndarray:  # scaled by s about its anchor
+        return (BV - a_b) * s + a_g + np.array([0.0, off[0], off[1]])
+
+    def inside_fraction(s: float) -> float:
+        fr = np.array([_inside(P, placed(s, o), BN)[0].mean() for o in offsets])  # offsets
+        k = int(np.argmin(fr))
+        best[s] = offsets[k]
+        return float(fr[k])
+
+    lo, hi = SCALE_RANGE
+    if inside_fraction(lo) > INSIDE_MAX:
+        raise PtailorError(
+            f"--body auto: the body does not fit inside the drape at any scale from {lo:g} to"
+            f" {hi:g} (at {lo:g}, {100 * inside_fraction(lo):.1f} % of the garment is inside"
+            " it); check --up, --front and the units, or give a body with --body FILE",
+            path=path,
+        )
+    if inside_fraction(hi) <= INSIDE_MAX:
+        lo = hi
+    for _ in range(SCALE_STEPS):  # bisection on the scale
+        if lo == hi:
+            break
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if inside_fraction(mid) <= INSIDE_MAX else (lo, mid)
+    s = lo
+    if s not in best:
+        inside_fraction(s)
+    inside, dist = _inside(P, placed(s, best[s]), BN)
+    V_g = (placed(s, best[s]) / to_m) @ frame  # back to the garment's axes and units
+    return BodyFit(
+        V=V_g,
+        F=BF,
+        pose=pose,
+        scale=s,
+        anchor=anchor,
+        inside=float(inside.mean()),
+        gap_rms=float(np.sqrt(np.mean(dist**2)) / to_m),
+        gap_median=float(np.median(dist) / to_m),
+    )
