@@ -356,3 +356,16 @@ def test_lantern_baseline_cuff_is_held_by_the_arm(arm_check, lantern_adj):
     c = lantern_adj.state.V3[:, 1] <= 8.0  # the cuff's rings
     radius = np.hypot(drapes["baseline"][c, 0], drapes["baseline"][c, 2])
     assert np.median(radius) >= ARM_RADIUS - 0.05
+
+
+def test_a_capped_redrape_says_how_fast_it_still_moved_and_where():
+    from ptailor.verify.check import _still_moving
+
+    F3 = np.array([[0, 1, 2], [2, 3, 4], [4, 5, 6]])
+    speed = np.array([0.0, 0.01, 0.01, 0.02, 0.5, 0.5, 0.5])  # m/s; vertex 0 pinned
+    rec = _still_moving(
+        speed, F3, {"to_units": 100.0, "face_panel": np.array([0, 0, 1]), "names": ["a", "b"]}
+    )
+    assert rec["moving"][0]["panel"] == "b" and rec["moving"][0]["speed_p95"] == 50.0
+    assert [m["panel"] for m in rec["moving"]] == ["b", "a"]
+    assert rec["speed_p95"] == pytest.approx(50.0)

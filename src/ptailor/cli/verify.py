@@ -103,6 +103,10 @@ def summary_lines(doc: dict) -> list[str]:
         s95 = max((p["stretch"]["p95"] for p in panels.values()), default=float("nan"))
         d95 = max((p["displacement"]["p95"] for p in panels.values()), default=float("nan"))
         state = "settled" if r.get("settled") else "step cap"
+        if not r.get("settled") and r.get("moving"):
+            m = r["moving"][0]
+            state += f"; still moving {r['speed_p95']:.3g} {units}/s, most {m['panel']}"
+            state += f" {m['speed_p95']:.3g} {units}/s"
         lines.append(
             f"  {kind:<9} stretch p95 {s95:.3f}  displacement p95 {d95:.3g} {units}  ({state})"
         )

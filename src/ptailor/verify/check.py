@@ -72,7 +72,31 @@ def _one(V2, *, common: dict, run: dict, measure: dict) -> tuple[dict, np.ndarra
         "steps": int(drape.steps),
         "seconds": float(drape.seconds),
     }
+    if drape.speed is not None:
+        R.update(_still_moving(drape.speed, common["F3"], measure))
     return {"R": R, "drape": drape}, V, stretch
+
+
+def _still_moving(speed: np.ndarray, F3: np.ndarray, measure: dict) -> dict:
+    """How fast a re-drape still moved when it stopped, and where: the free vertices' 95th
+    percentile speed (garment units per second) and the (up to three) panels whose
+    triangles moved fastest (each triangle at its corners' mean speed, a panel at its
+    triangles' 95th percentile), fastest first."""
+    v = np.asarray(speed, dtype=float) * measure["to_units"]
+    free = v[np.unique(F3)]
+    free = free[free > 0]
+    tri = v[np.asarray(F3)].mean(axis=1)
+    fp = np.asarray(measure["face_panel"])
+    out = []
+    for k, name in enumerate(measure["names"]):  # a loop over panels
+        t = tri[fp == k]
+        if len(t):
+            out.append((float(np.percentile(t, 95)), name))
+    out.sort(key=lambda x: -x[0])
+    return {
+        "speed_p95": round(float(np.percentile(free, 95)) if len(free) else 0.0, 4),
+        "moving": [{"panel": n, "speed_p95": round(x, 4)} for x, n in out[:3]],
+    }
 
 
 def verify_patterns(
@@ -133,7 +157,9 @@ def verify_patterns(
     -------
     section : dict
         ``{"engine", "device", "steps", "seconds", "settled", "rest", NAME: R...}`` with
-        ``R = {"panels": panel_stats(...), "settled", "steps", "seconds"}``; the top-level
+        ``R = {"panels": panel_stats(...), "settled", "steps", "seconds", "speed_p95",
+        "moving"}`` (how fast the free vertices still moved when it stopped, garment units
+        per second, and the three fastest panels); the top-level
         ``steps`` and ``seconds`` are totals over the re-drapes, ``settled`` is whether all
         settled.
     drapes : dict of str to (n3, 3) float array

@@ -175,6 +175,9 @@ class Drape:
         Warp device it ran on (``"cpu"``, ``"cuda:0"``).
     engine : str
         Engine name and version.
+    speed : (n,) float array or None
+        Each vertex's speed when it stopped (the last settle check), input units per second
+        (0 for pinned and unused vertices).
     """
 
     V: np.ndarray
@@ -183,6 +186,7 @@ class Drape:
     settled: bool
     device: str
     engine: str
+    speed: np.ndarray | None = None
 
 
 def panel_triangles(rest: np.ndarray) -> np.ndarray:
@@ -282,10 +286,12 @@ class _Settle:
         self.s = s
         self.free = free
         self.run = 0
+        self.speed = np.zeros(len(free))  # every vertex's speed at the last check, m/s
 
     def check(self, qd: np.ndarray) -> bool:
         """Record one check of velocities ``qd`` (n, 3); True once settled."""
-        speed = np.linalg.norm(qd[self.free], axis=1) if self.free.any() else np.zeros(1)
+        self.speed = np.where(self.free, np.linalg.norm(qd, axis=1), 0.0)
+        speed = self.speed[self.free] if self.free.any() else np.zeros(1)
         slow = float(np.percentile(speed, 95)) < self.s.settle_speed
         self.run = self.run + 1 if slow else 0
         return self.run >= self.s.settle_checks
@@ -315,7 +321,8 @@ def _solver(newton, model, s: Settings, radius: float):
 
 
 def _simulate(wp, newton, model, s: Settings, free: np.ndarray, has_body: bool, radius: float):
-    """Step until settled or ``max_steps``; returns (positions (n, 3), steps, settled)."""
+    """Step until settled or ``max_steps``; returns (positions (n, 3), steps, settled, the
+    vertices' speeds (n,) at the last settle check, m/s)."""
     solver = _solver(newton, model, s, radius)
     a, b = model.state(), model.state()
     control = model.control()
@@ -337,7 +344,9 @@ def _simulate(wp, newton, model, s: Settings, free: np.ndarray, has_body: bool, 
         steps += 1
         if steps % s.check_every == 0:
             settled = settle.check(a.particle_qd.numpy())
-    return a.particle_q.numpy().astype(float), steps, settled
+    if steps % s.check_every:  # the speeds where it stopped
+        settle.check(a.particle_qd.numpy())
+    return a.particle_q.numpy().astype(float), steps, settled, settle.speed
 
 
 def redrape(
@@ -405,7 +414,7 @@ def redrape(
         free = np.zeros(len(V), dtype=bool)
         free[np.unique(F)] = True
         free[pinned] = False
-        X, steps, settled = _simulate(
+        X, steps, settled, speed = _simulate(
             wp, newton, model, settings, free, body is not None, self_radius(P, settings)
         )
     X = X / units_m
@@ -417,4 +426,5 @@ def redrape(
         settled=settled,
         device=str(dev),
         engine=f"newton {newton.__version__} (SolverStyle3D)",
+        speed=np.asarray(speed, dtype=float) / units_m,
     )
