@@ -369,3 +369,15 @@ def test_a_capped_redrape_says_how_fast_it_still_moved_and_where():
     assert rec["moving"][0]["panel"] == "b" and rec["moving"][0]["speed_p95"] == 50.0
     assert [m["panel"] for m in rec["moving"]] == ["b", "a"]
     assert rec["speed_p95"] == pytest.approx(50.0)
+
+
+def test_the_progress_feed_names_the_redrape_its_steps_and_speed():
+    from ptailor.verify.check import _feed
+    from ptailor.verify.engine import Settings
+
+    got = []
+    feed = _feed(lambda *a: got.append(a), "ours", Settings(max_steps=600))
+    feed(120, 0.0123)
+    ((stage, it, res),) = got
+    assert stage.startswith("re-drape ours: step 120/600") and "12.3 mm/s" in stage
+    assert "settled below 2 mm/s" in stage and it == 0 and res is None

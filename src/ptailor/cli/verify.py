@@ -76,7 +76,12 @@ def verify(
         verify_rest=rest,
         verify_max_steps=max_steps,
     )
-    doc = verify_garment(garment, out, original=original, options=options, units=units)
+    from ptailor.cli.progress import progress_line
+
+    with progress_line(quiet=quiet) as progress:
+        doc = verify_garment(
+            garment, out, original=original, options=options, units=units, progress=progress
+        )
     if as_json:
         click.echo(json.dumps(doc, indent=2))
     elif not quiet:

@@ -143,7 +143,7 @@ def staged_run(
     if options.verify:  # the re-drape check (the engine was checked before any file was read)
         from ptailor.run.verify import adjustment_redrapes
 
-        redrapes = adjustment_redrapes(adj, body=edits.body, options=options)
+        redrapes = adjustment_redrapes(adj, body=edits.body, options=options, progress=progress)
         t3 = time.perf_counter()
         timing["verify"] = t3 - t2
     carried: list = []

@@ -119,7 +119,7 @@ def to_y_up(up) -> np.ndarray:
 
 
 def redrape_check(
-    inp: Redrape, *, body, rest: str, up, units: str, max_steps: int | None
+    inp: Redrape, *, body, rest: str, up, units: str, max_steps: int | None, progress=None
 ) -> Redrapes:
     """Run the three re-drapes (:func:`ptailor.verify.check.verify_patterns`), the garment
     turned so that ``up`` is +y (the engine's gravity is along -y) and the settled drapes
@@ -135,6 +135,8 @@ def redrape_check(
     units : str
         The computation unit (the report's).
     max_steps : int, optional
+    progress : callable, optional
+        ``progress(stage, iteration, residual)``: one line per re-drape's settle checks.
     """
     from ptailor.verify.check import verify_patterns
 
@@ -156,12 +158,13 @@ def redrape_check(
         units_m=units_m(units),
         to_units=1.0,
         settings=engine_settings(max_steps),
+        progress=progress,
     )
     drapes = {k: np.asarray(V) @ R for k, V in drapes.items()}
     return Redrapes(inp=inp, section=section, drapes=drapes, stretch=stretch)
 
 
-def adjustment_redrapes(adj: Adjustment, *, body, options: RunOptions) -> Redrapes:
+def adjustment_redrapes(adj: Adjustment, *, body, options: RunOptions, progress=None) -> Redrapes:
     """The re-drape check of an adjustment (``adjust --verify``): its pattern, its
     baseline (flattened uniform here when the run skipped it) and the original pattern,
     each sewn onto the edited drape."""
@@ -191,6 +194,7 @@ def adjustment_redrapes(adj: Adjustment, *, body, options: RunOptions) -> Redrap
         up=adj.axes[0],
         units=base.units,
         max_steps=options.verify_max_steps,
+        progress=progress,
     )
 
 
@@ -267,6 +271,7 @@ def verify_garment(
     original: str | None = None,
     options: RunOptions = RunOptions(verify=True),  # noqa: B008 - frozen
     units: str = "cm",
+    progress=None,
 ) -> dict:
     """Re-drape a garment's pattern, its uniform baseline and its original's pattern, and
     write ``verify.json`` with the check's files to ``out`` (all or nothing).
@@ -283,6 +288,9 @@ def verify_garment(
         ``verify_max_steps``.
     units : str
         The computation unit: the report's lengths are in it.
+    progress : callable, optional
+        ``progress(stage, iteration, residual)``: a progress line's feed (each re-drape's
+        steps and speed).
 
     Returns
     -------
@@ -315,6 +323,7 @@ def verify_garment(
         up=axes[0],
         units=units,
         max_steps=options.verify_max_steps,
+        progress=progress,
     )
     inputs = {"garment": garment, "original": original or garment}
     if options.body and not auto:

@@ -9,6 +9,8 @@ it; :mod:`ptailor.verify.measure` gives per-panel stretch and displacement.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from ptailor.method.flatten import flatten
@@ -58,7 +60,7 @@ def _one(V2, *, common: dict, run: dict, measure: dict) -> tuple[dict, np.ndarra
     rest = rest_shapes(
         V2, common["F2"], common["V2_orig"], common["V3_orig"], common["F3"], mode=common["rest"]
     )
-    drape = redrape(common["V3_edit"], common["F3"], rest, **run)
+    drape = redrape(common["V3_edit"], common["F3"], rest, **run)  # run: its progress too
     V = np.asarray(drape.V, dtype=float)
     stretch = principal_stretches(V, common["F3"], rest)
     d3 = np.linalg.norm(V - common["V3_edit"], axis=1) * measure["to_units"]
@@ -99,6 +101,21 @@ def _still_moving(speed: np.ndarray, F3: np.ndarray, measure: dict) -> dict:
     }
 
 
+def _feed(progress, kind: str, settings) -> Callable[[int, float], None]:
+    """A re-drape's ``(steps, speed_p95)`` as a progress line's ``(stage, 0, None)``."""
+    cap, dt, thr = settings.max_steps, settings.dt, settings.settle_speed
+
+    def feed(steps: int, speed: float) -> None:
+        progress(
+            f"re-drape {kind}: step {steps}/{cap}, {steps * dt:.2f} s simulated, speed p95"
+            f" {1000 * speed:.3g} mm/s (settled below {1000 * thr:g} mm/s)",
+            0,
+            None,
+        )
+
+    return feed
+
+
 def verify_patterns(
     V3_edit: np.ndarray,
     F3: np.ndarray,
@@ -117,6 +134,7 @@ def verify_patterns(
     to_units: float,
     settings: Settings | None = None,
     device: str | None = None,
+    progress=None,
 ) -> tuple[dict, dict[str, np.ndarray], dict[str, np.ndarray]]:
     """Re-drape several patterns from the same edited drape and measure them.
 
@@ -194,8 +212,9 @@ def verify_patterns(
     }
     reports, drapes, stretches = {}, {}, {}
     for kind, V2 in patterns.items():
+        feed = None if progress is None else _feed(progress, kind, run["settings"])
         reports[kind], drapes[kind], stretches[kind] = _one(
-            V2, common=common, run=run, measure=measure
+            V2, common=common, run={**run, **({"progress": feed} if feed else {})}, measure=measure
         )
     first = next(iter(reports.values()))["drape"] if reports else None
     section = {

@@ -22,6 +22,7 @@ import contextlib
 import io
 import time
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -320,7 +321,9 @@ def _solver(newton, model, s: Settings, radius: float):
     return solver
 
 
-def _simulate(wp, newton, model, s: Settings, free: np.ndarray, has_body: bool, radius: float):
+def _simulate(
+    wp, newton, model, s: Settings, free: np.ndarray, has_body: bool, radius: float, progress=None
+):
     """Step until settled or ``max_steps``; returns (positions (n, 3), steps, settled, the
     vertices' speeds (n,) at the last settle check, m/s)."""
     solver = _solver(newton, model, s, radius)
@@ -344,6 +347,9 @@ def _simulate(wp, newton, model, s: Settings, free: np.ndarray, has_body: bool, 
         steps += 1
         if steps % s.check_every == 0:
             settled = settle.check(a.particle_qd.numpy())
+            if progress is not None:
+                speed = settle.speed[free]
+                progress(steps, float(np.percentile(speed, 95)) if len(speed) else 0.0)
     if steps % s.check_every:  # the speeds where it stopped
         settle.check(a.particle_qd.numpy())
     return a.particle_q.numpy().astype(float), steps, settled, settle.speed
@@ -359,6 +365,7 @@ def redrape(
     body: tuple[np.ndarray, np.ndarray] | None = None,
     settings: Settings = Settings(),
     device: str | None = None,
+    progress: Callable[[int, float], None] | None = None,
 ) -> Drape:
     """Sew and drape cloth of the given rest shapes, starting from ``V3``, until it settles.
 
@@ -380,6 +387,10 @@ def redrape(
     settings : Settings
     device : str, optional
         Warp device; default the first GPU when warp finds one, else ``"cpu"``.
+
+    progress : callable, optional
+        ``progress(steps, speed_p95)`` at every settle check (the free vertices' 95th
+        percentile speed, m/s): a progress line's feed.
 
     Returns
     -------
@@ -415,7 +426,14 @@ def redrape(
         free[np.unique(F)] = True
         free[pinned] = False
         X, steps, settled, speed = _simulate(
-            wp, newton, model, settings, free, body is not None, self_radius(P, settings)
+            wp,
+            newton,
+            model,
+            settings,
+            free,
+            body is not None,
+            self_radius(P, settings),
+            progress,
         )
     X = X / units_m
     X[pinned] = V3[pinned]  # held exactly, not through float32
