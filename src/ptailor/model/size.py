@@ -27,6 +27,7 @@ __all__ = [
     "garment_size",
     "piece_extents",
     "plausible_units",
+    "principal_extents",
     "size_problem",
 ]
 
@@ -65,6 +66,24 @@ class GarmentSize:
         return GarmentSize(
             extent=self.extent * s, pieces=self.pieces * s, thickness=self.thickness * s
         )
+
+
+def principal_extents(P: np.ndarray) -> np.ndarray:
+    """A point set's extents along its principal axes (the eigenvectors of its covariance),
+    largest first.
+
+    Parameters
+    ----------
+    P : (n, d) float array
+
+    Returns
+    -------
+    (d,) float array
+    """
+    Q = np.asarray(P, dtype=np.float64)
+    Q = Q - Q.mean(axis=0)
+    _, axes = np.linalg.eigh(Q.T @ Q)
+    return np.sort(np.ptp(Q @ axes, axis=0))[::-1]
 
 
 def piece_extents(V2: np.ndarray, F2: np.ndarray) -> np.ndarray:
@@ -131,9 +150,7 @@ def garment_size(
     if V3 is not None and F3 is not None and len(F3):
         P = np.asarray(V3, dtype=np.float64)[np.unique(np.asarray(F3))]
         extent = float(np.ptp(P, axis=0).max())
-        Q = P - P.mean(axis=0)
-        _, axes = np.linalg.eigh(Q.T @ Q)  # ascending: the first axis is the thinnest
-        thickness = float(np.ptp(Q @ axes[:, 0]))
+        thickness = float(principal_extents(P)[-1])
     return GarmentSize(extent=extent, pieces=piece_extents(V2, F2), thickness=thickness)
 
 

@@ -106,15 +106,6 @@ def mean_body(pose: str) -> tuple[np.ndarray, np.ndarray]:
         return data["V"].astype(np.float64), data["F"].astype(np.int64)
 
 
-def _vertex_normals(V: np.ndarray, F: np.ndarray) -> np.ndarray:
-    """Area-weighted unit vertex normals of an outward mesh."""
-    c = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
-    N = np.zeros_like(V)
-    for k in range(3):  # the three corners
-        np.add.at(N, F[:, k], c)
-    return N / np.maximum(np.linalg.norm(N, axis=1, keepdims=True), 1e-300)
-
-
 def _inside(P: np.ndarray, V: np.ndarray, N: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Per point: inside (behind its nearest body vertex's normal) and that distance."""
     from scipy.spatial import cKDTree
@@ -181,7 +172,9 @@ def fit_body(
         )
     pose = _pose(ops, frame)
     BV, BF = mean_body(pose)
-    BN = _vertex_normals(BV, BF)
+    import trimesh
+
+    BN = np.asarray(trimesh.Trimesh(BV, BF, process=False).vertex_normals)  # outward, unit
     to_m = cm_per_unit / 100.0
     used = np.unique(np.asarray(F3))
     P = (np.asarray(V3, dtype=np.float64)[used] @ frame.T) * to_m  # body axes, metres

@@ -68,20 +68,12 @@ def size_in(pieces: tuple[Piece, ...], unit: str) -> str | None:
     """What is not of a garment's size about the pieces read in ``unit``, or None
     (:func:`ptailor.model.size.size_problem`; each piece measured along its principal
     axes)."""
-    from ptailor.model.size import GarmentSize, size_problem
+    from ptailor.model.size import GarmentSize, principal_extents, size_problem
 
     ext = np.array(
-        [_principal_extent(p.outline) for p in pieces if len(p.outline) >= 3], dtype=np.float64
+        [principal_extents(p.outline) for p in pieces if len(p.outline) >= 3], dtype=np.float64
     ).reshape(-1, 2)
     return size_problem(GarmentSize(extent=float("nan"), pieces=ext * CM_PER_UNIT[unit]))
-
-
-def _principal_extent(P: np.ndarray) -> tuple[float, float]:
-    """An outline's length and width along its principal axes."""
-    Q = np.asarray(P, dtype=np.float64) - np.mean(P, axis=0)
-    _, axes = np.linalg.eigh(Q.T @ Q)
-    ext = np.ptp(Q @ axes, axis=0)
-    return float(ext.max()), float(ext.min())
 
 
 #: a drape's ``vt`` is taken in a unit when its size, judged from the drape's area, is
