@@ -164,6 +164,11 @@ PIECE_LENGTH_MIN_CM = 10.0
 PIECE_WIDTH_MAX_CM = 160.0
 #: ... and beside a ``--body``, its drape's largest extent this many times the body's.
 BODY_SIZE_RATIO = (0.1, 1.5)
+#: A ``--body`` FILE is refused when more than this fraction of the drape's vertices lie
+#: inside it (a body is worn inside its garment: a fitted one leaves at most 0.5 % inside) ...
+BODY_INSIDE_MAX = 0.2
+#: ... judged on at most this many drape vertices (evenly spaced in the file's order).
+BODY_CHECK_POINTS = 2000
 #: Largest length given as an option (``--seam-allowance``, ``--weld``), centimetres.
 LENGTH_MAX_CM = 1e4
 #: Longest panel name drawn in a preview (longer ones are shortened with an ellipsis).

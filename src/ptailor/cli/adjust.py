@@ -54,6 +54,7 @@ def adjust(
     intrinsic,
     body,
     body_units,
+    write_body,
     verify,
     verify_rest,
     verify_max_steps,

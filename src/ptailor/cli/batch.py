@@ -144,6 +144,7 @@ def batch(
     drape_units,
     body,
     body_units,
+    write_body,
     weld,
     up,
     front,

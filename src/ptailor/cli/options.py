@@ -211,7 +211,14 @@ def max_steps_option(name: str = "--max-steps"):
 
 
 def body_options(fn):
-    """``--body`` (a file or ``auto``) and ``--body-units``: the body a garment is worn on."""
+    """``--body`` (a file or ``auto``), ``--body-units`` and ``--write-body``: the body a
+    garment is worn on."""
+    fn = click.option(
+        "--write-body",
+        is_flag=True,
+        help="Write the body used (the file's or --body auto's fit) to OUT/body.obj, in the "
+        "garment's frame and its drape file's units, to look at.",
+    )(fn)
     fn = click.option(
         "--body-units", default="cm", show_default=True, help="Unit of the body mesh."
     )(fn)

@@ -184,6 +184,52 @@ def check_size_against_body(garment, body, *, path: str) -> None:
         )
 
 
+def _span(lo, hi) -> str:
+    """A bounding box as ``x0..x1 x y0..y1 x z0..z1``."""
+    return " x ".join(f"{a:.4g}..{b:.4g}" for a, b in zip(lo, hi, strict=True))
+
+
+def check_body_placement(garment, body, *, path: str) -> None:
+    """A ``--body`` FILE must be where the garment is worn: its bounding box overlaps the
+    drape's and at most ``tol.BODY_INSIDE_MAX`` of the drape's vertices lie inside it
+    (winding numbers on up to ``tol.BODY_CHECK_POINTS`` of them); else exit 2 naming the
+    body file (a body in another frame or unit, or a box around the whole garment, would
+    collide with everything or nothing).
+
+    Parameters
+    ----------
+    garment : Garment
+    body : trimesh.Trimesh
+        In the garment's computation unit and frame.
+    path : str
+        The body file, named in the message.
+    """
+    from ptailor.edits.body import winding_numbers
+
+    used = np.unique(garment.F3)
+    V = garment.V3[used]
+    blo, bhi = np.asarray(body.bounds[0]), np.asarray(body.bounds[1])
+    glo, ghi = V.min(axis=0), V.max(axis=0)
+    u = garment.units
+    if (bhi < glo).any() or (blo > ghi).any():
+        raise PtailorError(
+            f"the body and the garment's drape do not overlap (body {_span(blo, bhi)} {u}, "
+            f"drape {_span(glo, ghi)} {u}): give the body in the garment's frame, or its "
+            "unit with --body-units, or use --body auto",
+            path=path,
+        )
+    step = max(1, -(-len(V) // tol.BODY_CHECK_POINTS))
+    inside = winding_numbers(V[::step], np.asarray(body.vertices), np.asarray(body.faces)) > 0.5
+    if inside.mean() > tol.BODY_INSIDE_MAX:
+        raise PtailorError(
+            f"{100 * inside.mean():.0f} % of the garment's drape lies inside the body (at most "
+            f"{100 * tol.BODY_INSIDE_MAX:g} %: a body is worn inside its garment; body "
+            f"{_span(blo, bhi)} {u}, drape {_span(glo, ghi)} {u}): give the body in the "
+            "garment's frame, or its unit with --body-units, or use --body auto",
+            path=path,
+        )
+
+
 def input_warnings(loaded) -> list[str]:
     """What reading the pattern said, and the pattern scale when it was estimated
     (``loaded``: a :class:`~ptailor.formats.garment.LoadedGarment`)."""

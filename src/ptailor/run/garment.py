@@ -29,6 +29,7 @@ from ptailor.report.build import (
     without_negative_zeros,
 )
 from ptailor.run.checks import (
+    check_body_placement,
     check_finite_report,
     check_finite_result,
     check_seam_allowance,
@@ -130,8 +131,10 @@ def staged_run(
     if options.body == "auto":
         body, body_fit = fitted_body(loaded.garment, up=edits.up, front=edits.front, path=shown)
         edits = replace(edits, body=body)
-    elif edits.body is not None and options.drape_units is None:
-        check_size_against_body(loaded.garment, edits.body, path=shown)
+    elif edits.body is not None:
+        if options.drape_units is None:
+            check_size_against_body(loaded.garment, edits.body, path=shown)
+        check_body_placement(loaded.garment, edits.body, path=options.body)
     plan = plan_pieces(loaded, edits, options)
     if options.seam_allowance:
         check_seam_allowance(loaded.garment, options.seam_allowance)
@@ -213,6 +216,15 @@ def _staged_folder(
         written = write_outputs(tmp, adj, ctx, options.formats)
         if staged.redrapes is not None:
             written += _write_redrapes(tmp, staged)
+        if options.write_body and staged.edits.body is not None:
+            from ptailor.run.verify import write_body
+
+            written += write_body(
+                tmp,
+                staged.edits.body,
+                drape_scale=ctx.loaded.drape_scale,
+                units=ctx.loaded.garment.units,
+            )
         for name, text in (extra_files or {}).items():
             (tmp / name).write_text(text)
         timing = {**staged.timing, "write": time.perf_counter() - staged.start}

@@ -35,6 +35,9 @@ class RunOptions:
         A watertight body mesh (any format trimesh reads) in ``body_units``: extended rows
         are pushed out of it.
     body_units : str
+    write_body : bool
+        Write the body the run used (a file or ``--body auto``'s fit) as ``body.obj`` beside
+        the outputs, in the garment's frame and its drape file's units, to look at.
     size, dxf_units : str, optional
         For a CAD pattern: the size to read, and its unit (default: from the file).
     seam_allowance : float, optional
@@ -62,6 +65,7 @@ class RunOptions:
     front: str | None = None
     body: str | None = None
     body_units: str = "cm"
+    write_body: bool = False
     size: str | None = None
     dxf_units: str | None = None
     seam_allowance: float | None = None

@@ -22,7 +22,13 @@ from ptailor.model.garment import Garment
 from ptailor.model.units import CM_PER
 from ptailor.output import check_output_dir, staged_dir, write_json
 from ptailor.pipeline import Adjustment
-from ptailor.run.checks import check_engine, check_finite_report, check_verify_options
+from ptailor.run.checks import (
+    check_body_placement,
+    check_engine,
+    check_finite_report,
+    check_size_against_body,
+    check_verify_options,
+)
 from ptailor.run.options import RunOptions
 
 #: the re-drapes whose settled drapes are written, and their files
@@ -31,6 +37,22 @@ DRAPE_FILES = {"ours": "verify_ours.obj", "baseline": "verify_baseline.obj"}
 PICTURE = "verify.png"
 #: every file a re-drape check writes besides its report
 VERIFY_FILES = (*DRAPE_FILES.values(), PICTURE)
+#: the body, with ``--write-body``
+BODY_FILE = "body.obj"
+
+
+def write_body(tmp: Path, body, *, drape_scale: float, units: str) -> list[str]:
+    """``body.obj``: the body (a trimesh in the computation units) in the drape file's units
+    (``drape_scale`` computation units per file unit; trimesh's OBJ writer); returns the
+    file names."""
+    import trimesh
+
+    mesh = trimesh.Trimesh(np.asarray(body.vertices, dtype=float) / drape_scale,
+                           np.asarray(body.faces), process=False)  # fmt: skip
+    text = mesh.export(file_type="obj", include_normals=False, include_texture=False)
+    head = f"# ptailor body: {drape_scale:.9g} {units} per unit, in the garment's frame\n"
+    (tmp / BODY_FILE).write_text(head + text)
+    return [BODY_FILE]
 
 
 @dataclass(frozen=True)
@@ -314,6 +336,10 @@ def verify_garment(
         body, fit = fitted_body(orig.garment, up=axes[0], front=axes[1], path=original or garment)
     else:
         body = load_body(options.body, units=options.body_units, to=units) if options.body else None
+        if body is not None:
+            if options.drape_units is None:
+                check_size_against_body(orig.garment, body, path=original or garment)
+            check_body_placement(orig.garment, body, path=options.body)
     inp = garment_redrape(edited.garment, orig.garment, axes=axes)
     t0 = time.perf_counter()
     res = redrape_check(
@@ -333,6 +359,8 @@ def verify_garment(
         doc["body_fit"] = fit
     with staged_dir(out) as tmp:
         written = write_verify_files(tmp, res, loaded=edited, body=body, axes=axes)
+        if options.write_body and body is not None:
+            written += write_body(tmp, body, drape_scale=edited.drape_scale, units=units)
         doc["outputs"] = sorted(["verify.json", *written])
         doc["timing_s"] = {"verify": round(time.perf_counter() - t0, 3)}
         check_finite_report(doc, path=garment)
