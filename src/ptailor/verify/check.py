@@ -23,6 +23,7 @@ from ptailor.verify.measure import (
     principal_stretches,
     top_opening,
 )
+from ptailor.verify.proxy import simulation_mesh
 from ptailor.verify.rest import rest_shapes
 
 __all__ = ["KINDS", "uniform_pattern", "verify_patterns", "verify_section"]
@@ -60,8 +61,20 @@ def _one(V2, *, common: dict, run: dict, measure: dict) -> tuple[dict, np.ndarra
     rest = rest_shapes(
         V2, common["F2"], common["V2_orig"], common["V3_orig"], common["F3"], mode=common["rest"]
     )
-    drape = redrape(common["V3_edit"], common["F3"], rest, **run)  # run: its progress too
-    V = np.asarray(drape.V, dtype=float)
+    sim = common["sim"]
+    if sim is None:
+        drape = redrape(common["V3_edit"], common["F3"], rest, **run)  # run: its progress too
+        V = np.asarray(drape.V, dtype=float)
+        speed = drape.speed
+    else:  # on the simulation mesh, carried back
+        k3, k2 = sim.keep3, sim.keep2
+        rest_sim = rest_shapes(
+            V2[k2], sim.F2, common["V2_orig"][k2], common["V3_orig"][k3], sim.F3,
+            mode=common["rest"],
+        )  # fmt: skip
+        drape = redrape(common["V3_edit"][k3], sim.F3, rest_sim, **run)
+        V = sim.carry(drape.V)
+        speed = None if drape.speed is None else sim.carry(drape.speed)
     stretch = principal_stretches(V, common["F3"], rest)
     d3 = np.linalg.norm(V - common["V3_edit"], axis=1) * measure["to_units"]
     d2 = pattern_vertex_values(d3, common["F3"], common["F2"], len(common["V2_orig"]))
@@ -74,8 +87,8 @@ def _one(V2, *, common: dict, run: dict, measure: dict) -> tuple[dict, np.ndarra
         "steps": int(drape.steps),
         "seconds": float(drape.seconds),
     }
-    if drape.speed is not None:
-        R.update(_still_moving(drape.speed, common["F3"], measure))
+    if speed is not None:
+        R.update(_still_moving(speed, common["F3"], measure))
     return {"R": R, "drape": drape}, V, stretch
 
 
@@ -197,11 +210,18 @@ def verify_patterns(
         "V2_orig": np.asarray(V2_orig, dtype=float),
         "V3_orig": np.asarray(V3_orig, dtype=float),
     }
+    s = settings if settings is not None else Settings()
+    sim = simulation_mesh(V3_edit, common["F3"], common["V2_orig"], common["F2"],
+                          max_faces=s.sim_faces)  # fmt: skip
+    common["sim"] = sim
+    pinned = top_opening(V3_edit, common["F3"], up=up)
+    if sim is not None:  # (every pattern boundary vertex is a simulation vertex)
+        pinned = np.searchsorted(sim.keep3, pinned)
     run = {
         "units_m": float(units_m),
-        "pinned": top_opening(V3_edit, common["F3"], up=up),
+        "pinned": pinned,
         "body": body,
-        "settings": settings if settings is not None else Settings(),
+        "settings": s,
         "device": device,
     }
     measure = {
@@ -224,6 +244,10 @@ def verify_patterns(
         "seconds": float(sum(r["R"]["seconds"] for r in reports.values())),
         "settled": all(r["R"]["settled"] for r in reports.values()),
         "rest": rest,
+        "triangles": {
+            "garment": len(common["F3"]),
+            "simulated": sim.n_faces if sim else len(common["F3"]),
+        },
         **{k: r["R"] for k, r in reports.items()},
     }
     return section, drapes, stretches

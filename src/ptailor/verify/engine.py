@@ -138,6 +138,10 @@ class Settings:
         Style3D nonlinear iterations per step.
     linear_iterations : int
         PCG iterations per nonlinear iteration.
+    sim_faces : int
+        A garment with more triangles is simulated on a decimated copy of about this many
+        (:func:`ptailor.verify.proxy.simulation_mesh`, every pattern boundary kept) and the
+        result carried back: the check's time does not grow with the export's resolution.
     """
 
     dt: float = 1.0 / 100.0
@@ -159,6 +163,7 @@ class Settings:
     self_radius: float = 3e-3
     iterations: int = 4
     linear_iterations: int = 10
+    sim_faces: int = 8000
 
 
 @dataclass(frozen=True)
