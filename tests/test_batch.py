@@ -298,6 +298,7 @@ def test_the_stamp_hashes_every_run_option(tmp_path):
         "front": "y",
         "body": "body.obj",
         "body_units": "mm",
+        "write_body": True,
         "size": "M",
         "dxf_units": "mm",
         "seam_allowance": 1.0,

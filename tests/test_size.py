@@ -168,11 +168,12 @@ def test_a_metric_dxf_in_cm_reads_as_the_same_pieces_as_the_mm_one(tmp_path):
 
 
 def test_a_garment_beside_a_body_of_another_size_is_exit_2_unless_its_units_are_given(tmp_path):
-    """A body written in metres read as cm (1.7 'cm' tall) beside a 30 cm bodice."""
+    """A body written in metres read as cm (1.7 'cm' tall) beside a 30 cm bodice (worn on
+    it: a 20 cm wide box through the bodice's 30 cm tube)."""
     import trimesh
 
     body = tmp_path / "body.obj"
-    trimesh.creation.box(extents=(0.5, 1.7, 0.3)).export(body)
+    trimesh.creation.box(extents=(0.2, 1.7, 0.2)).export(body)
     garment = tmp_path / "b.obj"
     write_garment(garment, bodice())
     rec = tmp_path / "r.yaml"

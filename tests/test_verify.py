@@ -215,7 +215,7 @@ def test_verify_section_wiring(lantern_adj, fake_engine):
     body = (np.eye(3), np.array([[0, 1, 2]]))
     section, drapes = check.verify_section(adj, body=body, units_m=0.01, to_units=10.0,
                                            device="cpu")  # fmt: skip
-    assert set(section) == {"engine", "device", "steps", "seconds", "settled", "rest",
+    assert set(section) == {"engine", "device", "steps", "seconds", "settled", "rest", "triangles",
                             "ours", "baseline", "original"}  # fmt: skip
     assert (section["engine"], section["device"], section["rest"]) == ("fake 0", "cpu", "intrinsic")
     assert section["steps"] == 120 and section["seconds"] == pytest.approx(1.5)
@@ -277,7 +277,16 @@ def test_verify_patterns_for_any_names(lantern_adj, fake_engine):
         panel_names=[p.name for p in s.panels], face_panel=s.face_panel,
         vertex_panel=s.vertex_panel, units_m=0.01, to_units=1.0,
     )  # fmt: skip
-    assert set(section) == {"engine", "device", "steps", "seconds", "settled", "rest", "ours"}
+    assert set(section) == {
+        "engine",
+        "device",
+        "steps",
+        "seconds",
+        "settled",
+        "rest",
+        "triangles",
+        "ours",
+    }
     assert stretches["ours"].shape == (len(b.F3), 2)
     assert drapes["ours"].shape == b.V3.shape
 
