@@ -31,6 +31,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ptailor.geometry.labels import component_labels
+from ptailor.geometry.triangles import signed_areas_2d
+from ptailor.model.boundary import boundary_edges
+
 __all__ = ["SimMesh", "simulation_mesh"]
 
 #: the simulation pattern's area may differ from the garment's by this fraction ...
@@ -106,12 +110,10 @@ class SimMesh:
 
 def _boundary_vertices(F3: np.ndarray, F2: np.ndarray, n3: int) -> np.ndarray:
     """(n3,) bool: drape vertices on a pattern boundary edge (seams, hems, openings)."""
-    E = np.sort(np.concatenate([F2[:, [0, 1]], F2[:, [1, 2]], F2[:, [2, 0]]]), axis=1)
-    E3 = np.concatenate([F3[:, [0, 1]], F3[:, [1, 2]], F3[:, [2, 0]]])
-    _, inv, count = np.unique(E, axis=0, return_inverse=True, return_counts=True)
-    on = count[inv.reshape(-1)] == 1
+    p2v = np.zeros(int(F2.max()) + 1, dtype=np.int64)
+    p2v[F2.reshape(-1)] = F3.reshape(-1)
     out = np.zeros(n3, dtype=bool)
-    out[E3[on].reshape(-1)] = True
+    out[p2v[boundary_edges(F2)].reshape(-1)] = True
     return out
 
 
@@ -160,13 +162,9 @@ def _copies(F3: np.ndarray, F2: np.ndarray, n3: int) -> np.ndarray:
 
 def _components(F2: np.ndarray, n2: int) -> np.ndarray:
     """(n2,) int array: each pattern vertex's panel (connected component of the pattern)."""
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
-    i = F2[:, [0, 1, 2]].reshape(-1)
-    j = F2[:, [1, 2, 0]].reshape(-1)
-    A = coo_matrix((np.ones(len(i)), (i, j)), shape=(n2, n2))
-    return connected_components(A, directed=False)[1]
+    out = np.zeros(n2, dtype=np.int64)
+    out[F2] = component_labels(F2, n2)[:, None]
+    return out
 
 
 def _pattern_corners(Fc3, F3, F2, V2, copies, panel) -> np.ndarray | None:
@@ -211,11 +209,6 @@ def _pattern_corners(Fc3, F3, F2, V2, copies, panel) -> np.ndarray | None:
         return None
     out[new] = np.where(single, corner, pick)
     return out
-
-
-def _signed_areas(V2: np.ndarray, F2: np.ndarray) -> np.ndarray:
-    a, b, c = V2[F2[:, 0]], V2[F2[:, 1]], V2[F2[:, 2]]
-    return 0.5 * ((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
 
 
 def _locate(P, labels, V2, F2s, tri_label):
@@ -266,7 +259,7 @@ def _checked(V3, F3, V2, F2, free, panel, copies, target):
     corners = _pattern_corners(Fc3, F3, F2, V2, copies, panel)
     if corners is None:
         return None
-    a_fine, a_sim = _signed_areas(V2, F2), _signed_areas(V2, corners)
+    a_fine, a_sim = signed_areas_2d(V2, F2), signed_areas_2d(V2, corners)
     sign = np.zeros(int(panel.max()) + 1)
     np.add.at(sign, panel[F2[:, 0]], a_fine)
     if (np.sign(a_sim) != np.sign(sign[panel[corners[:, 0]]])).mean() > FOLD_TOL:
