@@ -287,3 +287,15 @@ SURGERY_REMOVED_WARN = 0.5
 #: A seam of the scaled part continues a scale_seam's seam line where it leaves their
 #: shared end vertex within this many degrees of straight on (ptailor.edits.scale_seam).
 SEAM_LINE_TURN_DEG = 60.0
+
+# --- pattern specifications (GarmentCode / Garment-Pattern-Generator, ptailor.spec) ---
+#: A specification panel matches a mesh panel whose outline area is within this fraction ...
+SPEC_AREA_REL = 0.05
+#: ... and onto whose outline its own fits with a mean distance below this fraction of its
+#: size (tee6 and GarmentCode's shirt: 0.0004 and 0.00003; the next-best panel 0.02).
+SPEC_MATCH_REL = 0.005
+#: ``spec.fit``: an adjusted specification's edge curves farther than this from the adjusted
+#: mesh outline are a warning (1 mm).
+SPEC_FIT_WARN_CM = 0.1
+#: A straight edge whose adjusted points leave its chord by more than this gets a curve.
+SPEC_BEND_CM = 0.05

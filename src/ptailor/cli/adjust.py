@@ -11,6 +11,7 @@ from ptailor.cli.options import (
     dxf_options,
     garment_options,
     output_options,
+    spec_option,
     verify_options,
 )
 
@@ -20,6 +21,7 @@ from ptailor.cli.options import (
 @click.argument("recipe", type=click.Path(dir_okay=False, allow_dash=True))
 @click.option("-o", "--out", required=True, type=click.Path(file_okay=False), help="Output folder.")
 @garment_options
+@spec_option
 @axes_options
 @click.option(
     "--method",
@@ -48,6 +50,7 @@ def adjust(
     pattern_units,
     drape_units,
     weld,
+    spec,
     up,
     front,
     method,
@@ -87,7 +90,7 @@ def adjust(
     params = click.get_current_context().params
     check_engine_first(params)  # (before any file is read)
     # every input (the recipe too) is checked against the output folder before any is read
-    check_output_dir(out, [garment, recipe, drape, body])
+    check_output_dir(out, [garment, recipe, drape, body, spec])
     rec = load_recipe(recipe)
     options = run_options(rec, params)
     with progress_line(quiet=quiet) as progress:

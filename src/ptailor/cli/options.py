@@ -114,6 +114,19 @@ def garment_options(fn):
     )(fn)
 
 
+def spec_option(fn):
+    """``--spec``: the garment's pattern specification (GarmentCode, Garment-Pattern-Generator)."""
+    return click.option(
+        "--spec",
+        type=click.Path(dir_okay=False),
+        default=None,
+        help="The pattern's specification JSON (GarmentCode or Garment-Pattern-Generator): "
+        "matched to the garment's panels and seams, and written back adjusted as "
+        "OUT/specification.json (with --pattern-units auto its panel sizes fix the "
+        "pattern's scale).",
+    )(fn)
+
+
 def axes_options(fn):
     """``--up`` and ``--front``: the garment's axes, for naming openings."""
     for opt in reversed(

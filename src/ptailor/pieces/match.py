@@ -120,18 +120,25 @@ def _outline_distance(A: np.ndarray, ca: ClosedCurve, B: np.ndarray, cb: ClosedC
 _ICP_ITER = 30
 
 
-def _fit_shape(
+def shape_fits(
     A: np.ndarray, cb: ClosedCurve, B: np.ndarray, diag: float
-) -> tuple[np.ndarray, np.ndarray, float]:
-    """Best rigid fit of outline samples ``A`` onto curve ``cb`` (sampled as ``B``).
+) -> list[tuple[np.ndarray, np.ndarray, float]]:
+    """Rigid fits of outline samples ``A`` onto curve ``cb`` (sampled as ``B``), best first.
 
     Principal axes give four starts (two rotations, two reflections); ICP against the
-    curve's segments refines each; the lowest symmetric mean distance wins.
+    curve's segments refines each. A symmetric outline fits more than one way equally well:
+    the caller that can tell them apart (by where the panel sits in 3D) gets all four.
+
+    Returns
+    -------
+    list of (R, t, residual)
+        Panel point = ``R @ A point + t``; residual = symmetric mean outline distance over
+        ``diag``; sorted by residual.
     """
     ca, cb0 = A.mean(axis=0), B.mean(axis=0)
     _, Ea = np.linalg.eigh(np.cov((A - ca).T))
     _, Eb = np.linalg.eigh(np.cov((B - cb0).T))
-    best = (np.eye(2), np.zeros(2), np.inf)
+    fits = []
     for sx in (1.0, -1.0):  # the four axis pairings
         for sy in (1.0, -1.0):
             R = Eb @ np.diag([sx, sy]) @ Ea.T
@@ -141,10 +148,15 @@ def _fit_shape(
                 _, Q = cb.nearest(A @ R.T + t)
                 R, t = rigid_fit(A, Q, reflect=reflect)
             moved = A @ R.T + t
-            res = _outline_distance(moved, ClosedCurve(moved), B, cb)
-            if res < best[2]:
-                best = (R, t, res / diag)
-    return best
+            fits.append((R, t, _outline_distance(moved, ClosedCurve(moved), B, cb) / diag))
+    return sorted(fits, key=lambda f: f[2])
+
+
+def _fit_shape(
+    A: np.ndarray, cb: ClosedCurve, B: np.ndarray, diag: float
+) -> tuple[np.ndarray, np.ndarray, float]:
+    """The best of :func:`shape_fits`."""
+    return shape_fits(A, cb, B, diag)[0]
 
 
 #: Points per outline when outlines are compared.

@@ -229,7 +229,7 @@ def _file_pieces(
     return file_pieces, matches
 
 
-def _source_panels(adj: Adjustment, orig: tuple[Panel, ...]) -> dict[str, int]:
+def source_panels(adj: Adjustment, orig: tuple[Panel, ...]) -> dict[str, int]:
     """Adjusted panel name to the input panel it came from (index into ``orig``).
 
     A panel keeps its name through the edits; a panel a cut split in two is ``NAME``,
@@ -297,7 +297,7 @@ def _carry(
     g0 = adj.original if adj.original is not None else adj.state.base
     base = adj.state.base
     orig = plan.panels
-    source = _source_panels(adj, orig)
+    source = source_panels(adj, orig)
     parts: dict[int, list[Panel]] = {}
     for p in adj.state.panels:  # a loop over panels
         if p.name in source:

@@ -18,6 +18,7 @@ import numpy as np
 
 from ptailor.errors import PtailorError
 from ptailor.formats.garment import LoadedGarment
+from ptailor.formats.spec_json import read_specification as read_spec
 from ptailor.output import check_output_dir, staged_dir, write_json
 from ptailor.pieces import carry_plan
 from ptailor.pipeline import Adjustment, Progress, adjustment
@@ -46,6 +47,8 @@ from ptailor.run.inputs import (
 from ptailor.run.options import RunOptions
 from ptailor.run.outputs import OutputContext, write_outputs
 from ptailor.run.sections import pattern_section, units_section
+from ptailor.run.spec import matched_specification, spec_outputs, spec_units
+from ptailor.spec.match import SpecMatching
 
 
 def run_garment(
@@ -120,13 +123,19 @@ def staged_run(
         The report, as ``report.json`` will hold it.
     """
     recipe = checked_recipe(recipe, options)
-    check_output_dir(out, [garment, drape, options.body if options.body != "auto" else None])
+    body_file = options.body if options.body != "auto" else None
+    check_output_dir(out, [garment, drape, body_file, options.spec])
     shown = (display_inputs or {}).get("garment", garment)  # the garment errors name
     edits = edit_options(recipe, options)
     t0 = time.perf_counter()
     if progress is not None:
         progress("read", 0, None)
+    spec = read_spec(options.spec) if options.spec is not None else None
     loaded = load_input(garment, drape, recipe, options)
+    spec_match = None
+    if spec is not None:  # matched before any work: a specification of another garment fails
+        loaded = spec_units(loaded, spec)
+        spec_match = matched_specification(loaded, spec, up=edits.up, front=edits.front)
     body_fit = None
     if options.body == "auto":
         body, body_fit = fitted_body(loaded.garment, up=edits.up, front=edits.front, path=shown)
@@ -174,6 +183,7 @@ def staged_run(
         edits=edits,
         reference=reference,
         body_fit=body_fit,
+        spec_match=spec_match,
     )
     with _staged_folder(
         out, staged, shown=shown, display=display_inputs or {}, extra_files=extra_files
@@ -197,6 +207,7 @@ class _Staged:
     edits: Any = None
     reference: Any = None
     body_fit: dict | None = None  # --body auto: the fit's record
+    spec_match: SpecMatching | None = None  # --spec: the specification matched
 
 
 @contextmanager
@@ -225,10 +236,15 @@ def _staged_folder(
                 drape_scale=ctx.loaded.drape_scale,
                 units=ctx.loaded.garment.units,
             )
+        spec_section: dict | None = None
+        spec_warnings: list[str] = []
+        if staged.spec_match is not None:
+            files, spec_section, spec_warnings = spec_outputs(tmp, adj, staged.spec_match)
+            written += files
         for name, text in (extra_files or {}).items():
             (tmp / name).write_text(text)
         timing = {**staged.timing, "write": time.perf_counter() - staged.start}
-        report = _report(ctx.loaded, staged, timing)
+        report = _report(ctx.loaded, staged, timing, spec=(spec_section, spec_warnings))
         for role, path in {**_read(ctx.loaded.inputs, options), **display}.items():
             report["inputs"][role]["path"] = path
         report["outputs"] = sorted(["report.json", *written])
@@ -238,14 +254,19 @@ def _staged_folder(
         write_json(tmp / "report.json", report)
 
 
-def _report(loaded: LoadedGarment, staged: _Staged, timing: dict) -> dict:
-    """The report: :func:`ptailor.report.build.build_report` with the run's sections."""
+def _report(
+    loaded: LoadedGarment, staged: _Staged, timing: dict, *, spec: tuple = (None, [])
+) -> dict:
+    """The report: :func:`ptailor.report.build.build_report` with the run's sections
+    (``spec``: the ``--spec`` section and its warnings)."""
     adj, ctx, options = staged.adj, staged.ctx, staged.options
+    spec_section, spec_warnings = spec
     return build_report(
         adj,
         inputs=_read(loaded.inputs, options),
         units_note=units_section(loaded),
-        warnings=run_warnings(loaded, adj, ctx.errors, ctx.plan, ctx.pieces, options),
+        warnings=run_warnings(loaded, adj, ctx.errors, ctx.plan, ctx.pieces, options)
+        + list(spec_warnings),
         timing_s=timing,
         errors=ctx.errors,
         reference=staged.reference,
@@ -254,6 +275,7 @@ def _report(loaded: LoadedGarment, staged: _Staged, timing: dict) -> dict:
             "intake": loaded.intake,
             **({"verify": staged.redrapes.section} if staged.redrapes is not None else {}),
             **({"body_fit": staged.body_fit} if staged.body_fit is not None else {}),
+            **({"spec": spec_section} if spec_section is not None else {}),
         },
     )
 
@@ -305,7 +327,8 @@ def _checked_errors(adj: Adjustment, *, shown: str) -> tuple[np.ndarray, Any]:
 
 
 def _read(inputs: dict[str, str], options: RunOptions) -> dict[str, str]:
-    """Role to the path read: ``inputs`` and the body (a fitted body, ``--body auto``, is
-    no file read: the report's ``body_fit`` records it)."""
+    """Role to the path read: ``inputs``, the body (a fitted body, ``--body auto``, is
+    no file read: the report's ``body_fit`` records it) and the specification."""
     body = options.body if options.body not in (None, "auto") else None
-    return {**inputs, **({"body": body} if body else {})}
+    spec = {"spec": options.spec} if options.spec is not None else {}
+    return {**inputs, **({"body": body} if body else {}), **spec}

@@ -52,6 +52,9 @@ class RunOptions:
         garment's intrinsic scale) or ``pattern`` (plain cloth cut from the pattern).
     verify_max_steps : int, optional
         The re-drapes' step cap (default: the engine's).
+    spec : str, optional
+        A GarmentCode or Garment-Pattern-Generator specification JSON of the garment's
+        pattern: matched to its panels and written back adjusted (``specification.json``).
     """
 
     pattern_units: str | None = None
@@ -72,6 +75,7 @@ class RunOptions:
     verify: bool = False
     verify_rest: str = "intrinsic"
     verify_max_steps: int | None = None
+    spec: str | None = None
 
     def stamped(self) -> dict:
         """The options as a JSON-ready dict with sorted keys (``formats`` sorted): what

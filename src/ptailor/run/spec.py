@@ -1,0 +1,152 @@
+"""A run with a pattern specification (``--spec``): read, matched, adjusted, written, checked.
+
+The specification is read before the garment (a bad one fails first, nothing read or
+written); with ``--pattern-units auto`` its panel areas fix the pattern's scale (a [0, 1]
+atlas has none); it is matched to the input garment's panels before the adjustment, so a
+specification of another garment fails before any work; after the adjustment it is carried
+through (:func:`ptailor.spec.adjust.adjusted_specification`), written as
+``specification.json`` and checked against the adjusted mesh outline (report ``spec``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from ptailor import tolerances as tol
+from ptailor.formats.garment import LoadedGarment
+from ptailor.model.specification import Specification
+from ptailor.model.structure import structure
+from ptailor.model.units import CM_PER
+from ptailor.spec.match import SpecMatching, match_specification
+
+__all__ = [
+    "SPEC_FILE",
+    "matched_specification",
+    "spec_outputs",
+    "spec_units",
+]
+
+#: the adjusted specification's file name in the output folder
+SPEC_FILE = "specification.json"
+
+
+def spec_units(loaded: LoadedGarment, spec: Specification) -> LoadedGarment:
+    """With ``--pattern-units auto``, the pattern scaled so its panels have the
+    specification's total area (the atlas's scale, exactly; the drape's estimate is
+    replaced). Otherwise ``loaded`` as it is."""
+    if not loaded.pattern_units_estimated:
+        return loaded
+    from ptailor.geometry.triangles import signed_areas_2d
+    from ptailor.model.polyline import signed_area
+
+    g = loaded.garment
+    k = spec.cm_per_unit / CM_PER[g.units]
+    a_spec = sum(abs(signed_area(p.outline(64)[0])) for p in spec.panels) * k * k
+    a_mesh = float(np.abs(signed_areas_2d(g.V2, g.F2)).sum())
+    s = float(np.sqrt(a_spec / max(a_mesh, 1e-300)))
+    units = dict(loaded.intake.get("units", {}))
+    scale = loaded.pattern_scale * s
+    units.update(pattern=f"{scale:.9g}{g.units}", pattern_source="specification")
+    return replace(
+        loaded,
+        garment=replace(g, V2=g.V2 * s),
+        pattern_scale=scale,
+        pattern_units_estimated=False,
+        intake={**loaded.intake, "units": units},
+    )
+
+
+def matched_specification(loaded: LoadedGarment, spec: Specification, *, up, front) -> SpecMatching:
+    """``spec`` matched to the input garment's panels and seams (in the run's axes)."""
+    st = structure(loaded.garment, up=up, front=front)
+    return match_specification(loaded.garment, spec, st.panels, seams=st.seams, up=up, front=front)
+
+
+def spec_outputs(tmp: Path, adj, matching: SpecMatching) -> tuple[list[str], dict, list[str]]:
+    """Write ``specification.json`` into ``tmp``; return the files written, the report's
+    ``spec`` section and its warnings."""
+    from ptailor.formats.spec_json import write_specification
+    from ptailor.pieces.plan import source_panels
+    from ptailor.spec.adjust import adjusted_specification
+    from ptailor.spec.check import edge_lengths, spec_fit
+
+    g0 = adj.original if adj.original is not None else adj.state.base
+    orig = structure(g0, up=adj.axes[0], front=adj.axes[1]).panels
+    adjusted = adjusted_specification(adj, matching, orig, source_panels(adj, tuple(orig)))
+    write_specification(
+        tmp / SPEC_FILE,
+        adjusted.spec,
+        edge_sources={c.name: list(c.edge_sources) for c in adjusted.changes},
+    )
+    k = matching.scale
+    units = g0.units
+    cm = CM_PER[units]
+    fits = spec_fit(adjusted, adj.result.V2, adj.state.base.F2, list(adj.state.panels))
+    before = edge_lengths(matching.spec)
+    after = edge_lengths(adjusted.spec)
+    warnings = []
+    panels = []
+    for sp, ch, d in zip(adjusted.spec.panels, adjusted.changes, fits, strict=True):  # panels
+        m = next(pm for pm in matching.panels if matching.spec.panels[pm.spec].name == ch.source)
+        worst = float(d.max(initial=0.0))
+        rec = {
+            "name": sp.name,
+            "panel": adj.state.panels[ch.panel].name,
+            "how": ch.how,
+            "mirrored": bool(np.linalg.det(m.R) < 0),
+            "input_fit": round(m.distance, 6),
+            "fit": round(worst, 6),
+            "edges": len(sp.edges),
+            "edge_sources": list(ch.edge_sources),
+            "bent": [{"edge": i, "deviation": round(dev * k, 6)} for i, dev in ch.bent],
+            "refit_max": round(max(ch.refit, default=0.0) * k, 6),
+        }
+        if ch.removed:
+            rec["removed_edges"] = list(ch.removed)
+        panels.append(rec)
+        if worst * cm > tol.SPEC_FIT_WARN_CM:
+            e = int(np.argmax(d))
+            warnings.append(
+                f"spec: panel {sp.name!r} edge {e} lies {worst:.3g} {units} from the adjusted "
+                f"mesh outline (more than {tol.SPEC_FIT_WARN_CM * 10:g} mm)"
+            )
+        for i, dev in ch.bent:
+            warnings.append(
+                f"spec: panel {sp.name!r} edge {i} was straight and is now curved (its "
+                f"points leave the chord by {dev * k:.3g} {units})"
+            )
+    stitches = []
+    for st, si in zip(adjusted.spec.stitches, adjusted.stitch_sources, strict=True):
+        (pa, ea), (pb, eb) = st.sides
+        (qa, fa), (qb, fb) = matching.spec.stitches[si].sides
+        stitches.append(
+            {
+                "stitch": si,
+                "sides": [f"{pa}.{ea}", f"{pb}.{eb}"],
+                "before": [round(before[qa, fa] * k, 6), round(before[qb, fb] * k, 6)],
+                "after": [round(after[pa, ea] * k, 6), round(after[pb, eb] * k, 6)],
+            }
+        )
+    for si in adjusted.dropped_stitches:  # a loop over stitches
+        (pa, ea), (pb, eb) = matching.spec.stitches[si].sides
+        warnings.append(
+            f"spec: stitch {si} ({pa}.{ea} to {pb}.{eb}) dropped: its edge left the pattern"
+        )
+    for name in adjusted.removed_panels:  # a loop over panels
+        warnings.append(f"spec: panel {name!r} removed: the adjustment removed its triangles")
+    section = {
+        "input": matching.spec.path,
+        "format": matching.spec.flavour,
+        "units_in_meter": matching.spec.units_in_meter,
+        "file": SPEC_FILE,
+        "fit_max": round(max((float(d.max(initial=0.0)) for d in fits), default=0.0), 6),
+        "fit_warn": round(tol.SPEC_FIT_WARN_CM / cm, 6),
+        "panels": panels,
+        "stitches": stitches,
+        "dropped_stitches": list(adjusted.dropped_stitches),
+        "removed_panels": list(adjusted.removed_panels),
+    }
+    return [SPEC_FILE], section, warnings

@@ -1,0 +1,520 @@
+"""Carrying a pattern specification through an adjustment: the adjusted specification.
+
+Every point of a specification panel (its vertices, and samples along each edge curve) is
+located in its mesh panel's triangles and carried to the adjusted pattern at the same
+barycentric coordinates. The carried panel is put back in the panel's own frame by undoing
+the rotation and translation of the similarity that best fits its outline before onto
+after; its scale stays, about the frame's origin. So an identity recipe gives every vertex
+back, a uniform scale by ``k`` multiplies every vertex by ``k``, and an edit that moves only
+the hem moves only the hem. Each curved edge's parameters are refitted to its carried
+samples by least squares in the edge's own frame; a straight edge whose carried samples
+leave the chord by more than :data:`~ptailor.tolerances.SPEC_BEND_CM` gets a curve.
+
+A panel whose triangles changed (shorten, extend, cut) is read off the adjusted mesh
+instead: each vertex of its outline is labelled with the input edge it lies on (or as new),
+runs of one label become edges, and a run of new outline replaces the input edges that
+left the outline (the hem a shorten moved keeps its id); stitches follow their edges.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from ptailor import tolerances as tol
+from ptailor.geometry.curves import chord_deviation, curve_points, fit_curve
+from ptailor.geometry.rotations import rigid_fit
+from ptailor.geometry.triangles import signed_areas_2d
+from ptailor.method.transfer import carry_points, locate_points
+from ptailor.model.garment import Panel
+from ptailor.model.polyline import signed_area
+from ptailor.model.specification import SpecEdge, Specification, SpecPanel, Stitch
+from ptailor.model.units import CM_PER
+from ptailor.pieces.draw import outer_loop
+from ptailor.spec.match import PanelMatch, SpecMatching
+
+__all__ = ["AdjustedSpec", "PanelChange", "adjusted_specification"]
+
+#: samples per edge carried to refit its curve
+SAMPLES = 32
+#: rounds of geometric refitting of a Bezier edge (:func:`ptailor.geometry.curves.fit_curve`)
+REPARAMETRIZE = 8
+#: a new outline run turns by more than this (degrees) at a corner: it is split there
+CORNER_DEG = 35.0
+
+
+@dataclass(frozen=True)
+class PanelChange:
+    """What the adjustment did to one specification panel.
+
+    Attributes
+    ----------
+    name : str
+    source : str
+        The input panel it came from.
+    how : str
+        ``carried`` (same triangles: every point carried) or ``outline`` (its triangles
+        changed: edges read off the adjusted mesh outline).
+    edge_sources : tuple of int
+        Per edge, the input edge it came from (``-1``: a new edge).
+    bent : tuple of (int, float)
+        Straight edges that got a curve, with their points' largest distance from the chord
+        (specification units).
+    refit : tuple of float
+        Per edge, the largest distance of its carried points from the refitted curve
+        (specification units).
+    removed : tuple of int
+        Input edges that left the outline.
+    to_pattern : (A (2, 2), b (2,))
+        Affine map from the new panel's frame to the adjusted pattern (computation units):
+        ``Y = X @ A.T + b``.
+    """
+
+    name: str
+    source: str
+    how: str
+    edge_sources: tuple[int, ...]
+    bent: tuple[tuple[int, float], ...]
+    refit: tuple[float, ...]
+    removed: tuple[int, ...] = ()
+    to_pattern: tuple = field(default=(), repr=False)
+    panel: int = -1  # index into the adjusted garment's panels
+
+
+@dataclass(frozen=True)
+class AdjustedSpec:
+    """The adjusted specification and what happened to it.
+
+    Attributes
+    ----------
+    spec : Specification
+    changes : tuple of PanelChange
+        One per panel of ``spec``.
+    stitch_sources : tuple of int
+        Per stitch of ``spec``, the input stitch it is.
+    dropped_stitches : tuple of int
+        Input stitches whose edge left the pattern.
+    removed_panels : tuple of str
+        Input panels the adjustment removed whole.
+    """
+
+    spec: Specification
+    changes: tuple[PanelChange, ...]
+    stitch_sources: tuple[int, ...] = ()
+    dropped_stitches: tuple[int, ...] = ()
+    removed_panels: tuple[str, ...] = ()
+
+
+#: rounds of the trimmed similarity fit (each keeps the points that moved least)
+TRIM_ROUNDS = 3
+
+
+def _similarity(X: np.ndarray, W: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+    """The similarity ``W ~ s X @ Q.T + b`` (rotation ``Q``, no reflection), fitted to the
+    points it fits best: least squares, then :data:`TRIM_ROUNDS` refits on the points
+    whose residual is at most the median (the part of a panel an edit left alone)."""
+    keep = np.ones(len(X), dtype=bool)
+    for _ in range(TRIM_ROUNDS + 1):
+        Q, _ = rigid_fit(X[keep], W[keep])
+        cx, cw = X[keep].mean(axis=0), W[keep].mean(axis=0)
+        a = X[keep] - cx
+        s = float(np.sum((W[keep] - cw) * (a @ Q.T)) / max(float(np.sum(a * a)), 1e-300))
+        b = cw - s * (Q @ cx)
+        r = np.linalg.norm(W - (s * X @ Q.T + b), axis=1)
+        keep = r <= np.median(r) * (1 + 1e-9) + 1e-12 * float(np.ptp(X))
+    return Q, b, s
+
+
+@dataclass(frozen=True)
+class _Frame:
+    """Pattern <-> new panel frame for one panel: ``Z = Q.T (to_spec(Y) - b)``."""
+
+    m: PanelMatch
+    k: float
+    Q: np.ndarray
+    b: np.ndarray
+
+    def to_frame(self, Y: np.ndarray) -> np.ndarray:
+        return (self.m.to_spec(Y, self.k) - self.b) @ self.Q
+
+    def to_pattern(self, Z: np.ndarray) -> np.ndarray:
+        return self.m.to_pattern(Z @ self.Q.T + self.b, self.k)
+
+    def affine(self) -> tuple[np.ndarray, np.ndarray]:
+        A = self.k * self.m.R @ self.Q
+        b = self.m.to_pattern(self.b[None], self.k)[0]
+        return A, b
+
+
+def _frame_of(m: PanelMatch, k: float, Y0: np.ndarray, Y1: np.ndarray) -> _Frame:
+    """The frame that undoes the rotation and translation of the similarity taking the
+    outline ``Y0`` (pattern before, computation units) onto ``Y1`` (after)."""
+    X, W = m.to_spec(Y0, k), m.to_spec(Y1, k)
+    Q, b, _ = _similarity(X, W)
+    return _Frame(m, k, Q, b)
+
+
+def _fit_edge(
+    P0: np.ndarray, P1: np.ndarray, kind: str, t: np.ndarray, Z: np.ndarray, *, start=None
+) -> tuple[str, np.ndarray, float, float]:
+    """``(kind, params, refit error, chord deviation)`` of the edge through ``Z`` at ``t``.
+
+    A straight edge whose points leave the chord by more than the bend tolerance (in the
+    points' units, given through ``start`` for straight edges) becomes quadratic.
+    """
+    dev = chord_deviation(P0, P1, Z)
+    if kind == "straight":
+        return "straight", np.zeros(0), dev, dev
+    params = fit_curve(P0, P1, kind, t, Z, start=start, reparametrize=REPARAMETRIZE)
+    curve = curve_points(P0, P1, kind, params, np.linspace(0.0, 1.0, 513))
+    err = float(np.max(_polyline_distance(Z, curve))) if len(Z) else 0.0
+    return kind, params, err, dev
+
+
+def _polyline_distance(X: np.ndarray, P: np.ndarray) -> np.ndarray:
+    """Distance from points ``X`` to the open polyline ``P``."""
+    from ptailor.geometry.segments import segment_feet
+
+    d, _ = segment_feet(X[:, None, :], P[None, :-1], P[None, 1:])
+    return d.min(axis=1)
+
+
+def _straight_or_bent(P0, P1, Z, t, bend: float) -> tuple[str, np.ndarray, float, float]:
+    """A straight edge through carried points ``Z``: a quadratic when they bend."""
+    dev = chord_deviation(P0, P1, Z)
+    if dev <= bend or len(Z) < 3:
+        return "straight", np.zeros(0), dev, dev
+    kind, params, err, _ = _fit_edge(P0, P1, "quadratic", t, Z)
+    return kind, params, err, dev
+
+
+def _carried_panel(
+    sp: SpecPanel, m: PanelMatch, k: float, adj, p0: Panel, part: Panel, bend: float
+) -> tuple[SpecPanel, PanelChange]:
+    """A panel with the same triangles: every point carried."""
+    base = adj.state.base
+    Vb, Fb, Vn = base.V2, base.F2, adj.result.V2
+    L = outer_loop(Fb, part.faces, Vb)
+    frame = _frame_of(m, k, Vb[L], Vn[L])
+    t = np.linspace(0.0, 1.0, SAMPLES + 1)[1:-1]
+    pts = [m.to_pattern(sp.vertices, k)]
+    pts += [m.to_pattern(sp.edge_points(i, t), k) for i in range(len(sp.edges))]
+    Y = np.vstack(pts)
+    loc = locate_points(Vb, Fb, Y, faces=part.faces)
+    Z = frame.to_frame(carry_points(Vn, Fb, loc))
+    nv = len(sp.vertices)
+    V = Z[:nv]
+    edges, bent, refit = [], [], []
+    for i, e in enumerate(sp.edges):  # a loop over a panel's edges
+        a, b = e.endpoints
+        Ze = Z[nv + i * len(t) : nv + (i + 1) * len(t)]
+        if e.kind == "straight":
+            kind, params, err, dev = _straight_or_bent(V[a], V[b], Ze, t, bend)
+            if kind != "straight":
+                bent.append((i, dev))
+        else:
+            kind, params, err, _ = _fit_edge(V[a], V[b], e.kind, t, Ze, start=e.params)
+        edges.append(replace(e, kind=kind, params=params))
+        refit.append(err)
+    new = replace(sp, vertices=V, edges=tuple(edges))
+    change = PanelChange(
+        name=sp.name,
+        source=sp.name,
+        how="carried",
+        edge_sources=tuple(range(len(edges))),
+        bent=tuple(bent),
+        refit=tuple(refit),
+        to_pattern=frame.affine(),
+        panel=part.index,
+    )
+    return new, change
+
+
+def _labels(sp: SpecPanel, X: np.ndarray, reach: float) -> tuple[np.ndarray, np.ndarray]:
+    """Per point ``X`` (panel frame) the edge it lies on within ``reach`` (-1: none) and
+    its parameter there."""
+    from scipy.spatial import cKDTree
+
+    n = 512
+    P, edge, t = sp.outline(n)
+    d, idx = cKDTree(P).query(X)
+    lab = np.where(d <= reach, edge[idx], -1)
+    tt = t[idx]
+    # the sample at t = 0 of the next edge is t = 1 of this one: nearest ends stay on
+    return lab, tt
+
+
+def _runs(lab: np.ndarray) -> list[tuple[int, np.ndarray]]:
+    """Cyclic runs of equal labels ``(label, positions)``, starting at a label change."""
+    n = len(lab)
+    change = np.flatnonzero(lab != np.roll(lab, 1))
+    if len(change) == 0:
+        return [(int(lab[0]), np.arange(n))]
+    start = change[0]
+    order = (np.arange(n) + start) % n
+    lab_r = lab[order]
+    cuts = np.flatnonzero(np.diff(lab_r)) + 1
+    return [(int(g[0]), order[s]) for g, s in
+            zip(np.split(lab_r, cuts), np.split(np.arange(n), cuts), strict=True)]  # fmt: skip
+
+
+def _corners(Z: np.ndarray) -> np.ndarray:
+    """Interior positions of an open polyline ``Z`` where it turns by more than
+    :data:`CORNER_DEG`."""
+    if len(Z) < 3:
+        return np.zeros(0, dtype=np.int64)
+    d = np.diff(Z, axis=0)
+    a = np.arctan2(d[:, 1], d[:, 0])
+    turn = np.abs((np.diff(a) + np.pi) % (2 * np.pi) - np.pi)
+    return np.flatnonzero(turn > np.radians(CORNER_DEG)) + 1
+
+
+def _outline_panel(
+    sp: SpecPanel, m: PanelMatch, k: float, adj, p0: Panel, part: Panel, bend: float, g0
+) -> tuple[SpecPanel, PanelChange]:
+    """A panel whose triangles changed: edges read off its adjusted outline."""
+    base = adj.state.base
+    Vb, Fb, Vn = base.V2, base.F2, adj.result.V2
+    L = outer_loop(Fb, part.faces, Vb)
+    X = m.to_spec(Vb[L], k)
+    spec_area = signed_area(sp.outline(16)[0])
+    if np.sign(signed_area(X)) != np.sign(spec_area):
+        L = L[::-1]
+        X = X[::-1]
+    frame = _frame_of(m, k, Vb[L], Vn[L])
+    Zl = frame.to_frame(Vn[L])
+    reach = (max(3.0 * m.distance, 0.05 / CM_PER[g0.units]) + 1e-9) / k
+    lab, _ = _labels(sp, X, reach)
+    # an input vertex still in the panel: where its two edges meet
+    loc_v = locate_points(Vb, Fb, m.to_pattern(sp.vertices, k), faces=part.faces)
+    tiny = 1e-6 * max(float(np.ptp(Vb[L])), 1e-300)
+    v_kept = loc_v.distance <= tiny
+    Zv = frame.to_frame(carry_points(Vn, Fb, loc_v))
+    runs = _runs(lab)
+    n_e = len(sp.edges)
+    present = {r for r, _ in runs if r >= 0}
+    # rotate the runs to start at the first run of the lowest surviving edge
+    if present:
+        first = min(present)
+        i0 = next(i for i, (r, _) in enumerate(runs) if r == first)
+        runs = runs[i0:] + runs[:i0]
+    # segments: (source edge or -1, loop positions, kind of the fit)
+    segs: list[list] = []
+    for r, pos in runs:  # a loop over the outline's runs
+        if r >= 0:
+            segs.append([r, pos, "kept"])
+            continue
+        prev_r = segs[-1][0] if segs else (runs[-1][0] if runs else -1)
+        nxt = runs[(runs.index((r, pos)) + 1) % len(runs)][0] if len(runs) > 1 else -1
+        gone = _between(prev_r, nxt, n_e, present)
+        ext = np.concatenate([pos[:1] - 1, pos, pos[-1:] + 1]) % len(L)
+        cut = _corners(Zl[ext]) - 1
+        cut = cut[(cut > 0) & (cut < len(pos))]
+        pieces = np.split(pos, cut) if len(cut) else [pos]
+        if len(pieces) == len(gone) + 2 and prev_r >= 0 and nxt >= 0:
+            segs[-1][1] = np.concatenate([segs[-1][1], pieces[0]])
+            mids = pieces[1:-1]
+            tail = pieces[-1]
+        else:
+            mids, tail = pieces, None
+        for j, pc in enumerate(mids):  # the pieces of a new outline run
+            segs.append([gone[j] if j < len(gone) else -1, pc, "new"])
+        if tail is not None:
+            segs.append([nxt, tail, "lead"])
+    # merge a leading piece into the run of its edge that follows it
+    merged: list[list] = []
+    for s in segs:  # a loop over segments
+        if merged and s[2] == "kept" and merged[-1][2] == "lead" and merged[-1][0] == s[0]:
+            merged[-1] = [s[0], np.concatenate([merged[-1][1], s[1]]), "kept"]
+        else:
+            merged.append(s)
+    segs = [[s[0], s[1], "kept" if s[2] == "lead" else s[2]] for s in merged]
+    removed = sorted(set(range(n_e)) - {s[0] for s in segs if s[0] >= 0})
+    # vertices: the start of each segment
+    starts = []
+    for i, (src, pos, how) in enumerate(segs):  # a loop over segments
+        prev = segs[i - 1]
+        if how == "kept" and prev[2] == "kept" and prev[0] >= 0 and src >= 0:
+            v = sp.edges[src].endpoints[0]
+            if (prev[0] + 1) % n_e == src and v_kept[v]:
+                starts.append(Zv[v])
+                continue
+        # the junction: the kept run's extreme vertex next to a new run
+        starts.append(Zl[prev[1][-1]] if prev[2] == "kept" and how != "kept" else Zl[pos[0]])
+    P = np.array(starts)
+    # an edge split in two (a cut through it): its second part is a new edge
+    sources = []
+    for src, _, _ in segs:  # a loop over segments
+        sources.append(src if src < 0 or src not in sources else -1)
+    idx = _vertex_indices(sp, sources)
+    V = np.zeros((int(idx.max()) + 1, 2))
+    V[idx] = P
+    edges, bent, refit = [], [], []
+    t = np.linspace(0.0, 1.0, SAMPLES + 1)[1:-1]
+    n_s = len(segs)
+    for i, (src, pos, how) in enumerate(segs):  # a loop over segments
+        P0, P1 = P[i], P[(i + 1) % n_s]
+        old = sp.edges[src] if src >= 0 else None
+        if how == "kept" and old is not None and old.kind != "straight":
+            ta = _param_at(sp, src, frame, P0)
+            tb = _param_at(sp, src, frame, P1)
+            Yo = m.to_pattern(sp.edge_points(src, ta + t * (tb - ta)), k)
+            loc = locate_points(Vb, Fb, Yo, faces=part.faces)
+            Zo = frame.to_frame(carry_points(Vn, Fb, loc))
+            kind, params, err, _ = _fit_edge(P0, P1, old.kind, t, Zo, start=old.params)
+        else:
+            Zs = Zl[pos]
+            s = _chord_params(np.vstack([P0, Zs, P1]))[1:-1]
+            kind0 = old.kind if old is not None else "straight"
+            if kind0 == "straight":
+                kind, params, err, dev = _straight_or_bent(P0, P1, Zs, s, bend)
+                if kind != "straight" and old is not None:
+                    bent.append((i, dev))
+            else:
+                kind, params, err, _ = _fit_edge(P0, P1, kind0, s, Zs, start=old.params)
+        enc = old.encoding if old is not None else "none"
+        edges.append(SpecEdge((int(idx[i]), int(idx[(i + 1) % n_s])), kind, params, enc))
+        refit.append(err)
+    new = replace(sp, vertices=V, edges=tuple(edges))
+    change = PanelChange(
+        name=sp.name,
+        source=sp.name,
+        how="outline",
+        edge_sources=tuple(sources),
+        bent=tuple(bent),
+        refit=tuple(refit),
+        removed=tuple(int(r) for r in removed),
+        to_pattern=frame.affine(),
+        panel=part.index,
+    )
+    return new, change
+
+
+def _vertex_indices(sp: SpecPanel, sources: list[int]) -> np.ndarray:
+    """The vertex index of each segment's start: the input vertex where the segment's own
+    input edge starts, else where the previous segment's input edge ends, else a new index;
+    then renumbered in the input's order (vertices gone dropped, new ones last)."""
+    n = len(sources)
+    idx = np.full(n, -1, dtype=np.int64)
+    used: set[int] = set()
+    for i, s in enumerate(sources):  # a loop over segments
+        prev = sources[i - 1]
+        for v in (
+            sp.edges[s].endpoints[0] if s >= 0 else -1,
+            sp.edges[prev].endpoints[1] if prev >= 0 else -1,
+        ):
+            if v >= 0 and v not in used:
+                idx[i] = v
+                used.add(v)
+                break
+    fresh = idx < 0
+    idx[fresh] = len(sp.vertices) + np.arange(int(fresh.sum()))
+    _, dense = np.unique(idx, return_inverse=True)  # the input's order kept, new ones last
+    return dense.astype(np.int64)
+
+
+def _chord_params(P: np.ndarray) -> np.ndarray:
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(P, axis=0), axis=1))])
+    return s / max(float(s[-1]), 1e-300)
+
+
+def _param_at(sp: SpecPanel, e: int, frame: _Frame, P: np.ndarray) -> float:
+    """The parameter on input edge ``e`` of the point nearest the input position of the
+    new-frame point ``P`` (where a kept run of ``e`` starts or ends)."""
+    Y = frame.to_pattern(P[None])
+    X = frame.m.to_spec(Y, frame.k)
+    t = np.linspace(0.0, 1.0, 2049)
+    Pe = sp.edge_points(e, t)
+    return float(t[int(np.argmin(np.linalg.norm(Pe - X, axis=1)))])
+
+
+def _between(a: int, b: int, n: int, present: set[int]) -> list[int]:
+    """Input edges strictly between ``a`` and ``b`` in loop order that no run holds."""
+    if a < 0 or b < 0:
+        return []
+    out, i = [], (a + 1) % n
+    while i != b and len(out) < n:
+        if i not in present:
+            out.append(i)
+        i = (i + 1) % n
+    return out
+
+
+def adjusted_specification(
+    adj, matching: SpecMatching, original_panels: list[Panel], source: dict[str, int]
+) -> AdjustedSpec:
+    """The specification of the adjusted pattern.
+
+    Parameters
+    ----------
+    adj : Adjustment
+    matching : SpecMatching
+        Made on the input garment (``adj.original``).
+    original_panels : list of Panel
+        The input garment's panels (``matching`` indexes them).
+    source : dict
+        Adjusted panel name to the input panel it came from
+        (:func:`ptailor.pieces.plan.source_panels`).
+
+    Returns
+    -------
+    AdjustedSpec
+    """
+    spec, k = matching.spec, matching.scale
+    g0 = adj.original if adj.original is not None else adj.state.base
+    base = adj.state.base
+    bend = tol.SPEC_BEND_CM / CM_PER[g0.units] / k
+    a0 = np.abs(signed_areas_2d(g0.V2, g0.F2))
+    ab = np.abs(signed_areas_2d(base.V2, base.F2))
+    parts: dict[int, list[Panel]] = {}
+    for p in adj.state.panels:  # a loop over panels
+        if p.name in source:
+            parts.setdefault(source[p.name], []).append(p)
+    panels, changes, removed = [], [], []
+    edge_map: dict[str, dict[int, int]] = {}
+    for m in matching.panels:  # a loop over spec panels
+        sp = spec.panels[m.spec]
+        p0 = original_panels[m.panel]
+        now = parts.get(m.panel, [])
+        if not now:
+            removed.append(sp.name)
+            continue
+        for j, part in enumerate(now):  # the parts of one panel (one unless a cut split it)
+            s0, sb = float(a0[p0.faces].sum()), float(ab[part.faces].sum())
+            same = len(now) == 1 and len(part.faces) == len(p0.faces) and abs(sb - s0) <= 1e-9 * s0
+            if same:
+                new, ch = _carried_panel(sp, m, k, adj, p0, part, bend)
+            else:
+                new, ch = _outline_panel(sp, m, k, adj, p0, part, bend, g0)
+            if j:
+                name = part.name if part.name != p0.name else f"{sp.name}_{j}"
+                new, ch = replace(new, name=name), replace(ch, name=name)
+            panels.append(new)
+            changes.append(ch)
+            if j == 0:  # stitches follow the first part (the one keeping the name)
+                emap = edge_map.setdefault(sp.name, {})
+                for i, s in enumerate(ch.edge_sources):  # a loop over edges
+                    if s >= 0:
+                        emap.setdefault(s, i)
+    stitches, kept, dropped = [], [], []
+    for si, st in enumerate(spec.stitches):  # a loop over stitches
+        sides = []
+        for name, e in st.sides:  # the two sides
+            i = edge_map.get(name, {}).get(e)
+            if i is None:
+                break
+            sides.append((name, i))
+        if len(sides) == 2:
+            stitches.append(Stitch((sides[0], sides[1])))
+            kept.append(si)
+        else:
+            dropped.append(si)
+    new_spec = replace(spec, panels=tuple(panels), stitches=tuple(stitches))
+    return AdjustedSpec(
+        spec=new_spec,
+        changes=tuple(changes),
+        stitch_sources=tuple(kept),
+        dropped_stitches=tuple(dropped),
+        removed_panels=tuple(removed),
+    )

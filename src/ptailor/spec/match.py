@@ -1,0 +1,315 @@
+"""Matching a pattern specification to the garment mesh made from it.
+
+Each specification panel is matched to one mesh panel by shape and by place: its outline
+(every edge curve sampled) is fitted onto each mesh panel's outline by a rigid map
+(reflections allowed: exporters mirror panels), and of the fits that match the shape, the
+one that puts the panel where the specification places it in 3D wins (identical sleeve
+halves, and the two sides of a symmetric front, differ only there). The specification's 3D
+frame is GarmentCode's (y up, z front), turned onto the run's ``up`` and ``front``. Panels
+and fits are paired by an assignment over the places. Then every stitch must land on a seam
+of the mesh between the two matched panels.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ptailor import tolerances as tol
+from ptailor.errors import PtailorError
+from ptailor.method.transfer import locate_points
+from ptailor.model.garment import Garment, Panel
+from ptailor.model.polyline import resample_closed, signed_area
+from ptailor.model.specification import Specification, SpecPanel
+from ptailor.model.units import CM_PER
+from ptailor.pieces.draw import outer_loop
+from ptailor.pieces.match import ClosedCurve, shape_fits
+
+__all__ = ["PanelMatch", "SpecMatching", "StitchMatch", "match_specification", "spec_scale"]
+
+#: samples per edge of a specification outline when it is matched and checked
+PER_EDGE = 64
+
+
+@dataclass(frozen=True)
+class PanelMatch:
+    """A specification panel and the mesh panel it is.
+
+    Attributes
+    ----------
+    spec : int
+        Index into the specification's panels.
+    panel : int
+        Index into the garment's panels.
+    R : (2, 2) float array
+        Rotation or reflection; pattern point = ``R @ (k * spec point) + t`` with ``k`` the
+        specification-to-computation unit scale.
+    t : (2,) float array
+    residual : float
+        Mean outline distance over the outline's diagonal.
+    distance : float
+        Largest distance of the sampled specification outline from the mesh panel's
+        outline, computation units.
+    """
+
+    spec: int
+    panel: int
+    R: np.ndarray
+    t: np.ndarray
+    residual: float
+    distance: float
+
+    def to_pattern(self, X: np.ndarray, k: float) -> np.ndarray:
+        """Specification points ``(j, 2)`` to pattern points."""
+        return (k * X) @ self.R.T + self.t
+
+    def to_spec(self, Y: np.ndarray, k: float) -> np.ndarray:
+        """Pattern points ``(j, 2)`` back to specification points."""
+        return ((Y - self.t) @ self.R) / k
+
+
+@dataclass(frozen=True)
+class StitchMatch:
+    """A stitch and the seam of the mesh it is.
+
+    Attributes
+    ----------
+    stitch : int
+        Index into the specification's stitches.
+    seam : int
+        Index into the garment's seams (``structure(g).seams``).
+    spec_lengths : (float, float)
+        The two edges' curve lengths, computation units.
+    mesh_lengths : (float, float)
+        The pattern lengths of the mesh's boundary along each edge, computation units.
+    """
+
+    stitch: int
+    seam: int
+    spec_lengths: tuple[float, float]
+    mesh_lengths: tuple[float, float]
+
+
+@dataclass(frozen=True)
+class SpecMatching:
+    """A specification matched to a garment.
+
+    Attributes
+    ----------
+    spec : Specification
+    scale : float
+        Specification units times this gives the garment's computation units.
+    panels : tuple of PanelMatch
+        One per specification panel, in its order.
+    stitches : tuple of StitchMatch
+        One per stitch, in its order.
+    """
+
+    spec: Specification
+    scale: float
+    panels: tuple[PanelMatch, ...]
+    stitches: tuple[StitchMatch, ...]
+
+
+def spec_scale(spec: Specification, units: str) -> float:
+    """Specification units to ``units``."""
+    return spec.cm_per_unit / CM_PER[units]
+
+
+def _axes_frame(up, front) -> np.ndarray:
+    """The rotation taking the specification's axes (y up, z front) onto ``up``, ``front``."""
+    u = np.asarray(up, dtype=float)
+    f = np.asarray(front, dtype=float)
+    return np.column_stack([np.cross(u, f), u, f])
+
+
+def _edge_lengths(p: SpecPanel, k: float) -> np.ndarray:
+    t = np.linspace(0.0, 1.0, 257)
+    out = []
+    for i in range(len(p.edges)):  # a loop over a panel's edges
+        X = p.edge_points(i, t) * k
+        out.append(float(np.linalg.norm(np.diff(X, axis=0), axis=1).sum()))
+    return np.array(out)
+
+
+def match_specification(
+    garment: Garment,
+    spec: Specification,
+    panel_list: list[Panel],
+    *,
+    seams: list,
+    up=(0.0, 1.0, 0.0),
+    front=(0.0, 0.0, 1.0),
+) -> SpecMatching:
+    """Match a specification's panels to the garment's panels and its stitches to seams.
+
+    Parameters
+    ----------
+    garment : Garment
+        The garment the specification describes (pattern and drape in ``garment.units``).
+    spec : Specification
+    panel_list : list of Panel
+        The garment's panels.
+    seams : list of Seam
+        The garment's seams over ``panel_list`` (:attr:`GarmentStructure.seams`).
+    up, front : (3,) sequence of float
+        The drape's axes (the specification's are y up, z front).
+
+    Returns
+    -------
+    SpecMatching
+
+    Raises
+    ------
+    PtailorError
+        Naming the specification file and the panel or stitch that matches nothing.
+    """
+    k = spec_scale(spec, garment.units)
+    V2, F2, V3, F3 = garment.V2, garment.F2, garment.V3, garment.F3
+    if len(spec.panels) != len(panel_list):
+        raise PtailorError(
+            f"the specification has {len(spec.panels)} panels, the garment "
+            f"{len(panel_list)}: they do not describe the same pattern",
+            path=spec.path,
+        )
+    mesh = []
+    for p in panel_list:  # a loop over panels
+        B = V2[outer_loop(F2, p.faces, V2)]
+        mesh.append((B, ClosedCurve(B), resample_closed(B, 256), abs(signed_area(B))))
+    Q = _axes_frame(up, front)
+    # the places: every panel's outline samples in 3D, the specification's turned onto the
+    # drape's axes; both clouds centred on their own centroid (the drape sits anywhere)
+    outlines = [sp.outline(PER_EDGE)[0] * k for sp in spec.panels]
+    placed = [sp.placement(X / k) * k @ Q.T for sp, X in zip(spec.panels, outlines, strict=True)]
+    centre_spec = np.vstack(placed).mean(axis=0)
+    centre_mesh = np.average(V3[F3].mean(axis=1), axis=0)
+    size = float(np.linalg.norm(np.ptp(V3[np.unique(F3)], axis=0)))
+    n = len(spec.panels)
+    cost = np.full((n, n), np.inf)
+    fits: dict[tuple[int, int], tuple] = {}
+    for i, (sp, X) in enumerate(zip(spec.panels, outlines, strict=True)):  # spec panels
+        A = resample_closed(X, 256)
+        area = abs(signed_area(X))
+        diag = float(np.linalg.norm(np.ptp(A, axis=0)))
+        for j, (B, cb, Bs, barea) in enumerate(mesh):  # mesh panels
+            if abs(area - barea) > tol.SPEC_AREA_REL * max(area, barea):
+                continue
+            cands = shape_fits(A, cb, Bs, diag)
+            best_res = cands[0][2]
+            if best_res > tol.SPEC_MATCH_REL:
+                continue
+            for R, t, res in cands:  # the fits that match the shape: which one is in place
+                if res > 2.0 * best_res + 1e-6:
+                    continue
+                Y = X @ R.T + t
+                loc = locate_points(V2, F2, Y, faces=panel_list[j].faces)
+                Y3 = np.einsum("ki,kij->kj", loc.bary, V3[F3[loc.face]])
+                d = np.linalg.norm((Y3 - centre_mesh) - (placed[i] - centre_spec), axis=1)
+                c = float(d.mean()) / max(size, 1e-300) + res
+                if c < cost[i, j]:
+                    cost[i, j] = c
+                    fits[i, j] = (R, t, res)
+    for i, sp in enumerate(spec.panels):  # a loop over spec panels
+        if not np.isfinite(cost[i]).any():
+            raise PtailorError(
+                f"panel {sp.name!r}: no panel of the garment has its shape and size "
+                f"(outline fit within {tol.SPEC_MATCH_REL:g} of its size, area within "
+                f"{tol.SPEC_AREA_REL:.0%})",
+                path=spec.path,
+            )
+    from scipy.optimize import linear_sum_assignment
+
+    big = 1e6
+    rows, cols = linear_sum_assignment(np.where(np.isfinite(cost), cost, big))
+    matches = []
+    for i, j in zip(rows, cols, strict=True):  # a loop over spec panels
+        if not np.isfinite(cost[i, j]):
+            raise PtailorError(
+                f"panel {spec.panels[i].name!r}: its shape matches only panels that other "
+                f"specification panels match better (garment panel {panel_list[j].name!r} "
+                "is left)",
+                path=spec.path,
+            )
+        R, t, res = fits[i, j]
+        X = outlines[i] @ R.T + t
+        dist = float(mesh[j][1].nearest(X)[0].max())
+        matches.append(PanelMatch(int(i), int(j), R, t, float(res), dist))
+    matches.sort(key=lambda m: m.spec)
+    stitches = _stitch_matches(garment, spec, tuple(matches), panel_list, seams, k)
+    return SpecMatching(spec=spec, scale=k, panels=tuple(matches), stitches=stitches)
+
+
+def _boundary_near(
+    garment: Garment, panel: Panel, Y: np.ndarray, reach: float
+) -> tuple[np.ndarray, float]:
+    """The panel's boundary edges (pattern vertex pairs) whose middles lie within ``reach``
+    of the polyline ``Y``, and their total length."""
+    from ptailor.geometry.segments import segment_feet
+    from ptailor.model.boundary import boundary_loops
+
+    E = []
+    for lp in boundary_loops(garment.F2[panel.faces]):  # a panel's boundary loops
+        E.append(np.column_stack([lp, np.roll(lp, -1)]))
+    E = np.vstack(E)
+    mid = garment.V2[E].mean(axis=1)
+    d, _ = segment_feet(mid[:, None, :], Y[None, :-1], Y[None, 1:])
+    near = d.min(axis=1) <= reach
+    sel = E[near]
+    length = float(np.linalg.norm(garment.V2[sel[:, 1]] - garment.V2[sel[:, 0]], axis=1).sum())
+    return sel, length
+
+
+def _stitch_matches(
+    garment: Garment,
+    spec: Specification,
+    matches: tuple[PanelMatch, ...],
+    panel_list: list[Panel],
+    seams: list,
+    k: float,
+) -> tuple[StitchMatch, ...]:
+    """Every stitch's seam: the seam between the two matched panels whose pattern edges lie
+    along both stitched edges."""
+    index = {p.name: i for i, p in enumerate(spec.panels)}
+    lengths = [_edge_lengths(p, k) for p in spec.panels]
+    t = np.linspace(0.0, 1.0, PER_EDGE + 1)
+    out = []
+    for si, st in enumerate(spec.stitches):  # a loop over stitches
+        sides = []
+        for name, e in st.sides:  # the two sides
+            m = matches[index[name]]
+            sp = spec.panels[m.spec]
+            Y = m.to_pattern(sp.edge_points(e, t), k)
+            reach = max(3.0 * m.distance, tol.SPEC_FIT_WARN_CM / CM_PER[garment.units])
+            E, length = _boundary_near(garment, panel_list[m.panel], Y, reach)
+            sides.append((m.panel, E, length, float(lengths[m.spec][e])))
+        (pa, Ea, la, sa), (pb, Eb, lb, sb) = sides
+        best, best_n = -1, 0
+        for s_i, s in enumerate(seams):  # a loop over seams
+            if set(s.panels) != {pa, pb}:
+                continue
+            ea = s.edges_a if s.panels[0] == pa else s.edges_b
+            eb = s.edges_b if s.panels[0] == pa else s.edges_a
+            got_a = _shared_edges(ea, Ea)
+            got_b = _shared_edges(eb, Eb)
+            if min(got_a, got_b) > best_n:
+                best, best_n = s_i, min(got_a, got_b)
+        a_name, b_name = (f"{n}.{e}" for n, e in st.sides)
+        if best < 0:
+            raise PtailorError(
+                f"stitch {si} ({a_name} to {b_name}): no seam of the garment joins panels "
+                f"{panel_list[pa].name!r} and {panel_list[pb].name!r} along these edges",
+                path=spec.path,
+            )
+        out.append(StitchMatch(si, best, (sa, sb), (la, lb)))
+    return tuple(out)
+
+
+def _shared_edges(A: np.ndarray, B: np.ndarray) -> int:
+    """How many undirected edges ``A`` ``(p, 2)`` and ``B`` ``(q, 2)`` share."""
+    if len(A) == 0 or len(B) == 0:
+        return 0
+    n = int(max(A.max(), B.max())) + 1
+    ka = np.sort(A, axis=1) @ np.array([n, 1])
+    kb = np.sort(B, axis=1) @ np.array([n, 1])
+    return int(np.isin(kb, ka).sum())
