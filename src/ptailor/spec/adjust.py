@@ -259,15 +259,59 @@ def _runs(lab: np.ndarray) -> list[tuple[int, np.ndarray]]:
             zip(np.split(lab_r, cuts), np.split(np.arange(n), cuts), strict=True)]  # fmt: skip
 
 
-def _corners(Z: np.ndarray) -> np.ndarray:
-    """Interior positions of an open polyline ``Z`` where it turns by more than
-    :data:`CORNER_DEG`."""
+def _corners(Z: np.ndarray, window: float) -> np.ndarray:
+    """Interior positions of an open polyline ``Z`` that are corners: where the chords
+    ``window`` long before and after a vertex turn by more than :data:`CORNER_DEG`, the
+    sharpest vertex of each such stretch (a cut line's zigzag through the triangles is no
+    corner; pieces shorter than ``window`` are not split off)."""
     if len(Z) < 3:
         return np.zeros(0, dtype=np.int64)
-    d = np.diff(Z, axis=0)
-    a = np.arctan2(d[:, 1], d[:, 0])
-    turn = np.abs((np.diff(a) + np.pi) % (2 * np.pi) - np.pi)
-    return np.flatnonzero(turn > np.radians(CORNER_DEG)) + 1
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(Z, axis=0), axis=1))])
+    inner = np.arange(1, len(Z) - 1)
+    ok = (s[inner] >= window) & (s[inner] <= s[-1] - window)
+    if not ok.any():
+        return np.zeros(0, dtype=np.int64)
+    inner = inner[ok]
+
+    def at(x):
+        return np.stack([np.interp(x, s, Z[:, 0]), np.interp(x, s, Z[:, 1])], axis=1)
+
+    a = Z[inner] - at(s[inner] - window)
+    b = at(s[inner] + window) - Z[inner]
+    turn = np.degrees(np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], (a * b).sum(1))))
+    sharp = turn > CORNER_DEG
+    out = []
+    for grp in np.split(np.arange(len(inner)), np.flatnonzero(np.diff(sharp.astype(int))) + 1):
+        if len(grp) and sharp[grp[0]]:  # one corner per stretch: its sharpest vertex
+            out.append(int(inner[grp[np.argmax(turn[grp])]]))
+    return np.array(out, dtype=np.int64)
+
+
+def _turns(Zl: np.ndarray, a: np.ndarray, b: np.ndarray, window: float) -> bool:
+    """Whether the outline turns a corner where run ``a`` (loop positions) meets the run
+    ``b`` after it."""
+    P = np.vstack([Zl[a], Zl[b]])
+    j = len(a)
+    c = _corners(P, window)
+    return bool(np.any(np.abs(c - j) <= 1)) if len(c) else False
+
+
+def _run_of(runs, r, pos):
+    """The loop positions of the run after the run ``(r, pos)``."""
+    i = next(k for k, (rr, pp) in enumerate(runs) if rr == r and pp is pos)
+    return runs[(i + 1) % len(runs)][1]
+
+
+def _cleaned(lab: np.ndarray) -> np.ndarray:
+    """Labels with one- and two-vertex runs of an input edge next to new outline made new
+    (a corner of the new outline that touches an old edge is no part of that edge)."""
+    lab = lab.copy()
+    runs = _runs(lab)
+    for i, (r, pos) in enumerate(runs):  # a loop over the outline's runs
+        nb = (runs[i - 1][0], runs[(i + 1) % len(runs)][0])
+        if r >= 0 and len(pos) <= 2 and -1 in nb and len(runs) > 2:
+            lab[pos] = -1
+    return lab
 
 
 def _outline_panel(
@@ -285,7 +329,8 @@ def _outline_panel(
     frame = _frame_of(m, k, Vb[L], Vn[L])
     Zl = frame.to_frame(Vn[L])
     reach = (max(3.0 * m.distance, 0.05 / CM_PER[g0.units]) + 1e-9) / k
-    lab, _ = _labels(sp, X, reach)
+    window = 1.0 / CM_PER[g0.units] / k  # 1 cm: what a corner of the new outline is seen over
+    lab = _cleaned(_labels(sp, X, reach)[0])
     # an input vertex still in the panel: where its two edges meet
     loc_v = locate_points(Vb, Fb, m.to_pattern(sp.vertices, k), faces=part.faces)
     tiny = 1e-6 * max(float(np.ptp(Vb[L])), 1e-300)
@@ -306,18 +351,19 @@ def _outline_panel(
             segs.append([r, pos, "kept"])
             continue
         prev_r = segs[-1][0] if segs else (runs[-1][0] if runs else -1)
-        nxt = runs[(runs.index((r, pos)) + 1) % len(runs)][0] if len(runs) > 1 else -1
+        nxt = _run_of(runs, r, pos) if len(runs) > 1 else None
+        nxt = int(lab[nxt[0]]) if nxt is not None else -1
         gone = _between(prev_r, nxt, n_e, present)
         ext = np.concatenate([pos[:1] - 1, pos, pos[-1:] + 1]) % len(L)
-        cut = _corners(Zl[ext]) - 1
+        cut = _corners(Zl[ext], window) - 1
         cut = cut[(cut > 0) & (cut < len(pos))]
         pieces = np.split(pos, cut) if len(cut) else [pos]
-        if len(pieces) == len(gone) + 2 and prev_r >= 0 and nxt >= 0:
-            segs[-1][1] = np.concatenate([segs[-1][1], pieces[0]])
-            mids = pieces[1:-1]
-            tail = pieces[-1]
-        else:
-            mids, tail = pieces, None
+        mids, tail = list(pieces), None
+        if prev_r >= 0 and segs and not _turns(Zl, segs[-1][1], mids[0], window):
+            segs[-1][1] = np.concatenate([segs[-1][1], mids.pop(0)])  # it goes on: extended
+            segs[-1][2] = "extended"
+        if mids and nxt >= 0 and not _turns(Zl, mids[-1], _run_of(runs, r, pos), window):
+            tail = mids.pop()
         for j, pc in enumerate(mids):  # the pieces of a new outline run
             segs.append([gone[j] if j < len(gone) else -1, pc, "new"])
         if tail is not None:
@@ -325,23 +371,26 @@ def _outline_panel(
     # merge a leading piece into the run of its edge that follows it
     merged: list[list] = []
     for s in segs:  # a loop over segments
-        if merged and s[2] == "kept" and merged[-1][2] == "lead" and merged[-1][0] == s[0]:
-            merged[-1] = [s[0], np.concatenate([merged[-1][1], s[1]]), "kept"]
+        if merged and s[2] != "new" and merged[-1][2] == "lead" and merged[-1][0] == s[0]:
+            merged[-1] = [s[0], np.concatenate([merged[-1][1], s[1]]), "extended"]
         else:
             merged.append(s)
-    segs = [[s[0], s[1], "kept" if s[2] == "lead" else s[2]] for s in merged]
+    if len(merged) > 1 and merged[-1][2] == "lead" and merged[0][0] == merged[-1][0]:
+        last = merged.pop()  # the run it leads into is the first one
+        merged[0] = [last[0], np.concatenate([last[1], merged[0][1]]), "extended"]
+    segs = [[s[0], s[1], "extended" if s[2] == "lead" else s[2]] for s in merged]
     removed = sorted(set(range(n_e)) - {s[0] for s in segs if s[0] >= 0})
     # vertices: the start of each segment
     starts = []
     for i, (src, pos, how) in enumerate(segs):  # a loop over segments
         prev = segs[i - 1]
-        if how == "kept" and prev[2] == "kept" and prev[0] >= 0 and src >= 0:
+        if how != "new" and prev[2] != "new" and prev[0] >= 0 and src >= 0:
             v = sp.edges[src].endpoints[0]
             if (prev[0] + 1) % n_e == src and v_kept[v]:
                 starts.append(Zv[v])
                 continue
         # the junction: the kept run's extreme vertex next to a new run
-        starts.append(Zl[prev[1][-1]] if prev[2] == "kept" and how != "kept" else Zl[pos[0]])
+        starts.append(Zl[prev[1][-1]] if prev[2] != "new" and how == "new" else Zl[pos[0]])
     P = np.array(starts)
     # an edge split in two (a cut through it): its second part is a new edge
     sources = []
@@ -356,23 +405,22 @@ def _outline_panel(
     for i, (src, pos, how) in enumerate(segs):  # a loop over segments
         P0, P1 = P[i], P[(i + 1) % n_s]
         old = sp.edges[src] if src >= 0 else None
-        if how == "kept" and old is not None and old.kind != "straight":
+        if how == "kept" and old is not None:  # part of an input edge: its own points
             ta = _param_at(sp, src, frame, P0)
             tb = _param_at(sp, src, frame, P1)
             Yo = m.to_pattern(sp.edge_points(src, ta + t * (tb - ta)), k)
             loc = locate_points(Vb, Fb, Yo, faces=part.faces)
-            Zo = frame.to_frame(carry_points(Vn, Fb, loc))
-            kind, params, err, _ = _fit_edge(P0, P1, old.kind, t, Zo, start=old.params)
-        else:
+            Zs, s = frame.to_frame(carry_points(Vn, Fb, loc)), t
+        else:  # new or extended: the adjusted outline's vertices
             Zs = Zl[pos]
             s = _chord_params(np.vstack([P0, Zs, P1]))[1:-1]
-            kind0 = old.kind if old is not None else "straight"
-            if kind0 == "straight":
-                kind, params, err, dev = _straight_or_bent(P0, P1, Zs, s, bend)
-                if kind != "straight" and old is not None:
-                    bent.append((i, dev))
-            else:
-                kind, params, err, _ = _fit_edge(P0, P1, kind0, s, Zs, start=old.params)
+        kind0 = old.kind if old is not None else "straight"
+        if kind0 == "straight":
+            kind, params, err, dev = _straight_or_bent(P0, P1, Zs, s, bend)
+            if kind != "straight" and old is not None:
+                bent.append((i, dev))
+        else:
+            kind, params, err, _ = _fit_edge(P0, P1, kind0, s, Zs, start=old.params)
         enc = old.encoding if old is not None else "none"
         edges.append(SpecEdge((int(idx[i]), int(idx[(i + 1) % n_s])), kind, params, enc))
         refit.append(err)
@@ -381,7 +429,7 @@ def _outline_panel(
         name=sp.name,
         source=sp.name,
         how="outline",
-        edge_sources=tuple(sources),
+        edge_sources=tuple(int(x) for x in sources),
         bent=tuple(bent),
         refit=tuple(refit),
         removed=tuple(int(r) for r in removed),
