@@ -1,7 +1,10 @@
-"""What ``ptailor inspect`` shows: panels, seams, openings and units of a garment, or the
-pieces, sizes and units of a DXF pattern."""
+"""What ``ptailor inspect`` shows: panels, seams, openings and units of a garment (and, with
+``--spec``, how its specification's panels and stitches match them), or the pieces, sizes
+and units of a DXF pattern."""
 
 from __future__ import annotations
+
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -13,6 +16,9 @@ from ptailor.model.seam_lines import seam_lines
 from ptailor.model.structure import structure
 from ptailor.model.units import CM_PER
 from ptailor.report.metrics import panel_sizes
+
+if TYPE_CHECKING:
+    from ptailor.spec.match import SpecMatching
 
 
 def _why(name: str, layout, i: int) -> str:
@@ -122,6 +128,75 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
     }
 
 
+def spec_summary(matching: SpecMatching, info: dict) -> dict:
+    """The ``spec`` section of :func:`garment_summary`: each specification panel with the
+    mesh panel it is matched to, each stitch with its seam and the two edges' lengths.
+
+    Parameters
+    ----------
+    matching : SpecMatching
+        The specification matched to the garment
+        (:func:`ptailor.run.spec.matched_specification`, in the summary's axes).
+    info : dict
+        :func:`garment_summary` of the same garment: its panels and seams are in the
+        structure's order, which the matching's indices refer to.
+
+    Returns
+    -------
+    dict
+        ``input``, ``format``, ``units_in_meter``, ``panels`` (``name``, ``panel``,
+        ``mirrored``, ``fit``: the largest distance of the specification outline from the
+        mesh panel's, ``residual``: the fit's mean distance over the outline's size) and
+        ``stitches`` (``stitch``, ``sides``, ``seam``, ``spec_lengths``, ``mesh_lengths``);
+        lengths in the summary's computation units.
+    """
+    spec = matching.spec
+    panels = [
+        {
+            "name": spec.panels[m.spec].name,
+            "panel": info["panels"][m.panel]["name"],
+            "mirrored": bool(np.linalg.det(m.R) < 0),
+            "fit": round(float(m.distance), 3),
+            "residual": round(float(m.residual), 6),
+        }
+        for m in matching.panels
+    ]
+    stitches = []
+    for sm in matching.stitches:  # a loop over stitches
+        (pa, ea), (pb, eb) = spec.stitches[sm.stitch].sides
+        stitches.append(
+            {
+                "stitch": int(sm.stitch),
+                "sides": [f"{pa}.{ea}", f"{pb}.{eb}"],
+                "seam": info["seams"][sm.seam]["name"],
+                "spec_lengths": [round(float(x), 3) for x in sm.spec_lengths],
+                "mesh_lengths": [round(float(x), 3) for x in sm.mesh_lengths],
+            }
+        )
+    return {
+        "input": spec.path,
+        "format": spec.flavour,
+        "units_in_meter": spec.units_in_meter,
+        "panels": panels,
+        "stitches": stitches,
+    }
+
+
+def spec_text(sec: dict, units: str) -> list[str]:
+    """Lines of :func:`spec_summary` (lengths in ``units``)."""
+    lines = [f"specification ({sec['format']}, {sec['input']}):"]
+    for p in sec["panels"]:
+        mirrored = "  mirrored" if p["mirrored"] else ""
+        lines.append(f"  {p['name']} -> {p['panel']}  fit {p['fit']:.3f} {units}{mirrored}")
+    for s in sec["stitches"]:
+        (sa, sb), (ma, mb) = s["spec_lengths"], s["mesh_lengths"]
+        lines.append(
+            f"  stitch {s['stitch']}  {s['sides'][0]} / {s['sides'][1]}  -> {s['seam']}"
+            f"  spec {sa:.2f} / {sb:.2f}, mesh {ma:.2f} / {mb:.2f}"
+        )
+    return lines
+
+
 def summary_text(info: dict) -> str:
     """Plain-text rendering of :func:`garment_summary`."""
     u = info["units"]["computation"]
@@ -154,6 +229,8 @@ def summary_text(info: dict) -> str:
     for o in info["openings"]:
         c = ", ".join(f"{x:.1f}" for x in o["centroid"])
         lines.append(f"  {o['name']:<16} length {o['length']:8.2f}  at ({c})")
+    if info.get("spec"):
+        lines.extend(spec_text(info["spec"], u))
     return "\n".join(lines)
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ptailor.cli.options import axes_options, dxf_options, garment_options
+from ptailor.cli.options import axes_options, dxf_options, garment_options, spec_option
 
 
 @click.command()
@@ -20,14 +20,30 @@ from ptailor.cli.options import axes_options, dxf_options, garment_options
     help="Unit to report lengths in (garments; a DXF is shown in its own units and cm).",
 )
 @dxf_options
+@spec_option
 @click.option("--json", "as_json", is_flag=True, help="Print JSON instead of text.")
 def inspect(
-    garment, drape, pattern_units, drape_units, weld, up, front, units, size, dxf_units, as_json
+    garment,
+    drape,
+    pattern_units,
+    drape_units,
+    weld,
+    up,
+    front,
+    units,
+    size,
+    dxf_units,
+    spec,
+    as_json,
 ) -> None:
     """List GARMENT's panels, seams, openings and units.
 
     GARMENT may also be an AAMA/ASTM DXF pattern (PATTERN.dxf): its pieces, their sizes,
     quantities, notches and grain lines, the sizes the file grades to and its units.
+
+    With --spec SPEC.json (GarmentCode or Garment-Pattern-Generator), also each
+    specification panel with the mesh panel it is matched to, and each stitch with its seam
+    and the lengths of both edges in the specification and in the mesh.
     """
     import json
 
@@ -36,12 +52,22 @@ def inspect(
     from ptailor.formats import is_pattern_file, pattern_reader_for
 
     weld = parse_weld_option(weld, units=units)
+    specification = None
+    if spec is not None:  # read first: a bad specification fails before the garment is read
+        from ptailor.formats.spec_json import read_specification
+
+        specification = read_specification(spec)
     if is_pattern_file(garment):
         from ptailor.summary import pattern_summary, pattern_summary_text
 
         if drape is not None:
             raise PtailorError(
                 "inspect lists a DXF's pieces on their own: drop --drape", path=garment
+            )
+        if specification is not None:
+            raise PtailorError(
+                "--spec is matched to a garment's mesh (OBJ), not to a DXF pattern",
+                path=garment,
             )
         pattern = pattern_reader_for(garment)(garment, size=size, units=dxf_units)
         info = pattern_summary(pattern)
@@ -50,8 +76,31 @@ def inspect(
     if size is not None or dxf_units is not None:
         raise PtailorError("--size and --dxf-units apply to DXF patterns only", path=garment)
 
+    from ptailor.summary import summary_text
+
+    info = _garment_info(
+        garment,
+        drape=drape,
+        units=units,
+        pattern_units=pattern_units,
+        drape_units=drape_units,
+        weld=weld,
+        axes=(up, front),
+        spec=specification,
+    )
+    if as_json:
+        click.echo(json.dumps(info, indent=2))
+    else:
+        click.echo(summary_text(info))
+
+
+def _garment_info(garment, *, drape, units, pattern_units, drape_units, weld, axes, spec):
+    """The summary of a garment (:func:`ptailor.summary.garment_summary`), with its
+    ``spec`` section when a specification is given."""
     from ptailor.formats.garment import load_garment
-    from ptailor.summary import garment_summary, summary_text
+    from ptailor.model.repair import topology
+    from ptailor.recipe import resolve_axes
+    from ptailor.summary import garment_summary, spec_summary
 
     loaded = load_garment(
         garment,
@@ -61,16 +110,18 @@ def inspect(
         drape_units=drape_units,
         weld=weld,
     )
-    from ptailor.model.repair import topology
-    from ptailor.recipe import resolve_axes
+    up_v, front_v = resolve_axes(*axes)
+    matching = None
+    if spec is not None:
+        from ptailor.run.spec import matched_specification, spec_units
 
-    up_v, front_v = resolve_axes(up, front)
+        loaded = spec_units(loaded, spec)
+        matching = matched_specification(loaded, spec, up=up_v, front=front_v)
     info = garment_summary(loaded, up=up_v, front=front_v)
     info["intake"] = {
         **info.get("intake", {}),
         "topology": topology(loaded.garment.V3, loaded.garment.F3),
     }
-    if as_json:
-        click.echo(json.dumps(info, indent=2))
-    else:
-        click.echo(summary_text(info))
+    if matching is not None:
+        info["spec"] = spec_summary(matching, info)
+    return info

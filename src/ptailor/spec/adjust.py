@@ -190,7 +190,7 @@ def _straight_or_bent(P0, P1, Z, t, bend: float) -> tuple[str, np.ndarray, float
 
 
 def _carried_panel(
-    sp: SpecPanel, m: PanelMatch, k: float, adj, p0: Panel, part: Panel, bend: float
+    sp: SpecPanel, m: PanelMatch, k: float, adj, part: Panel, bend: float
 ) -> tuple[SpecPanel, PanelChange]:
     """A panel with the same triangles: every point carried."""
     base = adj.state.base
@@ -315,115 +315,39 @@ def _cleaned(lab: np.ndarray) -> np.ndarray:
 
 
 def _outline_panel(
-    sp: SpecPanel, m: PanelMatch, k: float, adj, p0: Panel, part: Panel, bend: float, g0
+    sp: SpecPanel, m: PanelMatch, k: float, adj, part: Panel, bend: float, units: str
 ) -> tuple[SpecPanel, PanelChange]:
     """A panel whose triangles changed: edges read off its adjusted outline."""
     base = adj.state.base
     Vb, Fb, Vn = base.V2, base.F2, adj.result.V2
     L = outer_loop(Fb, part.faces, Vb)
     X = m.to_spec(Vb[L], k)
-    spec_area = signed_area(sp.outline(16)[0])
-    if np.sign(signed_area(X)) != np.sign(spec_area):
-        L = L[::-1]
-        X = X[::-1]
+    if np.sign(signed_area(X)) != np.sign(signed_area(sp.outline(16)[0])):
+        L, X = L[::-1], X[::-1]  # the loop runs the way the specification's edges do
     frame = _frame_of(m, k, Vb[L], Vn[L])
     Zl = frame.to_frame(Vn[L])
-    reach = (max(3.0 * m.distance, 0.05 / CM_PER[g0.units]) + 1e-9) / k
-    window = 1.0 / CM_PER[g0.units] / k  # 1 cm: what a corner of the new outline is seen over
+    reach = (max(3.0 * m.distance, 0.05 / CM_PER[units]) + 1e-9) / k
+    window = 1.0 / CM_PER[units] / k  # 1 cm: what a corner of the new outline is seen over
     lab = _cleaned(_labels(sp, X, reach)[0])
-    # an input vertex still in the panel: where its two edges meet
+    segs = _segments(lab, Zl, len(sp.edges), window)
+    # an input vertex still in the panel: where its two edges meet, carried
     loc_v = locate_points(Vb, Fb, m.to_pattern(sp.vertices, k), faces=part.faces)
-    tiny = 1e-6 * max(float(np.ptp(Vb[L])), 1e-300)
-    v_kept = loc_v.distance <= tiny
+    kept_v = loc_v.distance <= 1e-6 * max(float(np.ptp(Vb[L])), 1e-300)
     Zv = frame.to_frame(carry_points(Vn, Fb, loc_v))
-    runs = _runs(lab)
-    n_e = len(sp.edges)
-    present = {r for r, _ in runs if r >= 0}
-    # rotate the runs to start at the first run of the lowest surviving edge
-    if present:
-        first = min(present)
-        i0 = next(i for i, (r, _) in enumerate(runs) if r == first)
-        runs = runs[i0:] + runs[:i0]
-    # segments: (source edge or -1, loop positions, kind of the fit)
-    segs: list[list] = []
-    for r, pos in runs:  # a loop over the outline's runs
-        if r >= 0:
-            segs.append([r, pos, "kept"])
-            continue
-        prev_r = segs[-1][0] if segs else (runs[-1][0] if runs else -1)
-        nxt = _run_of(runs, r, pos) if len(runs) > 1 else None
-        nxt = int(lab[nxt[0]]) if nxt is not None else -1
-        gone = _between(prev_r, nxt, n_e, present)
-        ext = np.concatenate([pos[:1] - 1, pos, pos[-1:] + 1]) % len(L)
-        cut = _corners(Zl[ext], window) - 1
-        cut = cut[(cut > 0) & (cut < len(pos))]
-        pieces = np.split(pos, cut) if len(cut) else [pos]
-        mids, tail = list(pieces), None
-        if prev_r >= 0 and segs and not _turns(Zl, segs[-1][1], mids[0], window):
-            segs[-1][1] = np.concatenate([segs[-1][1], mids.pop(0)])  # it goes on: extended
-            segs[-1][2] = "extended"
-        if mids and nxt >= 0 and not _turns(Zl, mids[-1], _run_of(runs, r, pos), window):
-            tail = mids.pop()
-        for j, pc in enumerate(mids):  # the pieces of a new outline run
-            segs.append([gone[j] if j < len(gone) else -1, pc, "new"])
-        if tail is not None:
-            segs.append([nxt, tail, "lead"])
-    # merge a leading piece into the run of its edge that follows it
-    merged: list[list] = []
-    for s in segs:  # a loop over segments
-        if merged and s[2] != "new" and merged[-1][2] == "lead" and merged[-1][0] == s[0]:
-            merged[-1] = [s[0], np.concatenate([merged[-1][1], s[1]]), "extended"]
-        else:
-            merged.append(s)
-    if len(merged) > 1 and merged[-1][2] == "lead" and merged[0][0] == merged[-1][0]:
-        last = merged.pop()  # the run it leads into is the first one
-        merged[0] = [last[0], np.concatenate([last[1], merged[0][1]]), "extended"]
-    segs = [[s[0], s[1], "extended" if s[2] == "lead" else s[2]] for s in merged]
-    removed = sorted(set(range(n_e)) - {s[0] for s in segs if s[0] >= 0})
-    # vertices: the start of each segment
-    starts = []
-    for i, (src, pos, how) in enumerate(segs):  # a loop over segments
-        prev = segs[i - 1]
-        if how != "new" and prev[2] != "new" and prev[0] >= 0 and src >= 0:
-            v = sp.edges[src].endpoints[0]
-            if (prev[0] + 1) % n_e == src and v_kept[v]:
-                starts.append(Zv[v])
-                continue
-        # the junction: the kept run's extreme vertex next to a new run
-        starts.append(Zl[prev[1][-1]] if prev[2] != "new" and how == "new" else Zl[pos[0]])
-    P = np.array(starts)
-    # an edge split in two (a cut through it): its second part is a new edge
-    sources = []
-    for src, _, _ in segs:  # a loop over segments
+    P, O = _junctions(sp, segs, X, Zl, Zv, kept_v)
+    sources: list[int] = []
+    for src, _, _ in segs:  # an edge split in two (a cut through it): its second part is new
         sources.append(src if src < 0 or src not in sources else -1)
     idx = _vertex_indices(sp, sources)
     V = np.zeros((int(idx.max()) + 1, 2))
     V[idx] = P
-    edges, bent, refit = [], [], []
-    t = np.linspace(0.0, 1.0, SAMPLES + 1)[1:-1]
-    n_s = len(segs)
-    for i, (src, pos, how) in enumerate(segs):  # a loop over segments
-        P0, P1 = P[i], P[(i + 1) % n_s]
-        old = sp.edges[src] if src >= 0 else None
-        if how == "kept" and old is not None:  # part of an input edge: its own points
-            ta = _param_at(sp, src, frame, P0)
-            tb = _param_at(sp, src, frame, P1)
-            Yo = m.to_pattern(sp.edge_points(src, ta + t * (tb - ta)), k)
-            loc = locate_points(Vb, Fb, Yo, faces=part.faces)
-            Zs, s = frame.to_frame(carry_points(Vn, Fb, loc)), t
-        else:  # new or extended: the adjusted outline's vertices
-            Zs = Zl[pos]
-            s = _chord_params(np.vstack([P0, Zs, P1]))[1:-1]
-        kind0 = old.kind if old is not None else "straight"
-        if kind0 == "straight":
-            kind, params, err, dev = _straight_or_bent(P0, P1, Zs, s, bend)
-            if kind != "straight" and old is not None:
-                bent.append((i, dev))
-        else:
-            kind, params, err, _ = _fit_edge(P0, P1, kind0, s, Zs, start=old.params)
-        enc = old.encoding if old is not None else "none"
-        edges.append(SpecEdge((int(idx[i]), int(idx[(i + 1) % n_s])), kind, params, enc))
-        refit.append(err)
+
+    def carried(e: int, ta: float, tb: float, t: np.ndarray) -> np.ndarray:
+        Yo = m.to_pattern(sp.edge_points(e, ta + t * (tb - ta)), k)
+        return frame.to_frame(carry_points(Vn, Fb, locate_points(Vb, Fb, Yo, faces=part.faces)))
+
+    edges, bent, refit = _segment_edges(sp, segs, sources, P, O, Zl, idx, carried, bend)
+    removed = sorted(set(range(len(sp.edges))) - {s for s in sources if s >= 0})
     new = replace(sp, vertices=V, edges=tuple(edges))
     change = PanelChange(
         name=sp.name,
@@ -437,6 +361,113 @@ def _outline_panel(
         panel=part.index,
     )
     return new, change
+
+
+def _segments(lab: np.ndarray, Zl: np.ndarray, n_e: int, window: float) -> list[list]:
+    """The outline's segments ``[source edge or -1, loop positions, how]`` in loop order,
+    from the first run of the lowest surviving edge; ``how`` is ``kept`` (part of an input
+    edge), ``extended`` (an input edge the new outline goes on from) or ``new``. A run of
+    new outline is split at its corners; pieces that go on straight from the edge before
+    or after extend it; the rest replace, in order, the input edges between its two
+    neighbours that left the outline (the hem a shorten moved keeps its id), or are new."""
+    runs = _runs(lab)
+    present = {r for r, _ in runs if r >= 0}
+    if present:
+        i0 = next(i for i, (r, _) in enumerate(runs) if r == min(present))
+        runs = runs[i0:] + runs[:i0]
+    segs: list[list] = []
+    for r, pos in runs:  # a loop over the outline's runs
+        if r >= 0:
+            segs.append([r, pos, "kept"])
+            continue
+        prev_r = segs[-1][0] if segs else runs[-1][0]
+        after = _run_of(runs, r, pos) if len(runs) > 1 else None
+        nxt = int(lab[after[0]]) if after is not None else -1
+        gone = _between(prev_r, nxt, n_e, present)
+        ext = np.concatenate([pos[:1] - 1, pos, pos[-1:] + 1]) % len(lab)
+        cut = _corners(Zl[ext], window) - 1
+        cut = cut[(cut > 0) & (cut < len(pos))]
+        mids, tail = (np.split(pos, cut) if len(cut) else [pos]), None
+        if prev_r >= 0 and segs and not _turns(Zl, segs[-1][1], mids[0], window):
+            segs[-1][1] = np.concatenate([segs[-1][1], mids.pop(0)])  # it goes on: extended
+            segs[-1][2] = "extended"
+        if mids and nxt >= 0 and after is not None and not _turns(Zl, mids[-1], after, window):
+            tail = mids.pop()
+        for j, pc in enumerate(mids):  # the pieces of a new outline run
+            segs.append([gone[j] if j < len(gone) else -1, pc, "new"])
+        if tail is not None:
+            segs.append([nxt, tail, "lead"])
+    return _merged_leads(segs)
+
+
+def _merged_leads(segs: list[list]) -> list[list]:
+    """A piece leading straight into the run of its edge joins that run (``extended``)."""
+    merged: list[list] = []
+    for s in segs:  # a loop over segments
+        if merged and s[2] != "new" and merged[-1][2] == "lead" and merged[-1][0] == s[0]:
+            merged[-1] = [s[0], np.concatenate([merged[-1][1], s[1]]), "extended"]
+        else:
+            merged.append(s)
+    if len(merged) > 1 and merged[-1][2] == "lead" and merged[0][0] == merged[-1][0]:
+        last = merged.pop()  # the run it leads into is the first one
+        merged[0] = [last[0], np.concatenate([last[1], merged[0][1]]), "extended"]
+    return [[s[0], s[1], "extended" if s[2] == "lead" else s[2]] for s in merged]
+
+
+def _junctions(
+    sp: SpecPanel,
+    segs: list[list],
+    X: np.ndarray,
+    Zl: np.ndarray,
+    Zv: np.ndarray,
+    kept_v: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Each segment's start, in the new frame (``P``) and in the input frame (``O``): the
+    input vertex where two consecutive input edges still meet (carried), else the mesh
+    vertex next to new outline on the side of the old edge, else the segment's first."""
+    n_e = len(sp.edges)
+    P, O = [], []
+    for i, (src, pos, how) in enumerate(segs):  # a loop over segments
+        prev = segs[i - 1]
+        if how != "new" and prev[2] != "new" and prev[0] >= 0 and src >= 0:
+            v = sp.edges[src].endpoints[0]
+            if (prev[0] + 1) % n_e == src and kept_v[v]:
+                P.append(Zv[v])
+                O.append(sp.vertices[v])
+                continue
+        j = prev[1][-1] if prev[2] != "new" and how == "new" else pos[0]
+        P.append(Zl[j])
+        O.append(X[j])
+    return np.array(P), np.array(O)
+
+
+def _segment_edges(sp, segs, sources, P, O, Zl, idx, carried, bend):
+    """The edges of the segments: a kept part of an input edge refitted (its kind) to its
+    own carried points between its ends' parameters on it; new and extended ones to the
+    adjusted outline's vertices (straight unless they bend, or the input edge's kind)."""
+    t = np.linspace(0.0, 1.0, SAMPLES + 1)[1:-1]
+    n_s = len(segs)
+    edges, bent, refit = [], [], []
+    for i, (src, pos, how) in enumerate(segs):  # a loop over segments
+        P0, P1 = P[i], P[(i + 1) % n_s]
+        old = sp.edges[src] if src >= 0 else None
+        if how == "kept" and old is not None:  # part of an input edge: its own points
+            ta, tb = _param_at(sp, src, O[i]), _param_at(sp, src, O[(i + 1) % n_s])
+            Zs, s = carried(src, ta, tb, t), t
+        else:  # new or extended: the adjusted outline's vertices
+            Zs = Zl[pos]
+            s = _chord_params(np.vstack([P0, Zs, P1]))[1:-1]
+        kind0 = old.kind if old is not None else "straight"
+        if kind0 == "straight":
+            kind, params, err, dev = _straight_or_bent(P0, P1, Zs, s, bend)
+            if kind != "straight" and old is not None:
+                bent.append((i, dev))
+        else:
+            kind, params, err, _ = _fit_edge(P0, P1, kind0, s, Zs, start=old.params)
+        enc = old.encoding if old is not None else "none"
+        edges.append(SpecEdge((int(idx[i]), int(idx[(i + 1) % n_s])), kind, params, enc))
+        refit.append(err)
+    return edges, bent, refit
 
 
 def _vertex_indices(sp: SpecPanel, sources: list[int]) -> np.ndarray:
@@ -467,14 +498,10 @@ def _chord_params(P: np.ndarray) -> np.ndarray:
     return s / max(float(s[-1]), 1e-300)
 
 
-def _param_at(sp: SpecPanel, e: int, frame: _Frame, P: np.ndarray) -> float:
-    """The parameter on input edge ``e`` of the point nearest the input position of the
-    new-frame point ``P`` (where a kept run of ``e`` starts or ends)."""
-    Y = frame.to_pattern(P[None])
-    X = frame.m.to_spec(Y, frame.k)
-    t = np.linspace(0.0, 1.0, 2049)
-    Pe = sp.edge_points(e, t)
-    return float(t[int(np.argmin(np.linalg.norm(Pe - X, axis=1)))])
+def _param_at(sp: SpecPanel, e: int, X: np.ndarray) -> float:
+    """The parameter of the point of input edge ``e`` nearest ``X`` (input frame)."""
+    t = np.linspace(0.0, 1.0, 4097)
+    return float(t[int(np.argmin(np.linalg.norm(sp.edge_points(e, t) - X, axis=1)))])
 
 
 def _between(a: int, b: int, n: int, present: set[int]) -> list[int]:
@@ -511,10 +538,6 @@ def adjusted_specification(
     """
     spec, k = matching.spec, matching.scale
     g0 = adj.original if adj.original is not None else adj.state.base
-    base = adj.state.base
-    bend = tol.SPEC_BEND_CM / CM_PER[g0.units] / k
-    a0 = np.abs(signed_areas_2d(g0.V2, g0.F2))
-    ab = np.abs(signed_areas_2d(base.V2, base.F2))
     parts: dict[int, list[Panel]] = {}
     for p in adj.state.panels:  # a loop over panels
         if p.name in source:
@@ -523,41 +546,20 @@ def adjusted_specification(
     edge_map: dict[str, dict[int, int]] = {}
     for m in matching.panels:  # a loop over spec panels
         sp = spec.panels[m.spec]
-        p0 = original_panels[m.panel]
         now = parts.get(m.panel, [])
         if not now:
             removed.append(sp.name)
             continue
-        for j, part in enumerate(now):  # the parts of one panel (one unless a cut split it)
-            s0, sb = float(a0[p0.faces].sum()), float(ab[part.faces].sum())
-            same = len(now) == 1 and len(part.faces) == len(p0.faces) and abs(sb - s0) <= 1e-9 * s0
-            if same:
-                new, ch = _carried_panel(sp, m, k, adj, p0, part, bend)
-            else:
-                new, ch = _outline_panel(sp, m, k, adj, p0, part, bend, g0)
-            if j:
-                name = part.name if part.name != p0.name else f"{sp.name}_{j}"
-                new, ch = replace(new, name=name), replace(ch, name=name)
+        got = _versions(adj, sp, m, k, original_panels[m.panel], now, g0)
+        for new, ch in got:  # the parts of one panel (one unless a cut split it)
             panels.append(new)
             changes.append(ch)
-            if j == 0:  # stitches follow the first part (the one keeping the name)
-                emap = edge_map.setdefault(sp.name, {})
-                for i, s in enumerate(ch.edge_sources):  # a loop over edges
-                    if s >= 0:
-                        emap.setdefault(s, i)
-    stitches, kept, dropped = [], [], []
-    for si, st in enumerate(spec.stitches):  # a loop over stitches
-        sides = []
-        for name, e in st.sides:  # the two sides
-            i = edge_map.get(name, {}).get(e)
-            if i is None:
-                break
-            sides.append((name, i))
-        if len(sides) == 2:
-            stitches.append(Stitch((sides[0], sides[1])))
-            kept.append(si)
-        else:
-            dropped.append(si)
+        # stitches follow the first part (the one keeping the name)
+        emap = edge_map.setdefault(sp.name, {})
+        for i, e in enumerate(got[0][1].edge_sources):  # a loop over edges
+            if e >= 0:
+                emap.setdefault(e, i)
+    stitches, kept, dropped = _stitches(spec, edge_map)
     new_spec = replace(spec, panels=tuple(panels), stitches=tuple(stitches))
     return AdjustedSpec(
         spec=new_spec,
@@ -566,3 +568,39 @@ def adjusted_specification(
         dropped_stitches=tuple(dropped),
         removed_panels=tuple(removed),
     )
+
+
+def _versions(adj, sp: SpecPanel, m: PanelMatch, k: float, p0: Panel, now: list[Panel], g0):
+    """The specification panel ``sp`` on each adjusted panel its mesh panel ``p0`` became:
+    carried when its triangles are the same, else read off the adjusted outline; parts
+    after the first named ``sp.name`` with the part's suffix."""
+    base = adj.state.base
+    bend = tol.SPEC_BEND_CM / CM_PER[g0.units] / k
+    s0 = float(np.abs(signed_areas_2d(g0.V2, g0.F2[p0.faces])).sum())
+    out = []
+    for j, part in enumerate(now):  # the parts of one panel (one unless a cut split it)
+        sb = float(np.abs(signed_areas_2d(base.V2, base.F2[part.faces])).sum())
+        same = len(now) == 1 and len(part.faces) == len(p0.faces) and abs(sb - s0) <= 1e-9 * s0
+        if same:
+            new, ch = _carried_panel(sp, m, k, adj, part, bend)
+        else:
+            new, ch = _outline_panel(sp, m, k, adj, part, bend, g0.units)
+        if j:
+            suffix = part.name[len(p0.name) :] if part.name.startswith(p0.name) else f"_{j}"
+            new, ch = replace(new, name=sp.name + suffix), replace(ch, name=sp.name + suffix)
+        out.append((new, ch))
+    return out
+
+
+def _stitches(spec: Specification, edge_map: dict[str, dict[int, int]]):
+    """The stitches whose two edges are still there, renumbered; the input stitch each is;
+    the input stitches dropped."""
+    stitches, kept, dropped = [], [], []
+    for si, st in enumerate(spec.stitches):  # a loop over stitches
+        sides = [(n, edge_map.get(n, {}).get(e)) for n, e in st.sides]
+        if all(i is not None for _, i in sides):
+            stitches.append(Stitch((sides[0], sides[1])))  # type: ignore[arg-type]
+            kept.append(si)
+        else:
+            dropped.append(si)
+    return stitches, kept, dropped

@@ -166,7 +166,7 @@ def match_specification(
         Naming the specification file and the panel or stitch that matches nothing.
     """
     k = spec_scale(spec, garment.units)
-    V2, F2, V3, F3 = garment.V2, garment.F2, garment.V3, garment.F3
+    V2, F2 = garment.V2, garment.F2
     if len(spec.panels) != len(panel_list):
         raise PtailorError(
             f"the specification has {len(spec.panels)} panels, the garment "
@@ -183,33 +183,7 @@ def match_specification(
     outlines = [sp.outline(PER_EDGE)[0] * k for sp in spec.panels]
     placed = [sp.placement(X / k) * k @ Q.T for sp, X in zip(spec.panels, outlines, strict=True)]
     centre_spec = np.vstack(placed).mean(axis=0)
-    centre_mesh = np.average(V3[F3].mean(axis=1), axis=0)
-    size = float(np.linalg.norm(np.ptp(V3[np.unique(F3)], axis=0)))
-    n = len(spec.panels)
-    cost = np.full((n, n), np.inf)
-    fits: dict[tuple[int, int], tuple] = {}
-    for i, (sp, X) in enumerate(zip(spec.panels, outlines, strict=True)):  # spec panels
-        A = resample_closed(X, 256)
-        area = abs(signed_area(X))
-        diag = float(np.linalg.norm(np.ptp(A, axis=0)))
-        for j, (B, cb, Bs, barea) in enumerate(mesh):  # mesh panels
-            if abs(area - barea) > tol.SPEC_AREA_REL * max(area, barea):
-                continue
-            cands = shape_fits(A, cb, Bs, diag)
-            best_res = cands[0][2]
-            if best_res > tol.SPEC_MATCH_REL:
-                continue
-            for R, t, res in cands:  # the fits that match the shape: which one is in place
-                if res > 2.0 * best_res + 1e-6:
-                    continue
-                Y = X @ R.T + t
-                loc = locate_points(V2, F2, Y, faces=panel_list[j].faces)
-                Y3 = np.einsum("ki,kij->kj", loc.bary, V3[F3[loc.face]])
-                d = np.linalg.norm((Y3 - centre_mesh) - (placed[i] - centre_spec), axis=1)
-                c = float(d.mean()) / max(size, 1e-300) + res
-                if c < cost[i, j]:
-                    cost[i, j] = c
-                    fits[i, j] = (R, t, res)
+    cost, fits = _pair_costs(garment, panel_list, mesh, outlines, placed, centre_spec)
     for i, sp in enumerate(spec.panels):  # a loop over spec panels
         if not np.isfinite(cost[i]).any():
             raise PtailorError(
@@ -238,6 +212,47 @@ def match_specification(
     matches.sort(key=lambda m: m.spec)
     stitches = _stitch_matches(garment, spec, tuple(matches), panel_list, seams, k)
     return SpecMatching(spec=spec, scale=k, panels=tuple(matches), stitches=stitches)
+
+
+def _pair_costs(
+    garment: Garment,
+    panel_list: list[Panel],
+    mesh: list[tuple],
+    outlines: list[np.ndarray],
+    placed: list[np.ndarray],
+    centre_spec: np.ndarray,
+) -> tuple[np.ndarray, dict]:
+    """Per (specification panel, mesh panel) pair whose areas and shapes match, the cost of
+    the best-placed fit (mean 3D distance over the drape's size, plus the shape residual),
+    and that fit ``(R, t, residual)``; ``inf`` for pairs that do not match."""
+    V2, F2, V3, F3 = garment.V2, garment.F2, garment.V3, garment.F3
+    centre_mesh = np.average(V3[F3].mean(axis=1), axis=0)
+    size = float(np.linalg.norm(np.ptp(V3[np.unique(F3)], axis=0)))
+    n = len(outlines)
+    cost = np.full((n, len(mesh)), np.inf)
+    fits: dict[tuple[int, int], tuple] = {}
+    for i, X in enumerate(outlines):  # spec panels
+        A = resample_closed(X, 256)
+        area = abs(signed_area(X))
+        diag = float(np.linalg.norm(np.ptp(A, axis=0)))
+        for j, (_, cb, Bs, barea) in enumerate(mesh):  # mesh panels
+            if abs(area - barea) > tol.SPEC_AREA_REL * max(area, barea):
+                continue
+            cands = shape_fits(A, cb, Bs, diag)
+            best_res = cands[0][2]
+            if best_res > tol.SPEC_MATCH_REL:
+                continue
+            for R, t, res in cands:  # the fits that match the shape: which one is in place
+                if res > 2.0 * best_res + 1e-6:
+                    continue
+                loc = locate_points(V2, F2, X @ R.T + t, faces=panel_list[j].faces)
+                Y3 = np.einsum("ki,kij->kj", loc.bary, V3[F3[loc.face]])
+                d = np.linalg.norm((Y3 - centre_mesh) - (placed[i] - centre_spec), axis=1)
+                c = float(d.mean()) / max(size, 1e-300) + res
+                if c < cost[i, j]:
+                    cost[i, j] = c
+                    fits[i, j] = (R, t, res)
+    return cost, fits
 
 
 def _boundary_near(
