@@ -185,21 +185,34 @@ def fit_curve(
     if kind in ("quadratic", "cubic"):
         deg = 2 if kind == "quadratic" else 3
         t = np.asarray(t, dtype=float)
+        best = (np.inf, None)
         for _ in range(reparametrize + 1):
             B = _bernstein(t, deg)
             rhs = X - np.outer(B[:, 0], P0) - np.outer(B[:, -1], P1)
             ctrl, *_ = np.linalg.lstsq(B[:, 1:-1], rhs, rcond=None)
-            t = _feet(np.vstack([P0, ctrl, P1]), X, t)
-        return to_relative(P0, P1, ctrl)
+            full = np.vstack([P0, ctrl, P1])
+            t = _feet(full, X, t)
+            err = float(np.sum((_bernstein(t, deg) @ full - X) ** 2))
+            if err < best[0]:  # the rounds need not improve: keep the closest fit
+                best = (err, ctrl)
+        return to_relative(P0, P1, best[1])
     if kind == "circle":
         return _fit_arc(P0, P1, X, start)
     raise ValueError(f"unknown edge curve kind {kind!r}")
 
 
-def _feet(ctrl: np.ndarray, X: np.ndarray, t: np.ndarray, steps: int = 4) -> np.ndarray:
+def _feet(ctrl: np.ndarray, X: np.ndarray, t: np.ndarray, steps: int = 6) -> np.ndarray:
     """Parameters of the feet of points ``X`` on the Bezier curve ``ctrl``, by Newton
     steps on ``|B(t) - X|^2`` from ``t`` (kept in ``[0, 1]``)."""
     deg = len(ctrl) - 1
+    # start from the nearer of t and the nearest of 257 samples (Newton finds local feet)
+    ts = np.linspace(0.0, 1.0, 257)
+    S = _bernstein(ts, deg) @ ctrl
+    near = ts[np.argmin(((X[:, None, :] - S[None]) ** 2).sum(-1), axis=1)]
+    keep = ((_bernstein(t, deg) @ ctrl - X) ** 2).sum(1) <= (
+        (_bernstein(near, deg) @ ctrl - X) ** 2
+    ).sum(1)
+    t = np.where(keep, t, near)
     d1 = deg * np.diff(ctrl, axis=0)
     d2 = (deg - 1) * np.diff(d1, axis=0) if deg > 1 else np.zeros((1, 2))
     for _ in range(steps):
@@ -207,7 +220,9 @@ def _feet(ctrl: np.ndarray, X: np.ndarray, t: np.ndarray, steps: int = 4) -> np.
         g1 = _bernstein(t, deg - 1) @ d1
         g2 = _bernstein(t, deg - 2) @ d2 if deg > 1 else np.zeros_like(g1)
         num = np.sum(r * g1, axis=1)
-        den = np.sum(g1 * g1, axis=1) + np.sum(r * g2, axis=1)
+        gn = np.sum(g1 * g1, axis=1)  # Gauss-Newton: where the full Newton step is not a descent
+        den = gn + np.sum(r * g2, axis=1)
+        den = np.where(den > 1e-12 * np.maximum(gn, 1e-300), den, gn)
         step = np.where(den > 1e-300, num / np.where(den > 1e-300, den, 1.0), 0.0)
         t = np.clip(t - step, 0.0, 1.0)
     return t
@@ -231,7 +246,7 @@ def _fit_arc(P0: np.ndarray, P1: np.ndarray, X: np.ndarray, start: np.ndarray | 
         s0 = float((c0 - m) @ n)
     else:
         s0 = 0.0
-    s = float(least_squares(resid, [s0], x_scale=[L]).x[0])
+    s = float(least_squares(resid, [s0], x_scale=[L], xtol=1e-15, ftol=1e-15, gtol=1e-15).x[0])
     c = m + s * n
     r = float(np.linalg.norm(P0 - c))
     # the flags: the arc passes the points' side of the chord

@@ -289,11 +289,15 @@ def _corners(Z: np.ndarray, window: float) -> np.ndarray:
 
 def _turns(Zl: np.ndarray, a: np.ndarray, b: np.ndarray, window: float) -> bool:
     """Whether the outline turns a corner where run ``a`` (loop positions) meets the run
-    ``b`` after it."""
+    ``b`` after it: a corner within half a window of the junction's ends."""
     P = np.vstack([Zl[a], Zl[b]])
-    j = len(a)
     c = _corners(P, window)
-    return bool(np.any(np.abs(c - j) <= 1)) if len(c) else False
+    if not len(c):
+        return False
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(P, axis=0), axis=1))])
+    j = len(a)  # the junction: the outline's edge from a's last vertex to b's first
+    near = np.minimum(np.abs(s[c] - s[j - 1]), np.abs(s[c] - s[j]))
+    return bool(np.any(near <= 0.5 * window))
 
 
 def _run_of(runs, r, pos):
@@ -302,14 +306,15 @@ def _run_of(runs, r, pos):
     return runs[(i + 1) % len(runs)][1]
 
 
-def _cleaned(lab: np.ndarray) -> np.ndarray:
-    """Labels with one- and two-vertex runs of an input edge next to new outline made new
-    (a corner of the new outline that touches an old edge is no part of that edge)."""
+def _cleaned(lab: np.ndarray, Zl: np.ndarray, window: float) -> np.ndarray:
+    """Labels with runs of an input edge shorter than ``window`` next to new outline made
+    new (a corner of the new outline that touches an old edge is no part of that edge)."""
     lab = lab.copy()
     runs = _runs(lab)
     for i, (r, pos) in enumerate(runs):  # a loop over the outline's runs
         nb = (runs[i - 1][0], runs[(i + 1) % len(runs)][0])
-        if r >= 0 and len(pos) <= 2 and -1 in nb and len(runs) > 2:
+        short = len(pos) <= 2 or np.linalg.norm(np.diff(Zl[pos], axis=0), axis=1).sum() < window
+        if r >= 0 and short and -1 in nb and len(runs) > 2:
             lab[pos] = -1
     return lab
 
@@ -328,7 +333,7 @@ def _outline_panel(
     Zl = frame.to_frame(Vn[L])
     reach = (max(3.0 * m.distance, 0.05 / CM_PER[units]) + 1e-9) / k
     window = 1.0 / CM_PER[units] / k  # 1 cm: what a corner of the new outline is seen over
-    lab = _cleaned(_labels(sp, X, reach)[0])
+    lab = _cleaned(_labels(sp, X, reach)[0], Zl, window)
     segs = _segments(lab, Zl, len(sp.edges), window)
     # an input vertex still in the panel: where its two edges meet, carried
     loc_v = locate_points(Vb, Fb, m.to_pattern(sp.vertices, k), faces=part.faces)
