@@ -24,7 +24,6 @@ import numpy as np
 
 from ptailor import tolerances as tol
 from ptailor.geometry.curves import chord_deviation, curve_points, fit_curve
-from ptailor.geometry.rotations import rigid_fit
 from ptailor.geometry.triangles import signed_areas_2d
 from ptailor.method.transfer import carry_points, locate_points
 from ptailor.model.garment import Panel
@@ -106,23 +105,33 @@ class AdjustedSpec:
     removed_panels: tuple[str, ...] = ()
 
 
-#: rounds of the trimmed similarity fit (each keeps the points that moved least)
-TRIM_ROUNDS = 3
+#: rounds of the robust similarity fit (iteratively reweighted least squares)
+IRLS_ROUNDS = 12
 
 
-def _similarity(X: np.ndarray, W: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
-    """The similarity ``W ~ s X @ Q.T + b`` (rotation ``Q``, no reflection), fitted to the
-    points it fits best: least squares, then :data:`TRIM_ROUNDS` refits on the points
-    whose residual is at most the median (the part of a panel an edit left alone)."""
-    keep = np.ones(len(X), dtype=bool)
-    for _ in range(TRIM_ROUNDS + 1):
-        Q, _ = rigid_fit(X[keep], W[keep])
-        cx, cw = X[keep].mean(axis=0), W[keep].mean(axis=0)
-        a = X[keep] - cx
-        s = float(np.sum((W[keep] - cw) * (a @ Q.T)) / max(float(np.sum(a * a)), 1e-300))
+def _similarity(
+    X: np.ndarray, W: np.ndarray, *, scale: float
+) -> tuple[np.ndarray, np.ndarray, float]:
+    """The similarity ``W ~ s X @ Q.T + b`` (rotation ``Q``, no reflection) fitted to the
+    closed outline ``X -> W`` where it fits: least squares weighted by each point's share of
+    the outline's length (so a finer mesh weighs the same), then :data:`IRLS_ROUNDS`
+    reweightings by ``1 / (1 + (r / scale)^2)`` (Cauchy): the part of a panel an edit left
+    alone holds it in place, however much the rest moved."""
+    seg = np.linalg.norm(np.roll(X, -1, axis=0) - X, axis=1)
+    length = 0.5 * (seg + np.roll(seg, 1))
+    w = length / max(float(length.sum()), 1e-300)
+    wk = w
+    for _ in range(IRLS_ROUNDS + 1):
+        cx, cw = wk @ X / wk.sum(), wk @ W / wk.sum()
+        a, c = X - cx, W - cw
+        H = (a * wk[:, None]).T @ c
+        U, _, Vt = np.linalg.svd(H)
+        D = np.diag([1.0, np.sign(np.linalg.det(Vt.T @ U.T)) or 1.0])
+        Q = Vt.T @ D @ U.T
+        s = float(np.sum(wk[:, None] * c * (a @ Q.T)) / max(float(wk @ (a * a).sum(1)), 1e-300))
         b = cw - s * (Q @ cx)
         r = np.linalg.norm(W - (s * X @ Q.T + b), axis=1)
-        keep = r <= np.median(r) * (1 + 1e-9) + 1e-12 * float(np.ptp(X))
+        wk = w / (1.0 + (r / scale) ** 2)
     return Q, b, s
 
 
@@ -147,11 +156,11 @@ class _Frame:
         return A, b
 
 
-def _frame_of(m: PanelMatch, k: float, Y0: np.ndarray, Y1: np.ndarray) -> _Frame:
+def _frame_of(m: PanelMatch, k: float, Y0: np.ndarray, Y1: np.ndarray, *, scale: float) -> _Frame:
     """The frame that undoes the rotation and translation of the similarity taking the
     outline ``Y0`` (pattern before, computation units) onto ``Y1`` (after)."""
     X, W = m.to_spec(Y0, k), m.to_spec(Y1, k)
-    Q, b, _ = _similarity(X, W)
+    Q, b, _ = _similarity(X, W, scale=scale)
     return _Frame(m, k, Q, b)
 
 
@@ -196,7 +205,7 @@ def _carried_panel(
     base = adj.state.base
     Vb, Fb, Vn = base.V2, base.F2, adj.result.V2
     L = outer_loop(Fb, part.faces, Vb)
-    frame = _frame_of(m, k, Vb[L], Vn[L])
+    frame = _frame_of(m, k, Vb[L], Vn[L], scale=bend)
     t = np.linspace(0.0, 1.0, SAMPLES + 1)[1:-1]
     pts = [m.to_pattern(sp.vertices, k)]
     pts += [m.to_pattern(sp.edge_points(i, t), k) for i in range(len(sp.edges))]
@@ -329,7 +338,7 @@ def _outline_panel(
     X = m.to_spec(Vb[L], k)
     if np.sign(signed_area(X)) != np.sign(signed_area(sp.outline(16)[0])):
         L, X = L[::-1], X[::-1]  # the loop runs the way the specification's edges do
-    frame = _frame_of(m, k, Vb[L], Vn[L])
+    frame = _frame_of(m, k, Vb[L], Vn[L], scale=bend)
     Zl = frame.to_frame(Vn[L])
     reach = (max(3.0 * m.distance, 0.05 / CM_PER[units]) + 1e-9) / k
     window = 1.0 / CM_PER[units] / k  # 1 cm: what a corner of the new outline is seen over
