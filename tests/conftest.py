@@ -45,6 +45,31 @@ def real_garment(request):
 # Re-measure when adding a test that runs the CLI on real garments, a batch or a fuzzing
 # campaign, and add it here.
 SLOW: dict[str, frozenset[str]] = {
+    "test_spec": frozenset(
+        {
+            "test_identity_gives_the_real_spec_back",
+            "test_identity_gives_the_generated_spec_back",
+            "test_tee6_uniform_scale",
+            "test_tee6_one_sleeve_wider",
+            "test_tee6_shorten_moves_only_the_hem",
+            "test_written_curves_lie_on_the_adjusted_outline",
+        }
+    ),
+    "test_spec_curves": frozenset({"test_one_reparametrization_round_refits_at_the_feet"}),
+    "test_inspect_spec": frozenset(
+        {
+            "test_tee6_spec_panels_are_the_mesh_panels_named_like_them",
+            "test_tee6_every_stitch_has_a_seam_and_its_lengths",
+            "test_tee6_text_lists_the_panels_and_stitches",
+            "test_shirt_panels_and_stitches",
+            "test_shirt_panel_matching_agrees_with_garmentcodes_segmentation",
+            "test_shirt_stitches_lie_on_their_seams_in_garmentcodes_segmentation",
+            "test_json_has_the_spec_section",
+            "test_units_convert_the_lengths",
+            "test_a_spec_of_another_garment_exits_2_naming_the_file",
+            "test_a_panel_of_another_shape_exits_2_naming_the_file_and_the_panel",
+        }
+    ),
     "test_obj_scan": frozenset({"test_scan_matches_record_parser_on_mutants"}),
     "test_outputs_imports": frozenset({"test_writing_all_formats_does_not_import_matplotlib"}),
     "test_bad_dxf": frozenset(

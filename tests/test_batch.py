@@ -305,6 +305,7 @@ def test_the_stamp_hashes_every_run_option(tmp_path):
         "verify": True,
         "verify_rest": "pattern",
         "verify_max_steps": 10,
+        "spec": "pattern_specification.json",
     }
     assert set(changed) == {f.name for f in fields(RunOptions)}
 

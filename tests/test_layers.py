@@ -27,7 +27,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("ptailor.formats", "ptailor.method"),
     ("ptailor.edits", "ptailor.recipe", "ptailor.schema"),
     ("ptailor.pipeline",),
-    ("ptailor.pieces", "ptailor.report", "ptailor.summary", "ptailor.verify"),
+    ("ptailor.pieces", "ptailor.report", "ptailor.spec", "ptailor.summary", "ptailor.verify"),
     ("ptailor.run", "ptailor.output", "ptailor.samples", "ptailor.demo"),
     ("ptailor.batch",),
     ("ptailor.cli", "ptailor.__main__"),

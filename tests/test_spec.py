@@ -410,3 +410,50 @@ def test_tee6_shorten_moves_only_the_hem(tmp_path):
                 assert abs(change) < 0.01, (name, i, change)
     assert all(p["how"] == "carried" for p in rep["spec"]["panels"] if "sleeve" in p["name"])
     assert rep["spec"]["dropped_stitches"] == []
+
+
+def _obj_panels(path: Path) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """``vt`` and, per ``g`` group, its faces' ``vt`` indices, read with numpy (no ptailor)."""
+    vt, faces, group = [], {}, None
+    for line in path.read_text().splitlines():  # a small file: a plain reader
+        if line.startswith("vt "):
+            vt.append([float(x) for x in line.split()[1:3]])
+        elif line.startswith("g "):
+            group = line.split(maxsplit=1)[1]
+        elif line.startswith("f "):
+            faces.setdefault(group, []).append([int(c.split("/")[1]) - 1 for c in line.split()[1:]])
+    return np.array(vt), {g: np.array(f) for g, f in faces.items()}
+
+
+def _boundary_segments(F: np.ndarray) -> np.ndarray:
+    """The boundary edges of a triangle list (edges used once), ``(k, 2)``."""
+    E = np.sort(np.vstack([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
+    u, c = np.unique(E, axis=0, return_counts=True)
+    return u[c == 1]
+
+
+def test_written_curves_lie_on_the_adjusted_outline(tmp_path):
+    """spec.fit, checked independently: the written specification's curves, sampled here
+    (de Casteljau, our own arcs) and placed by the report's map, against the boundary of the
+    adjusted pattern in garment.obj."""
+    from .test_spec_curves import my_edge_points
+
+    spec = need(TEE6 / "tee6_specification.json")
+    got, rep = _adjust(need(TEE6 / "tee6_sim.obj"), SLEEVE, spec, tmp_path / "o", *TEE6_UNITS)
+    vt, groups = _obj_panels(tmp_path / "o" / "garment.obj")
+    vt = vt * 0.3333  # vt: 0.3333 cm per unit (the header says so)
+    t = np.linspace(0.0, 1.0, 200)
+    for rec in rep["spec"]["panels"]:  # a loop over panels
+        p = got["pattern"]["panels"][rec["name"]]
+        V = np.array(p["vertices"])
+        X = np.vstack([my_edge_points(V[e["endpoints"][0]], V[e["endpoints"][1]],
+                                      e.get("curvature"), t) for e in p["edges"]])  # fmt: skip
+        A, b = np.array(rec["to_pattern"]["matrix"]), np.array(rec["to_pattern"]["offset"])
+        Y = X @ A.T + b
+        E = _boundary_segments(groups[rec["panel"]])
+        a, d = vt[E[:, 0]], vt[E[:, 1]] - vt[E[:, 0]]
+        s = np.clip(((Y[:, None] - a[None]) * d[None]).sum(-1) / (d * d).sum(-1)[None], 0, 1)
+        dist = np.linalg.norm(Y[:, None] - (a[None] + s[..., None] * d[None]), axis=-1).min(1)
+        assert abs(dist.max() - rec["fit"]) < 0.01, rec["name"]  # the report's own measure
+        if "sleeve" in rec["panel"]:
+            assert dist.max() < 0.1  # within 1 mm of the adjusted outline

@@ -21,7 +21,7 @@ from ptailor.cli.options import (
 @click.argument("recipe", type=click.Path(dir_okay=False, allow_dash=True))
 @click.option("-o", "--out", required=True, type=click.Path(file_okay=False), help="Output folder.")
 @garment_options
-@spec_option
+@spec_option()
 @axes_options
 @click.option(
     "--method",

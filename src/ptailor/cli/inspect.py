@@ -20,7 +20,7 @@ from ptailor.cli.options import axes_options, dxf_options, garment_options, spec
     help="Unit to report lengths in (garments; a DXF is shown in its own units and cm).",
 )
 @dxf_options
-@spec_option
+@spec_option(writes=False)
 @click.option("--json", "as_json", is_flag=True, help="Print JSON instead of text.")
 def inspect(
     garment,

@@ -114,17 +114,22 @@ def garment_options(fn):
     )(fn)
 
 
-def spec_option(fn):
-    """``--spec``: the garment's pattern specification (GarmentCode, Garment-Pattern-Generator)."""
+def spec_option(*, writes: bool = True):
+    """``--spec``: the garment's pattern specification (GarmentCode, Garment-Pattern-Generator);
+    ``writes``: the command writes it back adjusted."""
+    what = (
+        "matched to the garment's panels and seams, and written back adjusted as "
+        "OUT/specification.json"
+        if writes
+        else "each of its panels shown with the garment's panel it is, each stitch with its seam"
+    )
     return click.option(
         "--spec",
         type=click.Path(dir_okay=False),
         default=None,
-        help="The pattern's specification JSON (GarmentCode or Garment-Pattern-Generator): "
-        "matched to the garment's panels and seams, and written back adjusted as "
-        "OUT/specification.json (with --pattern-units auto its panel sizes fix the "
-        "pattern's scale).",
-    )(fn)
+        help=f"The pattern's specification JSON (GarmentCode or Garment-Pattern-Generator): "
+        f"{what} (with --pattern-units auto its panel sizes fix the pattern's scale).",
+    )
 
 
 def axes_options(fn):

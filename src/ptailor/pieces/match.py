@@ -116,6 +116,8 @@ def _outline_distance(A: np.ndarray, ca: ClosedCurve, B: np.ndarray, cb: ClosedC
     return 0.5 * float(cb.nearest(A)[0].mean() + ca.nearest(B)[0].mean())
 
 
+#: Relative residuals closer than this are a tie (a symmetric outline fits several ways).
+_TIE = 1e-6
 #: Rigid-fit refinement iterations (ICP) when matching a moved piece by shape.
 _ICP_ITER = 30
 
@@ -133,7 +135,7 @@ def shape_fits(
     -------
     list of (R, t, residual)
         Panel point = ``R @ A point + t``; residual = symmetric mean outline distance over
-        ``diag``; sorted by residual.
+        ``diag``; in the order of the starts (the principal axes as they are first).
     """
     ca, cb0 = A.mean(axis=0), B.mean(axis=0)
     _, Ea = np.linalg.eigh(np.cov((A - ca).T))
@@ -149,14 +151,17 @@ def shape_fits(
                 R, t = rigid_fit(A, Q, reflect=reflect)
             moved = A @ R.T + t
             fits.append((R, t, _outline_distance(moved, ClosedCurve(moved), B, cb) / diag))
-    return sorted(fits, key=lambda f: f[2])
+    return fits
 
 
 def _fit_shape(
     A: np.ndarray, cb: ClosedCurve, B: np.ndarray, diag: float
 ) -> tuple[np.ndarray, np.ndarray, float]:
-    """The best of :func:`shape_fits`."""
-    return shape_fits(A, cb, B, diag)[0]
+    """The best of :func:`shape_fits`; of fits equally good (a symmetric outline), the first
+    start's."""
+    fits = shape_fits(A, cb, B, diag)
+    best = min(f[2] for f in fits)
+    return next(f for f in fits if f[2] <= best + _TIE)
 
 
 #: Points per outline when outlines are compared.

@@ -103,6 +103,10 @@ def spec_outputs(tmp: Path, adj, matching: SpecMatching) -> tuple[list[str], dic
             "edge_sources": list(ch.edge_sources),
             "bent": [{"edge": i, "deviation": round(dev * k, 6)} for i, dev in ch.bent],
             "refit_max": round(max(ch.refit, default=0.0) * k, 6),
+            "to_pattern": {  # spec panel point x -> adjusted pattern point A x + b
+                "matrix": [[round(float(v), 12) for v in row] for row in ch.to_pattern[0]],
+                "offset": [round(float(v), 9) for v in ch.to_pattern[1]],
+            },
         }
         if ch.removed:
             rec["removed_edges"] = list(ch.removed)

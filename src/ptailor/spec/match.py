@@ -238,7 +238,7 @@ def _pair_costs(
         for j, (_, cb, Bs, barea) in enumerate(mesh):  # mesh panels
             if abs(area - barea) > tol.SPEC_AREA_REL * max(area, barea):
                 continue
-            cands = shape_fits(A, cb, Bs, diag)
+            cands = sorted(shape_fits(A, cb, Bs, diag), key=lambda f: f[2])
             best_res = cands[0][2]
             if best_res > tol.SPEC_MATCH_REL:
                 continue
