@@ -457,3 +457,44 @@ def test_written_curves_lie_on_the_adjusted_outline(tmp_path):
         assert abs(dist.max() - rec["fit"]) < 0.01, rec["name"]  # the report's own measure
         if "sleeve" in rec["panel"]:
             assert dist.max() < 0.1  # within 1 mm of the adjusted outline
+
+
+def _moved_obj(src: Path, dst: Path, R: np.ndarray, t: np.ndarray) -> Path:
+    """``src`` with its drape (``v``) moved rigidly: ``v -> R v + t``."""
+    out = []
+    for line in src.read_text().splitlines():  # a plain rewrite of the v records
+        if line.startswith("v "):
+            p = np.array([float(x) for x in line.split()[1:4]]) @ R.T + t
+            line = "v {:.9f} {:.9f} {:.9f}".format(*p)
+        out.append(line)
+    dst.write_text("\n".join(out) + "\n")
+    return dst
+
+
+def _turn(axis, deg: float) -> np.ndarray:
+    from scipy.spatial.transform import Rotation
+
+    return Rotation.from_rotvec(np.radians(deg) * np.asarray(axis, float)).as_matrix()
+
+
+@pytest.mark.parametrize("deg", [90.0, 180.0])
+def test_a_turned_drape_gives_the_same_specification(tmp_path, deg):
+    """A rigid motion of the drape changes nothing: tee6 turned about its up axis (the
+    run's default front is then wrong: the specification's own frame is found by turns)."""
+    spec = need(TEE6 / "tee6_specification.json")
+    mesh = need(TEE6 / "tee6_sim.obj")
+    want, _ = _adjust(mesh, SHORTEN, spec, tmp_path / "a", *TEE6_UNITS)
+    turned = _moved_obj(
+        mesh, tmp_path / "turned.obj", _turn([0, 1, 0], deg), np.array([5.0, 0, -3])
+    )
+    got, _ = _adjust(turned, SHORTEN, spec, tmp_path / "b", *TEE6_UNITS)
+    _compare(want, got, vertex_cm=1e-3, curv=1e-4)
+
+
+def test_an_obliquely_moved_generated_drape_gives_the_same_specification(skirt, tmp_path):
+    garment, spec = skirt
+    want, _ = _adjust(garment, UNIFORM, spec, tmp_path / "a")
+    moved = _moved_obj(garment, tmp_path / "moved.obj", _turn([1, 2, 3] / np.sqrt(14), 37.0),
+                       np.array([10.0, -20.0, 7.0]))  # fmt: skip
+    got, _ = _adjust(moved, UNIFORM, spec, tmp_path / "b", "--up", "y")
+    _compare(want, got, vertex_cm=1e-4, curv=1e-5)

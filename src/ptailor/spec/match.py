@@ -18,6 +18,7 @@ import numpy as np
 
 from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
+from ptailor.geometry.rotations import rigid_fit
 from ptailor.method.transfer import locate_points
 from ptailor.model.garment import Garment, Panel
 from ptailor.model.polyline import resample_closed, signed_area
@@ -177,60 +178,58 @@ def match_specification(
     for p in panel_list:  # a loop over panels
         B = V2[outer_loop(F2, p.faces, V2)]
         mesh.append((B, ClosedCurve(B), resample_closed(B, 256), abs(signed_area(B))))
-    Q = _axes_frame(up, front)
-    # the places: every panel's outline samples in 3D, the specification's turned onto the
-    # drape's axes; both clouds centred on their own centroid (the drape sits anywhere)
     outlines = [sp.outline(PER_EDGE)[0] * k for sp in spec.panels]
-    placed = [sp.placement(X / k) * k @ Q.T for sp, X in zip(spec.panels, outlines, strict=True)]
-    centre_spec = np.vstack(placed).mean(axis=0)
-    cost, fits = _pair_costs(garment, panel_list, mesh, outlines, placed, centre_spec)
+    # the specification's 3D places of the same samples (its frame: y up, z front)
+    placed = [sp.placement(X / k) * k for sp, X in zip(spec.panels, outlines, strict=True)]
+    cands = _candidates(garment, panel_list, mesh, outlines)
     for i, sp in enumerate(spec.panels):  # a loop over spec panels
-        if not np.isfinite(cost[i]).any():
+        if not any((i, j) in cands for j in range(len(panel_list))):
             raise PtailorError(
                 f"panel {sp.name!r}: no panel of the garment has its shape and size "
                 f"(outline fit within {tol.SPEC_MATCH_REL:g} of its size, area within "
                 f"{tol.SPEC_AREA_REL:.0%})",
                 path=spec.path,
             )
-    from scipy.optimize import linear_sum_assignment
+    first_error = None
+    for rows, cols, fits in _placements(cands, placed, garment, panel_list, _axes_frame(up, front)):
+        try:
+            matches = _panel_matches(spec, panel_list, mesh, outlines, rows, cols, fits)
+            stitches = _stitch_matches(garment, spec, matches, panel_list, seams, k)
+        except PtailorError as exc:  # this placement's stitches miss their seams: the next
+            first_error = first_error or exc
+            continue
+        return SpecMatching(spec=spec, scale=k, panels=matches, stitches=stitches)
+    assert first_error is not None  # there is always a first hypothesis
+    raise first_error
 
-    big = 1e6
-    rows, cols = linear_sum_assignment(np.where(np.isfinite(cost), cost, big))
+
+def _panel_matches(spec, panel_list, mesh, outlines, rows, cols, fits) -> tuple[PanelMatch, ...]:
+    """The assignment's matches, in the specification's panel order."""
     matches = []
     for i, j in zip(rows, cols, strict=True):  # a loop over spec panels
-        if not np.isfinite(cost[i, j]):
+        if (i, j) not in fits:
             raise PtailorError(
                 f"panel {spec.panels[i].name!r}: its shape matches only panels that other "
                 f"specification panels match better (garment panel {panel_list[j].name!r} "
                 "is left)",
                 path=spec.path,
             )
-        R, t, res = fits[i, j]
+        R, t, res, _ = fits[i, j]
         X = outlines[i] @ R.T + t
         dist = float(mesh[j][1].nearest(X)[0].max())
         matches.append(PanelMatch(int(i), int(j), R, t, float(res), dist))
     matches.sort(key=lambda m: m.spec)
-    stitches = _stitch_matches(garment, spec, tuple(matches), panel_list, seams, k)
-    return SpecMatching(spec=spec, scale=k, panels=tuple(matches), stitches=stitches)
+    return tuple(matches)
 
 
-def _pair_costs(
-    garment: Garment,
-    panel_list: list[Panel],
-    mesh: list[tuple],
-    outlines: list[np.ndarray],
-    placed: list[np.ndarray],
-    centre_spec: np.ndarray,
-) -> tuple[np.ndarray, dict]:
-    """Per (specification panel, mesh panel) pair whose areas and shapes match, the cost of
-    the best-placed fit (mean 3D distance over the drape's size, plus the shape residual),
-    and that fit ``(R, t, residual)``; ``inf`` for pairs that do not match."""
+def _candidates(
+    garment: Garment, panel_list: list[Panel], mesh: list[tuple], outlines: list[np.ndarray]
+) -> dict[tuple[int, int], list[tuple]]:
+    """Per (specification panel, mesh panel) pair whose areas and shapes match, the rigid
+    fits that match the shape (a symmetric outline fits more than one way):
+    ``(R, t, residual, Y3)`` with ``Y3`` the drape points under the fitted outline."""
     V2, F2, V3, F3 = garment.V2, garment.F2, garment.V3, garment.F3
-    centre_mesh = np.average(V3[F3].mean(axis=1), axis=0)
-    size = float(np.linalg.norm(np.ptp(V3[np.unique(F3)], axis=0)))
-    n = len(outlines)
-    cost = np.full((n, len(mesh)), np.inf)
-    fits: dict[tuple[int, int], tuple] = {}
+    out: dict[tuple[int, int], list[tuple]] = {}
     for i, X in enumerate(outlines):  # spec panels
         A = resample_closed(X, 256)
         area = abs(signed_area(X))
@@ -238,21 +237,105 @@ def _pair_costs(
         for j, (_, cb, Bs, barea) in enumerate(mesh):  # mesh panels
             if abs(area - barea) > tol.SPEC_AREA_REL * max(area, barea):
                 continue
-            cands = sorted(shape_fits(A, cb, Bs, diag), key=lambda f: f[2])
-            best_res = cands[0][2]
-            if best_res > tol.SPEC_MATCH_REL:
+            fits = sorted(shape_fits(A, cb, Bs, diag), key=lambda f: f[2])
+            if fits[0][2] > tol.SPEC_MATCH_REL:
                 continue
-            for R, t, res in cands:  # the fits that match the shape: which one is in place
-                if res > 2.0 * best_res + 1e-6:
-                    continue
-                loc = locate_points(V2, F2, X @ R.T + t, faces=panel_list[j].faces)
-                Y3 = np.einsum("ki,kij->kj", loc.bary, V3[F3[loc.face]])
-                d = np.linalg.norm((Y3 - centre_mesh) - (placed[i] - centre_spec), axis=1)
-                c = float(d.mean()) / max(size, 1e-300) + res
-                if c < cost[i, j]:
-                    cost[i, j] = c
-                    fits[i, j] = (R, t, res)
-    return cost, fits
+            keep = []
+            for R, t, res in fits:  # the fits that match the shape
+                if res <= 2.0 * fits[0][2] + 1e-6:
+                    loc = locate_points(V2, F2, X @ R.T + t, faces=panel_list[j].faces)
+                    keep.append((R, t, res, np.einsum("ki,kij->kj", loc.bary, V3[F3[loc.face]])))
+            out[i, j] = keep
+    return out
+
+
+def _cube_rotations() -> list[np.ndarray]:
+    from itertools import permutations, product
+
+    out = []
+    for perm in permutations(range(3)):  # a loop over the 48 signed permutations
+        for signs in product((1.0, -1.0), repeat=3):
+            M = np.zeros((3, 3))
+            M[np.arange(3), perm] = signs
+            if np.linalg.det(M) > 0:
+                out.append(M)
+    return out
+
+
+def _unit_cloud(C: np.ndarray) -> np.ndarray:
+    """Points ``(n, 3)`` centred on their mean and scaled to unit RMS radius."""
+    D = C - C.mean(axis=0)
+    return D / max(float(np.sqrt((D * D).sum(1).mean())), 1e-300)
+
+
+def _assignment(cost: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+    from scipy.optimize import linear_sum_assignment
+
+    big = np.where(np.isfinite(cost), cost, 1e6)
+    rows, cols = linear_sum_assignment(big)
+    return rows, cols, float(big[rows, cols].sum())
+
+
+def _placements(cands, placed, garment: Garment, panel_list: list[Panel], Q0: np.ndarray):
+    """Hypotheses of which mesh panel each specification panel is, and by which fit, most
+    likely first: ``(rows, cols, fits)``.
+
+    Panels are assigned by their places: the specification's panel centroids and the
+    drape's, each cloud centred and scaled to unit size, the specification's turned by the
+    run's axes ``Q0`` first, then by each of the 24 axis turns refined by a rigid fit of the
+    assigned centroids (a drape turned any way from the specification's frame); each
+    assignment once. Of a pair's fits, the one whose outline, centred, lies closest to the
+    specification's placed outline, centred and turned, wins (it tells the two sides of a
+    symmetric panel apart). The caller keeps the first hypothesis its stitches confirm.
+    """
+    from ptailor.geometry.triangles import triangle_areas
+
+    V3, F3 = garment.V3, garment.F3
+    a3 = triangle_areas(V3, F3) + 1e-300
+    c_mesh = np.array([np.average(V3[F3[p.faces]].mean(axis=1), axis=0, weights=a3[p.faces])
+                       for p in panel_list])  # fmt: skip
+    Cm = _unit_cloud(c_mesh)
+    Cs = _unit_cloud(np.array([X.mean(axis=0) for X in placed]))
+    n = len(placed)
+    ok = np.zeros((n, n), dtype=bool)
+    for i, j in cands:  # candidate pairs
+        ok[i, j] = True
+
+    def solve(Q):
+        d = np.linalg.norm(Cm[None, :, :] - (Cs @ Q.T)[:, None, :], axis=2)
+        return _assignment(np.where(ok, d, np.inf))
+
+    def fitted(Q, rows, cols):
+        fits = {}
+        for i, j in zip(rows, cols, strict=True):  # the assigned pairs: which fit is in place
+            if (i, j) not in cands:
+                continue
+            P = (placed[i] - placed[i].mean(axis=0)) @ Q.T
+            fits[i, j] = min(
+                cands[i, j],
+                key=lambda f: (
+                    float(np.linalg.norm(f[3] - f[3].mean(axis=0) - P, axis=1).mean()) + f[2]
+                ),
+            )
+        return fits
+
+    seen = set()
+    for G in [np.eye(3), *_cube_rotations()]:  # the run's axes, then the 24 turns
+        Q = G @ Q0
+        if seen:  # a turn: refined
+            for _ in range(3):  # refine the turn: a rigid fit of the assigned centroids
+                r, c, _ = solve(Q)
+                keep = ok[r, c]
+                if keep.sum() < 2:
+                    break
+                Q, _ = rigid_fit(Cs[r[keep]], Cm[c[keep]])
+        rows, cols, _ = solve(Q)
+        fits = fitted(Q, rows, cols)
+        key = tuple((i, j, *np.round(f[0], 6).ravel()) for (i, j), f in sorted(fits.items()))
+        if key in seen:
+            continue
+        seen.add(key)
+        yield rows, cols, fits
 
 
 def _boundary_near(
@@ -310,7 +393,7 @@ def _stitch_matches(
             if min(got_a, got_b) > best_n:
                 best, best_n = s_i, min(got_a, got_b)
         a_name, b_name = (f"{n}.{e}" for n, e in st.sides)
-        if best < 0:
+        if best < 0 or best_n < 0.5 * min(len(Ea), len(Eb)):
             raise PtailorError(
                 f"stitch {si} ({a_name} to {b_name}): no seam of the garment joins panels "
                 f"{panel_list[pa].name!r} and {panel_list[pb].name!r} along these edges",
