@@ -498,3 +498,64 @@ def test_an_obliquely_moved_generated_drape_gives_the_same_specification(skirt, 
                        np.array([10.0, -20.0, 7.0]))  # fmt: skip
     got, _ = _adjust(moved, UNIFORM, spec, tmp_path / "b", "--up", "y")
     _compare(want, got, vertex_cm=1e-4, curv=1e-5)
+
+
+def test_shirt_shorten_moves_only_the_hems(tmp_path):
+    """GarmentCode's shirt (typed curves, half its panels mirrored in the atlas, the scale
+    from the specification): the four torso hems move 5 cm, nothing else."""
+    spec = need(SHIRT / "shirt_mean_specification.json")
+    got, rep = _adjust(need(SHIRT / "shirt_mean_boxmesh.obj"), SHORTEN, spec, tmp_path / "o",
+                       "--pattern-units", "auto")  # fmt: skip
+    want = json.loads(spec.read_text())
+    for name, p in want["pattern"]["panels"].items():
+        q = got["pattern"]["panels"][name]
+        assert [e["endpoints"] for e in p["edges"]] == [e["endpoints"] for e in q["edges"]]
+        move = np.linalg.norm(np.array(q["vertices"]) - np.array(p["vertices"]), axis=1)
+        hem: set[int] = set()
+        if "torso" in name:  # the hem: the torso's two lowest vertices
+            hem = {int(v) for v in np.argsort(np.array(p["vertices"])[:, 1])[:2]}
+        for v, d in enumerate(move):  # the hem's ends move 5 cm, the rest stays
+            assert (abs(d - 5) < 0.01) if v in hem else (d < 0.01), (name, v, d)
+    assert got["pattern"]["stitches"] == want["pattern"]["stitches"]
+    assert rep["spec"]["fit_max"] < 0.1 and not rep["warnings"]
+
+
+def test_batch_finds_each_specification_beside_its_garment(tmp_path, skirt):
+    """``batch --spec auto``: STEM_specification.json beside each garment; a garment without
+    one runs without (a warning says what was looked for); records carry spec_fit_max."""
+    import shutil
+
+    garment, spec = skirt
+    a, b = tmp_path / "cat" / "a", tmp_path / "cat" / "b"
+    a.mkdir(parents=True)
+    b.mkdir()
+    shutil.copy(garment, a / "skirt_sim.obj")
+    shutil.copy(spec, a / "skirt_specification.json")
+    shutil.copy(garment, b / "plain.obj")
+    recipe = tmp_path / "r.yaml"
+    recipe.write_text(UNIFORM)
+    log = tmp_path / "log.jsonl"
+    r = run("batch", recipe, tmp_path / "cat", "-o", tmp_path / "out", "--spec", "auto",
+            "--formats", "obj", "--log", log, "-j", "1")  # fmt: skip
+    assert r.exit_code == 0, r.output
+    rec = {Path(x["garment"]).name: x for x in map(json.loads, log.read_text().splitlines())}
+    assert rec["skirt_sim.obj"]["spec_fit_max"] < 0.05
+    assert rec["plain.obj"]["spec_fit_max"] is None
+    assert (tmp_path / "out" / "skirt_sim" / "specification.json").is_file()
+    assert not (tmp_path / "out" / "plain" / "specification.json").exists()
+    warn = json.loads((tmp_path / "out" / "plain" / "report.json").read_text())["warnings"]
+    assert any("--spec auto: no specification beside plain.obj" in w for w in warn)
+
+
+def test_manifest_spec_column(tmp_path, skirt):
+    garment, spec = skirt
+    m = tmp_path / "m.csv"
+    m.write_text(f"garment,spec\n{garment},{spec}\n{garment},missing.json\n")
+    recipe = tmp_path / "r.yaml"
+    recipe.write_text(IDENTITY)
+    r = run("batch", recipe, "--manifest", m, "-o", tmp_path / "out")
+    assert r.exit_code == 2 and "missing.json" in r.output  # checked before anything runs
+    m.write_text(f"garment,spec,name\n{garment},{spec},one\n")
+    r = run("batch", recipe, "--manifest", m, "-o", tmp_path / "out", "--formats", "obj")
+    assert r.exit_code == 0, r.output
+    assert (tmp_path / "out" / "one" / "specification.json").is_file()

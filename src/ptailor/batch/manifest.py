@@ -4,7 +4,9 @@ A manifest is CSV with a header row, or JSON Lines (one object a line): a ``.jso
 ``.ndjson`` or ``.json`` file, or one whose first character is ``{``. Its columns
 (:data:`MANIFEST_COLUMNS`): ``garment`` (required: the OBJ or DXF; relative paths are
 resolved against the manifest's folder), ``drape`` (the drape OBJ of a pattern-only
-garment; default: for ``X.dxf`` the ``X.obj`` beside it), ``name`` (the output folder;
+garment; default: for ``X.dxf`` the ``X.obj`` beside it), ``spec`` (the garment's
+GarmentCode / Garment-Pattern-Generator specification JSON, resolved like ``garment``, or
+``auto``: the one beside it), ``name`` (the output folder;
 default: the garment file's stem, made unique) and the options of :data:`OPTION_COLUMNS`,
 which override the command line's for that garment. A cell that is empty (or a key that is
 absent or ``null``) falls back to the command line.
@@ -33,7 +35,7 @@ from ptailor.formats import is_pattern_file
 #: the command line's options (``pattern_units`` is ``--pattern-units``)
 OPTION_COLUMNS = ("pattern_units", "drape_units", "dxf_units", "size", "up", "front")
 #: every column a manifest may have
-MANIFEST_COLUMNS = ("garment", "drape", "name", *OPTION_COLUMNS)
+MANIFEST_COLUMNS = ("garment", "drape", "spec", "name", *OPTION_COLUMNS)
 #: unit options, and whether each also takes ``auto`` (a [0, 1] atlas)
 UNIT_OPTIONS = {"pattern_units": True, "drape_units": False}
 #: suffixes read as JSON Lines (any other file is CSV unless it starts with ``{``)
@@ -288,6 +290,11 @@ def _row(n: int, cells: dict, base: str, check: Check) -> tuple[ManifestRow | No
     elif drape is None and is_pattern_file(garment) and not Path(drape_for(garment)).is_file():
         what = f"{drape_for(garment)}, the drape beside the pattern"
         problems.append((n, f"{what}: no such file (or give a drape column)"))
+    if "spec" in cells:
+        spec = cells["spec"] if cells["spec"] == "auto" else _resolve(base, cells["spec"])
+        if spec != "auto" and not Path(spec).is_file():
+            problems.append((n, f"spec {spec}: {_missing(spec)}"))
+        options["spec"] = spec
     row = ManifestRow(garment=garment, row=n, drape=drape, name=name, options=options)
     return row, problems
 

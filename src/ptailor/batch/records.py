@@ -35,6 +35,7 @@ RECORD_KEYS = (
     "flipped_triangles",
     "verify_stretch_p95",
     "verify_displacement_p95",
+    "spec_fit_max",
     "warnings",
 )
 #: record statuses; ``ok`` and ``skipped`` are successes
@@ -58,6 +59,7 @@ def key_numbers(report: dict) -> dict:
         "max_seam_mismatch": biggest(seam_mismatch(s) for s in report.get("seams", [])),
         "flipped_triangles": sum(int(p.get("flipped_triangles") or 0) for p in panels),
         **verify_numbers(report),
+        "spec_fit_max": number((report.get("spec") or {}).get("fit_max")),
         "warnings": len(report.get("warnings", [])),
     }
 

@@ -12,6 +12,7 @@ from ptailor.cli.options import (
     body_options,
     dxf_options,
     output_options,
+    spec_option,
     units_options,
     verify_options,
 )
@@ -92,6 +93,7 @@ def gate_options(fn):
     help="Output root: one folder per garment, named after its file.",
 )
 @units_options
+@spec_option()
 @axes_options
 @baseline_option
 @body_options
@@ -142,6 +144,7 @@ def batch(
     out,
     pattern_units,
     drape_units,
+    spec,
     body,
     body_units,
     write_body,

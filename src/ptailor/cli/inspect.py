@@ -55,8 +55,16 @@ def inspect(
     specification = None
     if spec is not None:  # read first: a bad specification fails before the garment is read
         from ptailor.formats.spec_json import read_specification
+        from ptailor.run.spec import spec_input
 
-        specification = read_specification(spec)
+        found = spec_input(garment, spec)
+        if found is None:
+            raise PtailorError(
+                "--spec auto: no specification beside the garment (looked for "
+                "STEM_specification.json, its shorter prefixes, specification.json)",
+                path=garment,
+            )
+        specification = read_specification(found)
     if is_pattern_file(garment):
         from ptailor.summary import pattern_summary, pattern_summary_text
 

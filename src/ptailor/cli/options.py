@@ -128,7 +128,9 @@ def spec_option(*, writes: bool = True):
         type=click.Path(dir_okay=False),
         default=None,
         help=f"The pattern's specification JSON (GarmentCode or Garment-Pattern-Generator): "
-        f"{what} (with --pattern-units auto its panel sizes fix the pattern's scale).",
+        f"{what} (with --pattern-units auto its panel sizes fix the pattern's scale); auto: "
+        "the one beside the garment (STEM_specification.json, for tee6_sim.obj "
+        "tee6_specification.json), none if there is none.",
     )
 
 

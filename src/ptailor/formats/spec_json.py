@@ -29,7 +29,12 @@ from ptailor.errors import PtailorError
 from ptailor.geometry.curves import to_absolute, to_relative
 from ptailor.model.specification import SpecEdge, Specification, SpecPanel, Stitch
 
-__all__ = ["read_specification", "specification_json", "write_specification"]
+__all__ = [
+    "read_specification",
+    "specification_beside",
+    "specification_json",
+    "write_specification",
+]
 
 
 def _finite(x: Any, n: int | None, *, what: str, path: str) -> np.ndarray:
@@ -271,3 +276,23 @@ def write_specification(path: str | Path, spec: Specification, **options: Any) -
     """Write ``spec`` as JSON (:func:`specification_json`'s options), two-space indented."""
     text = json.dumps(specification_json(spec, **options), indent=2)
     Path(path).write_text(text + "\n", encoding="utf-8")
+
+
+def specification_beside(garment: str | Path) -> str | None:
+    """The specification that comes beside a garment mesh (``--spec auto``), or None.
+
+    GarmentCode and Garment-Pattern-Generator name it after the garment and drop the
+    mesh's own suffix: ``tee6_sim.obj`` has ``tee6_specification.json``,
+    ``shirt_mean_boxmesh.obj`` ``shirt_mean_specification.json``. Looked for, in order:
+    ``STEM_specification.json`` for the stem and each shorter prefix of it at an
+    underscore (``shirt_mean_boxmesh``, ``shirt_mean``, ``shirt``), then
+    ``specification.json`` in the same folder.
+    """
+    p = Path(garment)
+    parts = p.stem.split("_")
+    names = [f"{'_'.join(parts[:n])}_specification.json" for n in range(len(parts), 0, -1)]
+    for name in [*names, "specification.json"]:  # nearest name first
+        q = p.with_name(name)
+        if q.is_file():
+            return str(q)
+    return None

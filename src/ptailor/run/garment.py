@@ -47,7 +47,7 @@ from ptailor.run.inputs import (
 from ptailor.run.options import RunOptions
 from ptailor.run.outputs import OutputContext, write_outputs
 from ptailor.run.sections import pattern_section, units_section
-from ptailor.run.spec import matched_specification, spec_outputs, spec_units
+from ptailor.run.spec import matched_specification, spec_input, spec_outputs, spec_units
 from ptailor.spec.match import SpecMatching
 
 
@@ -124,15 +124,22 @@ def staged_run(
     """
     recipe = checked_recipe(recipe, options)
     body_file = options.body if options.body != "auto" else None
-    check_output_dir(out, [garment, drape, body_file, options.spec])
+    spec_file = spec_input(garment, options.spec)
+    check_output_dir(out, [garment, drape, body_file, spec_file])
     shown = (display_inputs or {}).get("garment", garment)  # the garment errors name
     edits = edit_options(recipe, options)
     t0 = time.perf_counter()
     if progress is not None:
         progress("read", 0, None)
-    spec = read_spec(options.spec) if options.spec is not None else None
+    spec = read_spec(spec_file) if spec_file is not None else None
     loaded = load_input(garment, drape, recipe, options)
     spec_match = None
+    spec_note = ()
+    if options.spec == "auto" and spec is None:
+        spec_note = (
+            f"--spec auto: no specification beside {Path(shown).name} (looked for "
+            "STEM_specification.json, its shorter prefixes, specification.json)",
+        )
     if spec is not None:  # matched before any work: a specification of another garment fails
         loaded = spec_units(loaded, spec)
         spec_match = matched_specification(loaded, spec, up=edits.up, front=edits.front)
@@ -184,6 +191,7 @@ def staged_run(
         reference=reference,
         body_fit=body_fit,
         spec_match=spec_match,
+        spec_note=spec_note,
     )
     with _staged_folder(
         out, staged, shown=shown, display=display_inputs or {}, extra_files=extra_files
@@ -208,6 +216,7 @@ class _Staged:
     reference: Any = None
     body_fit: dict | None = None  # --body auto: the fit's record
     spec_match: SpecMatching | None = None  # --spec: the specification matched
+    spec_note: tuple[str, ...] = ()  # --spec auto without a specification: what was looked for
 
 
 @contextmanager
@@ -237,7 +246,7 @@ def _staged_folder(
                 units=ctx.loaded.garment.units,
             )
         spec_section: dict | None = None
-        spec_warnings: list[str] = []
+        spec_warnings: list[str] = list(staged.spec_note)
         if staged.spec_match is not None:
             files, spec_section, spec_warnings = spec_outputs(tmp, adj, staged.spec_match)
             written += files
@@ -330,5 +339,5 @@ def _read(inputs: dict[str, str], options: RunOptions) -> dict[str, str]:
     """Role to the path read: ``inputs``, the body (a fitted body, ``--body auto``, is
     no file read: the report's ``body_fit`` records it) and the specification."""
     body = options.body if options.body not in (None, "auto") else None
-    spec = {"spec": options.spec} if options.spec is not None else {}
-    return {**inputs, **({"body": body} if body else {}), **spec}
+    spec = inputs.get("garment") and spec_input(inputs["garment"], options.spec)
+    return {**inputs, **({"body": body} if body else {}), **({"spec": spec} if spec else {})}

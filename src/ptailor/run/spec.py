@@ -25,12 +25,24 @@ from ptailor.spec.match import SpecMatching, match_specification
 __all__ = [
     "SPEC_FILE",
     "matched_specification",
+    "spec_input",
     "spec_outputs",
     "spec_units",
 ]
 
 #: the adjusted specification's file name in the output folder
 SPEC_FILE = "specification.json"
+
+
+def spec_input(garment: str, spec: str | None) -> str | None:
+    """The specification a run reads: ``spec`` as given, the one beside ``garment`` for
+    ``auto`` (:func:`ptailor.formats.spec_json.specification_beside`; None when there is
+    none), or None."""
+    if spec != "auto":
+        return spec
+    from ptailor.formats.spec_json import specification_beside
+
+    return specification_beside(garment)
 
 
 def spec_units(loaded: LoadedGarment, spec: Specification) -> LoadedGarment:

@@ -346,12 +346,18 @@ def _outline_panel(
     segs = _segments(lab, Zl, len(sp.edges), window)
     # an input vertex still in the panel: where its two edges meet, carried
     loc_v = locate_points(Vb, Fb, m.to_pattern(sp.vertices, k), faces=part.faces)
-    kept_v = loc_v.distance <= 1e-6 * max(float(np.ptp(Vb[L])), 1e-300)
+    # (a corner off the mesh by the input's own fit is still there)
+    kept_v = loc_v.distance <= 3.0 * m.distance + 1e-6 * max(float(np.ptp(Vb[L])), 1e-300)
     Zv = frame.to_frame(carry_points(Vn, Fb, loc_v))
     P, O = _junctions(sp, segs, X, Zl, Zv, kept_v)
     sources: list[int] = []
     for src, _, _ in segs:  # an edge split in two (a cut through it): its second part is new
         sources.append(src if src < 0 or src not in sources else -1)
+    kept_ids = [s for s in sources if s >= 0]
+    if kept_ids:  # start the loop at the lowest input edge (a replaced edge keeps its place)
+        r = sources.index(min(kept_ids))
+        segs, sources = segs[r:] + segs[:r], sources[r:] + sources[:r]
+        P, O = np.roll(P, -r, axis=0), np.roll(O, -r, axis=0)
     idx = _vertex_indices(sp, sources)
     V = np.zeros((int(idx.max()) + 1, 2))
     V[idx] = P
