@@ -413,6 +413,7 @@ def test_gate_failures_reads_the_report_fields():
         "flipped_triangles": 2,
         "verify_stretch_p95": None,
         "verify_displacement_p95": None,
+        "spec_fit_max": None,
         "warnings": 0,
     }
 

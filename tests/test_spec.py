@@ -16,7 +16,7 @@ from ptailor.formats.obj import write_garment
 from ptailor.formats.spec_json import read_specification
 from ptailor.model.structure import structure
 from ptailor.pieces.draw import outer_loop
-from ptailor.samples import cone_skirt
+from ptailor.samples import bodice, cone_skirt, gored_skirt, halved_bodice
 
 from .conftest import GARMENTS
 
@@ -66,10 +66,12 @@ def _arc_flags(P0, P1, mid) -> tuple[int, int]:
     return 0, 0 if left else 1
 
 
-def cone_spec(g, path: Path) -> Path:
-    """A GarmentCode specification of the cone skirt ``g``: per panel the corners of its
-    outline, arcs for the waist and hem, straight sides, placed in 3D by the best rigid fit
-    of the flat panel onto its drape; the side seams stitched."""
+def sample_spec(g, path: Path) -> Path:
+    """A GarmentCode specification of a generated garment ``g`` whose panels have four
+    corners (the cone samples): per panel the corners of its outline, arcs where the outline
+    between them curves (a cone's waist and hem), straight edges elsewhere, placed in 3D by
+    the best rigid fit of the flat panel onto its drape; edges that share their drape
+    vertices stitched."""
     from scipy.spatial.transform import Rotation
 
     st = structure(g)
@@ -145,8 +147,24 @@ def skirt(tmp_path_factory):
     d = tmp_path_factory.mktemp("skirt")
     g = cone_skirt(n_around=48, n_along=16)
     write_garment(d / "skirt.obj", g)
-    spec = cone_spec(g, d / "skirt_specification.json")
+    spec = sample_spec(g, d / "skirt_specification.json")
     return d / "skirt.obj", spec
+
+
+GENERATED = {
+    "cone_skirt": lambda: cone_skirt(n_around=48, n_along=16),
+    "bodice": lambda: bodice(),
+    "halved_bodice": lambda: halved_bodice(),  # a front in mirrored halves: three panels
+    "gored_skirt": lambda: gored_skirt(gores=4),  # four identical gores
+}
+
+
+@pytest.fixture(scope="module", params=sorted(GENERATED))
+def generated(request, tmp_path_factory):
+    d = tmp_path_factory.mktemp(request.param)
+    g = GENERATED[request.param]()
+    write_garment(d / "g.obj", g)
+    return d / "g.obj", sample_spec(g, d / "g_specification.json")
 
 
 def _adjust(garment, recipe_text, spec, out, *extra):
@@ -170,8 +188,8 @@ def test_generated_spec_matches_and_has_arcs(skirt):
     assert len(s.stitches) == 2
 
 
-def test_identity_gives_the_generated_spec_back(skirt, tmp_path):
-    garment, spec = skirt
+def test_identity_gives_the_generated_spec_back(generated, tmp_path):
+    garment, spec = generated
     got, rep = _adjust(garment, IDENTITY, spec, tmp_path / "o")
     want = json.loads(spec.read_text())
     assert got["pattern"]["stitches"] == want["pattern"]["stitches"]
@@ -190,8 +208,8 @@ def test_identity_gives_the_generated_spec_back(skirt, tmp_path):
     assert not [w for w in rep["warnings"] if w.startswith("spec")]
 
 
-def test_uniform_scale_scales_the_generated_spec(skirt, tmp_path):
-    garment, spec = skirt
+def test_uniform_scale_scales_the_generated_spec(generated, tmp_path):
+    garment, spec = generated
     got, _ = _adjust(garment, UNIFORM, spec, tmp_path / "o")
     want = json.loads(spec.read_text())
     for name, p in want["pattern"]["panels"].items():
@@ -555,7 +573,18 @@ def test_manifest_spec_column(tmp_path, skirt):
     recipe.write_text(IDENTITY)
     r = run("batch", recipe, "--manifest", m, "-o", tmp_path / "out")
     assert r.exit_code == 2 and "missing.json" in r.output  # checked before anything runs
-    m.write_text(f"garment,spec,name\n{garment},{spec},one\n")
-    r = run("batch", recipe, "--manifest", m, "-o", tmp_path / "out", "--formats", "obj")
+    mine = tmp_path / "mine_specification.json"
+    mine.write_text(spec.read_text())
+    m.write_text(f"garment,spec,name\n{garment},{mine},one\n")
+    args = ("batch", recipe, "--manifest", m, "-o", tmp_path / "out", "--formats", "obj")
+    r = run(*args)
     assert r.exit_code == 0, r.output
     assert (tmp_path / "out" / "one" / "specification.json").is_file()
+    assert "skipped          1" in run(*args).output  # unchanged: skipped
+    d = json.loads(mine.read_text())  # the specification changed: the garment is redone
+    d["pattern"]["stitches"] = d["pattern"]["stitches"][:1]
+    mine.write_text(json.dumps(d))
+    r = run(*args)
+    assert r.exit_code == 0 and "skipped          0" in r.output, r.output
+    got = json.loads((tmp_path / "out" / "one" / "specification.json").read_text())
+    assert len(got["pattern"]["stitches"]) == 1

@@ -28,6 +28,7 @@ from ptailor.batch.records import RECORD_KEYS, key_numbers
 from ptailor.batch.stamp import STAMP, inputs_digest, make_stamp, recipe_digest, up_to_date
 from ptailor.errors import PtailorError
 from ptailor.run.options import RunOptions
+from ptailor.run.spec import spec_input
 
 
 @dataclass(frozen=True)
@@ -179,7 +180,8 @@ def job_stamp(job: GarmentJob) -> dict:
     OSError
         The garment cannot be read.
     """
-    digest = inputs_digest(job.garment_abs, job.drape_abs)
+    spec = spec_input(job.garment_abs, job.options.spec)
+    digest = inputs_digest(job.garment_abs, job.drape_abs, spec)
     return make_stamp(job.garment, digest, job.recipe_sha, job.options.stamped())
 
 

@@ -28,8 +28,11 @@ def recipe_digest(recipe) -> str:
     return text_sha256(json.dumps(data, sort_keys=True, separators=(",", ":"), default=str))
 
 
-def inputs_digest(garment: str | Path, drape: str | Path | None = None) -> str:
-    """SHA-256 of a garment file, or of a CAD pattern's file with its drape's.
+def inputs_digest(
+    garment: str | Path, drape: str | Path | None = None, spec: str | Path | None = None
+) -> str:
+    """SHA-256 of a garment file, or of a CAD pattern's file with its drape's, and with the
+    specification's (``--spec``) when one is read.
 
     Raises
     ------
@@ -39,6 +42,8 @@ def inputs_digest(garment: str | Path, drape: str | Path | None = None) -> str:
     digest = file_sha256(garment)
     if drape is not None:  # a CAD pattern: its drape is an input too
         digest = text_sha256(f"{digest}:{file_sha256(drape)}")
+    if spec is not None:  # so is a specification
+        digest = text_sha256(f"{digest}:spec:{file_sha256(spec)}")
     return digest
 
 
