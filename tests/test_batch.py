@@ -285,6 +285,8 @@ def test_the_stamp_hashes_every_run_option(tmp_path):
 
     g = tmp_path / "g.obj"
     g.write_text("v 0 0 0\n")
+    spec = tmp_path / "g_specification.json"
+    spec.write_text("{}")
     base = RunOptions()
     changed = {
         "pattern_units": "mm",
@@ -305,7 +307,7 @@ def test_the_stamp_hashes_every_run_option(tmp_path):
         "verify": True,
         "verify_rest": "pattern",
         "verify_max_steps": 10,
-        "spec": "pattern_specification.json",
+        "spec": str(spec),
     }
     assert set(changed) == {f.name for f in fields(RunOptions)}
 
