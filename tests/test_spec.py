@@ -588,3 +588,12 @@ def test_manifest_spec_column(tmp_path, skirt):
     assert r.exit_code == 0 and "skipped          0" in r.output, r.output
     got = json.loads((tmp_path / "out" / "one" / "specification.json").read_text())
     assert len(got["pattern"]["stitches"]) == 1
+
+
+def test_batch_spec_file_missing_is_exit_2(tmp_path, skirt):
+    garment, _ = skirt
+    recipe = tmp_path / "r.yaml"
+    recipe.write_text(IDENTITY)
+    r = run("batch", recipe, garment, "-o", tmp_path / "out", "--spec", tmp_path / "nope.json")
+    assert r.exit_code == 2 and "nope.json" in r.output and "no such file" in r.output
+    assert not (tmp_path / "out").exists()

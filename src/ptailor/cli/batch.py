@@ -230,6 +230,8 @@ def batch(
     check_engine_first(ctx.params)  # (before any file is read)
     rec = load_recipe(recipe)
     options = run_options(rec, ctx.params)  # (checks the units too)
+    if spec not in (None, "auto") and not os.path.isfile(spec):  # one for every garment
+        raise PtailorError("no such file (--spec; auto takes each garment's own)", path=spec)
     if manifest is not None:
         paths = read_manifest(manifest, check=_cell_check(ctx))
     else:
