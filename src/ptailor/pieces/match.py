@@ -118,18 +118,52 @@ def _outline_distance(A: np.ndarray, ca: ClosedCurve, B: np.ndarray, cb: ClosedC
 
 #: Relative residuals closer than this are a tie (a symmetric outline fits several ways).
 _TIE = 1e-6
+#: ICP stops when a step moves the fit by less than this (rotation entries, translation
+#: over the outline's size)
+_ICP_STILL = 1e-10
 #: Rigid-fit refinement iterations (ICP) when matching a moved piece by shape.
 _ICP_ITER = 30
 
 
+def icp_fit(
+    A: np.ndarray,
+    cb: ClosedCurve,
+    R: np.ndarray,
+    t: np.ndarray,
+    diag: float,
+    *,
+    iterations: int = 30,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Refine the rigid map ``(R, t)`` of outline samples ``A`` onto curve ``cb`` by ICP
+    against its segments (a reflection stays one), until a step moves it by less than
+    ``_ICP_STILL`` or after ``iterations`` steps."""
+    reflect = bool(np.linalg.det(R) < 0)
+    for _ in range(iterations):
+        _, Q = cb.nearest(A @ R.T + t)
+        R1, t1 = rigid_fit(A, Q, reflect=reflect)
+        step = np.abs(R1 - R).max() + np.abs(t1 - t).max() / max(diag, 1e-300)
+        R, t = R1, t1
+        if step < _ICP_STILL:  # converged: the next steps would not move it
+            break
+    return R, t
+
+
+def fit_residual(A: np.ndarray, R, t, cb: ClosedCurve, B: np.ndarray, diag: float) -> float:
+    """Symmetric mean distance of ``A`` moved by ``(R, t)`` and curve ``cb`` (sampled as
+    ``B``), over ``diag``."""
+    moved = A @ R.T + t
+    return _outline_distance(moved, ClosedCurve(moved), B, cb) / diag
+
+
 def shape_fits(
-    A: np.ndarray, cb: ClosedCurve, B: np.ndarray, diag: float
+    A: np.ndarray, cb: ClosedCurve, B: np.ndarray, diag: float, *, iterations: int = _ICP_ITER
 ) -> list[tuple[np.ndarray, np.ndarray, float]]:
-    """Rigid fits of outline samples ``A`` onto curve ``cb`` (sampled as ``B``), best first.
+    """Rigid fits of outline samples ``A`` onto curve ``cb`` (sampled as ``B``).
 
     Principal axes give four starts (two rotations, two reflections); ICP against the
-    curve's segments refines each. A symmetric outline fits more than one way equally well:
-    the caller that can tell them apart (by where the panel sits in 3D) gets all four.
+    curve's segments refines each (:func:`icp_fit`). A symmetric outline fits more than one
+    way equally well: the caller that can tell them apart (by where the panel sits in 3D)
+    gets all four.
 
     Returns
     -------
@@ -144,13 +178,8 @@ def shape_fits(
     for sx in (1.0, -1.0):  # the four axis pairings
         for sy in (1.0, -1.0):
             R = Eb @ np.diag([sx, sy]) @ Ea.T
-            t = cb0 - R @ ca
-            reflect = bool(np.linalg.det(R) < 0)
-            for _ in range(_ICP_ITER):
-                _, Q = cb.nearest(A @ R.T + t)
-                R, t = rigid_fit(A, Q, reflect=reflect)
-            moved = A @ R.T + t
-            fits.append((R, t, _outline_distance(moved, ClosedCurve(moved), B, cb) / diag))
+            R, t = icp_fit(A, cb, R, cb0 - R @ ca, diag, iterations=iterations)
+            fits.append((R, t, fit_residual(A, R, t, cb, B, diag)))
     return fits
 
 

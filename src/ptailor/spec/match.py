@@ -25,7 +25,7 @@ from ptailor.model.polyline import resample_closed, signed_area
 from ptailor.model.specification import Specification, SpecPanel
 from ptailor.model.units import CM_PER
 from ptailor.pieces.draw import outer_loop
-from ptailor.pieces.match import ClosedCurve, shape_fits
+from ptailor.pieces.match import ClosedCurve, fit_residual, icp_fit, shape_fits
 
 __all__ = ["PanelMatch", "SpecMatching", "StitchMatch", "match_specification", "spec_scale"]
 
@@ -237,7 +237,17 @@ def _candidates(
         for j, (_, cb, Bs, barea) in enumerate(mesh):  # mesh panels
             if abs(area - barea) > tol.SPEC_AREA_REL * max(area, barea):
                 continue
-            fits = sorted(shape_fits(A, cb, Bs, diag), key=lambda f: f[2])
+            # coarse first (64 samples), then the fits worth it refined at full resolution
+            coarse = shape_fits(A[::4], cb, Bs[::4], diag, iterations=12)
+            best = min(f[2] for f in coarse)
+            if best > 4.0 * tol.SPEC_MATCH_REL:
+                continue
+            fits = []
+            for R, t, res in coarse:  # the starts that may fit the shape
+                if res <= 3.0 * best + 1e-4:
+                    R, t = icp_fit(A, cb, R, t, diag)
+                    fits.append((R, t, fit_residual(A, R, t, cb, Bs, diag)))
+            fits.sort(key=lambda f: f[2])
             if fits[0][2] > tol.SPEC_MATCH_REL:
                 continue
             keep = []
