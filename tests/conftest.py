@@ -58,6 +58,7 @@ SLOW: dict[str, frozenset[str]] = {
             "test_shirt_shorten_moves_only_the_hems",
             "test_batch_finds_each_specification_beside_its_garment",
             "test_manifest_spec_column",
+            "test_batch_max_spec_fit_gate",
         }
     ),
     "test_spec_curves": frozenset({"test_one_reparametrization_round_refits_at_the_feet"}),

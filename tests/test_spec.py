@@ -597,3 +597,19 @@ def test_batch_spec_file_missing_is_exit_2(tmp_path, skirt):
     r = run("batch", recipe, garment, "-o", tmp_path / "out", "--spec", tmp_path / "nope.json")
     assert r.exit_code == 2 and "nope.json" in r.output and "no such file" in r.output
     assert not (tmp_path / "out").exists()
+
+
+def test_batch_max_spec_fit_gate(tmp_path, skirt):
+    """``--max-spec-fit``: a garment whose written specification strays from the mesh fails
+    (the cone skirt's arcs lie 0.12 mm from the mesh's chords)."""
+    garment, spec = skirt
+    recipe = tmp_path / "r.yaml"
+    recipe.write_text(IDENTITY)
+    base = ("batch", recipe, garment, "--spec", spec, "--formats", "obj")
+    r = run(*base, "-o", tmp_path / "strict", "--max-spec-fit", "0.001")
+    assert r.exit_code == 1 and "spec panel" in r.output and "fit" in r.output, r.output
+    assert not (tmp_path / "strict" / "skirt").exists()
+    r = run(*base, "-o", tmp_path / "loose", "--max-spec-fit", "0.1")
+    assert r.exit_code == 0, r.output
+    r = run("batch", recipe, garment, "-o", tmp_path / "x", "--max-spec-fit", "0.1")
+    assert r.exit_code == 2 and "--max-spec-fit needs --spec" in r.output

@@ -32,6 +32,9 @@ class Gates:
     max_verify_displacement : float, optional
         In the report's units: a panel whose re-drape displacement p95 (from the edited
         drape, ``verify.ours.panels.NAME.displacement.p95``) is above it fails.
+    max_spec_fit : float, optional
+        In the report's units: a specification panel (``--spec``) whose written curves lie
+        farther than this from the adjusted mesh outline (``spec.panels[].fit``) fails.
     fail_on_flips : bool
         A panel with ``flipped_triangles > 0`` fails.
     """
@@ -42,6 +45,7 @@ class Gates:
     max_seam_mismatch: float | None = None
     max_verify_stretch: float | None = None
     max_verify_displacement: float | None = None
+    max_spec_fit: float | None = None
     fail_on_flips: bool = False
 
     @property
@@ -251,4 +255,21 @@ def gate_failures(report: dict, gates: Gates) -> list[str]:
         probs.append(f"report: no {exc} list (a gate cannot pass without it)")
     if gates.verify_gates:
         probs += _verify_failures(report, gates, units)
+    if gates.max_spec_fit is not None:
+        probs += _spec_failures(report, gates.max_spec_fit, units)
+    return probs
+
+
+def _spec_failures(report: dict, lim: float, units: str) -> list[str]:
+    """The specification panels whose written curves lie farther than ``lim`` from the
+    adjusted mesh outline (strict: a report without ``spec`` breaks the gate)."""
+    spec = report.get("spec")
+    if not isinstance(spec, dict) or not isinstance(spec.get("panels"), list):
+        return ["report: no spec section (--spec): --max-spec-fit cannot pass without it"]
+    probs = []
+    for p in spec["panels"]:  # a loop over specification panels
+        fit = number(p.get("fit"))
+        if fit is None or fit > lim:
+            shown = "missing" if fit is None else f"{fit:.4g} > {lim:.4g} {units}".rstrip()
+            probs.append(f"spec panel {p.get('name', '?')}: fit {shown}")
     return probs

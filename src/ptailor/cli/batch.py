@@ -53,6 +53,12 @@ _LIMIT_GATES = (
         "a panel whose re-drape displacement p95 (report's verify.ours, recipe units) exceeds "
         "D; needs --verify.",
     ),
+    (
+        "--max-spec-fit",
+        "D",
+        "a specification panel whose written curves lie farther than D from the adjusted "
+        "mesh outline (report's spec.panels[].fit, recipe units); needs --spec.",
+    ),
 )
 
 
@@ -172,6 +178,7 @@ def batch(
     max_seam_mismatch,
     max_verify_stretch,
     max_verify_displacement,
+    max_spec_fit,
     fail_on_flips,
 ) -> None:
     """Apply RECIPE to every GARMENT (or every row of --manifest), one output folder each
@@ -220,6 +227,7 @@ def batch(
         max_seam_mismatch=max_seam_mismatch,
         max_verify_stretch=max_verify_stretch,
         max_verify_displacement=max_verify_displacement,
+        max_spec_fit=max_spec_fit,
         fail_on_flips=fail_on_flips,
     )
     if gates.verify_gates and not verify:
@@ -227,6 +235,8 @@ def batch(
             "--max-verify-stretch and --max-verify-displacement need --verify "
             "(they judge the re-drape check)"
         )
+    if max_spec_fit is not None and spec is None and manifest is None:
+        raise PtailorError("--max-spec-fit needs --spec (it judges the written specification)")
     check_engine_first(ctx.params)  # (before any file is read)
     rec = load_recipe(recipe)
     options = run_options(rec, ctx.params)  # (checks the units too)
