@@ -613,3 +613,22 @@ def test_batch_max_spec_fit_gate(tmp_path, skirt):
     assert r.exit_code == 0, r.output
     r = run("batch", recipe, garment, "-o", tmp_path / "x", "--max-spec-fit", "0.1")
     assert r.exit_code == 2 and "--max-spec-fit needs --spec" in r.output
+
+
+def test_design_parameters_follow_renumbered_edges():
+    """GPG's design parameters name edges by id: when an edge is inserted after front edge 0
+    and edge 8 leaves, ids after the insertion move up one and 8's entries go."""
+    from ptailor.formats.spec_json import specification_json
+
+    s = read_specification(need(TEE6 / "tee6_specification.json"))
+    src = {p.name: list(range(len(p.edges))) for p in s.panels}
+    src["front"] = [0, -1, 1, 2, 3, 4, 5, 6, 7]
+    d = specification_json(s, edge_sources=src)
+    front = {n: [i for i in par["influence"] if i["panel"] == "front"]
+             for n, par in d["parameters"].items()}  # fmt: skip
+    assert front["collar_wide"][0]["edge_list"] == [{"direction": "both", "id": [0]}]
+    assert front["wideness"][0]["edge_list"][0]["id"] == [7, 8, 0, 2, 3]
+    assert front["wideness"][0]["edge_list"][1]["id"] == 5
+    back = [i for i in d["parameters"]["wideness"]["influence"] if i["panel"] == "back"]
+    want = json.loads((TEE6 / "tee6_specification.json").read_text())["parameters"]
+    assert back == [i for i in want["wideness"]["influence"] if i["panel"] == "back"]

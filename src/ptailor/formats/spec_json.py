@@ -269,7 +269,41 @@ def specification_json(spec: Specification, *, edge_sources: dict | None = None)
         else:
             stitches.append(sides)
     pattern["stitches"] = stitches
+    if edge_sources and isinstance(raw.get("parameters"), dict):
+        _renumber_parameters(raw["parameters"], edge_sources)
     return raw
+
+
+def _renumber_parameters(params: dict, edge_sources: dict) -> None:
+    """Garment-Pattern-Generator's design parameters name edges by id
+    (``influence[].edge_list[]``: an id, or ``{"id": id or [ids], ...}``): the ids follow
+    their edges to where the writer put them; an id whose edge left the pattern is dropped
+    (an entry left without ids is dropped too)."""
+    for par in params.values():  # a loop over design parameters
+        influence = par.get("influence") if isinstance(par, dict) else None
+        for inf in influence if isinstance(influence, list) else []:  # the panels it moves
+            src = edge_sources.get(inf.get("panel")) if isinstance(inf, dict) else None
+            if src is None or not isinstance(inf.get("edge_list"), list):
+                continue
+            new_id = {int(s): i for i, s in enumerate(src) if s >= 0}
+
+            def moved(x, new_id=new_id):
+                if isinstance(x, int) and not isinstance(x, bool):
+                    return new_id.get(x)
+                if isinstance(x, list):
+                    got = [new_id[v] for v in x if isinstance(v, int) and v in new_id]
+                    return got or None
+                return x
+
+            items = []
+            for item in inf["edge_list"]:  # the edges it moves
+                if isinstance(item, dict) and "id" in item:
+                    got = moved(item["id"])
+                    if got is not None:
+                        items.append({**item, "id": got})
+                elif (got := moved(item)) is not None:
+                    items.append(got)
+            inf["edge_list"] = items
 
 
 def write_specification(path: str | Path, spec: Specification, **options: Any) -> None:
