@@ -443,8 +443,9 @@ def _junctions(
     kept_v: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Each segment's start, in the new frame (``P``) and in the input frame (``O``): the
-    input vertex where two consecutive input edges still meet (carried), else the mesh
-    vertex next to new outline on the side of the old edge, else the segment's first."""
+    input vertex where two consecutive input edges still meet (carried), else the last
+    vertex of a kept edge that new outline follows (the cut's crossing), else the
+    segment's first (a corner of the new outline)."""
     n_e = len(sp.edges)
     P, O = [], []
     for i, (src, pos, how) in enumerate(segs):  # a loop over segments
@@ -455,7 +456,9 @@ def _junctions(
                 P.append(Zv[v])
                 O.append(sp.vertices[v])
                 continue
-        j = prev[1][-1] if prev[2] != "new" and how == "new" else pos[0]
+        # a kept edge meets new outline where it was cut (its last vertex lies on it); an
+        # extended one at the corner the new outline turns (the new piece's first vertex)
+        j = prev[1][-1] if prev[2] == "kept" and how == "new" else pos[0]
         P.append(Zl[j])
         O.append(X[j])
     return np.array(P), np.array(O)
