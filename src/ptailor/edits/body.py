@@ -13,11 +13,6 @@ import numpy as np
 _PAIRS_PER_CHUNK = 1 << 19
 
 
-def _chunks(n_points: int, n_faces: int) -> range:
-    step = max(1, _PAIRS_PER_CHUNK // max(n_faces, 1))
-    return range(0, n_points, step)
-
-
 def winding_numbers(P: np.ndarray, V: np.ndarray, F: np.ndarray) -> np.ndarray:
     """Generalised winding numbers of points with respect to a closed triangle mesh.
 

@@ -37,23 +37,6 @@ def needs_pieces(formats: tuple[str, ...]) -> bool:
     return any(extension(FILE_NAMES[f]) in PATTERN_WRITERS for f in formats if f in FILE_NAMES)
 
 
-def panel_outlines(V2: np.ndarray, F2: np.ndarray, adj: Adjustment) -> list[list[np.ndarray]]:
-    """Closed boundary loops of each panel (outer outline first), as ``(k, 2)`` arrays.
-
-    Parameters
-    ----------
-    V2 : (n, 2) float array
-    F2 : (m, 3) int array
-    adj : Adjustment
-        Its panels' ``faces`` index ``F2``.
-    """
-    out = []
-    for p in adj.state.panels:  # a loop over panels
-        loops = boundary_loops(F2[p.faces])
-        out.append([V2[lp] for lp in loops])
-    return out
-
-
 @dataclass(frozen=True)
 class OutputContext:
     """What the output writers share besides the adjustment.
