@@ -70,6 +70,12 @@ class SpecPanel:
         a, b = e.endpoints
         return curve_points(self.vertices[a], self.vertices[b], e.kind, e.params, t)
 
+    def edge_lengths(self, samples: int = 512) -> np.ndarray:
+        """Each edge curve's length ``(e,)``, as a polyline of ``samples`` segments."""
+        t = np.linspace(0.0, 1.0, samples + 1)
+        X = np.stack([self.edge_points(i, t) for i in range(len(self.edges))])
+        return np.linalg.norm(np.diff(X, axis=1), axis=2).sum(axis=1)
+
     def outline(self, per_edge: int = 64) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The closed outline sampled ``per_edge`` times per edge (each edge's end left to
         the next edge).

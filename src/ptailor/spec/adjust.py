@@ -167,11 +167,9 @@ def _frame_of(m: PanelMatch, k: float, Y0: np.ndarray, Y1: np.ndarray, *, scale:
 def _fit_edge(
     P0: np.ndarray, P1: np.ndarray, kind: str, t: np.ndarray, Z: np.ndarray, *, start=None
 ) -> tuple[str, np.ndarray, float, float]:
-    """``(kind, params, refit error, chord deviation)`` of the edge through ``Z`` at ``t``.
-
-    A straight edge whose points leave the chord by more than the bend tolerance (in the
-    points' units, given through ``start`` for straight edges) becomes quadratic.
-    """
+    """``(kind, params, refit error, chord deviation)`` of the edge of ``kind`` through
+    points ``Z`` at parameters ``t`` (``start``: the input's parameters, an arc's first
+    guess); the refit error is the points' largest distance from the fitted curve."""
     dev = chord_deviation(P0, P1, Z)
     if kind == "straight":
         return "straight", np.zeros(0), dev, dev

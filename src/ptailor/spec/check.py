@@ -50,10 +50,4 @@ def spec_fit(
 
 def edge_lengths(spec: Specification) -> dict[tuple[str, int], float]:
     """``(panel, edge)`` to the edge curve's length (specification units)."""
-    t = np.linspace(0.0, 1.0, 513)
-    out = {}
-    for sp in spec.panels:  # a loop over panels
-        for i in range(len(sp.edges)):  # a loop over a panel's edges
-            X = sp.edge_points(i, t)
-            out[sp.name, i] = float(np.linalg.norm(np.diff(X, axis=0), axis=1).sum())
-    return out
+    return {(sp.name, i): float(v) for sp in spec.panels for i, v in enumerate(sp.edge_lengths())}

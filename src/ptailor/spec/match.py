@@ -22,7 +22,7 @@ from ptailor.geometry.rotations import rigid_fit
 from ptailor.method.transfer import locate_points
 from ptailor.model.garment import Garment, Panel
 from ptailor.model.polyline import resample_closed, signed_area
-from ptailor.model.specification import Specification, SpecPanel
+from ptailor.model.specification import Specification
 from ptailor.model.units import CM_PER
 from ptailor.pieces.draw import outer_loop
 from ptailor.pieces.match import ClosedCurve, fit_residual, icp_fit, shape_fits
@@ -123,15 +123,6 @@ def _axes_frame(up, front) -> np.ndarray:
     u = np.asarray(up, dtype=float)
     f = np.asarray(front, dtype=float)
     return np.column_stack([np.cross(u, f), u, f])
-
-
-def _edge_lengths(p: SpecPanel, k: float) -> np.ndarray:
-    t = np.linspace(0.0, 1.0, 257)
-    out = []
-    for i in range(len(p.edges)):  # a loop over a panel's edges
-        X = p.edge_points(i, t) * k
-        out.append(float(np.linalg.norm(np.diff(X, axis=0), axis=1).sum()))
-    return np.array(out)
 
 
 def match_specification(
@@ -379,7 +370,7 @@ def _stitch_matches(
     """Every stitch's seam: the seam between the two matched panels whose pattern edges lie
     along both stitched edges."""
     index = {p.name: i for i, p in enumerate(spec.panels)}
-    lengths = [_edge_lengths(p, k) for p in spec.panels]
+    lengths = [p.edge_lengths() * k for p in spec.panels]
     t = np.linspace(0.0, 1.0, PER_EDGE + 1)
     out = []
     for si, st in enumerate(spec.stitches):  # a loop over stitches
