@@ -396,3 +396,12 @@ try:
     settings.load_profile(os.environ.get("PTAILOR_FUZZ", "ci"))
 except ImportError:  # hypothesis comes with the test extra
     pass
+
+
+def pytest_addoption(parser):
+    """``--refresh-golden``: rewrite tests/golden/*.npz from this run (tests/test_golden.py)."""
+    parser.addoption(
+        "--refresh-golden",
+        action="store_true",
+        help="rewrite the golden expectations of tests/test_golden.py from this run",
+    )

@@ -151,7 +151,8 @@ def carry_piece(
         outline=outline,
         turn=turn,
         notches=notches[keep_n],
-        notch_angles=np.mod(angles[keep_n] + turn_deg, 360.0),
+        # to 1e-9 degrees first: a turn of -1e-16 is 0, not 360 (which it would be after mod)
+        notch_angles=np.mod(np.round(angles[keep_n] + turn_deg, 9), 360.0),
         grain=_carried_grain(piece, moved_g[4], kept_g[4], Rq=Rq, outline=outline),
         internal=tuple(internal),
         drills=drills[keep_d_],
