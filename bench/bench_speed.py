@@ -309,7 +309,8 @@ class Bench:
 
     def section_b(self) -> None:
         print("b. flatten against libigl ARAP on the same mesh", flush=True)
-        from ptailor.demo import DEFAULT_RECIPES, bundled_recipe
+        from ptailor.cli.demo import DEFAULT_RECIPES
+        from ptailor.recipe.bundled import bundled_recipe
         from ptailor.samples import SAMPLES
 
         k = self.edit_size // 1000

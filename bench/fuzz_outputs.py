@@ -42,7 +42,7 @@ from click.testing import CliRunner
 
 from ptailor.cli.main import cli
 from ptailor.formats.obj import write_garment
-from ptailor.output import MARKER, read_marker
+from ptailor.run.folder import MARKER, read_marker
 from ptailor.samples import lantern_sleeve, sample_for_triangles
 
 RECIPE = "steps: [{op: scale, region: all, direction: around, axis: auto, factor: 1.2}]\n"

@@ -5,9 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ptailor.geometry.topology import edge_keys, half_edges
 from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
 from ptailor.model.garment import Garment, panels
-from ptailor.model.seams import edge_keys, half_edges, seams
+from ptailor.model.seams import seams
 
 
 def assert_valid(g: Garment, *, V2: np.ndarray | None = None) -> None:
@@ -42,7 +43,7 @@ def adjust_sample_cli(tmp_path, step: str, *, sample: str = "cone_skirt"):
     from click.testing import CliRunner
 
     from ptailor.cli.main import cli
-    from ptailor.demo import sample_obj_text
+    from ptailor.samples.obj_text import sample_obj_text
 
     src = tmp_path / f"{sample}.obj"
     src.write_text(sample_obj_text(sample))

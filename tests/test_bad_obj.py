@@ -19,9 +19,9 @@ from click.testing import CliRunner
 
 from ptailor import tolerances as tol
 from ptailor.cli.main import cli
-from ptailor.demo import sample_obj_text
 from ptailor.errors import PtailorError
 from ptailor.formats.obj import read_obj, write_obj
+from ptailor.samples.obj_text import sample_obj_text
 
 CORPUS = Path(__file__).parent / "corpus" / "obj"
 RECIPE = "steps: [{op: scale, region: all, direction: around, axis: auto, factor: 1.2}]\n"

@@ -211,7 +211,7 @@ def test_command_line_axes_and_recipe_axes_combine():
 
 
 def test_parallel_axes_on_the_command_line_exit_2(tmp_path):
-    from ptailor.demo import sample_obj_text
+    from ptailor.samples.obj_text import sample_obj_text
 
     g = tmp_path / "sleeve.obj"
     g.write_text(sample_obj_text("lantern_sleeve"))

@@ -15,9 +15,9 @@ from click.testing import CliRunner
 
 from ptailor import batch as pb
 from ptailor.cli.main import cli
-from ptailor.demo import sample_obj_text
 from ptailor.formats.obj import write_garment
 from ptailor.samples import cone_skirt, cylinder, lantern_sleeve, sample_for_triangles
+from ptailor.samples.obj_text import sample_obj_text
 
 WIDER = "steps: [{op: scale, region: all, direction: around, axis: auto, factor: 1.2}]\n"
 FAST = ("--formats", "obj", "--no-baseline")

@@ -10,7 +10,7 @@ import pytest
 from click.testing import CliRunner
 
 from ptailor.cli.main import cli
-from ptailor.demo import sample_obj_text
+from ptailor.samples.obj_text import sample_obj_text
 
 WIDER = "steps: [{op: scale, region: all, direction: around, axis: auto, factor: 1.2}]\n"
 
@@ -182,7 +182,8 @@ def _named_samples() -> dict[str, str]:
 
 
 def test_demo_offers_every_sample_and_every_sample_a_recipe_names():
-    from ptailor.demo import DEFAULT_RECIPES, SAMPLE_NAMES, bundled_recipe
+    from ptailor.cli.demo import DEFAULT_RECIPES, SAMPLE_NAMES
+    from ptailor.recipe.bundled import bundled_recipe
     from ptailor.samples import SAMPLES
 
     assert set(SAMPLE_NAMES) == set(SAMPLES)

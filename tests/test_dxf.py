@@ -480,7 +480,7 @@ def test_inspect_dxf_text_and_json(tmp_path):
 
 
 def test_inspect_garment_rejects_dxf_options(tmp_path):
-    from ptailor.demo import sample_obj_text
+    from ptailor.samples.obj_text import sample_obj_text
 
     p = tmp_path / "sleeve.obj"
     p.write_text(sample_obj_text("lantern_sleeve"))
@@ -606,7 +606,7 @@ def test_a_recipe_in_metres_writes_its_dxf_in_millimetres(tmp_path):
     """Issue 22: ``units: m`` passed ``validate``, then ``adjust`` computed everything and
     exited 2 at the DXF ("cannot write DXF in 'm'"). Any recipe unit is written: metric in
     millimetres (ASTM/AAMA METRIC), the same file as the same recipe in cm."""
-    from ptailor.demo import sample_obj_text
+    from ptailor.samples.obj_text import sample_obj_text
 
     g = tmp_path / "sleeve.obj"
     g.write_text(sample_obj_text("lantern_sleeve"))

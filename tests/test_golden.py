@@ -23,7 +23,7 @@ HERE = Path(__file__).resolve().parent / "golden"
 def _garment(case: Case, tmp: Path) -> tuple[Path, tuple[str, ...]]:
     """The case's garment file (and the options it needs), made or found."""
     from ptailor.cli.main import cli
-    from ptailor.demo import sample_obj_text
+    from ptailor.samples.obj_text import sample_obj_text
 
     kind, _, what = case.garment.partition(":")
     if kind == "shared":

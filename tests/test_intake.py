@@ -11,7 +11,6 @@ import pytest
 from click.testing import CliRunner
 
 from ptailor.cli.main import cli
-from ptailor.demo import sample_obj_text
 from ptailor.formats.garment import load_garment, parse_weld
 from ptailor.formats.obj import read_obj
 from ptailor.model.garment import panels
@@ -27,6 +26,7 @@ from ptailor.model.repair import (
 )
 from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
+from ptailor.samples.obj_text import sample_obj_text
 from tests.conftest import REAL, real_path
 
 ROOT = Path(__file__).resolve().parents[1]

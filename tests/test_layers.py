@@ -25,10 +25,10 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("ptailor.geometry",),
     ("ptailor.model",),
     ("ptailor.formats", "ptailor.method"),
-    ("ptailor.edits", "ptailor.recipe", "ptailor.schema"),
+    ("ptailor.edits", "ptailor.recipe"),
     ("ptailor.pipeline",),
-    ("ptailor.pieces", "ptailor.report", "ptailor.spec", "ptailor.summary", "ptailor.verify"),
-    ("ptailor.run", "ptailor.output", "ptailor.samples", "ptailor.demo"),
+    ("ptailor.pieces", "ptailor.report", "ptailor.spec", "ptailor.verify"),
+    ("ptailor.run", "ptailor.samples"),
     ("ptailor.batch",),
     ("ptailor.cli", "ptailor.__main__"),
 )

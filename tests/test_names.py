@@ -337,7 +337,7 @@ def test_dress_skirt_by_names():
 
 def test_inspect_shows_positions_and_seam_names():
     from ptailor.formats.garment import load_garment
-    from ptailor.summary import garment_summary, summary_text
+    from ptailor.report.inspection import garment_summary, summary_text
 
     info = garment_summary(load_garment(real_path("tee6")))
     pos = {p["name"]: p["position"] for p in info["panels"]}

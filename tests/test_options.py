@@ -59,7 +59,7 @@ def test_recipe_axes_are_validated(tmp_path):
 def test_body_option(tmp_path):
     import trimesh
 
-    from ptailor.demo import sample_obj_text
+    from ptailor.samples.obj_text import sample_obj_text
 
     src = tmp_path / "s.obj"
     src.write_text(sample_obj_text("cone_skirt"))

@@ -21,7 +21,7 @@ from click.testing import CliRunner
 from ptailor import batch as pb
 from ptailor.cli.main import cli
 from ptailor.formats.obj import write_garment
-from ptailor.output import MARKER, read_marker, staging_stem
+from ptailor.run.folder import MARKER, read_marker, staging_stem
 from ptailor.samples import lantern_sleeve, sample_for_triangles
 
 WIDER = "steps: [{op: scale, region: all, direction: around, axis: auto, factor: 1.2}]\n"
@@ -226,12 +226,12 @@ def test_a_long_name_that_fits_is_written_and_replaced(tmp_path, garment, recipe
 
 
 def test_an_unwritable_parent_is_one_line(tmp_path, garment, recipe, monkeypatch):
-    import ptailor.output
+    import ptailor.run.folder
 
     def denied(*a, **k):
         raise PermissionError(13, "Permission denied", str(tmp_path / "ro"))
 
-    monkeypatch.setattr(ptailor.output.tempfile, "mkdtemp", denied)
+    monkeypatch.setattr(ptailor.run.folder.tempfile, "mkdtemp", denied)
     line = error_line(adjust(garment, recipe, tmp_path / "ro" / "out"))
     assert str(tmp_path / "ro" / "out") in line and "Permission denied" in line
 
@@ -480,7 +480,7 @@ def test_a_signal_at_each_step_of_staging_leaves_no_staging(tmp_path, monkeypatc
     while the folders are swapped (held back until the swap is done)."""
     import tempfile
 
-    import ptailor.output as po
+    import ptailor.run.folder as po
 
     out = tmp_path / "out"
     real_mkdtemp = tempfile.mkdtemp

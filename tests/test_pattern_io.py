@@ -11,7 +11,6 @@ import pytest
 from click.testing import CliRunner
 
 from ptailor.cli.main import cli
-from ptailor.demo import sample_obj_text
 from ptailor.formats.dxf import read_dxf, write_dxf
 from ptailor.formats.obj import write_garment
 from ptailor.geometry.segments import nearest_segment_distance
@@ -20,6 +19,7 @@ from ptailor.model.pieces import PatternFile, Piece
 from ptailor.model.polyline import signed_area
 from ptailor.pieces.draw import mesh_pieces
 from ptailor.samples import SAMPLES
+from ptailor.samples.obj_text import sample_obj_text
 from tests.conftest import real_path
 
 IDENTITY = "steps: []\n"

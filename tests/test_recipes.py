@@ -7,10 +7,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ptailor.demo import bundled_recipe
-from ptailor.model.seams import half_edges
+from ptailor.geometry.topology import half_edges
 from ptailor.pipeline import adjustment
 from ptailor.recipe import load_recipe, parse_recipe
+from ptailor.recipe.bundled import bundled_recipe
 from ptailor.samples import SAMPLES, cone_skirt
 
 RECIPES = sorted((Path(__file__).resolve().parents[1] / "recipes").glob("*.yaml"))

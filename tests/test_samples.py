@@ -6,8 +6,10 @@ import numpy as np
 import pytest
 
 from ptailor.geometry.triangles import signed_areas_2d
-from ptailor.model import Garment, panels, seams
+from ptailor.model import Garment
 from ptailor.model.boundary import boundary_loops
+from ptailor.model.garment import panels
+from ptailor.model.seams import seams
 from ptailor.samples import (
     PANEL_GAP,
     SAMPLES,

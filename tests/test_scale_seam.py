@@ -296,7 +296,7 @@ def test_the_shared_long_sleeves_armhole_by_name_symmetric_too():
 
 
 def test_inspect_names_the_shared_long_sleeves_seam_lines():
-    from ptailor.summary import garment_summary, summary_text
+    from ptailor.report.inspection import garment_summary, summary_text
 
     loaded = load_garment(real_path("longsleeve"), pattern_units="auto", drape_units="cm")
     info = garment_summary(loaded)

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from ptailor.demo import sample_obj_text
+from ptailor.samples.obj_text import sample_obj_text
 
 CLI = Path(__file__).resolve().parents[1] / "cli"
 

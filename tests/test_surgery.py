@@ -7,8 +7,8 @@ import pytest
 
 from ptailor.errors import PtailorError
 from ptailor.formats.garment import load_garment
+from ptailor.geometry.topology import half_edges
 from ptailor.model.garment import panels
-from ptailor.model.seams import half_edges
 from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
 from ptailor.run import RunOptions, run_garment
@@ -94,7 +94,7 @@ def test_symmetric_cut_mirrors_the_sketch():
 
 
 def test_cut_output_can_be_adjusted_again(tmp_path):
-    from ptailor.demo import sample_obj_text
+    from ptailor.samples.obj_text import sample_obj_text
 
     src = tmp_path / "skirt.obj"
     src.write_text(sample_obj_text("cone_skirt"))

@@ -16,11 +16,12 @@ from click.testing import CliRunner
 
 from ptailor.cli.main import cli
 from ptailor.formats.obj import read_obj, write_garment
+from ptailor.geometry.topology import half_edges
 from ptailor.method.ease import seam_ease
 from ptailor.model.boundary import boundary_curves, boundary_edges, boundary_loops
 from ptailor.model.garment import panel_labels, panels
 from ptailor.model.openings import openings
-from ptailor.model.seams import half_edges, seam_halfedges, seams
+from ptailor.model.seams import seam_halfedges, seams
 from ptailor.samples import tseam_tube
 
 N_AROUND, N_ALONG, HEIGHT = 24, 16, 40.0

@@ -13,7 +13,7 @@ from click.testing import CliRunner
 from ptailor.cli.main import cli
 from ptailor.edits import OPERATIONS
 from ptailor.recipe import FLATTEN_PARAMS, recipe_problems
-from ptailor.schema import recipe_schema, schema_text
+from ptailor.recipe.schema import recipe_schema, schema_text
 
 RECIPES = Path(__file__).resolve().parents[1] / "recipes"
 

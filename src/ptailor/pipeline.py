@@ -444,8 +444,8 @@ def _zigzag_warnings(adj: Adjustment) -> list[str]:
     (:func:`ptailor.method.ease.side_zigzag` above ``tol.SEAM_ZIGZAG_RAD``)."""
     if adj.settings.get("seams") != "ease":
         return []
+    from ptailor.geometry.topology import half_edges
     from ptailor.method.ease import side_zigzag
-    from ptailor.model.seams import half_edges
 
     g = adj.state.base
     pairs = structure(g).seam_halfedges

@@ -258,7 +258,7 @@ RECIPE_SHOW_CHARS = 80
 #: A recipe holds at most this many steps (each is checked, by the rules and the schema).
 RECIPE_MAX_STEPS = 200
 
-# Output folders and batch (ptailor.output, ptailor.batch)
+# Output folders and batch (ptailor.run.folder, ptailor.batch)
 #: Staging folders (``.NAME.XXXXXXXX.tmp``, ``.NAME.old-.NAME.XXXXXXXX.tmp``) carry at most
 #: this many bytes of the output folder's name; a longer name is cut and an 8-digit hash of
 #: it added, so that both fit the 255 bytes of a file name.

@@ -293,7 +293,7 @@ def run_job(job: GarmentJob) -> dict:
     the garment is stuck where a signal cannot reach it (the parent records the timeout).
     Library warnings go to the garment's report, not to the terminal.
     """
-    from ptailor.output import capture_library_warnings
+    from ptailor.run.folder import capture_library_warnings
 
     global _IN_JOB
     if _STOP is not None and _STOP.is_set():
@@ -337,7 +337,7 @@ def _stamp_or_record(job: GarmentJob) -> tuple[dict | None, dict | None]:
 
 
 def _run_job(job: GarmentJob) -> dict:
-    from ptailor.output import check_output_dir
+    from ptailor.run.folder import check_output_dir
     from ptailor.run.garment import staged_run  # (looked up per call: tests replace it)
 
     stamp, rec = _stamp_or_record(job)

@@ -82,9 +82,9 @@ def adjust(
 
     from ptailor.cli.options import check_engine_first, run_options
     from ptailor.cli.progress import progress_line
-    from ptailor.output import check_output_dir
     from ptailor.recipe import load_recipe
     from ptailor.report.build import summary_lines
+    from ptailor.run.folder import check_output_dir
     from ptailor.run.garment import run_garment
 
     params = click.get_current_context().params
@@ -101,7 +101,7 @@ def adjust(
         for line in summary_lines(report):
             click.echo(line)
         if "verify" in report:
-            from ptailor.cli.verify import summary_lines as verify_lines
+            from ptailor.run.verify import summary_lines as verify_lines
 
             for line in verify_lines(report):
                 click.echo(line)

@@ -1,10 +1,26 @@
-"""``ptailor demo``."""
+"""``ptailor demo``.
+
+Light at import (every command imports it through :mod:`ptailor.cli.main`): the choices are
+names here; :data:`DEFAULT_RECIPES` names every generated sample of
+:data:`ptailor.samples.SAMPLES` (a test holds the two equal) with the bundled recipe the demo
+runs on it by default.
+"""
 
 from __future__ import annotations
 
 import click
 
-from ptailor.demo import SAMPLE_NAMES
+#: sample -> its default bundled recipe (``recipes/NAME.yaml``); the keys are the samples
+#: ``ptailor demo --sample`` offers, in the order it lists them
+DEFAULT_RECIPES = {
+    "lantern_sleeve": "wider-around",
+    "cone_skirt": "v-neck-front",
+    "cylinder": "wider-around",
+    "bodice": "loosen-waist",
+    "skirt": "fuller-skirt",
+}
+#: the samples ``ptailor demo --sample`` offers
+SAMPLE_NAMES = tuple(DEFAULT_RECIPES)
 
 
 @click.command()
@@ -30,10 +46,11 @@ def demo(out, sample, recipe_name) -> None:
     import tempfile
     from pathlib import Path
 
-    from ptailor.demo import DEFAULT_RECIPES, bundled_recipe, sample_obj_text
     from ptailor.recipe import parse_recipe
+    from ptailor.recipe.bundled import bundled_recipe
     from ptailor.report.build import summary_lines
     from ptailor.run.garment import run_garment
+    from ptailor.samples.obj_text import sample_obj_text
 
     rname = recipe_name or DEFAULT_RECIPES[sample]
     rtext = bundled_recipe(rname)

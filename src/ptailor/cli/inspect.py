@@ -66,7 +66,7 @@ def inspect(
             )
         specification = read_specification(found)
     if is_pattern_file(garment):
-        from ptailor.summary import pattern_summary, pattern_summary_text
+        from ptailor.report.inspection import pattern_summary, pattern_summary_text
 
         if drape is not None:
             raise PtailorError(
@@ -84,7 +84,7 @@ def inspect(
     if size is not None or dxf_units is not None:
         raise PtailorError("--size and --dxf-units apply to DXF patterns only", path=garment)
 
-    from ptailor.summary import summary_text
+    from ptailor.report.inspection import summary_text
 
     info = _garment_info(
         garment,
@@ -103,12 +103,12 @@ def inspect(
 
 
 def _garment_info(garment, *, drape, units, pattern_units, drape_units, weld, axes, spec):
-    """The summary of a garment (:func:`ptailor.summary.garment_summary`), with its
+    """The summary of a garment (:func:`ptailor.report.inspection.garment_summary`), with its
     ``spec`` section when a specification is given."""
     from ptailor.formats.garment import load_garment
     from ptailor.model.repair import topology
     from ptailor.recipe import resolve_axes
-    from ptailor.summary import garment_summary, spec_summary
+    from ptailor.report.inspection import garment_summary, spec_summary
 
     loaded = load_garment(
         garment,

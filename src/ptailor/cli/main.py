@@ -25,7 +25,7 @@ from ptailor.cli.verify import verify
 
 def one_line(text: str) -> str:
     """A message on one line, staging folder names replaced by their output folder's."""
-    from ptailor.output import hide_staging
+    from ptailor.run.folder import hide_staging
 
     return hide_staging(" ".join(str(text).split()))
 
@@ -113,7 +113,7 @@ class _Group(click.Group):
         import signal
 
         from ptailor.errors import Interrupted, PtailorError
-        from ptailor.output import capture_library_warnings
+        from ptailor.run.folder import capture_library_warnings
 
         saved = {}
         for s in (signal.SIGINT, signal.SIGTERM):

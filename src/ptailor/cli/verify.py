@@ -87,34 +87,8 @@ def verify(
     if as_json:
         click.echo(json.dumps(doc, indent=2))
     elif not quiet:
+        from ptailor.run.verify import summary_lines
+
         for line in summary_lines(doc):
             click.echo(line)
         click.echo(f"wrote {out}/ ({', '.join(doc['outputs'])})", err=True)
-
-
-def summary_lines(doc: dict) -> list[str]:
-    """The check in a few lines: per re-drape, its worst panel's stretch and displacement."""
-    sec = doc["verify"]
-    units = doc.get("units", "")
-    if isinstance(units, dict):  # (adjust's report)
-        units = units.get("computation", "")
-    lines = [
-        f"re-drape: {sec.get('engine', '?')} on {sec.get('device', '?')}, rest "
-        f"{sec.get('rest', '?')}, {sec.get('steps', 0)} steps in {sec.get('seconds', 0):.1f} s"
-    ]
-    for kind in ("ours", "baseline", "original"):
-        r = sec.get(kind)
-        if not isinstance(r, dict):
-            continue
-        panels = r.get("panels", {})
-        s95 = max((p["stretch"]["p95"] for p in panels.values()), default=float("nan"))
-        d95 = max((p["displacement"]["p95"] for p in panels.values()), default=float("nan"))
-        state = "settled" if r.get("settled") else "step cap"
-        if not r.get("settled") and r.get("moving"):
-            m = r["moving"][0]
-            state += f"; still moving {r['speed_p95']:.3g} {units}/s, most {m['panel']}"
-            state += f" {m['speed_p95']:.3g} {units}/s"
-        lines.append(
-            f"  {kind:<9} stretch p95 {s95:.3f}  displacement p95 {d95:.3g} {units}  ({state})"
-        )
-    return lines

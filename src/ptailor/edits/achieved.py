@@ -7,8 +7,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ptailor.geometry.segments import nearest_segment_distance
+from ptailor.geometry.topology import half_edges
 from ptailor.model.garment import panel_labels, vertex_labels
-from ptailor.model.seams import half_edges
 
 if TYPE_CHECKING:
     from ptailor.edits.opening import OpeningEdges

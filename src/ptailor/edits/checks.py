@@ -1,7 +1,7 @@
 """Small reusable parameter checks for recipe validation (each returns a list of problems).
 
 Each check carries ``schema``: the JSON Schema fragment of what it accepts, from which
-``recipes/schema.json`` is generated (:mod:`ptailor.schema`). The checks stay the
+``recipes/schema.json`` is generated (:mod:`ptailor.recipe.schema`). The checks stay the
 authority (they also check what a schema cannot say: a zero axis, min above max).
 """
 

@@ -11,8 +11,8 @@ from ptailor import tolerances as tol
 from ptailor.edits.checks import show, with_schema
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.errors import PtailorError
+from ptailor.geometry.topology import half_edges
 from ptailor.model.openings import Opening, openings
-from ptailor.model.seams import half_edges
 from ptailor.model.structure import structure
 
 OPENING_SCHEMA = {

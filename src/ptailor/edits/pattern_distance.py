@@ -11,8 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ptailor.geometry.topology import half_edges
 from ptailor.model.garment import Garment, Panel
-from ptailor.model.seams import half_edges
 
 #: Point-segment pairs evaluated at once by :func:`weighted_segment_distance`.
 _PAIR_CHUNK = 1 << 21

@@ -19,8 +19,8 @@ import numpy as np
 from ptailor import tolerances as tol
 from ptailor.edits.state import EditState
 from ptailor.errors import PtailorError
+from ptailor.geometry.topology import edge_keys
 from ptailor.model.garment import Garment, panel_labels
-from ptailor.model.seams import edge_keys
 from ptailor.model.structure import structure
 
 #: ``crossing(a2, b2, t, face) -> t``, see :func:`split_keep`.

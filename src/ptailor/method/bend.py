@@ -39,7 +39,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ptailor import tolerances as tol
-from ptailor.model.seams import half_edges
+from ptailor.geometry.topology import half_edges
 
 __all__ = ["SeamBend", "seam_bend"]
 

@@ -22,7 +22,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from ptailor import tolerances as tol
-from ptailor.model.seams import half_edges, seam_curve_labels, seam_halfedges
+from ptailor.geometry.topology import half_edges
+from ptailor.model.seams import seam_curve_labels, seam_halfedges
 
 Granularity = Literal["edge", "seam"]
 

@@ -32,7 +32,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from ptailor.model.seams import edge_groups, edge_keys, half_edges
+from ptailor.geometry.topology import edge_groups, edge_keys, half_edges
 
 
 def _proper(F: np.ndarray) -> np.ndarray:
@@ -312,7 +312,7 @@ def _end_fans(
     h : (3m, 2) int array
         Half-edges of ``F``.
     order, inv : (3m,) int arrays
-        :func:`~ptailor.model.seams.edge_groups` of their edge keys.
+        :func:`~ptailor.geometry.topology.edge_groups` of their edge keys.
     c : (3m,) int array
         Faces on each half-edge's edge.
     bh : (b,) int array

@@ -27,7 +27,8 @@ from scipy.sparse.csgraph import connected_components
 
 from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
-from ptailor.geometry.labels import component_labels
+from ptailor.geometry.labels import component_labels, used_indices
+from ptailor.geometry.topology import edge_groups, edge_keys, half_edges
 from ptailor.geometry.triangles import edge_lengths, triangle_areas
 
 #: ``--weld auto`` (and a weld without a distance) merges drape vertices closer than this
@@ -41,13 +42,6 @@ UNIT_RATIO_RANGE = (0.5, 2.0)
 
 class UnitMismatchError(PtailorError):
     """Drape and pattern are not in the units they were said to be in (exit 2)."""
-
-
-def _used(idx: np.ndarray, n: int) -> np.ndarray:
-    """``(n,)`` bool: the indices ``idx`` holds (``np.unique`` as a mask, in linear time)."""
-    mask = np.zeros(n, dtype=bool)
-    mask[np.asarray(idx).ravel()] = True
-    return mask
 
 
 def weld_vertices(
@@ -81,7 +75,7 @@ def weld_vertices(
         New index of each old vertex.
     """
     n = len(V)
-    used = np.flatnonzero(_used(F, n))
+    used = used_indices(F, n)
     if _clearly_apart(V[used], distance):  # a welded garment: every vertex its own cluster
         I = np.arange(n)
         return V[I], I[F], I, I.copy()
@@ -99,7 +93,7 @@ def weld_vertices(
     best = np.full(lab.max() + 1 if n else 0, n, dtype=np.int64)
     np.minimum.at(best, lab, rank)
     rep = order[best]
-    I = np.flatnonzero(_used(rep, n))
+    I = used_indices(rep, n)
     new_of_rep = np.empty(n, dtype=np.int64)
     new_of_rep[I] = np.arange(len(I))
     J = new_of_rep[rep[lab]]
@@ -237,17 +231,14 @@ def non_manifold_edges(F: np.ndarray) -> np.ndarray:
     (k, 2) int array
         Each such edge once, its vertices ascending, rows sorted.
     """
-    G = F[:, [1, 2, 0]]  # edge k runs from corner k to corner k + 1
-    lo, hi = np.minimum(F, G).ravel(), np.maximum(F, G).ravel()
-    proper = lo != hi
-    lo, hi = lo[proper], hi[proper]
-    if not len(lo):
+    E = half_edges(F)
+    E = E[E[:, 0] != E[:, 1]]
+    if not len(E):
         return np.zeros((0, 2), dtype=np.int64)
-    n = int(hi.max()) + 1
-    key = np.sort(lo.astype(np.int64) * n + hi)  # one integer per edge: fast sort
-    starts = np.flatnonzero(np.r_[True, key[1:] != key[:-1]])
-    count = np.diff(np.r_[starts, len(key)])
-    many = key[starts[count > 2]]
+    n = int(E.max()) + 1
+    key = edge_keys(E, n=n)
+    _, inv, cnt = edge_groups(key)
+    many = np.unique(key[cnt[inv] > 2])
     return np.stack([many // n, many % n], axis=1)
 
 
@@ -413,7 +404,7 @@ def intake(
     rec: dict = {"weld": weld if isinstance(weld, str) else "distance"}
     warnings: list[str] = []
     I = np.arange(len(V3))
-    finite = m and (np.isfinite(V3).all() or np.isfinite(V3[_used(F3, len(V3))]).all())
+    finite = m and (np.isfinite(V3).all() or np.isfinite(V3[used_indices(F3, len(V3))]).all())
     if not finite or len(F2) != m:
         # check_garment names the problem (NaNs, mismatched faces)
         rec.update(welded_vertices=0, duplicate_faces=0, zero_area_faces_3d=0)
@@ -442,7 +433,7 @@ def intake(
                 "--weld off keeps them apart, so the seams there are not seen"
             )
     z3 = zero_area_faces(V3, F3)
-    finite2 = np.isfinite(V2).all() or np.isfinite(V2[_used(F2, len(V2))]).all()
+    finite2 = np.isfinite(V2).all() or np.isfinite(V2[used_indices(F2, len(V2))]).all()
     z2 = zero_area_faces(V2, F2) if finite2 else np.zeros(m, bool)
     dup = duplicate_faces(F3, F2) & ~(z3 | z2)
     drop = z3 | z2 | dup

@@ -13,6 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from ptailor.geometry.topology import edge_groups, edge_keys, half_edges
+
 
 @dataclass(frozen=True)
 class Seam:
@@ -42,78 +44,6 @@ class Seam:
         return total(self.edges_a), total(self.edges_b)
 
 
-def half_edges(F: np.ndarray) -> np.ndarray:
-    """Directed half-edges of a triangle list.
-
-    Parameters
-    ----------
-    F : (m, 3) int array
-
-    Returns
-    -------
-    (3m, 2) int array
-        Row ``3 * i + k`` is the edge from corner ``k`` to corner ``k + 1`` of triangle ``i``.
-    """
-    return np.stack([F, np.roll(F, -1, axis=1)], axis=2).reshape(-1, 2)
-
-
-def edge_keys(E: np.ndarray, *, n: int | None = None) -> np.ndarray:
-    """One int64 key per undirected edge, equal for ``(a, b)`` and ``(b, a)``.
-
-    Parameters
-    ----------
-    E : (k, 2) int array
-    n : int, optional
-        A bound on the vertex indices (all below it). Keys of different edge lists are
-        comparable only when made with the same ``n``; default ``E.max() + 1``.
-
-    Returns
-    -------
-    (k,) int64 array
-    """
-    lo, hi = np.minimum(E[:, 0], E[:, 1]), np.maximum(E[:, 0], E[:, 1])
-    base = int(E.max(initial=0)) + 1 if n is None else int(n)
-    return lo.astype(np.int64) * base + hi
-
-
-def edge_groups(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Group equal keys with one stable sort.
-
-    The same groups as ``np.unique(keys, return_inverse=True, return_counts=True)`` and the
-    sorting order, at a fraction of its time on half-edge keys (a stable sort runs fast on
-    keys of a mesh whose faces come in order).
-
-    Parameters
-    ----------
-    keys : (k,) int array
-
-    Returns
-    -------
-    order : (k,) int array
-        Indices sorting ``keys``; equal keys in ascending index order.
-    inv : (k,) int array
-        Group of each key: the rank of its value among the distinct values.
-    cnt : (g,) int array
-        Size of each group.
-
-    Examples
-    --------
-    >>> order, inv, cnt = edge_groups(np.array([7, 3, 7, 5]))
-    >>> order.tolist(), inv.tolist(), cnt.tolist()
-    ([1, 3, 0, 2], [2, 0, 2, 1], [1, 1, 2])
-    """
-    keys = np.asarray(keys)
-    k = len(keys)
-    order = np.argsort(keys, kind="stable")
-    s = keys[order]
-    new = np.ones(k, dtype=bool)
-    np.not_equal(s[1:], s[:-1], out=new[1:])
-    inv = np.empty(k, dtype=np.intp)
-    inv[order] = np.cumsum(new) - 1
-    cnt = np.diff(np.append(np.flatnonzero(new), k))
-    return order, inv, cnt
-
-
 def seam_halfedges(F3: np.ndarray, F2: np.ndarray) -> np.ndarray:
     """Pairs of half-edges on the two sides of every seam edge.
 
@@ -125,7 +55,8 @@ def seam_halfedges(F3: np.ndarray, F2: np.ndarray) -> np.ndarray:
     Returns
     -------
     (k, 2) int array
-        Half-edge ids (``3 * face + corner``, see :func:`half_edges`), the smaller id first,
+        Half-edge ids (``3 * face + corner``, see
+        :func:`~ptailor.geometry.topology.half_edges`), the smaller id first,
         ordered by drape edge (then by the pattern edges of the sewn-on side).
 
     Notes

@@ -14,13 +14,14 @@ import numpy as np
 
 from ptailor import tolerances as tol
 from ptailor.geometry.pattern_maps import least_squares_preimages, pattern_jacobians
+from ptailor.geometry.topology import edge_keys, half_edges
 from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
 from ptailor.geometry.tube_axis import tube_axis
 from ptailor.model.boundary import boundary_loops
 from ptailor.model.garment import Panel, panel_labels
 from ptailor.model.pieces import Piece
 from ptailor.model.polyline import corners, signed_area
-from ptailor.model.seams import edge_keys, half_edges, seam_halfedges
+from ptailor.model.seams import seam_halfedges
 
 
 def outer_loop(F2: np.ndarray, faces: np.ndarray, V2: np.ndarray) -> np.ndarray:

@@ -1,6 +1,6 @@
 """The recipe format as JSON Schema, generated from the operations' registry.
 
-``recipes/schema.json`` is this module's output (``python -m ptailor.schema >
+``recipes/schema.json`` is this module's output (``python -m ptailor.recipe.schema >
 recipes/schema.json``; a test keeps the two equal). Editors that speak JSON Schema (VS Code's
 YAML extension, JetBrains, ...) complete and check recipes with it: put
 ``# yaml-language-server: $schema=schema.json`` (or the file's URL) on a recipe's first line.
@@ -96,3 +96,7 @@ def recipe_schema() -> dict:
 def schema_text() -> str:
     """``recipe_schema()`` as the indented JSON written to ``recipes/schema.json``."""
     return json.dumps(recipe_schema(), indent=2) + "\n"
+
+
+if __name__ == "__main__":
+    print(schema_text(), end="")

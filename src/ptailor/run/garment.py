@@ -19,7 +19,6 @@ import numpy as np
 from ptailor.errors import PtailorError
 from ptailor.formats.garment import LoadedGarment
 from ptailor.formats.spec_json import read_specification as read_spec
-from ptailor.output import check_output_dir, staged_dir, write_json
 from ptailor.pieces import carry_plan
 from ptailor.pipeline import Adjustment, Progress, adjustment
 from ptailor.recipe import Recipe
@@ -37,6 +36,7 @@ from ptailor.run.checks import (
     check_size_against_body,
     run_warnings,
 )
+from ptailor.run.folder import check_output_dir, staged_dir, write_json
 from ptailor.run.inputs import (
     checked_recipe,
     edit_options,

@@ -20,7 +20,6 @@ from ptailor.formats import writer_for
 from ptailor.formats.garment import LoadedGarment
 from ptailor.model.garment import Garment
 from ptailor.model.units import CM_PER
-from ptailor.output import check_output_dir, staged_dir, write_json
 from ptailor.pipeline import Adjustment
 from ptailor.run.checks import (
     check_body_placement,
@@ -29,6 +28,7 @@ from ptailor.run.checks import (
     check_size_against_body,
     check_verify_options,
 )
+from ptailor.run.folder import check_output_dir, staged_dir, write_json
 from ptailor.run.options import RunOptions
 
 #: the re-drapes whose settled drapes are written, and their files
@@ -431,3 +431,31 @@ def garment_redrape(edited: Garment, orig: Garment, *, axes: tuple) -> Redrape:
         face_panel=np.asarray(st.face_panel),
         vertex_panel=np.asarray(st.vertex_panel),
     )
+
+
+def summary_lines(doc: dict) -> list[str]:
+    """The check in a few lines: per re-drape, its worst panel's stretch and displacement."""
+    sec = doc["verify"]
+    units = doc.get("units", "")
+    if isinstance(units, dict):  # (adjust's report)
+        units = units.get("computation", "")
+    lines = [
+        f"re-drape: {sec.get('engine', '?')} on {sec.get('device', '?')}, rest "
+        f"{sec.get('rest', '?')}, {sec.get('steps', 0)} steps in {sec.get('seconds', 0):.1f} s"
+    ]
+    for kind in ("ours", "baseline", "original"):
+        r = sec.get(kind)
+        if not isinstance(r, dict):
+            continue
+        panels = r.get("panels", {})
+        s95 = max((p["stretch"]["p95"] for p in panels.values()), default=float("nan"))
+        d95 = max((p["displacement"]["p95"] for p in panels.values()), default=float("nan"))
+        state = "settled" if r.get("settled") else "step cap"
+        if not r.get("settled") and r.get("moving"):
+            m = r["moving"][0]
+            state += f"; still moving {r['speed_p95']:.3g} {units}/s, most {m['panel']}"
+            state += f" {m['speed_p95']:.3g} {units}/s"
+        lines.append(
+            f"  {kind:<9} stretch p95 {s95:.3f}  displacement p95 {d95:.3g} {units}  ({state})"
+        )
+    return lines

@@ -20,8 +20,9 @@ from ptailor.edits.opening import OpeningEdges
 from ptailor.edits.state import EditState
 from ptailor.errors import PtailorError
 from ptailor.geometry.pattern_maps import pattern_jacobians, pseudo_inverses
+from ptailor.geometry.topology import half_edges
 from ptailor.geometry.triangles import signed_areas_2d, triangle_normals
-from ptailor.model.seams import half_edges, seam_halfedges
+from ptailor.model.seams import seam_halfedges
 
 
 def outward_directions(V: np.ndarray, oe: OpeningEdges) -> np.ndarray:

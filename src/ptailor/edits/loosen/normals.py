@@ -9,11 +9,12 @@ import numpy as np
 import scipy.sparse as sp
 
 from ptailor.edits.region import region_axis, region_centroid
+from ptailor.geometry.topology import half_edges
 from ptailor.geometry.triangles import triangle_areas, triangle_normals
 from ptailor.method.deform import cotangent_weights
 from ptailor.method.linear import factor
 from ptailor.model.garment import Panel, panel_labels
-from ptailor.model.seams import half_edges, seam_halfedges
+from ptailor.model.seams import seam_halfedges
 
 #: lumped vertex mass floor, relative to the mean (vertices of degenerate triangles only)
 MASS_FLOOR_REL = 1e-9

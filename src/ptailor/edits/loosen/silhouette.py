@@ -7,7 +7,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ptailor.errors import PtailorError
-from ptailor.model.seams import half_edges
+from ptailor.geometry.topology import half_edges
 
 #: height of the image rows the outline is sampled in, in mean edge lengths
 ROW_EDGES = 1.5

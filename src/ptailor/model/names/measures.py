@@ -7,9 +7,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ptailor.geometry.topology import edge_keys, half_edges
 from ptailor.geometry.triangles import triangle_areas
 from ptailor.model.openings import Opening
-from ptailor.model.seams import edge_keys, half_edges
 
 
 @dataclass(frozen=True)
