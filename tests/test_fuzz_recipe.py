@@ -345,3 +345,57 @@ def test_mutated_recipes_keep_the_contract(tmp_path_factory, text):
 @pytest.mark.parametrize("path", sorted(RECIPES.glob("*.yaml")), ids=lambda p: p.name)
 def test_the_real_recipes_pass(path, tmp_path):
     assert check_contract(path.read_text(), tmp_path / path.name)["exit"] == 0
+
+
+def _schema_refuses(data) -> bool:
+    import jsonschema
+
+    from ptailor.recipe.schema import recipe_schema
+
+    global _SCHEMA_VALIDATOR
+    if _SCHEMA_VALIDATOR is None:
+        _SCHEMA_VALIDATOR = jsonschema.Draft202012Validator(recipe_schema())
+    return next(iter(_SCHEMA_VALIDATOR.iter_errors(data)), None) is not None
+
+
+_SCHEMA_VALIDATOR = None
+
+
+@given(mutated_recipe())
+def test_the_schema_never_refuses_what_the_rules_accept(text):
+    """The rules are the one authority at run time (``recipe_problems``); the published
+    schema, generated from the same checks, must never show an editor's user an error on a
+    recipe that runs. (The rules may refuse more: parallel axes, lengths in the recipe's
+    units, steps that only make sense together.)"""
+    import yaml
+
+    from ptailor.recipe import recipe_problems
+
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError:
+        return
+    if recipe_problems(text) == []:
+        assert not _schema_refuses(data), text
+
+
+@pytest.mark.parametrize("path", sorted(RECIPES.glob("*.yaml")), ids=lambda p: p.name)
+def test_the_rules_refuse_what_the_schema_refuses_in_real_recipes_mutated(path):
+    """Each real recipe with one value made wrong the schema's way (a string where a number
+    goes, an unknown key, an unknown op): the schema and the rules both refuse it."""
+    import yaml
+
+    from ptailor.recipe import recipe_problems
+
+    data = yaml.safe_load(path.read_text())
+    if not data.get("steps"):
+        pytest.skip("no steps to break")
+    for broken in (
+        {**data, "colour": "red"},
+        {**data, "steps": [{**data["steps"][0], "op": "frobnicate"}]},
+        {**data, "steps": [{**data["steps"][0], "colour": 1}]},
+        {**data, "flatten": {"boundary": "tight"}},
+        {**data, "units": "furlongs"},
+    ):
+        assert _schema_refuses(broken)
+        assert recipe_problems(yaml.safe_dump(broken)) != [], broken

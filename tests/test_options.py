@@ -141,3 +141,37 @@ def test_any_number_given_to_a_gate_is_refused_unless_finite_and_in_range(tmp_pa
         assert (option in r.output and "Invalid value" in r.output) == bad, (x, r.output)
 
     check()
+
+
+@pytest.mark.parametrize(
+    "field, value, option",
+    [
+        ("formats", ("obj", "stl"), "--formats"),
+        ("formats", "obj", "--formats"),
+        ("seam_allowance", -1.0, "--seam-allowance"),
+        ("seam_allowance", float("nan"), "--seam-allowance"),
+        ("pattern_units", "furlong", "--pattern-units"),
+        ("drape_units", "0cm", "--drape-units"),
+        ("body_units", "parsec", "--body-units"),
+        ("weld", "sometimes", "--weld"),
+        ("method", "magic", "--method"),
+        ("intrinsic", "guess", "--intrinsic"),
+        ("up", "w", "--up"),
+        ("dxf_units", "ft", "--dxf-units"),
+        ("verify_rest", "sleep", "--rest"),
+        ("verify_max_steps", 0, "--max-steps"),
+        ("verify_max_steps", True, "--max-steps"),
+    ],
+)
+def test_run_options_are_checked_where_they_are_made(field, value, option):
+    """One place checks the options (the record's constructor), for every command and for a
+    manifest row's overrides (``replace`` constructs again)."""
+    from dataclasses import replace
+
+    from ptailor.errors import PtailorError
+    from ptailor.run.options import RunOptions
+
+    with pytest.raises(PtailorError, match=option):
+        RunOptions(**{field: value})
+    with pytest.raises(PtailorError, match=option):
+        replace(RunOptions(), **{field: value})

@@ -197,17 +197,6 @@ def check_drape(state: EditState, where: str) -> None:
         )
 
 
-def check_flatten_settings(settings: dict) -> None:
-    """Refuse flatten weights outside ``tol.FLATTEN_WEIGHT_RANGE`` (the matrix overflows)."""
-    lo, hi = tol.FLATTEN_WEIGHT_RANGE
-    for k in ("w_pin", "w_asap"):
-        w = float(settings[k])
-        if not lo <= w <= hi:
-            raise PtailorError(
-                f"flatten.{k}: must lie in [{lo:g}, {hi:g}] (relative to the shape term), got {w:g}"
-            )
-
-
 @contextmanager
 def caught_warnings(notes: list[str]):
     """Silence numpy's floating-point warnings and collect library warnings into ``notes``."""
@@ -307,7 +296,6 @@ def adjustment(
         settings["intrinsic"] = intrinsic
     if settings["method"] == "uniform":
         settings["seams"] = "free"  # the paper's baseline: the drape alone decides
-    check_flatten_settings(settings)
     notes: list[str] = []
     with caught_warnings(notes):
         adj = _adjust(garment, recipe, settings, baseline, options, progress)

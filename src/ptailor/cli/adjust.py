@@ -80,19 +80,39 @@ def adjust(
     import json
     from pathlib import Path
 
-    from ptailor.cli.options import check_engine_first, run_options
+    from ptailor.cli.options import check_engine_first, parse_formats, parse_seam_allowance
     from ptailor.cli.progress import progress_line
     from ptailor.recipe import load_recipe
     from ptailor.report.build import summary_lines
     from ptailor.run.folder import check_output_dir
     from ptailor.run.garment import run_garment
+    from ptailor.run.options import RunOptions
 
-    params = click.get_current_context().params
-    check_engine_first(params)  # (before any file is read)
+    check_engine_first(verify)  # (before any file is read)
     # every input (the recipe too) is checked against the output folder before any is read
     check_output_dir(out, [garment, recipe, drape, body, spec])
     rec = load_recipe(recipe)
-    options = run_options(rec, params)
+    options = RunOptions(
+        pattern_units=pattern_units,
+        drape_units=drape_units,
+        weld=weld,
+        method=method,
+        intrinsic=intrinsic,
+        baseline=not no_baseline,
+        formats=parse_formats(formats),
+        up=up,
+        front=front,
+        body=body,
+        body_units=body_units,
+        write_body=write_body,
+        size=size,
+        dxf_units=dxf_units,
+        seam_allowance=parse_seam_allowance(seam_allowance, units=rec.units),
+        verify=verify,
+        verify_rest=verify_rest,
+        verify_max_steps=verify_max_steps,
+        spec=spec,
+    )
     with progress_line(quiet=quiet) as progress:
         report = run_garment(garment, rec, out, options=options, drape=drape, progress=progress)
     if as_json:

@@ -205,21 +205,11 @@ def batch(
     import os
     import sys
 
-    workers = jobs or os.cpu_count() or 1
-    from ptailor.batch import Gates, expand_garments, make_jobs
-    from ptailor.batch.manifest import read_manifest
-    from ptailor.cli.options import check_engine_first, run_options
-    from ptailor.errors import PtailorError
+    from ptailor.batch import Gates, make_jobs
+    from ptailor.cli.options import check_engine_first, parse_formats, parse_seam_allowance
     from ptailor.recipe import load_recipe
+    from ptailor.run.options import RunOptions
 
-    if timeout is not None and scheduler is not None:
-        raise PtailorError("--timeout cannot be used with --scheduler (Dask cannot stop a task)")
-    if manifest is not None and garments:
-        raise PtailorError("give the garments as GARMENT arguments or with --manifest, not both")
-    if manifest is None and not garments:
-        raise PtailorError("no garments: give GARMENT arguments or --manifest FILE")
-    if recipe == "-" and "-" in garments:
-        raise PtailorError("the recipe and the garment list cannot both come from stdin")
     gates = Gates(
         max_area_change=max_area_change,
         max_boundary_deviation=max_boundary_deviation,
@@ -230,36 +220,89 @@ def batch(
         max_spec_fit=max_spec_fit,
         fail_on_flips=fail_on_flips,
     )
+    _check_arguments(
+        recipe, garments, manifest, timeout=timeout, scheduler=scheduler, gates=gates,
+        verify=verify, spec=spec,
+    )  # fmt: skip
+    check_engine_first(verify)  # (before any file is read)
+    rec = load_recipe(recipe)
+    options = RunOptions(
+        pattern_units=pattern_units,
+        drape_units=drape_units,
+        weld=weld,
+        baseline=not no_baseline,
+        formats=parse_formats(formats),
+        up=up,
+        front=front,
+        body=body,
+        body_units=body_units,
+        write_body=write_body,
+        size=size,
+        dxf_units=dxf_units,
+        seam_allowance=parse_seam_allowance(seam_allowance, units=rec.units),
+        verify=verify,
+        verify_rest=verify_rest,
+        verify_max_steps=verify_max_steps,
+        spec=spec,
+    )
+    paths = _garment_paths(ctx, garments, manifest, out)
+    if log:
+        _check_log(log, paths, recipe, manifest)
+    todo = make_jobs(paths, out, rec, options=options, gates=gates, force=force, timeout=timeout)
+    bar = not quiet and sys.stderr.isatty()
+    workers = jobs or os.cpu_count() or 1
+    result = _run(todo, workers=workers, scheduler=scheduler, log=log, as_json=as_json, bar=bar)
+    _summary(result, len(todo), quiet=quiet)
+    ctx.exit(result.exit_status)
+
+
+def _check_arguments(
+    recipe: str, garments, manifest, *, timeout, scheduler, gates, verify: bool, spec
+) -> None:
+    """Refuse arguments that do not go together (exit 2, before any file is read)."""
+    import os
+
+    from ptailor.errors import PtailorError
+
+    if timeout is not None and scheduler is not None:
+        raise PtailorError("--timeout cannot be used with --scheduler (Dask cannot stop a task)")
+    if manifest is not None and garments:
+        raise PtailorError("give the garments as GARMENT arguments or with --manifest, not both")
+    if manifest is None and not garments:
+        raise PtailorError("no garments: give GARMENT arguments or --manifest FILE")
+    if recipe == "-" and "-" in garments:
+        raise PtailorError("the recipe and the garment list cannot both come from stdin")
     if gates.verify_gates and not verify:
         raise PtailorError(
             "--max-verify-stretch and --max-verify-displacement need --verify "
             "(they judge the re-drape check)"
         )
-    if max_spec_fit is not None and spec is None and manifest is None:
+    if gates.max_spec_fit is not None and spec is None and manifest is None:
         raise PtailorError("--max-spec-fit needs --spec (it judges the written specification)")
-    check_engine_first(ctx.params)  # (before any file is read)
-    rec = load_recipe(recipe)
-    options = run_options(rec, ctx.params)  # (checks the units too)
     if spec not in (None, "auto") and not os.path.isfile(spec):  # one for every garment
         raise PtailorError("no such file (--spec; auto takes each garment's own)", path=spec)
+
+
+def _garment_paths(ctx: click.Context, garments, manifest, out) -> list:
+    """The garments to run: the manifest's rows (each cell checked), else the GARMENT
+    arguments expanded (folders, globs, ``-`` for a list on stdin)."""
+    import sys
+
+    from ptailor.batch import expand_garments
+    from ptailor.batch.manifest import read_manifest
+    from ptailor.errors import PtailorError
+
     if manifest is not None:
-        paths = read_manifest(manifest, check=_cell_check(ctx))
-    else:
-        paths = expand_garments(
-            garments,
-            stdin=sys.stdin,
-            exclude_under=out,
-            warn=lambda msg: click.echo(f"ptailor: warning: {msg}", err=True),
-        )
-        if not paths:
-            raise PtailorError(f"no garments: {' '.join(garments)} matched no files")
-    if log:
-        _check_log(log, paths, recipe, manifest)
-    todo = make_jobs(paths, out, rec, options=options, gates=gates, force=force, timeout=timeout)
-    bar = not quiet and sys.stderr.isatty()
-    result = _run(todo, workers=workers, scheduler=scheduler, log=log, as_json=as_json, bar=bar)
-    _summary(result, len(todo), quiet=quiet)
-    ctx.exit(result.exit_status)
+        return read_manifest(manifest, check=_cell_check(ctx))
+    paths = expand_garments(
+        garments,
+        stdin=sys.stdin,
+        exclude_under=out,
+        warn=lambda msg: click.echo(f"ptailor: warning: {msg}", err=True),
+    )
+    if not paths:
+        raise PtailorError(f"no garments: {' '.join(garments)} matched no files")
+    return paths
 
 
 def _cell_check(ctx: click.Context):

@@ -47,11 +47,11 @@ def inspect(
     """
     import json
 
-    from ptailor.cli.options import parse_weld_option
     from ptailor.errors import PtailorError
     from ptailor.formats import is_pattern_file, pattern_reader_for
+    from ptailor.formats.garment import parse_weld
 
-    weld = parse_weld_option(weld, units=units)
+    weld = parse_weld(weld, units=units)
     specification = None
     if spec is not None:  # read first: a bad specification fails before the garment is read
         from ptailor.formats.spec_json import read_specification

@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from typing import Any
-
 import click
 
 #: the axes --up and --front take
@@ -40,36 +37,6 @@ def weld_option(fn):
     return click.option(
         "--weld", default="auto", show_default=True, metavar="auto|off|DISTANCE", help=WELD_HELP
     )(fn)
-
-
-def parse_unit_options(pattern_units: str | None, drape_units: str | None) -> None:
-    """``--pattern-units`` and ``--drape-units`` checked before any file is read (None: not
-    given, ``cm`` with the size check of :func:`ptailor.model.size.check_size`).
-
-    Raises
-    ------
-    PtailorError
-        An unknown or absurd unit (exit 2).
-    """
-    from ptailor.formats.garment import parse_units
-
-    if pattern_units is not None and pattern_units != "auto":
-        parse_units(pattern_units, what="--pattern-units")
-    if drape_units is not None:
-        parse_units(drape_units, what="--drape-units")
-
-
-def parse_weld_option(weld: str, *, units: str):
-    """``--weld`` checked before any file is read: ``auto``, ``off`` or a distance in ``units``.
-
-    Raises
-    ------
-    PtailorError
-        Anything else (exit 2).
-    """
-    from ptailor.formats.garment import parse_weld
-
-    return parse_weld(weld, units=units)
 
 
 def baseline_option(fn):
@@ -272,64 +239,29 @@ def verify_options(fn):
     return fn
 
 
-def check_engine_first(params: Mapping[str, Any]) -> None:
+def check_engine_first(verify: bool) -> None:
     """With ``--verify``: refuse a missing cloth engine before any file is read (exit 2)."""
-    if params.get("verify"):
+    if verify:
         from ptailor.run.checks import check_engine
 
         check_engine()
 
 
-def parse_output_options(formats: str, seam_allowance: str | None, *, units: str):
-    """``--formats`` as a tuple (checked) and ``--seam-allowance`` in ``units`` (or None).
+def parse_formats(formats: str) -> tuple[str, ...]:
+    """``--formats obj,svg`` as a tuple (checked by :class:`~ptailor.run.options.RunOptions`)."""
+    return tuple(f for f in formats.split(",") if f)
+
+
+def parse_seam_allowance(seam_allowance: str | None, *, units: str) -> float | None:
+    """``--seam-allowance`` (``1cm``, ``10mm``, a bare number in ``units``) in ``units``.
 
     Raises
     ------
     PtailorError
-        An unknown format or a bad length (exit 2).
+        A bad length (exit 2).
     """
-    from ptailor.errors import PtailorError
     from ptailor.formats.garment import parse_length
-    from ptailor.run.outputs import FORMATS
 
-    fmts = tuple(f for f in formats.split(",") if f)
-    unknown = [f for f in fmts if f not in FORMATS]
-    if unknown:
-        raise PtailorError(
-            f"--formats: unknown output format(s) {', '.join(unknown)} "
-            f"(known: {', '.join(FORMATS)})"
-        )
-    allowance = None
-    if seam_allowance is not None:
-        allowance = parse_length(seam_allowance, to=units, what="--seam-allowance")
-    return fmts, allowance
-
-
-def run_options(recipe, params: Mapping[str, Any]):
-    """The :class:`~ptailor.run.options.RunOptions` of a command, built once from its
-    parsed parameters (click's ``ctx.params``).
-
-    ``--formats``, ``--seam-allowance`` and ``--weld`` are checked against ``recipe``'s
-    units, ``--pattern-units`` and ``--drape-units`` on their own (exit 2 before any garment
-    is read); ``--no-baseline`` is ``baseline``'s negation;
-    every other parameter named as a field is taken as given, the rest ignored.
-
-    Raises
-    ------
-    PtailorError
-        An unknown format, a bad length or weld (exit 2).
-    """
-    from dataclasses import fields
-
-    from ptailor.run.options import RunOptions
-
-    fmts, allowance = parse_output_options(
-        params["formats"], params["seam_allowance"], units=recipe.units
-    )
-    parse_weld_option(params["weld"], units=recipe.units)
-    parse_unit_options(params.get("pattern_units"), params.get("drape_units"))
-    values = {f.name: params[f.name] for f in fields(RunOptions) if f.name in params}
-    values.update(
-        formats=fmts, seam_allowance=allowance, baseline=not params.get("no_baseline", False)
-    )
-    return RunOptions(**values)
+    if seam_allowance is None:
+        return None
+    return parse_length(seam_allowance, to=units, what="--seam-allowance")

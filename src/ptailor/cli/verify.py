@@ -54,17 +54,13 @@ def verify(
     """
     import json
 
-    from ptailor.cli.options import check_engine_first, parse_unit_options, parse_weld_option
+    from ptailor.cli.options import check_engine_first
     from ptailor.model.units import CM_PER
-    from ptailor.run.checks import check_verify_options
     from ptailor.run.options import RunOptions
     from ptailor.run.verify import verify_garment
 
-    check_verify_options(rest, max_steps)
-    check_engine_first({"verify": True})  # (before any file is read)
+    check_engine_first(True)  # (before any file is read)
     units = drape_units if drape_units in CM_PER else "cm"
-    parse_unit_options(pattern_units, drape_units)
-    parse_weld_option(weld, units=units)
     options = RunOptions(
         pattern_units=pattern_units,
         drape_units=drape_units,

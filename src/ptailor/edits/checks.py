@@ -51,14 +51,14 @@ def is_number(x: Any) -> bool:
     return -BIG <= x <= BIG  # False for NaN and the infinities
 
 
-def number_problem(x: Any, where: str) -> str | None:
-    """Why ``x`` is not a recipe number (None when it is one)."""
+def number_problem(x: Any, where: str, *, big: float = BIG) -> str | None:
+    """Why ``x`` is not a recipe number within +-``big`` (None when it is one)."""
     if isinstance(x, bool) or not isinstance(x, (int, float)):
         return f"{where}: expected a number, got {show(x)}"
     if x != x or x in (float("inf"), float("-inf")):
         return f"{where}: expected a finite number, got {x}"
-    if not -BIG <= x <= BIG:
-        return f"{where}: {show(x)} is out of range (recipe numbers lie within +-{BIG:g})"
+    if not -big <= x <= big:
+        return f"{where}: {show(x)} is out of range (recipe numbers lie within +-{big:g})"
     return None
 
 
@@ -69,7 +69,8 @@ def number(
     le: float | None = None,
     integer: bool = False,
 ) -> Check:
-    """A finite number within bounds (and within +-:data:`BIG` whatever the bounds).
+    """A finite number within bounds (and within +-:data:`BIG` unless ``le`` is above it:
+    flatten weights go to 1e9).
 
     ``gt=0`` (a positive size or factor) also refuses values below
     :data:`ptailor.tolerances.RECIPE_POSITIVE_MIN`: a factor of 5e-324 is not a scale.
@@ -81,7 +82,7 @@ def number(
         le = BIG
 
     def check(x: Any, where: str) -> list[str]:
-        bad = number_problem(x, where)
+        bad = number_problem(x, where, big=max(BIG, le))
         if bad:
             return [bad]
         if integer and not isinstance(x, int):

@@ -1,5 +1,9 @@
-"""A recipe's problems, each with its line: the YAML reader's, the schema's and the
-rules', and the entry points that read a recipe (:func:`parse_recipe`, :func:`load_recipe`).
+"""A recipe's problems, each with its line: the YAML reader's and the operations' rules',
+and the entry points that read a recipe (:func:`parse_recipe`, :func:`load_recipe`).
+
+The rules (:func:`ptailor.recipe.rules.validate`) are the one authority at run time. The
+published JSON Schema (:mod:`ptailor.recipe.schema`, for editors) is generated from the same
+checks; tests/test_validate.py holds that it never refuses a recipe the rules accept.
 """
 
 from __future__ import annotations
@@ -13,7 +17,6 @@ from ptailor import tolerances as tol
 from ptailor.errors import PtailorError, RecipeError
 from ptailor.recipe.loader import YamlLimitError, check_events, duplicate_keys, recipe_loader
 from ptailor.recipe.rules import validate
-from ptailor.recipe.schema import recipe_schema
 from ptailor.recipe.spec import Recipe
 
 
@@ -76,8 +79,8 @@ def parse_recipe(text: str, *, source: str = "<string>") -> Recipe:
     Raises
     ------
     RecipeError
-        Listing every problem (:func:`recipe_problems`: the YAML reader's limits, the
-        schema, the operations' rules), each with its line.
+        Listing every problem (:func:`recipe_problems`: the YAML reader's limits and the
+        operations' rules), each with its line.
     """
     probs, data = _problems_and_data(text, source=source)
     if probs:
@@ -187,61 +190,17 @@ def _line_of(node: Any, path: list, key: str | None, index: dict | None = None) 
     return line
 
 
-_VALIDATOR = None
-
-
-def _schema_problems(data: Any) -> list[tuple[list, str]]:
-    """``(path, message)`` for each place the document breaks ``recipes/schema.json``."""
-    import jsonschema
-
-    global _VALIDATOR
-    if _VALIDATOR is None:
-        _VALIDATOR = jsonschema.Draft202012Validator(recipe_schema())
-    validator = _VALIDATOR
-    out = []
-    for err in sorted(validator.iter_errors(data), key=lambda e: list(map(str, e.path))):
-        path = list(err.absolute_path)
-        where = "".join(
-            f"[{p + 1 if path[:1] == ['steps'] and i == 1 else p}]"
-            if isinstance(p, int)
-            else (f".{p}" if i else p)
-            for i, p in enumerate(path)
-        )
-        out.append((path, f"{where or 'recipe'}: {err.message} (schema)"))
-    return out
-
-
 def _problems_and_data(text: str, *, source: str) -> tuple[list[Problem], Any]:
     """Every problem of a recipe's text (each with its line) and the document read."""
     probs, root, data = _read_document(text, source=source)
     if probs:
         return probs, None
     _, rule_msgs = validate(data)
-    found = []
-    unknown_at: set[tuple] = set()  # mappings where the rules found unknown keys
-    seen: set[tuple] = set()  # the places the rules reported
-    above: set[tuple] = set()  # ... and every place above them
     index: dict = {}
+    found = []
     for msg in rule_msgs:
         path, key = _path_of(msg)
-        if "unknown key" in msg:  # the schema's "Additional properties" there says the same
-            unknown_at.add(tuple(path))
-        if path:
-            seen.add(tuple(path))
-            above.update(tuple(path[:i]) for i in range(1, len(path) + 1))
         found.append(Problem(source, _line_of(root, path, key, index), msg))
-    if isinstance(data, dict) or data is None:
-        doc = data if data is not None else {}
-        if isinstance(doc.get("steps"), list) and len(doc["steps"]) > tol.RECIPE_MAX_STEPS:
-            doc = {k: v for k, v in doc.items() if k != "steps"}  # reported by the rules
-        for path, msg in _schema_problems(doc):
-            covered = (
-                (tuple(path) in unknown_at and "Additional properties" in msg)
-                or tuple(path) in above
-                or any(tuple(path[:i]) in seen for i in range(1, len(path) + 1))
-            )
-            if not covered:
-                found.append(Problem(source, _line_of(root, path, None, index), msg))
     return sorted(found, key=lambda p: p.line or 0), data
 
 
@@ -283,13 +242,12 @@ def _read_document(text: str, *, source: str) -> tuple[list[Problem], Any, Any]:
 
 
 def recipe_problems(text: str, *, source: str = "<string>") -> list[Problem]:
-    """Every problem of a recipe's text, each with its line: the reader's, the schema's and
-    the rules'. ``ptailor validate`` and every command reading a recipe use this one path.
+    """Every problem of a recipe's text, each with its line: the reader's and the rules'.
+    ``ptailor validate`` and every command reading a recipe use this one path.
 
     The YAML is read with bounded work (:data:`~ptailor.tolerances.RECIPE_MAX_BYTES`,
     ``RECIPE_MAX_DEPTH``, ``RECIPE_MAX_ALIASES``, ``RECIPE_MAX_NODES``), by the safe
-    loader only. The operations' own rules (:func:`validate`) are the authority; a schema
-    complaint about a place the rules already reported is not repeated.
+    loader only; then the operations' own rules (:func:`validate`), the one authority.
 
     Parameters
     ----------

@@ -19,8 +19,9 @@ FLATTEN_PARAMS = {
     "intrinsic": (choice("polar", "paper"), "polar"),
     "boundary": (choice("auto", "similar", "free"), "auto"),
     "seams": (choice("ease", "free", "keep"), "ease"),
-    "w_pin": (number(gt=0.0), tol.W_PIN),
-    "w_asap": (number(gt=0.0), tol.W_ASAP),
+    # outside tol.FLATTEN_WEIGHT_RANGE the stitching matrix overflows or loses the shape
+    "w_pin": (number(ge=tol.FLATTEN_WEIGHT_RANGE[0], le=tol.FLATTEN_WEIGHT_RANGE[1]), tol.W_PIN),
+    "w_asap": (number(ge=tol.FLATTEN_WEIGHT_RANGE[0], le=tol.FLATTEN_WEIGHT_RANGE[1]), tol.W_ASAP),
     "max_iter": (number(ge=1, le=10000, integer=True), tol.ARAP_MAX_ITER),
 }
 TOP_KEYS = ("format", "units", "up", "front", "symmetric", "steps", "flatten")
@@ -123,3 +124,15 @@ class Recipe:
     up: str | None = None
     front: str | None = None
     symmetric: bool = False
+
+    def __post_init__(self) -> None:
+        # the flatten settings' checks (the same the rules run on a recipe file), so that a
+        # Recipe built in Python cannot carry a weight that overflows the stitching matrix
+        problems = [
+            msg
+            for key, (check, _) in FLATTEN_PARAMS.items()
+            if key in self.flatten
+            for msg in check(self.flatten[key], f"flatten.{key}")
+        ]
+        if problems:
+            raise PtailorError("; ".join(problems), path=self.source)

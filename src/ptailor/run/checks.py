@@ -1,4 +1,6 @@
-"""The guards and warnings of one run: options, seam allowance, finite results, pieces.
+"""The guards and warnings of one run: the engine, seam allowance, finite results, pieces.
+
+(The options themselves are checked where they are made: :class:`~ptailor.run.options.RunOptions`.)
 
 Every guard raises :class:`~ptailor.errors.PtailorError` before anything is written; every
 warning is a line for the report's ``warnings``.
@@ -13,34 +15,6 @@ from ptailor.errors import PtailorError
 from ptailor.geometry.labels import used_indices
 from ptailor.pipeline import Adjustment, solver_warnings
 from ptailor.run.options import RunOptions
-from ptailor.run.outputs import FORMATS
-
-
-def check_options(options: RunOptions) -> None:
-    """Refuse a seam allowance that is no length and output formats that do not exist."""
-    allowance = options.seam_allowance
-    if allowance is not None and not (np.isfinite(allowance) and allowance >= 0):
-        raise PtailorError(f"--seam-allowance must be a length >= 0, not {allowance}")
-    unknown = [f for f in options.formats if f not in FORMATS]
-    if unknown:
-        raise PtailorError(
-            f"unknown output format(s) {', '.join(unknown)} (known: {', '.join(FORMATS)})"
-        )
-    if options.verify:
-        check_verify_options(options.verify_rest, options.verify_max_steps)
-        check_engine()
-
-
-#: how a re-drape's rest shapes are made (:func:`ptailor.verify.rest.rest_shapes`)
-REST_MODES = ("intrinsic", "pattern")
-
-
-def check_verify_options(rest: str, max_steps: int | None) -> None:
-    """Refuse an unknown rest mode and a step cap below 1."""
-    if rest not in REST_MODES:
-        raise PtailorError(f"--rest must be one of {', '.join(REST_MODES)}, not {rest!r}")
-    if max_steps is not None and (isinstance(max_steps, bool) or int(max_steps) < 1):
-        raise PtailorError(f"--max-steps must be at least 1, not {max_steps}")
 
 
 def check_engine() -> None:

@@ -3,12 +3,10 @@
 from __future__ import annotations
 
 from ptailor.edits import EditOptions
-from ptailor.errors import PtailorError
 from ptailor.formats.garment import LoadedGarment, load_garment
 from ptailor.pieces import PiecePlan
-from ptailor.pipeline import check_flatten_settings
 from ptailor.recipe import Recipe, load_recipe, resolve_axes
-from ptailor.run.checks import check_options
+from ptailor.run.checks import check_engine
 from ptailor.run.options import RunOptions
 from ptailor.run.outputs import needs_pieces
 
@@ -18,11 +16,8 @@ def checked_recipe(recipe: Recipe | str, options: RunOptions) -> Recipe:
     against it; raises before any garment is read."""
     if not isinstance(recipe, Recipe):
         recipe = load_recipe(recipe)
-    check_options(options)
-    try:
-        check_flatten_settings({**recipe.flatten})
-    except PtailorError as exc:
-        raise PtailorError(exc.message, path=recipe.source) from None
+    if options.verify:
+        check_engine()
     return recipe
 
 

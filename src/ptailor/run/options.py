@@ -1,14 +1,31 @@
 """The options of one run: a frozen, typed record built once (by the CLI) and passed down.
 
+Its constructor is where the options are checked, once, for every command and for a
+manifest row's overrides (``dataclasses.replace`` runs it again): a bad value raises
+:class:`~ptailor.errors.PtailorError` (exit 2) naming the option, before any file is read.
 Batch stamps a garment's output folder with :meth:`RunOptions.stamped`, so that every option
 that changes the outputs decides whether a folder is up to date.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import asdict, dataclass
 
+from ptailor.errors import PtailorError
 from ptailor.run.outputs import FORMATS
+from ptailor.verify.rest import REST_MODES
+
+#: the flatten overrides (``--method``, ``--intrinsic``)
+METHODS = ("scale-preserving", "uniform")
+INTRINSICS = ("polar", "paper")
+AXES = ("x", "y", "z", "-x", "-y", "-z")
+DXF_UNITS = ("mm", "cm", "in")
+
+
+def _one_of(value, known: tuple[str, ...], option: str) -> None:
+    if value is not None and value not in known:
+        raise PtailorError(f"{option} must be one of {', '.join(known)}, not {value!r}")
 
 
 @dataclass(frozen=True)
@@ -76,6 +93,34 @@ class RunOptions:
     verify_rest: str = "intrinsic"
     verify_max_steps: int | None = None
     spec: str | None = None
+
+    def __post_init__(self) -> None:
+        from ptailor.formats.garment import parse_units, parse_weld
+
+        if self.pattern_units is not None and self.pattern_units != "auto":
+            parse_units(self.pattern_units, what="--pattern-units")
+        if self.drape_units is not None:
+            parse_units(self.drape_units, what="--drape-units")
+        parse_units(self.body_units, what="--body-units")
+        parse_weld(self.weld, units="cm")  # (the syntax; a bare number is the recipe's units)
+        _one_of(self.method, METHODS, "--method")
+        _one_of(self.intrinsic, INTRINSICS, "--intrinsic")
+        _one_of(self.up, AXES, "--up")
+        _one_of(self.front, AXES, "--front")
+        _one_of(self.dxf_units, DXF_UNITS, "--dxf-units")
+        _one_of(self.verify_rest, REST_MODES, "--rest")
+        unknown = [f for f in self.formats if f not in FORMATS]
+        if isinstance(self.formats, str) or unknown:
+            raise PtailorError(
+                f"--formats: unknown output format(s) {', '.join(unknown or [self.formats])} "
+                f"(known: {', '.join(FORMATS)})"
+            )
+        a = self.seam_allowance
+        if a is not None and not (isinstance(a, (int, float)) and math.isfinite(a) and a >= 0):
+            raise PtailorError(f"--seam-allowance must be a length >= 0, not {a}")
+        n = self.verify_max_steps
+        if n is not None and (isinstance(n, bool) or not isinstance(n, int) or n < 1):
+            raise PtailorError(f"--max-steps must be at least 1, not {n}")
 
     def stamped(self) -> dict:
         """The options as a JSON-ready dict with sorted keys (``formats`` sorted): what

@@ -26,7 +26,6 @@ from ptailor.run.checks import (
     check_engine,
     check_finite_report,
     check_size_against_body,
-    check_verify_options,
 )
 from ptailor.run.folder import check_output_dir, staged_dir, write_json
 from ptailor.run.options import RunOptions
@@ -322,7 +321,6 @@ def verify_garment(
     from ptailor.recipe import resolve_axes
     from ptailor.run.inputs import fitted_body, load_body
 
-    check_verify_options(options.verify_rest, options.verify_max_steps)
     check_engine()
     auto = options.body == "auto"
     check_output_dir(out, [garment, original, None if auto else options.body])
