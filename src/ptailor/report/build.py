@@ -23,6 +23,7 @@ from ptailor.report.metrics import (
     scale_reference,
     summary_stats,
 )
+from ptailor.report.records import PanelRecord, Report, SeamRecord, SolverRecord
 
 
 def _r(x: float, nd: int = 6) -> float:
@@ -149,48 +150,96 @@ def build_report(
     units_note: dict,
     warnings: list[str],
     timing_s: dict[str, float],
+    outputs: list[str],
+    shown: dict[str, str] | None = None,
     errors: np.ndarray | None = None,
     extra: dict | None = None,
     reference: ScaleReference | None = None,
-) -> dict:
-    """Assemble the report.
+) -> Report:
+    """Assemble the report, every section in its place (nothing is patched in afterwards).
 
     Parameters
     ----------
     adj : Adjustment
     inputs : dict
-        Role to path; each is hashed.
+        Role to the path read; each file is hashed.
     units_note : dict
         ``units`` block: computation unit and each file's unit (and whether estimated).
     warnings : list of str
+        Every warning of the run, in order (library warnings included).
     timing_s : dict
         Seconds per stage (load, edit, flatten, baseline, write).
+    outputs : list of str
+        The files of the output folder (``report.json`` among them).
+    shown : dict, optional
+        Role to the path the report shows instead of the one read (``ptailor demo``).
     errors : (m,) float array, optional
         :func:`triangle_errors`, when already computed.
     extra : dict, optional
-        More top-level sections (``pieces``, ...), inserted before ``timing_s``.
+        More top-level sections (``pattern``, ``intake``, ...), inserted before ``timing_s``.
     reference : ScaleReference, optional
         :func:`error_reference` of ``adj``, when already computed (the baseline's errors
         are measured against it).
 
     Returns
     -------
-    dict
+    Report
         JSON-serialisable, deterministic apart from ``timing_s``.
     """
-    st = adj.state
-    g = st.base
-    n = len(st.panels)
     up, front = adj.axes
-    gs = structure(g, up=up, front=front)
-    flab, vlab, seam_list = gs.face_panel, gs.vertex_panel, gs.seams
-    orient = np.array([-1.0 if p.mirrored else 1.0 for p in st.panels])[flab]
-    V2a = adj.result.V2
+    gs = structure(adj.state.base, up=up, front=front)
     err = triangle_errors(adj) if errors is None else errors
-    es = summary_stats(err, flab, n)
-    flips = np.bincount(flab, flipped(V2a, g.F2, orient), minlength=n)
-    # "before" is the input garment's panel of the same name (surgery changes triangles)
-    g0 = adj.original if adj.original is not None else g
+    shown = shown or {}
+    return {
+        "ptailor_version": __version__,
+        "method": adj.settings["method"],
+        "intrinsic": adj.settings["intrinsic"] if adj.settings["method"] != "uniform" else None,
+        "boundary": adj.settings["boundary"],
+        "units": units_note,
+        "inputs": {
+            k: {"path": shown.get(k, v), "sha256": file_sha256(v)} for k, v in inputs.items()
+        },
+        "steps": list(adj.state.log),
+        "solver": solver_record(adj),
+        "panels": panel_records(adj, gs, err, reference=reference),
+        "seams": seam_records(adj, gs),
+        **(extra or {}),  # type: ignore[typeddict-item]
+        "timing_s": {k: round(v, 4) for k, v in timing_s.items()},
+        "warnings": list(warnings),
+        "outputs": sorted(outputs),
+    }
+
+
+def solver_record(adj: Adjustment) -> SolverRecord:
+    """The report's ``solver``: how the stitching solver ran and what converged means."""
+    info = adj.result.info
+    return {
+        "iterations": info.iterations,
+        "newton_steps": info.newton_steps,
+        "converged": info.converged,
+        "energy": float(f"{info.energy:.6g}"),
+        "w_pin": adj.settings["w_pin"],
+        "w_asap": adj.settings["w_asap"],
+        "seams": seam_mode(adj.settings["seams"]),
+        "seam_violation": float(f"{info.seam_violation:.3g}"),
+        "residual": float(f"{max(info.panel_residual, default=0.0):.3g}"),
+        # what "converged" means: every panel's last step (its largest vertex move,
+        # rigid motion removed) at most `step` of the panel's size, and every seam edge
+        # within `seam_violation` (relative) of its ratio; a run that took Newton steps
+        # (where local/global steps crawl) ends with one that moves no more than `step`
+        "converged_when": {
+            "step": tol.ARAP_STEP_TOL,
+            "seam_violation": tol.SEAM_EXACT_REL,
+            "newton_step": tol.ARAP_STEP_TOL,
+        },
+    }
+
+
+def _panel_areas_before(adj: Adjustment, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Area and size of each panel before: the input garment's panel of the same name
+    (surgery changes triangles; a split panel's parts share what it was)."""
+    st = adj.state
+    g0 = adj.original if adj.original is not None else st.base
     orig = adj.original_panels()
     kept = [p for p in st.panels if p.name in orig]
     ids = [p.index for p in kept]
@@ -198,48 +247,67 @@ def build_report(
     vlab0 = scatter_labels([orig[p.name][1] for p in kept], len(g0.V2), labels=ids)
     keep0 = flab0 >= 0
     area0 = panel_areas(g0.V2, g0.F2[keep0], flab0[keep0], n)
-    area0 = _split_parts_before(st, g0, orig, area0)
+    return _split_parts_before(st, g0, orig, area0), panel_sizes(g0.V2, vlab0, n)
+
+
+def panel_records(
+    adj: Adjustment, gs, errors: np.ndarray, *, reference: ScaleReference | None = None
+) -> list[PanelRecord]:
+    """The report's ``panels``: one record per adjusted panel (``gs``: the garment's
+    :func:`~ptailor.model.structure.structure`; ``errors``: :func:`triangle_errors`)."""
+    st = adj.state
+    g = st.base
+    n = len(st.panels)
+    flab, vlab = gs.face_panel, gs.vertex_panel
+    orient = np.array([-1.0 if p.mirrored else 1.0 for p in st.panels])[flab]
+    V2a = adj.result.V2
+    es = summary_stats(errors, flab, n)
+    flips = np.bincount(flab, flipped(V2a, g.F2, orient), minlength=n)
+    area0, size0 = _panel_areas_before(adj, n)
     area1 = panel_areas(V2a, g.F2, flab, n)
-    size0 = panel_sizes(g0.V2, vlab0, n)
     size1 = panel_sizes(V2a, vlab, n)
     dev = boundary_deviation(g.V2, V2a, g.F2, vlab, n)
     if adj.baseline is not None:
         Vb = adj.baseline.V2
         areab = panel_areas(Vb, g.F2, flab, n)
         sizeb = panel_sizes(Vb, vlab, n)
-        errb = summary_stats(
-            _scale_errors(adj, Vb, reference),
-            flab,
-            n,
-        )
-    panels_out = []
+        errb = summary_stats(_scale_errors(adj, Vb, reference), flab, n)
+    kept = adj.result.asap_panels
+    out: list[PanelRecord] = []
     for p in st.panels:  # one record per panel
         i = p.index
-        rec = {
+        rec: PanelRecord = {
             "name": p.name,
             "triangles": int(p.faces.size),
             "mirrored": p.mirrored,
-            "outline_kept": bool(adj.result.asap_panels[i])
-            if adj.result.asap_panels is not None
-            else False,
+            "outline_kept": bool(kept[i]) if kept is not None else False,
             "area_before": _r(area0[i]),
             "area_after": _r(area1[i]),
             "size_before": [_r(size0[i, 0]), _r(size0[i, 1])],
             "size_after": [_r(size1[i, 0]), _r(size1[i, 1])],
             "boundary_deviation": _r(dev[i]),
-            "intrinsic_scale_error": {k: _r(v[i], 8) for k, v in es.items()},
+            "intrinsic_scale_error": {k: _r(v[i], 8) for k, v in es.items()},  # type: ignore[typeddict-item]
             "flipped_triangles": int(flips[i]),
         }
         if adj.baseline is not None:
             rec["baseline_area_after"] = _r(areab[i])
             rec["baseline_size_after"] = [_r(sizeb[i, 0]), _r(sizeb[i, 1])]
-            rec["baseline_intrinsic_scale_error"] = {k: _r(v[i], 8) for k, v in errb.items()}
-        panels_out.append(rec)
+            rec["baseline_intrinsic_scale_error"] = {k: _r(v[i], 8) for k, v in errb.items()}  # type: ignore[typeddict-item]
+        out.append(rec)
+    return out
+
+
+def seam_records(adj: Adjustment, gs) -> list[SeamRecord]:
+    """The report's ``seams``: per seam its sides' lengths before/after, the ratio of the
+    two and its target (the pattern's own ratio times the gathers the recipe set)."""
+    st = adj.state
+    g = st.base
+    V2a = adj.result.V2
     names = [p.name for p in st.panels]
     gathers = seam_factors(st)
-    seams_out = []
-    layout = gs.layout
-    seam_name = _stable_seam_names(adj, seam_list, seam_names(g.V3, seam_list, layout, names))
+    seam_list = gs.seams
+    seam_name = _stable_seam_names(adj, seam_list, seam_names(g.V3, seam_list, gs.layout, names))
+    out: list[SeamRecord] = []
     for si, s in enumerate(seam_list):  # one record per seam
         la0, lb0 = s.lengths(g.V2)
         la1, lb1 = s.lengths(V2a)
@@ -247,7 +315,7 @@ def build_report(
         f = gathers.get((pa, pb), 1.0) / gathers.get((pb, pa), 1.0) if pa != pb else 1.0
         r0 = la0 / max(lb0, 1e-300)
         target = r0 * f
-        seams_out.append(
+        out.append(
             {
                 "name": seam_name[si],
                 "panels": [names[pa], names[pb]],
@@ -260,41 +328,7 @@ def build_report(
                 "mismatch": _r(la1 - target * lb1, 6),
             }
         )
-    info = adj.result.info
-    return {
-        "ptailor_version": __version__,
-        "method": adj.settings["method"],
-        "intrinsic": adj.settings["intrinsic"] if adj.settings["method"] != "uniform" else None,
-        "boundary": adj.settings["boundary"],
-        "units": units_note,
-        "inputs": {k: {"path": v, "sha256": file_sha256(v)} for k, v in inputs.items()},
-        "steps": list(st.log),
-        "solver": {
-            "iterations": info.iterations,
-            "newton_steps": info.newton_steps,
-            "converged": info.converged,
-            "energy": float(f"{info.energy:.6g}"),
-            "w_pin": adj.settings["w_pin"],
-            "w_asap": adj.settings["w_asap"],
-            "seams": seam_mode(adj.settings["seams"]),
-            "seam_violation": float(f"{info.seam_violation:.3g}"),
-            "residual": float(f"{max(info.panel_residual, default=0.0):.3g}"),
-            # what "converged" means: every panel's last step (its largest vertex move,
-            # rigid motion removed) at most `step` of the panel's size, and every seam edge
-            # within `seam_violation` (relative) of its ratio; a run that took Newton steps
-            # (where local/global steps crawl) ends with one that moves no more than `step`
-            "converged_when": {
-                "step": tol.ARAP_STEP_TOL,
-                "seam_violation": tol.SEAM_EXACT_REL,
-                "newton_step": tol.ARAP_STEP_TOL,
-            },
-        },
-        "panels": panels_out,
-        "seams": seams_out,
-        **(extra or {}),
-        "timing_s": {k: round(v, 4) for k, v in timing_s.items()},
-        "warnings": list(warnings),
-    }
+    return out
 
 
 def _mirrored_vertices(st) -> np.ndarray:
@@ -400,7 +434,7 @@ def _pieces_line(pat: dict) -> str:
     )
 
 
-def summary_lines(report: dict) -> list[str]:
+def summary_lines(report: Report) -> list[str]:
     """A short human summary of a report, one panel per line."""
     u = report["units"]["computation"]
     lines = _panel_lines(report)

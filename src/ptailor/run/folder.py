@@ -12,7 +12,6 @@ a link to nothing is refused. The inputs are never inside what gets replaced.
 from __future__ import annotations
 
 import contextlib
-import contextvars
 import hashlib
 import json
 import logging
@@ -23,7 +22,7 @@ import signal
 import tempfile
 import threading
 import warnings
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -443,24 +442,13 @@ def staged_dir(out: str | Path):
             os.close(hold)
 
 
-def write_json(path: Path, data: dict) -> None:
-    """Write JSON with sorted-insertion order and a trailing newline.
-
-    A ``report.json`` written while :func:`capture_library_warnings` is active gets the
-    library warnings captured so far added to its ``warnings``.
-    """
-    if path.name == "report.json" and isinstance(data.get("warnings"), list):
-        seen = _CAPTURED.get()
-        if seen:
-            data["warnings"].extend(w for w in seen if w not in data["warnings"])
+def write_json(path: Path, data: Mapping) -> None:
+    """Write ``data`` as indented JSON (insertion order) with a trailing newline."""
     path.write_text(json.dumps(data, indent=2) + "\n")
 
 
 # --------------------------------------------------------------------------- library noise
 
-_CAPTURED: contextvars.ContextVar[list[str] | None] = contextvars.ContextVar(
-    "ptailor_library_warnings", default=None
-)
 LIBRARY_WARNINGS_MAX = tolerances.LIBRARY_WARNINGS_MAX
 #: warnings meant for developers, not for the report (dropped)
 _DEVELOPER_WARNINGS = (
@@ -492,9 +480,9 @@ def _add(sink: list[str], text: str) -> None:
 def capture_library_warnings():
     """Capture Python warnings (numpy ``RuntimeWarning``...) and logging records of
     WARNING and above (ezdxf...) instead of printing them; yields the list of one-line
-    texts, which a ``report.json`` written meanwhile also gets (:func:`write_json`)."""
+    texts, which grows while the block runs (a run puts it into its report's ``warnings``:
+    :func:`ptailor.run.garment.staged_run`)."""
     sink: list[str] = []
-    token = _CAPTURED.set(sink)
     root = logging.getLogger()
     handler = _Collect(sink)
     saved = root.handlers[:]
@@ -510,4 +498,3 @@ def capture_library_warnings():
             yield sink
     finally:
         root.handlers = saved
-        _CAPTURED.reset(token)

@@ -12,14 +12,14 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
+from ptailor.edits import EditOptions
 from ptailor.errors import PtailorError
 from ptailor.formats.garment import LoadedGarment
 from ptailor.formats.spec_json import read_specification as read_spec
-from ptailor.pieces import carry_plan
+from ptailor.pieces import PiecePlan, carry_plan
 from ptailor.pipeline import Adjustment, Progress, adjustment
 from ptailor.recipe import Recipe
 from ptailor.report.build import (
@@ -28,6 +28,8 @@ from ptailor.report.build import (
     triangle_errors,
     without_negative_zeros,
 )
+from ptailor.report.metrics import ScaleReference
+from ptailor.report.records import Report
 from ptailor.run.checks import (
     check_body_placement,
     check_finite_report,
@@ -36,7 +38,7 @@ from ptailor.run.checks import (
     check_size_against_body,
     run_warnings,
 )
-from ptailor.run.folder import check_output_dir, staged_dir, write_json
+from ptailor.run.folder import capture_library_warnings, check_output_dir, staged_dir, write_json
 from ptailor.run.inputs import (
     checked_recipe,
     edit_options,
@@ -48,6 +50,7 @@ from ptailor.run.options import RunOptions
 from ptailor.run.outputs import OutputContext, write_outputs
 from ptailor.run.sections import pattern_section, units_section
 from ptailor.run.spec import matched_specification, spec_input, spec_outputs, spec_units
+from ptailor.run.verify import Redrapes
 from ptailor.spec.match import SpecMatching
 
 
@@ -61,7 +64,7 @@ def run_garment(
     display_inputs: dict[str, str] | None = None,
     extra_files: dict[str, str] | None = None,
     progress: Progress | None = None,
-) -> dict:
+) -> Report:
     """Load, adjust and write one garment; return the report (:func:`staged_run`'s
     parameters)."""
     with staged_run(
@@ -89,7 +92,7 @@ def staged_run(
     display_inputs: dict[str, str] | None = None,
     extra_files: dict[str, str] | None = None,
     progress: Progress | None = None,
-) -> Iterator[dict]:
+) -> Iterator[Report]:
     """Load, adjust and stage one garment; yield the report before ``out`` is put in place.
 
     An exception raised in the ``with`` block (a broken quality gate) leaves nothing
@@ -127,14 +130,77 @@ def staged_run(
     spec_file = spec_input(garment, options.spec)
     check_output_dir(out, [garment, drape, body_file, spec_file])
     shown = (display_inputs or {}).get("garment", garment)  # the garment errors name
+    # the library's warnings (numpy, ezdxf, ...) of this run, for the report's warnings
+    with capture_library_warnings() as library:
+        t0 = time.perf_counter()
+        if progress is not None:
+            progress("read", 0, None)
+        inputs = _read_inputs(garment, drape, recipe, options, spec_file=spec_file, shown=shown)
+        t1 = time.perf_counter()
+        edits = inputs.edits
+        adj = _adjustment(
+            inputs.loaded.garment, recipe, options, edits, shown=shown, progress=progress
+        )
+        t2 = time.perf_counter()
+        errors, reference = _checked_errors(adj, shown=shown)
+        redrapes, timing, t3 = None, {"load": t1 - t0, **adj.timing_s}, t2
+        if options.verify:  # the re-drape check (the engine was checked before any file was read)
+            from ptailor.run.verify import adjustment_redrapes
+
+            redrapes = adjustment_redrapes(adj, body=edits.body, options=options, progress=progress)
+            t3 = time.perf_counter()
+            timing["verify"] = t3 - t2
+        if progress is not None:
+            progress("write", 0, None)
+        staged = _Staged(
+            adj,
+            _output_context(adj, inputs, errors, garment=garment, recipe=recipe, options=options),
+            options,
+            timing=timing,
+            start=t3,
+            redrapes=redrapes,
+            edits=edits,
+            reference=reference,
+            body_fit=inputs.body_fit,
+            spec_match=inputs.spec_match,
+            spec_note=inputs.spec_note,
+            library_warnings=library,
+        )
+        with _staged_folder(
+            out, staged, shown=shown, display=display_inputs or {}, extra_files=extra_files
+        ) as report:
+            yield report
+
+
+@dataclass(frozen=True)
+class _Inputs:
+    """What a run read and checked before the adjustment: the garment, the edits' options
+    (with ``--body auto``'s fitted body), the pieces' plan, the matched specification."""
+
+    loaded: LoadedGarment
+    edits: EditOptions
+    plan: PiecePlan | None
+    body_fit: dict | None = None  # --body auto: the fit's record
+    spec_match: SpecMatching | None = None  # --spec: the specification matched
+    spec_note: tuple[str, ...] = ()  # --spec auto without a specification: what was looked for
+
+
+def _read_inputs(
+    garment: str,
+    drape: str | None,
+    recipe: Recipe,
+    options: RunOptions,
+    *,
+    spec_file: str | None,
+    shown: str,
+) -> _Inputs:
+    """Read the garment, its specification and body; check them against each other (a
+    specification of another garment, a body elsewhere) before any work."""
     edits = edit_options(recipe, options)
-    t0 = time.perf_counter()
-    if progress is not None:
-        progress("read", 0, None)
     spec = read_spec(spec_file) if spec_file is not None else None
     loaded = load_input(garment, drape, recipe, options)
     spec_match = None
-    spec_note = ()
+    spec_note: tuple[str, ...] = ()
     if options.spec == "auto" and spec is None:
         spec_note = (
             f"--spec auto: no specification beside {Path(shown).name} (looked for "
@@ -154,49 +220,34 @@ def staged_run(
     plan = plan_pieces(loaded, edits, options)
     if options.seam_allowance:
         check_seam_allowance(loaded.garment, options.seam_allowance)
-    t1 = time.perf_counter()
-    adj = _adjustment(loaded.garment, recipe, options, edits, shown=shown, progress=progress)
-    t2 = time.perf_counter()
-    errors, reference = _checked_errors(adj, shown=shown)
-    redrapes, timing, t3 = None, {"load": t1 - t0, **adj.timing_s}, t2
-    if options.verify:  # the re-drape check (the engine was checked before any file was read)
-        from ptailor.run.verify import adjustment_redrapes
+    return _Inputs(loaded, edits, plan, body_fit, spec_match, spec_note)
 
-        redrapes = adjustment_redrapes(adj, body=edits.body, options=options, progress=progress)
-        t3 = time.perf_counter()
-        timing["verify"] = t3 - t2
-    carried: list = []
-    if plan is not None:  # every adjusted panel gets a piece (a split panel one per part)
-        plan, carried = carry_plan(adj, plan, up=edits.up)
+
+def _output_context(
+    adj: Adjustment,
+    inputs: _Inputs,
+    errors: np.ndarray,
+    *,
+    garment: str,
+    recipe: Recipe,
+    options: RunOptions,
+) -> OutputContext:
+    """What the writers need: the pieces carried through the adjustment (every adjusted
+    panel gets one, a split panel one per part), the errors, the sheet's title."""
+    plan, carried = inputs.plan, []
+    if plan is not None:
+        plan, carried = carry_plan(adj, plan, up=inputs.edits.up)
     allowance = options.seam_allowance
-    ctx = OutputContext(
-        loaded=loaded,
+    units = inputs.loaded.garment.units
+    return OutputContext(
+        loaded=inputs.loaded,
         pieces=carried,
         plan=plan,
         errors=errors,
         seam_allowance=allowance,
         title=f"{Path(garment).name}: {Path(recipe.source).name}"
-        + (f", seam allowance {allowance:g} {loaded.garment.units}" if allowance else ""),
+        + (f", seam allowance {allowance:g} {units}" if allowance else ""),
     )
-    if progress is not None:
-        progress("write", 0, None)
-    staged = _Staged(
-        adj,
-        ctx,
-        options,
-        timing=timing,
-        start=t3,
-        redrapes=redrapes,
-        edits=edits,
-        reference=reference,
-        body_fit=body_fit,
-        spec_match=spec_match,
-        spec_note=spec_note,
-    )
-    with _staged_folder(
-        out, staged, shown=shown, display=display_inputs or {}, extra_files=extra_files
-    ) as report:
-        yield report
 
 
 @dataclass(frozen=True)
@@ -209,14 +260,17 @@ class _Staged:
     adj: Adjustment
     ctx: OutputContext
     options: RunOptions
-    timing: dict
+    timing: dict[str, float]
     start: float
-    redrapes: Any = None
-    edits: Any = None
-    reference: Any = None
-    body_fit: dict | None = None  # --body auto: the fit's record
-    spec_match: SpecMatching | None = None  # --spec: the specification matched
-    spec_note: tuple[str, ...] = ()  # --spec auto without a specification: what was looked for
+    redrapes: Redrapes | None
+    edits: EditOptions
+    reference: ScaleReference | None
+    body_fit: dict | None  # --body auto: the fit's record
+    spec_match: SpecMatching | None  # --spec: the specification matched
+    spec_note: tuple[str, ...]  # --spec auto without a specification: what was looked for
+    #: the run's library warnings (:func:`~ptailor.run.folder.capture_library_warnings`'s
+    #: list, which the writing still adds to)
+    library_warnings: list[str]
 
 
 @contextmanager
@@ -253,10 +307,14 @@ def _staged_folder(
         for name, text in (extra_files or {}).items():
             (tmp / name).write_text(text)
         timing = {**staged.timing, "write": time.perf_counter() - staged.start}
-        report = _report(ctx.loaded, staged, timing, spec=(spec_section, spec_warnings))
-        for role, path in {**_read(ctx.loaded.inputs, options), **display}.items():
-            report["inputs"][role]["path"] = path
-        report["outputs"] = sorted(["report.json", *written])
+        report = _report(
+            ctx.loaded,
+            staged,
+            timing,
+            spec=(spec_section, spec_warnings),
+            outputs=["report.json", *written],
+            shown=display,
+        )
         report = without_negative_zeros(report)
         check_finite_report(report, path=shown)
         yield report
@@ -264,18 +322,29 @@ def _staged_folder(
 
 
 def _report(
-    loaded: LoadedGarment, staged: _Staged, timing: dict, *, spec: tuple = (None, [])
-) -> dict:
+    loaded: LoadedGarment,
+    staged: _Staged,
+    timing: dict,
+    *,
+    spec: tuple,
+    outputs: list[str],
+    shown: dict[str, str],
+) -> Report:
     """The report: :func:`ptailor.report.build.build_report` with the run's sections
-    (``spec``: the ``--spec`` section and its warnings)."""
+    (``spec``: the ``--spec`` section and its warnings) and every warning, the library's
+    captured during the run last."""
     adj, ctx, options = staged.adj, staged.ctx, staged.options
     spec_section, spec_warnings = spec
+    warnings = run_warnings(loaded, adj, ctx.errors, ctx.plan, ctx.pieces, options)
+    warnings += list(spec_warnings)
+    warnings += [w for w in staged.library_warnings if w not in warnings]
     return build_report(
         adj,
         inputs=_read(loaded.inputs, options),
+        shown=shown,
+        outputs=outputs,
         units_note=units_section(loaded),
-        warnings=run_warnings(loaded, adj, ctx.errors, ctx.plan, ctx.pieces, options)
-        + list(spec_warnings),
+        warnings=warnings,
         timing_s=timing,
         errors=ctx.errors,
         reference=staged.reference,
@@ -324,7 +393,7 @@ def _adjustment(
         raise PtailorError(exc.message, path=shown) from None
 
 
-def _checked_errors(adj: Adjustment, *, shown: str) -> tuple[np.ndarray, Any]:
+def _checked_errors(adj: Adjustment, *, shown: str) -> tuple[np.ndarray, ScaleReference | None]:
     """The intrinsic-scale error per triangle, the result checked finite; and what the
     errors were measured against, when the report measures the uniform baseline too (else
     None)."""
