@@ -51,42 +51,18 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
     """
     g = loaded.garment
     st = structure(g, up=up, front=front)
-    plist, flab, vlab, layout = st.panels, st.face_panel, st.vertex_panel, st.layout
-    n = len(plist)
-    sizes = panel_sizes(g.V2, vlab, n)
-    area = np.bincount(flab, np.abs(signed_areas_2d(g.V2, g.F2)), minlength=n)
-    names = [p.name for p in plist]
-    a3 = triangle_areas(g.V3, g.F3)
-    tc = g.V3[g.F3].mean(axis=1) * a3[:, None]  # area-weighted triangle centroids
-    c3 = np.stack([np.bincount(flab, tc[:, j], minlength=n) for j in range(3)], axis=1)
-    c3 /= np.maximum(np.bincount(flab, a3, minlength=n), 1e-300)[:, None]
-    out_p = [
+    names = [p.name for p in st.panels]
+    snames = seam_names(g.V3, st.seams, st.layout, names)
+    out_s = [
         {
-            "name": p.name,
-            "triangles": int(p.faces.size),
-            "size": [round(float(sizes[p.index, 0]), 3), round(float(sizes[p.index, 1]), 3)],
-            "area": round(float(area[p.index]), 3),
-            "orientation": "mirrored (clockwise)" if p.mirrored else "counter-clockwise",
-            "position": layout.position(p.index),
-            "centroid": [round(float(x), 3) for x in c3[p.index]],
-            "wearer": [round(float(x), 3) for x in layout.centroid[p.index]],
-            "why": _why(p.name, layout, p.index),
+            "name": sname,
+            "panels": [names[s.panels[0]], names[s.panels[1]]],
+            "edges": len(s.edges3),
+            "lengths": [round(la, 3), round(lb, 3)],
         }
-        for p in plist
+        for s, sname in zip(st.seams, snames, strict=True)
+        for la, lb in [s.lengths(g.V2)]
     ]
-    out_s = []
-    seam_list = st.seams
-    snames = seam_names(g.V3, seam_list, layout, names)
-    for s, sname in zip(seam_list, snames, strict=True):
-        la, lb = s.lengths(g.V2)
-        out_s.append(
-            {
-                "name": sname,
-                "panels": [names[s.panels[0]], names[s.panels[1]]],
-                "edges": len(s.edges3),
-                "lengths": [round(la, 3), round(lb, 3)],
-            }
-        )
     out_l = [
         {
             "name": ln.name,
@@ -94,7 +70,7 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
             "panels": [names[i] for i in ln.panels],
             "seams": [snames[i] for i in ln.seams],
         }
-        for ln in seam_lines(g.V3, seam_list, snames)
+        for ln in seam_lines(g.V3, st.seams, snames)
     ]
     out_o = [
         {
@@ -119,13 +95,39 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
             " wearer is (left, up, front) from the centre line and the lowest point"
         ),
         "triangles": g.n_faces,
-        "panels": out_p,
+        "panels": _panel_summaries(g, st),
         "seams": out_s,
         "seam_lines": out_l,
         "openings": out_o,
         "units": units,
         "intake": loaded.intake,
     }
+
+
+def _panel_summaries(g, st) -> list[dict]:
+    """:func:`garment_summary`'s ``panels``: size, area, orientation, where each sits."""
+    plist, flab, vlab, layout = st.panels, st.face_panel, st.vertex_panel, st.layout
+    n = len(plist)
+    sizes = panel_sizes(g.V2, vlab, n)
+    area = np.bincount(flab, np.abs(signed_areas_2d(g.V2, g.F2)), minlength=n)
+    a3 = triangle_areas(g.V3, g.F3)
+    tc = g.V3[g.F3].mean(axis=1) * a3[:, None]  # area-weighted triangle centroids
+    c3 = np.stack([np.bincount(flab, tc[:, j], minlength=n) for j in range(3)], axis=1)
+    c3 /= np.maximum(np.bincount(flab, a3, minlength=n), 1e-300)[:, None]
+    return [
+        {
+            "name": p.name,
+            "triangles": int(p.faces.size),
+            "size": [round(float(sizes[p.index, 0]), 3), round(float(sizes[p.index, 1]), 3)],
+            "area": round(float(area[p.index]), 3),
+            "orientation": "mirrored (clockwise)" if p.mirrored else "counter-clockwise",
+            "position": layout.position(p.index),
+            "centroid": [round(float(x), 3) for x in c3[p.index]],
+            "wearer": [round(float(x), 3) for x in layout.centroid[p.index]],
+            "why": _why(p.name, layout, p.index),
+        }
+        for p in plist
+    ]
 
 
 def spec_summary(matching: SpecMatching, info: dict) -> dict:

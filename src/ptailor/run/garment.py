@@ -141,15 +141,10 @@ def staged_run(
         adj = _adjustment(
             inputs.loaded.garment, recipe, options, edits, shown=shown, progress=progress
         )
-        t2 = time.perf_counter()
         errors, reference = _checked_errors(adj, shown=shown)
-        redrapes, timing, t3 = None, {"load": t1 - t0, **adj.timing_s}, t2
-        if options.verify:  # the re-drape check (the engine was checked before any file was read)
-            from ptailor.run.verify import adjustment_redrapes
-
-            redrapes = adjustment_redrapes(adj, body=edits.body, options=options, progress=progress)
-            t3 = time.perf_counter()
-            timing["verify"] = t3 - t2
+        timing = {"load": t1 - t0, **adj.timing_s}
+        redrapes = _redrapes(adj, edits, options, timing=timing, progress=progress)
+        t3 = time.perf_counter()
         if progress is not None:
             progress("write", 0, None)
         staged = _Staged(
@@ -159,17 +154,29 @@ def staged_run(
             timing=timing,
             start=t3,
             redrapes=redrapes,
-            edits=edits,
+            inputs=inputs,
             reference=reference,
-            body_fit=inputs.body_fit,
-            spec_match=inputs.spec_match,
-            spec_note=inputs.spec_note,
             library_warnings=library,
         )
         with _staged_folder(
             out, staged, shown=shown, display=display_inputs or {}, extra_files=extra_files
         ) as report:
             yield report
+
+
+def _redrapes(
+    adj: Adjustment, edits: EditOptions, options: RunOptions, *, timing: dict, progress=None
+) -> Redrapes | None:
+    """With ``--verify``, the re-drape check (the engine was checked before any file was
+    read; its seconds go into ``timing``); else None."""
+    if not options.verify:
+        return None
+    from ptailor.run.verify import adjustment_redrapes
+
+    t = time.perf_counter()
+    redrapes = adjustment_redrapes(adj, body=edits.body, options=options, progress=progress)
+    timing["verify"] = time.perf_counter() - t
+    return redrapes
 
 
 @dataclass(frozen=True)
@@ -263,11 +270,8 @@ class _Staged:
     timing: dict[str, float]
     start: float
     redrapes: Redrapes | None
-    edits: EditOptions
+    inputs: _Inputs  # (the edits' options, the body's fit, the specification matched)
     reference: ScaleReference | None
-    body_fit: dict | None  # --body auto: the fit's record
-    spec_match: SpecMatching | None  # --spec: the specification matched
-    spec_note: tuple[str, ...]  # --spec auto without a specification: what was looked for
     #: the run's library warnings (:func:`~ptailor.run.folder.capture_library_warnings`'s
     #: list, which the writing still adds to)
     library_warnings: list[str]
@@ -290,19 +294,19 @@ def _staged_folder(
         written = write_outputs(tmp, adj, ctx, options.formats)
         if staged.redrapes is not None:
             written += _write_redrapes(tmp, staged)
-        if options.write_body and staged.edits.body is not None:
+        if options.write_body and staged.inputs.edits.body is not None:
             from ptailor.run.verify import write_body
 
             written += write_body(
                 tmp,
-                staged.edits.body,
+                staged.inputs.edits.body,
                 drape_scale=ctx.loaded.drape_scale,
                 units=ctx.loaded.garment.units,
             )
         spec_section: dict | None = None
-        spec_warnings: list[str] = list(staged.spec_note)
-        if staged.spec_match is not None:
-            files, spec_section, spec_warnings = spec_outputs(tmp, adj, staged.spec_match)
+        spec_warnings: list[str] = list(staged.inputs.spec_note)
+        if staged.inputs.spec_match is not None:
+            files, spec_section, spec_warnings = spec_outputs(tmp, adj, staged.inputs.spec_match)
             written += files
         for name, text in (extra_files or {}).items():
             (tmp / name).write_text(text)
@@ -352,7 +356,7 @@ def _report(
             "pattern": pattern_section(loaded, ctx.plan, ctx.pieces, options.seam_allowance),
             "intake": loaded.intake,
             **({"verify": staged.redrapes.section} if staged.redrapes is not None else {}),
-            **({"body_fit": staged.body_fit} if staged.body_fit is not None else {}),
+            **({"body_fit": staged.inputs.body_fit} if staged.inputs.body_fit is not None else {}),
             **({"spec": spec_section} if spec_section is not None else {}),
         },
     )
@@ -362,7 +366,7 @@ def _write_redrapes(tmp: Path, staged: _Staged) -> list[str]:
     """The re-drape check's files (:func:`ptailor.run.verify.write_verify_files`)."""
     from ptailor.run.verify import write_verify_files
 
-    edits = staged.edits
+    edits = staged.inputs.edits
     return write_verify_files(
         tmp,
         staged.redrapes,

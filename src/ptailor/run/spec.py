@@ -83,7 +83,7 @@ def spec_outputs(tmp: Path, adj, matching: SpecMatching) -> tuple[list[str], dic
     from ptailor.formats.spec_json import write_specification
     from ptailor.pieces.plan import source_panels
     from ptailor.spec.adjust import adjusted_specification
-    from ptailor.spec.check import edge_lengths, spec_fit
+    from ptailor.spec.check import spec_fit
 
     g0 = adj.original if adj.original is not None else adj.state.base
     orig = structure(g0, up=adj.axes[0], front=adj.axes[1]).panels
@@ -93,14 +93,41 @@ def spec_outputs(tmp: Path, adj, matching: SpecMatching) -> tuple[list[str], dic
         adjusted.spec,
         edge_sources={c.name: list(c.edge_sources) for c in adjusted.changes},
     )
-    k = matching.scale
     units = g0.units
     cm = CM_PER[units]
     fits = spec_fit(adjusted, adj.result.V2, adj.state.base.F2, list(adj.state.panels))
-    before = edge_lengths(matching.spec)
-    after = edge_lengths(adjusted.spec)
-    warnings = []
-    panels = []
+    panels, warnings = _panel_records(adj, matching, adjusted, fits, units=units)
+    stitches = _stitch_records(matching, adjusted)
+    for si in adjusted.dropped_stitches:  # a loop over stitches
+        (pa, ea), (pb, eb) = matching.spec.stitches[si].sides
+        warnings.append(
+            f"spec: stitch {si} ({pa}.{ea} to {pb}.{eb}) dropped: its edge left the pattern"
+        )
+    for name in adjusted.removed_panels:  # a loop over panels
+        warnings.append(f"spec: panel {name!r} removed: the adjustment removed its triangles")
+    section = {
+        "input": matching.spec.path,
+        "format": matching.spec.flavour,
+        "units_in_meter": matching.spec.units_in_meter,
+        "file": SPEC_FILE,
+        "fit_max": round(max((float(d.max(initial=0.0)) for d in fits), default=0.0), 6),
+        "fit_warn": round(tol.SPEC_FIT_WARN_CM / cm, 6),
+        "panels": panels,
+        "stitches": stitches,
+        "dropped_stitches": list(adjusted.dropped_stitches),
+        "removed_panels": list(adjusted.removed_panels),
+    }
+    return [SPEC_FILE], section, warnings
+
+
+def _panel_records(
+    adj, matching: SpecMatching, adjusted, fits: list[np.ndarray], *, units: str
+) -> tuple[list[dict], list[str]]:
+    """The ``spec`` section's ``panels`` (each written panel: where it came from, how it was
+    made, its fit to the adjusted outline, the map to the pattern) and their warnings."""
+    k = matching.scale
+    cm = CM_PER[units]
+    warnings, panels = [], []
     for sp, ch, d in zip(adjusted.spec.panels, adjusted.changes, fits, strict=True):  # panels
         m = next(pm for pm in matching.panels if matching.spec.panels[pm.spec].name == ch.source)
         worst = float(d.max(initial=0.0))
@@ -134,6 +161,17 @@ def spec_outputs(tmp: Path, adj, matching: SpecMatching) -> tuple[list[str], dic
                 f"spec: panel {sp.name!r} edge {i} was straight and is now curved (its "
                 f"points leave the chord by {dev * k:.3g} {units})"
             )
+    return panels, warnings
+
+
+def _stitch_records(matching: SpecMatching, adjusted) -> list[dict]:
+    """The ``spec`` section's ``stitches``: each written stitch's sides and their curve
+    lengths before and after (in the pattern's units)."""
+    from ptailor.spec.check import edge_lengths
+
+    k = matching.scale
+    before = edge_lengths(matching.spec)
+    after = edge_lengths(adjusted.spec)
     stitches = []
     for st, si in zip(adjusted.spec.stitches, adjusted.stitch_sources, strict=True):
         (pa, ea), (pb, eb) = st.sides
@@ -146,23 +184,4 @@ def spec_outputs(tmp: Path, adj, matching: SpecMatching) -> tuple[list[str], dic
                 "after": [round(after[pa, ea] * k, 6), round(after[pb, eb] * k, 6)],
             }
         )
-    for si in adjusted.dropped_stitches:  # a loop over stitches
-        (pa, ea), (pb, eb) = matching.spec.stitches[si].sides
-        warnings.append(
-            f"spec: stitch {si} ({pa}.{ea} to {pb}.{eb}) dropped: its edge left the pattern"
-        )
-    for name in adjusted.removed_panels:  # a loop over panels
-        warnings.append(f"spec: panel {name!r} removed: the adjustment removed its triangles")
-    section = {
-        "input": matching.spec.path,
-        "format": matching.spec.flavour,
-        "units_in_meter": matching.spec.units_in_meter,
-        "file": SPEC_FILE,
-        "fit_max": round(max((float(d.max(initial=0.0)) for d in fits), default=0.0), 6),
-        "fit_warn": round(tol.SPEC_FIT_WARN_CM / cm, 6),
-        "panels": panels,
-        "stitches": stitches,
-        "dropped_stitches": list(adjusted.dropped_stitches),
-        "removed_panels": list(adjusted.removed_panels),
-    }
-    return [SPEC_FILE], section, warnings
+    return stitches
