@@ -225,21 +225,13 @@ def _load_garment(
         **fixed.record,
         "faces_read": len(mesh.fv),
         "warnings": list(fixed.warnings),
-        "units": {
-            "computation": units,
-            "pattern": pattern_units,
-            "pattern_source": "estimate"
-            if estimated
-            else "command line"
-            if pattern_given
-            else "default, size checked",
-            "drape": drape_units,
-            "drape_source": "command line" if drape_given else "default, size checked",
-            "pattern_drape_ratio": round(ratio, 6) if np.isfinite(ratio) else None,
-            "pattern_drape_ratio_per_panel": [
-                round(float(x), 6) if np.isfinite(x) else None for x in per_panel
-            ],
-        },
+        "units": _units_record(
+            units,
+            pattern=pattern_units if pattern_given else None,
+            drape=drape_units if drape_given else None,
+            ratio=ratio,
+            per_panel=per_panel,
+        ),
     }
     g = Garment(
         V3=np.ascontiguousarray(V3, dtype=np.float64),
@@ -251,19 +243,14 @@ def _load_garment(
         units=units,
     )
     check_garment(g, path=err_path)
-    check_pieces = not pattern_given or (estimated and not drape_given)
-    if not drape_given or check_pieces:
-        measured = garment_size(
-            None if drape_given else g.V3,
-            g.F3,
-            g.V2 if check_pieces else g.V2[:0],
-            g.F2 if check_pieces else g.F2[:0],
-        )
-        check_size(
-            measured.scaled(1.0 / to_units),
-            path=err_path,
-            options=_not_given(drape_given, pattern_given),
-        )
+    _check_default_units(
+        g,
+        cm_per_unit=1.0 / to_units,
+        drape_given=drape_given,
+        pattern_given=pattern_given,
+        estimated=estimated,
+        path=err_path,
+    )
     return LoadedGarment(
         garment=g,
         drape_scale=drape_scale,
@@ -272,6 +259,70 @@ def _load_garment(
         inputs=inputs,
         header=mesh.header,
         intake=record,
+    )
+
+
+def _units_record(
+    units: str,
+    *,
+    pattern: str | None,
+    drape: str | None,
+    ratio: float,
+    per_panel: np.ndarray,
+) -> dict:
+    """The intake's ``units``: the computation unit, the pattern's and the drape's file
+    units (None: not given, read as ``cm``) with where each came from, and the pattern/drape
+    length ratios (``per_panel`` (k,) float array; NaN written as None)."""
+    if pattern == "auto":
+        pattern_source = "estimate"
+    elif pattern is not None:
+        pattern_source = "command line"
+    else:
+        pattern_source = "default, size checked"
+    return {
+        "computation": units,
+        "pattern": pattern or "cm",
+        "pattern_source": pattern_source,
+        "drape": drape or "cm",
+        "drape_source": "command line" if drape is not None else "default, size checked",
+        "pattern_drape_ratio": round(ratio, 6) if np.isfinite(ratio) else None,
+        "pattern_drape_ratio_per_panel": [
+            round(float(x), 6) if np.isfinite(x) else None for x in per_panel
+        ],
+    }
+
+
+def _check_default_units(
+    g: Garment,
+    *,
+    cm_per_unit: float,
+    drape_given: bool,
+    pattern_given: bool,
+    estimated: bool,
+    path: str,
+) -> None:
+    """A garment read in units not given must be of a human size: the drape when its unit
+    was not given, the pieces when theirs was not (or ``auto`` stood on a drape unit not
+    given). ``cm_per_unit``: centimetres per unit of ``g``.
+
+    Raises
+    ------
+    UnitMismatchError
+        From :func:`ptailor.model.size.check_size`, naming the options not given.
+    """
+    check_pieces = not pattern_given or (estimated and not drape_given)
+    if drape_given and not check_pieces:
+        return
+    measured = garment_size(
+        None if drape_given else g.V3,
+        g.F3,
+        g.V2 if check_pieces else g.V2[:0],
+        g.F2 if check_pieces else g.F2[:0],
+    )
+    check_size(
+        measured.scaled(cm_per_unit),
+        path=path,
+        options=_not_given(drape_given, pattern_given),
     )
 
 

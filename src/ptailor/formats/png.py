@@ -280,20 +280,28 @@ def pattern_png(
     no Python loop over triangles, no hairline seams between triangles. Identical inputs give
     identical bytes (Pillow writes no software/time metadata; the bundled font).
     """
-    from PIL import Image, ImageDraw
-
     if int(size) < 16:
         raise ValueError(f"pattern_png: size must be at least 16 pixels, got {size}")
     if not dpi > 0:
         raise ValueError(f"pattern_png: dpi must be positive, got {dpi}")
-    if layout is None:
-        layout = preview_sheet(
-            outlines_before, outlines_after, names, triangles, errors,
-            units=units, title=title, caller="pattern_png",
-        )  # fmt: skip
-    pat, s = layout
+    pat, s = preview_sheet(
+        outlines_before, outlines_after, names, triangles, errors,
+        units=units, title=title, caller="pattern_png", layout=layout,
+    )  # fmt: skip
+    img = _picture(pat, s, size=int(size))
+    # Pillow's encoder at zlib level 1: the flat fills compress as well as at the default
+    # level, in a third of the time; Pillow writes no time or software chunk
+    img.save(os.fspath(path), format="PNG", compress_level=1, dpi=(dpi, dpi))
+    return img.size
 
-    scale = int(size) / max(s.width, s.height)  # pixels per sheet unit
+
+def _picture(pat: Pattern, s: Sheet, *, size: int):
+    """The sheet drawn ``size`` pixels on its long side (a Pillow RGB image): the fills,
+    outlines and footer on the :data:`SUPERSAMPLE` times larger palette picture, the texts
+    on its RGB copy, averaged down."""
+    from PIL import Image, ImageDraw
+
+    scale = size / max(s.width, s.height)  # pixels per sheet unit
     pw = max(1, round(s.width * scale))
     ph = max(1, round(s.height * scale))
     k = scale * SUPERSAMPLE
@@ -307,8 +315,4 @@ def pattern_png(
     _draw_footer(pen, s)
     img = img.convert("RGB")
     pen.write(ImageDraw.Draw(img))
-    img = img.reduce(SUPERSAMPLE)
-    # Pillow's encoder at zlib level 1: the flat fills compress as well as at the default
-    # level, in a third of the time; Pillow writes no time or software chunk
-    img.save(os.fspath(path), format="PNG", compress_level=1, dpi=(dpi, dpi))
-    return pw, ph
+    return img.reduce(SUPERSAMPLE)

@@ -1,5 +1,6 @@
 """The layout of a preview sheet (``pattern.svg``, ``preview.png``): where each panel, its
-name, the title, the scale bar and the legends go.
+name, the title, the scale bar and the legends go (the footer's rows:
+:mod:`ptailor.formats.footer`).
 
 Everything here is in *sheet coordinates*: pattern units (times ``Sheet.zoom``, 1 unless the
 SVG rescales), origin at the sheet's top-left corner, y down (as in SVG); a panel's pattern
@@ -14,29 +15,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ptailor.formats.preview import (
-    ERROR_COLOURS,
-    ERROR_TITLE,
-    NAN_BIN,
-    Pattern,
-    bin_colour,
-    bin_label,
-    check_inputs,
-)
-
-#: Length of the scale bar per unit: 10 cm in every physical unit (4 in for inches).
-_BAR = {"mm": 100.0, "cm": 10.0, "m": 0.1, "in": 4.0}
-#: Estimated advance of one character, in font sizes (a little wide, to be safe).
-_CHAR = 0.62
-
-
-def nice(x: float) -> float:
-    """The largest 1, 2 or 5 times a power of ten not above ``x`` (``x > 0``)."""
-    e = math.floor(math.log10(x))
-    for m in (5.0, 2.0, 1.0):
-        if m * 10.0**e <= x:
-            return m * 10.0**e
-    return 10.0**e
+from ptailor.formats.footer import LineSample, Swatch, footer_layout, text_width
+from ptailor.formats.preview import Pattern, check_inputs
 
 
 def _shelves(cell_w: np.ndarray, cell_h: np.ndarray, gap: float, target: float):
@@ -89,38 +69,6 @@ def grid_layout(cell_w: np.ndarray, cell_h: np.ndarray, gap: float, sheet_size=N
         if best is None or sheet < best[0] - 1e-9:
             best = (sheet, origin, width, height)
     return best[1], best[2], best[3]
-
-
-def text_width(s: str, size: float) -> float:
-    """Estimated advance width of ``s`` at font size ``size`` (generous)."""
-    return _CHAR * size * len(s)
-
-
-@dataclass(frozen=True)
-class Swatch:
-    """One entry of the error legend: a ``w`` x ``h`` box at ``(x, y)`` (top-left) and its
-    label, centred on ``text_xy`` (the middle of its baseline), under the box."""
-
-    bin: int
-    colour: str
-    label: str
-    x: float
-    y: float
-    w: float
-    h: float
-    text_xy: tuple[float, float]  # middle of the baseline
-
-
-@dataclass(frozen=True)
-class LineSample:
-    """One entry of the outline legend: a line ``x0 .. x1`` at height ``y`` and text."""
-
-    kind: str  # "before" or "after"
-    label: str
-    x0: float
-    x1: float
-    y: float
-    text_xy: tuple[float, float]
 
 
 @dataclass(frozen=True)
@@ -292,70 +240,10 @@ def sheet_layout(pattern: Pattern, *, units: str, title: str = "") -> Sheet:
     top = gap + (2.6 * font if title else 0.0)
     title_w = text_width(title, title_size)
 
-    def footer(grid_w: float, y: float):
+    def footer(grid_w: float, y: float) -> tuple[dict, float, float]:
         """The footer under a grid ``grid_w`` wide, from height ``y`` down."""
-        # first row: scale bar with its label, then the outline legend
-        unit_bar = _BAR.get(units)
-        bar = unit_bar if unit_bar is not None else nice(0.25 * max(grid_w, u))
-        bar_label = f"{f'{bar:.3f}'.rstrip('0').rstrip('.')} {units}".strip()
-        bx, by = gap, y + 0.6 * font
-        seg = 2.5 * font
-        x = bx + bar + 0.6 * font
-        bar_label_xy = (x, by + 0.8 * font)
-        x += text_width(bar_label, font) + 1.5 * font
-        lines = []
-        for kind, text in (("before", "original"), ("after", "adjusted")):
-            ty = by + 0.8 * font
-            lines.append(
-                LineSample(kind, text, x, x + seg, by + 0.45 * font, (x + seg + 0.4 * font, ty))
-            )
-            x += seg + 0.4 * font + text_width(text, font) + 1.5 * font
-        foot_w = x - 1.5 * font - gap
-        y += 2.6 * font
-
-        # the error legend: its title, then the bins as a row of touching boxes (an ordered
-        # scale) with each range centred under its box; the title goes on a row of its own
-        # when both do not fit the width of what is above
-        error_title_xy = None
-        swatches: list[Swatch] = []
-        if pattern.triangles is not None:
-            avail = max(grid_w, foot_w, title_w)
-            bins = list(range(len(ERROR_COLOURS)))
-            if NAN_BIN in pattern.used_bins:
-                bins.append(NAN_BIN)
-            bw = max(text_width(bin_label(b), font) for b in bins) + 0.6 * font
-            bh = 1.0 * font
-            scale_w = bw * len(bins) + (0.8 * font if NAN_BIN in bins else 0.0)
-            head_w = text_width(ERROR_TITLE, font) + 0.8 * font
-            error_title_xy = (gap, y + 0.85 * font)
-            if head_w + scale_w <= avail:
-                x = head_w
-            else:
-                x, y = 0.0, y + 1.6 * font
-            for b in bins:
-                if b == NAN_BIN:
-                    x += 0.8 * font  # set apart: not part of the scale
-                swatches.append(
-                    Swatch(
-                        b, bin_colour(b), bin_label(b), gap + x, y, bw, bh,
-                        (gap + x + 0.5 * bw, y + bh + 1.05 * font),
-                    )
-                )  # fmt: skip
-                x += bw
-            foot_w = max(foot_w, x, head_w)
-            y += bh + 1.6 * font
-        return (
-            {
-                "bar": bar,
-                "bar_label": bar_label,
-                "bar_xy": (bx, by),
-                "bar_label_xy": bar_label_xy,
-                "lines": tuple(lines),
-                "error_title_xy": error_title_xy,
-                "swatches": tuple(swatches),
-            },
-            foot_w,
-            y,
+        return footer_layout(
+            pattern, units=units, grid_w=grid_w, y=y, u=u, font=font, gap=gap, title_w=title_w
         )
 
     def sheet_size(grid_w: float, grid_h: float) -> tuple[float, float]:
@@ -402,6 +290,7 @@ def preview_sheet(
     units: str,
     title: str,
     caller: str,
+    layout: tuple[Pattern, Sheet] | None = None,
 ) -> tuple[Pattern, Sheet]:
     """The checked inputs of a preview and its sheet: :func:`check_inputs` then
     :func:`sheet_layout`, what ``pattern_svg`` and ``pattern_png`` both start with.
@@ -417,6 +306,9 @@ def preview_sheet(
         The pattern's unit and the sheet's heading.
     caller : str
         The writer's name, starting each error message.
+    layout : (Pattern, Sheet), optional
+        This very function's result for these inputs, when the caller has it already:
+        returned as it is (the inputs are not read again).
 
     Returns
     -------
@@ -430,5 +322,7 @@ def preview_sheet(
     ValueError
         As :func:`ptailor.formats.preview.check_inputs` (``caller`` starts the message).
     """
+    if layout is not None:
+        return layout
     pat = check_inputs(outlines_before, outlines_after, names, triangles, errors, caller=caller)
     return pat, sheet_layout(pat, units=units, title=title)

@@ -35,6 +35,12 @@ _CSS_UNITS = {
 }
 
 
+#: The attributes of every text.
+_TEXT = f'font-family="Helvetica, Arial, sans-serif" fill="{INK}"'
+#: A text centred on its position.
+_MIDDLE = 'text-anchor="middle"'
+
+
 def _user_units(units: str, u: float) -> tuple[str, float]:
     """The CSS unit of the document and user units per pattern unit.
 
@@ -171,18 +177,44 @@ def pattern_svg(
         reverse), a loop is not a finite ``(k, 2)`` array, a mesh is malformed or an error
         array does not match its triangles.
     """
-    if layout is None:
-        layout = preview_sheet(
-            outlines_before, outlines_after, names, triangles, errors,
-            units=units, title=title, caller="pattern_svg",
-        )  # fmt: skip
-    pat, s = layout
+    pat, s = preview_sheet(
+        outlines_before, outlines_after, names, triangles, errors,
+        units=units, title=title, caller="pattern_svg", layout=layout,
+    )  # fmt: skip
     css, zoom = _user_units(units, s.unit)
     if zoom != 1.0:
         s = s.scaled(zoom)
-    W, H, font, n = s.width, s.height, s.font, len(pat.names)
-    dash = f"{_num(s.dash[0])},{_num(s.dash[1])}"
+    out = _head(s, title=title, css=css)
+    for p in range(len(pat.names)):
+        out.extend(_panel(pat, s, p))
+    out.extend(_scale_bar(s))
+    out.extend(_legend(s))
+    if s.error_title_xy is not None:
+        out.extend(_error_legend(s))
+    out.append("</svg>")
+    return "\n".join(out) + "\n"
 
+
+def _text(xy, size: float, text: str, *, attrs: str = "") -> str:
+    """A ``<text>`` element of ``text`` (escaped) at ``xy``, the start of its baseline
+    (the middle with ``attrs=_MIDDLE``), ``size`` its font size; ``attrs`` go before the
+    font and colour."""
+    lead = f"{attrs} " if attrs else ""
+    return (
+        f'<text x="{_num(xy[0])}" y="{_num(xy[1])}" font-size="{_num(size)}" '
+        f"{lead}{_TEXT}>{escape(text)}</text>"
+    )
+
+
+def _dasharray(s: Sheet) -> str:
+    """The original outline's ``stroke-dasharray``."""
+    return f"{_num(s.dash[0])},{_num(s.dash[1])}"
+
+
+def _head(s: Sheet, *, title: str, css: str) -> list[str]:
+    """The document's opening lines: the ``<svg>`` element (``css`` the unit of its size),
+    the title, the white background and the heading."""
+    W, H = s.width, s.height
     out = [
         '<?xml version="1.0" encoding="UTF-8"?>',
         f'<svg xmlns="http://www.w3.org/2000/svg" version="1.1" '
@@ -192,67 +224,64 @@ def pattern_svg(
     if title:
         out.append(f"<title>{escape(title)}</title>")
     out.append(f'<rect x="0" y="0" width="{_num(W)}" height="{_num(H)}" fill="#ffffff"/>')
-    text_attrs = f'font-family="Helvetica, Arial, sans-serif" fill="{INK}"'
     if title:
-        tx, ty = s.title_xy
-        out.append(
-            f'<text x="{_num(tx)}" y="{_num(ty)}" font-size="{_num(s.title_size)}" '
-            f'font-weight="bold" {text_attrs}>{escape(title)}</text>'
-        )
+        out.append(_text(s.title_xy, s.title_size, title, attrs='font-weight="bold"'))
+    return out
 
-    for p in range(n):
-        out.append(f'<g id="panel-{p}" class="panel">')
-        has_tris = pat.triangles is not None and len(pat.triangles[p][1]) > 0
-        if has_tris:
-            V, F = pat.triangles[p]
-            for b, d in _triangle_paths(s.to_sheet(V, p), F, pat.bins[p], s.tri_decimals):
-                out.append(
-                    f'<path class="error" data-bin="{b}" d="{d}" fill="{bin_colour(b)}" '
-                    f'stroke="none"/>'
-                )
-        elif pat.after[p]:
-            d = " ".join(_path(s.to_sheet(L, p)) for L in pat.after[p])
+
+def _panel(pat: Pattern, s: Sheet, p: int) -> list[str]:
+    """Panel ``p``'s ``<g>``: its triangles by error bin (or the light fill), the original
+    outline dashed, the adjusted one solid, its name."""
+    out = [f'<g id="panel-{p}" class="panel">']
+    has_tris = pat.triangles is not None and len(pat.triangles[p][1]) > 0
+    if has_tris:
+        V, F = pat.triangles[p]
+        for b, d in _triangle_paths(s.to_sheet(V, p), F, pat.bins[p], s.tri_decimals):
             out.append(
-                f'<path class="fill" d="{d}" fill="{FILL}" fill-rule="evenodd" stroke="none"/>'
+                f'<path class="error" data-bin="{b}" d="{d}" fill="{bin_colour(b)}" stroke="none"/>'
             )
-        out.extend(
-            f'<path class="before" d="{_path(s.to_sheet(L, p))}" fill="none" '
-            f'stroke="{BEFORE}" stroke-width="{_num(s.stroke_before)}" '
-            f'stroke-dasharray="{dash}" stroke-linejoin="round"/>'
-            for L in pat.before[p]
-        )
-        out.extend(
-            f'<path class="after" d="{_path(s.to_sheet(L, p))}" fill="none" '
-            f'stroke="{AFTER}" stroke-width="{_num(s.stroke_after)}" stroke-linejoin="round"/>'
-            for L in pat.after[p]
-        )
-        tx, ty = s.labels[p]
-        out.append(
-            f'<text x="{_num(tx)}" y="{_num(ty)}" font-size="{_num(font)}" '
-            f'text-anchor="middle" {text_attrs}>{escape(pat.names[p])}</text>'
-        )
-        out.append("</g>")
+    elif pat.after[p]:
+        d = " ".join(_path(s.to_sheet(L, p)) for L in pat.after[p])
+        out.append(f'<path class="fill" d="{d}" fill="{FILL}" fill-rule="evenodd" stroke="none"/>')
+    dash = _dasharray(s)
+    out.extend(
+        f'<path class="before" d="{_path(s.to_sheet(L, p))}" fill="none" '
+        f'stroke="{BEFORE}" stroke-width="{_num(s.stroke_before)}" '
+        f'stroke-dasharray="{dash}" stroke-linejoin="round"/>'
+        for L in pat.before[p]
+    )
+    out.extend(
+        f'<path class="after" d="{_path(s.to_sheet(L, p))}" fill="none" '
+        f'stroke="{AFTER}" stroke-width="{_num(s.stroke_after)}" stroke-linejoin="round"/>'
+        for L in pat.after[p]
+    )
+    out.append(_text(s.labels[p], s.font, pat.names[p], attrs=_MIDDLE))
+    out.append("</g>")
+    return out
 
-    # scale bar: a bar with a tick every tenth (longer every fifth), labelled
+
+def _scale_bar(s: Sheet) -> list[str]:
+    """The scale bar's ``<g>``: a bar with a tick every tenth (longer every fifth),
+    labelled."""
     bx, by = s.bar_xy
     ticks = bx + s.bar * np.arange(11) / 10.0
     tick_d = " ".join(
         f"M{_num(t)},{_num(by)} L{_num(t)},{_num(by + s.bar_tick * (1.0 if k % 5 == 0 else 0.5))}"
         for k, t in enumerate(ticks)
     )
-    out.append('<g id="scale-bar">')
-    out.append(
+    return [
+        '<g id="scale-bar">',
         f'<path d="M{_num(bx)},{_num(by)} L{_num(bx + s.bar)},{_num(by)} {tick_d}" fill="none" '
-        f'stroke="{INK}" stroke-width="{_num(s.stroke_after)}"/>'
-    )
-    out.append(
-        f'<text x="{_num(s.bar_label_xy[0])}" y="{_num(s.bar_label_xy[1])}" '
-        f'font-size="{_num(font)}" {text_attrs}>{escape(s.bar_label)}</text>'
-    )
-    out.append("</g>")
+        f'stroke="{INK}" stroke-width="{_num(s.stroke_after)}"/>',
+        _text(s.bar_label_xy, s.font, s.bar_label),
+        "</g>",
+    ]
 
-    # legend: dashed = original, solid = adjusted
-    out.append('<g id="legend">')
+
+def _legend(s: Sheet) -> list[str]:
+    """The outline legend's ``<g>``: dashed = original, solid = adjusted."""
+    dash = _dasharray(s)
+    out = ['<g id="legend">']
     for ls in s.lines:
         style = (
             f'stroke="{BEFORE}" stroke-width="{_num(s.stroke_before)}" stroke-dasharray="{dash}"'
@@ -263,29 +292,23 @@ def pattern_svg(
             f'<path class="{ls.kind}" d="M{_num(ls.x0)},{_num(ls.y)} L{_num(ls.x1)},{_num(ls.y)}" '
             f'fill="none" {style}/>'
         )
-        out.append(
-            f'<text x="{_num(ls.text_xy[0])}" y="{_num(ls.text_xy[1])}" '
-            f'font-size="{_num(font)}" {text_attrs}>{escape(ls.label)}</text>'
-        )
+        out.append(_text(ls.text_xy, s.font, ls.label))
     out.append("</g>")
+    return out
 
-    if s.error_title_xy is not None:
-        out.append('<g id="error-legend">')
+
+def _error_legend(s: Sheet) -> list[str]:
+    """The error legend's ``<g>``: its title and one labelled swatch per bin."""
+    out = [
+        '<g id="error-legend">',
+        _text(s.error_title_xy, s.font, ERROR_TITLE),
+    ]
+    for sw in s.swatches:
         out.append(
-            f'<text x="{_num(s.error_title_xy[0])}" y="{_num(s.error_title_xy[1])}" '
-            f'font-size="{_num(font)}" {text_attrs}>{escape(ERROR_TITLE)}</text>'
+            f'<rect class="swatch" data-bin="{sw.bin}" x="{_num(sw.x)}" y="{_num(sw.y)}" '
+            f'width="{_num(sw.w)}" height="{_num(sw.h)}" fill="{sw.colour}" '
+            f'stroke="{FRAME}" stroke-width="{_num(s.stroke_before)}"/>'
         )
-        for sw in s.swatches:
-            out.append(
-                f'<rect class="swatch" data-bin="{sw.bin}" x="{_num(sw.x)}" y="{_num(sw.y)}" '
-                f'width="{_num(sw.w)}" height="{_num(sw.h)}" fill="{sw.colour}" '
-                f'stroke="{FRAME}" stroke-width="{_num(s.stroke_before)}"/>'
-            )
-            out.append(
-                f'<text x="{_num(sw.text_xy[0])}" y="{_num(sw.text_xy[1])}" '
-                f'font-size="{_num(font)}" text-anchor="middle" {text_attrs}>'
-                f"{escape(sw.label)}</text>"
-            )
-        out.append("</g>")
-    out.append("</svg>")
-    return "\n".join(out) + "\n"
+        out.append(_text(sw.text_xy, s.font, sw.label, attrs=_MIDDLE))
+    out.append("</g>")
+    return out

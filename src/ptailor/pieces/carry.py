@@ -105,28 +105,21 @@ def carry_piece(
     keep_d = reach + tol.MARK_KEEP_REL * diag
     groups = _mark_groups(piece, unchanged=unchanged)
     # every point located at once (one search structure per piece), then split by group
-    X = np.vstack([np.asarray(g, dtype=np.float64).reshape(-1, 2) for g in groups])
-    loc = locate_points(V2, F2, match.to_panel(X), faces=faces)
+    X = match.to_panel(np.vstack([np.asarray(g, dtype=np.float64).reshape(-1, 2) for g in groups]))
+    loc = locate_points(V2, F2, X, faces=faces)
     moved = match.to_piece(carry_points(V2_new, F2, loc)) if len(X) else np.zeros((0, 2))
-    if unchanged:
-        kept = np.ones(len(X), dtype=bool)
-    elif original is not None:
-        d_orig = locate_points(original[0], original[1], match.to_panel(X), faces=original[2])
-        kept = loc.distance <= d_orig.distance + tol.MARK_KEEP_REL * diag
-    else:
-        kept = loc.distance <= keep_d
+    kept = _kept_points(
+        X, loc.distance, unchanged=unchanged, original=original, keep_d=keep_d, diag=diag
+    )
     cuts = np.cumsum([len(g) for g in groups])[:-1]
     moved_g, kept_g = np.split(moved, cuts), np.split(kept, cuts)
-
     outline, turn, sew, how = _new_outline(
         piece, match, moved_g, F2=F2, faces=faces, V2_new=V2_new, unchanged=unchanged
     )
-    notches, keep_n = moved_g[2], kept_g[2]
-    if not unchanged:
-        keep_n = keep_n & _on_outline(notches, outline, diag=diag, keep_d=keep_d)
-    drills, keep_d_ = moved_g[3], kept_g[3]
-    dropped = int((~keep_n).sum() + (~keep_d_).sum())
-    mirror = None
+    keep_n = kept_g[2]
+    if not unchanged:  # on the mesh's outline, before a fold piece is halved
+        keep_n = keep_n & _on_outline(moved_g[2], outline, diag=diag, keep_d=keep_d)
+    mirror, dropped = None, 0
     if piece.mirror is not None:
         if kept_g[5].all() or match.fold:  # a fold line is a line: its ends extend
             mirror = moved_g[5]
@@ -134,16 +127,98 @@ def carry_piece(
             dropped += 2
     if match.fold and not unchanged and mirror is not None:
         outline, turn, mirror = _fold_half(piece, outline, turn, mirror, diag=diag)
+    new, lost = _with_carried_marks(
+        piece, moved_g, kept_g,
+        keep_n=keep_n, outline=outline, turn=turn, sew=sew, mirror=mirror,
+        Rq=_piece_rotation(match, V2=V2, F2=F2, faces=faces, V2_new=V2_new),
+    )  # fmt: skip
+    # a grain line is never lost (drawn again)
+    marks_kept = np.concatenate([*kept_g[2:4], np.ones(len(kept_g[4]), dtype=bool), *kept_g[5:]])
+    return CarriedPiece(piece=new, outline_from=how, dropped=dropped + lost, kept=marks_kept)
+
+
+def _kept_points(
+    X: np.ndarray,
+    distance: np.ndarray,
+    *,
+    unchanged: bool,
+    original: tuple[np.ndarray, np.ndarray, np.ndarray] | None,
+    keep_d: float,
+    diag: float,
+) -> np.ndarray:
+    """Which located mark points are kept, as :func:`carry_piece` says.
+
+    Parameters
+    ----------
+    X : (q, 2) float array
+        The points, in panel coordinates.
+    distance : (q,) float array
+        How far each lies from the remaining triangles (:func:`locate_points`).
+    unchanged : bool
+        The panel kept all its triangles: every point is kept.
+    original : (V2_0, F2_0, faces_0) or None
+        The input pattern and the panel's triangles in it: a point is kept when it lies no
+        further from the remaining triangles than from these (plus ``MARK_KEEP_REL`` of
+        ``diag``); without, when within ``keep_d``.
+
+    Returns
+    -------
+    (q,) bool array
+    """
+    if unchanged:
+        return np.ones(len(X), dtype=bool)
+    if original is not None:
+        d_orig = locate_points(original[0], original[1], X, faces=original[2])
+        return distance <= d_orig.distance + tol.MARK_KEEP_REL * diag
+    return distance <= keep_d
+
+
+def _piece_rotation(
+    match: PieceMatch, *, V2: np.ndarray, F2: np.ndarray, faces: np.ndarray, V2_new: np.ndarray
+) -> np.ndarray:
+    """The panel's best-fit rotation from ``V2`` to ``V2_new``, seen in piece coordinates
+    (``(2, 2)``): notch directions and the grain turn with it."""
+    vs = np.zeros(len(V2), dtype=bool)  # the panel's vertices, ascending (np.unique's, no sort)
+    vs[F2[faces].ravel()] = True
+    return match.R.T @ _panel_rotation(V2[vs], V2_new[vs]) @ match.R
+
+
+def _with_carried_marks(
+    piece: Piece,
+    moved_g: list[np.ndarray],
+    kept_g: list[np.ndarray],
+    *,
+    keep_n: np.ndarray,
+    outline: np.ndarray,
+    turn: np.ndarray,
+    sew: np.ndarray | None,
+    mirror: np.ndarray | None,
+    Rq: np.ndarray,
+) -> tuple[Piece, int]:
+    """The adjusted piece: its new outline, turn points, sew and fold lines, and the marks
+    kept of the carried ones (:func:`_carried_points`).
+
+    Parameters
+    ----------
+    keep_n : (k,) bool array
+        The notches kept (``kept_g[2]``, less those off a changed panel's outline).
+    Rq : (2, 2) float array
+        :func:`_piece_rotation`: notch angles and the grain turn with it.
+
+    Returns
+    -------
+    Piece
+    int
+        The notches, drill holes and internal-line points dropped.
+    """
+    notches = moved_g[2]
+    drills, keep_d_ = moved_g[3], kept_g[3]
+    dropped = int((~keep_n).sum() + (~keep_d_).sum())
     internal = []
     for L, keep in zip(moved_g[6:], kept_g[6:], strict=True):  # a piece's internal lines
         dropped += int((~keep).sum())
         if keep.sum() >= 2:
             internal.append(L[keep])
-    # the panel's rotation, seen in piece coordinates: notch directions and the grain turn
-    # with it
-    vs = np.zeros(len(V2), dtype=bool)  # the panel's vertices, ascending (np.unique's, no sort)
-    vs[F2[faces].ravel()] = True
-    Rq = match.R.T @ _panel_rotation(V2[vs], V2_new[vs]) @ match.R
     turn_deg = float(np.degrees(np.arctan2(Rq[1, 0], Rq[0, 0])))
     angles = piece.notch_angles if len(piece.notch_angles) == len(keep_n) else np.zeros(len(keep_n))
     new = replace(
@@ -159,11 +234,7 @@ def carry_piece(
         sew=sew,
         mirror=mirror,
     )
-    n_fixed = sum(len(g) for g in groups[:2])
-    marks_kept = kept.copy()
-    g0 = int(cuts[3]) if len(cuts) > 3 else len(kept)
-    marks_kept[g0 : g0 + len(groups[4])] = True  # a grain line is never lost (drawn again)
-    return CarriedPiece(piece=new, outline_from=how, dropped=dropped, kept=marks_kept[n_fixed:])
+    return new, dropped
 
 
 def _mark_groups(piece: Piece, *, unchanged: bool) -> list[np.ndarray]:

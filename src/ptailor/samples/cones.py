@@ -69,20 +69,7 @@ def cone_skirt(
     drop = np.sqrt(length * length - d * d)
     V3 = grid.rings(radii, drop * t, -0.5 * np.pi + 2.0 * np.pi * np.arange(n) / n)
 
-    # development about the apex; written with sinc-type factors so the equal-radii
-    # (cylinder) limit needs no special case and stays accurate near it
-    sin_half = np.sin(np.pi / n)
-    sigma = sin_half * d / length  # sin(alpha / 2), alpha = angle between columns
-    alpha = 2.0 * np.arcsin(sigma)
-    asinc = np.arcsin(sigma) / sigma if sigma != 0.0 else 1.0
-    arc = (2.0 * radii * sin_half * asinc)[:, None]  # (na + 1, 1): angle / curvature
-    s = (length * t)[:, None]  # slant distance from the hem
-    k = (np.arange(h + 1) - 0.5 * h)[None, :]  # column, centred
-    theta = k * alpha
-    x = k * arc * np.sinc(theta / np.pi)
-    y = s + k * arc * np.sin(0.5 * theta) * np.sinc(0.5 * theta / np.pi)
-    panel2 = np.stack([x, y], axis=-1).reshape(-1, 2)
-    panel2 = panel2 - panel2.min(axis=0)
+    panel2 = _half_development(radii, t, d=d, length=length, n=n)
     width = panel2[:, 0].max()
     V2_front = panel2
     V2_back = panel2 + np.array([width + grid.PANEL_GAP, 0.0])
@@ -94,6 +81,46 @@ def cone_skirt(
     back3 = rows * n + (cols + h) % n
     grids = [(front3, local2), (back3, local2 + len(V2_front))]
     return grid.assemble_grids(V3, grids, [V2_front, V2_back], ("front", "back"))
+
+
+def _half_development(
+    radii: np.ndarray, t: np.ndarray, *, d: float, length: float, n: int
+) -> np.ndarray:
+    """The exact development of half a frustum of a regular ``n``-gon pyramid.
+
+    Parameters
+    ----------
+    radii : (R,) float array
+        The rings' radii, ring 0 the hem.
+    t : (R,) float array
+        Each ring's share of the slant ``length`` from the hem (0 to 1).
+    d : float
+        Hem radius less waist radius.
+    length : float
+        Slant length from waist to hem.
+    n : int
+        Columns around the whole frustum (``n / 2 + 1`` vertices a ring in the half).
+
+    Returns
+    -------
+    (R (n / 2 + 1), 2) float array
+        Row-major (ring by ring), its bounding box starting at the origin.
+    """
+    h = n // 2
+    # development about the apex; written with sinc-type factors so the equal-radii
+    # (cylinder) limit needs no special case and stays accurate near it
+    sin_half = np.sin(np.pi / n)
+    sigma = sin_half * d / length  # sin(alpha / 2), alpha = angle between columns
+    alpha = 2.0 * np.arcsin(sigma)
+    asinc = np.arcsin(sigma) / sigma if sigma != 0.0 else 1.0
+    arc = (2.0 * radii * sin_half * asinc)[:, None]  # (R, 1): angle / curvature
+    s = (length * t)[:, None]  # slant distance from the hem
+    k = (np.arange(h + 1) - 0.5 * h)[None, :]  # column, centred
+    theta = k * alpha
+    x = k * arc * np.sinc(theta / np.pi)
+    y = s + k * arc * np.sin(0.5 * theta) * np.sinc(0.5 * theta / np.pi)
+    panel2 = np.stack([x, y], axis=-1).reshape(-1, 2)
+    return panel2 - panel2.min(axis=0)
 
 
 def bodice(

@@ -58,20 +58,98 @@ def flat_tee(
     nx_b, ny = round(width / (2 * cell)), round(length / cell)
     nx_s, ny_s, nn = round(sleeve / cell), round(sleeve_width / cell), round(neck / (2 * cell))
     nx = nx_b + nx_s  # half-width in cells
-    # cells (i, j): i in [-nx, nx), j in [0, ny); in the body or in a sleeve
+    ci, cj = _t_cells(nx=nx, nx_b=nx_b, ny=ny, ny_s=ny_s)
+    side = np.where(ci >= 0, 0, 1)  # 0: the wearer's left (+x)
+    limb = ~((ci >= -nx_b) & (ci < nx_b))
+    corners = _cell_corners(ci, cj, nx=nx, ny=ny)
+    seam_v = _seam_vertices(corners, nx=nx, ny=ny, nn=nn)
+    n_grid = len(seam_v)
+    gi, gj = np.arange(n_grid) // (ny + 1) - nx, np.arange(n_grid) % (ny + 1)
+    X, Y = gi * cell, gj * cell
+    V3, layer_v = _pillow_drape(X, Y, seam_v, depth=depth, cell=cell)
+    # triangles: front counter-clockwise seen from the front, back reversed
+    quads = np.concatenate([corners[:, [0, 1, 2]], corners[:, [0, 2, 3]]])
+    cell_of = np.concatenate([np.arange(len(ci))] * 2)
+    F_front = layer_v[0][quads]
+    F_back = layer_v[1][quads][:, ::-1]
+    F3 = np.concatenate([F_front, F_back])
+    layer = np.repeat([0, 1], len(quads))
+    cells = np.concatenate([cell_of, cell_of])
+    is_limb = limb[cells] & (sleeves != "none")
+    piece = _face_pieces(layer, side[cells], is_limb, one_piece=sleeves == "one")
+    corner_grid = np.concatenate([quads, quads[:, ::-1]])
+    V2, F2 = _flat_pattern(
+        corner_grid,
+        piece,
+        layer,
+        (gj == ny)[corner_grid] & is_limb[:, None],
+        one_piece=sleeves == "one",
+        X=X,
+        Y=Y,
+        length=length,
+        span=2.0 * (nx + 2) * cell,  # the pieces side by side
+    )
+    used, F3 = np.unique(F3, return_inverse=True)  # the drape's vertices the triangles use
+    V3, F3 = V3[used], F3.reshape(-1, 3)
+    return Garment(
+        V3=V3,
+        F3=F3.astype(np.int64),
+        V2=V2,
+        F2=F2.astype(np.int64),
+        face_group=np.full(len(F3), -1, dtype=np.int64),
+        group_names=(),
+    )
+
+
+def _t_cells(*, nx: int, nx_b: int, ny: int, ny_s: int) -> tuple[np.ndarray, np.ndarray]:
+    """The grid cells of the T: ``(i, j)`` with ``i`` in ``[-nx, nx)``, ``j`` in
+    ``[0, ny)``, in the body (``-nx_b <= i < nx_b``) or in a sleeve (the top ``ny_s`` rows).
+
+    Returns
+    -------
+    ci, cj : (c,) int arrays
+    """
     ci, cj = np.meshgrid(np.arange(-nx, nx), np.arange(ny), indexing="ij")
     ci, cj = ci.ravel(), cj.ravel()
     in_body = (ci >= -nx_b) & (ci < nx_b)
     keep = in_body | (cj >= ny - ny_s)
-    ci, cj = ci[keep], cj[keep]
-    n_cells = len(ci)
-    side = np.where(ci >= 0, 0, 1)  # 0: the wearer's left (+x)
-    limb = ~((ci >= -nx_b) & (ci < nx_b))
+    return ci[keep], cj[keep]
+
+
+def _cell_corners(ci: np.ndarray, cj: np.ndarray, *, nx: int, ny: int) -> np.ndarray:
+    """The grid vertex ids of each cell's corners, counter-clockwise from the lower left.
+
+    Parameters
+    ----------
+    ci, cj : (c,) int arrays
+        The cells (:func:`_t_cells`); grid vertex ``(i, j)`` is ``(i + nx) (ny + 1) + j``.
+
+    Returns
+    -------
+    (c, 4) int array
+    """
 
     def vid(i: np.ndarray, j: np.ndarray) -> np.ndarray:  # grid vertex ids
         return (i + nx) * (ny + 1) + j
 
-    corners = np.stack([vid(ci, cj), vid(ci + 1, cj), vid(ci + 1, cj + 1), vid(ci, cj + 1)], 1)
+    return np.stack([vid(ci, cj), vid(ci + 1, cj), vid(ci + 1, cj + 1), vid(ci, cj + 1)], 1)
+
+
+def _seam_vertices(corners: np.ndarray, *, nx: int, ny: int, nn: int) -> np.ndarray:
+    """Which grid vertices are sewn: on the T's boundary but not on an opening (the hem,
+    the cuffs, the neckline ``nn`` cells either side of the centre).
+
+    Parameters
+    ----------
+    corners : (c, 4) int array
+        :func:`_cell_corners`.
+    nx, ny, nn : int
+        Half-width and height of the grid, half-width of the neckline, in cells.
+
+    Returns
+    -------
+    ((2 nx + 1) (ny + 1),) bool array
+    """
     # boundary edges of the T and which of them are openings
     e = np.concatenate(
         [corners[:, [0, 1]], corners[:, [1, 2]], corners[:, [2, 3]], corners[:, [3, 0]]]
@@ -86,13 +164,35 @@ def flat_tee(
     neckline = (gy == ny).all(1) & (np.abs(gx) <= nn).all(1)
     seam_v = np.zeros((2 * nx + 1) * (ny + 1), dtype=bool)
     seam_v[bnd[~(hem | cuff | neckline)].ravel()] = True
+    return seam_v
+
+
+def _pillow_drape(
+    X: np.ndarray, Y: np.ndarray, seam_v: np.ndarray, *, depth: float, cell: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """The drape of the two layers, each bulging ``depth`` off the seams (a pillow).
+
+    Parameters
+    ----------
+    X, Y : (g,) float arrays
+        The grid vertices' positions.
+    seam_v : (g,) bool array
+        :func:`_seam_vertices`.
+    depth, cell : float
+
+    Returns
+    -------
+    V3 : (2 g, 3) float array
+        The front layer's grid vertices (z >= 0), then the back's.
+    layer_v : (2, g) int array
+        Each layer's drape vertex of a grid vertex: the seam ones shared by the layers (the
+        front's).
+    """
     # drape vertices: one per (layer, grid vertex), the seam ones shared by the layers
     n_grid = len(seam_v)
     layer_v = np.stack(
         [np.arange(n_grid), np.where(seam_v, np.arange(n_grid), n_grid + np.arange(n_grid))]
     )
-    gi, gj = np.arange(n_grid) // (ny + 1) - nx, np.arange(n_grid) % (ny + 1)
-    X, Y = gi * cell, gj * cell
     # the bulge: smooth in the distance to the nearest seam vertex (a pillow)
     sx, sy = X[seam_v], Y[seam_v]
     d = np.sqrt(((X[:, None] - sx[None]) ** 2 + (Y[:, None] - sy[None]) ** 2).min(axis=1))
@@ -100,44 +200,76 @@ def flat_tee(
     V3 = np.zeros((2 * n_grid, 3))
     V3[:n_grid] = np.stack([X, Y, z], 1)
     V3[n_grid:] = np.stack([X, Y, -z], 1)
-    # triangles: front counter-clockwise seen from the front, back reversed
-    quads = np.concatenate([corners[:, [0, 1, 2]], corners[:, [0, 2, 3]]])
-    cell_of = np.concatenate([np.arange(n_cells)] * 2)
-    F_front = layer_v[0][quads]
-    F_back = layer_v[1][quads][:, ::-1]
-    F3 = np.concatenate([F_front, F_back])
-    layer = np.repeat([0, 1], len(quads))
-    cells = np.concatenate([cell_of, cell_of])
-    # pieces: body front/back, sleeve pieces by side and layer
-    is_limb = limb[cells] & (sleeves != "none")
-    piece = np.where(~is_limb, layer, 2 + 2 * side[cells] + layer)
-    if sleeves == "one":
-        piece = np.where(is_limb, 2 + 2 * side[cells], piece)
+    return V3, layer_v
+
+
+def _face_pieces(
+    layer: np.ndarray, side: np.ndarray, is_limb: np.ndarray, *, one_piece: bool
+) -> np.ndarray:
+    """Each triangle's piece: 0 the front, 1 the back, ``2 + 2 side + layer`` a sleeve's
+    half (``2 + 2 side`` for a one-piece sleeve), as in :data:`_PIECES`.
+
+    Parameters
+    ----------
+    layer, side : (f,) int arrays
+        0 the front layer / the wearer's left, 1 the back / the right.
+    is_limb : (f,) bool array
+        The triangle is cut as a sleeve.
+    """
+    piece = np.where(~is_limb, layer, 2 + 2 * side + layer)
+    if one_piece:
+        piece = np.where(is_limb, 2 + 2 * side, piece)
+    return piece
+
+
+def _flat_pattern(
+    corner_grid: np.ndarray,
+    piece: np.ndarray,
+    layer: np.ndarray,
+    arm_top: np.ndarray,
+    *,
+    one_piece: bool,
+    X: np.ndarray,
+    Y: np.ndarray,
+    length: float,
+    span: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The pattern: one vertex per (piece, layer, grid vertex), the pieces ``span`` apart.
+
+    Parameters
+    ----------
+    corner_grid : (f, 3) int array
+        Each triangle's grid vertices, counter-clockwise in the pattern.
+    piece, layer : (f,) int arrays
+        :func:`_face_pieces` and the layer (0 front, 1 back).
+    arm_top : (f, 3) bool array
+        The corner lies on the top of a sleeve.
+    one_piece : bool
+        The sleeves are one piece each, folded over the top of the arm.
+    X, Y : (g,) float arrays
+        The grid vertices' positions.
+    length : float
+        The tee's length (a one-piece sleeve's back half goes above it, mirrored).
+    span : float
+
+    Returns
+    -------
+    V2 : (v, 2) float array
+    F2 : (f, 3) int array
+    """
     # pattern vertices: one per (piece, layer, grid vertex); a one-piece sleeve's two layers
     # share the top of the arm (the fold)
-    corner_grid = np.concatenate([quads, quads[:, ::-1]])
-    top = (gj == ny)[corner_grid] & is_limb[:, None]
-    lay_key = np.where(top & (sleeves == "one"), 0, layer[:, None])
+    n_grid = len(X)
+    lay_key = np.where(arm_top & one_piece, 0, layer[:, None])
     key = (piece[:, None] * 2 + lay_key) * n_grid + corner_grid
     uk, inv = np.unique(key.ravel(), return_inverse=True)
     F2 = inv.reshape(-1, 3)
     k_piece, k_layer, k_grid = uk // (2 * n_grid), (uk // n_grid) % 2, uk % n_grid
     px, py = X[k_grid], Y[k_grid]
-    folded = (k_layer == 1) & (k_piece >= 2) & (sleeves == "one")
+    folded = (k_layer == 1) & (k_piece >= 2) & one_piece
     U = np.where(k_layer == 1, -px, px)  # the back seen from behind: counter-clockwise
     U = np.where(folded, px, U)
     Vv = np.where(folded, 2.0 * length - py, py)  # a one-piece sleeve's back half above
     # lay the pieces side by side
-    span = 2.0 * (nx + 2) * cell
     U = U + span * k_piece
-    V2 = np.stack([U, Vv], 1)
-    used, F3 = np.unique(F3, return_inverse=True)  # the drape's vertices the triangles use
-    V3, F3 = V3[used], F3.reshape(-1, 3)
-    return Garment(
-        V3=V3,
-        F3=F3.astype(np.int64),
-        V2=V2,
-        F2=F2.astype(np.int64),
-        face_group=np.full(len(F3), -1, dtype=np.int64),
-        group_names=(),
-    )
+    return np.stack([U, Vv], 1), F2

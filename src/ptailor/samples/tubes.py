@@ -81,6 +81,34 @@ def lantern_sleeve(
     )
     V3 = np.roll(grid.prism(circumference, heights, n), grid.AXES[axis], axis=1)
 
+    V2_sleeve, V2_cuff = _lantern_pattern(
+        circumference, sleeve_length, cuff_height, cuff_ratio, n=n, ns=ns, nc=nc
+    )
+    s3, s2 = grid.tube_indices(nc, ns, n, 0)
+    c3, c2 = grid.tube_indices(0, nc, n, len(V2_sleeve))
+    grids = [(s3, s2), (c3, c2)]
+    return grid.assemble_grids(V3, grids, [V2_sleeve, V2_cuff], ("sleeve", "cuff"))
+
+
+def _lantern_pattern(
+    circumference: float,
+    sleeve_length: float,
+    cuff_height: float,
+    cuff_ratio: float,
+    *,
+    n: int,
+    ns: int,
+    nc: int,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The lantern sleeve's two pattern panels: the cuff (``circumference / cuff_ratio``
+    wide) at the origin, the sleeve :data:`PANEL_GAP` to its right.
+
+    Returns
+    -------
+    V2_sleeve : ((n + 1) (ns + 1), 2) float array
+    V2_cuff : ((n + 1) (nc + 1), 2) float array
+        Row-major grids, ``n`` columns around, ``ns`` and ``nc`` rows up.
+    """
     # pattern: sleeve vertices first, then cuff
     cols = np.arange(n + 1) / n
     cuff_width = circumference / cuff_ratio
@@ -88,10 +116,7 @@ def lantern_sleeve(
     V2_sleeve = grid.points_2d(
         cuff_width + grid.PANEL_GAP + circumference * cols, sleeve_length * np.arange(ns + 1) / ns
     )
-    s3, s2 = grid.tube_indices(nc, ns, n, 0)
-    c3, c2 = grid.tube_indices(0, nc, n, len(V2_sleeve))
-    grids = [(s3, s2), (c3, c2)]
-    return grid.assemble_grids(V3, grids, [V2_sleeve, V2_cuff], ("sleeve", "cuff"))
+    return V2_sleeve, V2_cuff
 
 
 def cylinder(

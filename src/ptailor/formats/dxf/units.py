@@ -129,47 +129,80 @@ def reconcile_units(
     note : str
         Where the ``vt`` unit came from.
     """
-    from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
+    from ptailor.geometry.triangles import triangle_areas
 
     a3 = float(triangle_areas(np.asarray(v, dtype=float) * drape_cm, fv).sum())  # cm^2
+    if not fixed:
+        pattern = _dxf_unit_from_drape(pattern, drape_area=a3)
+    vt_unit, note = _vt_unit(pattern, vt=vt, fvt=fvt, header=header, drape_area=a3)
+    return pattern, vt_unit, note
+
+
+def _dxf_unit_from_drape(pattern: PatternFile, *, drape_area: float) -> PatternFile:
+    """The DXF's unit judged from the drape's area, when the file leaves it open.
+
+    Only a ``METRIC`` file (mm or cm) or one naming no unit (mm, cm or in) whose header did
+    not give ``$INSUNITS``: the unit that makes its pieces (times their quantity, twice for a
+    fold piece) ``drape_area`` square centimetres. Any other file comes back as it is.
+    """
     word = pattern.units_text.strip().upper()
     said = "$INSUNITS" in pattern.units_note  # the header named the unit
     choices = ("mm", "cm") if word == "METRIC" else ("mm", "cm", "in") if not word else ()
-    if not fixed and not said and choices:
-        ap = sum(
-            p.area * max(int(p.quantity), 1) * (2.0 if p.mirror is not None else 1.0)
-            for p in pattern.pieces
-        )
-        ratio = float(np.sqrt(ap / a3)) if ap > 0 and a3 > 0 else 10.0  # file units per cm
-        unit = min(choices, key=lambda u: abs(np.log(ratio * CM_PER_UNIT[u])))
-        src = "'Units: METRIC' in the file" if word else "no units in the file"
-        note = (
-            f"{src}; {unit} judged from the drape (the pieces are {ratio:.3g} file units "
-            "per cm of drape)"
-        )
-        kept = tuple(w for w in pattern.warnings if not w.startswith("the largest piece is"))
-        pattern = replace(pattern, units=unit, units_note=note, warnings=kept)
+    if said or not choices:
+        return pattern
+    a3 = drape_area
+    ap = sum(
+        p.area * max(int(p.quantity), 1) * (2.0 if p.mirror is not None else 1.0)
+        for p in pattern.pieces
+    )
+    ratio = float(np.sqrt(ap / a3)) if ap > 0 and a3 > 0 else 10.0  # file units per cm
+    unit = min(choices, key=lambda u: abs(np.log(ratio * CM_PER_UNIT[u])))
+    src = "'Units: METRIC' in the file" if word else "no units in the file"
+    note = (
+        f"{src}; {unit} judged from the drape (the pieces are {ratio:.3g} file units "
+        "per cm of drape)"
+    )
+    kept = tuple(w for w in pattern.warnings if not w.startswith("the largest piece is"))
+    return replace(pattern, units=unit, units_note=note, warnings=kept)
+
+
+def _vt_unit(
+    pattern: PatternFile,
+    *,
+    vt: np.ndarray,
+    fvt: np.ndarray,
+    header: tuple[str, ...],
+    drape_area: float,
+) -> tuple[str, str]:
+    """The unit of the drape's ``vt`` and where it came from.
+
+    A ptailor header (``vt: 1 cm per unit``) says it; else the ``vt``'s area against
+    ``drape_area`` (cm^2) picks the DXF's unit when within ``VT_UNIT_SLACK``, else the
+    nearest of mm, cm, m and in, else the DXF's unit all the same.
+    """
+    from ptailor.geometry.triangles import signed_areas_2d
+
     for line in header:  # ptailor's own garment.obj says its vt unit
         m = _VT_HEADER.search(line)
         if m:
             return (
-                pattern,
                 f"{m.group(1)}{m.group(2)}",
                 f"vt: {m.group(1)} {m.group(2)} per unit (the drape's header)",
             )
+    a3 = drape_area
     a2 = float(np.abs(signed_areas_2d(np.asarray(vt, dtype=float), fvt)).sum())
     if not (a2 > 0 and a3 > 0 and np.isfinite(a2) and np.isfinite(a3)):
-        return pattern, pattern.units, f"vt in the DXF's unit ({pattern.units})"
+        return pattern.units, f"vt in the DXF's unit ({pattern.units})"
     cm_per_vt = float(np.sqrt(a3 / a2))
     off = {u: abs(np.log(cm_per_vt / CM_PER_UNIT_ALL[u])) for u in CM_PER_UNIT_ALL}
     slack = np.log(VT_UNIT_SLACK)
     why = f"judged from the drape: {cm_per_vt:.4g} cm of drape per vt unit"
     if off.get(pattern.units, np.inf) <= slack:
-        return pattern, pattern.units, f"vt in {pattern.units}, the DXF's unit ({why})"
+        return pattern.units, f"vt in {pattern.units}, the DXF's unit ({why})"
     best = min(off, key=lambda u: off[u])
     if off[best] <= slack:
-        return pattern, best, f"vt in {best}, unlike the DXF ({pattern.units}) ({why})"
-    return pattern, pattern.units, f"vt taken in the DXF's unit ({pattern.units}); {why}"
+        return best, f"vt in {best}, unlike the DXF ({pattern.units}) ({why})"
+    return pattern.units, f"vt taken in the DXF's unit ({pattern.units}); {why}"
 
 
 #: centimetres per unit, for the ``vt`` of a drape (metres too)
