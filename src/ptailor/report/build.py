@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -150,7 +151,7 @@ def build_report(
     units_note: dict,
     warnings: list[str],
     timing_s: dict[str, float],
-    outputs: list[str],
+    outputs: Sequence[str] = (),
     shown: dict[str, str] | None = None,
     errors: np.ndarray | None = None,
     extra: dict | None = None,
@@ -169,8 +170,9 @@ def build_report(
         Every warning of the run, in order (library warnings included).
     timing_s : dict
         Seconds per stage (load, edit, flatten, baseline, write).
-    outputs : list of str
-        The files of the output folder (``report.json`` among them).
+    outputs : sequence of str
+        The files of the output folder (``report.json`` among them); none for a report
+        that is not written.
     shown : dict, optional
         Role to the path the report shows instead of the one read (``ptailor demo``).
     errors : (m,) float array, optional
