@@ -5,7 +5,7 @@ from __future__ import annotations
 import time
 import warnings as _warnings
 from collections.abc import Callable
-from contextlib import contextmanager, nullcontext
+from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -17,7 +17,7 @@ from ptailor.errors import PtailorError
 from ptailor.geometry.labels import used_indices
 from ptailor.geometry.triangles import triangle_areas
 from ptailor.method.flatten import FlattenResult, flatten
-from ptailor.method.linear import shared_symbolic
+from ptailor.method.symbolic import SymbolicCache
 from ptailor.model.garment import Garment, panel_labels, vertex_labels, with_panel_names
 from ptailor.model.structure import structure
 from ptailor.model.symmetry import sagittal_plane
@@ -340,35 +340,37 @@ def _adjust(
     )
     # the baseline's matrix has the pattern of ours: one analysis for both; without a
     # baseline none is kept for later (the factor alone serves ours: 19 MB less at 300k)
-    with shared_symbolic() if baseline else nullcontext():
-        with numeric_failures("flatten"):
-            result = flatten(
-                state.base,
-                state.V3,
-                method=settings["method"],
-                intrinsic=settings["intrinsic"],
-                seams=seams,
-                seam_factors=seam_factors(state),
-                seam_pairs=pairs,
-                progress=_stage(progress, "flatten"),
-                **kw,
-            )
-        t2 = time.perf_counter()
-        base = None
-        if baseline:
-            with numeric_failures("flatten (the uniform baseline)"):
-                base = (
-                    result
-                    if settings["method"] == "uniform"
-                    else flatten(
-                        state.base,
-                        state.V3,
-                        method="uniform",
-                        seams="free",
-                        progress=_stage(progress, "baseline"),
-                        **kw,
-                    )
+    symbolic = SymbolicCache() if baseline else None
+    with numeric_failures("flatten"):
+        result = flatten(
+            state.base,
+            state.V3,
+            method=settings["method"],
+            intrinsic=settings["intrinsic"],
+            seams=seams,
+            seam_factors=seam_factors(state),
+            seam_pairs=pairs,
+            progress=_stage(progress, "flatten"),
+            symbolic=symbolic,
+            **kw,
+        )
+    t2 = time.perf_counter()
+    base = None
+    if baseline:
+        with numeric_failures("flatten (the uniform baseline)"):
+            base = (
+                result
+                if settings["method"] == "uniform"
+                else flatten(
+                    state.base,
+                    state.V3,
+                    method="uniform",
+                    seams="free",
+                    progress=_stage(progress, "baseline"),
+                    symbolic=symbolic,
+                    **kw,
                 )
+            )
     t3 = time.perf_counter()
     timing = {"edit": t1 - t0, "flatten": t2 - t1, "baseline": t3 - t2}
     return Adjustment(

@@ -304,31 +304,55 @@ def seam_ease(
     row = np.arange(len(ea)) if granularity == "edge" else curve
     k = int(row.max()) + 1
     ratio = np.bincount(row, lb, k) / np.bincount(row, la, k)
-    gain = np.ones(len(ea))
-    for (p, q), f in (factors or {}).items():  # a loop over the gathered seams
-        if p != q:
-            gain[(pa == p) & (pb == q)] = 1.0 / f  # ratio is side b (on q) over side a
-            gain[(pa == q) & (pb == p)] = f
+    gain = _gains(pa, pb, factors)
     # a row's pairs share their panels, so one gain per row
     ratio = ratio * np.bincount(row, gain, k) / np.bincount(row, minlength=k)
     if granularity != "edge":
         return SeamEase(ea=ea, eb=eb, row=row, ratio=ratio)
-    # the curves' totals: where each curve's pairs all run from one panel to another
-    # (a tube's own seam, both sides on one panel, keeps its pairs' ratios only) and
-    # their ratios differ
+    number, total = _curve_totals(curve, pa, pb, la, lb * gain, ratio[row])
+    return SeamEase(ea=ea, eb=eb, row=row, ratio=ratio, curve=number[curve], total=total)
+
+
+def _gains(
+    pa: np.ndarray, pb: np.ndarray, factors: dict[tuple[int, int], float] | None
+) -> np.ndarray:
+    """Per edge pair (sides on panels ``pa`` and ``pb``), the factor its ratio changes by
+    (:func:`seam_ease`'s ``factors``; 1 elsewhere)."""
+    gain = np.ones(len(pa))
+    for (p, q), f in (factors or {}).items():  # a loop over the gathered seams
+        if p != q:
+            gain[(pa == p) & (pb == q)] = 1.0 / f  # ratio is side b (on q) over side a
+            gain[(pa == q) & (pb == p)] = f
+    return gain
+
+
+def _curve_totals(
+    curve: np.ndarray,
+    pa: np.ndarray,
+    pb: np.ndarray,
+    la: np.ndarray,
+    lb_gained: np.ndarray,
+    pair_ratio: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The seam curves that get a total row: ``(number, total)``, each curve's number
+    among them (-1 for none) and their total ratios.
+
+    The curves' totals: where each curve's pairs all run from one panel to another (a
+    tube's own seam, both sides on one panel, keeps its pairs' ratios only) and their
+    ratios ``pair_ratio`` differ; ``lb_gained`` is side b's length times its gain."""
     nc = int(curve.max()) + 1
     lo = np.bincount(curve, pa < pb, nc)
     hi = np.bincount(curve, pa > pb, nc)
     cnt = np.bincount(curve, minlength=nc)
     whole = (lo == cnt) | (hi == cnt)
-    total = np.bincount(curve, lb * gain, nc) / np.maximum(np.bincount(curve, la, nc), 1e-300)
+    total = np.bincount(curve, lb_gained, nc) / np.maximum(np.bincount(curve, la, nc), 1e-300)
     # a curve whose pairs all have about its total's ratio needs no total row: the pairs
     # hold the total to that fraction of its length
-    off = np.abs(ratio[row] / total[curve] - 1.0) > tol.SEAM_TOTAL_UNIFORM_REL
+    off = np.abs(pair_ratio / total[curve] - 1.0) > tol.SEAM_TOTAL_UNIFORM_REL
     whole &= np.bincount(curve, off, nc) > 0
     number = np.full(nc, -1, dtype=np.int64)
     number[whole] = np.arange(int(whole.sum()))  # the whole curves, renumbered
-    return SeamEase(ea=ea, eb=eb, row=row, ratio=ratio, curve=number[curve], total=total[whole])
+    return number, total[whole]
 
 
 def side_zigzag(V0: np.ndarray, V1: np.ndarray, E: np.ndarray) -> np.ndarray:

@@ -11,9 +11,10 @@ import numpy as np
 from ptailor import tolerances as tol
 from ptailor.geometry.rotations import rigid_fit_groups
 from ptailor.geometry.triangles import edge_lengths, edge_matrices
-from ptailor.method.ease import seam_ease
+from ptailor.method.ease import SeamEase, seam_ease
 from ptailor.method.intrinsic import Intrinsic, intrinsic_targets
 from ptailor.method.stitch import StitchInfo, stitch
+from ptailor.method.symbolic import SymbolicCache
 from ptailor.model.garment import Garment, Panel, panel_labels, vertex_labels
 from ptailor.model.structure import structure
 
@@ -134,6 +135,7 @@ def flatten(
     panel_list: list[Panel] | None = None,
     seam_pairs: np.ndarray | None = None,
     progress: Callable[[int, float], None] | None = None,
+    symbolic: SymbolicCache | None = None,
 ) -> FlattenResult:
     """Adjust a garment's pattern to an edited drape.
 
@@ -153,10 +155,8 @@ def flatten(
         Pattern vertices whose outline stays free even on those panels (an edited edge).
     frozen_panels : (n_panels,) bool array, optional
         Panels whose pattern triangles are kept as they were: the change of their drape is
-        taken up by their intrinsic scale (the cuff a seam-line scale gathers into). With
-        ``seams="ease"`` these, and the panels whose drape no edge of changed in length by
-        ``tol.KEPT_STRAIN``, are ``tol.KEPT_PANEL_WEIGHT`` times stiffer in the stitching:
-        the panels an edit touched take up what keeping the seams costs.
+        taken up by their intrinsic scale (the cuff a seam-line scale gathers into); with
+        ``seams="ease"`` they are stiffer in the stitching (:func:`_seam_terms`).
     seams : {"ease", "free"}
         ``ease``: each seam edge's two sides keep the length ratio they have in the input
         pattern, exactly (:mod:`ptailor.method.ease`); ``free``: panels are stitched each
@@ -167,63 +167,88 @@ def flatten(
         (:func:`ptailor.method.ease.seam_ease`).
     w_pin, w_asap, max_iter, step_tol, history
         Solver settings (see :func:`ptailor.method.stitch.stitch`).
-    panel_list : list of Panel, optional
-        ``panels(garment)``, when the caller already has it.
-    seam_pairs : (s, 2) int array, optional
-        ``seam_halfedges(garment.F3, garment.F2)``, when the caller already has it
-        (``structure(garment).seam_halfedges``); used with ``seams="ease"``.
+    panel_list, seam_pairs : list of Panel, (s, 2) int array, optional
+        ``structure(garment).panels`` and its ``seam_halfedges`` (those used with
+        ``seams="ease"``), when the caller already has them.
     progress : callable, optional
-        ``progress(iteration, residual)`` once per stitching iteration
-        (:func:`ptailor.method.stitch.stitch`).
+        ``progress(iteration, residual)`` once per stitching iteration.
+    symbolic : SymbolicCache, optional
+        Symbolic analyses shared with the caller's other flattens (the baseline's).
 
     Returns
     -------
     FlattenResult
     """
     plist = structure(garment).panels if panel_list is None else panel_list
-    n2, m = len(garment.V2), garment.n_faces
-    flip = mirror_mask(plist, n2)
-    sign = np.where(flip, -1.0, 1.0)
-    V2 = garment.V2 * np.stack([sign, np.ones(n2)], 1)
+    sign = np.where(mirror_mask(plist, len(garment.V2)), -1.0, 1.0)
+    V2 = garment.V2 * np.stack([sign, np.ones(len(sign))], 1)  # mirrored panels flipped
+    targets = _targets(garment, V2, V3_edit, plist, method, intrinsic, frozen_panels)
+    vlab = vertex_labels(plist, len(V2))
+    ease, weight = _seam_terms(
+        garment, V2, V3_edit, plist, seams, seam_factors, seam_pairs, frozen_panels
+    )
+    X, info = stitch(
+        V2, garment.F2, targets, pins=central_vertices(V2, vlab, len(plist)), vertex_panel=vlab,
+        asap_faces=_asap_faces(plist, garment.n_faces, asap_panels), asap_exclude=outline_free,
+        ease=ease, panel_weight=weight, w_pin=w_pin, w_asap=w_asap, max_iter=max_iter,
+        step_tol=step_tol, history=history, progress=progress, symbolic=symbolic,
+    )  # fmt: skip
+    X = rigid_fit_groups(X, V2, vlab, len(plist))
+    X[:, 0] *= sign
+    return FlattenResult(V2=X, targets=targets, info=info, asap_panels=asap_panels)
+
+
+def _targets(
+    garment: Garment,
+    V2: np.ndarray,
+    V3_edit: np.ndarray,
+    plist: list[Panel],
+    method: Method,
+    intrinsic: Intrinsic,
+    frozen_panels: np.ndarray | None,
+) -> np.ndarray:
+    """The per-triangle target edge matrices ``(m, 2, 2)`` in the frame of ``V2`` (the
+    pattern, mirrored panels flipped), frozen panels' kept as they are, checked
+    (:func:`check_targets`)."""
+    m = garment.n_faces
     kind: Intrinsic = "uniform" if method == "uniform" else intrinsic
     targets = intrinsic_targets(V2, garment.F2, garment.V3, V3_edit, garment.F3, intrinsic=kind)
     if frozen_panels is not None and np.any(frozen_panels):
         frozen = np.asarray(frozen_panels)[panel_labels(plist, m)]
         targets[frozen] = edge_matrices(V2, garment.F2[frozen])
     check_targets(targets, edge_matrices(V2, garment.F2), plist, m)
-    vlab = vertex_labels(plist, n2)
-    pins = central_vertices(V2, vlab, len(plist))
-    ease, weight = None, None
-    if seams == "ease":
-        flab = panel_labels(plist, m)
-        ease = seam_ease(
-            garment.F3, garment.F2, V2, face_panel=flab, factors=seam_factors, pairs=seam_pairs
-        )
-        kept = panel_strain(garment.V3, V3_edit, garment.F3, flab, len(plist)) < tol.KEPT_STRAIN
-        if frozen_panels is not None:
-            kept |= np.asarray(frozen_panels, dtype=bool)
-        weight = np.where(kept, tol.KEPT_PANEL_WEIGHT, 1.0)
-    asap_faces = None
-    if asap_panels is not None and np.any(asap_panels):
-        flab = panel_labels(plist, m)
-        asap_faces = np.flatnonzero(np.asarray(asap_panels)[flab])
-    X, info = stitch(
-        V2,
-        garment.F2,
-        targets,
-        pins=pins,
-        vertex_panel=vlab,
-        asap_faces=asap_faces,
-        asap_exclude=outline_free,
-        ease=ease,
-        panel_weight=weight,
-        w_pin=w_pin,
-        w_asap=w_asap,
-        max_iter=max_iter,
-        step_tol=step_tol,
-        history=history,
-        progress=progress,
+    return targets
+
+
+def _seam_terms(
+    garment: Garment,
+    V2: np.ndarray,
+    V3_edit: np.ndarray,
+    plist: list[Panel],
+    seams: Seams,
+    seam_factors: dict[tuple[int, int], float] | None,
+    seam_pairs: np.ndarray | None,
+    frozen_panels: np.ndarray | None,
+) -> tuple[SeamEase | None, np.ndarray | None]:
+    """With ``seams="ease"``, the seam-ease constraints and the panels' weights
+    ``(n_panels,)``: the frozen panels, and the panels whose drape no edge of changed in
+    length by ``tol.KEPT_STRAIN``, are ``tol.KEPT_PANEL_WEIGHT`` times stiffer in the
+    stitching, so the panels an edit touched take up what keeping the seams costs.
+    ``(None, None)`` with ``seams="free"``."""
+    if seams != "ease":
+        return None, None
+    flab = panel_labels(plist, garment.n_faces)
+    ease = seam_ease(
+        garment.F3, garment.F2, V2, face_panel=flab, factors=seam_factors, pairs=seam_pairs
     )
-    X = rigid_fit_groups(X, V2, vlab, len(plist))
-    X[:, 0] *= sign
-    return FlattenResult(V2=X, targets=targets, info=info, asap_panels=asap_panels)
+    kept = panel_strain(garment.V3, V3_edit, garment.F3, flab, len(plist)) < tol.KEPT_STRAIN
+    if frozen_panels is not None:
+        kept |= np.asarray(frozen_panels, dtype=bool)
+    return ease, np.where(kept, tol.KEPT_PANEL_WEIGHT, 1.0)
+
+
+def _asap_faces(plist: list[Panel], m: int, asap_panels: np.ndarray | None) -> np.ndarray | None:
+    """The triangles of the as-similar-as-possible panels, None without any."""
+    if asap_panels is None or not np.any(asap_panels):
+        return None
+    return np.flatnonzero(np.asarray(asap_panels)[panel_labels(plist, m)])

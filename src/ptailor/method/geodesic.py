@@ -219,7 +219,21 @@ def geodesic_distance(
     d[src] = 0.0
     if F.shape[0] == 0 or src.size == 0:
         return d
+    return _march(V, F, d, src, limit=limit, max_iter=max_iter)
 
+
+def _march(
+    V: np.ndarray,
+    F: np.ndarray,
+    d: np.ndarray,
+    src: np.ndarray,
+    *,
+    limit: float,
+    max_iter: int | None,
+) -> np.ndarray:
+    """:func:`geodesic_distance`'s parallel fast marching from the distances ``d (n,)``
+    (0 at the sources ``src``, ``+inf`` elsewhere; updated in place and returned)."""
+    n = V.shape[0]
     E = V[F[:, [1, 2, 0]]] - V[F]
     lengths = np.sqrt(np.einsum("mcd,mcd->mc", E, E))
     h = float(np.mean(lengths))

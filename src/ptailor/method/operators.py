@@ -67,7 +67,7 @@ def stitch_matrix(
 
     Assembled from triplets in one conversion, so explicit zeros stay in the pattern: two
     target sets on one pattern give one sparsity pattern (the baseline shares ours'
-    symbolic factorisation, :func:`ptailor.method.linear.shared_symbolic`).
+    symbolic factorisation, :class:`ptailor.method.symbolic.SymbolicCache`).
 
     Parameters
     ----------

@@ -10,6 +10,11 @@ where ``J_i`` is the map from triangle ``i``'s target to its current position (s
 term is Liu et al. 2008's triangle ARAP energy: cotangent-weighted edge terms), ``R_i`` a
 rotation per triangle, ``n_k`` the unit normal of the original boundary chord at ``k``.
 The matrix never changes: it is factored once and each iteration back-substitutes.
+
+The parts: the seam constraints (:mod:`ptailor.method.stitch_seams`), the Newton step
+(:mod:`ptailor.method.stitch_newton`) and the iteration
+(:mod:`ptailor.method.stitch_iteration`); this module sets the system up
+(:class:`_Problem`) and runs it (:func:`stitch`).
 """
 
 from __future__ import annotations
@@ -23,11 +28,14 @@ import scipy.sparse as sp
 
 from ptailor import tolerances as tol
 from ptailor.geometry.closed_forms import det2
-from ptailor.method.anderson import Anderson
 from ptailor.method.bend import SeamBend, seam_bend
 from ptailor.method.ease import SeamEase
-from ptailor.method.linear import SeamBlock, SeamFactor, bordered_solver, factor, seam_block
+from ptailor.method.linear import SeamBlock, factor
 from ptailor.method.operators import asap_rows, gradient_operator, stitch_matrix
+from ptailor.method.stitch_iteration import _finite_or_fail, _Iterate, _iterate
+from ptailor.method.stitch_newton import _NewtonModel
+from ptailor.method.stitch_seams import _SeamConstraints, _SeamStep, _Solved, _split_solver
+from ptailor.method.symbolic import SymbolicCache
 
 __all__ = ["StitchInfo", "stitch"]
 
@@ -102,22 +110,11 @@ def _panel_sizes(V2: np.ndarray, vlab: np.ndarray, n_panels: int) -> np.ndarray:
     return size
 
 
-def _finite_or_fail(Y: np.ndarray) -> np.ndarray:
-    if not np.all(np.isfinite(Y)):
-        from ptailor.errors import PtailorError
-
-        raise PtailorError(
-            "flatten: the stitching solver diverged (non-finite positions); check the "
-            "flatten weights and the edit"
-        )
-    return Y
-
-
-def _solver(A: sp.csc_matrix, n: int):
+def _solver(A: sp.csc_matrix, n: int, symbolic: SymbolicCache | None = None):
     """``A^-1`` applied to columns over unknowns ``[x; y]``, from one factorisation of the
     stitching matrix's lower triangle ``A`` (``n x n`` when x and y decouple, ``2n x 2n``
-    when coupled)."""
-    solve = factor(A, lower=True)
+    when coupled; its analysis shared through ``symbolic``)."""
+    solve = factor(A, lower=True, symbolic=symbolic)
     if A.shape[0] == 2 * n:
         return solve
 
@@ -128,87 +125,6 @@ def _solver(A: sp.csc_matrix, n: int):
         return np.concatenate([sol[:, :c], sol[:, c:]], axis=0)
 
     return solve_many
-
-
-class _SplitSolve:
-    """``A^-1`` over unknowns ``[x; y]`` through a :class:`SeamFactor` that eliminates the
-    seam unknowns ``U = [verts; verts + n]`` last: the constrained step's two solves in
-    about the time of one (:class:`_Solved`), and the seam block of ``A^-1`` from the same
-    factorisation (no second one when the seams switch on)."""
-
-    def __init__(self, A: sp.csc_matrix, n: int, verts: np.ndarray) -> None:
-        self.n, self.q = n, len(verts)
-        self.coupled = A.shape[0] == 2 * n
-        self.U = np.concatenate([verts, verts + n])
-        self.fac = SeamFactor(A, self.U if self.coupled else verts)
-
-    def _cols(self, v: np.ndarray, k: int) -> np.ndarray:
-        """A vector over ``[x; y]`` (length ``2k``) as the factor's columns."""
-        return v[:, None] if self.coupled else v.reshape(2, k).T
-
-    def _vec(self, X: np.ndarray) -> np.ndarray:
-        return X[:, 0] if self.coupled else X.T.ravel()
-
-    def solve_many(self, rhs: np.ndarray) -> np.ndarray:
-        if self.coupled:
-            return self.fac(rhs)
-        n, c = self.n, rhs.shape[1]
-        sol = self.fac(np.concatenate([rhs[:n], rhs[n:]], axis=1))
-        return np.concatenate([sol[:, :c], sol[:, c:]], axis=0)
-
-    def forward(self, b: np.ndarray) -> list[np.ndarray]:
-        return self.fac.forward(self._cols(b, self.n))
-
-    def seam(self, Z: list[np.ndarray]) -> np.ndarray:
-        """``(A^-1 b)[U]``, ``(2q,)``."""
-        return self._vec(self.fac.seam_values(Z, 1 if self.coupled else 2))
-
-    def finish(self, Z: list[np.ndarray], w: np.ndarray | None) -> np.ndarray:
-        """``A^-1 (b - E_U w)``, ``(2n,)``."""
-        c = 1 if self.coupled else 2
-        return self._vec(self.fac.finish(Z, c, None if w is None else self._cols(w, self.q)))
-
-    def seam_block(self) -> SeamBlock:
-        blocks = self.fac.blocks()
-        if not self.coupled:  # one n x n block per panel serves x and y
-            blocks += [(g + self.q, G) for g, G in blocks]
-        return SeamBlock(U=self.U, blocks=blocks)
-
-
-def _split_solver(A: sp.csc_matrix, n: int, verts: np.ndarray) -> _SplitSolve | None:
-    """:class:`_SplitSolve` where CHOLMOD factors ``A`` with the seam unknowns last; None
-    otherwise (no cvxopt, a block not positive definite: :func:`factor` decides)."""
-    try:
-        return _SplitSolve(A, n, verts)
-    except (ImportError, ArithmeticError, ValueError):
-        return None
-
-
-class _Solved:
-    """``y = A^-1 b`` under way: its seam values ``y[U]`` at once, the whole vector (less
-    ``A^-1 E_U w`` for ``w`` on the seam unknowns) on request, from one forward and one
-    back-substitution where the factor splits the seam unknowns off (:class:`_SplitSolve`),
-    else from one solve (and one more for ``w``)."""
-
-    def __init__(self, pb: _Problem, b: np.ndarray) -> None:
-        self.pb, self.U = pb, pb.seam_block.U
-        if pb._split is not None:
-            self._Z = pb._split.forward(b)
-            self.seam = pb._split.seam(self._Z)
-        else:
-            self._y = pb.solve(b)
-            self.seam = self._y[self.U]
-
-    def full(self, w: np.ndarray | None = None) -> np.ndarray:
-        """``A^-1 (b - E_U w)`` over ``[x; y]``, ``(2n,)``."""
-        pb = self.pb
-        if pb._split is not None:
-            return pb._split.finish(self._Z, w)
-        if w is None:
-            return self._y
-        r = np.zeros(2 * pb.n)
-        r[self.U] = w
-        return self._y - pb.solve(r)
 
 
 class _PanelIndex:
@@ -250,44 +166,10 @@ class _PanelIndex:
         return out
 
 
-@dataclass(frozen=True)
-class _SeamStep:
-    """The seam rows of one linearisation and the solver of their Woodbury system, kept
-    to project further right-hand sides onto the same constraints (:meth:`_Problem.newton`).
-
-    Attributes
-    ----------
-    X : (n, 2) float array
-        Where the constraints were linearised (the object itself: compared by identity).
-    C : (k + t, 2n) sparse matrix
-        The constraint rows.
-    solve : callable
-        ``nu = solve(QU y[U])``: the multipliers of the rows :attr:`QU` for the plain
-        solution ``y``.
-    P : (p, 2n) sparse matrix or None
-        The curvature rows (None without).
-    kappa : (p,) float array
-        Their weights.
-    parts : tuple of sparse matrices
-        ``P`` (where given) and ``C`` over the seam unknowns, the pieces of :attr:`QU`.
-    """
-
-    X: np.ndarray
-    C: sp.csr_matrix
-    solve: Callable[[np.ndarray], np.ndarray | None]
-    P: sp.csr_matrix | None
-    kappa: np.ndarray
-    parts: tuple[sp.csr_matrix, ...] = ()
-
-    @cached_property
-    def QU(self) -> sp.csr_matrix:
-        """The curvature rows over the constraint rows, ``[P; C]``, over the seam unknowns
-        ``U`` (built when a Newton step needs them, not every step)."""
-        return self.parts[0] if len(self.parts) == 1 else sp.vstack(self.parts).tocsr()
-
-
-class _Problem:
-    """The stitching energy of one pattern: its factored matrix, steps and measures."""
+class _Problem(_SeamConstraints, _NewtonModel):
+    """The stitching energy of one pattern: its factored matrix, steps and measures (the
+    seam constraints' steps from :class:`_SeamConstraints`, the Newton step from
+    :class:`_NewtonModel`)."""
 
     def __init__(
         self,
@@ -303,6 +185,7 @@ class _Problem:
         panel_weight: np.ndarray | None,
         w_pin: float,
         w_asap: float,
+        symbolic: SymbolicCache | None = None,
     ) -> None:
         n = len(V2)
         self.V2, self.n, self.pins, self.w_asap = V2, n, pins, w_asap
@@ -335,8 +218,10 @@ class _Problem:
         self._F2, self._targets = F2, targets
         A = self._matrix()
         # with seam constraints, one factorisation that eliminates the seam unknowns last
-        self._split = None if self.ease is None else _split_solver(A, n, self.ease.vertices())
-        self.solve_many = self._split.solve_many if self._split is not None else _solver(A, n)
+        verts = None if self.ease is None else self.ease.vertices()
+        self._split = None if verts is None else _split_solver(A, n, verts, symbolic)
+        split = self._split
+        self.solve_many = split.solve_many if split is not None else _solver(A, n, symbolic)
         del A
         # the seam constraints switch on at the first iteration that misses a seam (an
         # identity edit or a uniform scale never pays for them)
@@ -427,178 +312,6 @@ class _Problem:
             y = self.solve(rhs.T.ravel())
         return y.reshape(2, self.n).T
 
-    def _constrained(self, sol: _Solved, X_lin: np.ndarray) -> np.ndarray:
-        """The global step ``y = A^-1 b`` under the seam constraints linearised at
-        ``X_lin``, a sequential-quadratic-programming step.
-
-        First the multipliers of the plain projection, ``lam = (C S C^T)^-1 C y`` (``S``
-        the seam block of ``A^-1``). Then the step with the constraints' curvature under
-        those multipliers (:meth:`SeamEase.curvature`: ``1/2 sum kappa (P (x - X_lin))^2``
-        added to the energy) and the constraints, by Woodbury on the seam block: with the
-        rows ``Q = [P; C]``,
-
-            (Q S Q^T + diag(1/kappa, 0)) nu = Q y - [P X_lin; 0],   x = y - A^-1 Q^T nu
-
-        one back-substitution and two small dense solves. Without the curvature the
-        linearised constraints let a compressed seam side zigzag (its edges turn and keep
-        their projected length), and the iterations crawl on fine meshes: the 100-iteration
-        cap at 82k triangles where 21 do with it."""
-        blk, ease = self.seam_block, self.ease
-        self._seam_step = None
-        C = ease.rows(X_lin)
-        B = ease.total_columns(X_lin)  # each curve's factor free within the step
-        CR = blk.restrict(C)  # over the seam unknowns U, as y's seam values
-        CU = blk.products(CR)
-        M_cc = blk.schur(CU)
-        cc = bordered_solver(M_cc, B)
-        ys = sol.seam
-        lam = None if cc is None else cc(CR @ ys)
-        if lam is None:
-            return sol.full()  # the constraints are skipped this step (reported)
-        P, kappa = ease.curvature(X_lin, lam)
-        if len(kappa):
-            PR = blk.restrict(P)
-            PU = blk.products(PR)
-            kp = len(kappa)
-            M = np.zeros((kp + len(M_cc), kp + len(M_cc)))  # [[P S P^T, P S C^T], [., M_cc]]
-            blk.schur(PU, out=M[:kp, :kp])
-            blk.schur(PU, CU, out=M[:kp, kp:])
-            M[kp:, :kp] = M[:kp, kp:].T
-            M[kp:, kp:] = M_cc
-            M[np.arange(kp), np.arange(kp)] += 1.0 / kappa
-            BP = None if B is None else np.vstack([np.zeros((len(kappa), B.shape[1])), B])
-            full = bordered_solver(M, BP)
-            nu = None
-            if full is not None:
-                nu = full(np.concatenate([PR @ (ys - X_lin.T.ravel()[blk.U]), CR @ ys]))
-            if nu is not None:
-                y_c = sol.full(PR.T @ nu[: len(kappa)] + CR.T @ nu[len(kappa) :])
-                if np.all(np.isfinite(y_c)):
-                    self._seam_step = _SeamStep(X_lin, C, full, P, kappa, (PR, CR))
-                    return y_c
-        y_c = sol.full(CR.T @ lam)  # no curvature (none, or its solve failed)
-        if not np.all(np.isfinite(y_c)):
-            return sol.full()
-        self._seam_step = _SeamStep(X_lin, C, cc, None, np.zeros(0), (CR,))
-        return y_c
-
-    def _project(self, R: np.ndarray, seam: _SeamStep | None) -> np.ndarray:
-        """``z`` minimising ``1/2 z^T (A + P^T kappa P) z - R . z`` with ``C z`` on the
-        seams' linearisation ``seam`` (its curves' factors free), ``(n, 2)``: the
-        local/global step's own system, applied to another right-hand side ``R (n, 2)``."""
-        if seam is None:
-            return self.solve(R.T.ravel()).reshape(2, self.n).T
-        sol = _Solved(self, R.T.ravel())
-        nu = seam.solve(seam.QU @ sol.seam)
-        y = sol.full() if nu is None else sol.full(seam.QU.T @ nu)
-        return y.reshape(2, self.n).T
-
-    def _rotation_hessian(self, X: np.ndarray, V: np.ndarray) -> np.ndarray:
-        """The part of the energy's Hessian the local/global step leaves out, applied to
-        ``V (n, 2)``: ``sum_i A_i alpha_i (t_i . J_i(V)) D_i^T t_i`` (half-energy units).
-
-        At the closest rotation ``R_i`` (angle ``theta``) of ``J_i``, ``R_i`` turns with
-        ``J_i`` along ``t_i = dR/dtheta`` only, at the rate ``1 / r_i`` (``r_i = s1 + s2``,
-        the sum of ``J_i``'s singular values): the Hessian of ``|J - R(J)|^2 / 2`` is
-        ``I - t t^T / r``, whose one eigenvalue below 1 is the twist's, ``1 - 2 / r``.
-        Projected onto the positive semi-definite cone (Teran et al.'s per-element
-        projection): ``alpha = 1 / r`` where ``r >= 2``, ``1/2`` (the twist free) where
-        the triangle is compressed."""
-        return self._Dt @ self._rotation_weights(X, self.D @ V)
-
-    def _rotation_weights(self, X: np.ndarray, JV: np.ndarray) -> np.ndarray:
-        """:meth:`_rotation_hessian` before ``D^T``, from ``JV = D V``, ``(2m, 2)``."""
-        cos, sin, w = self._twist(X)
-        m = self.m
-        # t = [[-sin, -cos], [cos, -sin]] in J's (coordinate, target axis) layout
-        coef = w * (cos * (JV[:m, 1] - JV[m:, 0]) - sin * (JV[:m, 0] + JV[m:, 1]))
-        W = np.empty((2 * m, 2))
-        W[:m, 0], W[:m, 1] = -sin * coef, cos * coef
-        W[m:, 0], W[m:, 1] = -cos * coef, -sin * coef
-        return W
-
-    def _twist(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``(cos, sin, area * alpha)`` of :meth:`_rotation_hessian` at ``X`` (kept for the
-        conjugate-gradient iterations of one Newton step, all at one ``X``)."""
-        cached = self._twist_at
-        if cached is not None and cached[0] is X:
-            return cached[1]
-        J, cos, sin = self.rotations(X)
-        m = self.m
-        r = np.hypot(J[:m, 0] + J[m:, 1], J[:m, 1] - J[m:, 0])
-        alpha = np.where(r >= 2.0, 1.0 / np.maximum(r, 2.0), 0.5)
-        out = (cos, sin, self.area * alpha)
-        self._twist_at = (X, out)
-        return out
-
-    def _hessian(self, X: np.ndarray, V: np.ndarray, seam: _SeamStep | None) -> np.ndarray:
-        """The projected Hessian of the half energy with the seams' curvature at ``X``,
-        applied to ``V (n, 2)``: one product with ``D`` and one with ``D^T``."""
-        JV = self.D @ V
-        W = self._rotation_weights(X, JV)
-        JV[: self.m] *= self.area[:, None]
-        JV[self.m :] *= self.area[:, None]
-        JV -= W
-        out = self._Dt @ JV + self.pin_w[:, None] * V
-        if self._bend_H is not None:
-            out += self._bend_H @ V
-        v = None
-        if self.B is not None:
-            v = V.T.ravel()
-            out += (self.w_asap * (self.B.T @ (self.B @ v))).reshape(2, self.n).T
-        if seam is not None and seam.P is not None:
-            v = V.T.ravel() if v is None else v
-            out += (seam.P.T @ (seam.kappa * (seam.P @ v))).reshape(2, self.n).T
-        return out
-
-    def newton(
-        self, X: np.ndarray, GX: np.ndarray, *, max_cg: int, rtol: float
-    ) -> tuple[np.ndarray, int] | None:
-        """A Newton step from ``X`` and the conjugate-gradient iterations it took; None
-        where the seam constraints were skipped at ``X`` (no model to refine).
-
-        The step minimises the quadratic model of the energy at ``X`` with its projected
-        Hessian (:meth:`_rotation_hessian`; the seams' curvature and linearised
-        constraints as the local/global step has them) by conjugate gradients
-        preconditioned by the local/global step's own system (a constraint
-        preconditioner: every iterate meets the linearised seams), started from the
-        local/global step ``GX - X``, which minimises the model with that system's
-        Hessian. Where the two Hessians agree the start is the answer; where they do not
-        (a slender panel's bending: the local/global step's matrix is stiff there and the
-        iterations crawl) a few iterations find what hundreds of local/global steps
-        would. Stops when the preconditioned residual has fallen by ``rtol``, after
-        ``max_cg`` iterations, or at a direction without positive curvature.
-        ``GX`` must be the step from ``X`` (the seams linearised at ``X``)."""
-        seam = None
-        if self.seam_block is not None:
-            seam = self._seam_step
-            if seam is None or seam.X is not X:
-                return None
-        d = GX - X
-        res = -self._rotation_hessian(X, d)  # the model's gradient at d, C^T lam left out
-        z = self._project(res, seam)
-        rz = rz0 = float((res * z).sum())
-        if not rz > 0:
-            return GX, 0
-        p = -z
-        k = 0
-        while k < max_cg:
-            k += 1
-            Hp = self._hessian(X, p, seam)
-            curv = float((p * Hp).sum())
-            if not curv > 0:
-                break
-            a = rz / curv
-            d += a * p
-            res += a * Hp
-            z = self._project(res, seam)
-            rz_new = float((res * z).sum())
-            if not rz_new > rtol * rtol * rz0:
-                break
-            p = -z + (rz_new / rz) * p
-            rz = rz_new
-        return X + d, k
-
     def step(self, X: np.ndarray) -> np.ndarray:
         _, cos, sin = self.rotations(X)
         return self.global_step(cos, sin, X)
@@ -606,170 +319,6 @@ class _Problem:
     def residual(self, X: np.ndarray, GX: np.ndarray) -> np.ndarray:
         """Per panel: the largest vertex move of the step, rigid motion removed, / size."""
         return self._panels.rigid_misfit(GX, X) / self.size
-
-    def seams_pending(self, GX: np.ndarray) -> bool:
-        """Seam constraints exist, are off, and a seam misses its ratio."""
-        return (
-            self.ease is not None
-            and self.seam_block is None
-            and self.ease.violation(GX).max() > tol.SEAM_EXACT_REL
-        )
-
-    def seams_settled(self, GX: np.ndarray) -> bool:
-        """Seam constraints are on, absent, or every seam meets its ratio (not NaN)."""
-        return bool(
-            self.seam_block is not None
-            or self.ease is None
-            or self.ease.violation(GX).max() <= tol.SEAM_EXACT_REL
-        )
-
-    def seams_on(self) -> None:
-        """Switch the seam constraints on: the seam block of ``A^-1``, once."""
-        if self._split is not None:
-            try:
-                self.seam_block = self._split.seam_block()
-                return
-            except ArithmeticError:  # the trailing factor is not usable: solve as before
-                self._split = None
-        self.seam_block = seam_block(
-            self.solve_many, self.ease, np.maximum(self.vlab, 0), self.n,
-            coupled=self.B is not None, A=self._matrix(),
-        )  # fmt: skip
-
-
-class _Iterate:
-    """The iteration's current point ``X``, its plain step ``GX`` and their measures."""
-
-    def __init__(self, pb: _Problem, X: np.ndarray, history: int) -> None:
-        self.pb, self.history = pb, history
-        self.X = X
-        self.GX = _finite_or_fail(pb.step(X))
-        self.res = pb.residual(self.X, self.GX)
-        self.e_gx = pb.energy(self.GX) if history else 0.0
-
-    def plain(self) -> None:
-        """Move to the plain step's output and take the next plain step."""
-        pb = self.pb
-        self.X = self.GX
-        self.GX = _finite_or_fail(pb.step(self.X))
-        self.res = pb.residual(self.X, self.GX)
-        self.e_gx = pb.energy(self.GX) if self.history else 0.0
-
-    def accelerated(self, acc: Anderson) -> bool:
-        """Peng et al.'s safeguard, on the plain steps' outputs: those meet the seam
-        constraints, so their energies compare (mixed iterates' do not). True when the
-        accelerated iterate was kept; else the history restarts."""
-        pb = self.pb
-        Xa = acc.next(self.X.ravel(), self.GX.ravel()).reshape(pb.n, 2)
-        GXa = pb.step(Xa) if np.all(np.isfinite(Xa)) else Xa
-        e_a = pb.energy(GXa) if np.all(np.isfinite(GXa)) else np.inf
-        if e_a < self.e_gx:
-            self.X, self.GX, self.e_gx = Xa, GXa, e_a
-            self.res = pb.residual(self.X, self.GX)
-            return True
-        acc.reset()
-        return False
-
-    def newton(self, *, max_cg: int, rtol: float) -> tuple[bool, float]:
-        """A Newton step (:meth:`_Problem.newton`) from ``X``, kept, like an accelerated
-        iterate, when the energy after a plain step from it is below the plain step's;
-        where it is not, the step halved up to ``tol.NEWTON_BACKTRACK`` times (a
-        backtracking line search). ``(kept, the largest panel move over the panel's size
-        of the last step tried)``."""
-        pb = self.pb
-        if self.pb._seam_step is not None and self.pb._seam_step.X is not self.X:
-            self.GX = pb.step(self.X)  # the seams linearised at X again (after a rejection)
-        step = pb.newton(self.X, self.GX, max_cg=max_cg, rtol=rtol)
-        if step is None:  # no model: the plain step's move is all there is to judge by
-            return False, float(self.res.max(initial=0.0))
-        d = step[0] - self.X
-        if not np.all(np.isfinite(d)):
-            return False, np.inf
-        e_gx = self.e_gx if self.history else pb.energy(self.GX)
-        t, move = 1.0, 0.0
-        for _ in range(tol.NEWTON_BACKTRACK + 1):
-            Xn = self.X + t * d
-            mv = pb.residual(self.X, Xn)
-            move = float(mv.max(initial=0.0))
-            GXn = pb.step(Xn)
-            e_n = pb.energy(GXn) if np.all(np.isfinite(GXn)) else np.inf
-            if e_n < e_gx:
-                # the step is the Newton move and the plain step after it, whichever is larger
-                res = np.maximum(mv, pb.residual(Xn, GXn))
-                self.X, self.GX, self.e_gx, self.res = Xn, GXn, e_n, res
-                return True, move
-            t *= 0.5
-        return False, move
-
-
-def _crawls(h: list[float], last: int) -> bool:
-    """The largest residual fell by less than ``tol.NEWTON_CRAWL`` over the last
-    ``tol.NEWTON_WINDOW`` iterations, none of them a Newton step (``last``: the iteration
-    count at the last one)."""
-    w = tol.NEWTON_WINDOW
-    return len(h) - last > w and h[-1] > tol.NEWTON_CRAWL * h[-1 - w]
-
-
-def _stalls(h: list[float]) -> bool:
-    """The largest residual of the last ``ARAP_STALL_ITER`` iterations is no real gain."""
-    w = tol.ARAP_STALL_ITER
-    return len(h) > 2 * w and min(h[-w:]) > (1.0 - tol.ARAP_STALL_GAIN) * min(h[:-w])
-
-
-def _iterate(
-    pb: _Problem,
-    s: _Iterate,
-    *,
-    max_iter: int,
-    step_tol: float,
-    history: int,
-    newton_cg: int = tol.NEWTON_CG_MAX,
-    progress: Callable[[int, float], None] | None = None,
-) -> tuple[int, bool, bool, list[float], int]:
-    """Local/global iterations from ``s`` (updated); ``(iterations, converged, stalled,
-    residual history, Newton steps)``. ``progress(iteration, residual)`` is called once
-    per iteration."""
-    acc = Anderson(m=history)
-    it, converged, stalled, since, last, newton = 0, False, False, 0, 0, 0
-    hist: list[float] = []
-    while it < max_iter:
-        it += 1
-        hist.append(float(s.res.max(initial=0.0)))
-        if progress is not None:
-            progress(it, hist[-1])
-        stall = _stalls(hist[since:])
-        done = not len(s.res) or s.res.max() <= step_tol
-        if stall and pb.seams_settled(s.GX):
-            stalled = True  # a long run that no longer improves: stop (deterministically)
-            break
-        if pb.seams_pending(s.GX):  # from the first iteration that misses a seam
-            since = last = len(hist)  # the constrained iterations get their own windows
-            pb.seams_on()
-            acc.reset()
-            s.plain()
-            continue
-        # Where the steps crawl, a Newton step; and a run that took one ends only when a
-        # Newton step moves no more than the tolerance either (a crawl's small steps say
-        # little of the distance left). A run that converges fast never takes one.
-        if newton_cg and (_crawls(hist, last) or (done and newton)):
-            last = len(hist)
-            kept, move = s.newton(max_cg=newton_cg, rtol=tol.NEWTON_CG_RTOL)
-            newton += kept
-            if done and (move <= step_tol or not kept):
-                # converged: the Newton step is below the tolerance, or no step along it
-                # lowers the energy (the model has nothing better than the plain steps)
-                converged = True
-                break
-            if kept:
-                acc.reset()
-                continue
-        if done and not newton:
-            converged = True
-            break
-        if history and s.accelerated(acc):
-            continue
-        s.plain()
-    return it, converged, stalled, hist, newton
 
 
 def stitch(
@@ -790,14 +339,13 @@ def stitch(
     history: int = tol.ANDERSON_HISTORY,
     newton_cg: int = tol.NEWTON_CG_MAX,
     progress: Callable[[int, float], None] | None = None,
+    symbolic: SymbolicCache | None = None,
 ) -> tuple[np.ndarray, StitchInfo]:
     """Stitch per-triangle targets into continuous panels.
 
-    Local/global iterations (Liu et al. 2008) accelerated by Anderson mixing (Peng et al.
-    2018) with their safeguard: an accelerated iterate is kept only when the energy after
-    a plain step from it falls below the energy after the plain step it replaces (both
-    meet the seam constraints, so they compare); else the history restarts. The result
-    is always a plain step's output, so the constraints hold at the last linearisation.
+    Local/global iterations, Anderson-accelerated under Peng et al.'s safeguard, Newton
+    steps where they crawl (:mod:`ptailor.method.stitch_iteration`). The result is always
+    a plain step's output, so the constraints hold at the last linearisation.
 
     Parameters
     ----------
@@ -811,37 +359,30 @@ def stitch(
         One pinned vertex per panel.
     vertex_panel : (n,) int array, optional
         Panel of each vertex (-1 unused); default the connected components of ``F2``.
-    asap_faces : (k,) int array, optional
-        Triangles of the panels that keep their outline shape (as-similar-as-possible).
-    asap_exclude : (n,) bool array, optional
-        Outline vertices left free even on those panels.
+    asap_faces, asap_exclude : (k,) int array, (n,) bool array, optional
+        Triangles of the panels that keep their outline shape (as-similar-as-possible),
+        and outline vertices left free even on those panels.
     ease : SeamEase, optional
         Seam-length constraints (:func:`ptailor.method.ease.seam_ease`), enforced exactly
-        with Lagrange multipliers and their curvature: each global step is a
-        sequential-quadratic-programming step solved through a Schur complement on the one
-        factorisation (:meth:`_Problem._constrained`). They switch on at the first
-        iteration where a seam misses its ratio by more than ``tol.SEAM_EXACT_REL`` (an
-        identity edit or a uniform scale never pays for them).
+        with Lagrange multipliers and their curvature (:meth:`_Problem._constrained`) from
+        the first iteration where a seam misses its ratio by more than
+        ``tol.SEAM_EXACT_REL`` (an identity edit or a uniform scale never pays for them).
     panel_weight : (n_panels,) float array, optional
-        Each panel's whole energy (ARAP, pin, as-similar-as-possible) is scaled by its
-        weight. A panel alone comes out the same; where seam constraints tie panels, a
-        heavier one takes less of the distortion. Default all 1.
+        Scales each panel's whole energy (default 1): where seam constraints tie panels,
+        a heavier one takes less of the distortion.
     w_pin, w_asap : float
         Term weights.
-    max_iter : int
-        Local/global iterations at most.
-    step_tol : float
-        Converged when no panel's last step moved a vertex (after removing the panel's
-        rigid motion) by more than this fraction of the panel's size.
-    history : int
-        Anderson history length; 0 for plain local/global.
-    newton_cg : int
-        Conjugate-gradient iterations at most of a Newton step (:meth:`_Problem.newton`),
-        taken where the largest residual fell by less than ``tol.NEWTON_CRAWL`` over
-        ``tol.NEWTON_WINDOW`` iterations; 0 for none.
+    max_iter, step_tol : int, float
+        Local/global iterations at most; converged when no panel's last step moved a
+        vertex (rigid motion removed) by more than ``step_tol`` of the panel's size.
+    history, newton_cg : int
+        Anderson history length, and conjugate-gradient iterations at most of a Newton
+        step (:meth:`_Problem.newton`); 0 for plain local/global, or no Newton steps.
     progress : callable, optional
-        ``progress(iteration, residual)``, called once per iteration (the largest panel
-        residual before it): a progress line's feed. Nothing else depends on it.
+        ``progress(iteration, residual)`` once per iteration (the largest panel residual
+        before it): a progress line's feed. Nothing else depends on it.
+    symbolic : SymbolicCache, optional
+        Symbolic analyses shared with the caller's other factorisations of this pattern.
 
     Returns
     -------
@@ -850,29 +391,27 @@ def stitch(
     info : StitchInfo
     """
     pb = _Problem(
-        V2,
-        F2,
-        targets,
-        pins=pins,
-        vertex_panel=vertex_panel,
-        asap_faces=asap_faces,
-        asap_exclude=asap_exclude,
-        ease=ease,
-        panel_weight=panel_weight,
-        w_pin=w_pin,
-        w_asap=w_asap,
-    )
+        V2, F2, targets, pins=pins, vertex_panel=vertex_panel, asap_faces=asap_faces,
+        asap_exclude=asap_exclude, ease=ease, panel_weight=panel_weight, w_pin=w_pin,
+        w_asap=w_asap, symbolic=symbolic,
+    )  # fmt: skip
     X0 = pb.global_step(np.ones(len(F2)), np.zeros(len(F2)), None)  # identity rotations
     s = _Iterate(pb, _finite_or_fail(X0), history)
-    it, converged, stalled, hist, newton = _iterate(
-        pb,
-        s,
-        max_iter=max_iter,
-        step_tol=step_tol,
-        history=history,
-        newton_cg=newton_cg,
-        progress=progress,
-    )
+    kw = dict(max_iter=max_iter, step_tol=step_tol, history=history, newton_cg=newton_cg)
+    return _result(pb, s, V2, *_iterate(pb, s, **kw, progress=progress))
+
+
+def _result(
+    pb: _Problem,
+    s: _Iterate,
+    V2: np.ndarray,
+    it: int,
+    converged: bool,
+    stalled: bool,
+    hist: list[float],
+    newton: int,
+) -> tuple[np.ndarray, StitchInfo]:
+    """The stitched positions and the solver's record after :func:`_iterate`'s run."""
     X = s.GX  # a plain step: the constraints hold at the last linearisation
     X[~pb.used] = V2[~pb.used]
     pb._rot, pb._twist_at = (None, None), None  # X changed in place

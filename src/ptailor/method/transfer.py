@@ -134,48 +134,72 @@ def locate_points(
         )
     T = V[F[cand_faces]]  # (j, 3, 2)
     C = T.mean(axis=1)  # (j, 2)
+    face, dist, bary = _first_guess(P, T, C)
+    todo = np.flatnonzero(dist > 0)
+    if len(todo):
+        _nearest_within(P, T, C, todo, face, dist, bary)
+    return PointLocation(face=cand_faces[face], bary=bary, distance=dist)
+
+
+def _first_guess(
+    P: np.ndarray, T: np.ndarray, C: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per point of ``P (k, 2)``, the nearest of the triangles ``T (j, 3, 2)`` with the
+    ``_CANDIDATES`` nearest centroids ``C (j, 2)``: ``(face (k,), distance (k,),
+    bary (k, 3))``, faces as positions in ``T``."""
     from scipy.spatial import cKDTree  # imported when needed (costly)
 
-    # first guess: the triangles with the nearest centroids
-    kk = min(_CANDIDATES, len(cand_faces))
+    k = len(P)
+    kk = min(_CANDIDATES, len(T))
     _, idx = cKDTree(C).query(P, k=kk)
     idx = np.asarray(idx).reshape(k, kk)
     d0, b0 = _pair_distance(np.broadcast_to(P[:, None, :], (k, kk, 2)), T[idx])
     best0 = np.argmin(d0, axis=1)
     rows = np.arange(k)
-    face = idx[rows, best0]
-    dist = d0[rows, best0]
-    bary = b0[rows, best0]
-    todo = np.flatnonzero(dist > 0)
-    if len(todo):
-        # exact: every triangle whose centroid is within d + r of the point, by size group
-        r = np.linalg.norm(T - C[:, None, :], axis=2).max(axis=1)  # (j,)
-        group = np.floor(np.log2(np.maximum(r, 1e-300) / max(float(r.max()), 1e-300)))
-        group = np.maximum(group, -60.0).astype(np.int64)
-        pt_parts, tri_parts = [], []
-        for g in np.unique(group).tolist():  # a loop over size groups (a few dozen at most)
-            members = np.flatnonzero(group == g)
-            lists = cKDTree(C[members]).query_ball_point(
-                P[todo], r=dist[todo] + float(r[members].max()) * (1 + 1e-9)
-            )
-            counts = np.fromiter((len(a) for a in lists), dtype=np.int64, count=len(todo))
-            flat = np.fromiter(
-                itertools.chain.from_iterable(lists), dtype=np.int64, count=int(counts.sum())
-            )
-            pt_parts.append(np.repeat(todo, counts))
-            tri_parts.append(members[flat])
-        pt = np.concatenate(pt_parts)
-        tri = np.concatenate(tri_parts)
-        dp, bp = _pair_distance(P[pt], T[tri])
-        dc = np.linalg.norm(P[pt] - C[tri], axis=1)
-        order = np.lexsort((dc, dp, pt))
-        first = order[np.unique(pt[order], return_index=True)[1]]
-        better = dp[first] < dist[pt[first]]
-        sel = first[better]
-        face[pt[sel]] = tri[sel]
-        dist[pt[sel]] = dp[sel]
-        bary[pt[sel]] = bp[sel]
-    return PointLocation(face=cand_faces[face], bary=bary, distance=dist)
+    return idx[rows, best0], d0[rows, best0], b0[rows, best0]
+
+
+def _nearest_within(
+    P: np.ndarray,
+    T: np.ndarray,
+    C: np.ndarray,
+    todo: np.ndarray,
+    face: np.ndarray,
+    dist: np.ndarray,
+    bary: np.ndarray,
+) -> None:
+    """The exact search for the points ``todo``: every triangle whose centroid is within
+    ``d + r`` of the point (``d`` its first guess's distance, ``r`` the triangle's
+    centroid-to-corner radius), by size group; ``face``, ``dist`` and ``bary`` updated in
+    place where a nearer triangle is found (ties: the nearest centroid)."""
+    from scipy.spatial import cKDTree  # imported when needed (costly)
+
+    r = np.linalg.norm(T - C[:, None, :], axis=2).max(axis=1)  # (j,)
+    group = np.floor(np.log2(np.maximum(r, 1e-300) / max(float(r.max()), 1e-300)))
+    group = np.maximum(group, -60.0).astype(np.int64)
+    pt_parts, tri_parts = [], []
+    for g in np.unique(group).tolist():  # a loop over size groups (a few dozen at most)
+        members = np.flatnonzero(group == g)
+        lists = cKDTree(C[members]).query_ball_point(
+            P[todo], r=dist[todo] + float(r[members].max()) * (1 + 1e-9)
+        )
+        counts = np.fromiter((len(a) for a in lists), dtype=np.int64, count=len(todo))
+        flat = np.fromiter(
+            itertools.chain.from_iterable(lists), dtype=np.int64, count=int(counts.sum())
+        )
+        pt_parts.append(np.repeat(todo, counts))
+        tri_parts.append(members[flat])
+    pt = np.concatenate(pt_parts)
+    tri = np.concatenate(tri_parts)
+    dp, bp = _pair_distance(P[pt], T[tri])
+    dc = np.linalg.norm(P[pt] - C[tri], axis=1)
+    order = np.lexsort((dc, dp, pt))
+    first = order[np.unique(pt[order], return_index=True)[1]]
+    better = dp[first] < dist[pt[first]]
+    sel = first[better]
+    face[pt[sel]] = tri[sel]
+    dist[pt[sel]] = dp[sel]
+    bary[pt[sel]] = bp[sel]
 
 
 def carry_points(V_new: np.ndarray, F: np.ndarray, loc: PointLocation) -> np.ndarray:

@@ -1,0 +1,151 @@
+"""The symbolic analyses (ordering, supernodes) of CHOLMOD factorisations, and the cache
+that lets factorisations of one sparsity pattern share one (:class:`SymbolicCache`)."""
+
+from __future__ import annotations
+
+import contextvars
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+
+@dataclass(eq=False)
+class _Symbolic:
+    """One CHOLMOD analysis: the pattern it is for, the matrix and factor objects, and the
+    factorisation whose values the factor holds now."""
+
+    indptr: np.ndarray
+    indices: np.ndarray
+    S: object  # cvxopt.spmatrix, lower triangle
+    F: object  # cvxopt CHOLMOD factor
+    owner: object = None
+    perm: np.ndarray | None = None  # the ordering asked for (None: CHOLMOD's choice)
+
+
+@dataclass(eq=False)
+class SymbolicCache:
+    """Symbolic analyses shared by the factorisations it is given to (``symbolic=`` of
+    :func:`ptailor.method.linear.factor` and the functions that call it): matrices of one
+    sparsity pattern share one analysis, so the uniform baseline's matrix, which has ours'
+    pattern, costs only its numeric factorisation. Solves stay exact: a solve whose factor
+    was overwritten by a later factorisation refactors its own values first.
+
+    The caller creates one per garment run and passes it down; without one (None) every
+    factorisation analyses its own matrix and keeps no copy of it for later.
+
+    Attributes
+    ----------
+    analyses : list of _Symbolic
+        The analyses made so far, in order.
+    """
+
+    analyses: list[_Symbolic] = field(default_factory=list)
+
+    def __len__(self) -> int:
+        return len(self.analyses)
+
+    def __contains__(self, sym: object) -> bool:
+        return any(sym is s for s in self.analyses)
+
+    def find(
+        self, L: sp.csc_matrix, perm: np.ndarray | None, taken: list[_Symbolic]
+    ) -> _Symbolic | None:
+        """The analysis of ``L``'s pattern in the ordering ``perm`` (None: CHOLMOD's
+        choice), never one of ``taken``; None where there is none."""
+        for sym in self.analyses:
+            if any(sym is t for t in taken):
+                continue
+            if (
+                np.array_equal(sym.indptr, L.indptr)
+                and np.array_equal(sym.indices, L.indices)
+                and (sym.perm is None) == (perm is None)
+                and (perm is None or np.array_equal(sym.perm, perm))
+            ):
+                return sym
+        return None
+
+    def add(self, sym: _Symbolic) -> None:
+        self.analyses.append(sym)
+
+
+#: the cache of :func:`shared_symbolic`, for callers that cannot pass one yet (per thread
+#: and task: a context variable, so garments run in threads of one process, as a Dask
+#: worker does, never see each other's). Prefer an explicit :class:`SymbolicCache`.
+_SHARED: contextvars.ContextVar[SymbolicCache | None] = contextvars.ContextVar(
+    "ptailor_shared_symbolic", default=None
+)
+#: ``cvxopt.cholmod.options`` is one dict per process: an analysis sets it, calls CHOLMOD
+#: and restores it under this lock, so a concurrent analysis never runs with its options
+_OPTIONS = threading.Lock()
+
+
+@contextmanager
+def shared_symbolic() -> Iterator[SymbolicCache]:
+    """Within the block, factorisations given no ``symbolic=`` share the block's
+    :class:`SymbolicCache` (yielded). Kept for the callers that cannot pass one down yet
+    (a mirrored edit's two applications); new code passes a :class:`SymbolicCache`."""
+    cache = SymbolicCache()
+    token = _SHARED.set(cache)
+    try:
+        yield cache
+    finally:
+        _SHARED.reset(token)
+
+
+def active_cache(symbolic: SymbolicCache | None) -> SymbolicCache | None:
+    """``symbolic``, else the cache of an open :func:`shared_symbolic` block, else None."""
+    return symbolic if symbolic is not None else _SHARED.get()
+
+
+def cvx_matrix(L: sp.csc_matrix):
+    """A CSC matrix (sorted indices) as a cvxopt ``spmatrix``."""
+    from cvxopt import matrix, spmatrix
+
+    n = L.shape[0]
+    cols = np.repeat(np.arange(n), np.diff(L.indptr))
+    return spmatrix(matrix(L.data), matrix(L.indices.astype(int)), matrix(cols), (n, n))
+
+
+def symbolic_analysis(
+    L: sp.csc_matrix,
+    cholmod,
+    taken: list[_Symbolic],
+    perm: np.ndarray | None = None,
+    symbolic: SymbolicCache | None = None,
+) -> _Symbolic:
+    """The analysis for ``L``'s pattern (in the ordering ``perm``, default CHOLMOD's
+    choice): ``symbolic``'s, else a new one (added to ``symbolic``); never one of ``taken``
+    (the other blocks of one matrix: two panels of one mesh have one pattern, but each
+    needs its own factor)."""
+    if symbolic is not None:
+        sym = symbolic.find(L, perm, taken)
+        if sym is not None:
+            return sym
+    S = cvx_matrix(L)
+    sym = _Symbolic(L.indptr, L.indices, S, cholmod_analysis(S, cholmod, perm), perm=perm)
+    if symbolic is not None:
+        symbolic.add(sym)
+    return sym
+
+
+def cholmod_analysis(S, cholmod, perm: np.ndarray | None):
+    """CHOLMOD's symbolic analysis of ``S`` (supernodal): the least fill of three
+    orderings, or ``perm`` as it is (no postordering, so its last unknowns stay last)."""
+    from cvxopt import matrix
+
+    with _OPTIONS:
+        saved = dict(cholmod.options)
+        cholmod.options.update(supernodal=2, nmethods=3 if perm is None else 1)
+        if perm is not None:
+            cholmod.options["postorder"] = False
+        try:
+            if perm is None:
+                return cholmod.symbolic(S, uplo="L")
+            return cholmod.symbolic(S, p=matrix(perm.astype(int)), uplo="L")
+        finally:
+            cholmod.options.clear()
+            cholmod.options.update(saved)
