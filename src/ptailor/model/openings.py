@@ -178,39 +178,107 @@ def openings(
     V3 = np.asarray(V3, dtype=np.float64)
     F3 = np.asarray(F3, dtype=np.int64).reshape(-1, 3)
     frame = body_frame(up, front)
-    if not len(F3):
-        return []
-    loops, closed = boundary_curves(F3, V=V3, F2=F2) if curves is None else curves
+    loops, closed = _loops(V3, F3, F2, curves)
     if not loops:
         return []
+    m = _loop_measures(V3, F3, loops, closed, frame)
+    return _named_openings(m, _opening_names(m))
 
+
+@dataclass(frozen=True)
+class _LoopMeasures:
+    """The garment and its loops measured in the wearer's frame (rules 1 and 2).
+
+    Attributes
+    ----------
+    loops : list of (k,) int arrays
+    closed : (c,) bool array
+    S, Hc : (n,) float arrays
+        Left coordinate and height of every vertex.
+    used : (u,) int array
+        The vertices a triangle uses.
+    h_min, H : float
+        The garment's lowest height and its height.
+    s0 : float
+        The centre line's left coordinate.
+    length : (c,) float array
+    centroid : (c, 3) float array
+    ch : (c,) float array
+        Centroid heights.
+    smin, smax : (c,) float arrays
+        Each loop's extent along left.
+    big : (c,) bool array
+        Loops long enough to be named.
+    horizontal : (c,) bool array
+    """
+
+    loops: list
+    closed: np.ndarray
+    S: np.ndarray
+    Hc: np.ndarray
+    used: np.ndarray
+    h_min: float
+    H: float
+    s0: float
+    length: np.ndarray
+    centroid: np.ndarray
+    ch: np.ndarray
+    smin: np.ndarray
+    smax: np.ndarray
+    big: np.ndarray
+    horizontal: np.ndarray
+
+
+def _loops(V3: np.ndarray, F3: np.ndarray, F2, curves) -> tuple[list, np.ndarray]:
+    """The boundary loops and whether each is closed (none without triangles)."""
+    if not len(F3):
+        return [], np.zeros(0, dtype=bool)
+    return boundary_curves(F3, V=V3, F2=F2) if curves is None else curves
+
+
+def _loop_measures(
+    V3: np.ndarray, F3: np.ndarray, loops: list, closed, frame: np.ndarray
+) -> _LoopMeasures:
+    """Every loop's length, centroid and plane, and the garment's extent and centre line."""
     used = used_indices(F3, len(V3))
     S = V3 @ frame[0]  # left coordinate per vertex
     Hc = V3 @ frame[1]  # height per vertex
     h_min, h_max = float(Hc[used].min()), float(Hc[used].max())
-    H = h_max - h_min
-
-    s0 = _centre_line(V3, F3, S, used)
-
     n = len(loops)
     geo = [_loop_geometry(V3[L], bool(c)) for L, c in zip(loops, closed, strict=True)]
     length = np.array([g[0] for g in geo])
     cen = np.array([g[1] for g in geo]).reshape(n, 3)
     nrm = np.array([g[2] for g in geo]).reshape(n, 3)
-    ch = cen @ frame[1]  # centroid heights
-    smin = np.array([S[L].min() for L in loops])
-    smax = np.array([S[L].max() for L in loops])
-    big = length >= _MIN_REL_LENGTH * length.max()
-    horizontal = np.abs(nrm @ frame[1]) >= _HORIZONTAL_COS
+    return _LoopMeasures(
+        loops=loops,
+        closed=closed,
+        S=S,
+        Hc=Hc,
+        used=used,
+        h_min=h_min,
+        H=h_max - h_min,
+        s0=_centre_line(V3, F3, S, used),
+        length=length,
+        centroid=cen,
+        ch=cen @ frame[1],
+        smin=np.array([S[L].min() for L in loops]),
+        smax=np.array([S[L].max() for L in loops]),
+        big=length >= _MIN_REL_LENGTH * length.max(),
+        horizontal=np.abs(nrm @ frame[1]) >= _HORIZONTAL_COS,
+    )
 
-    centred = [i for i in range(n) if big[i] and smin[i] < s0 < smax[i]]
-    left = [i for i in range(n) if big[i] and smin[i] >= s0]
-    right = [i for i in range(n) if big[i] and smax[i] <= s0]
+
+def _opening_names(m: _LoopMeasures) -> dict[int, str]:
+    """The names of the loops by rules 2 to 5 (a loop left out is ``opening_<k>``)."""
+    n, s0, ch = len(m.loops), m.s0, m.ch
+    centred = [i for i in range(n) if m.big[i] and m.smin[i] < s0 < m.smax[i]]
+    left = [i for i in range(n) if m.big[i] and m.smin[i] >= s0]
+    right = [i for i in range(n) if m.big[i] and m.smax[i] <= s0]
     centred.sort(key=lambda i: (ch[i], i))
     names: dict[int, str] = {}
 
     # 3. legs
-    legs = _legs(left, right, centred, ch, horizontal, h_min + 0.5 * H)
+    legs = _legs(left, right, centred, ch, m.horizontal, m.h_min + 0.5 * m.H)
     if legs is not None:
         ll, lr = legs
         names[ll], names[lr] = "leg_left", "leg_right"
@@ -220,28 +288,34 @@ def openings(
     # 4. sleeves or armholes
     sleeve_h = None
     if left and right:
-        sl = max(left, key=lambda i: (length[i], -i))
-        sr = max(right, key=lambda i: (length[i], -i))
-        band = (Hc[loops[sl]], Hc[loops[sr]])
-        inner = (smin[sl] - s0) + (s0 - smax[sr])
-        kind = _sleeve_kind(band, inner, Hc, S, used, s0, H)
+        sl = max(left, key=lambda i: (m.length[i], -i))
+        sr = max(right, key=lambda i: (m.length[i], -i))
+        band = (m.Hc[m.loops[sl]], m.Hc[m.loops[sr]])
+        inner = (m.smin[sl] - s0) + (s0 - m.smax[sr])
+        kind = _sleeve_kind(band, inner, m.Hc, m.S, m.used, s0, m.H)
         names[sl], names[sr] = f"{kind}_left", f"{kind}_right"
         sleeve_h = min(ch[sl], ch[sr])
 
     # 5. centred loops
     names.update(
-        _centred_names(centred, horizontal, ch, sleeve_h, has_legs=legs is not None, lengths=length)
+        _centred_names(
+            centred, m.horizontal, ch, sleeve_h, has_legs=legs is not None, lengths=m.length
+        )
     )
+    return names
 
+
+def _named_openings(m: _LoopMeasures, names: dict[int, str]) -> list[Opening]:
+    """The openings of the loops, a loop without a name ``opening_<k>`` (rule 6)."""
     return [
         Opening(
             name=names.get(i, f"opening_{i}"),
-            loop=loops[i],
-            length=float(length[i]),
-            centroid=cen[i],
-            closed=bool(closed[i]),
+            loop=m.loops[i],
+            length=float(m.length[i]),
+            centroid=m.centroid[i],
+            closed=bool(m.closed[i]),
         )
-        for i in range(n)
+        for i in range(len(m.loops))
     ]
 
 

@@ -14,7 +14,8 @@ index map), but it merges greedily (points 0.6 and 1.2 tolerances apart along a 
 two vertices: the result depends on the vertex order in the file), deletes the faces the
 merge makes degenerate without saying which, and cannot tell a 3D-duplicate face from two
 panels' faces that only share drape vertices (it sees no ``vt``). pymeshlab is used for what
-it is best at: the topological measures that ``inspect`` shows (:func:`topology`).
+it is best at: the topological measures that ``inspect`` shows (:func:`topology`). The units
+check is :mod:`ptailor.model.unit_ratio`'s.
 """
 
 from __future__ import annotations
@@ -30,18 +31,29 @@ from ptailor.errors import PtailorError
 from ptailor.geometry.labels import component_labels, used_indices
 from ptailor.geometry.topology import edge_groups, edge_keys, half_edges
 from ptailor.geometry.triangles import edge_lengths, triangle_areas
+from ptailor.model.unit_ratio import UNIT_RATIO_RANGE, UnitMismatchError, check_units, unit_ratios
+
+# the units check moved to ptailor.model.unit_ratio; its names are still importable from here
+__all__ = [
+    "UNIT_RATIO_RANGE",
+    "WELD_REL",
+    "IntakeResult",
+    "UnitMismatchError",
+    "check_units",
+    "duplicate_faces",
+    "intake",
+    "non_manifold_edges",
+    "topology",
+    "unit_ratios",
+    "weld_joins_panels",
+    "weld_vertices",
+    "zero_area_faces",
+]
 
 #: ``--weld auto`` (and a weld without a distance) merges drape vertices closer than this
 #: fraction of the mean drape edge length. Measured: the shortest edge of the shared garments
 #: is 0.24-0.66 of their mean, and no two of their referenced vertices are within 0.1.
 WELD_REL = 1e-3
-#: A garment whose median pattern/drape edge length ratio lies outside these bounds has its
-#: units wrong (elastic and gathered parts measure about 0.7-1.4).
-UNIT_RATIO_RANGE = (0.5, 2.0)
-
-
-class UnitMismatchError(PtailorError):
-    """Drape and pattern are not in the units they were said to be in (exit 2)."""
 
 
 def weld_vertices(
@@ -242,51 +254,6 @@ def non_manifold_edges(F: np.ndarray) -> np.ndarray:
     return np.stack([many // n, many % n], axis=1)
 
 
-def unit_ratios(
-    V3: np.ndarray, F3: np.ndarray, V2: np.ndarray, F2: np.ndarray, *, lengths3=None
-) -> tuple[float, np.ndarray]:
-    """Median pattern/drape edge length ratio, of the garment and of each panel.
-
-    Parameters
-    ----------
-    V3 : (n3, 3) float array
-    F3 : (m, 3) int array
-    V2 : (n2, 2) float array
-    F2 : (m, 3) int array
-        Panels are its connected components (:func:`ptailor.geometry.component_labels` order).
-    lengths3 : (m, 3) float array, optional
-        ``edge_lengths(V3, F3)`` when already computed (:attr:`IntakeResult.lengths3`).
-
-    Returns
-    -------
-    ratio : float
-        Median over every triangle edge of its 2D length over its 3D length (1 when both
-        are in the same unit; elastic parts measure about 0.7-1.4); NaN without edges.
-    per_panel : (p,) float array
-        The same median per panel.
-    """
-    l3 = (edge_lengths(V3, F3) if lengths3 is None else lengths3).ravel()
-    l2 = edge_lengths(V2, F2).ravel()
-    lab = np.repeat(component_labels(F2, len(V2)), 3)
-    ok = (l3 > 0) & (l2 > 0) & np.isfinite(l2 / np.where(l3 > 0, l3, 1.0))
-    r, lab = l2[ok] / l3[ok], lab[ok]
-    n_p = int(lab.max()) + 1 if lab.size else 0
-    if not r.size:
-        return float("nan"), np.full(n_p, np.nan)
-    # per-panel medians: the ratios grouped by panel, each run's middle two values
-    order = np.argsort(lab, kind="stable") if n_p <= 64 else np.lexsort((r, lab))
-    rs, count = r[order], np.bincount(lab, minlength=n_p)
-    start = np.cumsum(count) - count
-    lo, hi = start + (count - 1) // 2, start + count // 2
-    for p in np.flatnonzero(count).tolist() if n_p <= 64 else []:  # select, not sort
-        a, b = start[p], start[p] + count[p]
-        rs[a:b] = np.partition(rs[a:b], [lo[p] - a, hi[p] - a])
-    per = np.where(
-        count > 0, 0.5 * (rs[np.minimum(lo, len(rs) - 1)] + rs[np.minimum(hi, len(rs) - 1)]), np.nan
-    )
-    return float(np.median(r)), per
-
-
 def topology(V: np.ndarray, F: np.ndarray) -> dict:
     """pymeshlab's topological measures of a triangle mesh (for ``inspect``).
 
@@ -411,31 +378,11 @@ def intake(
         rec.update(zero_area_faces_2d=0, non_manifold_edges=0)
         return IntakeResult(V3, F3, V2, F2, np.arange(m), I, rec, warnings)
     lengths3 = edge_lengths(V3, F3)
-    mean_edge = float(lengths3.mean())
-    dist = WELD_REL * mean_edge if isinstance(weld, str) else float(weld)
     n_pieces = int(component_labels(F3, len(V3)).max()) + 1
     rec["pieces_before"] = n_pieces
-    W, G, I2, J = weld_vertices(V3, F3, distance=dist)
-    joins = 0
-    if len(I2) < len(V3):
-        joins = weld_joins_panels(F3, component_labels(F2, len(V2)), J)
-    do_weld = weld != "off" and (weld != "auto" or joins > 0)
-    if do_weld and len(I2) < len(V3):
-        V3, F3, I = W, G, I2
-        rec["weld_distance"] = dist
-        rec["welded_vertices"] = len(J) - len(I2)
-    else:
-        rec["weld_distance"] = None
-        rec["welded_vertices"] = 0
-        if weld == "off" and joins:
-            warnings.append(
-                f"{joins} drape vertices of different panels coincide (an unwelded export?): "
-                "--weld off keeps them apart, so the seams there are not seen"
-            )
-    z3 = zero_area_faces(V3, F3)
-    finite2 = np.isfinite(V2).all() or np.isfinite(V2[used_indices(F2, len(V2))]).all()
-    z2 = zero_area_faces(V2, F2) if finite2 else np.zeros(m, bool)
-    dup = duplicate_faces(F3, F2) & ~(z3 | z2)
+    V3, F3, I, welded, warnings = _welded(V3, F3, V2, F2, weld=weld, mean_edge=lengths3.mean())
+    rec.update(welded)
+    z3, z2, dup = _bad_faces(V3, F3, V2, F2)
     drop = z3 | z2 | dup
     rec["duplicate_faces"] = int(dup.sum())
     rec["zero_area_faces_3d"] = int(z3.sum())
@@ -458,34 +405,54 @@ def intake(
     return IntakeResult(V3, F3, V2, F2, keep, I, rec, warnings, lengths3)
 
 
-def check_units(
-    ratio: float,
+def _welded(
+    V3: np.ndarray,
+    F3: np.ndarray,
+    V2: np.ndarray,
+    F2: np.ndarray,
     *,
-    path: str | None,
-    pattern_units: str,
-    drape_units: str,
-    pattern_option: str = "--pattern-units",
-) -> None:
-    """Raise :class:`UnitMismatchError` when ``ratio`` (:func:`unit_ratios`) is outside
-    :data:`UNIT_RATIO_RANGE`.
+    weld: str | float,
+    mean_edge: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict, list[str]]:
+    """The drape welded as ``weld`` says (:func:`intake`).
 
-    Parameters
-    ----------
-    ratio : float
-        Median pattern/drape edge length ratio, both read in their stated units.
-    path : str or None
-        The file named in the message.
-    pattern_units, drape_units : str
-        The units as given.
-    pattern_option : str
-        The option that sets the pattern's unit (``--dxf-units`` for a DXF pattern).
+    Returns
+    -------
+    V3 : (k, 3) float array
+    F3 : (m, 3) int array
+    I : (k,) int array
+        Input vertex of each new one.
+    record : dict
+        ``weld_distance`` (None when nothing was welded) and ``welded_vertices``.
+    warnings : list of str
+        Why ``--weld off`` left coincident vertices of different panels apart.
     """
-    lo, hi = UNIT_RATIO_RANGE
-    if np.isfinite(ratio) and not lo <= ratio <= hi:
-        raise UnitMismatchError(
-            f"pattern and drape disagree in scale: median pattern/drape edge length ratio "
-            f"{ratio:.3g} (outside [{lo:g}, {hi:g}]) reading the pattern in {pattern_units} "
-            f"and the drape in {drape_units}: check {pattern_option} and --drape-units "
-            "(or --pattern-units auto)",
-            path=path,
+    dist = WELD_REL * float(mean_edge) if isinstance(weld, str) else float(weld)
+    W, G, I2, J = weld_vertices(V3, F3, distance=dist)
+    joins = 0
+    if len(I2) < len(V3):
+        joins = weld_joins_panels(F3, component_labels(F2, len(V2)), J)
+    do_weld = weld != "off" and (weld != "auto" or joins > 0)
+    if do_weld and len(I2) < len(V3):
+        return W, G, I2, {"weld_distance": dist, "welded_vertices": len(J) - len(I2)}, []
+    warnings = []
+    if weld == "off" and joins:
+        warnings.append(
+            f"{joins} drape vertices of different panels coincide (an unwelded export?): "
+            "--weld off keeps them apart, so the seams there are not seen"
         )
+    record = {"weld_distance": None, "welded_vertices": 0}
+    return V3, F3, np.arange(len(V3)), record, warnings
+
+
+def _bad_faces(
+    V3: np.ndarray, F3: np.ndarray, V2: np.ndarray, F2: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Faces to drop: zero-area in 3D, zero-area in 2D (when the pattern is finite), and
+    duplicates of a face kept (:func:`duplicate_faces`, the zero-area ones left out); each
+    ``(m,)`` bool."""
+    z3 = zero_area_faces(V3, F3)
+    finite2 = np.isfinite(V2).all() or np.isfinite(V2[used_indices(F2, len(V2))]).all()
+    z2 = zero_area_faces(V2, F2) if finite2 else np.zeros(len(F2), bool)
+    dup = duplicate_faces(F3, F2) & ~(z3 | z2)
+    return z3, z2, dup

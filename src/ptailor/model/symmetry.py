@@ -278,10 +278,57 @@ def sagittal_plane(
     used = used_indices(F, len(V))
     P, w = V[used], w_all[used]
     left = body_frame(up, front)[0]
-    n, c = left.copy(), centroid.copy()
     N = N_all[used]
     tree = cKDTree(P, balanced_tree=False)  # the same answers, built faster
     scale = float(np.ptp(P, axis=0).max()) or 1.0
+    n, c = _icp_plane(
+        P, N, w, tree, left.copy(), centroid.copy(), iterations=iterations, trim=trim, scale=scale
+    )
+    n = n * (1.0 if n @ left >= 0 else -1.0)
+    point = centroid - ((centroid - c) @ n) * n
+    plane = SagittalPlane(point=point, normal=n, rms=0.0, max=0.0)
+    d = _mirror_distances(plane, V, F, used, tree, exact=_EXACT * scale)
+    rms = float(np.sqrt((w * d * d).sum() / w.sum()))
+    return SagittalPlane(point=point, normal=n, rms=rms, max=float(d.max()))
+
+
+def _icp_plane(
+    P: np.ndarray,
+    N: np.ndarray,
+    w: np.ndarray,
+    tree,
+    n: np.ndarray,
+    c: np.ndarray,
+    *,
+    iterations: int,
+    trim: float,
+    scale: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The mirror plane the ICP iterations of :func:`sagittal_plane` reach from ``(n, c)``.
+
+    Parameters
+    ----------
+    P : (k, 3) float array
+        The surface's used vertices.
+    N : (k, 3) float array
+        Their unit normals.
+    w : (k,) float array
+        Their lumped areas.
+    tree : scipy.spatial.cKDTree
+        Of ``P``.
+    n, c : (3,) float arrays
+        The start plane's unit normal and a point of it.
+    iterations : int
+        Most plane updates (fewer once the plane no longer moves).
+    trim : float
+        Fraction of pairs left out of each update.
+    scale : float
+        The surface's size (the plane's shift is measured against it).
+
+    Returns
+    -------
+    n, c : (3,) float arrays
+    """
     for _ in range(int(iterations)):  # ICP iterations, each vectorised over the vertices
         s = (P - c) @ n
         E = P - 2.0 * s[:, None] * n  # the mirrored vertices
@@ -301,14 +348,17 @@ def sagittal_plane(
         n = n_new
         if moved < 1e-13:
             break
-    n = n * (1.0 if n @ left >= 0 else -1.0)
-    point = centroid - ((centroid - c) @ n) * n
-    plane = SagittalPlane(point=point, normal=n, rms=0.0, max=0.0)
-    X = mirror_points(P, plane)
+    return n, c
+
+
+def _mirror_distances(
+    plane: SagittalPlane, V: np.ndarray, F: np.ndarray, used: np.ndarray, tree, *, exact: float
+) -> np.ndarray:
+    """Distance ``(k,)`` from each used vertex's mirror image to the surface ``(V, F)``
+    (``tree``: of ``V[used]``; ``exact``: :func:`_surface_distance`'s)."""
+    X = mirror_points(V[used], plane)
     _, j = tree.query(X)
-    d = _surface_distance(X, V, F, used[j], exact=_EXACT * scale)
-    rms = float(np.sqrt((w * d * d).sum() / w.sum()))
-    return SagittalPlane(point=point, normal=n, rms=rms, max=float(d.max()))
+    return _surface_distance(X, V, F, used[j], exact=exact)
 
 
 def panel_mirror_map(

@@ -198,9 +198,26 @@ def verify_patterns(
     stretches : dict of str to (m, 2) float array
         Their principal stretches.
     """
+    _check_up(up)
+    s = settings if settings is not None else Settings()
+    common = _common_inputs(V3_edit, F3, F2, V2_orig, V3_orig, rest=rest, sim_faces=s.sim_faces)
+    run = _engine_options(common, up=up, units_m=units_m, body=body, settings=s, device=device)
+    measure = _measure_options(to_units, face_panel, vertex_panel, panel_names)
+    reports, drapes, stretches = _redrapes(patterns, common, run, measure, progress)
+    return _section(reports, common, rest), drapes, stretches
+
+
+def _check_up(up) -> None:
+    """Refuse an ``up`` other than +y: the engine's gravity is along -y."""
     u = np.asarray(up, dtype=float)
     if u.shape != (3,) or not np.allclose(u / np.linalg.norm(u), [0.0, 1.0, 0.0]):
         raise ValueError(f"up must be +y (the engine's gravity is along -y), not {tuple(u)}")
+
+
+def _common_inputs(V3_edit, F3, F2, V2_orig, V3_orig, *, rest: str, sim_faces) -> dict:
+    """What every re-drape shares: the edited drape, the triangles, the original pattern and
+    drape (the rest shapes), the rest mode and the simulation mesh (``sim``, None when the
+    garment is simulated as it is)."""
     V3_edit = np.asarray(V3_edit, dtype=float)
     common = {
         "V3_edit": V3_edit,
@@ -210,34 +227,57 @@ def verify_patterns(
         "V2_orig": np.asarray(V2_orig, dtype=float),
         "V3_orig": np.asarray(V3_orig, dtype=float),
     }
-    s = settings if settings is not None else Settings()
-    sim = simulation_mesh(V3_edit, common["F3"], common["V2_orig"], common["F2"],
-                          max_faces=s.sim_faces)  # fmt: skip
-    common["sim"] = sim
-    pinned = top_opening(V3_edit, common["F3"], up=up)
+    common["sim"] = simulation_mesh(
+        V3_edit, common["F3"], common["V2_orig"], common["F2"], max_faces=sim_faces
+    )
+    return common
+
+
+def _engine_options(common: dict, *, up, units_m: float, body, settings: Settings, device) -> dict:
+    """:func:`ptailor.verify.engine.redrape`'s options: the top opening pinned (on the
+    simulation mesh's vertices when there is one)."""
+    sim = common["sim"]
+    pinned = top_opening(common["V3_edit"], common["F3"], up=up)
     if sim is not None:  # (every pattern boundary vertex is a simulation vertex)
         pinned = np.searchsorted(sim.keep3, pinned)
-    run = {
+    return {
         "units_m": float(units_m),
         "pinned": pinned,
         "body": body,
-        "settings": s,
+        "settings": settings,
         "device": device,
     }
-    measure = {
+
+
+def _measure_options(to_units: float, face_panel, vertex_panel, panel_names) -> dict:
+    """What :func:`_one` measures with: the report units and the panels."""
+    return {
         "to_units": float(to_units),
         "face_panel": np.asarray(face_panel),
         "vertex_panel": np.asarray(vertex_panel),
         "names": list(panel_names),
     }
+
+
+def _redrapes(
+    patterns: dict[str, np.ndarray], common: dict, run: dict, measure: dict, progress
+) -> tuple[dict, dict[str, np.ndarray], dict[str, np.ndarray]]:
+    """Each pattern re-draped and measured (:func:`_one`): reports, drapes and stretches by
+    name, each with its own progress feed."""
     reports, drapes, stretches = {}, {}, {}
     for kind, V2 in patterns.items():
         feed = None if progress is None else _feed(progress, kind, run["settings"])
         reports[kind], drapes[kind], stretches[kind] = _one(
             V2, common=common, run={**run, **({"progress": feed} if feed else {})}, measure=measure
         )
+    return reports, drapes, stretches
+
+
+def _section(reports: dict, common: dict, rest: str) -> dict:
+    """The report section of the re-drapes (:func:`verify_patterns`)."""
+    sim = common["sim"]
     first = next(iter(reports.values()))["drape"] if reports else None
-    section = {
+    return {
         "engine": first.engine if first is not None else "",
         "device": first.device if first is not None else "",
         "steps": int(sum(r["R"]["steps"] for r in reports.values())),
@@ -250,7 +290,6 @@ def verify_patterns(
         },
         **{k: r["R"] for k, r in reports.items()},
     }
-    return section, drapes, stretches
 
 
 def verify_section(

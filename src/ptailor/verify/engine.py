@@ -369,6 +369,18 @@ def _simulate(
     return a.particle_q.numpy().astype(float), steps, settled, settle.speed
 
 
+def _sew_and_settle(wp, newton, V, F, P, body, s: Settings, dev, pinned, progress):
+    """Build the cloth model (SI units), pin ``pinned`` and step it until it settles;
+    returns :func:`_simulate`'s (positions, steps, settled, speeds)."""
+    model = _model(wp, newton, V, F, P, body, s, dev)
+    _pin(wp, newton, model, pinned)
+    free = np.zeros(len(V), dtype=bool)
+    free[np.unique(F)] = True
+    free[pinned] = False
+    radius = self_radius(P, s)
+    return _simulate(wp, newton, model, s, free, body is not None, radius, progress)
+
+
 def redrape(
     V3: np.ndarray,
     F3: np.ndarray,
@@ -434,20 +446,8 @@ def redrape(
         body = (np.asarray(body[0], dtype=float) * units_m, np.asarray(body[1]))
     # newton times its precompute with a ScopedTimer that prints to stdout
     with wp.ScopedDevice(dev), contextlib.redirect_stdout(io.StringIO()):
-        model = _model(wp, newton, V, F, P, body, settings, dev)
-        _pin(wp, newton, model, pinned)
-        free = np.zeros(len(V), dtype=bool)
-        free[np.unique(F)] = True
-        free[pinned] = False
-        X, steps, settled, speed = _simulate(
-            wp,
-            newton,
-            model,
-            settings,
-            free,
-            body is not None,
-            self_radius(P, settings),
-            progress,
+        X, steps, settled, speed = _sew_and_settle(
+            wp, newton, V, F, P, body, settings, dev, pinned, progress
         )
     X = X / units_m
     X[pinned] = V3[pinned]  # held exactly, not through float32

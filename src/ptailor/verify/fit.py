@@ -22,7 +22,7 @@ No rotation is fitted: the garment's ``up``/``front`` axes say how it is worn.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from importlib import resources
 
 import numpy as np
@@ -176,6 +176,40 @@ def fit_body(
 
     BN = np.asarray(trimesh.Trimesh(BV, BF, process=False).vertex_normals)  # outward, unit
     to_m = cm_per_unit / 100.0
+    P, a_g = _garment_points(V3, F3, ops, anchor, frame, to_m)
+    fit = _Placement(P, BV, BN, _body_anchor(BV, anchor), a_g, _offsets())
+    s = _largest_scale(fit, path=path)
+    inside, dist = _inside(P, fit.placed(s, fit.best[s]), BN)
+    V_g = (fit.placed(s, fit.best[s]) / to_m) @ frame  # back to the garment's axes and units
+    return BodyFit(
+        V=V_g,
+        F=BF,
+        pose=pose,
+        scale=s,
+        anchor=anchor,
+        inside=float(inside.mean()),
+        gap_rms=float(np.sqrt(np.mean(dist**2)) / to_m),
+        gap_median=float(np.median(dist) / to_m),
+    )
+
+
+def _garment_points(
+    V3: np.ndarray,
+    F3: np.ndarray,
+    ops: dict[str, Opening],
+    anchor: str,
+    frame: np.ndarray,
+    to_m: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The garment's vertices the fit looks at, in the body's axes and metres, and its
+    anchor opening's centroid there.
+
+    Returns
+    -------
+    P : (k, 3) float array
+        The torso's used vertices (evenly subsampled to about :data:`FIT_POINTS`).
+    a_g : (3,) float array
+    """
     used = np.unique(np.asarray(F3))
     P = (np.asarray(V3, dtype=np.float64)[used] @ frame.T) * to_m  # body axes, metres
     a_g = (ops[anchor].centroid @ frame.T) * to_m
@@ -187,55 +221,90 @@ def fit_body(
         torso = np.abs(P[:, 0] - a_g[0]) <= reach
         if torso.sum() >= 100:
             P = P[torso]
-    P = P[:: max(1, len(P) // FIT_POINTS)]
+    return P[:: max(1, len(P) // FIT_POINTS)], a_g
+
+
+def _body_anchor(BV: np.ndarray, anchor: str) -> np.ndarray:
+    """The body's anchor ``(3,)``: its neck base or waist height, on the torso's mid-depth
+    there, on the centre line."""
     h = float(BV[:, 1].max() - BV[:, 1].min())
     y_a = h * (NECK_HEIGHT if anchor == "neckline" else WAIST_HEIGHT)
     band = BV[np.abs(BV[:, 1] - y_a) < 0.02 * h]
-    a_b = np.array([0.0, y_a, 0.5 * float(band[:, 2].min() + band[:, 2].max())])
+    return np.array([0.0, y_a, 0.5 * float(band[:, 2].min() + band[:, 2].max())])
 
-    # the anchor is where the garment hangs, not a landmark it hits exactly: offsets of the
-    # body up/down and front/back (cm) tried at each scale, the least inside kept
+
+def _offsets() -> np.ndarray:
+    """The body's offsets ``(q, 2)`` from the anchor tried (up, front; metres), nearest first.
+
+    The anchor is where the garment hangs, not a landmark it hits exactly: offsets of the
+    body up/down and front/back (cm) are tried at each scale, the least inside kept.
+    """
     steps = np.arange(-OFFSET_CM, OFFSET_CM + 1e-9, OFFSET_STEP_CM) / 100.0
     offsets = np.stack(np.meshgrid(steps, steps, indexing="ij"), -1).reshape(-1, 2)
-    offsets = offsets[np.argsort(np.abs(offsets).sum(axis=1), kind="stable")]  # nearest first
-    best: dict[float, np.ndarray] = {}
+    return offsets[np.argsort(np.abs(offsets).sum(axis=1), kind="stable")]  # nearest first
 
-    def placed(s: float, off=(0.0, 0.0)) -> np.ndarray:  # scaled by s about its anchor
-        return (BV - a_b) * s + a_g + np.array([0.0, off[0], off[1]])
 
-    def inside_fraction(s: float) -> float:
-        fr = np.array([_inside(P, placed(s, o), BN)[0].mean() for o in offsets])  # offsets
+@dataclass
+class _Placement:
+    """The body placed about the garment's anchor: the points it must hold, and the best
+    offset found at each scale tried (``best``).
+
+    Attributes
+    ----------
+    P : (k, 3) float array
+        Garment points (:func:`_garment_points`).
+    BV, BN : (nb, 3) float arrays
+        The body's vertices and unit normals.
+    a_b, a_g : (3,) float arrays
+        The body's anchor and the garment's.
+    offsets : (q, 2) float array
+        :func:`_offsets`.
+    best : dict of float to (2,) float array
+        The offset with the least inside, per scale tried.
+    """
+
+    P: np.ndarray
+    BV: np.ndarray
+    BN: np.ndarray
+    a_b: np.ndarray
+    a_g: np.ndarray
+    offsets: np.ndarray
+    best: dict = field(default_factory=dict)
+
+    def placed(self, s: float, off=(0.0, 0.0)) -> np.ndarray:
+        """The body's vertices scaled by ``s`` about its anchor, moved by ``off``."""
+        return (self.BV - self.a_b) * s + self.a_g + np.array([0.0, off[0], off[1]])
+
+    def inside_fraction(self, s: float) -> float:
+        """The least fraction of the points inside the body at scale ``s``, over the offsets
+        (the offset kept in :attr:`best`)."""
+        fr = np.array(
+            [_inside(self.P, self.placed(s, o), self.BN)[0].mean() for o in self.offsets]
+        )  # a loop over offsets
         k = int(np.argmin(fr))
-        best[s] = offsets[k]
+        self.best[s] = self.offsets[k]
         return float(fr[k])
 
+
+def _largest_scale(fit: _Placement, *, path: str | None) -> float:
+    """The largest scale in :data:`SCALE_RANGE` with at most :data:`INSIDE_MAX` of the
+    points inside, by bisection (``fit.best`` then holds its offset)."""
     lo, hi = SCALE_RANGE
-    if inside_fraction(lo) > INSIDE_MAX:
+    if fit.inside_fraction(lo) > INSIDE_MAX:
         raise PtailorError(
             f"--body auto: the body does not fit inside the drape at any scale from {lo:g} to"
-            f" {hi:g} (at {lo:g}, {100 * inside_fraction(lo):.1f} % of the garment is inside"
+            f" {hi:g} (at {lo:g}, {100 * fit.inside_fraction(lo):.1f} % of the garment is inside"
             " it); check --up, --front and the units, or give a body with --body FILE",
             path=path,
         )
-    if inside_fraction(hi) <= INSIDE_MAX:
+    if fit.inside_fraction(hi) <= INSIDE_MAX:
         lo = hi
     for _ in range(SCALE_STEPS):  # bisection on the scale
         if lo == hi:
             break
         mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if inside_fraction(mid) <= INSIDE_MAX else (lo, mid)
+        lo, hi = (mid, hi) if fit.inside_fraction(mid) <= INSIDE_MAX else (lo, mid)
     s = lo
-    if s not in best:
-        inside_fraction(s)
-    inside, dist = _inside(P, placed(s, best[s]), BN)
-    V_g = (placed(s, best[s]) / to_m) @ frame  # back to the garment's axes and units
-    return BodyFit(
-        V=V_g,
-        F=BF,
-        pose=pose,
-        scale=s,
-        anchor=anchor,
-        inside=float(inside.mean()),
-        gap_rms=float(np.sqrt(np.mean(dist**2)) / to_m),
-        gap_median=float(np.median(dist) / to_m),
-    )
+    if s not in fit.best:
+        fit.inside_fraction(s)
+    return s

@@ -165,12 +165,8 @@ def verify_png(
         Image height in pixels and the resolution written in the file.
     """
     from matplotlib import colormaps
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.cm import ScalarMappable
-    from matplotlib.collections import PolyCollection
     from matplotlib.colors import TwoSlopeNorm
     from matplotlib.figure import Figure
-    from PIL import Image
 
     F3 = np.asarray(F3)
     cam = camera(up, front)
@@ -182,38 +178,68 @@ def verify_png(
         smax = np.asarray(stretch[name], dtype=float)[:, 0]
         rgb = cmap(norm(np.ma.masked_invalid(smax)))[:, :3]
         scenes.append((name, smax, *_scene(np.asarray(V, float), F3, rgb, body, cam)))
-    used = np.unique(F3)  # unreferenced vertices are not drawn
-    pts = np.concatenate([np.asarray(V, float)[used] @ cam[:2].T for V in drapes.values()])
-    lo, hi = pts.min(axis=0), pts.max(axis=0)
-    pad = 0.06 * float((hi - lo).max())
-    lo, hi = lo - pad, hi + pad
+    lo, hi = _view_box(drapes, F3, cam)
     k = max(len(scenes), 1)
     aspect = (hi[0] - lo[0]) / (hi[1] - lo[1])
     h_in = height / dpi
     w_panel = max(h_in * 0.8 * aspect, 2.2)
     fig = Figure(figsize=(k * w_panel + 1.3, h_in), dpi=dpi, facecolor="white")
     w = w_panel / (k * w_panel + 1.3)
-    text = {"fontfamily": _FONT, "color": "black"}
     for i, (name, smax, tris, cols) in enumerate(scenes):
-        ax = fig.add_axes((i * w, 0.02, w, 0.80))
-        ax.set_axis_off()
-        ax.set_xlim(lo[0], hi[0])
-        ax.set_ylim(lo[1], hi[1])
-        ax.set_aspect("equal", adjustable="box")
-        ax.add_collection(
-            PolyCollection(tris, facecolors=cols, edgecolors=cols, linewidths=0.3),
-            autolim=False,
-        )
         p95 = np.nanpercentile(smax, 95) if np.any(np.isfinite(smax)) else float("nan")
         caption = (captions or {}).get(name, f"stretch p95 {p95:.3f}")
-        fig.text((i + 0.5) * w, 0.955, TITLES.get(name, name), ha="center", va="center",
-                 fontsize=15, fontweight="bold", **text)  # fmt: skip
-        fig.text((i + 0.5) * w, 0.93, caption, ha="center", va="top",
-                 fontsize=11, **text)  # fmt: skip
-    cax = fig.add_axes((k * w + 0.15 * (1 - k * w), 0.12, 0.22 * (1 - k * w), 0.72))
+        _draw_panel(fig, i, w, (lo, hi), tris, cols, TITLES.get(name, name), caption)
+    _colour_bar(fig, k * w, norm, cmap)
+    _write_png(fig, path)
+
+
+def _view_box(drapes: dict[str, np.ndarray], F3: np.ndarray, cam: np.ndarray):
+    """The screen box ``(lo (2,), hi (2,))`` every panel shows: all drapes' used vertices,
+    padded by 6 % of its larger side."""
+    used = np.unique(F3)  # unreferenced vertices are not drawn
+    pts = np.concatenate([np.asarray(V, float)[used] @ cam[:2].T for V in drapes.values()])
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    pad = 0.06 * float((hi - lo).max())
+    return lo - pad, hi + pad
+
+
+def _draw_panel(fig, i: int, w: float, box, tris, cols, title: str, caption: str) -> None:
+    """Panel ``i`` (``w`` the figure's width fraction of a panel): the triangles ``tris``
+    (k, 3, 2) coloured ``cols`` (k, 3) over the screen ``box``, the title and caption above."""
+    from matplotlib.collections import PolyCollection
+
+    lo, hi = box
+    text = {"fontfamily": _FONT, "color": "black"}
+    ax = fig.add_axes((i * w, 0.02, w, 0.80))
+    ax.set_axis_off()
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    ax.set_aspect("equal", adjustable="box")
+    ax.add_collection(
+        PolyCollection(tris, facecolors=cols, edgecolors=cols, linewidths=0.3),
+        autolim=False,
+    )
+    fig.text((i + 0.5) * w, 0.955, title, ha="center", va="center",
+             fontsize=15, fontweight="bold", **text)  # fmt: skip
+    fig.text((i + 0.5) * w, 0.93, caption, ha="center", va="top",
+             fontsize=11, **text)  # fmt: skip
+
+
+def _colour_bar(fig, used: float, norm, cmap) -> None:
+    """The stretch colour bar, in the figure's width right of the panels (``used`` of it)."""
+    from matplotlib.cm import ScalarMappable
+
+    cax = fig.add_axes((used + 0.15 * (1 - used), 0.12, 0.22 * (1 - used), 0.72))
     bar = fig.colorbar(ScalarMappable(norm=norm, cmap=cmap), cax=cax, extend="both")
     bar.set_label("max principal stretch", fontsize=11, fontfamily=_FONT)
     bar.set_ticks([0.8, 0.9, 1.0, 1.1, 1.2])
+
+
+def _write_png(fig, path: str | os.PathLike) -> None:
+    """Draw ``fig`` on the Agg canvas and write its pixels with Pillow (no metadata)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from PIL import Image
+
     canvas = FigureCanvasAgg(fig)
     canvas.draw()
     rgb = np.asarray(canvas.buffer_rgba())[:, :, :3].copy()

@@ -173,15 +173,7 @@ def panel_layout(
     origin = np.array([pm.s0, pm.h0, pm.f0])
     rel = pm.cen_abs - origin
     ext = pm.hi_abs - pm.lo_abs
-    names = _unique_names(base, pm.At, rel, ext, np.abs(s_rel))
-    pairs = mirror_pairs(rel, pm.At, ext, side)
-    names = mirrored_names(names, pairs)
-    mirror = np.full(n_p, -1, dtype=np.int64)
-    mirror[[p for p in range(n_p) if side[p] == "centre"]] = [
-        p for p in range(n_p) if side[p] == "centre"
-    ]
-    for p, q in pairs:
-        mirror[p], mirror[q] = q, p
+    names, mirror = _mirrored_names(base, side, pm.At, rel, ext, np.abs(s_rel))
     why = reasons(pm, L, strip, role, side, face, tier, s_rel, touches)
     if not recognised(ops):  # no rule knows this garment: plain names, never a wrong role
         names = [f"panel_{p}" for p in range(n_p)]
@@ -204,3 +196,43 @@ def panel_layout(
         mirror=mirror,
         why=why,
     )
+
+
+def _mirrored_names(
+    base: list[str],
+    side: list[str],
+    area: np.ndarray,
+    rel: np.ndarray,
+    ext: np.ndarray,
+    s_abs: np.ndarray,
+) -> tuple[list[str], np.ndarray]:
+    """Unique panel names, mirror images named alike, and each panel's mirror image.
+
+    Parameters
+    ----------
+    base : list of str
+        The role names (:func:`~ptailor.model.names.roles.base_names`).
+    side : list of str
+    area : (n_p,) float array
+        Panel areas.
+    rel, ext : (n_p, 3) float arrays
+        Centroids relative to the garment's centre, and extents.
+    s_abs : (n_p,) float array
+        Distance of each centroid from the centre line.
+
+    Returns
+    -------
+    names : list of str
+    mirror : (n_p,) int array
+        A centred panel's own index, a paired panel's partner, else -1.
+    """
+    n_p = len(side)
+    names = _unique_names(base, area, rel, ext, s_abs)
+    pairs = mirror_pairs(rel, area, ext, side)
+    mirror = np.full(n_p, -1, dtype=np.int64)
+    mirror[[p for p in range(n_p) if side[p] == "centre"]] = [
+        p for p in range(n_p) if side[p] == "centre"
+    ]
+    for p, q in pairs:
+        mirror[p], mirror[q] = q, p
+    return mirrored_names(names, pairs), mirror

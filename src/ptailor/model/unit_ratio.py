@@ -1,0 +1,102 @@
+"""Whether drape and pattern are in the units they were said to be in.
+
+Each triangle edge's pattern length over its drape length is near 1 on any garment read in
+the right units (elastic and gathered parts measure about 0.7-1.4); a median far from 1 is a
+unit mistake (a drape in mm read as cm), refused with :class:`UnitMismatchError`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ptailor.errors import PtailorError
+from ptailor.geometry.labels import component_labels
+from ptailor.geometry.triangles import edge_lengths
+
+__all__ = ["UNIT_RATIO_RANGE", "UnitMismatchError", "check_units", "unit_ratios"]
+
+#: A garment whose median pattern/drape edge length ratio lies outside these bounds has its
+#: units wrong (elastic and gathered parts measure about 0.7-1.4).
+UNIT_RATIO_RANGE = (0.5, 2.0)
+
+
+class UnitMismatchError(PtailorError):
+    """Drape and pattern are not in the units they were said to be in (exit 2)."""
+
+
+def unit_ratios(
+    V3: np.ndarray, F3: np.ndarray, V2: np.ndarray, F2: np.ndarray, *, lengths3=None
+) -> tuple[float, np.ndarray]:
+    """Median pattern/drape edge length ratio, of the garment and of each panel.
+
+    Parameters
+    ----------
+    V3 : (n3, 3) float array
+    F3 : (m, 3) int array
+    V2 : (n2, 2) float array
+    F2 : (m, 3) int array
+        Panels are its connected components (:func:`ptailor.geometry.component_labels` order).
+    lengths3 : (m, 3) float array, optional
+        ``edge_lengths(V3, F3)`` when already computed (:attr:`IntakeResult.lengths3`).
+
+    Returns
+    -------
+    ratio : float
+        Median over every triangle edge of its 2D length over its 3D length (1 when both
+        are in the same unit; elastic parts measure about 0.7-1.4); NaN without edges.
+    per_panel : (p,) float array
+        The same median per panel.
+    """
+    l3 = (edge_lengths(V3, F3) if lengths3 is None else lengths3).ravel()
+    l2 = edge_lengths(V2, F2).ravel()
+    lab = np.repeat(component_labels(F2, len(V2)), 3)
+    ok = (l3 > 0) & (l2 > 0) & np.isfinite(l2 / np.where(l3 > 0, l3, 1.0))
+    r, lab = l2[ok] / l3[ok], lab[ok]
+    n_p = int(lab.max()) + 1 if lab.size else 0
+    if not r.size:
+        return float("nan"), np.full(n_p, np.nan)
+    # per-panel medians: the ratios grouped by panel, each run's middle two values
+    order = np.argsort(lab, kind="stable") if n_p <= 64 else np.lexsort((r, lab))
+    rs, count = r[order], np.bincount(lab, minlength=n_p)
+    start = np.cumsum(count) - count
+    lo, hi = start + (count - 1) // 2, start + count // 2
+    for p in np.flatnonzero(count).tolist() if n_p <= 64 else []:  # select, not sort
+        a, b = start[p], start[p] + count[p]
+        rs[a:b] = np.partition(rs[a:b], [lo[p] - a, hi[p] - a])
+    per = np.where(
+        count > 0, 0.5 * (rs[np.minimum(lo, len(rs) - 1)] + rs[np.minimum(hi, len(rs) - 1)]), np.nan
+    )
+    return float(np.median(r)), per
+
+
+def check_units(
+    ratio: float,
+    *,
+    path: str | None,
+    pattern_units: str,
+    drape_units: str,
+    pattern_option: str = "--pattern-units",
+) -> None:
+    """Raise :class:`UnitMismatchError` when ``ratio`` (:func:`unit_ratios`) is outside
+    :data:`UNIT_RATIO_RANGE`.
+
+    Parameters
+    ----------
+    ratio : float
+        Median pattern/drape edge length ratio, both read in their stated units.
+    path : str or None
+        The file named in the message.
+    pattern_units, drape_units : str
+        The units as given.
+    pattern_option : str
+        The option that sets the pattern's unit (``--dxf-units`` for a DXF pattern).
+    """
+    lo, hi = UNIT_RATIO_RANGE
+    if np.isfinite(ratio) and not lo <= ratio <= hi:
+        raise UnitMismatchError(
+            f"pattern and drape disagree in scale: median pattern/drape edge length ratio "
+            f"{ratio:.3g} (outside [{lo:g}, {hi:g}]) reading the pattern in {pattern_units} "
+            f"and the drape in {drape_units}: check {pattern_option} and --drape-units "
+            "(or --pattern-units auto)",
+            path=path,
+        )
