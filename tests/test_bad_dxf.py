@@ -357,6 +357,7 @@ def test_corpus_unknown_entity_reads(tmp_path):
 # ---- the shared real files, mutated -------------------------------------------------------
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("fixture", ["clo-pattern.dxf", "WM_SLIM_TANK.DXF"])
 @pytest.mark.parametrize("value", ["nan", "1e300", "inf"])
 def test_shared_fixture_with_an_extreme_coordinate(tmp_path, fixture, value):
@@ -394,6 +395,7 @@ def test_locate_points_refuses_non_finite_points():
         locate_points(np.array([[0.0, 0.0], [np.nan, 0.0], [0.0, 1.0]]), F, np.zeros((1, 2)))
 
 
+@pytest.mark.slow
 def test_many_shuffled_boundary_parts_chain_in_linear_time(tmp_path):
     """Chaining looked at every remaining part for each join (quadratic: 74 s for 5,000
     shuffled LINEs); ends are now found on a grid of cells."""

@@ -209,6 +209,7 @@ def test_garment_errors_name_the_file_and_the_step(garments, tmp_path):
     assert "this garment has" in msg or "it has" in msg
 
 
+@pytest.mark.slow
 def test_garment_errors_through_the_cli_name_the_file(garments, tmp_path):
     from click.testing import CliRunner
 
@@ -231,6 +232,7 @@ def test_garment_errors_through_the_cli_name_the_file(garments, tmp_path):
     assert not (tmp_path / "o2").exists()
 
 
+@pytest.mark.slow
 def test_scale_around_tiny_factor_warns_naming_the_panels(garments, tmp_path):
     """scale around 1e-6 gave an intrinsic error p95 of 6e5 with no warning."""
     from ptailor import tolerances as tol
@@ -347,6 +349,7 @@ def test_gather_on_a_panel_a_later_cut_removes(garments, tmp_path):
         assert "back" not in [p["name"] for p in rep["panels"]] or rep
 
 
+@pytest.mark.slow
 def test_a_large_max_iter_on_a_former_limit_cycle_converges(garments, tmp_path):
     """Campaign seed 12 case 1200: max_iter 10000 on a limit cycle ran 62 s (time limit 20).
 

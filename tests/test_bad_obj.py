@@ -95,6 +95,7 @@ def test_corpus_is_complete():
     assert sorted(EXPECTED) == sorted(p.name for p in CORPUS.glob("*.obj"))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(EXPECTED))
 def test_corpus_adjust_and_inspect(name, recipe, tmp_path):
     path = CORPUS / name
@@ -126,6 +127,7 @@ def test_bom_and_crlf_read_as_the_plain_file():
         assert m.header == plain.header
 
 
+@pytest.mark.slow
 def test_bom_and_crlf_sleeve_give_the_same_garment(tmp_path, recipe):
     text = sample_obj_text("lantern_sleeve")
     variants = {
@@ -146,6 +148,7 @@ def test_bom_and_crlf_sleeve_give_the_same_garment(tmp_path, recipe):
     assert len(set(results.values())) == 1
 
 
+@pytest.mark.slow
 def test_unreferenced_vt_before_the_used_ones(tmp_path, recipe):
     """The ``component_labels`` (once ``face_components``) IndexError: unused ``vt`` first."""
     text = sample_obj_text("lantern_sleeve")
@@ -169,6 +172,7 @@ def test_unreferenced_vt_before_the_used_ones(tmp_path, recipe):
     assert_no_nan_written(out)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("which", ["every", "one"])
 def test_duplicated_faces_all_formats(which, tmp_path, recipe):
     """``zero-size array`` in ``marks.mesh_pieces`` (every face twice) and the ``(k, 2)``
@@ -370,6 +374,7 @@ def test_body_option_messages_are_clear(tmp_path):
         assert not out.exists()
 
 
+@pytest.mark.slow
 def test_a_flat_drape_ends_with_a_warning_that_says_why(tmp_path, recipe):
     """Issue 22: the demo sleeve with every z = 0 (what one short record once made of it):
     the weld joins the tube's two layers and the seam rows become dependent; each step

@@ -56,6 +56,7 @@ def catalogue(tmp_path) -> Path:
     return cat
 
 
+@pytest.mark.slow
 def test_batch_isolates_a_broken_garment_and_records_in_input_order(tmp_path, recipe, catalogue):
     out, log = tmp_path / "out", tmp_path / "log.jsonl"
     r = run("batch", recipe, catalogue / "*.obj", "-o", out, "-j", "1", "--log", log)
@@ -101,6 +102,7 @@ def test_an_internal_error_is_one_garments_failure(tmp_path, recipe, catalogue, 
     assert visible(out) == ["a_sleeve"]
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(
     __import__("multiprocessing").get_start_method() != "fork",
     reason="the patched staged_run reaches the workers only when they are forked",
@@ -130,6 +132,7 @@ def test_a_garment_that_kills_its_worker_fails_alone(tmp_path, catalogue, monkey
     assert visible(out) == ["a_sleeve", "d_skirt", "e_sleeve"]
 
 
+@pytest.mark.slow
 def test_globs_folders_stdin_and_shared_stems(tmp_path, recipe):
     cat = tmp_path / "cat"
     (cat / "x" / "deep").mkdir(parents=True)
@@ -200,6 +203,7 @@ def _state(out: Path) -> dict:
     }
 
 
+@pytest.mark.slow
 def test_rerun_skips_unchanged_and_redoes_changed(tmp_path, recipe, catalogue):
     (catalogue / "c_bad.obj").unlink()
     out, log = tmp_path / "out", tmp_path / "log.jsonl"
@@ -244,6 +248,7 @@ def test_rerun_skips_unchanged_and_redoes_changed(tmp_path, recipe, catalogue):
     assert [x["status"] for x in records(log)] == ["skipped"] * 4
 
 
+@pytest.mark.slow
 def test_quality_gates(tmp_path, recipe, catalogue):
     (catalogue / "c_bad.obj").unlink()
     out, log = tmp_path / "out", tmp_path / "log.jsonl"
@@ -490,6 +495,7 @@ def _complete(folder: Path) -> bool:
     return set(rep["outputs"]) | {"batch.json"} <= set(visible(folder))
 
 
+@pytest.mark.slow
 def test_sigint_leaves_complete_folders_and_a_rerun_finishes(tmp_path, recipe):
     cat = tmp_path / "cat"
     _garments(cat, [12_000 + 500 * k for k in range(10)])
@@ -535,6 +541,7 @@ def _outputs(out: Path) -> dict:
     return files
 
 
+@pytest.mark.slow
 def test_same_bytes_from_one_two_workers_and_dask(tmp_path, recipe, monkeypatch):
     distributed = pytest.importorskip("dask.distributed")
     monkeypatch.setenv("SOURCE_DATE_EPOCH", "1700000000")
@@ -588,6 +595,7 @@ def test_scheduler_without_dask_is_a_clear_error(tmp_path, recipe, monkeypatch):
     assert "pip install 'ptailor[dask]'" in r.stderr
 
 
+@pytest.mark.slow
 def test_worker_pool_isolates_failures_quietly(tmp_path, recipe, catalogue):
     out = tmp_path / "out"
     r = subprocess.run(
@@ -605,6 +613,7 @@ def test_worker_pool_isolates_failures_quietly(tmp_path, recipe, catalogue):
     assert "2 worker processes" not in r.stderr
 
 
+@pytest.mark.slow
 def test_dxf_patterns_with_their_drapes_in_a_folder(tmp_path):
     """A folder of CAD exports (X.dxf + X.obj): each pair is one garment; a DXF without its
     drape fails naming the missing file; the drape is stamped with the pattern."""

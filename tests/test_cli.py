@@ -45,6 +45,7 @@ def test_help_lists_commands(runner):
         assert cmd in r.output
 
 
+@pytest.mark.slow
 def test_adjust_writes_outputs_and_can_adjust_its_own_output(runner, sleeve, recipe, tmp_path):
     out = tmp_path / "out"
     r = run(runner, "adjust", sleeve, recipe, "-o", out)
@@ -76,6 +77,7 @@ def test_adjust_writes_outputs_and_can_adjust_its_own_output(runner, sleeve, rec
     assert [p["name"] for p in rep2["panels"]] == ["sleeve", "cuff"]
 
 
+@pytest.mark.slow
 def test_outputs_are_deterministic(runner, sleeve, recipe, tmp_path):
     for o in ("a", "b"):
         assert run(runner, "adjust", sleeve, recipe, "-o", tmp_path / o).exit_code == 0
@@ -110,6 +112,7 @@ def test_report_has_no_negative_zero(runner, sleeve, recipe, tmp_path):
     assert "-0.0" not in text
 
 
+@pytest.mark.slow
 def test_method_uniform_override_and_json(runner, sleeve, recipe, tmp_path):
     r = run(runner, "adjust", sleeve, recipe, "-o", tmp_path / "o", "--method", "uniform", "--json")
     assert r.exit_code == 0
@@ -119,11 +122,13 @@ def test_method_uniform_override_and_json(runner, sleeve, recipe, tmp_path):
     assert cuff["size_after"][0] == pytest.approx(33.6, rel=1e-3)
 
 
+@pytest.mark.slow
 def test_recipe_from_stdin(runner, sleeve, tmp_path):
     r = run(runner, "adjust", sleeve, "-", "-o", tmp_path / "o", input=WIDER)
     assert r.exit_code == 0, r.output
 
 
+@pytest.mark.slow
 def test_drape_from_second_file(runner, tmp_path):
     from ptailor.samples import lantern_sleeve
 
@@ -157,6 +162,7 @@ def test_inspect_lists_panels_seams_openings(runner, sleeve):
     assert len(info["openings"]) == 2
 
 
+@pytest.mark.slow
 def test_demo(runner, tmp_path):
     out = tmp_path / "demo"
     r = run(runner, "demo", out)

@@ -519,6 +519,7 @@ def test_ezdxf_drawing_addon_renders_the_written_file(tmp_path):
 # ----------------------------------------------------------------------------- real files
 
 
+@pytest.mark.slow
 def test_real_tank_gerber():
     pf = read_dxf(real(TANK))
     assert pf.units == "in" and pf.units_text == "ENGLISH"
@@ -542,6 +543,7 @@ def test_real_tank_gerber():
     assert all(np.all(a.extent < b.extent) for a, b in zip(small.pieces, pf.pieces, strict=True))
 
 
+@pytest.mark.slow
 def test_real_clo3d():
     pf = read_dxf(real(CLO))
     assert len(pf.pieces) == 9 and pf.units == "mm" and pf.units_text == "METRIC"
@@ -556,6 +558,7 @@ def test_real_clo3d():
     assert any(np.any(p.notch_angles != 0) for p in pf.pieces)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", [TANK, CLO], ids=["tank", "clo"])
 def test_real_files_round_trip(tmp_path, path):
     pf = read_dxf(real(path))
@@ -580,6 +583,7 @@ def test_real_tank_pieces_are_halves_with_their_fold_line():
         assert d.max() < 1e-3 * p.extent.max()
 
 
+@pytest.mark.slow
 def test_inspect_real_tank_sizes():
     real(TANK)
     r = CliRunner().invoke(cli, ["inspect", str(TANK)])

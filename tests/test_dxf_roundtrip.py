@@ -82,6 +82,7 @@ def _same_pieces(a: PatternFile, b: PatternFile, rel=1e-6):
 # ------------------------------------------------------------------ (a) own outputs go back in
 
 
+@pytest.mark.slow
 def test_the_readmes_dxf_example_runs_on_the_demos_own_output(tmp_path):
     d, rt = tmp_path / "d", tmp_path / "rt"
     assert run("demo", d).exit_code == 0
@@ -99,6 +100,7 @@ def test_the_readmes_dxf_example_runs_on_the_demos_own_output(tmp_path):
     assert r.exit_code == 0, r.output
 
 
+@pytest.mark.slow
 def test_the_demos_dxf_round_trips_with_its_drape(tmp_path):
     """read -> write -> read gives the same pieces; identity with the drape gives them back."""
     d = tmp_path / "d"
@@ -116,6 +118,7 @@ def test_the_demos_dxf_round_trips_with_its_drape(tmp_path):
     _same_pieces(src, back, rel=1e-5)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", [TANK, CLO], ids=["tank", "clo"])
 def test_shared_dxfs_round_trip_with_every_mark_and_quantity(tmp_path, path):
     pf = read_dxf(real(path))
@@ -125,6 +128,7 @@ def test_shared_dxfs_round_trip_with_every_mark_and_quantity(tmp_path, path):
     _same_pieces(pf, back)
 
 
+@pytest.mark.slow
 def test_a_drape_whose_vt_is_in_another_unit_than_the_dxf(tmp_path):
     """The DXF in mm, the vt in cm without a ptailor header: each unit found on its own."""
     g = SAMPLES["lantern_sleeve"]()
@@ -144,6 +148,7 @@ def test_a_drape_whose_vt_is_in_another_unit_than_the_dxf(tmp_path):
 # ---------------------------------------------------------- (b) every panel written as a piece
 
 
+@pytest.mark.slow
 def test_a_v_cut_that_splits_tee6s_front_keeps_every_panel_as_a_dxf_piece(tmp_path):
     tee = real_path("tee6")
     vs = tmp_path / "vs"
@@ -158,6 +163,7 @@ def test_a_v_cut_that_splits_tee6s_front_keeps_every_panel_as_a_dxf_piece(tmp_pa
     assert sorted(p["panel"] for p in recs) == sorted(groups)
 
 
+@pytest.mark.slow
 def test_a_v_cut_through_a_dxf_piece_writes_both_parts(tmp_path):
     """tee6 written by ptailor (DXF + drape), then cut: both halves of the front are pieces
     of the file's front, each with the marks that lie on it."""
@@ -221,6 +227,7 @@ def test_a_quantity_a_b_is_read_and_written_back_once(tmp_path, text, count, spl
     assert (back.quantity, back.quantity_split) == (count, split)
 
 
+@pytest.mark.slow
 def test_a_left_right_pair_is_written_as_one_cut_as_drawn_and_one_mirrored(tmp_path):
     """The skirt's back is its front reflected: ``Quantity: 1,1`` covers both panels, one
     instance ``1,0``, the other ``0,1`` (its panel is the piece mirrored)."""
@@ -323,6 +330,7 @@ def _turn_back_setup(tmp_path):
     return obj, dxf
 
 
+@pytest.mark.slow
 def test_turn_back_lines_outside_the_cut_line_survive_identity(tmp_path):
     obj, dxf = _turn_back_setup(tmp_path)
     r = run("adjust", dxf, _recipe(tmp_path, IDENTITY), "--drape", obj, "-o", tmp_path / "o",
@@ -332,6 +340,7 @@ def test_turn_back_lines_outside_the_cut_line_survive_identity(tmp_path):
     assert all(p["marks_dropped"] == 0 for p in _report(tmp_path / "o")["pattern"]["pieces"])
 
 
+@pytest.mark.slow
 def test_turn_back_lines_follow_a_uniform_scale_and_a_cut_keeps_those_of_its_part(tmp_path):
     obj, dxf = _turn_back_setup(tmp_path)
     r = run("adjust", dxf, _recipe(tmp_path, UNIFORM), "--drape", obj, "-o", tmp_path / "o",
@@ -418,6 +427,7 @@ def _fold_setup(tmp_path):
     return obj, dxf
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("recipe", [IDENTITY, UNIFORM], ids=["identity", "uniform"])
 def test_a_fold_piece_matches_its_unfolded_panel_and_is_written_back_as_a_fold_piece(
     tmp_path, recipe
@@ -438,6 +448,7 @@ def test_a_fold_piece_matches_its_unfolded_panel_and_is_written_back_as_a_fold_p
         _same_pieces(read_dxf(dxf), read_dxf(tmp_path / "o" / "pattern.dxf"), rel=1e-6)
 
 
+@pytest.mark.slow
 def test_a_fold_piece_cut_by_an_edit_is_the_new_panels_half(tmp_path):
     obj, dxf = _fold_setup(tmp_path)
     shorten = "steps: [{op: shorten, opening: cuff, by: 3}]\n"  # the cuff loses a strip
@@ -456,6 +467,7 @@ def test_a_fold_piece_cut_by_an_edit_is_the_new_panels_half(tmp_path):
     assert out.extent[0] == pytest.approx(src.extent[0], rel=0.02)  # half the width still
 
 
+@pytest.mark.slow
 def test_a_fold_piece_that_matches_nothing_is_an_error_naming_the_fold(tmp_path):
     obj, dxf = _fold_setup(tmp_path)
     pf = read_dxf(dxf)
@@ -467,6 +479,7 @@ def test_a_fold_piece_that_matches_nothing_is_an_error_naming_the_fold(tmp_path)
     assert "'cuff'" in r.output and "fold" in r.output
 
 
+@pytest.mark.slow
 def test_a_dxf_naming_no_unit_takes_it_from_the_drape(tmp_path):
     """Small pieces in mm, no ``Units:`` text: the file alone says cm (largest piece
     240), the drape says mm."""
@@ -516,6 +529,7 @@ def _triangulated(P, h):
     return V, F
 
 
+@pytest.mark.slow
 def test_the_gerber_tanks_fold_pieces_round_trip_with_a_drape_of_their_wholes(tmp_path):
     """WM_SLIM_TANK's two pieces are halves cut on the fold: a (flat) drape triangulating
     their unfolded wholes takes them back, matched unfolded, and identity writes them as the
@@ -553,6 +567,7 @@ def test_the_gerber_tanks_fold_pieces_round_trip_with_a_drape_of_their_wholes(tm
     _same_pieces(src, back, rel=1e-6)
 
 
+@pytest.mark.slow
 def test_implausible_piece_sizes_are_a_warning():
     pf = read_dxf(real(CLO), units="cm")  # mm read as cm: a 7 m piece
     assert any("largest piece is 739.8 x" in w and "--dxf-units" in w for w in pf.warnings)
@@ -565,6 +580,7 @@ SKIRT_SPLIT = (
 )
 
 
+@pytest.mark.slow
 def test_a_cut_splitting_the_generated_skirts_front_writes_both_parts(tmp_path):
     """No shared data needed: a V from waist to hem splits the cone skirt's front; the DXF
     (from the mesh, and from a DXF of marked pieces) has a piece for each of the 3 panels."""

@@ -160,6 +160,7 @@ def ease_faces(ease: SeamEase, F2: np.ndarray, side: str) -> np.ndarray:
     return np.array([key[tuple(e)] for e in E.tolist()])
 
 
+@pytest.mark.slow
 def test_seam_ease_reads_ratios_and_gathers_from_the_pattern():
     g = lantern_sleeve()  # the sleeve's 28 cm is sewn to the cuff's 40 cm
     plist = panels(g)
@@ -193,6 +194,7 @@ def seam_sides(adj) -> list[tuple[float, float]]:
     return [s.lengths(adj.result.V2) for s in sl]
 
 
+@pytest.mark.slow
 def test_a_tube_widened_on_one_side_keeps_its_side_seams():
     """Bodice front 10 % wider: its side seams stay equal (free stitching lets them drift)."""
     g = bodice()
@@ -212,6 +214,7 @@ def test_a_tube_widened_on_one_side_keeps_its_side_seams():
     assert moved < 0.01 * size
 
 
+@pytest.mark.slow
 def test_anderson_converges_in_fewer_iterations_to_the_same_pattern():
     g = bodice()
     adj = adjustment(g, parse_recipe(SLEEVE_WIDER), baseline=False)
@@ -226,6 +229,7 @@ def test_anderson_converges_in_fewer_iterations_to_the_same_pattern():
     assert fast.info.seam_violation < 1e-9
 
 
+@pytest.mark.slow
 def test_a_cap_that_stops_the_solver_is_a_warning_naming_the_panel():
     g = bodice()
     adj = adjustment(g, parse_recipe(SLEEVE_WIDER + "\nflatten: {max_iter: 1}"), baseline=False)
@@ -237,6 +241,7 @@ def test_a_cap_that_stops_the_solver_is_a_warning_naming_the_panel():
         assert a == pytest.approx(b, rel=1e-4)
 
 
+@pytest.mark.slow
 def test_report_gives_each_seams_ratio_target_and_mismatch():
     g = lantern_sleeve()
     text = "steps: [{op: scale_seam, seam: [sleeve, cuff], part: sleeve, factor: 1.3, fix: [top]}]"
@@ -267,6 +272,7 @@ def test_uniform_baseline_and_method_stay_free():
     assert adj.settings["seams"] == "free"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("key", ["tee6", "tshirt"])
 def test_real_sleeve_widened_keeps_every_seam(key):
     from ptailor.formats.garment import load_garment

@@ -56,6 +56,7 @@ def fit_circle(P):
 # ---------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_cone_skirt_hem_moves_5_outward_waist_and_side_seams_kept():
     g = cone_skirt()
     adj = adjustment(g, extend_recipe("hem", 5))
@@ -126,6 +127,7 @@ def strip_size(g0, adj):
     return width, float(height)
 
 
+@pytest.mark.slow
 def test_lantern_cuff_strip_follows_the_cuff_intrinsic_scale():
     g = lantern_sleeve()
     name = min(openings(g.V3, g.F3), key=lambda o: o.centroid[1]).name
@@ -143,6 +145,7 @@ def test_lantern_cuff_strip_follows_the_cuff_intrinsic_scale():
     assert w_uni < 0.9 * 40.0
 
 
+@pytest.mark.slow
 def test_extend_after_a_scale_follows_the_scaled_cuff():
     """The strip grows on the original drape too, so it follows earlier edits: 1.2 x 40."""
     g = lantern_sleeve()
@@ -220,6 +223,7 @@ def annulus(r0: float = 1.0, r1: float = 3.0, n_around: int = 32, n_rings: int =
     return Garment(V3=V3, F3=F, V2=V2.copy(), F2=F.copy())
 
 
+@pytest.mark.slow
 def test_extending_into_a_hole_further_than_it_is_wide_is_refused():
     g = annulus()
     ops = openings(g.V3, g.F3)
@@ -248,6 +252,7 @@ def test_bad_by_is_a_recipe_error():
         extend_recipe("hem", -1)
 
 
+@pytest.mark.slow
 def test_output_can_be_adjusted_again(tmp_path):
     g = cone_skirt(n_around=24, n_along=6)
     src = tmp_path / "skirt.obj"
@@ -322,6 +327,7 @@ def test_extend_pushes_new_rows_out_of_the_body():
 # ---------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_tee6_hem_extend_is_valid_and_keeps_seams_equal():
     g = load_garment(real_path("tee6")).garment
     before = seam_sides(g, g.V2)
@@ -417,6 +423,7 @@ def test_pattern_measure_at_a_concave_corner_is_exact_and_valid():
     assert all(v == pytest.approx(0.6, abs=1e-9) for v in step["amount"]["pattern"]["l"].values())
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("key", sorted(REAL))
 def test_real_hem_extended_by_5_in_the_output_pattern(key):
     """Acceptance: with ``measure: pattern`` every panel's new hem is 5 +- 0.05 away."""
@@ -432,6 +439,7 @@ def test_real_hem_extended_by_5_in_the_output_pattern(key):
         assert np.all(np.abs(d - 5.0) <= 0.05), (d.min(), d.max())
 
 
+@pytest.mark.slow
 def test_tee6_hem_extended_keeps_its_seams_and_the_drape_measure_does_not_the_hem():
     from tests.test_shorten import output_edge_distances
 
@@ -445,6 +453,7 @@ def test_tee6_hem_extended_keeps_its_seams_and_the_drape_measure_does_not_the_he
         assert worst < 1e-6 if measure == "pattern" else worst > 2.0  # 5.5 to 7.7
 
 
+@pytest.mark.slow
 def test_dress_neckline_extended_by_8_in_the_pattern():
     """A curved opening across five panels, two of them 1 cm straps."""
     g = load_garment(real_path("dress"), pattern_units="auto").garment
@@ -456,6 +465,7 @@ def test_dress_neckline_extended_by_8_in_the_pattern():
         assert v["min"] == pytest.approx(8.0, abs=1e-6) and v["max"] == pytest.approx(8.0, abs=1e-6)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("measure", ["pattern", "drape"])
 def test_tee_cuff_extended_by_5_cm_exits_0(tmp_path, measure):
     from click.testing import CliRunner

@@ -160,6 +160,7 @@ def check(args: list[str], path: Path, out: Path | None = None) -> int:
     return r.exit_code
 
 
+@pytest.mark.slow
 @given(which=st.integers(0, 2), mutations=MUTATIONS)
 def test_inspect_mutated_dxf_fails_closed(demo, tmp_path_factory, which, mutations):
     src = seeds(demo)
@@ -171,6 +172,7 @@ def test_inspect_mutated_dxf_fails_closed(demo, tmp_path_factory, which, mutatio
     shutil.rmtree(d)
 
 
+@pytest.mark.slow
 @given(mutations=MUTATIONS)
 def test_adjust_mutated_dxf_fails_closed(demo, tmp_path_factory, mutations):
     d = tmp_path_factory.mktemp("m")
@@ -182,6 +184,7 @@ def test_adjust_mutated_dxf_fails_closed(demo, tmp_path_factory, mutations):
     shutil.rmtree(d)
 
 
+@pytest.mark.slow
 def test_mutate_is_deterministic_and_changes_the_file(demo):
     data = (demo / "pattern.dxf").read_bytes()
     muts = [("hot", 0.5, "nan"), ("drop", 0.1, 2)]

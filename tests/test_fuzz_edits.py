@@ -58,6 +58,7 @@ def work(tmp_path_factory):
     return tmp_path_factory.mktemp("fuzz_edits_out")
 
 
+@pytest.mark.slow
 @given(data=st.data())
 def test_extreme_edits_exit_cleanly_and_never_write_nan(files, work, data):
     case = fz.draw_case(HypothesisSource(data))

@@ -41,6 +41,7 @@ def _mutant(rnd: random.Random) -> bytes:
     return fuzz.mutate(base(), rnd)
 
 
+@pytest.mark.slow
 @settings()
 @given(st.randoms(use_true_random=False))
 def test_reader_fails_closed(rnd):
@@ -62,6 +63,7 @@ def test_reader_fails_closed(rnd):
     assert all(len(n) <= 200 for n in m.group_names)
 
 
+@pytest.mark.slow
 @settings()
 @given(st.randoms(use_true_random=False))
 def test_adjust_and_inspect_keep_the_contract(rnd):
@@ -72,6 +74,7 @@ def test_adjust_and_inspect_keep_the_contract(rnd):
     assert not breaches, breaches
 
 
+@pytest.mark.slow
 @settings()
 @given(
     st.sampled_from(["v", "vt", "f"]),

@@ -332,11 +332,13 @@ def check_contract(text: str, path: Path) -> dict:
     return {"exit": r.exit_code, "seconds": took}
 
 
+@pytest.mark.slow
 @given(yaml_doc())
 def test_random_yaml_documents_keep_the_contract(tmp_path_factory, text):
     check_contract(text, tmp_path_factory.mktemp("fz") / "recipe.yaml")
 
 
+@pytest.mark.slow
 @given(mutated_recipe())
 def test_mutated_recipes_keep_the_contract(tmp_path_factory, text):
     check_contract(text, tmp_path_factory.mktemp("fz") / "recipe.yaml")

@@ -74,6 +74,7 @@ def read_obj(path: Path) -> tuple[np.ndarray, np.ndarray]:
     return np.array(V), np.array(F)
 
 
+@pytest.mark.slow
 def test_tee6_spec_panels_are_the_mesh_panels_named_like_them(tee6_json):
     sec = tee6_json["spec"]
     assert sec["input"] == str(TEE6_SPEC)
@@ -87,6 +88,7 @@ def test_tee6_spec_panels_are_the_mesh_panels_named_like_them(tee6_json):
         assert isinstance(p["mirrored"], bool)
 
 
+@pytest.mark.slow
 def test_tee6_every_stitch_has_a_seam_and_its_lengths(tee6_json):
     sec = tee6_json["spec"]
     seams = {s["name"]: s for s in tee6_json["seams"]}
@@ -104,6 +106,7 @@ def test_tee6_every_stitch_has_a_seam_and_its_lengths(tee6_json):
     assert sorted(s["seam"] for s in sec["stitches"]) == sorted(seams)
 
 
+@pytest.mark.slow
 def test_tee6_text_lists_the_panels_and_stitches():
     shared(TEE6, TEE6_SPEC)
     code, out = inspect(TEE6, *TEE6_UNITS, "--spec", TEE6_SPEC)
@@ -124,6 +127,7 @@ def test_tee6_text_lists_the_panels_and_stitches():
     assert got == list(range(12))
 
 
+@pytest.mark.slow
 def test_shirt_panels_and_stitches(shirt_json):
     sec = shirt_json["spec"]
     assert sec["format"] == "garmentcode"
@@ -149,6 +153,7 @@ def _shirt_structure():
     return g, structure(g)  # inspect's default axes: y up, z front
 
 
+@pytest.mark.slow
 def test_shirt_panel_matching_agrees_with_garmentcodes_segmentation(shirt_json):
     """GarmentCode's own per-vertex labels: the mesh panel a spec panel is matched to is
     made of the vertices GarmentCode labelled with that spec panel's name."""
@@ -170,6 +175,7 @@ def test_shirt_panel_matching_agrees_with_garmentcodes_segmentation(shirt_json):
     assert got == majority
 
 
+@pytest.mark.slow
 def test_shirt_stitches_lie_on_their_seams_in_garmentcodes_segmentation(shirt_json):
     """Every vertex GarmentCode labelled ``stitch_N`` lies on the seam stitch N is matched
     to."""
@@ -185,6 +191,7 @@ def test_shirt_stitches_lie_on_their_seams_in_garmentcodes_segmentation(shirt_js
         assert on <= seam_vertices, (tag, s["seam"], sorted(on - seam_vertices))
 
 
+@pytest.mark.slow
 def test_json_has_the_spec_section(tee6_json):
     assert set(tee6_json["spec"]) == {
         "input",
@@ -203,6 +210,7 @@ def test_json_has_the_spec_section(tee6_json):
     }
 
 
+@pytest.mark.slow
 def test_units_convert_the_lengths():
     """--units mm: fits and lengths in mm, ten times the cm ones."""
     shared(TEE6, TEE6_SPEC)
@@ -217,6 +225,7 @@ def test_units_convert_the_lengths():
         assert np.allclose(a["mesh_lengths"], np.multiply(b["mesh_lengths"], 10), atol=0.01)
 
 
+@pytest.mark.slow
 def test_a_spec_of_another_garment_exits_2_naming_the_file():
     """tee6's specification (6 panels) on the shirt (8)."""
     shared(SHIRT, TEE6_SPEC)
@@ -227,6 +236,7 @@ def test_a_spec_of_another_garment_exits_2_naming_the_file():
     assert "Traceback" not in out
 
 
+@pytest.mark.slow
 def test_a_panel_of_another_shape_exits_2_naming_the_file_and_the_panel(tmp_path):
     """The shirt's specification with one panel stretched (same area, other shape)."""
     shared(SHIRT, SHIRT_SPEC)

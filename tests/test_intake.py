@@ -157,6 +157,7 @@ def _adjusted(path, recipe: str, **load) -> np.ndarray:
     return adjustment(g, parse_recipe(recipe), baseline=False).result.V2
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["lantern_sleeve", "cone_skirt"])
 def test_generated_unwelded_every_vertex_welds_back(runner, tmp_path, name):
     src = _sample_path(name)
@@ -169,6 +170,7 @@ def test_generated_unwelded_every_vertex_welds_back(runner, tmp_path, name):
     np.testing.assert_allclose(_adjusted(dst, WIDER), _adjusted(src, WIDER), atol=1e-9)
 
 
+@pytest.mark.slow
 def test_generated_weld_off_keeps_pieces_apart_and_warns(runner, tmp_path):
     src = _sample_path("cone_skirt")
     dst = tmp_path / "skirt_unwelded.obj"
@@ -197,6 +199,7 @@ REAL_UNWELD = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("key", sorted(REAL_UNWELD))
 def test_real_unwelded_gives_the_same_seams_openings_and_pattern(runner, tmp_path, key):
     src = real_path(key)
@@ -225,6 +228,7 @@ def test_real_unwelded_gives_the_same_seams_openings_and_pattern(runner, tmp_pat
     assert len(c["seams"]) < len(a["seams"]) and c["intake"]["warnings"]
 
 
+@pytest.mark.slow
 def test_adjust_report_has_intake(runner, tmp_path):
     src = _sample_path("cone_skirt")
     dst = tmp_path / "skirt_unwelded.obj"
@@ -247,6 +251,7 @@ def test_adjust_report_has_intake(runner, tmp_path):
 # ---- duplicate and zero-area faces ------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_duplicate_and_zero_area_faces_are_dropped_and_counted(runner, tmp_path):
     src = _sample_path("lantern_sleeve")
     text = src.read_text()
@@ -294,6 +299,7 @@ def test_unit_mistake_is_exit_2_naming_the_options_and_ratio(runner, tmp_path):
     assert r.exit_code == 0, r.output
 
 
+@pytest.mark.slow
 def test_tee6_unit_mistake(runner, tmp_path):
     src = real_path("tee6")
     rec = tmp_path / "r.yaml"
@@ -310,6 +316,7 @@ def test_tee6_unit_mistake(runner, tmp_path):
     assert 0.95 < ratio["pattern_drape_ratio"] < 1.05
 
 
+@pytest.mark.slow
 def test_real_garments_pass_the_unit_check(real_garment):
     key, loaded = real_garment
     u = loaded.intake["units"]
@@ -341,6 +348,7 @@ def test_bad_weld_value_is_exit_2(runner, tmp_path, cmd):
     assert not out.exists()
 
 
+@pytest.mark.slow
 def test_weld_distance_and_batch_stamp(runner, tmp_path):
     src = _sample_path("cone_skirt")
     dst = tmp_path / "skirt_unwelded.obj"
@@ -359,6 +367,7 @@ def test_weld_distance_and_batch_stamp(runner, tmp_path):
     assert json.loads((folder / "report.json").read_text())["intake"]["welded_vertices"] == 0
 
 
+@pytest.mark.slow
 def test_dxf_pattern_reports_where_its_units_came_from(runner, tmp_path):
     demo = tmp_path / "demo"
     assert run(runner, "demo", demo).exit_code == 0

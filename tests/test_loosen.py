@@ -49,6 +49,7 @@ def width(V2: np.ndarray) -> float:
 # ---------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("s", [1.0, 1.25])
 @pytest.mark.parametrize("op, sign", [("loosen", 1.0), ("tighten", -1.0)])
 def test_cylinder_pattern_width_grows_by_2_pi_d_over_s(s, op, sign):
@@ -136,6 +137,7 @@ def test_loosen_takes_the_seam_pairs_the_flatten_uses(monkeypatch):
     assert calls == [len(g.F3)]
 
 
+@pytest.mark.slow
 def test_lantern_middle_ring_grows_by_by_and_the_ends_stay():
     by = 2.0
     g = lantern_sleeve()  # sleeve y 8..48, cuff y 0..8, rows 1 cm apart
@@ -251,6 +253,7 @@ def test_wrinkly_cylinder_premise():
     assert turned_faces(g.V3, g.V3 + 2.0 * N, g.F3).sum() > 0.2 * g.n_faces
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("op, d", [("loosen", 2.0), ("loosen", 5.0), ("tighten", 2.0)])
 def test_wrinkles_ride_along_and_the_girth_grows_by_2_pi_d(op, d):
     g, r = wrinkly_cylinder()
@@ -285,6 +288,7 @@ def skirt_rings(V3: np.ndarray, n_around: int = 64) -> np.ndarray:
     return V3.reshape(-1, n_around, 3)
 
 
+@pytest.mark.slow
 def test_silhouette_tightens_the_skirt_onto_the_sketch():
     g = cone_skirt()  # y up, hem at y = 0, waist at the top; front view: u = x, v = y
     R = skirt_rings(g.V3)
@@ -385,6 +389,7 @@ def test_recipe_checks(step, message):
 # ---------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_tee6_loosen_all_is_valid():
     g = load_garment(real_path("tee6")).garment
     adj = adjustment(
@@ -474,6 +479,7 @@ def test_cross_section_of_a_cylinder_is_its_circumference():
     assert curve_length(g.V2, g.F2, tri, bary) == pytest.approx(30.0, rel=1e-12)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["panels", "box"])
 @pytest.mark.parametrize("d", [1.0, 5.0])
 @pytest.mark.parametrize("key", sorted(TORSO))
@@ -491,6 +497,7 @@ def test_real_torso_offset_adds_2_pi_d_of_girth(key, d, kind):
         assert gain3 == pytest.approx(2.0 * np.pi * d, rel=0.15), y
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("key", ["tee6", "tshirt"])
 def test_real_torso_loosen_2cm_widens_the_pattern_by_2_pi_d_over_s(key):
     g = torso_garment(key)
@@ -505,6 +512,7 @@ def test_real_torso_loosen_2cm_widens_the_pattern_by_2_pi_d_over_s(key):
         assert gain2 == pytest.approx(2.0 * np.pi * d / s, rel=0.15), y
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("key, kind", [("tee6", "box"), ("tshirt", "panels")])
 def test_real_torso_loosen_cli_exits_0_without_flips(tmp_path, key, kind):
     from click.testing import CliRunner
@@ -526,6 +534,7 @@ def test_real_torso_loosen_cli_exits_0_without_flips(tmp_path, key, kind):
     assert sum(p["flipped_triangles"] for p in report["panels"]) == 0
 
 
+@pytest.mark.slow
 def test_real_tightening_sleeves_past_their_radius_names_them():
     g = torso_garment("tee6")  # half-sleeves 16.7 cm wide: a tube of radius about 5.3
     with pytest.raises(PtailorError, match="inside out") as err:

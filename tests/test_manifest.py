@@ -74,6 +74,7 @@ def option_args(opts: dict) -> list[str]:
     return [a for k, v in opts.items() if k != "name" for a in (f"--{k.replace('_', '-')}", v)]
 
 
+@pytest.mark.slow
 def test_csv_and_json_lines_manifests_give_what_separate_runs_give(tmp_path, recipe, cat):
     columns = ["pattern_units", "drape_units", "up", "front", "name"]
     csv_manifest = write_csv(cat / "units.csv", ROWS, columns)
@@ -107,6 +108,7 @@ def test_csv_and_json_lines_manifests_give_what_separate_runs_give(tmp_path, rec
     assert r.exit_code == 0 and [x["status"] for x in records(log)] == ["skipped"] * 4
 
 
+@pytest.mark.slow
 def test_a_missing_column_or_empty_cell_takes_the_command_line(tmp_path, recipe, cat):
     # no unit column at all: the command line's units for every row
     only = write_csv(cat / "only.csv", [("b_mm.obj", {})], [])
@@ -136,6 +138,7 @@ def _mtimes(out: Path) -> dict[str, int]:
     return {p.name: (p / "report.json").stat().st_mtime_ns for p in out.iterdir()}
 
 
+@pytest.mark.slow
 def test_rerun_skips_every_row_and_a_changed_unit_redoes_that_garment_only(tmp_path, recipe, cat):
     rows = ROWS[:3]
     columns = ["pattern_units", "drape_units"]
@@ -167,6 +170,7 @@ def test_rerun_skips_every_row_and_a_changed_unit_redoes_that_garment_only(tmp_p
     assert "1 done, 2 skipped, 0 failed" in r.stderr and "over the 1 run" in r.stderr
 
 
+@pytest.mark.slow
 def test_a_dxf_row_with_its_own_drape_size_and_unit(tmp_path):
     from tests.test_pattern_io import _setup
 
@@ -276,6 +280,7 @@ def test_manifest_or_garments_not_both_nor_neither(tmp_path, recipe, cat):
     assert not out.exists()
 
 
+@pytest.mark.slow
 def test_real_garments_with_their_own_units_in_one_manifest(tmp_path, recipe):
     """gpg's tee6 is in 1/300 m in both its pattern and its drape; diffavatar's tshirt has
     a [0, 1] atlas and a drape in cm: one manifest runs both."""

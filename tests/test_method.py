@@ -50,6 +50,7 @@ def test_local_frames_match_paper_equation():
     np.testing.assert_allclose(L[0], [[3.0, 1.0], [0.0, 2.0]])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(GARMENTS))
 @pytest.mark.parametrize("intrinsic", ["polar", "paper"])
 def test_identity_returns_pattern(name, intrinsic):
@@ -79,6 +80,7 @@ def test_rigid_motion_of_drape_changes_nothing(name):
     assert np.abs(r.V2 - g.V2).max() < 1e-7 * np.ptp(g.V2, axis=0).max()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(GARMENTS))
 @pytest.mark.parametrize("k", [0.8, 1.3])
 def test_uniform_scale_scales_every_panel(name, k):
@@ -112,6 +114,7 @@ def test_lantern_around_is_exact_and_uniform_shrinks_cuff():
     assert wb == pytest.approx(0.7 * 48.0, rel=1e-3)
 
 
+@pytest.mark.slow
 def test_lantern_paper_intrinsic_is_slightly_off():
     g = lantern_sleeve()
     adj = adjustment(g, parse_recipe(AROUND + "\nflatten: {intrinsic: paper}"))
@@ -120,6 +123,7 @@ def test_lantern_paper_intrinsic_is_slightly_off():
     assert 1e-3 < off < 2e-2  # the designated-edge frame shears anisotropic targets
 
 
+@pytest.mark.slow
 def test_axis_auto_finds_tube_axis():
     g = lantern_sleeve()
     a = adjustment(g, parse_recipe(AROUND.replace("[0, 1, 0]", "auto")))
@@ -139,6 +143,7 @@ def test_mirrored_panel_stays_mirrored_and_scales():
     assert np.all(np.linalg.det(E) < 0)
 
 
+@pytest.mark.slow
 def test_partial_region_follows_smoothly_and_keeps_seams_closed():
     g = lantern_sleeve()
     rec = (
@@ -161,6 +166,7 @@ def test_partial_region_follows_smoothly_and_keeps_seams_closed():
     assert np.all(det > 0)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(GARMENTS))
 def test_seam_ease_keeps_the_invariants(name):
     g = GARMENTS[name]()

@@ -89,6 +89,7 @@ def mirrored(g: Garment) -> Garment:
 # ---------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("key", sorted(EXPECTED))
 def test_real_garments_get_geometric_names(key):
     g = real(key)
@@ -191,6 +192,7 @@ def test_real_seam_names(key, expected):
     assert set(names) == expected and len(names) == len(expected)
 
 
+@pytest.mark.slow
 def test_dress_seam_names_are_unique_and_find_the_waist():
     plist, _, sl, names = layout_and_seams(real("dress"))
     assert len(set(names)) == len(names) == len(sl)
@@ -269,6 +271,7 @@ def pattern_areas(V2, F2, plist) -> dict[str, float]:
     return {p.name: float(a[p.faces].sum()) for p in plist}
 
 
+@pytest.mark.slow
 def test_tshirt_recipe_scales_the_left_sleeve_by_its_name():
     g = real("tshirt")
     adj = adjustment(
@@ -289,6 +292,7 @@ def test_tshirt_recipe_scales_the_left_sleeve_by_its_name():
     assert names_of(adj.garment) == EXPECTED["tshirt"]
 
 
+@pytest.mark.slow
 def test_tee6_symmetric_recipe_by_names_grows_both_sleeves():
     g = real("tee6")
     plist = panels(g)
@@ -393,6 +397,7 @@ def test_a_band_at_the_cuff_opening_is_a_cuff():
 # ---------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_cli_adjust_by_names_reports_named_seams(tmp_path):
     from click.testing import CliRunner
 
@@ -432,6 +437,7 @@ def test_cli_adjust_by_names_reports_named_seams(tmp_path):
     assert {s["name"] for s in info["seams"]} == set(seams_by)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("key", sorted(EXPECTED))
 def test_mirror_image_swaps_the_seam_names(key):
     _, _, _, names = layout_and_seams(real(key))
@@ -733,6 +739,7 @@ def test_one_catalogue_recipe_runs_on_the_generated_tee():
     assert a.result.info.converged and a.result.info.seam_violation < 1e-6
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("key", sorted(EXPECTED))
 def test_one_catalogue_recipe_runs_on_every_shared_garment(key):
     """Acceptance (issue 24): ``{panels: [front, back]}`` and, where the garment has one,

@@ -128,6 +128,7 @@ def test_scan_reads_numbers_as_float_does():
     assert got.v.ravel().tobytes() == np.array([float(t) for t in toks]).tobytes()
 
 
+@pytest.mark.slow
 def test_scan_matches_record_parser_on_mutants():
     base = base_obj()
     taken = 0

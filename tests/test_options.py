@@ -33,6 +33,7 @@ def rotated_skirt(tmp_path):
     return p
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("where", ["recipe", "cli"])
 def test_axes_from_recipe_or_command_line(tmp_path, where):
     p = rotated_skirt(tmp_path)
@@ -56,6 +57,7 @@ def test_recipe_axes_are_validated(tmp_path):
     assert r.exit_code == 2 and "up: expected one of" in r.output
 
 
+@pytest.mark.slow
 def test_body_option(tmp_path):
     import trimesh
 

@@ -341,6 +341,7 @@ def big(tmp_path_factory) -> Path:
     return p
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT])
 def test_a_signal_while_writing_leaves_no_staging_and_the_old_output(tmp_path, big, recipe, sig):
     out = tmp_path / "out"
@@ -366,6 +367,7 @@ def test_a_signal_while_writing_leaves_no_staging_and_the_old_output(tmp_path, b
     assert after == before or set(read_marker(out)) <= set(after)
 
 
+@pytest.mark.slow
 def test_sigterm_at_random_times_never_leaves_staging(tmp_path, recipe):
     g = tmp_path / "m.obj"
     write_garment(g, sample_for_triangles(6000))
@@ -386,6 +388,7 @@ def test_sigterm_at_random_times_never_leaves_staging(tmp_path, recipe):
 # --------------------------------------------------------------------------- batch timeout
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("jobs", ["1", "2"])
 def test_batch_timeout_fails_the_garment_and_writes_nothing(tmp_path, garment, recipe, jobs):
     out = tmp_path / "out"
@@ -418,6 +421,7 @@ def test_batch_timeout_with_a_scheduler_is_refused(tmp_path, garment, recipe):
     assert r.exit_code == 2 and "--timeout" in r.stderr
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(
     __import__("multiprocessing").get_start_method() != "fork",
     reason="the patched staged_run reaches the workers only when they are forked",
@@ -570,6 +574,7 @@ def _alive(pid: int) -> bool:
         return False
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/proc and pgrep")
 def test_kill_9_of_a_batch_ends_its_workers_and_keeps_the_records_it_had(tmp_path, recipe):
     """Issue 22: ``kill -9`` of ``ptailor batch`` left its workers alive and idle, holding

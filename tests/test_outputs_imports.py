@@ -6,7 +6,10 @@ from __future__ import annotations
 import subprocess
 import sys
 
+import pytest
 
+
+@pytest.mark.slow
 def test_writing_all_formats_does_not_import_matplotlib(tmp_path):
     code = (
         "import sys\n"

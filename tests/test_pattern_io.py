@@ -84,6 +84,7 @@ def _close(a, b, size, rel=1e-6):
     np.testing.assert_allclose(a, b, atol=rel * size)
 
 
+@pytest.mark.slow
 def test_adjust_writes_every_format_by_default(tmp_path):
     obj = tmp_path / "s.obj"
     obj.write_text(sample_obj_text("lantern_sleeve"))
@@ -118,6 +119,7 @@ def test_formats_option_writes_only_those(tmp_path):
     assert r.exit_code == 2 and "pdf" in r.output and not (tmp_path / "o2").exists()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("sample", ["lantern_sleeve", "cone_skirt"])
 def test_identity_on_a_dxf_and_its_drape_gives_back_outlines_and_marks(tmp_path, sample):
     obj, dxf, _ = _setup(tmp_path, sample)
@@ -143,6 +145,7 @@ def test_identity_on_a_dxf_and_its_drape_gives_back_outlines_and_marks(tmp_path,
     assert report["units"]["pattern"] == "mm" and "METRIC" in report["units"]["pattern_note"]
 
 
+@pytest.mark.slow
 def test_a_uniform_scale_scales_every_mark_and_keeps_the_grain_direction(tmp_path):
     obj, dxf, _ = _setup(tmp_path)
     r = run("adjust", dxf, _recipe(tmp_path, UNIFORM), "--drape", obj, "-o", tmp_path / "o")
@@ -161,6 +164,7 @@ def test_a_uniform_scale_scales_every_mark_and_keeps_the_grain_direction(tmp_pat
         assert abs(ga[0] * gb[1] - ga[1] * gb[0]) < 1e-9 * np.dot(ga, ga)  # parallel
 
 
+@pytest.mark.slow
 def test_a_moved_piece_is_matched_by_shape_and_written_where_the_file_had_it(tmp_path):
     c, s = np.cos(np.pi / 2), np.sin(np.pi / 2)
     R, t = np.array([[c, -s], [s, c]]), np.array([400.0, 50.0])
@@ -183,6 +187,7 @@ def test_a_moved_piece_is_matched_by_shape_and_written_where_the_file_had_it(tmp
     assert recs["cuff"]["matched_by"] == "shape" and recs["sleeve"]["matched_by"] == "position"
 
 
+@pytest.mark.slow
 def test_shorten_drops_the_marks_it_cuts_away_and_outlines_the_new_hem(tmp_path):
     obj, dxf, pieces = _setup(tmp_path, "cone_skirt")
     r = run(
@@ -201,6 +206,7 @@ def test_shorten_drops_the_marks_it_cuts_away_and_outlines_the_new_hem(tmp_path)
         assert len(b.drills) == 1 and b.grain is not None
 
 
+@pytest.mark.slow
 def test_seam_allowance_offsets_the_cut_line_and_keeps_the_sew_line(tmp_path):
     obj = tmp_path / "s.obj"
     obj.write_text(sample_obj_text("lantern_sleeve"))
@@ -244,6 +250,7 @@ def test_dxf_errors_exit_2_naming_the_file_and_write_nothing(tmp_path):
     assert not (tmp_path / "o").exists()
 
 
+@pytest.mark.slow
 def test_units_override_for_a_metric_file(tmp_path):
     obj, dxf, _ = _setup(tmp_path)
     r = run(
@@ -255,6 +262,7 @@ def test_units_override_for_a_metric_file(tmp_path):
     assert report["units"]["pattern"] == "mm"
 
 
+@pytest.mark.slow
 def test_outputs_are_byte_identical_across_runs(tmp_path, monkeypatch):
     monkeypatch.setenv("SOURCE_DATE_EPOCH", "1700000000")
     obj, dxf, _ = _setup(tmp_path)
@@ -362,6 +370,7 @@ def test_a_real_clo_pattern_through_identity_and_a_uniform_scale(tmp_path):
         assert all(p["source"] == "file" for p in report["pattern"]["pieces"])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("sample", ["lantern_sleeve", "cone_skirt"])
 def test_cut_lines_with_a_seam_allowance_match_the_mesh_of_the_sew_line(tmp_path, sample):
     """A CAD cut line 1 cm outside the drape's mesh (no sew line in the file) still matches,
@@ -386,6 +395,7 @@ def test_cut_lines_with_a_seam_allowance_match_the_mesh_of_the_sew_line(tmp_path
         assert p["match_distance"] == pytest.approx(1.0, rel=0.05)  # cm, the report's unit
 
 
+@pytest.mark.slow
 def test_a_piece_cut_twice_matches_both_panels_and_is_written_as_two(tmp_path):
     """The skirt's back is a copy of its front: a file holding only the front with
     quantity 2 covers both panels; each instance is written with quantity 1."""
@@ -412,6 +422,7 @@ def test_a_piece_cut_twice_matches_both_panels_and_is_written_as_two(tmp_path):
     }
 
 
+@pytest.mark.slow
 def test_extend_drops_the_notches_it_leaves_inside_the_piece(tmp_path):
     obj, dxf, _ = _setup(tmp_path, "cone_skirt")
     before = _by_name(read_dxf(dxf))

@@ -112,6 +112,7 @@ def test_pieces_match_their_panels_by_position():
     assert all(x.how == "position" and x.residual < 1e-9 for x in m)
 
 
+@pytest.mark.slow
 def test_moved_and_flipped_pieces_match_by_shape_with_the_right_rigid_map():
     g = lantern_sleeve()
     plist, pieces = _pieces(g)

@@ -101,6 +101,7 @@ def test_the_simulation_mesh_keeps_every_boundary_and_carries_back_exactly(case)
     assert np.percentile(d, 95) < 0.5  # cm, garments about 50 cm across
 
 
+@pytest.mark.slow
 def test_a_production_resolution_tee_is_simulated_on_8000_triangles():
     """tee6 subdivided 1 -> 16 (82,480 triangles): 8,000 simulation triangles, every seam
     and opening kept, the drape carried back within 0.2 cm at the 95th percentile."""

@@ -17,6 +17,7 @@ def panel_area(V2, F2, p) -> float:
     return float(abs(signed_areas_2d(V2, F2[p.faces]).sum()))
 
 
+@pytest.mark.slow
 def test_identity_returns_every_vt(real_garment):
     _, lg = real_garment
     g = lg.garment
@@ -26,6 +27,7 @@ def test_identity_returns_every_vt(real_garment):
         assert np.abs(adj.result.V2[p.vertices] - g.V2[p.vertices]).max() < 1e-7 * size
 
 
+@pytest.mark.slow
 def test_rigid_motion_and_uniform_scale(real_garment):
     _, lg = real_garment
     g = lg.garment
@@ -60,6 +62,7 @@ def test_tee6_uniform_flattening_is_larger_ours_is_exact():
     np.testing.assert_allclose(ours, 1.0, atol=1e-9)
 
 
+@pytest.mark.slow
 def test_tshirt_mirrored_panel_scales_and_keeps_orientation():
     g = load_garment(real_path("tshirt"), pattern_units="auto").garment
     plist = panels(g)
@@ -73,6 +76,7 @@ def test_tshirt_mirrored_panel_scales_and_keeps_orientation():
         assert 1.0 < panel_area(adj.result.V2, g.F2, p) / panel_area(g.V2, g.F2, p) < 1.25
 
 
+@pytest.mark.slow
 def test_tee6_one_sleeve_wider_body_follows():
     """Scaling one sleeve (two panels) around its axis: that sleeve widens, the other stays."""
     g = load_garment(real_path("tee6")).garment
@@ -111,6 +115,7 @@ def seam_mismatch(adj) -> float:
     return worst
 
 
+@pytest.mark.slow
 def test_tee6_seams_ease_matches_seam_lengths():
     """flatten.seams: ease (the default) holds every seam's two sides at their ratio."""
     g = load_garment(real_path("tee6")).garment

@@ -22,6 +22,7 @@ def test_recipes_folder_is_bundled():
         assert bundled_recipe(p.stem) == p.read_text()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", RECIPES, ids=[p.stem for p in RECIPES])
 def test_recipe_validates_and_runs(path):
     rec = load_recipe(path)
@@ -196,6 +197,7 @@ def _garment_cases() -> list[tuple[Path, str]]:
     return out
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("path", "key"), _garment_cases(), ids=[f"{p.stem}-{k}" for p, k in _garment_cases()]
 )

@@ -95,6 +95,7 @@ def test_subdivide_obj_writes_the_same_garment_four_times_finer(tmp_path):
     np.testing.assert_allclose(s.V2[: len(g.V2)], g.V2, atol=1e-5)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_the_flatten_of_one_edit_agrees_at_1x_and_4x(case):
     """The 1x edited drape subdivided and flattened at 4x: within 0.25 mm of the 1x pattern
@@ -128,6 +129,7 @@ def test_the_flatten_of_one_edit_agrees_at_1x_and_4x(case):
     assert np.linalg.norm(r.V2[:n] - a1.result.V2, axis=1).max() < 0.025
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_one_adjustment_agrees_at_1x_and_4x(case):
     """The whole adjustment (edit and flatten) of the garment and of the same garment
@@ -162,6 +164,7 @@ def tee6_16x(tmp_path_factory) -> Path:
     return dst
 
 
+@pytest.mark.slow
 def test_a_production_resolution_tee_loosened_converges_with_its_seams_closed(tee6_16x, tmp_path):
     """Issue 21's reproduction: the shared tee subdivided 1 -> 16 (82k triangles), the
     torso loosened by 2 cm. Before the seam constraints' curvature: the 100-iteration cap,
@@ -186,6 +189,7 @@ def test_a_production_resolution_tee_loosened_converges_with_its_seams_closed(te
     assert np.linalg.norm(a16.result.V2[:n] - a1.result.V2, axis=1).max() < 0.15
 
 
+@pytest.mark.slow
 def test_the_dress_skirt_widened_converges_near_its_optimum(monkeypatch):
     """The shared dress, its skirt 1.1 around: its 46 x 7.6 cm bodice strip bent, where
     local/global steps crawl (the 100-iteration cap, 1.7 mm from the optimum, before the
@@ -216,6 +220,7 @@ def test_the_dress_skirt_widened_converges_near_its_optimum(monkeypatch):
     assert np.linalg.norm(a.result.V2 - ref.result.V2, axis=1).max() < 0.005
 
 
+@pytest.mark.slow
 def test_a_production_resolution_tshirt_gathered_at_both_armholes_converges(tmp_path):
     """The shared tshirt subdivided 1 -> 16 (88k triangles), both armholes gathered 1.2:
     the sleeves' armhole sides are held longer than their cloth wants, and the exact length

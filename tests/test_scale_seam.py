@@ -28,6 +28,7 @@ def step(direction: str, factor: float = 1.3, fix: str = "[top]") -> str:
     )
 
 
+@pytest.mark.slow
 def test_around_widens_the_sleeve_bottom_keeps_the_top_and_the_cuff():
     g = lantern_sleeve()  # openings: cuff (cuff bottom) and top (sleeve top, the armhole)
     adj = adjustment(g, parse_recipe(step("around")))
@@ -87,6 +88,7 @@ def test_panels_without_a_seam():
         )
 
 
+@pytest.mark.slow
 def test_tee6_armhole_seam_stays_valid():
     g = load_garment(real_path("tee6")).garment
     adj = adjustment(
@@ -102,6 +104,7 @@ def test_tee6_armhole_seam_stays_valid():
     assert "back" in adj.state.frozen
 
 
+@pytest.mark.slow
 def test_body_axis_drives_auto_axes():
     """With a body, axis: auto is the body's local axis near the region, not the garment's."""
     import trimesh
@@ -278,6 +281,7 @@ def test_a_seam_that_is_neither_two_panels_nor_a_name_is_refused(seam):
     assert recipe is None and any("seam line's name" in p for p in probs), probs
 
 
+@pytest.mark.slow
 def test_the_shared_long_sleeves_armhole_by_name_symmetric_too():
     """On the shared long-sleeve, ``seam: armhole_left`` (the line ``inspect`` lists) gives
     the pattern of ``[front, sleeve_left]``; with ``symmetric: true`` the name resolves

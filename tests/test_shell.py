@@ -16,6 +16,7 @@ from ptailor.samples.obj_text import sample_obj_text
 CLI = Path(__file__).resolve().parents[1] / "cli"
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(shutil.which("xargs") is None, reason="needs xargs")
 def test_adjust_each_runs_every_garment_and_reports_failures(tmp_path):
     good = []
@@ -60,6 +61,7 @@ def _ptailor_env(**extra: str) -> dict:
     return dict(os.environ, PTAILOR=f"{sys.executable} -m ptailor", PYTHON=sys.executable, **extra)
 
 
+@pytest.mark.slow
 def test_adjust_catalogue_finds_garments_and_writes_a_csv_summary(tmp_path):
     import csv
 
@@ -140,6 +142,7 @@ def _check_adjust_parallel(tmp_path, r) -> None:
     assert "failed\t" in r.stderr and "broken.obj" in r.stderr and "not an OBJ" in r.stderr
 
 
+@pytest.mark.slow
 def test_adjust_parallel_falls_back_to_xargs_without_gnu_parallel(tmp_path):
     # a `parallel` that is not GNU parallel (moreutils has one): must not be used
     bin_dir = tmp_path / "bin"
@@ -233,6 +236,7 @@ def _linked_catalogue(tmp_path: Path) -> tuple[Path, Path]:
     return cat, rec
 
 
+@pytest.mark.slow
 def test_adjust_catalogue_follows_symbolic_links(tmp_path):
     """Issue 24: `find -type f` skipped OBJs reached through links (exit 2, no garments).
     A link to OUTROOT inside the catalogue does not make its outputs garments."""
@@ -254,6 +258,7 @@ def test_adjust_catalogue_follows_symbolic_links(tmp_path):
     ]
 
 
+@pytest.mark.slow
 def test_adjust_catalogue_writes_a_manifest_that_batch_takes(tmp_path):
     import csv
 

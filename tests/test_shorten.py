@@ -60,6 +60,7 @@ def test_shorten_then_extend_bookkeeping_on_the_elastic_cuff():
     assert h[0] == pytest.approx(40.0, rel=1e-6)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("key", ["tee6", "dress"])
 def test_shorten_hem_on_real_garments(key, tmp_path):
     path = real_path(key)
@@ -108,6 +109,7 @@ def test_shorten_errors(tmp_path, step, message):
         assert "hem" in r.output and "waist" in r.output  # lists what the garment has
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("op", ["extend", "shorten"])
 def test_dress_hem_edits_are_valid_and_readjustable(op, tmp_path):
     import ptailor.edits.extend  # noqa: F401  (registers the op)
@@ -263,6 +265,7 @@ def test_pattern_distance_is_carried_over_seams_into_the_next_panel():
     np.testing.assert_allclose(np.ptp(X[:, 1]), 37.5, atol=1e-9)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("key", sorted(REAL))
 def test_real_hem_shortened_by_5_in_the_output_pattern(key):
     """Acceptance: with ``measure: pattern`` every panel's new hem is 5 +- 0.05 away."""
@@ -279,6 +282,7 @@ def test_real_hem_shortened_by_5_in_the_output_pattern(key):
     assert all(abs(v[s] - 5.0) <= 0.05 for v in amount["pattern"].values() for s in v)
 
 
+@pytest.mark.slow
 def test_tee6_hem_shortened_by_5_on_the_drape_is_uneven_in_the_pattern():
     """The paper's measure: 5 on the drape, 5.4 to 7.7 in the pattern (an S-shaped hem)."""
     g = load_garment(real_path("tee6"), pattern_units=REAL["tee6"][1]).garment
@@ -304,6 +308,7 @@ def test_measure_is_a_checked_recipe_key():
         parse_recipe("steps: [{op: shorten, opening: hem, by: 5, measure: ruler}]")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("op", ["shorten", "extend"])
 @pytest.mark.parametrize("sample", ["cone_skirt", "bodice", "cylinder", "lantern_sleeve"])
 def test_generated_hems_move_exactly_5_in_the_output_pattern(sample, op):

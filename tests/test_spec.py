@@ -188,6 +188,7 @@ def test_generated_spec_matches_and_has_arcs(skirt):
     assert len(s.stitches) == 2
 
 
+@pytest.mark.slow
 def test_identity_gives_the_generated_spec_back(generated, tmp_path):
     garment, spec = generated
     got, rep = _adjust(garment, IDENTITY, spec, tmp_path / "o")
@@ -343,6 +344,7 @@ def _compare(want: dict, got: dict, *, vertex_cm: float, curv: float, scale: flo
                 assert _close(c, d, curv), (name, c, d)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("mesh", "spec", "units"),
     [
@@ -371,6 +373,7 @@ def test_identity_gives_the_real_spec_back(tmp_path, mesh, spec, units):
         assert 130 < float(rep["units"]["pattern"].removesuffix("cm")) < 140
 
 
+@pytest.mark.slow
 def test_tee6_uniform_scale(tmp_path):
     got, _ = _adjust(need(TEE6 / "tee6_sim.obj"), UNIFORM, need(TEE6 / "tee6_specification.json"),
                      tmp_path / "o", *TEE6_UNITS)  # fmt: skip
@@ -378,6 +381,7 @@ def test_tee6_uniform_scale(tmp_path):
     _compare(want, got, vertex_cm=1e-4, curv=1e-6, scale=1.1)
 
 
+@pytest.mark.slow
 def test_tee6_one_sleeve_wider(tmp_path):
     spec = need(TEE6 / "tee6_specification.json")
     got, rep = _adjust(need(TEE6 / "tee6_sim.obj"), SLEEVE, spec, tmp_path / "o", *TEE6_UNITS)
@@ -399,6 +403,7 @@ def test_tee6_one_sleeve_wider(tmp_path):
     assert arm["after"][0] > 1.05 * arm["before"][0]
 
 
+@pytest.mark.slow
 def test_tee6_shorten_moves_only_the_hem(tmp_path):
     spec = need(TEE6 / "tee6_specification.json")
     got, rep = _adjust(need(TEE6 / "tee6_sim.obj"), SHORTEN, spec, tmp_path / "o", *TEE6_UNITS)
@@ -450,6 +455,7 @@ def _boundary_segments(F: np.ndarray) -> np.ndarray:
     return u[c == 1]
 
 
+@pytest.mark.slow
 def test_written_curves_lie_on_the_adjusted_outline(tmp_path):
     """spec.fit, checked independently: the written specification's curves, sampled here
     (de Casteljau, our own arcs) and placed by the report's map, against the boundary of the
@@ -495,6 +501,7 @@ def _turn(axis, deg: float) -> np.ndarray:
     return Rotation.from_rotvec(np.radians(deg) * np.asarray(axis, float)).as_matrix()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("deg", [90.0, 180.0])
 def test_a_turned_drape_gives_the_same_specification(tmp_path, deg):
     """A rigid motion of the drape changes nothing: tee6 turned about its up axis (the
@@ -509,6 +516,7 @@ def test_a_turned_drape_gives_the_same_specification(tmp_path, deg):
     _compare(want, got, vertex_cm=1e-3, curv=1e-4)
 
 
+@pytest.mark.slow
 def test_an_obliquely_moved_generated_drape_gives_the_same_specification(skirt, tmp_path):
     garment, spec = skirt
     want, _ = _adjust(garment, UNIFORM, spec, tmp_path / "a")
@@ -518,6 +526,7 @@ def test_an_obliquely_moved_generated_drape_gives_the_same_specification(skirt, 
     _compare(want, got, vertex_cm=1e-4, curv=1e-5)
 
 
+@pytest.mark.slow
 def test_shirt_shorten_moves_only_the_hems(tmp_path):
     """GarmentCode's shirt (typed curves, half its panels mirrored in the atlas, the scale
     from the specification): the four torso hems move 5 cm, nothing else."""
@@ -538,6 +547,7 @@ def test_shirt_shorten_moves_only_the_hems(tmp_path):
     assert rep["spec"]["fit_max"] < 0.1 and not rep["warnings"]
 
 
+@pytest.mark.slow
 def test_batch_finds_each_specification_beside_its_garment(tmp_path, skirt):
     """``batch --spec auto``: STEM_specification.json beside each garment; a garment without
     one runs without (a warning says what was looked for); records carry spec_fit_max."""
@@ -565,6 +575,7 @@ def test_batch_finds_each_specification_beside_its_garment(tmp_path, skirt):
     assert any("--spec auto: no specification beside plain.obj" in w for w in warn)
 
 
+@pytest.mark.slow
 def test_manifest_spec_column(tmp_path, skirt):
     garment, spec = skirt
     m = tmp_path / "m.csv"
@@ -599,6 +610,7 @@ def test_batch_spec_file_missing_is_exit_2(tmp_path, skirt):
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.slow
 def test_batch_max_spec_fit_gate(tmp_path, skirt):
     """``--max-spec-fit``: a garment whose written specification strays from the mesh fails
     (the cone skirt's arcs lie 0.12 mm from the mesh's chords)."""

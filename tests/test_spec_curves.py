@@ -430,6 +430,7 @@ def test_reparametrized_fit_is_closer_than_the_plain_fit(kind):
         assert rms[1] < rms[0], rms
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["quadratic", "cubic"])
 def test_one_reparametrization_round_refits_at_the_feet(kind):
     # the docstring: fit, move each point's parameter to its foot on the curve, fit again

@@ -93,6 +93,7 @@ def test_symmetric_cut_mirrors_the_sketch():
     assert X.min() == pytest.approx(-10, abs=1e-3) and X.max() == pytest.approx(10, abs=1e-3)
 
 
+@pytest.mark.slow
 def test_cut_output_can_be_adjusted_again(tmp_path):
     from ptailor.samples.obj_text import sample_obj_text
 
@@ -107,6 +108,7 @@ def test_cut_output_can_be_adjusted_again(tmp_path):
     assert again.garment.n_faces == rep["panels"][0]["triangles"] + rep["panels"][1]["triangles"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("step", "message"),
     [
@@ -125,6 +127,7 @@ def test_cut_errors(tmp_path, step, message):
         )
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("key", ["tee6", "dress"])
 def test_plane_cut_on_real_garments(key, tmp_path):
     from tests.conftest import REAL

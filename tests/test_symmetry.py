@@ -207,6 +207,7 @@ def mirror_gap(V: np.ndarray, used: np.ndarray) -> float:
     return float(d.max())
 
 
+@pytest.mark.slow
 def test_symmetric_recipe_mirrors_a_one_sided_step():
     g = cone_skirt()
     used = np.unique(g.F3)
@@ -310,6 +311,7 @@ def two_sleeves() -> Garment:
     )
 
 
+@pytest.mark.slow
 def test_symmetric_scale_seam_renames_seam_part_and_fixed_loop():
     g = two_sleeves()
     # loop 1 is the left sleeve's outer end (x = 58), loop 3 the right one's (x = -58)
@@ -438,6 +440,7 @@ def tee6_runs():
     return g, left, runs
 
 
+@pytest.mark.slow
 def test_tee6_symmetric_sleeve_scale_changes_both_sleeves_alike(tee6_runs):
     g, left, runs = tee6_runs
     adj = runs["symmetric"]
@@ -457,6 +460,7 @@ def test_tee6_symmetric_sleeve_scale_changes_both_sleeves_alike(tee6_runs):
     assert adj.state.log[0]["op"] == "symmetry" and adj.state.log[1]["mirrored"] is True
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("key", ["one_sided", "overridden"])
 def test_tee6_one_sided_sleeve_scale_keeps_the_right_sleeve(tee6_runs, key):
     g, left, runs = tee6_runs

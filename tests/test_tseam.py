@@ -260,6 +260,7 @@ def tseam_obj(tmp_path) -> Path:
     return p
 
 
+@pytest.mark.slow
 def test_cli_inspect_and_adjust_on_a_tseam(tseam_obj, tmp_path):
     runner = CliRunner()
     r = runner.invoke(cli, ["inspect", str(tseam_obj), "--json"], catch_exceptions=False)

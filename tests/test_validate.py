@@ -51,6 +51,7 @@ def test_every_parameter_check_has_a_schema_fragment():
         assert getattr(check, "schema", None), f"flatten.{key}"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", sorted(RECIPES.glob("*.yaml")), ids=lambda p: p.name)
 def test_example_recipes_pass_the_schema_and_the_rules(path):
     data = yaml.safe_load(path.read_text())

@@ -307,6 +307,7 @@ def test_verify_patterns_refuses_an_up_the_engine_cannot_simulate(lantern_adj, f
 # the picture ---------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_verify_png_is_deterministic(tmp_path):
     import trimesh
     from PIL import Image
@@ -346,6 +347,7 @@ def arm_check(lantern_adj):
     return check.verify_section(lantern_adj, body=body, units_m=0.01, to_units=1.0)
 
 
+@pytest.mark.slow
 def test_lantern_widened_on_an_arm_redrapes_like_the_edit(arm_check):
     """The issue's acceptance: ours' cuff barely moves or stretches, the baseline's is
     stretched over the arm (its rest is 0.7 x 33.6 = 23.5 cm around an arm of 28.9)."""
@@ -357,6 +359,7 @@ def test_lantern_widened_on_an_arm_redrapes_like_the_edit(arm_check):
     assert base["stretch"]["p95"] >= 1.15, section
 
 
+@pytest.mark.slow
 def test_lantern_baseline_cuff_is_held_by_the_arm(arm_check, lantern_adj):
     """The baseline's cuff is stretched over the arm, not through it (a contact search every
     10 steps let it pass through and rest inside at its own size, radius 3.75 cm)."""
@@ -392,6 +395,7 @@ def test_the_progress_feed_names_the_redrape_its_steps_and_speed():
     assert "settled below 2 mm/s" in stage and it == 0 and res is None
 
 
+@pytest.mark.slow
 def test_the_lantern_simulated_on_a_decimated_mesh_gives_the_same_verdict(lantern_adj):
     """The simulation mesh path (``Settings.sim_faces`` under the garment's 4,608
     triangles): about 2,000 triangles simulated, the result carried back onto the garment,

@@ -434,6 +434,7 @@ def test_batch_verify_gates_and_records(tmp_path, fake_engine):
 # --------------------------------------------------------------------------- the real engine
 
 
+@pytest.mark.slow
 def test_real_engine_adjust_and_verify(tmp_path):
     """A small lantern sleeve widened 1.2, re-drapes capped at a few steps: the commands
     run end to end on the installed engine."""
@@ -457,6 +458,7 @@ def test_real_engine_adjust_and_verify(tmp_path):
     assert set(doc["verify"]["ours"]["panels"]) == {"sleeve", "cuff"}
 
 
+@pytest.mark.slow
 def test_tee6_on_its_own_body_settles_within_minutes(tmp_path):
     """The issue's acceptance: tee6 with one sleeve 1.1 around; ``--body auto --write-body``
     writes the fitted body (GarmentCode's mean body decimated to 7,002 vertices, scaled and

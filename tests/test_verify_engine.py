@@ -92,6 +92,7 @@ def test_bad_inputs_are_named():
             engine.redrape(args.pop("V3"), args.pop("F3"), args.pop("rest"), **args)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("scale", "mirrored", "wide"), [(0.9, True, 1.08), (0.7, False, 1.15)])
 def test_a_tight_tube_is_stretched_over_the_cylinder(scale, mirrored, wide):
     """Rest ``scale`` x around (a mirrored pattern: every rest triangle clockwise), started
@@ -113,6 +114,7 @@ def test_a_tight_tube_is_stretched_over_the_cylinder(scale, mirrored, wide):
     assert np.median(r[d.V[:, 1] < 0.75 * HEIGHT]) == pytest.approx(RADIUS, rel=0.03)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("on_body", [True, False])
 def test_a_tube_at_rest_barely_moves_and_says_nothing(on_body, capfd):
     """Rest = drape, on its cylinder or hanging from its top ring alone: it barely moves, and

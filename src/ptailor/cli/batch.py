@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import functools
+
 import click
 
 from ptailor import tolerances as tol
@@ -62,8 +64,38 @@ _LIMIT_GATES = (
 )
 
 
-def gate_options(fn):
-    """The quality gates: ``--max-area-change`` ... ``--fail-on-flips``."""
+def gate_options(command):
+    """The quality gates, ``--max-area-change`` ... ``--fail-on-flips``, handed to the
+    command as one :class:`~ptailor.batch.gates.Gates` (its ``gates`` keyword)."""
+
+    @functools.wraps(command)
+    def with_gates(
+        *args,
+        max_area_change,
+        max_boundary_deviation,
+        max_intrinsic_error,
+        max_seam_mismatch,
+        max_verify_stretch,
+        max_verify_displacement,
+        max_spec_fit,
+        fail_on_flips,
+        **kwargs,
+    ):
+        from ptailor.batch import Gates
+
+        gates = Gates(
+            max_area_change=max_area_change,
+            max_boundary_deviation=max_boundary_deviation,
+            max_intrinsic_error=max_intrinsic_error,
+            max_seam_mismatch=max_seam_mismatch,
+            max_verify_stretch=max_verify_stretch,
+            max_verify_displacement=max_verify_displacement,
+            max_spec_fit=max_spec_fit,
+            fail_on_flips=fail_on_flips,
+        )
+        return command(*args, gates=gates, **kwargs)
+
+    fn = with_gates
     fn = click.option(
         "--fail-on-flips", is_flag=True, help="Gate: fail a garment with flipped triangles."
     )(fn)
@@ -172,14 +204,7 @@ def batch(
     log,
     as_json,
     quiet,
-    max_area_change,
-    max_boundary_deviation,
-    max_intrinsic_error,
-    max_seam_mismatch,
-    max_verify_stretch,
-    max_verify_displacement,
-    max_spec_fit,
-    fail_on_flips,
+    gates,
 ) -> None:
     """Apply RECIPE to every GARMENT (or every row of --manifest), one output folder each
     under OUT.
@@ -205,21 +230,11 @@ def batch(
     import os
     import sys
 
-    from ptailor.batch import Gates, make_jobs
+    from ptailor.batch import make_jobs
     from ptailor.cli.options import check_engine_first, parse_formats, parse_seam_allowance
     from ptailor.recipe import load_recipe
     from ptailor.run.options import RunOptions
 
-    gates = Gates(
-        max_area_change=max_area_change,
-        max_boundary_deviation=max_boundary_deviation,
-        max_intrinsic_error=max_intrinsic_error,
-        max_seam_mismatch=max_seam_mismatch,
-        max_verify_stretch=max_verify_stretch,
-        max_verify_displacement=max_verify_displacement,
-        max_spec_fit=max_spec_fit,
-        fail_on_flips=fail_on_flips,
-    )
     _check_arguments(
         recipe, garments, manifest, timeout=timeout, scheduler=scheduler, gates=gates,
         verify=verify, spec=spec,
