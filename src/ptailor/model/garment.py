@@ -29,9 +29,32 @@ __all__ = [
 SAME_CLOTH = "same_cloth"
 
 
+def read_only(a) -> np.ndarray:
+    """``a`` as an array nobody can write: itself when it already is one (a garment's own
+    array, shared by the garments made from it), else a read-only copy (the caller's array
+    stays theirs to change).
+
+    Examples
+    --------
+    >>> v = np.zeros(3)
+    >>> r = read_only(v)
+    >>> r.flags.writeable, v.flags.writeable, read_only(r) is r
+    (False, True, True)
+    """
+    a = np.asarray(a)
+    if not a.flags.writeable:
+        return a
+    a = a.copy()
+    a.flags.writeable = False
+    return a
+
+
 @dataclass(frozen=True)
 class Garment:
     """A drape and its pattern.
+
+    The arrays are read-only (copied when given writable): derived data cached on the garment
+    (:attr:`cache`) cannot go stale.
 
     Attributes
     ----------
@@ -65,6 +88,9 @@ class Garment:
         m = len(self.F3)
         if len(self.face_group) != m:
             object.__setattr__(self, "face_group", np.full(m, -1, dtype=np.int64))
+        # read-only: the cache (structure, ...) holds for as long as the garment lives
+        for name in ("V3", "F3", "V2", "F2", "face_group"):
+            object.__setattr__(self, name, read_only(getattr(self, name)))
 
     def __getstate__(self) -> dict:
         state = dict(self.__dict__)
