@@ -46,7 +46,7 @@ import numpy as np
 
 from ptailor.formats.obj import write_garment
 from ptailor.method import flatten as flatten_mod
-from ptailor.method import stitch as stitch_mod
+from ptailor.method import stitch_problem as stitch_mod
 from ptailor.method.flatten import central_vertices, flatten
 from ptailor.model.garment import Garment, panels, vertex_labels
 from ptailor.samples import sample_for_triangles

@@ -9,7 +9,7 @@ from ptailor.geometry.triangles import edge_lengths
 from ptailor.method.anderson import Anderson
 from ptailor.method.flatten import panel_strain
 from ptailor.method.linear import factor
-from ptailor.method.stitch import _PanelIndex
+from ptailor.method.stitch_problem import _PanelIndex
 
 
 def _reference_mix(fs: list[np.ndarray], gs: list[np.ndarray], m: int) -> np.ndarray:
@@ -121,7 +121,7 @@ def test_blockwise_leaves_an_unsorted_matrix_as_it_was():
 
 
 def test_panel_sizes_are_the_bounding_box_diagonals():
-    from ptailor.method.stitch import _panel_sizes
+    from ptailor.method.stitch_problem import _panel_sizes
 
     rng = np.random.default_rng(11)
     vlab = np.array([2, 0, -1, 2, 0, 0, 2, -1])  # panel 1 is empty

@@ -8,7 +8,8 @@ import pytest
 from ptailor.geometry.triangles import edge_matrices
 from ptailor.method.ease import SeamEase
 from ptailor.method.linear import bordered_solver
-from ptailor.method.stitch import _PanelIndex, _Problem, stitch
+from ptailor.method.stitch import stitch
+from ptailor.method.stitch_problem import _PanelIndex, _Problem
 
 
 def strip(nx: int = 60, ny: int = 2, length: float = 48.0, width: float = 1.6, y0: float = 0.0):
@@ -137,7 +138,7 @@ def test_the_split_factor_and_two_solves_give_one_answer(monkeypatch):
     """The constrained steps through the factor that orders the seam unknowns last (one
     forward and one back-substitution) and through two plain solves (as without CHOLMOD)
     reach the same pattern, Newton steps included."""
-    import ptailor.method.stitch as st
+    import ptailor.method.stitch_problem as st
 
     Va, Fa = strip(60, 2, 48.0, 0.8, 0.0)
     Vb, Fb = strip(60, 2, 48.0, 0.8, 0.8)

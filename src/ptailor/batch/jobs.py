@@ -293,7 +293,7 @@ def run_job(job: GarmentJob) -> dict:
     the garment is stuck where a signal cannot reach it (the parent records the timeout).
     Library warnings go to the garment's report, not to the terminal.
     """
-    from ptailor.run.folder import capture_library_warnings
+    from ptailor.run.library_warnings import capture_library_warnings
 
     global _IN_JOB
     if _STOP is not None and _STOP.is_set():

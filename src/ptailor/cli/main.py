@@ -113,7 +113,7 @@ class _Group(click.Group):
         import signal
 
         from ptailor.errors import Interrupted, PtailorError
-        from ptailor.run.folder import capture_library_warnings
+        from ptailor.run.library_warnings import capture_library_warnings
 
         saved = {}
         for s in (signal.SIGINT, signal.SIGTERM):

@@ -14,14 +14,12 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import json
-import logging
 import os
 import re
 import shutil
 import signal
 import tempfile
 import threading
-import warnings
 from collections.abc import Iterable, Mapping
 from contextlib import contextmanager
 from pathlib import Path
@@ -74,6 +72,28 @@ def staging_pattern(name: str) -> re.Pattern:
     return re.compile(f"^\\.{s}\\.(old-\\.{s}\\.)?[a-z0-9_]{{8}}\\.tmp$")
 
 
+def _staging_folders(out: Path) -> list[tuple[Path, bool]]:
+    """The staging folders beside ``out`` (not links), each with whether it is the previous
+    output moved aside (``.NAME.old-...tmp``)."""
+    if not out.parent.is_dir():
+        return []
+    pat = staging_pattern(out.name)
+    found = []
+    for p in sorted(out.parent.iterdir()):
+        m = pat.match(p.name)
+        if m and p.is_dir() and not p.is_symlink():
+            found.append((p, bool(m.group(1))))
+    return found
+
+
+def _put_back_or_remove(p: Path, *, old: bool, out: Path) -> None:
+    """Move the previous output ``p`` back when ``out`` is missing, else remove ``p``."""
+    if old and not out.exists():
+        p.rename(out)
+    else:
+        shutil.rmtree(p, ignore_errors=True)
+
+
 def remove_staging(out: str | Path) -> list[str]:
     """Remove the staging folders a killed writer of ``out`` left beside it.
 
@@ -82,18 +102,9 @@ def remove_staging(out: str | Path) -> list[str]:
     when ``out`` is missing, else removed. Returns the names handled.
     """
     out = Path(out)
-    if not out.parent.is_dir():
-        return []
-    pat = staging_pattern(out.name)
     handled = []
-    for p in sorted(out.parent.iterdir()):
-        m = pat.match(p.name)
-        if not m or not p.is_dir():
-            continue
-        if m.group(1) and not out.exists():
-            p.rename(out)
-        else:
-            shutil.rmtree(p, ignore_errors=True)
+    for p, old in _staging_folders(out):
+        _put_back_or_remove(p, old=old, out=out)
         handled.append(p.name)
     return handled
 
@@ -157,21 +168,12 @@ def remove_stale_staging(out: str | Path) -> list[str]:
     (``.NAME.old-.NAME.XXXXXXXX.tmp``) is held through the staging folder named in it, and
     is moved back when ``out`` is missing. Returns the names handled."""
     out = Path(out)
-    if not out.parent.is_dir():
-        return []
-    pat = staging_pattern(out.name)
     handled = []
-    for p in sorted(out.parent.iterdir()):
-        m = pat.match(p.name)
-        if not m or not p.is_dir() or p.is_symlink():
-            continue
-        writer = p.with_name(p.name.split(".old-", 1)[1]) if m.group(1) else p
+    for p, old in _staging_folders(out):
+        writer = p.with_name(p.name.split(".old-", 1)[1]) if old else p
         if writer.is_dir() and _held(writer):
             continue
-        if m.group(1) and not out.exists():
-            p.rename(out)
-        else:
-            shutil.rmtree(p, ignore_errors=True)
+        _put_back_or_remove(p, old=old, out=out)
         handled.append(p.name)
     return handled
 
@@ -445,56 +447,3 @@ def staged_dir(out: str | Path):
 def write_json(path: Path, data: Mapping) -> None:
     """Write ``data`` as indented JSON (insertion order) with a trailing newline."""
     path.write_text(json.dumps(data, indent=2) + "\n")
-
-
-# --------------------------------------------------------------------------- library noise
-
-LIBRARY_WARNINGS_MAX = tolerances.LIBRARY_WARNINGS_MAX
-#: warnings meant for developers, not for the report (dropped)
-_DEVELOPER_WARNINGS = (
-    DeprecationWarning,
-    PendingDeprecationWarning,
-    FutureWarning,
-    ImportWarning,
-    ResourceWarning,
-)
-
-
-class _Collect(logging.Handler):
-    def __init__(self, sink: list[str]) -> None:
-        super().__init__(logging.WARNING)
-        self.sink = sink
-
-    def emit(self, record: logging.LogRecord) -> None:
-        with contextlib.suppress(Exception):
-            _add(self.sink, f"{record.name}: {record.getMessage()}")
-
-
-def _add(sink: list[str], text: str) -> None:
-    line = "library warning: " + hide_staging(" ".join(str(text).split()))[:300]
-    if line not in sink and len(sink) < LIBRARY_WARNINGS_MAX:
-        sink.append(line)
-
-
-@contextmanager
-def capture_library_warnings():
-    """Capture Python warnings (numpy ``RuntimeWarning``...) and logging records of
-    WARNING and above (ezdxf...) instead of printing them; yields the list of one-line
-    texts, which grows while the block runs (a run puts it into its report's ``warnings``:
-    :func:`ptailor.run.garment.staged_run`)."""
-    sink: list[str] = []
-    root = logging.getLogger()
-    handler = _Collect(sink)
-    saved = root.handlers[:]
-    root.handlers = [handler]
-    try:
-        with warnings.catch_warnings():  # (restores showwarning and the filters)
-
-            def show(message, category, *args, **kwargs) -> None:
-                if not issubclass(category, _DEVELOPER_WARNINGS):
-                    _add(sink, f"{category.__name__}: {message}")
-
-            warnings.showwarning = show
-            yield sink
-    finally:
-        root.handlers = saved

@@ -38,7 +38,7 @@ from ptailor.run.checks import (
     check_size_against_body,
     run_warnings,
 )
-from ptailor.run.folder import capture_library_warnings, check_output_dir, staged_dir, write_json
+from ptailor.run.folder import check_output_dir, staged_dir, write_json
 from ptailor.run.inputs import (
     checked_recipe,
     edit_options,
@@ -46,6 +46,7 @@ from ptailor.run.inputs import (
     load_input,
     plan_pieces,
 )
+from ptailor.run.library_warnings import capture_library_warnings
 from ptailor.run.options import RunOptions
 from ptailor.run.outputs import OutputContext, write_outputs
 from ptailor.run.sections import pattern_section, units_section
@@ -272,7 +273,7 @@ class _Staged:
     redrapes: Redrapes | None
     inputs: _Inputs  # (the edits' options, the body's fit, the specification matched)
     reference: ScaleReference | None
-    #: the run's library warnings (:func:`~ptailor.run.folder.capture_library_warnings`'s
+    #: the run's library warnings (:func:`~ptailor.run.library_warnings.capture_library_warnings`'s
     #: list, which the writing still adds to)
     library_warnings: list[str]
 
