@@ -77,13 +77,9 @@ def adjust(
     GARMENT is read. --verify re-drapes the result with the cloth engine (the body, when
     given, holds the re-drapes too; the top opening is pinned).
     """
-    import json
-    from pathlib import Path
-
     from ptailor.cli.options import check_engine_first, parse_formats, parse_seam_allowance
     from ptailor.cli.progress import progress_line
     from ptailor.recipe import load_recipe
-    from ptailor.report.build import summary_lines
     from ptailor.run.folder import check_output_dir
     from ptailor.run.garment import run_garment
     from ptailor.run.options import RunOptions
@@ -115,6 +111,16 @@ def adjust(
     )
     with progress_line(quiet=quiet) as progress:
         report = run_garment(garment, rec, out, options=options, drape=drape, progress=progress)
+    _show(report, out, as_json=as_json, quiet=quiet)
+
+
+def _show(report, out, *, as_json: bool, quiet: bool) -> None:
+    """The report on stdout: JSON, or the summary (and the re-drape's) and what was written."""
+    import json
+    from pathlib import Path
+
+    from ptailor.report.build import summary_lines
+
     if as_json:
         click.echo(json.dumps(report, indent=2))
     elif not quiet:

@@ -110,7 +110,31 @@ def gate_options(command):
     return fn
 
 
-@click.command()
+#: ``ptailor batch --help``
+BATCH_HELP = """Apply RECIPE to every GARMENT (or every row of --manifest), one output folder each
+under OUT.
+
+GARMENT is an OBJ (v = drape, vt = pattern) or a DXF pattern paired with the OBJ drape
+beside it (X.dxf with X.obj), a glob (quoted: '**/*.obj' is expanded here,
+recursively), a folder (every *.obj and *.dxf below it; an OBJ that is a DXF's drape is
+not a garment of its own) or '-' (paths on stdin, one per line). RECIPE is validated
+first. Each garment is written all or nothing to OUT/NAME (NAME is the file's stem;
+later garments with the same stem get NAME-2, NAME-3) with a
+batch.json stamp: re-running skips garments whose file, recipe and options are
+unchanged. A garment that fails, breaks a quality gate or runs past --timeout gets no
+folder; the others go on. --manifest FILE gives each garment its own units, axes, DXF
+size, drape and folder name; the whole manifest is checked before anything runs.
+
+--verify re-drapes each garment with the cloth engine (pip install 'ptailor[sim]'; on
+the GPU warp finds, else the CPU), one simulation at a time per worker.
+
+Exit status: 0 every garment done or unchanged, 1 some failed, 2 bad recipe or
+arguments, 130 interrupted by Ctrl-C or SIGTERM (complete folders are kept: run again
+to finish).
+"""
+
+
+@click.command(help=BATCH_HELP)
 @click.argument("recipe", type=click.Path(dir_okay=False, allow_dash=True))
 @click.argument("garments", metavar="[GARMENT...]", nargs=-1)
 @click.option(
@@ -206,27 +230,7 @@ def batch(
     quiet,
     gates,
 ) -> None:
-    """Apply RECIPE to every GARMENT (or every row of --manifest), one output folder each
-    under OUT.
-
-    GARMENT is an OBJ (v = drape, vt = pattern) or a DXF pattern paired with the OBJ drape
-    beside it (X.dxf with X.obj), a glob (quoted: '**/*.obj' is expanded here,
-    recursively), a folder (every *.obj and *.dxf below it; an OBJ that is a DXF's drape is
-    not a garment of its own) or '-' (paths on stdin, one per line). RECIPE is validated
-    first. Each garment is written all or nothing to OUT/NAME (NAME is the file's stem;
-    later garments with the same stem get NAME-2, NAME-3) with a
-    batch.json stamp: re-running skips garments whose file, recipe and options are
-    unchanged. A garment that fails, breaks a quality gate or runs past --timeout gets no
-    folder; the others go on. --manifest FILE gives each garment its own units, axes, DXF
-    size, drape and folder name; the whole manifest is checked before anything runs.
-
-    --verify re-drapes each garment with the cloth engine (pip install 'ptailor[sim]'; on
-    the GPU warp finds, else the CPU), one simulation at a time per worker.
-
-    Exit status: 0 every garment done or unchanged, 1 some failed, 2 bad recipe or
-    arguments, 130 interrupted by Ctrl-C or SIGTERM (complete folders are kept: run again
-    to finish).
-    """
+    """``ptailor batch``: its help is :data:`BATCH_HELP`."""
     import os
     import sys
 
