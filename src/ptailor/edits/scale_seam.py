@@ -20,7 +20,6 @@ from ptailor.method.deform import arap_deform
 from ptailor.model.garment import panel_labels
 from ptailor.model.seam_lines import seam_line as model_seam_line
 from ptailor.model.seams import Seam, seams
-from ptailor.model.structure import structure
 
 PAIR_SCHEMA = {"type": "array", "items": {"type": "string"}, "minItems": 2, "maxItems": 2}
 
@@ -75,7 +74,7 @@ def state_seams(state: EditState) -> list[Seam]:
     The garment's own (:func:`ptailor.model.structure.structure`, computed once) when the
     state's panels are the structure's.
     """
-    st = structure(state.base)
+    st = state.structure
     if state.panels is st.panels:
         return st.seams
     return seams(state.base.F3, state.base.F2, panel_labels(state.panels, state.base.n_faces))
@@ -133,7 +132,7 @@ def state_seam_names(state: EditState) -> list[str]:
     """
     from ptailor.model.names import seam_names
 
-    st = structure(state.base)
+    st = state.structure
     if state.panels is not st.panels:
         raise PtailorError(
             "seams are named by name only on the garment as read; after a cut or an "
@@ -278,6 +277,58 @@ def _hold_fixed(
     return out
 
 
+def _seam_frame(
+    V3: np.ndarray, line_edges: np.ndarray, ring: np.ndarray, *, body=None
+) -> tuple[np.ndarray, np.ndarray]:
+    """The centre and unit axis of a seam line.
+
+    Parameters
+    ----------
+    V3 : (n, 3) float array
+        The edited drape.
+    line_edges : (e, 2) int array
+        The seam line's drape edges, and ``ring`` ``(r,)`` their vertices.
+    body : trimesh.Trimesh, optional, keyword-only
+        With a body, the axis is the body's local axis at the line
+        (:func:`ptailor.edits.region.body_axis`).
+
+    Returns
+    -------
+    c : (3,) float array
+        The line's centroid by arc length.
+    ax : (3,) float array
+        The normal of its best-fit plane by arc length, or the body's axis.
+    """
+    # the seam line's centroid and plane by arc length: the same however finely it is
+    # meshed (its vertices' mean moves toward its finely meshed parts)
+    c, S = segment_moments(V3, line_edges)
+    if body is not None:
+        ax = body_axis(V3[ring], np.asarray(body.vertices, dtype=float))
+    else:
+        ax = np.linalg.eigh(S)[1][:, 0]  # the seam plane's normal
+    return c, unit_vector(ax, "the seam's axis")
+
+
+def _fixed_vertices(
+    state: EditState, fix: list, ring: np.ndarray, *, seam: list[str], options: EditOptions
+) -> np.ndarray:
+    """The drape vertices ``fix`` names (seams and openings), less the moved seam line's
+    ``ring``, ascending; a ``fix`` entry lying wholly on the seam line is refused."""
+    fixed: list[np.ndarray] = []
+    for spec in fix:
+        if isinstance(spec, list):
+            fixed.append(seam_vertices(state, spec))
+        else:
+            fixed.append(find_opening(state, spec, options=options)[1])
+        if not len(np.setdiff1d(fixed[-1], ring)):  # once silently ignored (0 fixed vertices)
+            a, b = seam
+            raise PtailorError(
+                f"fix: {spec} lies on the seam [{a}, {b}] this step moves: it cannot stay put;"
+                " fix an opening or another seam"
+            )
+    return np.setdiff1d(np.unique(np.concatenate(fixed)), ring) if fixed else np.zeros(0, int)
+
+
 @register(
     "scale_seam",
     {
@@ -321,32 +372,13 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
     others = seam_line(state, part, other)  # the whole line: both halves of an armhole
     line_edges = np.concatenate([named, *(seam_edges(state, [part, x]) for x in others[1:])])
     ring = np.unique(line_edges.ravel())
-    P = V3[ring]
-    # the seam line's centroid and plane by arc length: the same however finely it is
-    # meshed (its vertices' mean moves toward its finely meshed parts)
-    c, S = segment_moments(V3, line_edges)
-    if options.body is not None:
-        ax = body_axis(P, np.asarray(options.body.vertices, dtype=float))
-    else:
-        ax = np.linalg.eigh(S)[1][:, 0]  # the seam plane's normal
-    ax = unit_vector(ax, "the seam's axis")
+    c, ax = _seam_frame(V3, line_edges, ring, body=options.body)
     f = float(step["factor"])
     by_name = {p.name: p for p in state.panels}
     part_v = used_indices(g.F3[by_name[part].faces], len(g.V3))
     across = np.concatenate([by_name[x].faces for x in others])
     other_v = np.setdiff1d(used_indices(g.F3[across], len(g.V3)), ring)
-    fixed: list[np.ndarray] = []
-    for spec in step["fix"]:
-        if isinstance(spec, list):
-            fixed.append(seam_vertices(state, spec))
-        else:
-            fixed.append(find_opening(state, spec, options=options)[1])
-        if not len(np.setdiff1d(fixed[-1], ring)):  # once silently ignored (0 fixed vertices)
-            raise PtailorError(
-                f"fix: {spec} lies on the seam [{a}, {b}] this step moves: it cannot stay put;"
-                " fix an opening or another seam"
-            )
-    fixed_v = np.setdiff1d(np.unique(np.concatenate(fixed)), ring) if fixed else np.zeros(0, int)
+    fixed_v = _fixed_vertices(state, step["fix"], ring, seam=[a, b], options=options)
     handles, targets = _part_targets(
         V3, part_v, other_v, fixed_v, c=c, ax=ax, f=f, direction=step["direction"]
     )

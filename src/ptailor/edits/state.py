@@ -37,6 +37,8 @@ class EditState:
         ``(part, other, f)``: the seams between panels ``part`` and ``other`` change their
         length ratio on purpose, the side on ``part`` ``f`` times longer relative to the
         side on ``other`` (``scale_seam``'s gather); the flattening keeps that new ratio.
+    up, front : (3,) tuple of float
+        The garment's axes (the run's): every structure of ``base`` is taken under them.
     """
 
     base: Garment
@@ -47,6 +49,15 @@ class EditState:
     outline_free: np.ndarray | None = None
     frozen: frozenset[str] = frozenset()
     gathers: tuple[tuple[str, str, float], ...] = ()
+    up: tuple[float, float, float] = (0.0, 1.0, 0.0)
+    front: tuple[float, float, float] = (0.0, 0.0, 1.0)
+
+    @property
+    def structure(self):
+        """``structure(base)`` under the garment's axes."""
+        from ptailor.model.structure import structure
+
+        return structure(self.base, up=self.up, front=self.front)
 
 
 @dataclass(frozen=True)

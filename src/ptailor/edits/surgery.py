@@ -265,8 +265,54 @@ def split_keep(
         When nothing or everything would be removed.
     """
     g = state.base
-    F3, F2 = g.F3, g.F2
-    m = len(F3)
+    s, S, keep_whole, split = _signs(state, phi)
+    fs, caseA, R3, R2, RS = _odd_corner_first(g.F3, g.F2, S, split)
+    cuts = _cut_edges(state, R3, R2, RS, fs, crossing=crossing)
+    parent, F3n, F2n = _kept_triangles(g.F3, g.F2, keep_whole, fs, caseA, R3, R2, cuts)
+    n3, n2 = len(g.V3), len(g.V2)
+    new_state, used3, used2 = _compacted_state(state, cuts, parent, F3n, F2n, keep_whole)
+    map3 = np.cumsum(used3) - 1
+    map2 = np.cumsum(used2) - 1
+    kept3 = used3[n3:]
+    zero3 = np.flatnonzero((s == 0.0) & used3[:n3])
+    zero2 = np.unique(F2n[np.isin(F3n, zero3)])  # their pattern copies
+    return SplitResult(
+        state=new_state,
+        face_parent=parent,
+        new_vertices2=map2[np.arange(n2, len(used2))[used2[n2:]]],
+        new_vertices3=map3[np.arange(n3, len(used3))[kept3]],
+        removed_triangles=int((~keep_whole).sum()),
+        split_triangles=int(split.sum()),
+        edge3=cuts.edge3[kept3],
+        t3=cuts.t3[kept3],
+        on_level3=map3[zero3],
+        on_level2=map2[zero2],
+        source3=zero3,
+    )
+
+
+def _signs(
+    state: EditState, phi: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The field snapped to zero near zero, and which triangles it keeps or splits.
+
+    Returns
+    -------
+    s : (n3,) float array
+        ``phi`` with values within ``tol.SPLIT_SNAP_REL`` mean edge lengths of 0 set to 0.
+    S : (m, 3) float array
+        ``s`` at each triangle's corners.
+    keep_whole : (m,) bool array
+        Triangles with no negative corner.
+    split : (m,) bool array
+        Triangles with corners of both signs.
+
+    Raises
+    ------
+    PtailorError
+        When nothing or everything would be removed.
+    """
+    F3 = state.base.F3
     E = state.V3[F3[:, [1, 2, 0]]] - state.V3[F3]
     h = float(np.linalg.norm(E, axis=2).mean())
     s = np.where(np.abs(phi) <= tol.SPLIT_SNAP_REL * h, 0.0, phi)
@@ -278,22 +324,72 @@ def split_keep(
         raise PtailorError("the cut does not reach the garment: nothing to remove")
     if not np.any(keep_whole | split):
         raise PtailorError("the cut removes the whole garment")
+    return s, S, keep_whole, split
+
+
+def _odd_corner_first(
+    F3: np.ndarray, F2: np.ndarray, S: np.ndarray, split: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The split triangles, rotated so that their odd corner comes first.
+
+    Returns
+    -------
+    fs : (r,) int array
+        The split triangles.
+    caseA : (r,) bool array
+        The odd corner is the only ``+`` one (else, case B, the only ``-`` one: two ``+``
+        corners).
+    R3, R2 : (r, 3) int arrays
+        Their drape and pattern corners, rotated.
+    RS : (r, 3) float array
+        The field at the rotated corners.
+    """
     # rotate split triangles so the odd corner comes first: the only + corner (case A),
     # or the only - corner (case B: two + corners)
     fs = np.flatnonzero(split)
-    caseA = cp[fs] == 1
+    caseA = (S[fs] > 0).sum(1) == 1
     odd = np.where(caseA, np.argmax(S[fs] > 0, axis=1), np.argmax(S[fs] < 0, axis=1))
     cyc = (odd[:, None] + np.arange(3)[None]) % 3
     R3 = np.take_along_axis(F3[fs], cyc, axis=1)
     R2 = np.take_along_axis(F2[fs], cyc, axis=1)
     RS = np.take_along_axis(S[fs], cyc, axis=1)
-    cuts = _cut_edges(state, R3, R2, RS, fs, crossing=crossing)
-    parent, F3n, F2n = _kept_triangles(F3, F2, keep_whole, fs, caseA, R3, R2, cuts)
-    Pbase, Pedit, P2, edge3, t3 = cuts.Pbase, cuts.Pedit, cuts.P2, cuts.edge3, cuts.t3
-    n3, n2 = len(g.V3), len(g.V2)
-    V3b = np.concatenate([g.V3, Pbase])
-    V3e = np.concatenate([state.V3, Pedit])
-    V2n = np.concatenate([g.V2, P2])
+    return fs, caseA, R3, R2, RS
+
+
+def _compacted_state(
+    state: EditState,
+    cuts: _Cuts,
+    parent: np.ndarray,
+    F3n: np.ndarray,
+    F2n: np.ndarray,
+    keep_whole: np.ndarray,
+) -> tuple[EditState, np.ndarray, np.ndarray]:
+    """The state of the kept triangles, with the cuts' new vertices, unused vertices dropped.
+
+    Parameters
+    ----------
+    state : EditState
+    cuts : _Cuts
+        :func:`_cut_edges`.
+    parent : (k,) int array
+        Input triangle of each kept one.
+    F3n, F2n : (k, 3) int arrays
+        Kept triangles on the old vertices followed by the cuts' new ones.
+    keep_whole : (m,) bool array
+
+    Returns
+    -------
+    state : EditState
+        Panels rebuilt (:func:`ptailor.model.structure.structure`), a panel that lost
+        triangles no longer ``even``, the new pattern vertices outline-free.
+    used3, used2 : bool arrays
+        Which drape and pattern vertices (old then new) the kept triangles use.
+    """
+    g = state.base
+    n2 = len(g.V2)
+    V3b = np.concatenate([g.V3, cuts.Pbase])
+    V3e = np.concatenate([state.V3, cuts.Pedit])
+    V2n = np.concatenate([g.V2, cuts.P2])
     # compact: drop vertices no kept triangle uses (and keep earlier unreferenced ones out)
     used3 = np.zeros(len(V3b), bool)
     used3[F3n.ravel()] = True
@@ -302,18 +398,17 @@ def split_keep(
     map3 = np.cumsum(used3) - 1
     map2 = np.cumsum(used2) - 1
     plist = state.panels
-    flab = panel_labels(plist, m)
-    names = tuple(p.name for p in plist)
+    flab = panel_labels(plist, len(g.F3))
     base = Garment(
         V3=V3b[used3],
         F3=map3[F3n],
         V2=V2n[used2],
         F2=map2[F2n],
         face_group=flab[parent],
-        group_names=names,
+        group_names=tuple(p.name for p in plist),
         units=g.units,
     )
-    new_panels = structure(base).panels
+    new_panels = structure(base, up=state.up, front=state.front).panels
     # a panel that lost triangles has an edited outline: it no longer keeps its shape
     touched = np.zeros(len(plist), bool)
     touched[flab[np.flatnonzero(~keep_whole)]] = True
@@ -331,22 +426,7 @@ def split_keep(
         even=even,
         outline_free=free[used2],
     )
-    kept3 = used3[n3:]
-    zero3 = np.flatnonzero((s == 0.0) & used3[:n3])
-    zero2 = np.unique(F2n[np.isin(F3n, zero3)])  # their pattern copies
-    return SplitResult(
-        state=new_state,
-        face_parent=parent,
-        new_vertices2=map2[np.arange(n2, len(V2n))[used2[n2:]]],
-        new_vertices3=map3[np.arange(n3, len(V3b))[kept3]],
-        removed_triangles=int((~keep_whole).sum()),
-        split_triangles=int(split.sum()),
-        edge3=edge3[kept3],
-        t3=t3[kept3],
-        on_level3=map3[zero3],
-        on_level2=map2[zero2],
-        source3=zero3,
-    )
+    return new_state, used3, used2
 
 
 def panel_changes(before: EditState, res: SplitResult) -> tuple[dict, list[str]]:

@@ -55,7 +55,7 @@ def _grown_state(state: EditState, plan: RowPlan, built: Rows, new_e: np.ndarray
         group_names=tuple(p.name for p in state.panels),
         units=g.units,
     )
-    new_panels = structure(base).panels
+    new_panels = structure(base, up=state.up, front=state.front).panels
     old_even = {p.name: bool(state.even[p.index]) for p in state.panels}
     even = np.array([old_even.get(q.name, False) for q in new_panels], dtype=bool)
     free = np.ones(len(base.V2), dtype=bool)
@@ -111,26 +111,12 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     name, loop = find_opening(state, step["opening"], options=options)
     by = float(step["by"])
     measure = step.get("measure") or "drape"
-    g = state.base
-    Ve, Vb, V2 = state.V3, g.V3, g.V2
-    m = g.n_faces
-    oe = opening_edges(g.F3, g.F2, loop)
-    k = len(oe.a3)
-    Fo = g.F3[oe.face]
-    if measure == "pattern":
-        Fo2 = g.F2[oe.face]
-        mean_edge = float(np.linalg.norm(V2[Fo2] - V2[np.roll(Fo2, -1, axis=1)], axis=2).mean())
-    else:
-        mean_edge = float(np.linalg.norm(Ve[Fo] - Ve[np.roll(Fo, -1, axis=1)], axis=2).mean())
-    check_by(by, mean_edge, what=f"extend {name}")
-    rows_f = max(1.0, float(np.rint(by / mean_edge)))
-    check_new_triangles(2.0 * rows_f * k, m, what=f"extend {name} by {by:g}")
-    rows = int(rows_f)
+    oe = opening_edges(state.base.F3, state.base.F2, loop)
+    mean_edge, rows = _row_count(state, oe, by=by, measure=measure, name=name)
     plan = row_plan(state, oe, name=name, by=by, rows=rows)
-    nc, field = plan.nc, plan.field
     make = pattern_rows if measure == "pattern" else drape_rows
     built = make(state, plan)
-    new_e, new_2 = built.new_e, built.new_2
+    new_e = built.new_e
     body = getattr(options, "body", None)
     if body is not None:
         clearance = step.get("clearance")
@@ -139,18 +125,57 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         new_e = push_out(new_e, body, clearance=float(clearance))
 
     grown = _grown_state(state, plan, built, new_e)
-    V3_new, base = grown.V3, grown.base
+    rec = _extend_record(
+        state, grown, plan, built, new_e, loop=loop, name=name, by=by, measure=measure
+    )
+    return replace(grown, log=(*state.log, rec))
 
-    # achieved lengths: the new edge's distance from the old opening, in 3D and per panel
+
+def _row_count(
+    state: EditState, oe: OpeningEdges, *, by: float, measure: str, name: str
+) -> tuple[float, int]:
+    """The opening's mean edge length (on the pattern for ``measure: pattern``, else on
+    the edited drape) and the number of rows ``by`` asks for, about one edge apart
+    (checked: ``by`` against the edge, the number of new triangles against the garment)."""
+    g = state.base
+    if measure == "pattern":
+        Fo2 = g.F2[oe.face]
+        V2 = g.V2
+        mean_edge = float(np.linalg.norm(V2[Fo2] - V2[np.roll(Fo2, -1, axis=1)], axis=2).mean())
+    else:
+        Fo, Ve = g.F3[oe.face], state.V3
+        mean_edge = float(np.linalg.norm(Ve[Fo] - Ve[np.roll(Fo, -1, axis=1)], axis=2).mean())
+    check_by(by, mean_edge, what=f"extend {name}")
+    rows_f = max(1.0, float(np.rint(by / mean_edge)))
+    check_new_triangles(2.0 * rows_f * len(oe.a3), g.n_faces, what=f"extend {name} by {by:g}")
+    return mean_edge, int(rows_f)
+
+
+def _extend_record(
+    state: EditState,
+    grown: EditState,
+    plan: RowPlan,
+    built: Rows,
+    new_e: np.ndarray,
+    *,
+    loop: np.ndarray,
+    name: str,
+    by: float,
+    measure: str,
+) -> dict:
+    """The log record of an ``extend`` step (see :func:`extend`): the achieved lengths, the
+    new edge's distance from the old opening in 3D and per panel."""
+    oe, rows, nc, k = plan.oe, plan.rows, plan.nc, len(plan.oe.a3)
+    V3_new, base = grown.V3, grown.base
     col_panel = plan.col_panel
-    top2 = new_2[(rows - 1) * nc :]
+    top2 = built.new_2[(rows - 1) * nc :]
     achieved = row_offsets(state, oe, new_e[(rows - 1) * k :], top2, col_panel)
     names = {p.index: p.name for p in state.panels}
-    top_ids = len(Vb) + (rows - 1) * k + np.arange(k)
+    top_ids = len(state.base.V3) + (rows - 1) * k + np.arange(k)
     surf = geodesic_distance(V3_new, base.F3, loop, limit=3.0 * by)[top_ids]
     if not np.all(surf < 3.0 * by):  # pushed far out by the body: measure all the way
         surf = geodesic_distance(V3_new, base.F3, loop)[top_ids]
-    rec = {
+    return {
         "op": "extend",
         "opening": name,
         "by": by,
@@ -161,8 +186,7 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         "measure": measure,
         "pattern_smoothing": built.pattern_smoothing,
         "amount": {
-            "pattern": pattern_amounts(field, top2, np.arange(nc), col_panel, names),
+            "pattern": pattern_amounts(plan.field, top2, np.arange(nc), col_panel, names),
             "drape": spread_stats(surf[np.isfinite(surf)]),
         },
     }
-    return replace(grown, log=(*state.log, rec))

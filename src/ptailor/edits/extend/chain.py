@@ -121,29 +121,45 @@ def place_offset_chain(
         the chord between the kept points around them by the old chain's arc length, and
         pushed onto the iso-line from their nearest point.
     """
+    if closed:
+        return _place_closed(P, Q, by, near=near)
+    Q = _settled_ends(P, Q, by, near=near, ends=ends)
+    if Q is None:  # the offset closes the opening before it reaches an end
+        return np.full((len(P), 2), np.nan)
+    return _place_open(P, Q, by, near=near)
+
+
+def _place_closed(P: np.ndarray, Q: np.ndarray, by: float, *, near: Callable) -> np.ndarray:
+    """:func:`place_offset_chain` of a closed chain: opened at its first point nearest to
+    its own two edges, placed as an open chain from there and back to it."""
     c = len(P)
     finite = np.all(np.isfinite(Q), axis=1)
     Qs = np.where(finite[:, None], Q, P)
-    if closed:
-        # walk the loop from a point that is kept, and back to it
-        Pc = np.vstack([P, P[:1]])
-        cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(Pc, axis=0), axis=1))])
-        dist, sigma, _ = nearest_on(Qs, Pc[:-1], Pc[1:], cum)
-        idx = np.arange(c)
-        tol_s = 1e-9 * (cum[-1] + by)
-        seg = np.diff(cum)
-        # arc length from its own vertex, around the loop either way
-        off = (sigma - cum[idx] + 0.5 * cum[-1]) % cum[-1] - 0.5 * cum[-1]
-        own = finite & (off >= -np.roll(seg, 1) - tol_s) & (off <= seg + tol_s)
-        own &= dist <= near(Qs)[0] + tol_s
-        if not own.any():
-            return np.full((c, 2), np.nan)
-        r = int(np.flatnonzero(own)[0])
-        Pr, Qr = np.roll(P, -r, axis=0), np.roll(Q, -r, axis=0)
-        out = _place_open(
-            np.vstack([Pr, Pr[:1]]), np.vstack([Qr, Qr[:1]]), by, near=near, loop=True
-        )
-        return np.roll(out[:c], r, axis=0)
+    # walk the loop from a point that is kept, and back to it
+    Pc = np.vstack([P, P[:1]])
+    cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(Pc, axis=0), axis=1))])
+    dist, sigma, _ = nearest_on(Qs, Pc[:-1], Pc[1:], cum)
+    idx = np.arange(c)
+    tol_s = 1e-9 * (cum[-1] + by)
+    seg = np.diff(cum)
+    # arc length from its own vertex, around the loop either way
+    off = (sigma - cum[idx] + 0.5 * cum[-1]) % cum[-1] - 0.5 * cum[-1]
+    own = finite & (off >= -np.roll(seg, 1) - tol_s) & (off <= seg + tol_s)
+    own &= dist <= near(Qs)[0] + tol_s
+    if not own.any():
+        return np.full((c, 2), np.nan)
+    r = int(np.flatnonzero(own)[0])
+    Pr, Qr = np.roll(P, -r, axis=0), np.roll(Q, -r, axis=0)
+    out = _place_open(np.vstack([Pr, Pr[:1]]), np.vstack([Qr, Qr[:1]]), by, near=near, loop=True)
+    return np.roll(out[:c], r, axis=0)
+
+
+def _settled_ends(
+    P: np.ndarray, Q: np.ndarray, by: float, *, near: Callable, ends: np.ndarray | None
+) -> np.ndarray | None:
+    """An open chain's candidate points with its two ends settled: each end's own
+    candidate where it lies nearest to the chain's end edge, else its ``ends`` one where
+    that does; None where neither does for an end (see :func:`place_offset_chain`)."""
     cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(P, axis=0), axis=1))])
     tol_s = 1e-9 * (cum[-1] + by)
 
@@ -157,11 +173,11 @@ def place_offset_chain(
 
     alt = Q[[0, -1]] if ends is None else ends
     use = np.where(own_end(Q[[0, -1]]), 0, np.where(own_end(alt), 1, 2))
-    if np.any(use == 2):  # the offset closes the opening before it reaches an end
-        return np.full((c, 2), np.nan)
+    if np.any(use == 2):
+        return None
     Q = Q.copy()
     Q[[0, -1]] = np.where((use == 0)[:, None], Q[[0, -1]], alt)
-    return _place_open(P, Q, by, near=near)
+    return Q
 
 
 def _place_open(

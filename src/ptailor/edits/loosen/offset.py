@@ -3,6 +3,8 @@ zero at its border."""
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ptailor.edits.loosen.normals import (
@@ -219,19 +221,78 @@ def offset_region(
         more than the surface's radius, loosening into a tight concave fold), or needs a
         smoothing wider than a panel, naming the panels and the heights where it happens.
     """
-    T = F3[faces]
     w = falloff_weights(V, F3, faces, band=FALLOFF_BY * abs(by))
+    N0 = outward_normals(V, F3, F2, plist, pairs=pairs)
+    live = _LiveFaces.of(V, F3, plist, faces, w)
+    return _smoothed_offset(V, F3, plist, faces, w, N0, live, by=by, up=up)
+
+
+class _LiveFaces(NamedTuple):
+    """A region's triangles that move, their panels and areas: the smoothed normals must
+    still follow each panel's surface (area-weighted mean cosine to the raw normals).
+
+    Attributes
+    ----------
+    live : (k,) bool array
+        Region triangles with a vertex of positive weight.
+    panel : (k,) int array
+        Panel of each region triangle (-1: none).
+    weight : (k,) float array
+        Twice the area of each live triangle in a panel, else 0.
+    total : (p,) float array
+        ``weight`` summed per panel.
+    """
+
+    live: np.ndarray
+    panel: np.ndarray
+    weight: np.ndarray
+    total: np.ndarray
+
+    @classmethod
+    def of(
+        cls, V: np.ndarray, F3: np.ndarray, plist: list[Panel], faces: np.ndarray, w: np.ndarray
+    ) -> _LiveFaces:
+        """The live faces of the region ``faces`` under the falloff weights ``w`` ``(n,)``."""
+        T = F3[faces]
+        live = (w[T] > 0.0).any(axis=1)
+        fp = panel_labels(plist, len(F3))[faces]
+        area = np.linalg.norm(triangle_normals(V, T, unit=False), axis=1)  # twice the areas
+        wt = np.where(live & (fp >= 0), area, 0.0)
+        total = np.bincount(np.maximum(fp, 0), weights=wt, minlength=len(plist))
+        return cls(live, fp, wt, total)
+
+    def lost(self, cos: np.ndarray) -> np.ndarray:
+        """Panels ``(p,)`` bool the smoothing washed out, from each region triangle's mean
+        cosine ``cos`` ``(k,)`` of smoothed to raw normals (below ``NORMAL_AGREEMENT``)."""
+        fp = np.maximum(self.panel, 0)
+        agree = np.bincount(fp, weights=self.weight * cos, minlength=len(self.total))
+        return agree < NORMAL_AGREEMENT * self.total
+
+
+def _smoothed_offset(
+    V: np.ndarray,
+    F3: np.ndarray,
+    plist: list[Panel],
+    faces: np.ndarray,
+    w: np.ndarray,
+    N0: np.ndarray,
+    live: _LiveFaces,
+    *,
+    by: float,
+    up: tuple[float, float, float],
+) -> tuple[np.ndarray, float]:
+    """The offset of :func:`offset_region` along normals smoothed level after level.
+
+    The raw outward normals ``N0`` ``(n, 3)`` are diffused ``SMOOTH_STEPS`` steps of width
+    ``sigma = SMOOTH_BY |by|``; while the offset ``by w n_s`` turns a region triangle over,
+    four times as long (twice ``sigma``), up to ``SMOOTH_LEVELS`` widths and as long as no
+    panel that moves is washed out (:meth:`_LiveFaces.lost`). Returns the edited drape and
+    the width used; raises :func:`offset_error` otherwise.
+    """
+    T = F3[faces]
     moving = np.flatnonzero(w > 0.0)
     sigma = SMOOTH_BY * abs(by)
     step = normal_smoother(V, F3, tau=sigma * sigma / (2.0 * SMOOTH_STEPS))
-    N0 = outward_normals(V, F3, F2, plist, pairs=pairs)
-    # region triangles that move, their panels and areas: the smoothed normals must still
-    # follow each panel's surface (area-weighted mean cosine to the raw normals)
-    live = (w[T] > 0.0).any(axis=1)
-    fp = panel_labels(plist, len(F3))[faces]
-    area = np.linalg.norm(triangle_normals(V, T, unit=False), axis=1)  # twice the areas
-    wt = np.where(live & (fp >= 0), area, 0.0)
-    total = np.bincount(np.maximum(fp, 0), weights=wt, minlength=len(plist))
     up_v = np.asarray(up, float)
     N, done, turned = N0, 0, np.zeros(len(T), dtype=bool)
     for level in range(SMOOTH_LEVELS):  # a loop over smoothing levels
@@ -239,12 +300,11 @@ def offset_region(
             N = step(N)
         done = SMOOTH_STEPS * 4**level
         Nu = unit_rows(N)
-        cos = np.einsum("ij,ij->i", Nu, N0)[T].mean(axis=1)
-        agree = np.bincount(np.maximum(fp, 0), weights=wt * cos, minlength=len(plist))
-        lost = agree < NORMAL_AGREEMENT * total  # panels the smoothing washed out
+        lost = live.lost(np.einsum("ij,ij->i", Nu, N0)[T].mean(axis=1))
         if lost.any() and level == 0:
+            fp = live.panel
             bad = np.zeros(len(F3), dtype=bool)
-            bad[faces[live & lost[np.maximum(fp, 0)] & (fp >= 0)]] = True
+            bad[faces[live.live & lost[np.maximum(fp, 0)] & (fp >= 0)]] = True
             raise offset_error(V, F3, plist, bad, by=by, sigma=sigma, up=up_v, washed_out=True)
         if lost.any():
             break

@@ -170,16 +170,70 @@ def silhouette_targets(
     if not slab.any():
         raise nomatch
     rings = outline_rows(X, F, slab, row=row)
-    left, right, c = rings["left"], rings["right"], rings["centre"]
+    cand, u_to, match = _outline_matches(X, rings, Q)
+    if not match.any():
+        raise nomatch
+    ring, scale, new_c, height = _ring_fits(X, rings, u_to, match)
+    if np.any(scale[ring] < MIN_RING_SCALE):
+        raise PtailorError(
+            "the silhouette sketch shrinks the garment's outline to nothing"
+            f" in the {view_name} view"
+        )
+    where = _height_interpolation(X, rings, ring, height, lo=v_lo, hi=v_hi)
+    verts, T = _scaled_pieces(X, rings, where, scale=scale, new_c=new_c)
+    g = len(rings["left"])
+    mv = cand[match]
+    T[mv, 0] = u_to[match]
+    T[mv, 2] = X[mv, 2]
+    side = np.r_[-np.ones(g), np.ones(g)][match]
+    handles = np.union1d(verts, mv)
+    return handles, T[handles], side * (u_to[match] - X[mv, 0])
+
+
+def _outline_matches(
+    X: np.ndarray, rings: dict, Q: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Step 2 of :func:`silhouette_targets`: which outline points the sketch matches.
+
+    Returns
+    -------
+    cand : (2 g,) int array
+        The rings' left outline points, then their right ones.
+    u_to : (2 g,) float array
+        Where the sketch crosses each one's row (see :func:`row_crossings`).
+    match : (2 g,) bool array
+        Crossed within ``min(MATCH_REL * span, half-width of its ring)``.
+    """
+    left, right = rings["left"], rings["right"]
     half = 0.5 * (X[right, 0] - X[left, 0])
-    g = len(left)
     cand = np.r_[left, right]
     u_to, found = row_crossings(X[cand, :2], Q)
     span = float(np.linalg.norm(np.ptp(Q, axis=0)))
     tol = np.minimum(MATCH_REL * span, np.r_[half, half])
     match = found & (np.abs(u_to - X[cand, 0]) <= tol) & (np.r_[half, half] > 0.0)
-    if not match.any():
-        raise nomatch
+    return cand, u_to, match
+
+
+def _ring_fits(
+    X: np.ndarray, rings: dict, u_to: np.ndarray, match: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Step 4 of :func:`silhouette_targets`, per ring: the scale about its centre that
+    lands its matched point on its target, or with both matched, scale and shifted centre.
+
+    Returns
+    -------
+    ring : (g,) bool array
+        Rings with a matched point.
+    scale : (g,) float array
+        New over old half-width (1 where not ``ring``).
+    new_c : (g,) float array
+        New centre.
+    height : (g,) float array
+        Height of the matched points (their mean with both).
+    """
+    left, right, c = rings["left"], rings["right"], rings["centre"]
+    half = 0.5 * (X[right, 0] - X[left, 0])
+    g = len(left)
     mL, mR = match[:g], match[g:]
     uL, uR = u_to[:g], u_to[g:]
     both = mL & mR
@@ -187,42 +241,78 @@ def silhouette_targets(
     new_half = np.where(both, 0.5 * (uR - uL), np.where(mR, uR - c, c - uL))
     new_c = np.where(both, 0.5 * (uR + uL), c)
     scale = np.divide(new_half, half, out=np.ones(g), where=ring)
-    if np.any(scale[ring] < MIN_RING_SCALE):
-        raise PtailorError(
-            "the silhouette sketch shrinks the garment's outline to nothing"
-            f" in the {view_name} view"
-        )
     height = np.where(both, 0.5 * (X[left, 1] + X[right, 1]), np.where(mR, X[right, 1], X[left, 1]))
+    return ring, scale, new_c, height
 
-    # interpolate scale and centres in height within each piece: one np.interp over the
-    # pieces laid end to end (heights offset by the piece's rank times more than the span)
+
+def _height_interpolation(
+    X: np.ndarray, rings: dict, ring: np.ndarray, height: np.ndarray, *, lo: float, hi: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Where each vertex of a piece holding matched rings lies between them in height.
+
+    Interpolating scale and centres in height within each piece is one ``np.interp`` over
+    the pieces laid end to end (heights offset by the piece's rank times more than the
+    sketch's height range ``lo..hi``); a vertex above or below its piece's matched rings
+    takes the nearest one's.
+
+    Returns
+    -------
+    verts : (v,) int array
+        The vertices of pieces holding matched rings.
+    x : (v,) float array
+        Their abscissae, and ``xp`` ``(r,)`` the matched rings' (ascending).
+    rg : (r,) int array
+        The matched rings in the order of ``xp``: ``np.interp(x, xp, values[rg])``
+        interpolates a value ``(g,)`` per ring at the vertices.
+    """
     rg = np.flatnonzero(ring)
     pieces = np.unique(rings["piece"][rg])
     rank = np.full(int(rings["vertex_piece"].max()) + 1, -1, dtype=np.int64)
     rank[pieces] = np.arange(pieces.size)
-    stride = 2.0 * (v_hi - v_lo) + 1.0
-    xp = rank[rings["piece"][rg]] * stride + (height[rg] - v_lo)
+    stride = 2.0 * (hi - lo) + 1.0
+    xp = rank[rings["piece"][rg]] * stride + (height[rg] - lo)
     o = np.argsort(xp, kind="stable")
     xp, rg = xp[o], rg[o]
     vp = rings["vertex_piece"]
     verts = np.flatnonzero((vp >= 0) & (rank[np.maximum(vp, 0)] >= 0))
     vr = rank[vp[verts]]
-    lo = np.full(pieces.size, np.inf)
-    hi = np.full(pieces.size, -np.inf)
-    np.minimum.at(lo, rank[rings["piece"][rg]], height[rg])
-    np.maximum.at(hi, rank[rings["piece"][rg]], height[rg])
-    x = vr * stride + (np.clip(X[verts, 1], lo[vr], hi[vr]) - v_lo)
+    h_lo = np.full(pieces.size, np.inf)
+    h_hi = np.full(pieces.size, -np.inf)
+    np.minimum.at(h_lo, rank[rings["piece"][rg]], height[rg])
+    np.maximum.at(h_hi, rank[rings["piece"][rg]], height[rg])
+    x = vr * stride + (np.clip(X[verts, 1], h_lo[vr], h_hi[vr]) - lo)
+    return verts, x, xp, rg
+
+
+def _scaled_pieces(
+    X: np.ndarray, rings: dict, where: tuple, *, scale: np.ndarray, new_c: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The vertices of the pieces holding matched rings scaled about their centres (``u``
+    and depth, not height), scale and centres interpolated in height between the rings.
+
+    Parameters
+    ----------
+    X : (n, 3) float array
+    rings : dict
+        :func:`outline_rows`.
+    where : tuple
+        :func:`_height_interpolation` ``(verts, x, xp, rg)``.
+    scale, new_c : (g,) float arrays
+        Each ring's scale and new centre (:func:`_ring_fits`).
+
+    Returns
+    -------
+    verts : (v,) int array
+    T : (n, 3) float array
+        ``X`` with ``verts`` moved.
+    """
+    verts, x, xp, rg = where
 
     def at(values: np.ndarray) -> np.ndarray:
         return np.interp(x, xp, values[rg])
 
-    k, c0, c1, zc = at(scale), at(c), at(new_c), at(rings["depth"])
+    k, c0, c1, zc = at(scale), at(rings["centre"]), at(new_c), at(rings["depth"])
     T = X.copy()
     T[verts, 0] = c1 + k * (X[verts, 0] - c0)
     T[verts, 2] = zc + k * (X[verts, 2] - zc)
-    mv = cand[match]
-    T[mv, 0] = u_to[match]
-    T[mv, 2] = X[mv, 2]
-    side = np.r_[-np.ones(g), np.ones(g)][match]
-    handles = np.union1d(verts, mv)
-    return handles, T[handles], side * (u_to[match] - X[mv, 0])
+    return verts, T
