@@ -7,6 +7,7 @@ import pytest
 
 from ptailor.errors import PtailorError
 from ptailor.formats.garment import load_garment
+from ptailor.model.structure import Y_UP, Z_FRONT
 from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
 from ptailor.samples import lantern_sleeve
@@ -147,7 +148,7 @@ def opening_moved(g, a, name: str) -> float:
     from ptailor.edits.state import EditOptions, EditState
     from ptailor.model.structure import structure
 
-    plist = structure(g).panels
+    plist = structure(g, up=Y_UP, front=Z_FRONT).panels
     state = EditState(base=g, V3=g.V3.copy(), panels=plist, even=np.ones(len(plist), bool))
     loop = find_opening(state, name, options=EditOptions())[1]
     size = float(np.linalg.norm(np.ptp(g.V3, axis=0)))
@@ -243,7 +244,7 @@ def test_a_seam_line_named_by_its_stem_scales_like_its_seam():
     from ptailor.model.structure import structure
 
     g = two_panels_on_one_sleeve()
-    st = structure(g)
+    st = structure(g, up=Y_UP, front=Z_FRONT)
     names = seam_names(g.V3, st.seams, st.layout, [p.name for p in st.panels])
     (line,) = [
         ln for ln in seam_lines(g.V3, st.seams, names) if st.panels[ln.part].name == "sleeve"

@@ -10,7 +10,7 @@ import pytest
 
 from ptailor.geometry.closed_forms import inv2
 from ptailor.geometry.triangles import edge_matrices
-from ptailor.model.structure import structure
+from ptailor.model.structure import Y_UP, Z_FRONT, structure
 from ptailor.pipeline import adjustment
 from ptailor.recipe import load_recipe
 from ptailor.samples import cylinder, lantern_sleeve
@@ -42,7 +42,7 @@ def rot2(a: float) -> np.ndarray:
 
 
 def cuff(adj) -> np.ndarray:
-    s = structure(adj.state.base)
+    s = structure(adj.state.base, up=Y_UP, front=Z_FRONT)
     k = [p.name for p in s.panels].index("cuff")
     return s.face_panel == k
 
@@ -271,7 +271,7 @@ def test_displacement_is_scaled_and_a_missing_baseline_is_computed(lantern_adj, 
 def test_verify_patterns_for_any_names(lantern_adj, fake_engine):
     adj = lantern_adj
     b = adj.state.base
-    s = structure(b)
+    s = structure(b, up=Y_UP, front=Z_FRONT)
     section, drapes, stretches = check.verify_patterns(
         adj.state.V3, b.F3, b.F2, {"ours": adj.result.V2}, b.V2, b.V3,
         panel_names=[p.name for p in s.panels], face_panel=s.face_panel,
@@ -295,7 +295,7 @@ def test_verify_patterns_refuses_an_up_the_engine_cannot_simulate(lantern_adj, f
     """Gravity is along -y: a z-up garment must be turned first, not pinned at the wrong loop
     and dropped sideways."""
     b = lantern_adj.state.base
-    s = structure(b)
+    s = structure(b, up=Y_UP, front=Z_FRONT)
     with pytest.raises(ValueError, match="up must be"):
         check.verify_patterns(
             lantern_adj.state.V3, b.F3, b.F2, {"ours": lantern_adj.result.V2}, b.V2, b.V3,

@@ -60,7 +60,8 @@ class Adjustment:
     def original_panels(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         """Panel name to ``(faces, vertices)`` in the input garment."""
         g = self.original if self.original is not None else self.state.base
-        return {p.name: (p.faces, p.vertices) for p in structure(g).panels}
+        up, front = self.axes
+        return {p.name: (p.faces, p.vertices) for p in structure(g, up=up, front=front).panels}
 
     @property
     def garment(self) -> Garment:
@@ -94,9 +95,14 @@ def apply_steps(garment: Garment, recipe: Recipe, *, options: EditOptions) -> Ed
     -------
     EditState
     """
-    plist = structure(garment).panels
+    plist = structure(garment, up=options.up, front=options.front).panels
     state = EditState(
-        base=garment, V3=garment.V3.copy(), panels=plist, even=np.ones(len(plist), dtype=bool)
+        base=garment,
+        V3=garment.V3.copy(),
+        panels=plist,
+        even=np.ones(len(plist), dtype=bool),
+        up=options.up,
+        front=options.front,
     )
     plane = None
     if any(step.get("symmetric") for step in recipe.steps):
@@ -438,7 +444,7 @@ def _zigzag_warnings(adj: Adjustment) -> list[str]:
     from ptailor.method.ease import side_zigzag
 
     g = adj.state.base
-    pairs = structure(g).seam_halfedges
+    pairs = structure(g, up=adj.axes[0], front=adj.axes[1]).seam_halfedges
     if not len(pairs):
         return []
     z = side_zigzag(g.V2, adj.result.V2, half_edges(g.F2)[np.asarray(pairs).ravel()])

@@ -407,9 +407,11 @@ def write_garment(path: str | Path, garment: Garment, *, header: Sequence[str] =
     header : list of str
         Comment lines written first.
     """
-    from ptailor.model.structure import structure
+    from ptailor.model.structure import Y_UP, Z_FRONT, structure
 
-    st = structure(garment)
+    # the panels as the garment's groups name them (what a sample or a written garment has);
+    # unnamed panels get names from the default axes
+    st = structure(garment, up=Y_UP, front=Z_FRONT)
     plist = st.panels
     write_obj(
         path,

@@ -16,7 +16,7 @@ from ptailor.method.intrinsic import Intrinsic, intrinsic_targets
 from ptailor.method.stitch import StitchInfo, stitch
 from ptailor.method.symbolic import SymbolicCache
 from ptailor.model.garment import Garment, Panel, panel_labels, vertex_labels
-from ptailor.model.structure import structure
+from ptailor.model.structure import Y_UP, Z_FRONT, structure
 
 Method = Literal["scale-preserving", "uniform"]
 Seams = Literal["ease", "free"]
@@ -168,8 +168,9 @@ def flatten(
     w_pin, w_asap, max_iter, step_tol, history
         Solver settings (see :func:`ptailor.method.stitch.stitch`).
     panel_list, seam_pairs : list of Panel, (s, 2) int array, optional
-        ``structure(garment).panels`` and its ``seam_halfedges`` (those used with
-        ``seams="ease"``), when the caller already has them.
+        The panels and their ``seam_halfedges`` (those used with ``seams="ease"``), as the
+        caller found them under its axes; default: ``structure(garment, up=Y_UP,
+        front=Z_FRONT)``'s.
     progress : callable, optional
         ``progress(iteration, residual)`` once per stitching iteration.
     symbolic : SymbolicCache, optional
@@ -179,7 +180,9 @@ def flatten(
     -------
     FlattenResult
     """
-    plist = structure(garment).panels if panel_list is None else panel_list
+    if panel_list is None:  # (the API's convenience; a run passes its panels)
+        panel_list = structure(garment, up=Y_UP, front=Z_FRONT).panels
+    plist = panel_list
     sign = np.where(mirror_mask(plist, len(garment.V2)), -1.0, 1.0)
     V2 = garment.V2 * np.stack([sign, np.ones(len(sign))], 1)  # mirrored panels flipped
     targets = _targets(garment, V2, V3_edit, plist, method, intrinsic, frozen_panels)

@@ -13,8 +13,8 @@ Examples
 >>> V2 = np.array([[0.0, 0], [1, 0], [0, 1], [3, 0], [4, 0], [3, 1]])
 >>> F = np.array([[0, 1, 2], [3, 4, 5]])
 >>> g = Garment(V3=np.c_[V2, np.zeros(6)], F3=F, V2=V2, F2=F)
->>> s = structure(g)
->>> s is structure(g), len(s.panels), s.face_panel.tolist()
+>>> s = structure(g, up=Y_UP, front=Z_FRONT)
+>>> s is structure(g, up=Y_UP, front=Z_FRONT), len(s.panels), s.face_panel.tolist()
 (True, 2, [0, 1])
 >>> [lp.tolist() for lp in s.panel_loops(1)]
 [[3, 4, 5]]
@@ -42,6 +42,10 @@ from ptailor.model.openings import Opening, openings
 from ptailor.model.seams import Seam, seam_halfedges, seams
 
 Axis = tuple[float, float, float]
+#: the axes of garments that say none (a recipe's default, and every generated sample's):
+#: passed by name where a caller has no garment axes of its own
+Y_UP: Axis = (0.0, 1.0, 0.0)
+Z_FRONT: Axis = (0.0, 0.0, 1.0)
 
 
 def _axis(v) -> Axis:
@@ -192,14 +196,15 @@ class GarmentStructure:
         return self._loops[index]
 
 
-def structure(garment: Garment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> GarmentStructure:
+def structure(garment: Garment, *, up, front) -> GarmentStructure:
     """The derived structure of ``garment`` for the axes ``up``, ``front`` (cached).
 
     Parameters
     ----------
     garment : Garment
     up, front : 3-vectors
-        The wearer's axes.
+        The wearer's axes (no default: panels without group names are named from them, so a
+        run passes its own; :data:`Y_UP`, :data:`Z_FRONT` where a caller has none).
 
     Returns
     -------

@@ -19,7 +19,7 @@ from ptailor.geometry.labels import used_indices
 from ptailor.geometry.triangles import triangle_areas, triangle_normals
 from ptailor.model.garment import Garment, Panel
 from ptailor.model.openings import body_frame
-from ptailor.model.structure import structure
+from ptailor.model.structure import Y_UP, Z_FRONT, structure
 
 #: Fraction of the worst pairs (largest mirror distance) left out of each plane update.
 _TRIM = 0.1
@@ -393,7 +393,9 @@ def panel_mirror_map(
     from scipy.optimize import linear_sum_assignment
 
     V = garment.V3 if V3 is None else np.asarray(V3, dtype=np.float64)
-    plist = structure(garment).panels if panel_list is None else panel_list
+    if panel_list is None:  # (the API's convenience; a run passes its panels)
+        panel_list = structure(garment, up=Y_UP, front=Z_FRONT).panels
+    plist = panel_list
     k = len(plist)
     if k == 0:
         return np.zeros(0, dtype=np.int64)

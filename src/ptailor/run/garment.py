@@ -227,7 +227,7 @@ def _read_inputs(
         check_body_placement(loaded.garment, edits.body, path=options.body)
     plan = plan_pieces(loaded, edits, options)
     if options.seam_allowance:
-        check_seam_allowance(loaded.garment, options.seam_allowance)
+        check_seam_allowance(loaded.garment, options.seam_allowance, up=edits.up, front=edits.front)
     return _Inputs(loaded, edits, plan, body_fit, spec_match, spec_note)
 
 
