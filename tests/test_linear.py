@@ -8,7 +8,7 @@ import scipy.sparse as sp
 
 from ptailor.errors import PtailorError
 from ptailor.method import linear
-from ptailor.method.linear import factor, shared_symbolic
+from ptailor.method.linear import factor
 
 
 def spd(n: int, seed: int) -> sp.csc_matrix:
@@ -32,36 +32,39 @@ def test_factor_solves_vectors_and_blocks():
     assert solve(b[:, 0]).shape == (50,)
 
 
-def test_shared_symbolic_reuses_the_analysis_and_keeps_each_solve_exact():
+def test_a_symbolic_cache_reuses_the_analysis_and_keeps_each_solve_exact():
+    from ptailor.method.symbolic import SymbolicCache
+
     A, B = spd(40, 0), spd(40, 2)  # one pattern, other values
     b = np.arange(40.0)
-    with shared_symbolic():
-        sa = factor(A)
-        sb = factor(B)
-        assert len(linear._SHARED.get()) == 1  # one analysis for both
-        np.testing.assert_allclose(B @ sb(b), b, atol=1e-10)
-        np.testing.assert_allclose(A @ sa(b), b, atol=1e-10)  # refactors its own values
-        np.testing.assert_allclose(B @ sb(b), b, atol=1e-10)
-    assert linear._SHARED.get() is None
+    cache = SymbolicCache()
+    sa = factor(A, symbolic=cache)
+    sb = factor(B, symbolic=cache)
+    assert len(cache) == 1  # one analysis for both
+    np.testing.assert_allclose(B @ sb(b), b, atol=1e-10)
+    np.testing.assert_allclose(A @ sa(b), b, atol=1e-10)  # refactors its own values
+    np.testing.assert_allclose(B @ sb(b), b, atol=1e-10)
 
 
-def test_shared_analyses_are_per_thread():
+def test_analyses_are_shared_only_through_the_cache_passed():
     """Two garments flattened in threads of one process (a Dask worker) never share an
-    analysis or see each other's: each thread's shared_symbolic block is its own."""
+    analysis: nothing is shared but the cache a caller passes (no hidden state)."""
     import threading
+
+    from ptailor.method.symbolic import SymbolicCache
 
     seen: dict[int, int] = {}
     barrier = threading.Barrier(2)
 
     def run(k: int) -> None:
         A = spd(60 + k, k)  # different patterns
-        with shared_symbolic():
-            solve = factor(A)
-            barrier.wait()  # both blocks open at once
-            seen[k] = len(linear._SHARED.get())
-            b = np.ones(60 + k)
-            np.testing.assert_allclose(A @ solve(b), b, atol=1e-10)
-            barrier.wait()
+        cache = SymbolicCache()
+        solve = factor(A, symbolic=cache)
+        barrier.wait()  # both at once
+        seen[k] = len(cache)
+        b = np.ones(60 + k)
+        np.testing.assert_allclose(A @ solve(b), b, atol=1e-10)
+        barrier.wait()
 
     threads = [threading.Thread(target=run, args=(k,)) for k in (0, 1)]
     for t in threads:
@@ -69,7 +72,6 @@ def test_shared_analyses_are_per_thread():
     for t in threads:
         t.join()
     assert seen == {0: 1, 1: 1}
-    assert linear._SHARED.get() is None
 
 
 def test_factor_falls_back_to_lu_when_not_positive_definite():
@@ -159,12 +161,14 @@ def test_factor_by_component_matches_the_whole_solve():
     for solve in (factor(A), factor(sp.tril(A, format="csc"), lower=True)):
         np.testing.assert_allclose(solve(b), expected, rtol=1e-10, atol=1e-12)
         np.testing.assert_allclose(solve(b[:, 1]), expected[:, 1], rtol=1e-10, atol=1e-12)
-    with shared_symbolic():
-        sa = factor(A)
-        sb = factor(2.0 * A)  # same pattern: every block's analysis is shared
-        assert len(linear._SHARED.get()) == blocks
-        np.testing.assert_allclose(sa(b), expected, rtol=1e-10, atol=1e-12)
-        np.testing.assert_allclose(sb(b), 0.5 * expected, rtol=1e-10, atol=1e-12)
+    from ptailor.method.symbolic import SymbolicCache
+
+    cache = SymbolicCache()
+    sa = factor(A, symbolic=cache)
+    sb = factor(2.0 * A, symbolic=cache)  # same pattern: every block's analysis is shared
+    assert len(cache) == blocks
+    np.testing.assert_allclose(sa(b), expected, rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(sb(b), 0.5 * expected, rtol=1e-10, atol=1e-12)
 
 
 def test_factor_by_component_falls_back_to_lu_for_an_indefinite_block():
@@ -187,11 +191,13 @@ def test_blocks_of_one_pattern_keep_their_own_factors(monkeypatch):
     calls = []
     numeric = cholmod.numeric
     monkeypatch.setattr(cholmod, "numeric", lambda *a: calls.append(1) or numeric(*a))
-    with shared_symbolic():
-        solve = factor(A)
-        assert len(linear._SHARED.get()) == 2
-        for _ in range(3):
-            np.testing.assert_allclose(A @ solve(b), b, atol=1e-10)
+    from ptailor.method.symbolic import SymbolicCache
+
+    cache = SymbolicCache()
+    solve = factor(A, symbolic=cache)
+    assert len(cache) == 2
+    for _ in range(3):
+        np.testing.assert_allclose(A @ solve(b), b, atol=1e-10)
     assert len(calls) == 2  # one numeric factorisation per block, none per solve
 
 

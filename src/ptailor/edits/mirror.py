@@ -285,23 +285,23 @@ def apply_mirrored(
         recs = out.log[n_log:]
         rec = {**(recs[-1] if recs else {"op": op.name}), "mirrored": True, "mirror": "own"}
         return replace(out, log=(*state.log, rec))
-    from ptailor.method.linear import shared_symbolic
+    from ptailor.method.symbolic import SymbolicCache
 
     # the two applications factor matrices of one pattern (a loosen's diffusion matrix over
     # the same triangles): one symbolic analysis serves both
-    with shared_symbolic():
-        once = op.apply(state, step, options=options)
-        m = mirror_state(once, plane)
-        mstep = mirror_step(step, before=state, mirrored=m, plane=plane, options=options)
-        if is_centred(step, mstep, panels=state.panels):
-            # its own mirror image (region all, a front panel, the hem): applied once
-            rec1 = once.log[n_log:]
-            rec = {**(rec1[-1] if rec1 else {"op": op.name}), "mirrored": "self"}
-            return replace(once, log=(*state.log, rec))
-        overlap = overlap_error(step, mstep, panels=state.panels)
-        if overlap is not None:
-            raise overlap
-        m_after = op.apply(m, mstep, options=mirror_options(options, plane))
+    options = replace(options, symbolic=SymbolicCache())
+    once = op.apply(state, step, options=options)
+    m = mirror_state(once, plane)
+    mstep = mirror_step(step, before=state, mirrored=m, plane=plane, options=options)
+    if is_centred(step, mstep, panels=state.panels):
+        # its own mirror image (region all, a front panel, the hem): applied once
+        rec1 = once.log[n_log:]
+        rec = {**(rec1[-1] if rec1 else {"op": op.name}), "mirrored": "self"}
+        return replace(once, log=(*state.log, rec))
+    overlap = overlap_error(step, mstep, panels=state.panels)
+    if overlap is not None:
+        raise overlap
+    m_after = op.apply(m, mstep, options=mirror_options(options, plane))
     out = _restore(m_after, once, m, plane)
     rec1 = once.log[n_log:]
     rec2 = m_after.log[len(once.log) :]

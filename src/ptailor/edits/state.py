@@ -70,8 +70,12 @@ class EditOptions:
         The garment's axes (openings, views, the sagittal plane).
     body : trimesh.Trimesh or None
         A watertight body in the computation unit: extended rows are pushed out of it.
+    symbolic : SymbolicCache or None
+        Symbolic analyses the step's factorisations share (:mod:`ptailor.method.symbolic`):
+        a mirrored step's two applications factor matrices of one pattern.
     """
 
     up: tuple[float, float, float] = (0.0, 1.0, 0.0)
     front: tuple[float, float, float] = (0.0, 0.0, 1.0)
     body: Any = None
+    symbolic: Any = None

@@ -25,8 +25,7 @@ from ptailor.method.small_systems import (
     solve_spd,
     spd_factor,
 )
-from ptailor.method.symbolic import _SHARED as _SHARED
-from ptailor.method.symbolic import SymbolicCache, shared_symbolic
+from ptailor.method.symbolic import SymbolicCache
 
 __all__ = [
     "SeamBlock",
@@ -35,7 +34,6 @@ __all__ = [
     "bordered_solver",
     "factor",
     "seam_block",
-    "shared_symbolic",
     "solve_bordered",
     "solve_spd",
     "spd_factor",
@@ -59,7 +57,7 @@ def factor(A: sp.spmatrix, *, lower: bool = False, symbolic: SymbolicCache | Non
         ``A`` holds only the lower triangle of the symmetric matrix.
     symbolic : SymbolicCache, optional
         Symbolic analyses shared with other factorisations of the same pattern (the
-        caller's); default none (or those of an open :func:`shared_symbolic` block).
+        caller's); default none.
 
     Returns
     -------

@@ -15,7 +15,7 @@ from ptailor.method.cholesky import (
     equal_matrices,
     factor_part,
 )
-from ptailor.method.symbolic import SymbolicCache, _Symbolic, active_cache, cvx_matrix
+from ptailor.method.symbolic import SymbolicCache, _Symbolic, cvx_matrix
 
 
 class SeamFactor:
@@ -41,8 +41,7 @@ class SeamFactor:
         The seam unknowns (distinct), in the order :meth:`seam_values` uses.
     symbolic : SymbolicCache, optional
         Symbolic analyses to share with other factorisations of the same pattern
-        (default: none shared, or those of an open
-        :func:`~ptailor.method.symbolic.shared_symbolic` block).
+        (default: none shared).
 
     Raises
     ------
@@ -55,8 +54,6 @@ class SeamFactor:
         self, L: sp.spmatrix, last: np.ndarray, *, symbolic: SymbolicCache | None = None
     ) -> None:
         from cvxopt import amd, cholmod
-
-        symbolic = active_cache(symbolic)
 
         L = sp.csc_matrix(L)
         check_finite(L)

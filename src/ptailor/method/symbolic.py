@@ -3,10 +3,7 @@ that lets factorisations of one sparsity pattern share one (:class:`SymbolicCach
 
 from __future__ import annotations
 
-import contextvars
 import threading
-from collections.abc import Iterator
-from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -72,33 +69,9 @@ class SymbolicCache:
         self.analyses.append(sym)
 
 
-#: the cache of :func:`shared_symbolic`, for callers that cannot pass one yet (per thread
-#: and task: a context variable, so garments run in threads of one process, as a Dask
-#: worker does, never see each other's). Prefer an explicit :class:`SymbolicCache`.
-_SHARED: contextvars.ContextVar[SymbolicCache | None] = contextvars.ContextVar(
-    "ptailor_shared_symbolic", default=None
-)
 #: ``cvxopt.cholmod.options`` is one dict per process: an analysis sets it, calls CHOLMOD
 #: and restores it under this lock, so a concurrent analysis never runs with its options
 _OPTIONS = threading.Lock()
-
-
-@contextmanager
-def shared_symbolic() -> Iterator[SymbolicCache]:
-    """Within the block, factorisations given no ``symbolic=`` share the block's
-    :class:`SymbolicCache` (yielded). Kept for the callers that cannot pass one down yet
-    (a mirrored edit's two applications); new code passes a :class:`SymbolicCache`."""
-    cache = SymbolicCache()
-    token = _SHARED.set(cache)
-    try:
-        yield cache
-    finally:
-        _SHARED.reset(token)
-
-
-def active_cache(symbolic: SymbolicCache | None) -> SymbolicCache | None:
-    """``symbolic``, else the cache of an open :func:`shared_symbolic` block, else None."""
-    return symbolic if symbolic is not None else _SHARED.get()
 
 
 def cvx_matrix(L: sp.csc_matrix):

@@ -111,7 +111,15 @@ def loosen(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         # the seam pairs the flatten after the edit takes from the same structure
         pairs = structure(g, up=options.up, front=options.front).seam_halfedges
         V_new, sigma = offset_region(
-            V3, g.F3, g.F2, state.panels, faces, by=by, up=options.up, pairs=pairs
+            V3,
+            g.F3,
+            g.F2,
+            state.panels,
+            faces,
+            by=by,
+            up=options.up,
+            pairs=pairs,
+            symbolic=options.symbolic,
         )
         rec = {
             "op": step["op"],
@@ -140,7 +148,7 @@ def loosen(state: EditState, step: dict, *, options: EditOptions) -> EditState:
             V_new = V3.copy()
             V_new[handles] = moved
         else:
-            V_new = arap_deform(V3, T, handles, moved)
+            V_new = arap_deform(V3, T, handles, moved, symbolic=options.symbolic)
         rec = {
             "op": step["op"],
             "view": view,

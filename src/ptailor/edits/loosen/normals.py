@@ -127,7 +127,7 @@ def outward_normals(
 
 
 def normal_smoother(
-    V: np.ndarray, F: np.ndarray, *, tau: float
+    V: np.ndarray, F: np.ndarray, *, tau: float, symbolic=None
 ) -> Callable[[np.ndarray], np.ndarray]:
     """One implicit heat-diffusion step on a drape, factored once.
 
@@ -167,7 +167,8 @@ def normal_smoother(
     mass = np.bincount(Fl.ravel(), weights=np.repeat(area / 3.0, 3), minlength=used.size)
     # a vertex whose triangles are all degenerate keeps its value (positive diagonal)
     mass = np.maximum(mass, MASS_FLOOR_REL * max(float(mass.mean()), 1e-300))
-    solve = factor(_lower_system(W, mass, tau=tau), lower=True)  # sparse Cholesky, once
+    # sparse Cholesky, once (``symbolic``: a SymbolicCache shared with a mirrored twin)
+    solve = factor(_lower_system(W, mass, tau=tau), lower=True, symbolic=symbolic)
 
     def step(X: np.ndarray) -> np.ndarray:
         if used.size == n:

@@ -161,6 +161,7 @@ def offset_region(
     by: float,
     up: tuple[float, float, float] = (0.0, 1.0, 0.0),
     pairs: np.ndarray | None = None,
+    symbolic=None,
 ) -> tuple[np.ndarray, float]:
     """Offset a region along its smoothed outward normals.
 
@@ -224,7 +225,7 @@ def offset_region(
     w = falloff_weights(V, F3, faces, band=FALLOFF_BY * abs(by))
     N0 = outward_normals(V, F3, F2, plist, pairs=pairs)
     live = _LiveFaces.of(V, F3, plist, faces, w)
-    return _smoothed_offset(V, F3, plist, faces, w, N0, live, by=by, up=up)
+    return _smoothed_offset(V, F3, plist, faces, w, N0, live, by=by, up=up, symbolic=symbolic)
 
 
 class _LiveFaces(NamedTuple):
@@ -280,6 +281,7 @@ def _smoothed_offset(
     *,
     by: float,
     up: tuple[float, float, float],
+    symbolic=None,
 ) -> tuple[np.ndarray, float]:
     """The offset of :func:`offset_region` along normals smoothed level after level.
 
@@ -292,7 +294,7 @@ def _smoothed_offset(
     T = F3[faces]
     moving = np.flatnonzero(w > 0.0)
     sigma = SMOOTH_BY * abs(by)
-    step = normal_smoother(V, F3, tau=sigma * sigma / (2.0 * SMOOTH_STEPS))
+    step = normal_smoother(V, F3, tau=sigma * sigma / (2.0 * SMOOTH_STEPS), symbolic=symbolic)
     up_v = np.asarray(up, float)
     N, done, turned = N0, 0, np.zeros(len(T), dtype=bool)
     for level in range(SMOOTH_LEVELS):  # a loop over smoothing levels
