@@ -141,10 +141,8 @@ def flatten(
 
     Parameters
     ----------
-    garment : Garment
-        The original drape and pattern.
-    V3_edit : (n3, 3) float array
-        The edited drape (same triangles as ``garment.F3``).
+    garment, V3_edit : Garment, (n3, 3) float array
+        The original drape and pattern; the edited drape (same triangles as ``F3``).
     method : {"scale-preserving", "uniform"}
         ``uniform`` flattens the edited drape directly (the paper's baseline).
     intrinsic : {"polar", "paper"}
@@ -180,9 +178,7 @@ def flatten(
     -------
     FlattenResult
     """
-    if panel_list is None:  # (the API's convenience; a run passes its panels)
-        panel_list = structure(garment, up=Y_UP, front=Z_FRONT).panels
-    plist = panel_list
+    plist = panel_list or structure(garment, up=Y_UP, front=Z_FRONT).panels  # (API: default)
     sign = np.where(mirror_mask(plist, len(garment.V2)), -1.0, 1.0)
     V2 = garment.V2 * np.stack([sign, np.ones(len(sign))], 1)  # mirrored panels flipped
     targets = _targets(garment, V2, V3_edit, plist, method, intrinsic, frozen_panels)
