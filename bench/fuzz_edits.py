@@ -235,7 +235,10 @@ def make_recipe(case: dict):
     if not raw:
         return recipe, None
     steps = [{**full, **st} for full, st in zip(recipe.steps, case["steps"], strict=True)]
-    return replace(recipe, steps=steps, flatten={**recipe.flatten, **case["flatten"]}), None
+    try:  # a Recipe checks its flatten settings itself: an extreme weight is refused here
+        return replace(recipe, steps=steps, flatten={**recipe.flatten, **case["flatten"]}), None
+    except PtailorError as exc:
+        return None, exc
 
 
 def yaml_flow(x) -> str:
