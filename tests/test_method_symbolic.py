@@ -4,35 +4,12 @@ the ARAP deformation's precompute/solve halves."""
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sp
 
 from ptailor.method.deform import arap_deform, arap_precompute, arap_solve
 from ptailor.method.flatten import flatten
 from ptailor.method.linear import SymbolicCache, factor
 from ptailor.samples import lantern_sleeve
-
-
-def spd(n: int, seed: int) -> sp.csc_matrix:
-    """A path Laplacian plus a positive diagonal, with an explicit zero."""
-    rng = np.random.default_rng(seed)
-    w = rng.uniform(0.5, 2.0, n - 1)
-    w[n // 2] = 0.0
-    i = np.arange(n - 1)
-    rows = np.concatenate([i, i + 1, i, i + 1, np.arange(n)])
-    cols = np.concatenate([i + 1, i, i, i + 1, np.arange(n)])
-    vals = np.concatenate([-w, -w, w, w, rng.uniform(0.1, 1.0, n)])
-    return sp.csc_matrix((vals, (rows, cols)), shape=(n, n))
-
-
-def test_an_explicit_cache_shares_one_analysis_and_keeps_each_solve_exact():
-    A, B = spd(40, 0), spd(40, 2)  # one pattern, other values
-    b = np.arange(40.0)
-    cache = SymbolicCache()
-    sa = factor(A, symbolic=cache)
-    sb = factor(B, symbolic=cache)
-    assert len(cache) == 1
-    np.testing.assert_allclose(B @ sb(b), b, atol=1e-10)
-    np.testing.assert_allclose(A @ sa(b), b, atol=1e-10)  # refactors its own values
+from tests.test_linear import spd  # (the shared analysis with a cache: test_linear)
 
 
 def test_without_a_cache_nothing_is_shared():
