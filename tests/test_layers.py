@@ -30,6 +30,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("ptailor.pieces", "ptailor.report", "ptailor.spec", "ptailor.verify"),
     ("ptailor.run", "ptailor.samples"),
     ("ptailor.batch",),
+    ("ptailor.catalogue",),
     ("ptailor.cli", "ptailor.__main__"),
 )
 

@@ -260,6 +260,35 @@ def gate_failures(report: dict, gates: Gates) -> list[str]:
     return probs
 
 
+#: each gate's option, by its :class:`Gates` attribute
+GATE_OPTIONS = {
+    "max_area_change": "--max-area-change",
+    "max_boundary_deviation": "--max-boundary-deviation",
+    "max_intrinsic_error": "--max-intrinsic-error",
+    "max_seam_mismatch": "--max-seam-mismatch",
+    "max_verify_stretch": "--max-verify-stretch",
+    "max_verify_displacement": "--max-verify-displacement",
+    "max_spec_fit": "--max-spec-fit",
+    "fail_on_flips": "--fail-on-flips",
+}
+
+
+def broken_gates(report: dict, gates: Gates) -> list[str]:
+    """The options of the gates the report breaks (``["--max-area-change"]``), in
+    :data:`GATE_OPTIONS` order: each set gate judged alone by :func:`gate_failures`.
+
+    For a record's ``failed_gates``, which a catalogue filters on.
+    """
+    out = []
+    for attr, option in GATE_OPTIONS.items():
+        value = getattr(gates, attr)
+        if value is None or value is False:
+            continue
+        if gate_failures(report, Gates(**{attr: value})):
+            out.append(option)
+    return out
+
+
 def _spec_failures(report: dict, lim: float, units: str) -> list[str]:
     """The specification panels whose written curves lie farther than ``lim`` from the
     adjusted mesh outline (strict: a report without ``spec`` breaks the gate)."""

@@ -13,6 +13,11 @@ from ptailor.errors import PtailorError
 from ptailor.formats import PATTERN_READERS, READERS, is_pattern_file
 
 _GLOB_CHARS = re.compile(r"[*?\[]")
+#: a batch catalogue's page and its own folder in OUT (``batch --html``, ``ptailor report``)
+CATALOGUE_PAGE = "index.html"
+CATALOGUE_DIR = "_catalogue"
+#: names a garment's folder never takes: they are the catalogue's
+RESERVED_NAMES = frozenset({CATALOGUE_PAGE, CATALOGUE_DIR})
 
 
 def expand_garments(
@@ -135,13 +140,14 @@ def output_names(
     Returns
     -------
     list of (name, note)
-        ``note`` says why a name is not the stem (``None`` when it is, or was given).
+        ``note`` says why a name is not the stem (``None`` when it is, or was given). A stem
+    in :data:`RESERVED_NAMES` is renamed like a repeated one.
     """
     given = list(names) if names is not None else [None] * len(paths)
     stems = [Path(p).stem or "garment" for p in paths]
     fixed = {n for n in given if n is not None}
     taken = set(stems) | fixed
-    used = set(fixed)
+    used = set(fixed) | RESERVED_NAMES  # a stem "index.html" gets "index.html-2"
     first: dict[str, str] = {}
     out = []
     for p, stem, name in zip(paths, stems, given, strict=True):

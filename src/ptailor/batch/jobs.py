@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from ptailor import tolerances
-from ptailor.batch.gates import GateFailedError, Gates, gate_failures
+from ptailor.batch.gates import GateFailedError, Gates, broken_gates, gate_failures
 from ptailor.batch.inputs import drape_for, output_names
 from ptailor.batch.manifest import ManifestRow, as_rows
 from ptailor.batch.records import RECORD_KEYS, key_numbers
@@ -193,7 +193,13 @@ def _unchanged(job: GarmentJob, stamp: dict) -> dict | None:
     probs = gate_failures(report, job.gates)
     if probs:
         reason = "gate: " + "; ".join(probs) + " (the folder from an earlier run is kept)"
-        return job.record("failed", failure="gate", reason=reason, **key_numbers(report))
+        return job.record(
+            "failed",
+            failure="gate",
+            reason=reason,
+            failed_gates=broken_gates(report, job.gates),
+            **key_numbers(report),
+        )
     return job.record("skipped", reason="unchanged", **key_numbers(report))
 
 
@@ -366,7 +372,13 @@ def _run_job(job: GarmentJob) -> dict:
                 raise GateFailedError(probs, report)
     except GateFailedError as exc:
         reason = "gate: " + "; ".join(exc.problems)
-        return job.record("failed", failure="gate", reason=reason, **key_numbers(exc.report))
+        return job.record(
+            "failed",
+            failure="gate",
+            reason=reason,
+            failed_gates=broken_gates(exc.report, job.gates),
+            **key_numbers(exc.report),
+        )
     except PtailorError as exc:
         return job.record("failed", failure="input", reason=job.shown(str(exc)))
     except Exception as exc:  # per-garment isolation: report and go on

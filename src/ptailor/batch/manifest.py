@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ptailor.batch.inputs import drape_for
+from ptailor.batch.inputs import RESERVED_NAMES, drape_for
 from ptailor.errors import PtailorError
 from ptailor.formats import is_pattern_file
 
@@ -320,13 +320,15 @@ def _bad_name(name: str) -> str | None:
 
 
 def _name_problems(rows: list[ManifestRow]) -> list[Problem]:
-    """Output names that two rows give."""
+    """Output names that two rows give, or that are the catalogue's."""
     first: dict[str, int] = {}
     problems = []
     for r in rows:
         if r.name is None:
             continue
-        if r.name in first:
+        if r.name in RESERVED_NAMES:
+            problems.append((r.row, f"name {r.name!r} is the batch catalogue's; name another"))
+        elif r.name in first:
             problems.append((r.row, f"name {r.name!r} is row {first[r.name]}'s too"))
         else:
             first[r.name] = r.row

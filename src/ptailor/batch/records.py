@@ -37,6 +37,7 @@ RECORD_KEYS = (
     "verify_displacement_p95",
     "spec_fit_max",
     "warnings",
+    "failed_gates",
 )
 #: record statuses; ``ok`` and ``skipped`` are successes
 STATUSES = ("ok", "skipped", "failed", "interrupted")
@@ -156,6 +157,11 @@ class BatchResult:
         return sum(r["status"] == status for r in self.records)
 
     @property
+    def runs(self) -> int:
+        """Garments run (``ran``, else every ``ok`` and ``failed`` one): a rate's count."""
+        return self.count("ok") + self.count("failed") if self.ran is None else self.ran
+
+    @property
     def exit_status(self) -> int:
         """130 interrupted, 1 some garment failed, else 0."""
         if self.interrupted:
@@ -204,7 +210,7 @@ def _count_lines(result: BatchResult) -> list[str]:
 def _rate(result: BatchResult, counts: dict[str, int]) -> str:
     """``3 done, 1 skipped, 0 failed; 20.5 garments/min over the 3 run (where)``: a rate
     only over the garments run (none when every one was unchanged)."""
-    ran = counts["ok"] + counts["failed"] if result.ran is None else result.ran
+    ran = result.runs
     done = f"{counts['ok']} done, {counts['skipped']} skipped, {counts['failed']} failed"
     if ran == 0:
         return f"{done}; none run, so no rate"

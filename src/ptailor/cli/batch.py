@@ -196,6 +196,13 @@ to finish).
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON records on stdout.")
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar and no summary (failures only).")
+@click.option(
+    "--html",
+    is_flag=True,
+    help="Write OUT/index.html after the run: the catalogue, a row per garment (status, "
+    "reason, thumbnail, numbers; sortable, filterable) and a page per garment "
+    "(OUT/NAME/index.html). Rewritten after every run; 'ptailor report OUT' rewrites it.",
+)
 @gate_options
 @click.pass_context
 def batch(
@@ -228,6 +235,7 @@ def batch(
     log,
     as_json,
     quiet,
+    html,
     gates,
 ) -> None:
     """``ptailor batch``: its help is :data:`BATCH_HELP`."""
@@ -264,6 +272,10 @@ def batch(
         verify_max_steps=verify_max_steps,
         spec=spec,
     )
+    if html:
+        from ptailor.catalogue import check_catalogue_target
+
+        check_catalogue_target(out)  # (exit 2 before anything runs)
     paths = _garment_paths(ctx, garments, manifest, out)
     if log:
         _check_log(log, paths, recipe, manifest)
@@ -272,7 +284,26 @@ def batch(
     workers = jobs or os.cpu_count() or 1
     result = _run(todo, workers=workers, scheduler=scheduler, log=log, as_json=as_json, bar=bar)
     _summary(result, len(todo), quiet=quiet)
+    if html:
+        _catalogue(out, result, quiet=quiet)
     ctx.exit(result.exit_status)
+
+
+def _catalogue(out: str, result, *, quiet: bool) -> None:
+    """The catalogue page of the run (``--html``), its path on stderr."""
+    from pathlib import Path
+
+    from ptailor.catalogue import Summary, write_catalogue
+
+    def warn(msg: str) -> None:
+        if not quiet:
+            click.echo(f"ptailor: warning: {msg}", err=True)
+
+    Path(out).mkdir(parents=True, exist_ok=True)  # (every garment may have failed)
+    summary = Summary(seconds=result.seconds, ran=result.runs, where=result.where)
+    page = write_catalogue(out, result.records, summary, warn=warn)
+    if not quiet:
+        click.echo(f"catalogue: {page}", err=True)
 
 
 def _check_arguments(

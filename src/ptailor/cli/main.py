@@ -19,6 +19,7 @@ from ptailor.cli.adjust import adjust
 from ptailor.cli.batch import batch
 from ptailor.cli.demo import demo
 from ptailor.cli.inspect import inspect
+from ptailor.cli.report import report
 from ptailor.cli.validate import validate
 from ptailor.cli.verify import verify
 
@@ -163,3 +164,4 @@ cli.add_command(demo)
 cli.add_command(batch)
 cli.add_command(validate)
 cli.add_command(verify)
+cli.add_command(report)

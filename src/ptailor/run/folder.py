@@ -447,3 +447,43 @@ def staged_dir(out: str | Path):
 def write_json(path: Path, data: Mapping) -> None:
     """Write ``data`` as indented JSON (insertion order) with a trailing newline."""
     path.write_text(json.dumps(data, indent=2) + "\n")
+
+
+def add_files(folder: str | Path, files: Mapping[str, bytes]) -> None:
+    """Write ``files`` (name -> bytes) into an existing output folder and list them in its
+    marker, so that a later run may still replace the folder whole.
+
+    Each file is written beside its final name and moved into place (a reader never sees
+    half a file); the marker is rewritten last, the same way. Used for what a catalogue
+    adds to a garment's folder after the run (its page and thumbnail).
+
+    Raises
+    ------
+    PtailorError
+        The folder has no ptailor marker (its files are not known to be ptailor's), or a
+        name is not a plain file name.
+    """
+    folder = Path(folder)
+    listed = read_marker(folder)
+    if listed is None:
+        raise PtailorError("not a ptailor output folder (no .ptailor marker)", path=str(folder))
+    for name in files:
+        if not name or "/" in name or name in (".", "..", MARKER):
+            raise PtailorError(f"not a file name an output folder can hold: {name!r}")
+    try:
+        for name, data in files.items():
+            _replace_bytes(folder / name, data)
+        _replace_bytes(folder / MARKER, marker_text({*listed, *files}).encode())
+    except OSError as exc:
+        raise _os_error(exc, str(folder)) from None
+
+
+def _replace_bytes(path: Path, data: bytes) -> None:
+    """``path`` holds ``data``: written to a hidden file beside it, then moved into place."""
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        tmp.write_bytes(data)
+        os.replace(tmp, path)
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            tmp.unlink()

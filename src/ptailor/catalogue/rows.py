@@ -1,0 +1,216 @@
+"""A catalogue's rows: one per garment, from a batch's records and the folders under OUT.
+
+The rows of the last run come first, in its input order (skipped garments too: their
+records carry the numbers of their stored report); then every garment folder under OUT
+that the run did not name (written by an earlier run on other garments), built from its
+``report.json`` and ``batch.json`` with status ``earlier``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ptailor.batch.inputs import CATALOGUE_DIR, CATALOGUE_PAGE, RESERVED_NAMES
+from ptailor.batch.records import RECORD_KEYS, is_record, key_numbers
+from ptailor.batch.stamp import STAMP
+from ptailor.errors import PtailorError
+from ptailor.run.folder import read_marker
+
+#: the catalogue's page in OUT (and each garment's page in its folder)
+INDEX = CATALOGUE_PAGE
+#: the last run's records and summary, in :data:`CATALOGUE_DIR`
+SAVED = "catalogue.json"
+#: a catalogue row's statuses: a record's, and ``earlier`` for a folder the run did not name
+ROW_STATUSES = ("failed", "interrupted", "ok", "skipped", "earlier")
+
+
+@dataclass(frozen=True)
+class Summary:
+    """What the catalogue's head says about the run.
+
+    Attributes
+    ----------
+    seconds : float or None
+        The run's wall time (None: not known, as from a log).
+    ran : int or None
+        Garments run (not skipped): the rate's numerator.
+    where : str
+        Where they ran (``2 worker processes``).
+    source : str
+        Where the rows came from (``this run``, ``the log batch.jsonl``, ...).
+    """
+
+    seconds: float | None = None
+    ran: int | None = None
+    where: str = ""
+    source: str = "this run"
+
+    @property
+    def rate(self) -> float | None:
+        """Garments per minute over the garments run."""
+        if not self.seconds or not self.ran:
+            return None
+        return 60.0 * self.ran / self.seconds
+
+
+@dataclass(frozen=True)
+class Row:
+    """One garment of the catalogue.
+
+    Attributes
+    ----------
+    record : dict
+        The batch record (:data:`~ptailor.batch.records.RECORD_KEYS`).
+    name : str
+        Its output folder's name under OUT.
+    folder : Path or None
+        The folder, where the garment has one (a failed garment has none).
+    report : dict or None
+        Its ``report.json``.
+    """
+
+    record: dict
+    name: str
+    folder: Path | None = None
+    report: dict | None = field(default=None, repr=False)
+
+    @property
+    def status(self) -> str:
+        return str(self.record.get("status"))
+
+
+def read_json(path: Path) -> Any:
+    """A JSON file, or None when it is missing or not JSON."""
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+
+
+def read_log(path: str | Path) -> list[dict]:
+    """The records of a batch log (``--log``), in input order.
+
+    Raises
+    ------
+    PtailorError
+        The file cannot be read, or holds a line that is not a record.
+    """
+    try:
+        lines = Path(path).read_text(encoding="utf-8").splitlines()
+    except (OSError, UnicodeDecodeError) as exc:
+        why = getattr(exc, "strerror", None) or str(exc)
+        raise PtailorError(f"cannot read the batch log ({why})", path=str(path)) from None
+    recs = []
+    for k, line in enumerate(lines, 1):
+        if not line.strip():
+            continue
+        if not is_record(line):
+            raise PtailorError(f"line {k} is not a ptailor batch record", path=str(path))
+        recs.append(json.loads(line))
+    by_index = sorted(recs, key=lambda r: r.get("index") or 0)
+    seen, out = set(), []
+    for r in reversed(by_index):  # a log written as garments finished, then in order
+        if r.get("index") not in seen:
+            seen.add(r.get("index"))
+            out.append(r)
+    return out[::-1]
+
+
+def saved_records(out: Path) -> tuple[list[dict], Summary] | None:
+    """The records and summary the last ``batch --html`` saved in OUT, or None."""
+    data = read_json(out / CATALOGUE_DIR / SAVED)
+    if not isinstance(data, dict) or not isinstance(data.get("records"), list):
+        return None
+    recs = [r for r in data["records"] if isinstance(r, dict) and "garment" in r]
+    s = data.get("summary") if isinstance(data.get("summary"), dict) else {}
+    summary = Summary(
+        seconds=s.get("seconds"), ran=s.get("ran"), where=str(s.get("where") or ""),
+        source="the last batch run's records",
+    )  # fmt: skip
+    return recs, summary
+
+
+def saved_text(records: list[dict], summary: Summary) -> str:
+    """:data:`SAVED`'s JSON: the run's records and its summary."""
+    data = {
+        "written_by": "ptailor",
+        "summary": {"seconds": summary.seconds, "ran": summary.ran, "where": summary.where},
+        "records": [{k: r.get(k) for k in RECORD_KEYS} for r in records],
+    }
+    return json.dumps(data, indent=1) + "\n"
+
+
+def garment_folders(out: Path) -> list[Path]:
+    """The garment folders under OUT: ptailor output folders (a marker) with a
+    ``report.json``, sorted by name (hidden staging folders left out)."""
+    try:
+        entries = sorted(os.scandir(out), key=lambda e: e.name)
+    except OSError:
+        return []
+    found = []
+    for e in entries:
+        if e.name.startswith(".") or e.name in RESERVED_NAMES or not e.is_dir():
+            continue
+        p = Path(e.path)
+        if read_marker(p) is not None and (p / "report.json").is_file():
+            found.append(p)
+    return found
+
+
+def _folder_record(folder: Path, report: dict, index: int) -> dict:
+    """A record for a folder no record of the run names (``earlier``)."""
+    stamp = read_json(folder / STAMP)
+    garment = None
+    if isinstance(stamp, dict) and isinstance(stamp.get("garment"), dict):
+        garment = stamp["garment"].get("path")
+    if garment is None:
+        inputs = report.get("inputs") if isinstance(report.get("inputs"), dict) else {}
+        first = next(iter(inputs.values()), {}) if inputs else {}
+        garment = first.get("path") if isinstance(first, dict) else None
+    rec = dict.fromkeys(RECORD_KEYS)
+    rec.update(
+        index=index, garment=garment or folder.name, out=str(folder), status="earlier",
+        note="not in the last run: written by an earlier one",
+    )  # fmt: skip
+    rec.update(key_numbers(report))
+    return rec
+
+
+def catalogue_rows(out: str | Path, records: list[dict]) -> list[Row]:
+    """The catalogue's rows: ``records`` in their order, then the garment folders under
+    ``out`` that no record names (status ``earlier``).
+
+    Parameters
+    ----------
+    out : str or Path
+        The batch's output root.
+    records : list of dict
+        A batch's records (a record's folder is ``out / basename(record["out"])``).
+
+    Returns
+    -------
+    list of Row
+    """
+    out = Path(out)
+    rows, named = [], set()
+    for r in records:
+        name = Path(str(r.get("out") or r.get("garment") or "garment")).name
+        named.add(name)
+        folder = out / name
+        report = None
+        if r.get("status") in ("ok", "skipped") or (folder / "report.json").is_file():
+            report = read_json(folder / "report.json") if folder.is_dir() else None
+        has = isinstance(report, dict) and read_marker(folder) is not None
+        rows.append(Row(r, name, folder if has else None, report if has else None))
+    for folder in garment_folders(out):
+        if folder.name in named:
+            continue
+        report = read_json(folder / "report.json")
+        if isinstance(report, dict):
+            rec = _folder_record(folder, report, len(rows) + 1)
+            rows.append(Row(rec, folder.name, folder, report))
+    return rows

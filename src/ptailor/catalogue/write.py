@@ -1,0 +1,149 @@
+"""Writing a catalogue into a batch's output root.
+
+``OUT/index.html`` (one row per garment), ``OUT/_catalogue/`` (style sheet, script, the
+run's records) and, in each garment's folder, ``index.html`` and ``thumbnail.png``, listed
+in the folder's marker so that a later run may still replace the folder whole. Static and
+self-contained: relative links only, nothing from outside the folder.
+"""
+
+from __future__ import annotations
+
+import os
+from importlib import resources
+from pathlib import Path
+
+from ptailor import __version__
+from ptailor.catalogue.pages import GENERATOR, environment, garment_view, index_view
+from ptailor.catalogue.rows import (
+    CATALOGUE_DIR,
+    INDEX,
+    SAVED,
+    Row,
+    Summary,
+    catalogue_rows,
+    saved_text,
+)
+from ptailor.catalogue.thumbnails import PREVIEW, THUMBNAIL, thumbnail_bytes, thumbnail_current
+from ptailor.errors import PtailorError
+from ptailor.run.folder import add_files, check_output_dir, staged_dir
+
+#: the catalogue's static files, copied into :data:`CATALOGUE_DIR`
+STATIC = ("catalogue.css", "catalogue.js")
+
+
+def is_catalogue_page(path: Path) -> bool:
+    """Whether ``path`` is a page ptailor's catalogue wrote (its generator tag)."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as fh:
+            head = fh.read(2048)
+    except OSError:
+        return False
+    return f'<meta name="generator" content="{GENERATOR} ' in head
+
+
+def check_catalogue_target(out: str | Path) -> None:
+    """Refuse, before anything runs, an OUT whose ``index.html`` or ``_catalogue`` is not
+    ptailor's catalogue (they would be replaced).
+
+    Raises
+    ------
+    PtailorError
+    """
+    out = Path(out)
+    page = out / INDEX
+    if os.path.lexists(page) and (page.is_symlink() or not is_catalogue_page(page)):
+        raise PtailorError(
+            "exists and is not a ptailor catalogue page; move it or choose another output root",
+            path=str(page),
+        )
+    folder = out / CATALOGUE_DIR
+    if os.path.lexists(folder):
+        check_output_dir(folder)
+
+
+def _garment_files(row: Row, *, title: str, env, warn) -> None:
+    """The garment's page and thumbnail (made once), into its folder."""
+    assert row.folder is not None
+    files: dict[str, bytes] = {}
+    if (row.folder / PREVIEW).is_file() and not thumbnail_current(row.folder):
+        try:
+            files[THUMBNAIL] = thumbnail_bytes(row.folder / PREVIEW)
+        except OSError as exc:
+            warn(f"{row.folder / PREVIEW}: no thumbnail ({exc})")
+    view = garment_view(row, title=title, version=__version__)
+    files[INDEX] = env.get_template("garment.html").render(view).encode()
+    try:
+        add_files(row.folder, files)
+    except PtailorError as exc:
+        warn(f"no page for {row.name}: {exc}")
+
+
+def _replace_page(path: Path, text: str) -> None:
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        tmp.write_text(text, encoding="utf-8")
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+
+
+def write_catalogue(
+    out: str | Path,
+    records: list[dict],
+    summary: Summary | None = None,
+    *,
+    title: str | None = None,
+    warn=None,
+) -> Path:
+    """Write the catalogue of ``out``: its page, each garment's page and thumbnail.
+
+    Parameters
+    ----------
+    out : str or Path
+        The batch's output root (it exists).
+    records : list of dict
+        The run's records, in input order; folders under ``out`` that none names are
+        added as ``earlier`` rows (:func:`~ptailor.catalogue.rows.catalogue_rows`).
+    summary : Summary, optional
+        The run's time and rate.
+    title : str, optional
+        The page's title (default: ``ptailor catalogue: OUT``).
+    warn : callable, optional
+        Told of a garment folder that could not take its page (the others go on).
+
+    Returns
+    -------
+    Path
+        ``out / "index.html"``.
+
+    Raises
+    ------
+    PtailorError
+        ``out`` is not a folder, or its ``index.html`` / ``_catalogue`` is not ptailor's.
+    """
+    out = Path(out)
+    if not out.is_dir():
+        raise PtailorError("not a folder", path=str(out))
+    check_catalogue_target(out)
+    summary = summary or Summary()
+    title = title or f"ptailor catalogue: {out.resolve().name}"
+    warn = warn or (lambda msg: None)
+    env = environment()
+    rows = catalogue_rows(out, records)
+    for row in rows:  # a loop over garments: each writes its own folder
+        if row.folder is not None:
+            _garment_files(row, title=title, env=env, warn=warn)
+    static = resources.files("ptailor.catalogue") / "static"
+    with staged_dir(out / CATALOGUE_DIR) as tmp:
+        for name in STATIC:
+            (tmp / name).write_bytes((static / name).read_bytes())
+        (tmp / SAVED).write_text(saved_text(records, summary), encoding="utf-8")
+    view = index_view(rows, summary, title=title, version=__version__)
+    page = out / INDEX
+    try:
+        _replace_page(page, env.get_template("index.html").render(view))
+    except OSError as exc:
+        why = exc.strerror or str(exc)
+        raise PtailorError(f"cannot write the catalogue ({why})", path=str(page)) from None
+    return page
