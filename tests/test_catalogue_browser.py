@@ -73,7 +73,7 @@ def batch_out(tmp_path_factory) -> Path:
     write_garment(cat / "a_sleeve.obj", lantern_sleeve(n_around=12, n_sleeve=6, n_cuff=2))
     write_garment(cat / "b_tube.obj", cylinder(circumference=40.0, n_around=16, n_along=6))
     (cat / "c_bad.obj").write_text("this is not a garment\n")
-    write_garment(cat / 'd_<b>&"skirt\'.obj', cone_skirt(n_around=16, n_along=6))
+    write_garment(cat / "d_<b>&\"skirt'.obj", cone_skirt(n_around=16, n_along=6))
     write_garment(cat / "e_sleeve.obj", lantern_sleeve(circumference=26.0, n_around=10))
     text = (cat / "e_sleeve.obj").read_text().replace("g sleeve\n", f"g {MARKUP}\n")
     (cat / "e_sleeve.obj").write_text(text)
@@ -190,8 +190,10 @@ def test_a_garment_page_in_chromium(browser, batch_out, tmp_path):
     page = batch_out / "b_tube" / "index.html"
     _open(browser, page)
     _check_pictures_and_links(browser, page)
-    assert browser.find_element("css selector", "img.pattern").get_attribute("src").endswith(
-        "pattern.svg"
+    assert (
+        browser.find_element("css selector", "img.pattern")
+        .get_attribute("src")
+        .endswith("pattern.svg")
     )
     tables = browser.find_elements("css selector", "table.data")
     assert len(tables) == 2  # panels and seams
@@ -221,3 +223,74 @@ def test_a_name_in_markup_shows_as_text_in_chromium(browser, tmp_path_factory):
     assert MARKUP in cells
     assert browser.find_elements("css selector", "body script") == []
     _no_console_errors(browser)
+
+
+# --------------------------------------------------------------------------- real garments
+
+
+@pytest.fixture(scope="module")
+def shared_out(tmp_path_factory) -> Path:
+    """The four shared garments shortened at the hem, each in its own units (a manifest),
+    with a gate that fails one: tee6's hem panels change area by 11.4 %, the others' by
+    8-9.6 %."""
+    from tests.conftest import GARMENTS
+
+    if not (GARMENTS / "gpg_tee6" / "tee6_sim.obj").is_file():
+        pytest.skip(f"{GARMENTS} not available (../shared is absent)")
+    root = tmp_path_factory.mktemp("shared")
+    manifest = root / "garments.csv"
+    manifest.write_text(
+        "garment,pattern_units,drape_units\n"
+        f"{GARMENTS}/diffavatar/tshirt.obj,auto,\n"
+        f"{GARMENTS}/gpg_tee6/tee6_sim.obj,0.3333cm,0.3333cm\n"
+        f"{GARMENTS}/diffavatar/longsleeve_initial.obj,auto,\n"
+        f"{GARMENTS}/diffavatar/dress_initial.obj,auto,\n"
+    )
+    from ptailor.recipe.bundled import bundled_recipe
+
+    recipe = root / "shorter-hem.yaml"
+    recipe.write_text(bundled_recipe("shorter-hem"))
+    out = root / "out"
+    args = ["batch", recipe, "--manifest", manifest, "-o", out,
+            "-j", "2", "--html", "--max-area-change", "0.1"]  # fmt: skip
+    r = CliRunner().invoke(cli, [str(a) for a in args], catch_exceptions=False)
+    assert r.exit_code == 1, r.output
+    return out
+
+
+def test_the_shared_garments_catalogue(shared_out):
+    """Every garment, the failed one's reason, each garment page with its SVG and tables."""
+    from tests.test_catalogue import Page, assert_links_resolve
+
+    page = assert_links_resolve(shared_out / "index.html")
+    assert [r["data-status"] for r in page.rows] == ["ok", "failed", "ok", "ok"]
+    assert page.rows[1]["data-gates"] == "--max-area-change"
+    text = " ".join(page.text)
+    assert "gate: " in text and "> 10 %" in text
+    for name in ("tshirt", "longsleeve_initial", "dress_initial"):
+        garment = assert_links_resolve(shared_out / name / "index.html")
+        assert "pattern.svg" in garment.refs
+        report = __import__("json").loads((shared_out / name / "report.json").read_text())
+        shown = " ".join(Page(shared_out / name / "index.html").text)
+        assert all(p["name"] in shown for p in report["panels"])
+        assert all(s["name"] in shown for s in report["seams"])
+        assert "shorten" in shown and "achieved" in shown
+    assert not (shared_out / "tee6_sim").exists()  # a gate's failure writes no folder
+
+
+def test_the_shared_garments_catalogue_sorted_in_chromium(browser, shared_out, tmp_path):
+    _open(browser, shared_out / "index.html")
+    _click_heading(browser, "status")
+    assert _statuses(browser) == ["failed", "ok", "ok", "ok"]
+    first = _rows(browser)[0].text
+    assert "tee6_sim" in first and "area change" in first
+    _check_pictures_and_links(browser, shared_out / "index.html")
+    assert len(browser.find_elements("css selector", "td.thumb img")) == 3
+    _no_console_errors(browser)
+    for name in ("tshirt", "dress_initial"):
+        _open(browser, shared_out / name / "index.html")
+        _check_pictures_and_links(browser, shared_out / name / "index.html")
+        _no_console_errors(browser)
+    shot = tmp_path / "shared.png"
+    browser.save_screenshot(str(shot))
+    print(f"\nshared catalogue screenshot: {shot}")
