@@ -151,10 +151,18 @@ def test_batch_html_shows_every_garment_its_status_reason_and_gates(tmp_path, ga
 
 
 @pytest.mark.slow
-def test_garment_page_tables_steps_and_escaped_panel_names(tmp_path, garments, recipe):
+def test_garment_page_tables_steps_and_escaped_panel_names(tmp_path, garments):
+    recipe = tmp_path / "markup.yaml"  # a region named in markup: the recipe shows it too
+    recipe.write_text(
+        "steps: [{op: scale, region: {panels: ['" + MARKUP + "']}, direction: around, "
+        "axis: auto, factor: 1.2}]\n"
+    )
     out = tmp_path / "out"
     r = run("batch", recipe, garments / "a_sleeve.obj", "-o", out, "-j", "1", "--html")
     assert r.exit_code == 0, r.output
+    index = (out / "index.html").read_text()
+    assert MARKUP not in index and "&lt;script&gt;alert(1)&lt;/script&gt;" in index
+    assert MARKUP in " ".join(Page(out / "index.html").text)  # the recipe, as text
     page_path = out / "a_sleeve" / "index.html"
     raw = page_path.read_text()
     assert MARKUP not in raw and "&lt;script&gt;alert(1)&lt;/script&gt;" in raw
@@ -262,3 +270,61 @@ def test_catalogue_rows_from_records_without_folders(tmp_path):
     text = " ".join(Page(page).text)
     assert "30.0 garments/min" in text and "timeout: not done in 5 s" in text
     assert (tmp_path / CATALOGUE_DIR / MARKER).is_file()
+
+
+def _png(path: Path, size=(400, 300)) -> None:
+    from PIL import Image
+
+    Image.new("RGB", size, (250, 250, 200)).save(path)
+
+
+def test_a_redraped_garment_shows_its_check_and_its_columns(tmp_path):
+    """A report with the re-drape check: its picture and table on the garment page, its
+    numbers as columns of the index (absent for a batch without it)."""
+    from ptailor.batch import RECORD_KEYS, key_numbers
+    from ptailor.run.folder import staged_dir
+
+    report = {
+        "units": {"computation": "cm"},
+        "panels": [{"name": "front", "area_before": 10.0, "area_after": 11.0,
+                    "intrinsic_scale_error": {"mean": 0.0, "p95": 0.01, "max": 0.02},
+                    "flipped_triangles": 0},
+                   {"name": "back", "area_before": 10.0, "area_after": 10.5,
+                    "intrinsic_scale_error": {"mean": 0.0, "p95": 0.03, "max": 0.05},
+                    "flipped_triangles": 0}],
+        "seams": [{"name": "side", "panels": ["front", "back"], "mismatch": -0.25}],
+        "steps": [{"op": "shorten", "opening": "hem", "by": 5,
+                   "achieved": {"3d": {"mean": 4.99, "min": 4.9, "max": 5.1}}}],
+        "verify": {"engine": "newton", "device": "cpu", "settled": True,
+                   "ours": {"panels": {"front": {"stretch": {"p95": 1.031},
+                                                 "displacement": {"p95": 0.42}}}},
+                   "baseline": {"panels": {"front": {"stretch": {"p95": 1.2},
+                                                     "displacement": {"p95": 0.9}}}}},
+        "warnings": ["a warning <i>in markup</i>"],
+        "outputs": ["preview.png", "report.json", "verify.png"],
+    }  # fmt: skip
+    with staged_dir(tmp_path / "g") as tmp:
+        (tmp / "report.json").write_text(json.dumps(report))
+        _png(tmp / "preview.png")
+        _png(tmp / "verify.png")
+    rec = dict.fromkeys(RECORD_KEYS)
+    rec.update(index=1, garment="g.obj", out="OUT/g", status="ok", **key_numbers(report))
+    page = write_catalogue(tmp_path, [rec], Summary())
+    index = Page(page)
+    assert "re-drape stretch p95" in index.text and "1.031" in index.text
+    garment = assert_links_resolve(tmp_path / "g" / "index.html")
+    text = " ".join(garment.text)
+    assert "verify.png" in garment.refs and "Re-drape check" in text
+    assert "1.031" in text and "1.2" in text and "0.42" in text
+    assert "achieved: 3d: mean: 4.99; min: 4.9; max: 5.1" in text
+    assert "a warning <i>in markup</i>" in text  # as text
+    raw = (tmp_path / "g" / "index.html").read_text()
+    assert '<tr class="worst" title="the largest intrinsic-scale error p95"><td>back' in raw
+    assert '<tr class="worst" title="the largest seam mismatch"><td>side' in raw
+    from PIL import Image
+
+    with Image.open(tmp_path / "g" / "thumbnail.png") as im:
+        assert max(im.size) <= 360 and im.size[0] / im.size[1] == pytest.approx(4 / 3, rel=0.02)
+    # without the check, no such column
+    rec2 = dict(rec, verify_stretch_p95=None, verify_displacement_p95=None)
+    assert "re-drape stretch p95" not in Page(write_catalogue(tmp_path, [rec2])).text

@@ -159,6 +159,8 @@ def index_view(rows: list[Row], summary: Summary, *, title: str, version: str) -
         "ran": summary.ran,
         "where": summary.where,
         "source": summary.source,
+        "recipe": summary.recipe,
+        "recipe_text": summary.recipe_text,
         "statuses": [s for s in ROW_STATUSES if counts[s]],
         "gates": [g for g in GATE_OPTIONS.values() if g in seen_gates],
         "columns": [{"key": k, "label": lab, "title": t} for k, lab, _, t in columns],

@@ -42,12 +42,18 @@ class Summary:
         Where they ran (``2 worker processes``).
     source : str
         Where the rows came from (``this run``, ``the log batch.jsonl``, ...).
+    recipe : str
+        The recipe file the run applied (empty: not known).
+    recipe_text : str
+        The recipe as validated, every default filled in (YAML; empty: not known).
     """
 
     seconds: float | None = None
     ran: int | None = None
     where: str = ""
     source: str = "this run"
+    recipe: str = ""
+    recipe_text: str = ""
 
     @property
     def rate(self) -> float | None:
@@ -129,16 +135,33 @@ def saved_records(out: Path) -> tuple[list[dict], Summary] | None:
     s = data.get("summary") if isinstance(data.get("summary"), dict) else {}
     summary = Summary(
         seconds=s.get("seconds"), ran=s.get("ran"), where=str(s.get("where") or ""),
-        source="the last batch run's records",
+        source="the last batch run's records", recipe=str(s.get("recipe") or ""),
+        recipe_text=str(s.get("recipe_text") or ""),
     )  # fmt: skip
     return recs, summary
+
+
+def recipe_text(recipe) -> str:
+    """A validated recipe as YAML, every default filled in (what the run applied)."""
+    from dataclasses import asdict
+
+    import yaml
+
+    data = {k: v for k, v in asdict(recipe).items() if k != "source"}
+    return yaml.safe_dump(data, sort_keys=False, default_flow_style=False, width=88)
 
 
 def saved_text(records: list[dict], summary: Summary) -> str:
     """:data:`SAVED`'s JSON: the run's records and its summary."""
     data = {
         "written_by": "ptailor",
-        "summary": {"seconds": summary.seconds, "ran": summary.ran, "where": summary.where},
+        "summary": {
+            "seconds": summary.seconds,
+            "ran": summary.ran,
+            "where": summary.where,
+            "recipe": summary.recipe,
+            "recipe_text": summary.recipe_text,
+        },
         "records": [{k: r.get(k) for k in RECORD_KEYS} for r in records],
     }
     return json.dumps(data, indent=1) + "\n"

@@ -285,22 +285,29 @@ def batch(
     result = _run(todo, workers=workers, scheduler=scheduler, log=log, as_json=as_json, bar=bar)
     _summary(result, len(todo), quiet=quiet)
     if html:
-        _catalogue(out, result, quiet=quiet)
+        _catalogue(out, result, rec, quiet=quiet)
     ctx.exit(result.exit_status)
 
 
-def _catalogue(out: str, result, *, quiet: bool) -> None:
+def _catalogue(out: str, result, recipe, *, quiet: bool) -> None:
     """The catalogue page of the run (``--html``), its path on stderr."""
     from pathlib import Path
 
     from ptailor.catalogue import Summary, write_catalogue
+    from ptailor.catalogue.rows import recipe_text
 
     def warn(msg: str) -> None:
         if not quiet:
             click.echo(f"ptailor: warning: {msg}", err=True)
 
     Path(out).mkdir(parents=True, exist_ok=True)  # (every garment may have failed)
-    summary = Summary(seconds=result.seconds, ran=result.runs, where=result.where)
+    summary = Summary(
+        seconds=result.seconds,
+        ran=result.runs,
+        where=result.where,
+        recipe=recipe.source,
+        recipe_text=recipe_text(recipe),
+    )
     page = write_catalogue(out, result.records, summary, warn=warn)
     if not quiet:
         click.echo(f"catalogue: {page}", err=True)

@@ -38,10 +38,13 @@ def report(out, log, title, quiet) -> None:
     from ptailor.catalogue.rows import garment_folders
     from ptailor.errors import PtailorError
 
-    if log is not None:
-        records, summary = read_log(log), Summary(source=f"the log {log}")
+    saved = saved_records(Path(out))
+    if log is not None:  # (the recipe the last catalogue saved, if any)
+        last = saved[1] if saved else Summary()
+        records = read_log(log)
+        summary = Summary(source=f"the log {log}", recipe=last.recipe, recipe_text=last.recipe_text)
     else:
-        records, summary = saved_records(Path(out)) or ([], Summary(source="the garment folders"))
+        records, summary = saved or ([], Summary(source="the garment folders"))
     if not records and not garment_folders(Path(out)):
         raise PtailorError(
             "not a batch output root: no garment folder (with report.json) and no records",
