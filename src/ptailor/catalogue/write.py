@@ -23,7 +23,7 @@ from ptailor.catalogue.rows import (
     catalogue_rows,
     saved_text,
 )
-from ptailor.catalogue.thumbnails import PREVIEW, THUMBNAIL, thumbnail_bytes, thumbnail_current
+from ptailor.catalogue.thumbnails import PREVIEW, THUMBNAIL, thumbnails
 from ptailor.errors import PtailorError
 from ptailor.run.folder import add_files, check_output_dir, staged_dir
 
@@ -61,15 +61,14 @@ def check_catalogue_target(out: str | Path) -> None:
         check_output_dir(folder)
 
 
-def _garment_files(row: Row, *, title: str, env, warn) -> None:
-    """The garment's page and thumbnail (made once), into its folder."""
+def _garment_files(row: Row, thumbnail, *, title: str, env, warn) -> None:
+    """The garment's page, and its thumbnail when one was made, into its folder."""
     assert row.folder is not None
     files: dict[str, bytes] = {}
-    if (row.folder / PREVIEW).is_file() and not thumbnail_current(row.folder):
-        try:
-            files[THUMBNAIL] = thumbnail_bytes(row.folder / PREVIEW)
-        except OSError as exc:
-            warn(f"{row.folder / PREVIEW}: no thumbnail ({exc})")
+    if isinstance(thumbnail, OSError):
+        warn(f"{row.folder / PREVIEW}: no thumbnail ({thumbnail})")
+    elif thumbnail is not None:
+        files[THUMBNAIL] = thumbnail
     view = garment_view(row, title=title, version=__version__)
     files[INDEX] = env.get_template("garment.html").render(view).encode()
     try:
@@ -131,9 +130,10 @@ def write_catalogue(
     warn = warn or (lambda msg: None)
     env = environment()
     rows = catalogue_rows(out, records)
+    made = thumbnails([row.folder for row in rows if row.folder is not None])
     for row in rows:  # a loop over garments: each writes its own folder
         if row.folder is not None:
-            _garment_files(row, title=title, env=env, warn=warn)
+            _garment_files(row, made.get(row.folder), title=title, env=env, warn=warn)
     static = resources.files("ptailor.catalogue") / "static"
     with staged_dir(out / CATALOGUE_DIR) as tmp:
         for name in STATIC:
