@@ -328,3 +328,18 @@ def test_a_redraped_garment_shows_its_check_and_its_columns(tmp_path):
     # without the check, no such column
     rec2 = dict(rec, verify_stretch_p95=None, verify_displacement_p95=None)
     assert "re-drape stretch p95" not in Page(write_catalogue(tmp_path, [rec2])).text
+
+
+@pytest.mark.slow
+def test_a_batch_without_pictures_still_has_its_pages(tmp_path, garments, recipe):
+    """``--formats obj``: no SVG, no preview, so no thumbnail: the pages say so."""
+    out = tmp_path / "out"
+    args = ("--formats", "obj", "--no-baseline", "--html")
+    r = run("batch", recipe, garments / "b_tube.obj", "-o", out, "-j", "1", *args)
+    assert r.exit_code == 0, r.output
+    index = assert_links_resolve(out / "index.html")
+    assert "no preview" in index.text
+    page = assert_links_resolve(out / "b_tube" / "index.html")
+    assert "No pattern picture was written (--formats)." in page.text
+    assert not (out / "b_tube" / "thumbnail.png").exists()
+    assert "-" in Page(out / "b_tube" / "index.html").text  # no baseline: its column empty

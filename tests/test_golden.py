@@ -18,6 +18,9 @@ from tests.golden.cases import CASES, RECIPES, Case
 from tests.golden.compare import differences, store
 
 HERE = Path(__file__).resolve().parent / "golden"
+#: the DXF's creation date of every golden output: 2026-12-02, the day they were written
+#: (without it the date of the day is written: the outputs changed at midnight)
+SOURCE_DATE_EPOCH = "1796169600"
 
 
 def _garment(case: Case, tmp: Path) -> tuple[Path, tuple[str, ...]]:
@@ -52,9 +55,12 @@ _PARAMS = [
 
 
 @pytest.mark.parametrize("case", _PARAMS)
-def test_golden(case: Case, tmp_path: Path, request: pytest.FixtureRequest) -> None:
+def test_golden(
+    case: Case, tmp_path: Path, request: pytest.FixtureRequest, monkeypatch: pytest.MonkeyPatch
+) -> None:
     from ptailor.cli.main import cli
 
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", SOURCE_DATE_EPOCH)
     garment, extra = _garment(case, tmp_path)
     out = tmp_path / "out"
     args = ["adjust", str(garment), str(RECIPES / case.recipe), "-o", str(out), *extra]
