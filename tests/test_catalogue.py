@@ -148,6 +148,19 @@ def test_batch_html_shows_every_garment_its_status_reason_and_gates(tmp_path, ga
     assert "pattern.svg" in garment.refs and "../index.html" in garment.refs
     assert "report.json" in garment.refs and "pattern.dxf" in garment.refs
     check_output_dir(tube)  # a later run may replace the folder whole
+    # what the gates rejected is kept for review, not as the garment's folder
+    assert not (out / "a_sleeve").exists()
+    rejected = out / "_rejected" / "a_sleeve"
+    assert {"pattern.svg", "report.json", "index.html", "thumbnail.png"} <= set(
+        read_marker(rejected)
+    )
+    assert page.rows[0]["data-status"] == "failed"
+    assert "_rejected/a_sleeve/index.html" in page.refs
+    assert "_rejected/d_%3Cb%3E%26%22skirt%27/index.html" in page.refs
+    kept = assert_links_resolve(rejected / "index.html")
+    assert "../../index.html" in kept.refs and "../../_catalogue/catalogue.css" in kept.refs
+    assert "Rejected by the quality gates" in " ".join(kept.text)
+    assert json.loads((rejected / "report.json").read_text())["panels"]
 
 
 @pytest.mark.slow
@@ -191,6 +204,13 @@ def test_rerun_keeps_every_row_and_the_folder_can_move(tmp_path, garments, recip
     r = run("batch", recipe, garments, "-o", out, "-j", "1", "--html", "--force", *GATES)
     assert r.exit_code == 1 and "output folder holds" not in r.output
     assert [row["data-status"] for row in Page(out / "index.html").rows][1] == "ok"
+    # without the gates the rejected garments pass: what was kept of them goes
+    assert (out / "_rejected" / "a_sleeve").is_dir()
+    r = run("batch", recipe, garments, "-o", out, "-j", "1", "--html")
+    assert [row["data-status"] for row in Page(out / "index.html").rows] == [
+        "ok", "skipped", "failed", "ok"
+    ]  # fmt: skip
+    assert not (out / "_rejected").exists() and (out / "a_sleeve" / "index.html").is_file()
     moved = tmp_path / "elsewhere" / "catalogue"
     shutil.move(str(out), str(moved))
     assert_links_resolve(moved / "index.html")

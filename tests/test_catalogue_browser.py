@@ -139,7 +139,8 @@ def _check_pictures_and_links(browser, page: Path) -> None:
         parts = urlsplit(href)
         assert parts.scheme == "file", href
         assert Path(unquote(parts.path)).is_file(), f"{page}: {href} resolves to nothing"
-        assert Path(unquote(parts.path)).resolve().is_relative_to(page.parent.parent.resolve())
+        root = next(q for q in page.parents if (q / "_catalogue").is_dir())  # the batch's
+        assert Path(unquote(parts.path)).resolve().is_relative_to(root.resolve())
 
 
 def test_the_catalogue_page_in_chromium(browser, batch_out, tmp_path):
@@ -148,7 +149,8 @@ def test_the_catalogue_page_in_chromium(browser, batch_out, tmp_path):
     assert _statuses(browser) == ["failed", "ok", "failed", "failed", "failed"]
     assert browser.find_element("id", "controls").is_displayed()  # the script ran
     _check_pictures_and_links(browser, page)
-    assert len(browser.find_elements("css selector", "td.thumb img")) == 1  # the tube's
+    # the tube's, and the three the gates rejected (kept for review)
+    assert len(browser.find_elements("css selector", "td.thumb img")) == 4
     names = [e.text for e in browser.find_elements("css selector", "td.garment .name")]
     assert "d_<b>&\"skirt'" in names  # HTML's special characters shown as text
 
@@ -275,7 +277,9 @@ def test_the_shared_garments_catalogue(shared_out):
         assert all(p["name"] in shown for p in report["panels"])
         assert all(s["name"] in shown for s in report["seams"])
         assert "shorten" in shown and "achieved" in shown
-    assert not (shared_out / "tee6_sim").exists()  # a gate's failure writes no folder
+    assert not (shared_out / "tee6_sim").exists()  # a gate's failure writes no folder,
+    kept = assert_links_resolve(shared_out / "_rejected" / "tee6_sim" / "index.html")
+    assert "pattern.svg" in kept.refs  # but what it rejected is kept for review
 
 
 def test_the_shared_garments_catalogue_sorted_in_chromium(browser, shared_out, tmp_path):
@@ -285,9 +289,12 @@ def test_the_shared_garments_catalogue_sorted_in_chromium(browser, shared_out, t
     first = _rows(browser)[0].text
     assert "tee6_sim" in first and "area change" in first
     _check_pictures_and_links(browser, shared_out / "index.html")
-    assert len(browser.find_elements("css selector", "td.thumb img")) == 3
+    assert len(browser.find_elements("css selector", "td.thumb img")) == 4
     _no_console_errors(browser)
-    for name in ("tshirt", "dress_initial"):
+    _rows(browser)[0].find_element("css selector", "a.name").click()  # the rejected tee
+    assert browser.current_url == (shared_out / "_rejected/tee6_sim/index.html").as_uri()
+    assert "Rejected by the quality gates" in browser.find_element("tag name", "body").text
+    for name in ("_rejected/tee6_sim", "tshirt", "dress_initial"):
         _open(browser, shared_out / name / "index.html")
         _check_pictures_and_links(browser, shared_out / name / "index.html")
         _no_console_errors(browser)

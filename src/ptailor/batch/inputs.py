@@ -16,8 +16,10 @@ _GLOB_CHARS = re.compile(r"[*?\[]")
 #: a batch catalogue's page and its own folder in OUT (``batch --html``, ``ptailor report``)
 CATALOGUE_PAGE = "index.html"
 CATALOGUE_DIR = "_catalogue"
+#: where a catalogue's batch keeps what its quality gates rejected: ``OUT/_rejected/NAME``
+REJECTED_DIR = "_rejected"
 #: names a garment's folder never takes: they are the catalogue's
-RESERVED_NAMES = frozenset({CATALOGUE_PAGE, CATALOGUE_DIR})
+RESERVED_NAMES = frozenset({CATALOGUE_PAGE, CATALOGUE_DIR, REJECTED_DIR})
 
 
 def expand_garments(

@@ -22,7 +22,7 @@ from typing import Any
 
 from ptailor import tolerances
 from ptailor.batch.gates import GateFailedError, Gates, broken_gates, gate_failures
-from ptailor.batch.inputs import drape_for, output_names
+from ptailor.batch.inputs import REJECTED_DIR, drape_for, output_names
 from ptailor.batch.manifest import ManifestRow, as_rows
 from ptailor.batch.records import RECORD_KEYS, key_numbers
 from ptailor.batch.stamp import STAMP, inputs_digest, make_stamp, recipe_digest, up_to_date
@@ -61,6 +61,9 @@ class GarmentJob:
         manifest's ``drape``), read and stamped with it; ``drape`` is the path as shown.
     timeout : float or None
         Seconds the garment may take in its worker process (``failure: timeout`` past it).
+    rejected_abs : str or None
+        Where the garment's outputs go when a quality gate rejects them (``batch --html``:
+        ``OUT/_rejected/NAME``, for the catalogue to show); None: nowhere.
     """
 
     index: int
@@ -77,6 +80,7 @@ class GarmentJob:
     drape_abs: str | None = None
     timeout: float | None = None
     drape: str | None = None
+    rejected_abs: str | None = None
 
     def record(self, status: str, **values: Any) -> dict:
         """A record for this garment with every key of :data:`RECORD_KEYS`."""
@@ -116,6 +120,7 @@ def make_jobs(
     gates: Gates | None = None,
     force: bool = False,
     timeout: float | None = None,
+    keep_rejected: bool = False,
 ) -> list[GarmentJob]:
     """One :class:`GarmentJob` per garment, output folders named by
     :func:`~ptailor.batch.inputs.output_names`.
@@ -134,6 +139,8 @@ def make_jobs(
         Every garment's options (the command line's).
     gates, force, timeout
         As :class:`GarmentJob`'s.
+    keep_rejected : bool
+        Keep what the gates reject in ``OUT/_rejected/NAME`` (:data:`REJECTED_DIR`).
 
     Returns
     -------
@@ -164,6 +171,7 @@ def make_jobs(
                 drape_abs=None if drape is None else os.path.abspath(drape),
                 timeout=timeout,
                 drape=drape,
+                rejected_abs=str(out_abs / REJECTED_DIR / name) if keep_rejected else None,
             )
         )
     return jobs
@@ -366,6 +374,7 @@ def _run_job(job: GarmentJob) -> dict:
             drape=job.drape_abs,
             display_inputs=shown,
             extra_files={STAMP: json.dumps(stamp, indent=2) + "\n"},
+            divert=(GateFailedError, job.rejected_abs) if job.rejected_abs else None,
         ) as report:  # the gates judge the report before the folder is put in place
             probs = gate_failures(report, job.gates)
             if probs:

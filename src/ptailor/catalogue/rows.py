@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ptailor.batch.inputs import CATALOGUE_DIR, CATALOGUE_PAGE, RESERVED_NAMES
+from ptailor.batch.inputs import CATALOGUE_DIR, CATALOGUE_PAGE, REJECTED_DIR, RESERVED_NAMES
 from ptailor.batch.records import RECORD_KEYS, is_record, key_numbers
 from ptailor.batch.stamp import STAMP
 from ptailor.errors import PtailorError
@@ -77,16 +77,33 @@ class Row:
         The folder, where the garment has one (a failed garment has none).
     report : dict or None
         Its ``report.json``.
+    rejected : bool
+        The folder is what the quality gates rejected (``OUT/_rejected/NAME``).
     """
 
     record: dict
     name: str
     folder: Path | None = None
     report: dict | None = field(default=None, repr=False)
+    rejected: bool = False
 
     @property
     def status(self) -> str:
         return str(self.record.get("status"))
+
+    @property
+    def parts(self) -> tuple[str, ...]:
+        """The folder's path under OUT, as parts (a relative link's)."""
+        return (REJECTED_DIR, self.name) if self.rejected else (self.name,)
+
+    @property
+    def earlier_folder(self) -> bool:
+        """The folder is not this record's run's output (an earlier run's, kept)."""
+        return (
+            self.folder is not None
+            and not self.rejected
+            and self.status not in ("ok", "skipped", "earlier")
+        )
 
 
 def read_json(path: Path) -> Any:
@@ -203,6 +220,26 @@ def _folder_record(folder: Path, report: dict, index: int) -> dict:
     return rec
 
 
+def _output(folder: Path) -> dict | None:
+    """The report of a ptailor output folder (a marker and a ``report.json``), else None."""
+    if not folder.is_dir() or read_marker(folder) is None:
+        return None
+    report = read_json(folder / "report.json")
+    return report if isinstance(report, dict) else None
+
+
+def _record_row(out: Path, r: dict) -> Row:
+    """The row of a record: its folder, or for a gate's failure what the gates rejected
+    (``OUT/_rejected/NAME``), else an earlier run's folder kept."""
+    name = Path(str(r.get("out") or r.get("garment") or "garment")).name
+    if r.get("failure") == "gate":
+        report = _output(out / REJECTED_DIR / name)
+        if report is not None:
+            return Row(r, name, out / REJECTED_DIR / name, report, rejected=True)
+    report = _output(out / name)
+    return Row(r, name, out / name if report else None, report)
+
+
 def catalogue_rows(out: str | Path, records: list[dict]) -> list[Row]:
     """The catalogue's rows: ``records`` in their order, then the garment folders under
     ``out`` that no record names (status ``earlier``).
@@ -212,23 +249,16 @@ def catalogue_rows(out: str | Path, records: list[dict]) -> list[Row]:
     out : str or Path
         The batch's output root.
     records : list of dict
-        A batch's records (a record's folder is ``out / basename(record["out"])``).
+        A batch's records (a record's folder is ``out / basename(record["out"])``; a gate's
+        failure shows what the gates rejected, ``out / "_rejected" / basename``, if kept).
 
     Returns
     -------
     list of Row
     """
     out = Path(out)
-    rows, named = [], set()
-    for r in records:
-        name = Path(str(r.get("out") or r.get("garment") or "garment")).name
-        named.add(name)
-        folder = out / name
-        report = None
-        if r.get("status") in ("ok", "skipped") or (folder / "report.json").is_file():
-            report = read_json(folder / "report.json") if folder.is_dir() else None
-        has = isinstance(report, dict) and read_marker(folder) is not None
-        rows.append(Row(r, name, folder if has else None, report if has else None))
+    rows = [_record_row(out, r) for r in records]
+    named = {row.name for row in rows}
     for folder in garment_folders(out):
         if folder.name in named:
             continue
@@ -237,3 +267,16 @@ def catalogue_rows(out: str | Path, records: list[dict]) -> list[Row]:
             rec = _folder_record(folder, report, len(rows) + 1)
             rows.append(Row(rec, folder.name, folder, report))
     return rows
+
+
+def stale_rejected(out: str | Path, records: list[dict]) -> list[Path]:
+    """Rejected folders (``OUT/_rejected/NAME``) of garments whose record is no longer a
+    gate's failure (they pass now, or failed otherwise): to be removed."""
+    out = Path(out)
+    stale = []
+    for r in records:
+        name = Path(str(r.get("out") or "")).name
+        folder = out / REJECTED_DIR / name
+        if name and r.get("failure") != "gate" and _output(folder) is not None:
+            stale.append(folder)
+    return stale

@@ -8,6 +8,7 @@ self-contained: relative links only, nothing from outside the folder.
 
 from __future__ import annotations
 
+import contextlib
 import os
 from importlib import resources
 from pathlib import Path
@@ -17,15 +18,23 @@ from ptailor.catalogue.pages import GENERATOR, environment, garment_view, index_
 from ptailor.catalogue.rows import (
     CATALOGUE_DIR,
     INDEX,
+    REJECTED_DIR,
     SAVED,
     Row,
     Summary,
     catalogue_rows,
     saved_text,
+    stale_rejected,
 )
 from ptailor.catalogue.thumbnails import PREVIEW, THUMBNAIL, thumbnails
 from ptailor.errors import PtailorError
-from ptailor.run.folder import add_files, check_output_dir, staged_dir
+from ptailor.run.folder import (
+    add_files,
+    check_output_dir,
+    check_replaceable,
+    read_marker,
+    staged_dir,
+)
 
 #: the catalogue's static files, copied into :data:`CATALOGUE_DIR`
 STATIC = ("catalogue.css", "catalogue.js")
@@ -59,6 +68,20 @@ def check_catalogue_target(out: str | Path) -> None:
     folder = out / CATALOGUE_DIR
     if os.path.lexists(folder):
         check_output_dir(folder)
+    rejected = out / REJECTED_DIR
+    if os.path.lexists(rejected):
+        foreign = [] if rejected.is_dir() and not rejected.is_symlink() else [rejected]
+        if not foreign:
+            foreign = [
+                p for p in rejected.iterdir()
+                if not p.name.startswith(".") and (not p.is_dir() or read_marker(p) is None)
+            ]  # fmt: skip
+        if foreign:
+            raise PtailorError(
+                "holds what ptailor did not write (a batch keeps rejected garments there); "
+                "move it or choose another output root",
+                path=str(foreign[0]),
+            )
 
 
 def _garment_files(row: Row, thumbnail, *, title: str, env, warn) -> None:
@@ -75,6 +98,19 @@ def _garment_files(row: Row, thumbnail, *, title: str, env, warn) -> None:
         add_files(row.folder, files)
     except PtailorError as exc:
         warn(f"no page for {row.name}: {exc}")
+
+
+def _remove_output(folder: Path, warn) -> None:
+    """Remove a ptailor output folder (only one that holds nothing else)."""
+    import shutil
+
+    try:
+        check_replaceable(folder, str(folder))
+        shutil.rmtree(folder)
+        with contextlib.suppress(OSError):
+            folder.parent.rmdir()  # (only when empty)
+    except (OSError, PtailorError) as exc:
+        warn(f"{folder}: left in place ({exc})")
 
 
 def _replace_page(path: Path, text: str) -> None:
@@ -129,6 +165,8 @@ def write_catalogue(
     title = title or f"ptailor catalogue: {out.resolve().name}"
     warn = warn or (lambda msg: None)
     env = environment()
+    for folder in stale_rejected(out, records):  # the garment passes now
+        _remove_output(folder, warn)
     rows = catalogue_rows(out, records)
     made = thumbnails([row.folder for row in rows if row.folder is not None])
     for row in rows:  # a loop over garments: each writes its own folder

@@ -402,13 +402,18 @@ def _commit(tmp: Path, real: Path, shown: str) -> None:
 
 
 @contextmanager
-def staged_dir(out: str | Path):
+def staged_dir(out: str | Path, *, divert: tuple[type[BaseException], str | Path] | None = None):
     """Yield a temporary folder beside ``out``; on success it replaces ``out`` atomically.
 
     On any exception (``KeyboardInterrupt`` and the SIGTERM the CLI turns into one too)
     the temporary folder is removed and ``out`` is left as it was; an ``OSError`` becomes
     a :class:`PtailorError` naming ``out`` (never the staging folder). A symbolic link
     ``out`` is followed (:func:`check_output_dir`); the marker is written last.
+
+    ``divert``: ``(exception type, folder)``: an exception of that type puts the staged
+    folder at ``folder`` instead (replacing it whole under the same rules; ``out`` is left
+    as it was) before it goes on: a batch keeps a garment its quality gates rejected there,
+    for review. Where that cannot be written the folder is removed, as for any exception.
     """
     shown = str(out)
     out = Path(out)
@@ -430,6 +435,8 @@ def staged_dir(out: str | Path):
             if isinstance(exc, OSError):
                 raise _os_error(exc, shown, "cannot create the output folder") from None
             raise
+        if divert is not None and isinstance(exc, divert[0]) and _diverted(tmp, divert[1]):
+            raise
         with deferred_signals():
             shutil.rmtree(tmp, ignore_errors=True)
             if not real.exists():
@@ -442,6 +449,23 @@ def staged_dir(out: str | Path):
     finally:
         if hold is not None:
             os.close(hold)
+
+
+def _diverted(tmp: Path, folder: str | Path) -> bool:
+    """Put the staged folder ``tmp`` at ``folder`` (see :func:`staged_dir`'s ``divert``);
+    False where it cannot be (the caller removes it)."""
+    shown = str(folder)
+    try:
+        real = _real(Path(folder), shown)
+        if real.exists():
+            check_replaceable(real, shown)
+        real.parent.mkdir(parents=True, exist_ok=True)
+        if real.parent.stat().st_dev != tmp.stat().st_dev:
+            return False  # (a rename cannot cross file systems)
+        _commit(tmp, real, shown)
+    except (OSError, PtailorError):
+        return False
+    return True
 
 
 def write_json(path: Path, data: Mapping) -> None:

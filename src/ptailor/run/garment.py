@@ -93,6 +93,7 @@ def staged_run(
     display_inputs: dict[str, str] | None = None,
     extra_files: dict[str, str] | None = None,
     progress: Progress | None = None,
+    divert: tuple[type[BaseException], str | Path] | None = None,
 ) -> Iterator[Report]:
     """Load, adjust and stage one garment; yield the report before ``out`` is put in place.
 
@@ -120,6 +121,10 @@ def staged_run(
     progress : callable, optional
         ``progress(stage, iteration, residual)`` (:func:`ptailor.pipeline.adjustment`'s,
         and ``("read", 0, None)``, ``("write", 0, None)``): a progress line's feed.
+    divert : (exception type, folder), optional
+        An exception of that type raised in the ``with`` block puts the complete folder
+        (its ``report.json`` too) at ``folder`` instead of ``out``
+        (:func:`~ptailor.run.folder.staged_dir`): a batch's garments its gates rejected.
 
     Yields
     ------
@@ -160,7 +165,12 @@ def staged_run(
             library_warnings=library,
         )
         with _staged_folder(
-            out, staged, shown=shown, display=display_inputs or {}, extra_files=extra_files
+            out,
+            staged,
+            shown=shown,
+            display=display_inputs or {},
+            extra_files=extra_files,
+            divert=divert,
         ) as report:
             yield report
 
@@ -286,12 +296,13 @@ def _staged_folder(
     shown: str,
     display: dict[str, str],
     extra_files: dict[str, str] | None,
+    divert: tuple[type[BaseException], str | Path] | None = None,
 ) -> Iterator[dict]:
     """Write the outputs and the extra files into a staging folder, yield the report, then
     write ``report.json`` and put the folder in place as ``out`` (``shown``: the garment an
     error names; ``display``: role to the path the report shows)."""
     adj, ctx, options = staged.adj, staged.ctx, staged.options
-    with staged_dir(out) as tmp:
+    with staged_dir(out, divert=divert) as tmp:
         written = write_outputs(tmp, adj, ctx, options.formats)
         if staged.redrapes is not None:
             written += _write_redrapes(tmp, staged)
@@ -322,7 +333,12 @@ def _staged_folder(
         )
         report = without_negative_zeros(report)
         check_finite_report(report, path=shown)
-        yield report
+        diverted: tuple[type[BaseException], ...] = (divert[0],) if divert is not None else ()
+        try:
+            yield report
+        except diverted:  # a diverted folder is complete: its report too
+            write_json(tmp / "report.json", report)
+            raise
         write_json(tmp / "report.json", report)
 
 
