@@ -627,3 +627,44 @@ def test_a_signal_outside_the_command_ends_with_its_one_line(finished, says):
     assert r.returncode == 128 + signal.SIGTERM
     when = "after the command finished" if finished else "before the command started"
     assert r.stderr.strip() == f"ptailor: interrupted (SIGTERM) {when}: {says}"
+
+
+class _RejectedError(Exception):
+    pass
+
+
+def test_a_diverted_folder_goes_elsewhere_whole_and_out_stays(tmp_path):
+    """``staged_dir(divert=...)``: the exception named puts the staged folder at the other
+    place (its marker written), ``out`` untouched; another exception removes it; a foreign
+    folder in the way is never replaced (the staged one is removed)."""
+    from ptailor.run.folder import add_files, staged_dir
+
+    out, elsewhere = tmp_path / "out", tmp_path / "_rejected" / "out"
+    with staged_dir(out) as tmp:
+        (tmp / "a.txt").write_text("first\n")
+    with pytest.raises(_RejectedError), staged_dir(out, divert=(_RejectedError, elsewhere)) as tmp:
+        (tmp / "a.txt").write_text("rejected\n")
+        raise _RejectedError
+    assert (out / "a.txt").read_text() == "first\n"
+    assert (elsewhere / "a.txt").read_text() == "rejected\n"
+    assert read_marker(elsewhere) == ["a.txt"]
+    with pytest.raises(ValueError), staged_dir(out, divert=(_RejectedError, elsewhere)) as tmp:
+        (tmp / "a.txt").write_text("broken\n")
+        raise ValueError
+    assert (elsewhere / "a.txt").read_text() == "rejected\n"  # not diverted: removed
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "notes.txt").write_text("mine\n")
+    with pytest.raises(_RejectedError), staged_dir(out, divert=(_RejectedError, mine)) as tmp:
+        (tmp / "a.txt").write_text("rejected\n")
+        raise _RejectedError
+    assert sorted(p.name for p in mine.iterdir()) == ["notes.txt"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["_rejected", "mine", "out"]
+    # files added to an output folder are its marker's: it stays replaceable
+    add_files(out, {"page.html": b"<p>\n"})
+    assert read_marker(out) == ["a.txt", "page.html"]
+    with staged_dir(out) as tmp:
+        (tmp / "b.txt").write_text("second\n")
+    assert sorted(p.name for p in out.iterdir()) == [MARKER, "b.txt"]
+    with pytest.raises(Exception, match=r"no \.ptailor marker"):
+        add_files(mine, {"page.html": b"<p>\n"})
