@@ -363,3 +363,18 @@ def test_a_batch_without_pictures_still_has_its_pages(tmp_path, garments, recipe
     assert "No pattern picture was written (--formats)." in page.text
     assert not (out / "b_tube" / "thumbnail.png").exists()
     assert "-" in Page(out / "b_tube" / "index.html").text  # no baseline: its column empty
+
+
+@pytest.mark.slow
+def test_names_a_url_would_misread_still_link(tmp_path, recipe):
+    """``#``, ``?``, spaces and non-ASCII letters in a garment's name: quoted links that
+    resolve, on the index and on the garment's page."""
+    cat = tmp_path / "cat"
+    cat.mkdir()
+    write_garment(cat / "manche #1? évasée 中.obj", cylinder(n_around=12, n_along=4))
+    out = tmp_path / "out"
+    r = run("batch", recipe, cat, "-o", out, "-j", "1", "--html")
+    assert r.exit_code == 0, r.output
+    index = assert_links_resolve(out / "index.html")
+    assert "manche%20%231%3F%20%C3%A9vas%C3%A9e%20%E4%B8%AD/index.html" in index.refs
+    assert_links_resolve(out / "manche #1? évasée 中" / "index.html")
