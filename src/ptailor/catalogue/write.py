@@ -33,6 +33,7 @@ from ptailor.run.folder import (
     check_output_dir,
     check_replaceable,
     read_marker,
+    replace_file,
     staged_dir,
 )
 
@@ -113,16 +114,6 @@ def _remove_output(folder: Path, warn) -> None:
         warn(f"{folder}: left in place ({exc})")
 
 
-def _replace_page(path: Path, text: str) -> None:
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        tmp.write_text(text, encoding="utf-8")
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-
-
 def write_catalogue(
     out: str | Path,
     records: list[dict],
@@ -180,7 +171,7 @@ def write_catalogue(
     view = index_view(rows, summary, title=title, version=__version__)
     page = out / INDEX
     try:
-        _replace_page(page, env.get_template("index.html").render(view))
+        replace_file(page, env.get_template("index.html").render(view).encode())
     except OSError as exc:
         why = exc.strerror or str(exc)
         raise PtailorError(f"cannot write the catalogue ({why})", path=str(page)) from None

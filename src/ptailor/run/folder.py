@@ -496,14 +496,15 @@ def add_files(folder: str | Path, files: Mapping[str, bytes]) -> None:
             raise PtailorError(f"not a file name an output folder can hold: {name!r}")
     try:
         for name, data in files.items():
-            _replace_bytes(folder / name, data)
-        _replace_bytes(folder / MARKER, marker_text({*listed, *files}).encode())
+            replace_file(folder / name, data)
+        replace_file(folder / MARKER, marker_text({*listed, *files}).encode())
     except OSError as exc:
         raise _os_error(exc, str(folder)) from None
 
 
-def _replace_bytes(path: Path, data: bytes) -> None:
-    """``path`` holds ``data``: written to a hidden file beside it, then moved into place."""
+def replace_file(path: Path, data: bytes) -> None:
+    """``path`` holds ``data``: written to a hidden file beside it, then moved into place
+    (a reader never sees half a file; the hidden file is removed if the write fails)."""
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     try:
         tmp.write_bytes(data)
