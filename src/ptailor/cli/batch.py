@@ -249,7 +249,7 @@ def batch(
 
     _check_arguments(
         recipe, garments, manifest, timeout=timeout, scheduler=scheduler, gates=gates,
-        verify=verify, spec=spec,
+        verify=verify, spec=spec, html_out=out if html else None,
     )  # fmt: skip
     check_engine_first(verify)  # (before any file is read)
     rec = load_recipe(recipe)
@@ -272,17 +272,11 @@ def batch(
         verify_max_steps=verify_max_steps,
         spec=spec,
     )
-    if html:
-        from ptailor.catalogue import check_catalogue_target
-
-        check_catalogue_target(out)  # (exit 2 before anything runs)
     paths = _garment_paths(ctx, garments, manifest, out)
     if log:
         _check_log(log, paths, recipe, manifest)
-    todo = make_jobs(
-        paths, out, rec, options=options, gates=gates, force=force, timeout=timeout,
-        keep_rejected=html,
-    )  # fmt: skip
+    todo = make_jobs(paths, out, rec, options=options, gates=gates, force=force,
+                     timeout=timeout, keep_rejected=html)  # fmt: skip
     bar = not quiet and sys.stderr.isatty()
     workers = jobs or os.cpu_count() or 1
     result = _run(todo, workers=workers, scheduler=scheduler, log=log, as_json=as_json, bar=bar)
@@ -317,9 +311,19 @@ def _catalogue(out: str, result, recipe, *, quiet: bool) -> None:
 
 
 def _check_arguments(
-    recipe: str, garments, manifest, *, timeout, scheduler, gates, verify: bool, spec
+    recipe: str,
+    garments,
+    manifest,
+    *,
+    timeout,
+    scheduler,
+    gates,
+    verify: bool,
+    spec,
+    html_out: str | None = None,
 ) -> None:
-    """Refuse arguments that do not go together (exit 2, before any file is read)."""
+    """Refuse arguments that do not go together (exit 2, before any garment is read), and
+    with ``--html`` (``html_out``: OUT) a catalogue page in OUT that is not ptailor's."""
     import os
 
     from ptailor.errors import PtailorError
@@ -341,6 +345,10 @@ def _check_arguments(
         raise PtailorError("--max-spec-fit needs --spec (it judges the written specification)")
     if spec not in (None, "auto") and not os.path.isfile(spec):  # one for every garment
         raise PtailorError("no such file (--spec; auto takes each garment's own)", path=spec)
+    if html_out is not None:
+        from ptailor.catalogue import check_catalogue_target
+
+        check_catalogue_target(html_out)
 
 
 def _garment_paths(ctx: click.Context, garments, manifest, out) -> list:

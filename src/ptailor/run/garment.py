@@ -138,41 +138,53 @@ def staged_run(
     shown = (display_inputs or {}).get("garment", garment)  # the garment errors name
     # the library's warnings (numpy, ezdxf, ...) of this run, for the report's warnings
     with capture_library_warnings() as library:
-        t0 = time.perf_counter()
-        if progress is not None:
-            progress("read", 0, None)
-        inputs = _read_inputs(garment, drape, recipe, options, spec_file=spec_file, shown=shown)
-        t1 = time.perf_counter()
-        edits = inputs.edits
-        adj = _adjustment(
-            inputs.loaded.garment, recipe, options, edits, shown=shown, progress=progress
-        )
-        errors, reference = _checked_errors(adj, shown=shown)
-        timing = {"load": t1 - t0, **adj.timing_s}
-        redrapes = _redrapes(adj, edits, options, timing=timing, progress=progress)
-        t3 = time.perf_counter()
-        if progress is not None:
-            progress("write", 0, None)
-        staged = _Staged(
-            adj,
-            _output_context(adj, inputs, errors, garment=garment, recipe=recipe, options=options),
-            options,
-            timing=timing,
-            start=t3,
-            redrapes=redrapes,
-            inputs=inputs,
-            reference=reference,
-            library_warnings=library,
-        )
+        staged = _stage(
+            garment, drape, recipe, options, spec_file=spec_file, shown=shown,
+            progress=progress, library=library,
+        )  # fmt: skip
         with _staged_folder(
-            out,
-            staged,
-            shown=shown,
-            display=display_inputs or {},
-            extra_files=extra_files,
+            out, staged, shown=shown, display=display_inputs or {}, extra_files=extra_files,
             divert=divert,
-        ) as report:
+        ) as report:  # fmt: skip
             yield report
+
+
+def _stage(
+    garment: str,
+    drape: str | None,
+    recipe: Recipe,
+    options: RunOptions,
+    *,
+    spec_file: str | None,
+    shown: str,
+    progress: Progress | None,
+    library: list[str],
+) -> _Staged:
+    """Read the inputs, adjust, re-drape (``--verify``): everything a folder is written from."""
+    t0 = time.perf_counter()
+    if progress is not None:
+        progress("read", 0, None)
+    inputs = _read_inputs(garment, drape, recipe, options, spec_file=spec_file, shown=shown)
+    t1 = time.perf_counter()
+    edits = inputs.edits
+    adj = _adjustment(inputs.loaded.garment, recipe, options, edits, shown=shown, progress=progress)
+    errors, reference = _checked_errors(adj, shown=shown)
+    timing = {"load": t1 - t0, **adj.timing_s}
+    redrapes = _redrapes(adj, edits, options, timing=timing, progress=progress)
+    t3 = time.perf_counter()
+    if progress is not None:
+        progress("write", 0, None)
+    return _Staged(
+        adj,
+        _output_context(adj, inputs, errors, garment=garment, recipe=recipe, options=options),
+        options,
+        timing=timing,
+        start=t3,
+        redrapes=redrapes,
+        inputs=inputs,
+        reference=reference,
+        library_warnings=library,
+    )
 
 
 def _redrapes(
