@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+from collections.abc import Callable
 from importlib import resources
 from pathlib import Path
 
@@ -120,7 +121,7 @@ def write_catalogue(
     summary: Summary | None = None,
     *,
     title: str | None = None,
-    warn=None,
+    warn: Callable[[str], None] | None = None,
 ) -> Path:
     """Write the catalogue of ``out``: its page, each garment's page and thumbnail.
 
