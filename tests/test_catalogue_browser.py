@@ -182,6 +182,15 @@ def test_the_catalogue_page_in_chromium(browser, batch_out, tmp_path):
     assert len([r for r in _rows(browser) if r.is_displayed()]) == 3
     Select(browser.find_element("id", "filter-gate")).select_by_value("")
     assert len([r for r in _rows(browser) if r.is_displayed()]) == 5
+    box = browser.find_element("id", "filter-name")
+    box.send_keys("SLEEVE")  # a part of the name, any case
+    assert [r.get_attribute("data-status") for r in _rows(browser) if r.is_displayed()] == [
+        "failed", "failed"
+    ]  # fmt: skip
+    box.clear()
+    box.send_keys("x")  # (clear() fires no input event: type again)
+    box.send_keys("\b")
+    assert len([r for r in _rows(browser) if r.is_displayed()]) == 5
     _no_console_errors(browser)
     shot = tmp_path / "catalogue.png"
     browser.save_screenshot(str(shot))

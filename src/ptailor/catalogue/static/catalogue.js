@@ -1,4 +1,4 @@
-// ptailor catalogue: sort the garments' table by a column, filter it by status and gate.
+// ptailor catalogue: sort the garments' table by a column, filter it by status, gate, name.
 // The project's own script, no library; the page works without it (input order, all rows).
 "use strict";
 (function () {
@@ -8,6 +8,7 @@
   var heads = Array.prototype.slice.call(table.tHead.rows[0].cells);
   var status = document.getElementById("filter-status");
   var gate = document.getElementById("filter-gate");
+  var name = document.getElementById("filter-name");
   var count = document.getElementById("shown-count");
 
   function position(row) { return Number(row.cells[0].getAttribute("data-sort")); }
@@ -39,10 +40,12 @@
   }
 
   function filter() {
-    var s = status.value, g = gate.value, shown = 0;
+    var s = status.value, g = gate.value, n = name.value.trim().toLowerCase(), shown = 0;
     Array.prototype.forEach.call(tbody.rows, function (row) {
       var gates = (row.getAttribute("data-gates") || "").split(" ");
-      var keep = (!s || row.getAttribute("data-status") === s) && (!g || gates.indexOf(g) >= 0);
+      var text = row.cells[1].textContent.toLowerCase();  // the name, path and note
+      var keep = (!s || row.getAttribute("data-status") === s) &&
+        (!g || gates.indexOf(g) >= 0) && (!n || text.indexOf(n) >= 0);
       row.hidden = !keep;
       if (keep) { shown += 1; }
     });
@@ -55,6 +58,7 @@
   });
   status.addEventListener("change", filter);
   gate.addEventListener("change", filter);
+  name.addEventListener("input", filter);
   document.getElementById("controls").hidden = false;
   filter();
 })();
