@@ -204,9 +204,11 @@ def test_rerun_keeps_every_row_and_the_folder_can_move(tmp_path, garments, recip
     r = run("batch", recipe, garments, "-o", out, "-j", "1", "--html", "--force", *GATES)
     assert r.exit_code == 1 and "output folder holds" not in r.output
     assert [row["data-status"] for row in Page(out / "index.html").rows][1] == "ok"
-    # without the gates the rejected garments pass: what was kept of them goes
+    # without the gates the rejected garments pass: what was kept of them goes (and the
+    # catalogue is kept current without --html: OUT has one)
     assert (out / "_rejected" / "a_sleeve").is_dir()
-    r = run("batch", recipe, garments, "-o", out, "-j", "1", "--html")
+    r = run("batch", recipe, garments, "-o", out, "-j", "1")
+    assert f"catalogue: {out / 'index.html'}" in r.stderr
     assert [row["data-status"] for row in Page(out / "index.html").rows] == [
         "ok", "skipped", "failed", "ok"
     ]  # fmt: skip

@@ -201,7 +201,8 @@ to finish).
     is_flag=True,
     help="Write OUT/index.html after the run: the catalogue, a row per garment (status, "
     "reason, thumbnail, numbers; sortable, filterable) and a page per garment "
-    "(OUT/NAME/index.html). Rewritten after every run; 'ptailor report OUT' rewrites it.",
+    "(OUT/NAME/index.html; what a gate rejected is kept in OUT/_rejected/NAME). Once OUT "
+    "has one, every batch into OUT rewrites it; so does 'ptailor report OUT'.",
 )
 @gate_options
 @click.pass_context
@@ -247,6 +248,7 @@ def batch(
     from ptailor.recipe import load_recipe
     from ptailor.run.options import RunOptions
 
+    html = html or _has_catalogue(out)  # a catalogue once made is kept current
     _check_arguments(
         recipe, garments, manifest, timeout=timeout, scheduler=scheduler, gates=gates,
         verify=verify, spec=spec, html_out=out if html else None,
@@ -284,6 +286,15 @@ def batch(
     if html:
         _catalogue(out, result, rec, quiet=quiet)
     ctx.exit(result.exit_status)
+
+
+def _has_catalogue(out: str) -> bool:
+    """Whether OUT holds a catalogue page ptailor wrote (then every batch rewrites it)."""
+    from pathlib import Path
+
+    from ptailor.catalogue.write import is_catalogue_page
+
+    return is_catalogue_page(Path(out) / "index.html")
 
 
 def _catalogue(out: str, result, recipe, *, quiet: bool) -> None:
