@@ -105,11 +105,11 @@ def seam_mismatch(seam: dict) -> float | None:
     return None if mis is None else abs(mis)
 
 
-def verify_panels(report: dict) -> dict | None:
-    """The re-drape check's panels for the adjusted pattern (``verify.ours.panels``), or
-    None when the report has none."""
+def verify_panels(report: dict, which: str = "ours") -> dict | None:
+    """The re-drape check's panels for the adjusted pattern (``verify.ours.panels``; or
+    ``which`` re-drape's: ``baseline``, ``original``), or None when the report has none."""
     sec = report.get("verify")
-    ours = sec.get("ours") if isinstance(sec, dict) else None
+    ours = sec.get(which) if isinstance(sec, dict) else None
     panels = ours.get("panels") if isinstance(ours, dict) else None
     return panels if isinstance(panels, dict) else None
 

@@ -13,7 +13,14 @@ from pathlib import Path
 from typing import Any
 from urllib.parse import quote
 
-from ptailor.batch.gates import GATE_OPTIONS, area_change, p95, seam_mismatch
+from ptailor.batch.gates import (
+    GATE_OPTIONS,
+    area_change,
+    p95,
+    seam_mismatch,
+    verify_number,
+    verify_panels,
+)
 from ptailor.catalogue.rows import CATALOGUE_DIR, INDEX, ROW_STATUSES, Row, Summary
 from ptailor.catalogue.thumbnails import PREVIEW, THUMBNAIL
 
@@ -230,12 +237,10 @@ def _verify_view(report: dict, folder: Path) -> dict | None:
     sec = report.get("verify")
     if not isinstance(sec, dict):
         return None
-    ours = (sec.get("ours") or {}).get("panels") or {}
-    base = (sec.get("baseline") or {}).get("panels") or {}
+    ours, base = verify_panels(report) or {}, verify_panels(report, "baseline") or {}
 
     def p95_of(panels: dict, name: str, measure: str) -> str:
-        rec = (panels.get(name) or {}).get(measure) or {}
-        return shown_number(rec.get("p95"), "g4") if isinstance(rec, dict) else "-"
+        return shown_number(verify_number(panels.get(name), measure), "g4")
 
     return {
         "picture": link(VERIFY_PICTURE) if (folder / VERIFY_PICTURE).is_file() else None,
