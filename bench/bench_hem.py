@@ -27,6 +27,7 @@ import numpy as np
 
 from ptailor.edits.extend import opening_edges
 from ptailor.geometry.segments import nearest_segment_distance
+from ptailor.model.frame import Frame
 from ptailor.model.garment import Garment, panels
 from ptailor.model.openings import openings
 from ptailor.pipeline import adjustment
@@ -66,7 +67,7 @@ def rigid_fit(X: np.ndarray, Y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def _edges_by_panel(g: Garment, V3: np.ndarray, name: str) -> tuple[dict, dict] | None:
     """The opening's pattern edges per panel name, and the panels by name (None: no such)."""
-    loop = next((o.loop for o in openings(V3, g.F3) if o.name == name), None)
+    loop = next((o.loop for o in openings(V3, g.F3, frame=Frame()) if o.name == name), None)
     if loop is None:
         return None
     oe = opening_edges(g.F3, g.F2, loop)

@@ -47,14 +47,14 @@ def load(key: str):
 
 def opening_panels(g, name: str) -> list[str]:
     """Panels whose triangles touch an opening's drape vertices."""
-    from ptailor.edits import EditOptions, EditState
+    from ptailor.edits import EditState
     from ptailor.edits.opening import find_opening
     from ptailor.model.garment import panels
 
     plist = panels(g)
     st = EditState(base=g, V3=g.V3, panels=plist, even=np.ones(len(plist), bool))
     try:
-        _, loop = find_opening(st, name, options=EditOptions())
+        _, loop = find_opening(st, name)
     except Exception:
         return []
     on = np.isin(g.F3, loop).any(axis=1)

@@ -72,10 +72,8 @@ def main() -> None:
                 path = src
             loaded = load_garment(path, pattern_units="0.3333cm", drape_units="0.3333cm")
             n = loaded.garment.n_faces
-            axes = dict(up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0))
             matching, t_match = _timed(
-                lambda loaded=loaded, axes=axes: matched_specification(loaded, spec, **axes),
-                args.repeat,
+                lambda loaded=loaded: matched_specification(loaded, spec), args.repeat
             )
             for name, text in RECIPES.items():  # a loop over recipes
                 recipe = parse_recipe(text, source=f"{name}.yaml")

@@ -25,6 +25,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ptailor.model.frame import Frame
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -38,7 +40,7 @@ def tube(n_triangles: int):
     n_around = max(round(n_triangles / 2 / n_along), 3)
     g = cylinder(circumference=30.0, height=20.0, n_around=n_around, n_along=n_along)
     rest = edge_matrices(g.V2, g.F2)
-    return g, rest, top_opening(g.V3, g.F3)
+    return g, rest, top_opening(g.V3, g.F3, frame=Frame())
 
 
 def run_seconds(g, rest, pinned, settings) -> float:

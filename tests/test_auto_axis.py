@@ -7,6 +7,7 @@ import pytest
 
 from ptailor.edits.scale import auto_axis_warnings
 from ptailor.edits.state import EditOptions
+from ptailor.model.frame import Frame
 from ptailor.pipeline import adjustment, solver_warnings
 from ptailor.recipe import parse_recipe
 from ptailor.samples import cylinder
@@ -31,7 +32,7 @@ def test_a_sheet_whose_longest_extent_leans_from_up_is_a_warning(angle, warns):
     from ptailor.edits.region import region_axis
 
     ax = region_axis(V, F, faces)
-    w = auto_axis_warnings(V, F, faces, ax, EditOptions())
+    w = auto_axis_warnings(V, F, faces, ax, EditOptions(), frame=Frame())
     assert bool(w) == warns
     if warns:
         assert f"{angle:.0f} degrees from the garment's up" in w[0]
@@ -46,7 +47,7 @@ def test_a_tube_keeps_its_axis_without_a_warning_whatever_its_direction():
 
     ax = region_axis(V, g.F3, faces)
     assert abs(ax[0]) > 0.99
-    assert auto_axis_warnings(V, g.F3, faces, ax, EditOptions()) == []
+    assert auto_axis_warnings(V, g.F3, faces, ax, EditOptions(), frame=Frame()) == []
 
 
 def test_the_shared_tshirt_scaled_as_a_whole_along_auto_says_its_axis_leans():

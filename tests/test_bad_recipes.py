@@ -16,12 +16,13 @@ from click.testing import CliRunner
 from ptailor import tolerances as tol
 from ptailor.cli.main import cli
 from ptailor.errors import PtailorError, RecipeError
+from ptailor.model.frame import Frame
 from ptailor.recipe import (
     axes_problem,
     load_recipe,
     parse_recipe,
     recipe_problems,
-    resolve_axes,
+    resolve_frame,
 )
 
 CORPUS = Path(__file__).resolve().parent / "corpus" / "yaml"
@@ -195,19 +196,19 @@ def test_axes_rule(up, front, bad):
     assert bool(recipe_problems(text)) == bad
     if bad:
         with pytest.raises(PtailorError, match="parallel"):
-            resolve_axes(up, front)
+            resolve_frame(up, front)
     else:
-        resolve_axes(up, front)
+        resolve_frame(up, front)
 
 
 def test_command_line_axes_and_recipe_axes_combine():
     rec = parse_recipe("up: z\nfront: y\nsteps: []")
-    assert resolve_axes(None, None, rec) == ((0.0, 0.0, 1.0), (0.0, 1.0, 0.0))
+    assert resolve_frame(None, None, rec) == Frame((0.0, 0.0, 1.0), (0.0, 1.0, 0.0))
     with pytest.raises(PtailorError, match="--front z is parallel to up z"):
-        resolve_axes(None, "z", parse_recipe("up: z\nfront: x\nsteps: []"))
+        resolve_frame(None, "z", parse_recipe("up: z\nfront: x\nsteps: []"))
     with pytest.raises(PtailorError, match="front y is parallel to --up -y"):
-        resolve_axes("-y", None, rec)
-    assert resolve_axes("x", None, rec) == ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0))
+        resolve_frame("-y", None, rec)
+    assert resolve_frame("x", None, rec) == Frame((1.0, 0.0, 0.0), (0.0, 1.0, 0.0))
 
 
 def test_parallel_axes_on_the_command_line_exit_2(tmp_path):

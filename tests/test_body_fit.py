@@ -10,6 +10,7 @@ from click.testing import CliRunner
 
 from ptailor.cli.main import cli
 from ptailor.errors import PtailorError
+from ptailor.model.frame import Frame
 from ptailor.model.openings import openings
 from ptailor.samples import cone_skirt
 from ptailor.verify.fit import fit_body, mean_body
@@ -33,7 +34,7 @@ def test_the_shipped_bodies_are_closed_1_72_m_tall_and_front_is_z():
 
 def test_a_skirt_hangs_from_its_waist_with_the_body_inside():
     g = cone_skirt()
-    fit = fit_body(g.V3, g.F3, openings=openings(g.V3, g.F3, F2=g.F2))
+    fit = fit_body(g.V3, g.F3, openings=openings(g.V3, g.F3, F2=g.F2, frame=Frame()), frame=Frame())
     assert fit.anchor == "waist" and fit.pose == "a"
     assert fit.inside <= 0.005
     assert 0.5 <= fit.scale <= 1.5
@@ -44,7 +45,8 @@ def test_a_skirt_hangs_from_its_waist_with_the_body_inside():
 def test_a_drape_with_nothing_to_hang_on_is_refused():
     g = flat_square()
     with pytest.raises(PtailorError, match="neither a neckline nor a waist"):
-        fit_body(g.V3, g.F3, openings=openings(g.V3, g.F3, F2=g.F2), path="square.obj")
+        ops = openings(g.V3, g.F3, F2=g.F2, frame=Frame())
+        fit_body(g.V3, g.F3, openings=ops, path="square.obj", frame=Frame())
 
 
 @pytest.mark.parametrize(("key", "pose"), [("tee6", "t"), ("tshirt", "a"), ("longsleeve", "a")])
@@ -53,7 +55,7 @@ def test_the_shared_tops_are_fitted_in_their_pose(key, pose):
 
     units = {"tee6": ("0.3333cm", "0.3333cm")}.get(key, (REAL[key][1], "cm"))
     g = load_garment(real_path(key), pattern_units=units[0], drape_units=units[1]).garment
-    fit = fit_body(g.V3, g.F3, openings=openings(g.V3, g.F3, F2=g.F2))
+    fit = fit_body(g.V3, g.F3, openings=openings(g.V3, g.F3, F2=g.F2, frame=Frame()), frame=Frame())
     assert fit.pose == pose and fit.anchor == "neckline"
     assert fit.inside <= 0.005
     assert 0.6 <= fit.scale <= 1.2  # a body of 1.0-2.1 m

@@ -12,7 +12,7 @@ from ptailor.method.ease import SeamEase, seam_ease
 from ptailor.method.flatten import flatten
 from ptailor.method.stitch import stitch
 from ptailor.model.garment import panel_labels, panels
-from ptailor.model.structure import Y_UP, Z_FRONT, structure
+from ptailor.model.structure import structure
 from ptailor.pipeline import adjustment, solver_warnings
 from ptailor.recipe import parse_recipe
 from ptailor.report.build import build_report, summary_lines
@@ -190,7 +190,7 @@ SLEEVE_WIDER = (
 
 
 def seam_sides(adj) -> list[tuple[float, float]]:
-    sl = structure(adj.state.base, up=Y_UP, front=Z_FRONT).seams
+    sl = structure(adj.state.base).seams
     return [s.lengths(adj.result.V2) for s in sl]
 
 
@@ -286,7 +286,7 @@ def test_real_sleeve_widened_keeps_every_seam(key):
     )
     free = adjustment(g, parse_recipe(text + "\nflatten: {seams: free}"), baseline=False)
     ease = adjustment(g, parse_recipe(text), baseline=False)
-    sl = structure(ease.state.base, up=Y_UP, front=Z_FRONT).seams
+    sl = structure(ease.state.base).seams
 
     def worst(adj) -> float:
         out = 0.0

@@ -15,6 +15,7 @@ from ptailor.errors import PtailorError
 from ptailor.formats.garment import load_garment
 from ptailor.formats.obj import write_garment
 from ptailor.geometry.segments import nearest_segment_distance as point_segment_distance
+from ptailor.model.frame import Frame
 from ptailor.model.garment import panel_labels, panels
 from ptailor.model.openings import openings
 from ptailor.pipeline import adjustment, apply_steps
@@ -30,11 +31,11 @@ def extend_recipe(opening: str, by: float, before: str = "") -> object:
 
 
 def loop_named(V3, F3, name):
-    return next(o.loop for o in openings(V3, F3) if o.name == name)
+    return next(o.loop for o in openings(V3, F3, frame=Frame()) if o.name == name)
 
 
 def lowest_loop(V3, F3):
-    return min(openings(V3, F3), key=lambda o: o.centroid[1]).loop
+    return min(openings(V3, F3, frame=Frame()), key=lambda o: o.centroid[1]).loop
 
 
 def panel_edges(g, loop):
@@ -130,7 +131,7 @@ def strip_size(g0, adj):
 @pytest.mark.slow
 def test_lantern_cuff_strip_follows_the_cuff_intrinsic_scale():
     g = lantern_sleeve()
-    name = min(openings(g.V3, g.F3), key=lambda o: o.centroid[1]).name
+    name = min(openings(g.V3, g.F3, frame=Frame()), key=lambda o: o.centroid[1]).name
     adj = adjustment(g, extend_recipe(name, 2))
     assert_valid(adj.state.base, V2=adj.result.V2)
     # the cuff's own back seam continues into the strip with equal sides; the eased
@@ -226,7 +227,7 @@ def annulus(r0: float = 1.0, r1: float = 3.0, n_around: int = 32, n_rings: int =
 @pytest.mark.slow
 def test_extending_into_a_hole_further_than_it_is_wide_is_refused():
     g = annulus()
-    ops = openings(g.V3, g.F3)
+    ops = openings(g.V3, g.F3, frame=Frame())
     hole = min(range(len(ops)), key=lambda i: ops[i].length)
     ok = adjustment(g, parse_recipe(f"steps: [{{op: extend, opening: {{loop: {hole}}}, by: 0.5}}]"))
     assert_valid(ok.state.base, V2=ok.result.V2)
@@ -267,7 +268,7 @@ def test_output_can_be_adjusted_again(tmp_path):
     assert twice.n_faces > once.n_faces
     assert_valid(twice)
     assert_seams_equal(twice, twice.V2)
-    assert sorted(o.name for o in openings(twice.V3, twice.F3)) == ["hem", "waist"]
+    assert sorted(o.name for o in openings(twice.V3, twice.F3, frame=Frame())) == ["hem", "waist"]
 
 
 def icosphere(radius: float, centre) -> object:
@@ -337,7 +338,7 @@ def test_tee6_hem_extend_is_valid_and_keeps_seams_equal():
     assert b.n_faces > g.n_faces
     assert_valid(b, V2=X)
     assert_seams_equal(b, X)
-    assert sorted(o.name for o in openings(adj.state.V3, b.F3)) == sorted(
+    assert sorted(o.name for o in openings(adj.state.V3, b.F3, frame=Frame())) == sorted(
         ["hem", "neckline", "cuff_left", "cuff_right"]
     )
     assert [p.name for p in adj.state.panels] == [p.name for p in panels(g)]
@@ -394,7 +395,7 @@ def test_drape_measure_lays_that_hem_unevenly():
 
 def test_pattern_measure_offsets_a_round_hole_to_a_smaller_circle():
     g = annulus()
-    ops = openings(g.V3, g.F3)
+    ops = openings(g.V3, g.F3, frame=Frame())
     hole = min(range(len(ops)), key=lambda i: ops[i].length)
     adj = adjustment(g, pattern_recipe(f"{{loop: {hole}}}", 0.5))
     assert_valid(adj.state.base, V2=adj.result.V2)
@@ -408,7 +409,7 @@ def test_pattern_measure_offsets_a_round_hole_to_a_smaller_circle():
 
 def test_pattern_measure_refuses_an_offset_that_closes_the_opening():
     g = annulus()
-    ops = openings(g.V3, g.F3)
+    ops = openings(g.V3, g.F3, frame=Frame())
     hole = min(range(len(ops)), key=lambda i: ops[i].length)
     # a flat ring no opening rule recognises: its panel is panel_0
     with pytest.raises(PtailorError, match=r"by 1\.5: in the pattern of panel_0 the opening is"):

@@ -13,7 +13,6 @@ import pytest
 from click.testing import CliRunner
 
 from ptailor.cli.main import cli
-from ptailor.model.structure import Y_UP, Z_FRONT
 from tests.conftest import GARMENTS
 
 TEE6 = GARMENTS / "gpg_tee6" / "tee6_sim.obj"
@@ -151,7 +150,7 @@ def _shirt_structure():
     from ptailor.model.structure import structure
 
     g = load_garment(SHIRT, pattern_units="auto").garment
-    return g, structure(g, up=Y_UP, front=Z_FRONT)  # inspect's default axes: y up, z front
+    return g, structure(g)  # inspect's default axes: y up, z front
 
 
 @pytest.mark.slow

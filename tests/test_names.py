@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
+from ptailor.model.frame import Frame
 from ptailor.model.garment import Garment, panel_labels, panels, with_panel_names
 from ptailor.model.names import panel_layout, seam_names
 from ptailor.model.seams import seams
@@ -58,13 +59,16 @@ def real(key: str) -> Garment:
 
 
 def names_of(g: Garment, **axes) -> list[str]:
-    return [p.name for p in panels(g, **axes)]
+    """The panels' names, the garment worn in ``Frame(**axes)`` when axes are given."""
+    g = g.with_frame(Frame(**axes)) if axes else g
+    return [p.name for p in panels(g)]
 
 
 def layout_and_seams(g: Garment, **axes):
-    plist = panels(g, **axes)
+    g = g.with_frame(Frame(**axes)) if axes else g
+    plist = panels(g)
     flab = panel_labels(plist, g.n_faces)
-    lay = panel_layout(g.V3, g.F3, g.F2, flab, len(plist), **axes)
+    lay = panel_layout(g.V3, g.F3, g.F2, flab, len(plist), frame=g.frame)
     sl = seams(g.F3, g.F2, flab)
     return plist, lay, sl, seam_names(g.V3, sl, lay, [p.name for p in plist])
 
@@ -296,7 +300,7 @@ def test_tshirt_recipe_scales_the_left_sleeve_by_its_name():
 def test_tee6_symmetric_recipe_by_names_grows_both_sleeves():
     g = real("tee6")
     plist = panels(g)
-    mm = panel_mirror_map(g, sagittal_plane(g.V3, g.F3))
+    mm = panel_mirror_map(g, sagittal_plane(g.V3, g.F3, frame=Frame()))
     mirror = {p.name: plist[int(mm[p.index])].name for p in plist}
     assert mirror["sleeve_left_front"] == "sleeve_right_front"
     assert mirror["sleeve_left_back"] == "sleeve_right_back"
@@ -365,7 +369,7 @@ def with_cuffs(g: Garment, depth: float = 4.0) -> Garment:
         sleeve[p.faces] = p.name.startswith("sleeve_")
     cuff = np.zeros(g.n_faces, dtype=bool)
     mid = g.V3[g.F3].mean(axis=1)
-    for o in openings(g.V3, g.F3):
+    for o in openings(g.V3, g.F3, frame=Frame()):
         if o.name.startswith("cuff_"):
             P = g.V3[o.loop]
             n = np.linalg.svd(P - P.mean(0))[2][-1]
@@ -451,7 +455,6 @@ def test_panel_measures_extents_and_centroids_are_the_plain_reductions():
     """The per-panel extents and centroids, computed corner by corner, equal the plain
     reductions over each face's corners exactly (shuffled faces, an empty panel label)."""
     from ptailor.model.names.measures import panel_measures
-    from ptailor.model.openings import body_frame
 
     g = cone_skirt()
     rng = np.random.default_rng(3)
@@ -460,7 +463,7 @@ def test_panel_measures_extents_and_centroids_are_the_plain_reductions():
     lab = panel_labels(panels(g), g.n_faces)[perm]
     lab = np.where(lab > 0, lab + 1, lab)  # label 1 unused
     n_p = int(lab.max()) + 1
-    frame = body_frame((0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+    frame = Frame().matrix()
     pm = panel_measures(g.V3, F3, lab, n_p, frame)
     Xc = (g.V3 @ frame.T)[F3]
     for p in range(n_p):
@@ -574,7 +577,7 @@ def test_a_lone_sleeve_is_a_sleeve_with_a_cuff_and_a_top():
     _, lay, _, snames = layout_and_seams(bare)
     assert lay.names == ["sleeve", "cuff"] and lay.role == ["sleeve", "cuff"]
     assert sorted(snames) == ["cuff", "cuff_end", "sleeve"]
-    ops = {o.name: o for o in openings(g.V3, g.F3, F2=g.F2)}
+    ops = {o.name: o for o in openings(g.V3, g.F3, F2=g.F2, frame=Frame())}
     assert sorted(ops) == ["cuff", "top"]
     assert ops["top"].centroid[1] > ops["cuff"].centroid[1]
     assert "reaches cuff" in lay.why[1]
@@ -586,7 +589,7 @@ def test_a_lone_tube_is_a_limb_when_it_is_as_long_as_it_is_around(height, kind):
     from ptailor.samples import cylinder
 
     g = cylinder(circumference=30.0, height=height)
-    assert sorted(o.name for o in openings(g.V3, g.F3, F2=g.F2)) == kind
+    assert sorted(o.name for o in openings(g.V3, g.F3, F2=g.F2, frame=Frame())) == kind
 
 
 def flat_square(n: int = 8, size: float = 60.0) -> Garment:

@@ -7,7 +7,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ptailor.model.openings import Opening, body_frame, openings
+from ptailor.model.frame import Frame
+from ptailor.model.openings import Opening, openings
 
 SHARED = Path(__file__).parents[2] / "shared"
 
@@ -88,9 +89,9 @@ def rotation(axis, angle):
 
 
 def test_body_frame_left_is_plus_x_for_y_up_z_front():
-    R = body_frame((0, 1, 0), (0, 0, 1))
+    R = Frame((0, 1, 0), (0, 0, 1)).matrix()
     np.testing.assert_allclose(R, np.eye(3), atol=1e-15)
-    R = body_frame((0, 0, 2), (0, -1, 0.3))  # z up, -y front, front not orthogonal
+    R = Frame((0, 0, 2), (0, -1, 0.3)).matrix()  # z up, -y front, front not orthogonal
     np.testing.assert_allclose(R @ R.T, np.eye(3), atol=1e-12)
     np.testing.assert_allclose(R[1], [0, 0, 1])
     np.testing.assert_allclose(R[0], [1, 0, 0], atol=1e-12)
@@ -102,7 +103,7 @@ def test_body_frame_left_is_plus_x_for_y_up_z_front():
 def test_bad_frame_raises(up, front):
     V, F = tube([10, 10], [0, 20])
     with pytest.raises(ValueError):
-        openings(V, F, up=up, front=front)
+        openings(V, F, frame=Frame(up, front))
 
 
 # ---------------------------------------------------------------- generated garments
@@ -111,7 +112,7 @@ def test_bad_frame_raises(up, front):
 def test_cylinder_is_waist_and_hem():
     n, r = 48, 10.0
     V, F = tube([r, r, r, r], [0, 10, 20, 30], n=n)
-    ops = openings(V, F)
+    ops = openings(V, F, frame=Frame())
     assert names(ops) == ["hem", "waist"]
     o = by_name(ops)
     perimeter = n * 2 * r * np.sin(np.pi / n)
@@ -125,19 +126,19 @@ def test_cylinder_is_waist_and_hem():
 
 def test_cone_skirt_and_no_faces():
     V, F = tube([40, 30, 20, 14], [0, 25, 50, 70])  # wide at the bottom
-    o = by_name(openings(V, F))
+    o = by_name(openings(V, F, frame=Frame()))
     assert set(o) == {"hem", "waist"}
     assert o["hem"].centroid[1] == pytest.approx(0)
     assert o["waist"].centroid[1] == pytest.approx(70)
     assert o["hem"].length > o["waist"].length
-    assert openings(V, np.zeros((0, 3), dtype=int)) == []
+    assert openings(V, np.zeros((0, 3), dtype=int), frame=Frame()) == []
 
 
 def test_unreferenced_vertices_and_shifted_indices():
     V, F = tube([40, 30, 14], [0, 35, 70])
     junk = np.full((7, 3), 1e6)
-    ops0 = openings(V, F)
-    ops1 = openings(np.vstack([junk, V]), F + 7)
+    ops0 = openings(V, F, frame=Frame())
+    ops1 = openings(np.vstack([junk, V]), F + 7, frame=Frame())
     assert [o.name for o in ops0] == [o.name for o in ops1]
     for a, b in zip(ops0, ops1, strict=True):
         np.testing.assert_array_equal(a.loop + 7, b.loop)
@@ -148,11 +149,11 @@ def test_other_frames_and_rotation():
     V, F = tube([40, 30, 14], [0, 35, 70])
     R = rotation([1, 2, 3], 0.7)
     up = R @ [0, 1, 0]
-    o = by_name(openings(V @ R.T + [5, -3, 2], F, up=up, front=R @ [0, 0, 1]))
+    o = by_name(openings(V @ R.T + [5, -3, 2], F, frame=Frame(up, R @ [0, 0, 1])))
     assert set(o) == {"hem", "waist"}
     assert (o["waist"].centroid - o["hem"].centroid) @ up == pytest.approx(70)
     # upside down: the names swap
-    o2 = by_name(openings(V, F, up=(0, -1, 0)))
+    o2 = by_name(openings(V, F, frame=Frame(up=(0, -1, 0))))
     np.testing.assert_array_equal(o2["hem"].loop, o["waist"].loop)
 
 
@@ -165,12 +166,12 @@ def test_trousers():
             ((-np.sin(np.radians(25)), -np.cos(np.radians(25)), 0), 18),
         ],
     )
-    o = by_name(openings(V, F))
+    o = by_name(openings(V, F, frame=Frame()))
     assert set(o) == {"waist", "leg_left", "leg_right"}
     assert o["leg_left"].centroid[0] > 5 > -5 > o["leg_right"].centroid[0]
     assert o["waist"].centroid[1] > 30
     # facing the other way (front = -z): the wearer's left is -x
-    o = by_name(openings(V, F, front=(0, 0, -1)))
+    o = by_name(openings(V, F, frame=Frame(front=(0, 0, -1))))
     assert o["leg_left"].centroid[0] < 0 < o["leg_right"].centroid[0]
 
 
@@ -181,7 +182,7 @@ def _armholes(extra=()):
 
 def test_sleeveless_top():
     V, F = holey_ellipsoid((20, 35, 12), _armholes([((0, -1, 0), 45)]))
-    o = by_name(openings(V, F))
+    o = by_name(openings(V, F, frame=Frame()))
     assert set(o) == {"hem", "neckline", "armhole_left", "armhole_right"}
     assert o["armhole_left"].centroid[0] > 0 > o["armhole_right"].centroid[0]
     assert o["neckline"].centroid[1] > 30 > -20 > o["hem"].centroid[1]
@@ -191,11 +192,11 @@ def test_jumpsuit_and_unnamed_loop():
     t = np.radians(25)
     legs = [((np.sin(t), -np.cos(t), 0), 18), ((-np.sin(t), -np.cos(t), 0), 18)]
     V, F = holey_ellipsoid((20, 60, 12), _armholes(legs))
-    o = by_name(openings(V, F))
+    o = by_name(openings(V, F, frame=Frame()))
     assert set(o) == {"neckline", "armhole_left", "armhole_right", "leg_left", "leg_right"}
     # a pocket-like hole at the front fits no rule
     V, F = holey_ellipsoid((20, 35, 12), _armholes([((0, -1, 0), 45), ((0, -0.3, 1), 8)]))
-    ops = openings(V, F)
+    ops = openings(V, F, frame=Frame())
     assert names(ops) == ["armhole_left", "armhole_right", "hem", "neckline", "opening_4"]
     assert ops[4].name == "opening_4" and ops[4].centroid[2] > 10
 
@@ -262,7 +263,7 @@ REAL = {
 @pytest.mark.parametrize("rel", sorted(REAL))
 def test_real_garments(garment, rel):
     V, F = garment(rel)
-    ops = openings(V, F)
+    ops = openings(V, F, frame=Frame())
     got = by_name(ops)
     assert set(got) == set(REAL[rel])
     for name, (k, length, centroid) in REAL[rel].items():
@@ -275,14 +276,14 @@ def test_real_garments(garment, rel):
 
 def test_tee6_mirrored_and_rotated(garment):
     V, F = garment("gpg_tee6/tee6_sim.obj")
-    o = by_name(openings(V, F))
+    o = by_name(openings(V, F, frame=Frame()))
     # mirrored left-right (faces flipped to keep the orientation): the cuffs swap
-    m = by_name(openings(V * [-1, 1, 1], F[:, ::-1]))
+    m = by_name(openings(V * [-1, 1, 1], F[:, ::-1], frame=Frame()))
     assert set(m) == set(o)
     np.testing.assert_array_equal(np.sort(m["cuff_left"].loop), np.sort(o["cuff_right"].loop))
     # the same garment stored z up and facing -y
     R = rotation([1, 0, 0], np.pi / 2)  # y -> z, z -> -y
-    r = by_name(openings(V @ R.T, F, up=(0, 0, 1), front=(0, -1, 0)))
+    r = by_name(openings(V @ R.T, F, frame=Frame((0, 0, 1), (0, -1, 0))))
     for name in o:
         np.testing.assert_array_equal(r[name].loop, o[name].loop)
         np.testing.assert_allclose(r[name].centroid, R @ o[name].centroid, atol=1e-9)
@@ -319,7 +320,7 @@ def sew_strip(V, F, line, width, *, flat, n_w=2):
 def test_placket_keeps_the_neckline(flat, from_neck):
     """A strip sewn down the front (edges of three faces) adds one open opening only."""
     V, F = holey_ellipsoid((20, 35, 12), _armholes([((0, -1, 0), 45)]))
-    base = openings(V, F)
+    base = openings(V, F, frame=Frame())
     nu = 96
     col = np.arange(63) * nu + nu // 4  # the front meridian (+z)
     col = col[np.isin(col, F)]
@@ -328,7 +329,7 @@ def test_placket_keeps_the_neckline(flat, from_neck):
     ref = None
     for seed in range(4):
         p = np.random.default_rng(seed).permutation(len(F2))
-        ops = openings(V2, F2[p])
+        ops = openings(V2, F2[p], frame=Frame())
         got = [(o.name, o.loop.tolist(), o.closed) for o in ops]
         ref = got if ref is None else ref
         assert got == ref
@@ -359,7 +360,7 @@ def test_bow_tie_openings_are_simple_and_nonzero():
     ref = None
     for seed in range(4):
         p = np.random.default_rng(seed).permutation(len(F))
-        ops = openings(V, F[p])
+        ops = openings(V, F[p], frame=Frame())
         got = [(o.name, o.loop.tolist()) for o in ops]
         ref = got if ref is None else ref
         assert got == ref

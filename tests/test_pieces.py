@@ -7,10 +7,10 @@ import pytest
 
 from ptailor.errors import PtailorError
 from ptailor.method.transfer import carry_points, locate_points
+from ptailor.model.frame import Frame
 from ptailor.model.garment import panels
 from ptailor.model.pieces import Piece
 from ptailor.model.polyline import corners, offset_closed, signed_area
-from ptailor.model.structure import Y_UP, Z_FRONT
 from ptailor.pieces.carry import carry_piece
 from ptailor.pieces.draw import mesh_pieces
 from ptailor.pieces.match import PieceMatch, match_pieces
@@ -207,7 +207,7 @@ def test_the_plan_takes_the_panels_of_the_garments_cached_structure_by_default()
 
     g = cone_skirt()
     plan = piece_plan(g)
-    assert plan.panels == tuple(structure(g, up=Y_UP, front=Z_FRONT).panels)
+    assert plan.panels == tuple(structure(g).panels)
     given = piece_plan(g, panels(g))
     assert [pc.name for pc in plan.pieces] == [pc.name for pc in given.pieces]
     for a, b in zip(plan.pieces, given.pieces, strict=True):
@@ -220,14 +220,16 @@ def test_grain_follows_the_body_up_axis_whatever_the_layout():
     g = cone_skirt()
     plist = panels(g)
     np.testing.assert_allclose(
-        grain_directions(g.V2, g.F2, g.V3, g.F3, plist), [[0, 1], [0, 1]], atol=1e-6
+        grain_directions(g.V2, g.F2, g.V3, g.F3, plist, frame=Frame()), [[0, 1], [0, 1]], atol=1e-6
     )
     a = np.radians(30.0)
     R = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
-    turned = grain_directions(g.V2 @ R.T, g.F2, g.V3, g.F3, plist)
+    turned = grain_directions(g.V2 @ R.T, g.F2, g.V3, g.F3, plist, frame=Frame())
     np.testing.assert_allclose(turned, [R @ [0, 1], R @ [0, 1]], atol=1e-6)
     # a garment lying on its side (up = x) has its grain across the same pattern
-    side = grain_directions(g.V2, g.F2, g.V3[:, [1, 0, 2]], g.F3, plist, up=(1.0, 0.0, 0.0))
+    side = grain_directions(
+        g.V2, g.F2, g.V3[:, [1, 0, 2]], g.F3, plist, frame=Frame(up=(1.0, 0.0, 0.0))
+    )
     np.testing.assert_allclose(side, [[0, 1], [0, 1]], atol=1e-6)
     pieces = mesh_pieces(g.V2 @ R.T, g.F2, plist, grain=turned)
     d = np.diff(pieces[0].grain, axis=0)[0]
@@ -240,7 +242,7 @@ def test_a_sleeve_in_t_pose_keeps_its_grain_along_the_arm():
     g = lantern_sleeve()
     plist = panels(g)
     T = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # the arm along -x
-    got = grain_directions(g.V2, g.F2, g.V3 @ T.T, g.F3, plist, up=(0.0, 1.0, 0.0))
+    got = grain_directions(g.V2, g.F2, g.V3 @ T.T, g.F3, plist, frame=Frame())
     np.testing.assert_allclose(np.abs(got), [[0, 1], [0, 1]], atol=1e-6)
 
 

@@ -8,7 +8,6 @@ import pytest
 from ptailor.formats.garment import load_garment
 from ptailor.geometry.triangles import signed_areas_2d
 from ptailor.model.garment import panels
-from ptailor.model.structure import Y_UP, Z_FRONT
 from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
 from tests.conftest import real_path
@@ -107,7 +106,7 @@ def test_tee6_one_sleeve_wider_body_follows():
 def seam_mismatch(adj) -> float:
     from ptailor.model.structure import structure
 
-    seam_list = structure(adj.state.base, up=Y_UP, front=Z_FRONT).seams
+    seam_list = structure(adj.state.base).seams
     worst = 0.0
     for s in seam_list:
         la, lb = s.lengths(adj.result.V2)

@@ -7,7 +7,6 @@ import pytest
 
 from ptailor.errors import PtailorError
 from ptailor.formats.garment import load_garment
-from ptailor.model.structure import Y_UP, Z_FRONT
 from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
 from ptailor.samples import lantern_sleeve
@@ -145,12 +144,12 @@ def test_a_fix_on_the_seam_being_moved_is_an_error_not_ignored():
 def opening_moved(g, a, name: str) -> float:
     """How far the adjustment ``a`` of ``g`` moved the opening ``name``, over g's size."""
     from ptailor.edits.opening import find_opening
-    from ptailor.edits.state import EditOptions, EditState
+    from ptailor.edits.state import EditState
     from ptailor.model.structure import structure
 
-    plist = structure(g, up=Y_UP, front=Z_FRONT).panels
+    plist = structure(g).panels
     state = EditState(base=g, V3=g.V3.copy(), panels=plist, even=np.ones(len(plist), bool))
-    loop = find_opening(state, name, options=EditOptions())[1]
+    loop = find_opening(state, name)[1]
     size = float(np.linalg.norm(np.ptp(g.V3, axis=0)))
     return float(np.abs(a.state.V3[loop] - g.V3[loop]).max()) / size
 
@@ -244,7 +243,7 @@ def test_a_seam_line_named_by_its_stem_scales_like_its_seam():
     from ptailor.model.structure import structure
 
     g = two_panels_on_one_sleeve()
-    st = structure(g, up=Y_UP, front=Z_FRONT)
+    st = structure(g)
     names = seam_names(g.V3, st.seams, st.layout, [p.name for p in st.panels])
     (line,) = [
         ln for ln in seam_lines(g.V3, st.seams, names) if st.panels[ln.part].name == "sleeve"

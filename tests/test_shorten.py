@@ -8,6 +8,7 @@ import pytest
 from ptailor.errors import PtailorError
 from ptailor.formats.garment import load_garment
 from ptailor.geometry.segments import nearest_segment_distance as point_segment_distance
+from ptailor.model.frame import Frame
 from ptailor.pipeline import adjustment
 from ptailor.recipe import parse_recipe
 from ptailor.run import RunOptions, run_garment
@@ -159,7 +160,7 @@ def new_edge_vertices(adj, name: str = "hem") -> np.ndarray:
     from ptailor.model.openings import openings
 
     b = adj.state.base
-    loop = next(o.loop for o in openings(adj.state.V3, b.F3) if o.name == name)
+    loop = next(o.loop for o in openings(adj.state.V3, b.F3, frame=Frame()) if o.name == name)
     oe = opening_edges(b.F3, b.F2, loop)
     return np.unique(np.r_[oe.a2, oe.b2])
 
@@ -175,7 +176,7 @@ def output_edge_distances(g0, adj, name: str = "hem") -> dict:
     from ptailor.model.openings import openings
 
     def by_panel(g, V3):
-        loop = next(o.loop for o in openings(V3, g.F3) if o.name == name)
+        loop = next(o.loop for o in openings(V3, g.F3, frame=Frame()) if o.name == name)
         oe = opening_edges(g.F3, g.F2, loop)
         plist = panels(g)
         flab = np.empty(g.n_faces, dtype=np.int64)

@@ -14,7 +14,7 @@ from click.testing import CliRunner
 from ptailor.cli.main import cli
 from ptailor.formats.obj import write_garment
 from ptailor.formats.spec_json import read_specification
-from ptailor.model.structure import Y_UP, Z_FRONT, structure
+from ptailor.model.structure import structure
 from ptailor.pieces.draw import outer_loop
 from ptailor.samples import bodice, cone_skirt, gored_skirt, halved_bodice
 
@@ -74,7 +74,7 @@ def sample_spec(g, path: Path) -> Path:
     vertices stitched."""
     from scipy.spatial.transform import Rotation
 
-    st = structure(g, up=Y_UP, front=Z_FRONT)
+    st = structure(g)
     panels = {}
     corner_sets = []
     for p in st.panels:  # a loop over panels

@@ -7,17 +7,18 @@ import pickle
 import numpy as np
 
 from ptailor.model.boundary import boundary_curves, boundary_loops
+from ptailor.model.frame import Frame
 from ptailor.model.garment import panel_labels, panels, vertex_labels
 from ptailor.model.names import panel_layout
 from ptailor.model.openings import openings
 from ptailor.model.seams import seam_halfedges, seams
-from ptailor.model.structure import Y_UP, Z_FRONT, structure
+from ptailor.model.structure import structure
 from ptailor.samples import bodice, lantern_sleeve
 
 
 def test_structure_matches_direct_computation():
     g = bodice()
-    s = structure(g, up=Y_UP, front=Z_FRONT)
+    s = structure(g)
     plist = panels(g)
     assert [p.name for p in s.panels] == [p.name for p in plist]
     assert np.array_equal(s.face_panel, panel_labels(plist, g.n_faces))
@@ -27,8 +28,10 @@ def test_structure_matches_direct_computation():
     loops, closed = boundary_curves(g.F3, V=g.V3, F2=g.F2)
     assert all(np.array_equal(a, b) for a, b in zip(s.drape_boundary[0], loops, strict=True))
     assert np.array_equal(s.drape_boundary[1], closed)
-    assert [o.name for o in s.openings] == [o.name for o in openings(g.V3, g.F3, F2=g.F2)]
-    lay = panel_layout(g.V3, g.F3, g.F2, s.face_panel, len(plist))
+    assert [o.name for o in s.openings] == [
+        o.name for o in openings(g.V3, g.F3, F2=g.F2, frame=Frame())
+    ]
+    lay = panel_layout(g.V3, g.F3, g.F2, s.face_panel, len(plist), frame=Frame())
     assert s.layout.names == lay.names
     for p in s.panels:
         want = boundary_loops(g.F2[p.faces])
@@ -42,7 +45,7 @@ def test_structure_seams_reuse_its_seam_halfedges(monkeypatch):
     seams_module = importlib.import_module("ptailor.model.seams")  # (the package's
     # ``seams`` attribute is the function)
     g = bodice()
-    s = structure(g, up=Y_UP, front=Z_FRONT)
+    s = structure(g)
     pairs = s.seam_halfedges
     want = seams(g.F3, g.F2, s.face_panel)
 
@@ -60,18 +63,17 @@ def test_structure_seams_reuse_its_seam_halfedges(monkeypatch):
     ]
 
 
-def test_structure_is_cached_per_garment_and_axes():
+def test_structure_is_cached_per_garment_and_frame():
     g = lantern_sleeve()
-    s = structure(g, up=Y_UP, front=Z_FRONT)
-    assert structure(g, up=Y_UP, front=Z_FRONT) is s
-    assert structure(g, up=[0, 1, 0], front=(0.0, 0.0, 1.0)) is s
-    assert structure(g, up=(0.0, 0.0, 1.0), front=(0.0, 1.0, 0.0)) is not s
+    s = structure(g)
+    assert structure(g) is s
+    assert structure(g.with_frame(Frame((0, 0, 1), (0, 1, 0)))) is not s
     assert s.seams is s.seams and s.face_panel is s.face_panel
     # a garment made from another starts afresh; pickles carry no cache
     g2 = g.with_drape(g.V3 * 2.0)
-    assert g2.cache == {} and structure(g2, up=Y_UP, front=Z_FRONT) is not s
+    assert g2.cache == {} and structure(g2) is not s
     g3 = pickle.loads(pickle.dumps(g))
-    assert g3.cache == {} and len(structure(g3, up=Y_UP, front=Z_FRONT).panels) == len(s.panels)
+    assert g3.cache == {} and len(structure(g3).panels) == len(s.panels)
     # the garment's arrays are untouched
     assert np.array_equal(g.V3, lantern_sleeve().V3)
 
@@ -85,7 +87,7 @@ def _ungrouped(g):
 
 def test_ungrouped_panels_name_from_the_structures_own_layout():
     g = _ungrouped(bodice())
-    s = structure(g, up=Y_UP, front=Z_FRONT)
+    s = structure(g)
     assert [p.name for p in s.panels] == [p.name for p in panels(g)]
     assert "layout" in s.__dict__  # the layout panels() needed is the structure's, kept
     lab, n_p = s.panel_components
@@ -96,23 +98,21 @@ def test_named_garment_reads_its_sources_structure():
     from ptailor.model.garment import with_panel_names
 
     g = _ungrouped(bodice())
-    s = structure(g, up=Y_UP, front=Z_FRONT)
+    s = structure(g)
     for name in ("panels", "seams", "openings", "layout", "drape_boundary"):
         getattr(s, name)
     named = with_panel_names(g, plist=s.panels)
-    t = structure(named, up=Y_UP, front=Z_FRONT)
+    t = structure(named)
     assert t is not s
     assert t.panels is s.panels  # its groups are these names: nothing recomputed
     assert t.layout is s.layout and t.openings is s.openings and t.seams is s.seams
     assert [p.name for p in panels(named)] == [p.name for p in s.panels]
-    # other axes: the source's structure for those axes (nothing computed there yet)
-    other = structure(named, up=(0.0, 0.0, 1.0), front=(0.0, 1.0, 0.0))
+    # another frame: another garment, nothing computed there yet
+    other = structure(named.with_frame(Frame((0, 0, 1), (0, 1, 0))))
     assert other.__dict__.get("layout") is None
     # a garment with other names as groups does not take the source's panels
     renamed = with_panel_names(g, plist=[replace_name(p, f"x{p.index}") for p in s.panels])
-    assert [p.name for p in structure(renamed, up=Y_UP, front=Z_FRONT).panels] == [
-        f"x{p.index}" for p in s.panels
-    ]
+    assert [p.name for p in structure(renamed).panels] == [f"x{p.index}" for p in s.panels]
 
 
 def replace_name(p, name):

@@ -11,6 +11,7 @@ from ptailor.edits import EditOptions
 from ptailor.edits.mirror import mirror_state, mirror_step
 from ptailor.errors import PtailorError, RecipeError
 from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
+from ptailor.model.frame import Frame
 from ptailor.model.garment import Garment, panels
 from ptailor.model.symmetry import SagittalPlane, mirror_points, panel_mirror_map, sagittal_plane
 from ptailor.pipeline import adjustment, apply_steps
@@ -54,12 +55,12 @@ def drape_centroids(g: Garment) -> np.ndarray:
 
 def test_cone_skirt_plane_is_x_zero():
     g = cone_skirt()
-    pl = sagittal_plane(g.V3, g.F3, up=(0, 1, 0), front=(0, 0, 1))
+    pl = sagittal_plane(g.V3, g.F3, frame=Frame((0, 1, 0), (0, 0, 1)))
     np.testing.assert_allclose(pl.normal, [1.0, 0.0, 0.0], atol=1e-6)  # the wearer's left
     assert abs(pl.point[0]) < 1e-6
     assert pl.rms < 1e-9 and pl.max < 1e-9
     # the left axis decides the sign: facing -z, the wearer's left is -x
-    pl2 = sagittal_plane(g.V3, g.F3, up=(0, 1, 0), front=(0, 0, -1))
+    pl2 = sagittal_plane(g.V3, g.F3, frame=Frame((0, 1, 0), (0, 0, -1)))
     np.testing.assert_allclose(pl2.normal, [-1.0, 0.0, 0.0], atol=1e-6)
 
 
@@ -70,12 +71,12 @@ def test_shifted_tilted_skirt_gives_the_moved_plane():
     t = np.array([3.0, -2.0, 5.0])
     g = cone_skirt()
     V = g.V3 @ R.T + t
-    pl = sagittal_plane(V, g.F3, up=(0, 1, 0), front=(0, 0, 1))
+    pl = sagittal_plane(V, g.F3, frame=Frame((0, 1, 0), (0, 0, 1)))
     np.testing.assert_allclose(pl.normal, R[:, 0], atol=1e-6)
     assert abs((pl.point - t) @ pl.normal) < 1e-6
     assert pl.rms < 1e-6
     # no refinement: the starting plane is 8 degrees off and the match is poor
-    pl0 = sagittal_plane(V, g.F3, up=(0, 1, 0), front=(0, 0, 1), iterations=0)
+    pl0 = sagittal_plane(V, g.F3, frame=Frame((0, 1, 0), (0, 0, 1)), iterations=0)
     assert np.linalg.norm(pl0.normal - R[:, 0]) > 0.1 and pl0.rms > 0.5
 
 
@@ -83,11 +84,11 @@ def test_an_asymmetric_garment_has_a_positive_rms():
     g = cone_skirt()
     V = g.V3.copy()
     V[V[:, 0] > 0, 0] *= 1.1  # the left side bulges
-    pl = sagittal_plane(V, g.F3)
+    pl = sagittal_plane(V, g.F3, frame=Frame())
     # the best plane splits the difference (the hem's half-widths are 30 and 33)
     assert 0.0 < pl.point[0] < 3.0 and pl.normal[0] > 0.999
     assert pl.rms > 0.1 and pl.max > 0.5
-    assert sagittal_plane(g.V3, g.F3).rms < 1e-9
+    assert sagittal_plane(g.V3, g.F3, frame=Frame()).rms < 1e-9
 
 
 def test_a_symmetric_surface_is_measured_without_searching_triangles(monkeypatch):
@@ -100,12 +101,12 @@ def test_a_symmetric_surface_is_measured_without_searching_triangles(monkeypatch
 
     monkeypatch.setattr(trimesh.triangles, "closest_point", refuse)
     g = cone_skirt()
-    pl = sagittal_plane(g.V3, g.F3)
+    pl = sagittal_plane(g.V3, g.F3, frame=Frame())
     assert pl.rms < 1e-9 and pl.max < 1e-9
     V = g.V3.copy()
     V[V[:, 0] > 0, 0] *= 1.1  # asymmetric: the triangles are searched
     with pytest.raises(AssertionError, match="closest_point"):
-        sagittal_plane(V, g.F3)
+        sagittal_plane(V, g.F3, frame=Frame())
 
 
 def test_body_plane_is_fitted_to_the_body():
@@ -114,7 +115,7 @@ def test_body_plane_is_fitted_to_the_body():
     body = trimesh.creation.box(extents=(30.0, 60.0, 20.0))
     body.apply_translation((7.0, 0.0, 0.0))
     g = cone_skirt()  # centred on x = 0; the body is not
-    pl = sagittal_plane(g.V3, g.F3, body=body)
+    pl = sagittal_plane(g.V3, g.F3, body=body, frame=Frame())
     np.testing.assert_allclose(np.abs(pl.normal), [1.0, 0.0, 0.0], atol=1e-6)
     assert pl.point[0] == pytest.approx(7.0, abs=1e-6)
 
@@ -130,7 +131,7 @@ def test_mirror_points_reflects():
 
 def test_mirror_state_keeps_normals_outward_and_pattern_orientation():
     g = cone_skirt()
-    pl = sagittal_plane(g.V3, g.F3)
+    pl = sagittal_plane(g.V3, g.F3, frame=Frame())
     st = apply_steps(g, parse_recipe("steps: []"), options=EditOptions())
     m = mirror_state(st, pl)
 
@@ -155,7 +156,7 @@ def test_mirror_state_keeps_normals_outward_and_pattern_orientation():
 
 def test_skirt_panels_are_their_own_mirrors():
     g = cone_skirt()
-    pl = sagittal_plane(g.V3, g.F3)
+    pl = sagittal_plane(g.V3, g.F3, frame=Frame())
     np.testing.assert_array_equal(panel_mirror_map(g, pl), [0, 1])
 
 
@@ -176,7 +177,7 @@ def skirt_with_pocket() -> Garment:
 
 def test_a_panel_without_mirror_maps_to_minus_one():
     g = skirt_with_pocket()
-    pl = sagittal_plane(cone_skirt().V3, cone_skirt().F3)
+    pl = sagittal_plane(cone_skirt().V3, cone_skirt().F3, frame=Frame())
     np.testing.assert_array_equal(panel_mirror_map(g, pl), [0, 1, -1])
     recipe = parse_recipe(
         "symmetric: true\nsteps: [{op: scale, region: {panels: [pocket]}, factor: 1.1}]"
@@ -339,7 +340,7 @@ def test_symmetric_scale_seam_renames_seam_part_and_fixed_loop():
 def test_mirror_step_renames_panels_and_loops():
     g = two_sleeves()
     st = apply_steps(g, parse_recipe("steps: []"), options=EditOptions())
-    pl = sagittal_plane(g.V3, g.F3)
+    pl = sagittal_plane(g.V3, g.F3, frame=Frame())
     step = {
         "op": "scale_seam",
         "seam": ["cuff", "sleeve"],
@@ -409,7 +410,7 @@ def test_every_op_accepts_symmetric():
 
 def test_tee6_plane_and_mirror_panels():
     g = tee6()
-    pl = sagittal_plane(g.V3, g.F3, up=(0, 1, 0), front=(0, 0, 1))
+    pl = sagittal_plane(g.V3, g.F3, frame=Frame((0, 1, 0), (0, 0, 1)))
     # close to x = 0 (the garment spans x in [-90, 90]), matched to about a centimetre
     assert pl.normal[0] > 0.999
     assert abs(pl.point[0]) < 1.0
@@ -445,7 +446,7 @@ def test_tee6_symmetric_sleeve_scale_changes_both_sleeves_alike(tee6_runs):
     g, left, runs = tee6_runs
     adj = runs["symmetric"]
     plist = adj.state.panels
-    pl = sagittal_plane(g.V3, g.F3)
+    pl = sagittal_plane(g.V3, g.F3, frame=Frame())
     mm = panel_mirror_map(g, pl)
     a0 = pattern_areas(g.V2, g.F2, plist)
     a1 = pattern_areas(adj.result.V2, adj.state.base.F2, plist)
@@ -466,7 +467,7 @@ def test_tee6_one_sided_sleeve_scale_keeps_the_right_sleeve(tee6_runs, key):
     g, left, runs = tee6_runs
     adj = runs[key]
     plist = adj.state.panels
-    mm = panel_mirror_map(g, sagittal_plane(g.V3, g.F3))
+    mm = panel_mirror_map(g, sagittal_plane(g.V3, g.F3, frame=Frame()))
     a0 = pattern_areas(g.V2, g.F2, plist)
     a1 = pattern_areas(adj.result.V2, adj.state.base.F2, plist)
     for p in plist:

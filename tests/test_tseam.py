@@ -19,6 +19,7 @@ from ptailor.formats.obj import read_obj, write_garment
 from ptailor.geometry.topology import half_edges
 from ptailor.method.ease import seam_ease
 from ptailor.model.boundary import boundary_curves, boundary_edges, boundary_loops
+from ptailor.model.frame import Frame
 from ptailor.model.garment import panel_labels, panels
 from ptailor.model.openings import openings
 from ptailor.model.seams import seam_halfedges, seams
@@ -51,7 +52,10 @@ def _seam_set(F3, F2, flab, V2):
 
 
 def _open_set(V3, F3, F2=None):
-    return [(o.name, tuple(o.loop.tolist()), o.closed, o.length) for o in openings(V3, F3, F2=F2)]
+    return [
+        (o.name, tuple(o.loop.tolist()), o.closed, o.length)
+        for o in openings(V3, F3, F2=F2, frame=Frame())
+    ]
 
 
 @pytest.mark.parametrize("rows", [(4, 12), (8, 16), (0, 16)])
@@ -102,7 +106,7 @@ def test_tseam_seam_ease_keeps_strip_against_panel():
 def test_tseam_openings_strip_edge_is_an_open_opening(rows):
     g = tseam_tube(rows=rows)
     for F2 in (None, g.F2):
-        ops = openings(g.V3, g.F3, F2=F2)
+        ops = openings(g.V3, g.F3, F2=F2, frame=Frame())
         names = [o.name for o in ops]
         assert names[:2] == ["hem", "waist"] and len(ops) == 3
         assert all(o.closed for o in ops[:2])
@@ -166,7 +170,7 @@ def test_tseam_strip_lying_flat_on_the_panel():
             V3[n3:, 0] = sign * w
             V3[n3:, 2] = r + 0.2
             for F2 in (None, g.F2):
-                ops = openings(V3, g.F3, F2=F2)
+                ops = openings(V3, g.F3, F2=F2, frame=Frame())
                 assert [o.name for o in ops] == ["hem", "waist", "opening_2"]
                 assert [o.closed for o in ops] == [True, True, False]
                 np.testing.assert_allclose([o.length for o in ops[:2]], [60.0, 60.0])
@@ -184,7 +188,7 @@ def test_bow_tie_vertex_gives_two_simple_loops():
     for F in (F3, F3[::-1], np.roll(F3, 1, axis=1)):
         loops = boundary_loops(F)
         assert [lp.tolist() for lp in loops] == [[0, 2, 1], [0, 3, 4]]
-        ops = openings(V3, F)
+        ops = openings(V3, F, frame=Frame())
         assert len(ops) == 2 and all(o.closed and o.length > 0 for o in ops)
 
 
@@ -219,7 +223,7 @@ def test_panels_touching_at_one_boundary_vertex(tmp_path):
         got = [lp.tolist() for lp in loops]
         ref = got if ref is None else ref
         assert got == ref
-        ops = openings(V3, F3[p])
+        ops = openings(V3, F3[p], frame=Frame())
         assert [o.length for o in ops] == [12.0, 12.0]
     # the CLI reads it with exit 0
     from ptailor.model.garment import Garment
@@ -249,7 +253,7 @@ def test_degenerate_faces_and_short_loops_dropped():
     V3 = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [5, 5, 5]], float)
     F = np.array([[0, 1, 2], [0, 0, 1], [3, 3, 3]])
     assert [lp.tolist() for lp in boundary_loops(F)] == [[0, 1, 2]]
-    ops = openings(V3, F)
+    ops = openings(V3, F, frame=Frame())
     assert len(ops) == 1 and ops[0].length > 0
 
 

@@ -10,7 +10,8 @@ import pytest
 
 from ptailor.geometry.closed_forms import inv2
 from ptailor.geometry.triangles import edge_matrices
-from ptailor.model.structure import Y_UP, Z_FRONT, structure
+from ptailor.model.frame import Frame
+from ptailor.model.structure import structure
 from ptailor.pipeline import adjustment
 from ptailor.recipe import load_recipe
 from ptailor.samples import cylinder, lantern_sleeve
@@ -42,7 +43,7 @@ def rot2(a: float) -> np.ndarray:
 
 
 def cuff(adj) -> np.ndarray:
-    s = structure(adj.state.base, up=Y_UP, front=Z_FRONT)
+    s = structure(adj.state.base)
     k = [p.name for p in s.panels].index("cuff")
     return s.face_panel == k
 
@@ -144,19 +145,19 @@ def test_principal_stretches_of_a_known_affine_map():
 
 def test_top_opening_is_the_highest_loop():
     g = cylinder()
-    top = top_opening(g.V3, g.F3)
+    top = top_opening(g.V3, g.F3, frame=Frame())
     assert len(top) > 3
     np.testing.assert_allclose(g.V3[top, 1], g.V3[:, 1].max())
-    bottom = top_opening(g.V3, g.F3, up=(0.0, -1.0, 0.0))
+    bottom = top_opening(g.V3, g.F3, frame=Frame(up=(0.0, -1.0, 0.0)))
     np.testing.assert_allclose(g.V3[bottom, 1], g.V3[:, 1].min())
     s = lantern_sleeve(n_around=24)
-    top = top_opening(s.V3, s.F3)
+    top = top_opening(s.V3, s.F3, frame=Frame())
     assert len(top) == 24
     np.testing.assert_allclose(s.V3[top, 1], 48.0)  # the armhole, not the cuff
     sx = lantern_sleeve(n_around=24, axis="x")
-    np.testing.assert_array_equal(top_opening(sx.V3, sx.F3, up=(1, 0, 0)), top)
+    np.testing.assert_array_equal(top_opening(sx.V3, sx.F3, frame=Frame(up=(1, 0, 0))), top)
     closed = np.array([[0, 1, 2], [0, 2, 3], [0, 3, 1], [1, 3, 2]])
-    assert len(top_opening(np.eye(4, 3), closed)) == 0
+    assert len(top_opening(np.eye(4, 3), closed, frame=Frame())) == 0
 
 
 def test_panel_stats_numbers():
@@ -235,7 +236,7 @@ def test_verify_section_wiring(lantern_adj, fake_engine):
     assert panels["original"]["sleeve"]["stretch"]["p50"] == pytest.approx(1.2, rel=1e-6)
     # every run: the edited drape, the top opening pinned, the body and units passed on
     assert len(fake_engine) == 3
-    top = top_opening(adj.state.V3, adj.state.base.F3)
+    top = top_opening(adj.state.V3, adj.state.base.F3, frame=Frame())
     for call in fake_engine:
         np.testing.assert_array_equal(call["V3"], adj.state.V3)
         np.testing.assert_array_equal(call["pinned"], top)
@@ -271,12 +272,12 @@ def test_displacement_is_scaled_and_a_missing_baseline_is_computed(lantern_adj, 
 def test_verify_patterns_for_any_names(lantern_adj, fake_engine):
     adj = lantern_adj
     b = adj.state.base
-    s = structure(b, up=Y_UP, front=Z_FRONT)
+    s = structure(b)
     section, drapes, stretches = check.verify_patterns(
         adj.state.V3, b.F3, b.F2, {"ours": adj.result.V2}, b.V2, b.V3,
         panel_names=[p.name for p in s.panels], face_panel=s.face_panel,
-        vertex_panel=s.vertex_panel, units_m=0.01, to_units=1.0,
-    )  # fmt: skip
+        vertex_panel=s.vertex_panel, units_m=0.01, to_units=1.0, frame=Frame(),
+)  # fmt: skip
     assert set(section) == {
         "engine",
         "device",
@@ -295,12 +296,13 @@ def test_verify_patterns_refuses_an_up_the_engine_cannot_simulate(lantern_adj, f
     """Gravity is along -y: a z-up garment must be turned first, not pinned at the wrong loop
     and dropped sideways."""
     b = lantern_adj.state.base
-    s = structure(b, up=Y_UP, front=Z_FRONT)
+    s = structure(b)
     with pytest.raises(ValueError, match="up must be"):
         check.verify_patterns(
             lantern_adj.state.V3, b.F3, b.F2, {"ours": lantern_adj.result.V2}, b.V2, b.V3,
             panel_names=[p.name for p in s.panels], face_panel=s.face_panel,
-            vertex_panel=s.vertex_panel, up=(0.0, 0.0, 1.0), units_m=0.01, to_units=1.0,
+            vertex_panel=s.vertex_panel, frame=Frame((0.0, 0.0, 1.0), (0.0, -1.0, 0.0)),
+            units_m=0.01, to_units=1.0,
         )  # fmt: skip
 
 
@@ -323,8 +325,8 @@ def test_verify_png_is_deterministic(tmp_path):
     arm = trimesh.creation.cylinder(radius=ARM_RADIUS, segment=[[0, -2, 0], [0, 50, 0]])
     body = (np.asarray(arm.vertices), np.asarray(arm.faces))
     a, c = tmp_path / "a.png", tmp_path / "c.png"
-    verify_png(a, drapes, g.F3, stretch, body=body, height=300)
-    verify_png(c, drapes, g.F3, stretch, body=body, height=300)
+    verify_png(a, drapes, g.F3, stretch, body=body, height=300, frame=Frame())
+    verify_png(c, drapes, g.F3, stretch, body=body, height=300, frame=Frame())
     data = a.read_bytes()
     assert data[:8] == b"\x89PNG\r\n\x1a\n" and data == c.read_bytes()
     with Image.open(a) as im:

@@ -18,6 +18,7 @@ from ptailor.geometry.labels import used_indices
 from ptailor.geometry.triangles import triangle_areas
 from ptailor.method.flatten import FlattenResult, flatten
 from ptailor.method.symbolic import SymbolicCache
+from ptailor.model.frame import Frame
 from ptailor.model.garment import Garment, panel_labels, vertex_labels, with_panel_names
 from ptailor.model.structure import structure
 from ptailor.model.symmetry import sagittal_plane
@@ -42,8 +43,6 @@ class Adjustment:
         Seconds per stage.
     original : Garment or None
         The input garment, before any step (surgery changes ``state.base``'s triangles).
-    axes : tuple of two 3-tuples
-        The run's ``(up, front)`` axes (for names from geometry).
     notes : tuple of str
         Library warnings (numpy, scipy) caught during the run, for the report.
     """
@@ -54,14 +53,17 @@ class Adjustment:
     settings: dict
     timing_s: dict = field(default_factory=dict)
     original: Garment | None = None
-    axes: tuple = ((0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
     notes: tuple[str, ...] = ()
 
     def original_panels(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         """Panel name to ``(faces, vertices)`` in the input garment."""
         g = self.original if self.original is not None else self.state.base
-        up, front = self.axes
-        return {p.name: (p.faces, p.vertices) for p in structure(g, up=up, front=front).panels}
+        return {p.name: (p.faces, p.vertices) for p in structure(g).panels}
+
+    @property
+    def frame(self) -> Frame:
+        """The garment's frame (the run's axes, carried by the garment)."""
+        return self.state.base.frame
 
     @property
     def garment(self) -> Garment:
@@ -74,6 +76,7 @@ class Adjustment:
             face_group=self.state.base.face_group,
             group_names=self.state.base.group_names,
             units=self.state.base.units,
+            frame=self.state.base.frame,
         )
 
 
@@ -95,20 +98,16 @@ def apply_steps(garment: Garment, recipe: Recipe, *, options: EditOptions) -> Ed
     -------
     EditState
     """
-    plist = structure(garment, up=options.up, front=options.front).panels
+    plist = structure(garment).panels
     state = EditState(
         base=garment,
         V3=garment.V3.copy(),
         panels=plist,
         even=np.ones(len(plist), dtype=bool),
-        up=options.up,
-        front=options.front,
     )
     plane = None
     if any(step.get("symmetric") for step in recipe.steps):
-        plane = sagittal_plane(
-            garment.V3, garment.F3, up=options.up, front=options.front, body=options.body
-        )
+        plane = sagittal_plane(garment.V3, garment.F3, frame=garment.frame, body=options.body)
         rec = plane.record()
         state = replace(
             state,
@@ -321,9 +320,8 @@ def _adjust(
     if progress is not None:
         progress("edit", 0, None)
     options = options or EditOptions()
-    # panel names (from the file, else from the drape in the run's axes) fixed once
-    named = structure(garment, up=options.up, front=options.front).panels
-    garment = with_panel_names(garment, up=options.up, front=options.front, plist=named)
+    # panel names (from the file, else from the drape in the garment's frame) fixed once
+    garment = with_panel_names(garment, plist=structure(garment).panels)
     state = apply_steps(garment, recipe, options=options)
     t1 = time.perf_counter()
     asap = asap_mask(state, settings["boundary"])
@@ -339,11 +337,7 @@ def _adjust(
     seams = seam_mode(settings["seams"])
     # the seams the run's structure already found (the input garment's, when no step
     # changed the cloth): not again inside the flatten
-    pairs = (
-        structure(state.base, up=options.up, front=options.front).seam_halfedges
-        if seams == "ease"
-        else None
-    )
+    pairs = structure(state.base).seam_halfedges if seams == "ease" else None
     # the baseline's matrix has the pattern of ours: one analysis for both; without a
     # baseline none is kept for later (the factor alone serves ours: 19 MB less at 300k)
     symbolic = SymbolicCache() if baseline else None
@@ -386,7 +380,6 @@ def _adjust(
         settings=settings,
         timing_s=timing,
         original=garment,
-        axes=(tuple(options.up), tuple(options.front)),
     )
 
 
@@ -444,7 +437,7 @@ def _zigzag_warnings(adj: Adjustment) -> list[str]:
     from ptailor.method.ease import side_zigzag
 
     g = adj.state.base
-    pairs = structure(g, up=adj.axes[0], front=adj.axes[1]).seam_halfedges
+    pairs = structure(g).seam_halfedges
     if not len(pairs):
         return []
     z = side_zigzag(g.V2, adj.result.V2, half_edges(g.F2)[np.asarray(pairs).ravel()])

@@ -299,3 +299,6 @@ SPEC_MATCH_REL = 0.005
 SPEC_FIT_WARN_CM = 0.1
 #: A straight edge whose adjusted points leave its chord by more than this gets a curve.
 SPEC_BEND_CM = 0.05
+#: A frame's front whose part perpendicular to up is shorter than this fraction of its
+#: length (unitless) is parallel to up (ptailor.model.frame.Frame): no side can be told.
+FRAME_PARALLEL = 1e-9

@@ -107,7 +107,7 @@ def _garment_info(garment, *, drape, units, pattern_units, drape_units, weld, ax
     ``spec`` section when a specification is given."""
     from ptailor.formats.garment import load_garment
     from ptailor.model.repair import topology
-    from ptailor.recipe import resolve_axes
+    from ptailor.recipe import resolve_frame
     from ptailor.report.inspection import garment_summary, spec_summary
 
     loaded = load_garment(
@@ -117,15 +117,15 @@ def _garment_info(garment, *, drape, units, pattern_units, drape_units, weld, ax
         pattern_units=pattern_units,
         drape_units=drape_units,
         weld=weld,
+        frame=resolve_frame(*axes),
     )
-    up_v, front_v = resolve_axes(*axes)
     matching = None
     if spec is not None:
         from ptailor.run.spec import matched_specification, spec_units
 
         loaded = spec_units(loaded, spec)
-        matching = matched_specification(loaded, spec, up=up_v, front=front_v)
-    info = garment_summary(loaded, up=up_v, front=front_v)
+        matching = matched_specification(loaded, spec)
+    info = garment_summary(loaded)
     info["intake"] = {
         **info.get("intake", {}),
         "topology": topology(loaded.garment.V3, loaded.garment.F3),

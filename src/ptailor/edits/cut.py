@@ -15,6 +15,7 @@ from ptailor.edits.state import EditOptions, EditState
 from ptailor.edits.surgery import panel_changes, split_keep
 from ptailor.errors import PtailorError
 from ptailor.geometry.labels import used_indices
+from ptailor.model.frame import Frame
 from ptailor.model.symmetry import SagittalPlane, mirror_points
 
 VIEWS = ("front", "back", "left", "right", "top", "bottom")
@@ -68,34 +69,40 @@ def plane_spec(x: Any, where: str) -> list[str]:
     return probs
 
 
-def sagittal_mirror(V: np.ndarray, F: np.ndarray, *, options: EditOptions) -> np.ndarray:
+def sagittal_mirror(V: np.ndarray, F: np.ndarray, *, frame: Frame) -> np.ndarray:
     """Mirror drape positions across the sagittal plane.
 
     The plane contains the up and front axes and passes through the drape's area-weighted
     centroid (a fitted plane comes with the symmetry step).
     """
-    left = np.cross(np.asarray(options.up, float), np.asarray(options.front, float))
     plane = SagittalPlane(
         point=region_centroid(V, F, np.arange(len(F))),
-        normal=left / np.linalg.norm(left),
+        normal=np.asarray(frame.side),
         rms=0.0,
         max=0.0,
     )
     return mirror_points(V, plane)
 
 
-def view_frame(view: Any, *, up: tuple, front: tuple) -> np.ndarray:
+def view_frame(view: Any, *, frame: Frame) -> np.ndarray:
     """Rows ``(right, up, direction)`` of a view; ``direction`` points from the viewer.
 
     Named views use the garment's axes: ``front`` looks at the garment's front (the viewer
     stands in front, looking along ``-front``), ``left`` stands at the wearer's left, and so
     on; ``top`` looks down with the front at the bottom of the image.
+
+    Parameters
+    ----------
+    view : str or (3,) sequence of float
+        A named view or the direction the viewer looks along.
+    frame : Frame
+        The garment's frame.
+
+    Returns
+    -------
+    (3, 3) float array
     """
-    u = np.asarray(up, float) / np.linalg.norm(up)
-    f = np.asarray(front, float)
-    f = f - u * (f @ u)
-    f /= np.linalg.norm(f)
-    left = np.cross(u, f)
+    left, u, f = frame.matrix()
     dirs = {
         "front": (-f, u),
         "back": (f, u),
@@ -198,17 +205,17 @@ def sketch_origin(state: EditState, step: dict, *, options: EditOptions) -> np.n
     spec = step.get("origin")
     if spec is None:
         return np.zeros(2)
-    frame = view_frame(step["view"], up=options.up, front=options.front)
+    frame = view_frame(step["view"], frame=state.frame)
     if isinstance(spec, list):
         for i, o in enumerate(spec):
             try:
-                _, loop = find_opening(state, o, options=options)
+                _, loop = find_opening(state, o)
                 break
             except PtailorError:
                 if i == len(spec) - 1:
                     raise
     else:
-        _, loop = find_opening(state, spec, options=options)
+        _, loop = find_opening(state, spec)
     X = state.V3[loop] @ frame[:2].T
     if step["layers"] == "near":  # the layer facing the viewer: its lowest point
         used = used_indices(state.base.F3, len(state.V3))
@@ -220,12 +227,11 @@ def sketch_origin(state: EditState, step: dict, *, options: EditOptions) -> np.n
 
 
 def sketch_field(
-    V: np.ndarray, step: dict, *, options: EditOptions, origin: np.ndarray | None = None
+    V: np.ndarray, step: dict, *, frame: Frame, origin: np.ndarray | None = None
 ) -> np.ndarray:
     """Field whose negative side is what a sketch cut removes (the sketch's points offset
-    by ``origin``, :func:`sketch_origin`)."""
-    frame = view_frame(step["view"], up=options.up, front=options.front)
-    X = V @ frame.T  # (right, up, depth)
+    by ``origin``, :func:`sketch_origin`), seen under the garment's ``frame``."""
+    X = V @ view_frame(step["view"], frame=frame).T  # (right, up, depth)
     Q = np.asarray(step["sketch"], float) + (0.0 if origin is None else origin)
     side = polyline_side(X[:, :2], Q)
     # which way is "above" / "left" for this polyline's direction of travel
@@ -285,11 +291,11 @@ def cut(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         o = sketch_origin(state, step, options=options)
 
         def field(X: np.ndarray) -> np.ndarray:
-            return sketch_field(X, step, options=options, origin=o)
+            return sketch_field(X, step, frame=state.frame, origin=o)
 
         what = "sketch"
         used = used_indices(state.base.F3, len(V))
-        frame = view_frame(step["view"], up=options.up, front=options.front)
+        frame = view_frame(step["view"], frame=state.frame)
         X2 = V[used] @ frame[:2].T
         lo, hi = X2.min(axis=0), X2.max(axis=0)
         pad = 1e-9 * max(float(np.max(hi - lo)), 1e-300)
@@ -303,7 +309,7 @@ def cut(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     phi = field(V)
     if step["symmetric"]:
         # remove what the cut removes and what its mirror image removes
-        phi = np.minimum(phi, field(sagittal_mirror(V, state.base.F3, options=options)))
+        phi = np.minimum(phi, field(sagittal_mirror(V, state.base.F3, frame=state.frame)))
     used = used_indices(state.base.F3, len(V))
     if np.all(phi[used] >= 0):
         raise PtailorError(f"the cut's {what} misses the garment: nothing to remove")

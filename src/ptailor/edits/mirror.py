@@ -103,11 +103,11 @@ class _Renamer:
     def loop(self, spec: dict) -> dict:
         k = spec["loop"]
         b = self.before
-        ops0 = drape_openings(b, options=self.options)
+        ops0 = drape_openings(b)
         if k >= len(ops0):
             return spec  # the step's own lookup reports it
         m = self.mirrored
-        ops1 = drape_openings(m, options=self.options)
+        ops1 = drape_openings(m)
         # on the mirrored garment, the mirror loop sits where loop k sat before the step
         cen = np.array([o.centroid for o in ops1]).reshape(-1, 3)
         d = np.linalg.norm(cen - ops0[k].centroid, axis=1)

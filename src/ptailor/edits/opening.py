@@ -9,7 +9,7 @@ import numpy as np
 
 from ptailor import tolerances as tol
 from ptailor.edits.checks import show, with_schema
-from ptailor.edits.state import EditOptions, EditState
+from ptailor.edits.state import EditState
 from ptailor.errors import PtailorError
 from ptailor.geometry.topology import half_edges
 from ptailor.model.openings import Opening, openings
@@ -44,7 +44,7 @@ def opening_spec(x: Any, where: str) -> list[str]:
     return [f"{where}: expected an opening name (hem, neckline, ...) or {{loop: k}}, got {show(x)}"]
 
 
-def drape_openings(state: EditState, *, options: EditOptions) -> list[Opening]:
+def drape_openings(state: EditState) -> list[Opening]:
     """The openings of the edited drape ``state.V3``.
 
     While the drape is still the garment's own (a recipe's first step), they are the
@@ -52,11 +52,11 @@ def drape_openings(state: EditState, *, options: EditOptions) -> list[Opening]:
     """
     g = state.base
     if state.V3 is g.V3 or np.array_equal(state.V3, g.V3):
-        return structure(g, up=options.up, front=options.front).openings
-    return openings(state.V3, g.F3, up=options.up, front=options.front, F2=g.F2)
+        return structure(g).openings
+    return openings(state.V3, g.F3, frame=g.frame, F2=g.F2)
 
 
-def find_opening(state: EditState, spec: Any, *, options: EditOptions) -> tuple[str, np.ndarray]:
+def find_opening(state: EditState, spec: Any) -> tuple[str, np.ndarray]:
     """The drape loop a recipe names.
 
     Parameters
@@ -65,9 +65,8 @@ def find_opening(state: EditState, spec: Any, *, options: EditOptions) -> tuple[
         Openings are found on the edited drape ``state.V3``.
     spec : str or dict
         A name from :func:`ptailor.model.openings.openings`, or ``{"loop": k}`` for the k-th
-        boundary loop (longest first, as ``ptailor inspect`` lists them).
-    options : EditOptions
-        The up and front axes.
+        boundary loop (longest first, as ``ptailor inspect`` lists them), named under
+        the garment's frame.
 
     Returns
     -------
@@ -80,7 +79,7 @@ def find_opening(state: EditState, spec: Any, *, options: EditOptions) -> tuple[
     PtailorError
         An unknown name or loop index, listing what this garment has.
     """
-    ops = drape_openings(state, options=options)
+    ops = drape_openings(state)
     if isinstance(spec, dict):
         k = spec["loop"]
         if k >= len(ops):

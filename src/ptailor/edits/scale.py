@@ -13,6 +13,7 @@ from ptailor.edits.region import region_axis, region_centroid, region_faces, uni
 from ptailor.edits.registry import Param, register
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.method.deform import arap_deform
+from ptailor.model.frame import Frame
 
 
 def scale_matrix(direction: str, ax: np.ndarray, factor: float) -> np.ndarray:
@@ -70,7 +71,7 @@ def scale(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     for part in parts:  # a loop over the region's connected parts (a few)
         if step["axis"] == "auto":
             ax = region_axis(V3, g.F3, part, body=options.body)
-            warnings += auto_axis_warnings(V3, g.F3, part, ax, options)
+            warnings += auto_axis_warnings(V3, g.F3, part, ax, options, frame=g.frame)
         else:
             ax = unit_vector(step["axis"], "axis")
         c = region_centroid(V3, g.F3, part)
@@ -149,7 +150,13 @@ def region_parts(F3: np.ndarray, faces: np.ndarray, n: int) -> list[np.ndarray]:
 
 
 def auto_axis_warnings(
-    V3: np.ndarray, F3: np.ndarray, faces: np.ndarray, ax: np.ndarray, options: EditOptions
+    V3: np.ndarray,
+    F3: np.ndarray,
+    faces: np.ndarray,
+    ax: np.ndarray,
+    options: EditOptions,
+    *,
+    frame: Frame,
 ) -> list[str]:
     """A warning where ``axis: auto`` had no tube to go by (the region's normals avoid no
     one direction: a whole T-shirt, torso and sleeves) and its fallback, the direction of
@@ -161,12 +168,12 @@ def auto_axis_warnings(
 
     if options.body is not None or tube_axis(V3, F3[faces]) is not None:
         return []
-    up = unit_vector(options.up, "up")
+    up = frame.matrix()[1]
     angle = float(np.degrees(np.arccos(min(1.0, abs(float(ax @ up))))))
     if angle <= tol.AUTO_AXIS_UP_DEG:
         return []
     return [
         f"axis: auto found no tube in the region and took its longest extent, {angle:.0f}"
-        f" degrees from the garment's up {list(options.up)}: give the axis (axis: [x, y, z])"
+        f" degrees from the garment's up {list(frame.up)}: give the axis (axis: [x, y, z])"
         " or a smaller region (one sleeve, the torso)"
     ]

@@ -319,7 +319,7 @@ def _fixed_vertices(
         if isinstance(spec, list):
             fixed.append(seam_vertices(state, spec))
         else:
-            fixed.append(find_opening(state, spec, options=options)[1])
+            fixed.append(find_opening(state, spec)[1])
         if not len(np.setdiff1d(fixed[-1], ring)):  # once silently ignored (0 fixed vertices)
             a, b = seam
             raise PtailorError(

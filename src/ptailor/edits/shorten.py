@@ -172,7 +172,7 @@ def shorten(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     pattern vertices from the old edge; ``drape``, the same of their surface distance from
     the old opening on the edited drape.
     """
-    name, loop = find_opening(state, step["opening"], options=options)
+    name, loop = find_opening(state, step["opening"])
     by = float(step["by"])
     measure = step.get("measure") or "drape"
     g = state.base

@@ -7,6 +7,7 @@ from typing import Any
 
 import numpy as np
 
+from ptailor.model.frame import Frame
 from ptailor.model.garment import Garment, Panel
 
 
@@ -37,8 +38,6 @@ class EditState:
         ``(part, other, f)``: the seams between panels ``part`` and ``other`` change their
         length ratio on purpose, the side on ``part`` ``f`` times longer relative to the
         side on ``other`` (``scale_seam``'s gather); the flattening keeps that new ratio.
-    up, front : (3,) tuple of float
-        The garment's axes (the run's): every structure of ``base`` is taken under them.
     """
 
     base: Garment
@@ -49,15 +48,18 @@ class EditState:
     outline_free: np.ndarray | None = None
     frozen: frozenset[str] = frozenset()
     gathers: tuple[tuple[str, str, float], ...] = ()
-    up: tuple[float, float, float] = (0.0, 1.0, 0.0)
-    front: tuple[float, float, float] = (0.0, 0.0, 1.0)
+
+    @property
+    def frame(self) -> Frame:
+        """The garment's frame (``base.frame``): the wearer's axes of every step."""
+        return self.base.frame
 
     @property
     def structure(self):
-        """``structure(base)`` under the garment's axes."""
+        """``structure(base)``."""
         from ptailor.model.structure import structure
 
-        return structure(self.base, up=self.up, front=self.front)
+        return structure(self.base)
 
 
 @dataclass(frozen=True)
@@ -66,8 +68,6 @@ class EditOptions:
 
     Attributes
     ----------
-    up, front : (3,) tuple of float
-        The garment's axes (openings, views, the sagittal plane).
     body : trimesh.Trimesh or None
         A watertight body in the computation unit: extended rows are pushed out of it.
     symbolic : SymbolicCache or None
@@ -75,7 +75,5 @@ class EditOptions:
         a mirrored step's two applications factor matrices of one pattern.
     """
 
-    up: tuple[float, float, float] = (0.0, 1.0, 0.0)
-    front: tuple[float, float, float] = (0.0, 0.0, 1.0)
     body: Any = None
     symbolic: Any = None

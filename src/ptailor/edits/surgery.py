@@ -407,8 +407,9 @@ def _compacted_state(
         face_group=flab[parent],
         group_names=tuple(p.name for p in plist),
         units=g.units,
+        frame=g.frame,
     )
-    new_panels = structure(base, up=state.up, front=state.front).panels
+    new_panels = structure(base).panels
     # a panel that lost triangles has an edited outline: it no longer keeps its shape
     touched = np.zeros(len(plist), bool)
     touched[flab[np.flatnonzero(~keep_whole)]] = True

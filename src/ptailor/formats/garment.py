@@ -13,6 +13,7 @@ from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
 from ptailor.formats import is_pattern_file, pattern_reader_for, reader_for
 from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
+from ptailor.model.frame import DEFAULT_FRAME, Frame
 from ptailor.model.garment import Garment
 from ptailor.model.pieces import PatternFile
 from ptailor.model.repair import check_units, intake, unit_ratios
@@ -134,6 +135,7 @@ def load_garment(
     size: str | None = None,
     dxf_units: str | None = None,
     weld: str | float = "auto",
+    frame: Frame = DEFAULT_FRAME,
 ) -> LoadedGarment:
     """Read, repair and check a garment.
 
@@ -157,6 +159,9 @@ def load_garment(
     weld : str or float
         ``auto``, ``off`` or a distance in ``units`` (:func:`parse_weld`,
         :func:`ptailor.model.repair.intake`).
+    frame : Frame
+        The wearer's axes in the drape's coordinates (the command line's ``--up`` and
+        ``--front``, else the recipe's): the garment carries it.
 
     Returns
     -------
@@ -175,7 +180,7 @@ def load_garment(
     # is checked (check_garment), and a failure is one line naming the file
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore", RuntimeWarning)
-        return _load_garment(
+        loaded = _load_garment(
             path,
             drape=drape,
             units=units,
@@ -185,6 +190,7 @@ def load_garment(
             dxf_units=dxf_units,
             weld=weld,
         )
+    return replace(loaded, garment=loaded.garment.with_frame(frame))
 
 
 def _load_garment(

@@ -407,11 +407,11 @@ def write_garment(path: str | Path, garment: Garment, *, header: Sequence[str] =
     header : list of str
         Comment lines written first.
     """
-    from ptailor.model.structure import Y_UP, Z_FRONT, structure
+    from ptailor.model.structure import structure
 
     # the panels as the garment's groups name them (what a sample or a written garment has);
-    # unnamed panels get names from the default axes
-    st = structure(garment, up=Y_UP, front=Z_FRONT)
+    # unnamed panels get names from the drape under the garment's own frame
+    st = structure(garment)
     plist = st.panels
     write_obj(
         path,

@@ -16,7 +16,7 @@ from ptailor.method.intrinsic import Intrinsic, intrinsic_targets
 from ptailor.method.stitch import StitchInfo, stitch
 from ptailor.method.symbolic import SymbolicCache
 from ptailor.model.garment import Garment, Panel, panel_labels, vertex_labels
-from ptailor.model.structure import Y_UP, Z_FRONT, structure
+from ptailor.model.structure import structure
 
 Method = Literal["scale-preserving", "uniform"]
 Seams = Literal["ease", "free"]
@@ -167,8 +167,8 @@ def flatten(
         Solver settings (see :func:`ptailor.method.stitch.stitch`).
     panel_list, seam_pairs : list of Panel, (s, 2) int array, optional
         The panels and their ``seam_halfedges`` (those used with ``seams="ease"``), as the
-        caller found them under its axes; default: ``structure(garment, up=Y_UP,
-        front=Z_FRONT)``'s.
+        caller found them; default: ``structure(garment)``'s (named under the garment's
+        frame).
     progress : callable, optional
         ``progress(iteration, residual)`` once per stitching iteration.
     symbolic : SymbolicCache, optional
@@ -178,7 +178,7 @@ def flatten(
     -------
     FlattenResult
     """
-    plist = panel_list or structure(garment, up=Y_UP, front=Z_FRONT).panels  # (API: default)
+    plist = panel_list or structure(garment).panels  # (API: default)
     sign = np.where(mirror_mask(plist, len(garment.V2)), -1.0, 1.0)
     V2 = garment.V2 * np.stack([sign, np.ones(len(sign))], 1)  # mirrored panels flipped
     targets = _targets(garment, V2, V3_edit, plist, method, intrinsic, frozen_panels)

@@ -13,6 +13,7 @@ import numpy as np
 
 from ptailor.geometry.labels import component_labels, scatter_labels, used_indices
 from ptailor.geometry.triangles import signed_areas_2d
+from ptailor.model.frame import DEFAULT_FRAME, Frame
 
 __all__ = [
     "Garment",
@@ -72,6 +73,11 @@ class Garment:
         Group names in file order.
     units : str
         Length unit of both ``V3`` and ``V2`` (everything is computed in one unit).
+    frame : Frame
+        The wearer's axes in ``V3``'s coordinates, resolved where the garment is read
+        (:data:`~ptailor.model.frame.DEFAULT_FRAME`, y up and z front, where nothing says
+        otherwise); every name from geometry and every measure reads it here. Garments made
+        from this one (:meth:`with_drape`, ``dataclasses.replace``) keep it.
     """
 
     V3: np.ndarray
@@ -81,6 +87,7 @@ class Garment:
     face_group: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     group_names: tuple[str, ...] = ()
     units: str = "cm"
+    frame: Frame = DEFAULT_FRAME
     # derived structure (ptailor.model.structure), filled on first use; never copied
     _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
@@ -88,6 +95,8 @@ class Garment:
         m = len(self.F3)
         if len(self.face_group) != m:
             object.__setattr__(self, "face_group", np.full(m, -1, dtype=np.int64))
+        if not isinstance(self.frame, Frame):
+            raise TypeError(f"Garment.frame must be a Frame, not {type(self.frame).__name__}")
         # read-only: the cache (structure, ...) holds for as long as the garment lives
         for name in ("V3", "F3", "V2", "F2", "face_group"):
             object.__setattr__(self, name, read_only(getattr(self, name)))
@@ -116,6 +125,10 @@ class Garment:
     def with_pattern(self, V2: np.ndarray) -> Garment:
         """Return a copy with pattern positions ``V2`` (same topology)."""
         return replace(self, V2=np.asarray(V2, dtype=np.float64))
+
+    def with_frame(self, frame: Frame) -> Garment:
+        """Return a copy whose wearer's axes are ``frame`` (same arrays)."""
+        return replace(self, frame=frame)
 
 
 @dataclass(frozen=True)
@@ -153,14 +166,13 @@ def vertex_labels(panel_list: list[Panel], n: int) -> np.ndarray:
     return scatter_labels([p.vertices for p in panel_list], n, labels=[p.index for p in panel_list])
 
 
-def panels(garment: Garment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> list[Panel]:
+def panels(garment: Garment) -> list[Panel]:
     """The panels of a garment: connected components of ``F2``.
 
     Parameters
     ----------
     garment : Garment
-    up, front : 3-vectors
-        The wearer's axes, for panels named from geometry.
+        Its ``frame`` names the panels no group names.
 
     Returns
     -------
@@ -180,7 +192,7 @@ def panels(garment: Garment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> li
     if any(n is None for n in names):
         from ptailor.model.names import panel_layout
 
-        geo = panel_layout(garment.V3, garment.F3, garment.F2, lab, n_p, up=up, front=front).names
+        geo = panel_layout(garment.V3, garment.F3, garment.F2, lab, n_p, frame=garment.frame).names
     return named_panels(garment, lab, names, geo)
 
 
@@ -280,21 +292,17 @@ def named_panels(
     return out
 
 
-def with_panel_names(
-    garment: Garment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0), plist: list[Panel] | None = None
-) -> Garment:
+def with_panel_names(garment: Garment, *, plist: list[Panel] | None = None) -> Garment:
     """The garment with every panel's name written into its groups.
 
-    Geometric names depend on the drape and the axes; once written as groups they stay put
+    Geometric names depend on the drape and the frame; once written as groups they stay put
     whatever later steps do to the drape, and later :func:`panels` calls read them cheaply.
 
     Parameters
     ----------
     garment : Garment
-    up, front : 3-vectors
-        The wearer's axes for panels named from geometry.
     plist : list of Panel, optional
-        ``panels(garment, up=up, front=front)``, when the caller already has it.
+        ``panels(garment)``, when the caller already has it.
 
     Returns
     -------
@@ -304,7 +312,7 @@ def with_panel_names(
         derived structure (:mod:`ptailor.model.structure`) reuses what ``garment``'s has
         computed and does not depend on the groups (components, seams, openings, layout).
     """
-    pl = panels(garment, up=up, front=front) if plist is None else plist
+    pl = panels(garment) if plist is None else plist
     lab = panel_labels(pl, garment.n_faces)
     named = replace(garment, face_group=lab, group_names=tuple(p.name for p in pl))
     # the same cloth (arrays): its derived structure reads what this garment's has computed

@@ -13,6 +13,7 @@ import numpy as np
 from ptailor.geometry.labels import used_indices
 from ptailor.geometry.triangles import triangle_areas
 from ptailor.model.boundary import boundary_curves
+from ptailor.model.frame import Frame
 
 #: A loop shorter than this fraction of the longest loop is a mesh defect, never named.
 _MIN_REL_LENGTH = 0.05
@@ -54,31 +55,6 @@ class Opening:
     closed: bool = True
 
 
-def body_frame(up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> np.ndarray:
-    """Orthonormal rows ``(left, up, front)`` of the wearer's frame.
-
-    ``front`` is made orthogonal to ``up``; ``left = up x front`` is the wearer's left (with y
-    up and z front the wearer faces +z and their left is +x).
-
-    Raises
-    ------
-    ValueError
-        When ``up`` or ``front`` is zero or not finite, or they are parallel.
-    """
-    u = np.asarray(up, dtype=np.float64).reshape(3)
-    f = np.asarray(front, dtype=np.float64).reshape(3)
-    nu = np.linalg.norm(u)
-    if not np.isfinite(nu) or nu == 0.0 or not np.all(np.isfinite(f)):
-        raise ValueError(f"up axis must be a finite non-zero vector, got {tuple(u)}")
-    u = u / nu
-    f = f - (f @ u) * u
-    nf = np.linalg.norm(f)
-    if nf < 1e-9 * max(1.0, float(np.linalg.norm(np.asarray(front, dtype=np.float64)))):
-        raise ValueError("front axis must be non-zero and not parallel to the up axis")
-    f = f / nf
-    return np.stack([np.cross(u, f), u, f])
-
-
 def _loop_geometry(P: np.ndarray, closed: bool = True) -> tuple[float, np.ndarray, np.ndarray]:
     """Length, length-weighted centroid and best-fit plane normal of a polyline.
 
@@ -106,9 +82,7 @@ def _loop_geometry(P: np.ndarray, closed: bool = True) -> tuple[float, np.ndarra
     return length, centroid, normal
 
 
-def openings(
-    V3, F3, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0), F2=None, curves=None
-) -> list[Opening]:
+def openings(V3, F3, *, frame: Frame, F2=None, curves=None) -> list[Opening]:
     """The openings (boundary loops of the drape) with names from geometry.
 
     Parameters
@@ -117,8 +91,8 @@ def openings(
         Drape positions; vertices no triangle uses are ignored.
     F3 : (m, 3) int array
         Drape triangles.
-    up, front : 3-vectors
-        The body's up and front directions (``front`` is orthogonalised against ``up``).
+    frame : Frame
+        The wearer's axes (``Garment.frame``; ``front`` is orthogonalised against ``up``).
     F2 : (m, 3) int array, optional
         Pattern triangles. At a drape edge of three or more faces (a T-seam) they tell the
         panel (two faces on one pattern edge) from the piece sewn onto it; without them the
@@ -177,11 +151,10 @@ def openings(
     """
     V3 = np.asarray(V3, dtype=np.float64)
     F3 = np.asarray(F3, dtype=np.int64).reshape(-1, 3)
-    frame = body_frame(up, front)
     loops, closed = _loops(V3, F3, F2, curves)
     if not loops:
         return []
-    m = _loop_measures(V3, F3, loops, closed, frame)
+    m = _loop_measures(V3, F3, loops, closed, frame.matrix())
     return _named_openings(m, _opening_names(m))
 
 

@@ -13,8 +13,8 @@ Examples
 >>> V2 = np.array([[0.0, 0], [1, 0], [0, 1], [3, 0], [4, 0], [3, 1]])
 >>> F = np.array([[0, 1, 2], [3, 4, 5]])
 >>> g = Garment(V3=np.c_[V2, np.zeros(6)], F3=F, V2=V2, F2=F)
->>> s = structure(g, up=Y_UP, front=Z_FRONT)
->>> s is structure(g, up=Y_UP, front=Z_FRONT), len(s.panels), s.face_panel.tolist()
+>>> s = structure(g)
+>>> s is structure(g), len(s.panels), s.face_panel.tolist()
 (True, 2, [0, 1])
 >>> [lp.tolist() for lp in s.panel_loops(1)]
 [[3, 4, 5]]
@@ -41,20 +41,12 @@ from ptailor.model.names import PanelLayout, panel_layout
 from ptailor.model.openings import Opening, openings
 from ptailor.model.seams import Seam, seam_halfedges, seams
 
-Axis = tuple[float, float, float]
-#: the axes of garments that say none (a recipe's default, and every generated sample's):
-#: passed by name where a caller has no garment axes of its own
-Y_UP: Axis = (0.0, 1.0, 0.0)
-Z_FRONT: Axis = (0.0, 0.0, 1.0)
-
-
-def _axis(v) -> Axis:
-    x, y, z = (float(c) for c in v)
-    return (x, y, z)
+#: ``Garment.cache`` key of the garment's structure
+_KEY = "structure"
 
 
 class GarmentStructure:
-    """The derived structure of one garment for one pair of body axes (read-only).
+    """The derived structure of one garment, under its own frame (read-only).
 
     Every attribute is computed on first access and then kept. Arrays are shared with
     every consumer: do not write to them. A garment
@@ -65,13 +57,12 @@ class GarmentStructure:
     Attributes
     ----------
     garment : Garment
-    up, front : (3,) tuples of float
-        The wearer's axes (panels named from geometry, openings).
+        Its ``frame`` names the panels no group names and the openings.
     panel_components : ((m,) int array, int)
         The components of ``F2`` (a label per triangle, equal to ``face_panel``) and
         their count.
     panels : list of Panel
-        ``panels(garment, up=up, front=front)``; panels no group names are named from
+        ``panels(garment)``; panels no group names are named from
         this structure's ``layout`` (computed once, not once more inside ``panels``).
     face_panel : (m,) int array
         Panel index per triangle.
@@ -90,10 +81,8 @@ class GarmentStructure:
         ``openings``.
     """
 
-    def __init__(self, garment: Garment, *, up: Axis, front: Axis) -> None:
+    def __init__(self, garment: Garment) -> None:
         self.garment = garment
-        self.up = up
-        self.front = front
         self._loops: dict[int, list[np.ndarray]] = {}
 
     def _same(self, name: str):
@@ -102,7 +91,7 @@ class GarmentStructure:
         same = self.garment.cache.get(SAME_CLOTH)
         if same is None:
             return None
-        return structure(same, up=self.up, front=self.front).__dict__.get(name)
+        return structure(same).__dict__.get(name)
 
     @cached_property
     def panel_components(self) -> tuple[np.ndarray, int]:
@@ -161,9 +150,7 @@ class GarmentStructure:
         same = self._same("openings")
         if same is not None:
             return same
-        return openings(
-            g.V3, g.F3, up=self.up, front=self.front, F2=g.F2, curves=self.drape_boundary
-        )
+        return openings(g.V3, g.F3, frame=g.frame, F2=g.F2, curves=self.drape_boundary)
 
     @cached_property
     def layout(self) -> PanelLayout:
@@ -178,8 +165,7 @@ class GarmentStructure:
             g.F2,
             lab,
             n_p,
-            up=self.up,
-            front=self.front,
+            frame=g.frame,
             opening_list=self.openings,
         )
 
@@ -196,24 +182,20 @@ class GarmentStructure:
         return self._loops[index]
 
 
-def structure(garment: Garment, *, up, front) -> GarmentStructure:
-    """The derived structure of ``garment`` for the axes ``up``, ``front`` (cached).
+def structure(garment: Garment) -> GarmentStructure:
+    """The derived structure of ``garment`` under its frame (cached on the garment).
 
     Parameters
     ----------
     garment : Garment
-    up, front : 3-vectors
-        The wearer's axes (no default: panels without group names are named from them, so a
-        run passes its own; :data:`Y_UP`, :data:`Z_FRONT` where a caller has none).
 
     Returns
     -------
     GarmentStructure
-        The same object for the same garment and axes.
+        The same object for the same garment.
     """
-    key = (_axis(up), _axis(front))
     cache = garment.cache
-    found = cache.get(key)
+    found = cache.get(_KEY)
     if found is None:
-        found = cache[key] = GarmentStructure(garment, up=key[0], front=key[1])
+        found = cache[_KEY] = GarmentStructure(garment)
     return found

@@ -17,9 +17,9 @@ import numpy as np
 from ptailor.errors import PtailorError
 from ptailor.geometry.labels import used_indices
 from ptailor.geometry.triangles import triangle_areas, triangle_normals
+from ptailor.model.frame import Frame
 from ptailor.model.garment import Garment, Panel
-from ptailor.model.openings import body_frame
-from ptailor.model.structure import Y_UP, Z_FRONT, structure
+from ptailor.model.structure import structure
 
 #: Fraction of the worst pairs (largest mirror distance) left out of each plane update.
 _TRIM = 0.1
@@ -222,8 +222,7 @@ def sagittal_plane(
     V3: np.ndarray,
     F3: np.ndarray,
     *,
-    up: Any = (0.0, 1.0, 0.0),
-    front: Any = (0.0, 0.0, 1.0),
+    frame: Frame,
     body: Any = None,
     iterations: int = 20,
     trim: float = _TRIM,
@@ -246,8 +245,8 @@ def sagittal_plane(
     V3 : (n, 3) float array
         Drape positions; vertices no triangle uses are ignored.
     F3 : (m, 3) int array
-    up, front : 3-vectors
-        The wearer's axes.
+    frame : Frame
+        The wearer's axes (``Garment.frame``).
     body : trimesh.Trimesh or None
         When given, the plane is fitted to the body's vertices and faces instead.
     iterations : int
@@ -277,7 +276,7 @@ def sagittal_plane(
     w_all, centroid, N_all = _vertex_areas(V, F)
     used = used_indices(F, len(V))
     P, w = V[used], w_all[used]
-    left = body_frame(up, front)[0]
+    left = frame.matrix()[0]
     N = N_all[used]
     tree = cKDTree(P, balanced_tree=False)  # the same answers, built faster
     scale = float(np.ptp(P, axis=0).max()) or 1.0
@@ -394,7 +393,7 @@ def panel_mirror_map(
 
     V = garment.V3 if V3 is None else np.asarray(V3, dtype=np.float64)
     if panel_list is None:  # (the API's convenience; a run passes its panels)
-        panel_list = structure(garment, up=Y_UP, front=Z_FRONT).panels
+        panel_list = structure(garment).panels
     plist = panel_list
     k = len(plist)
     if k == 0:

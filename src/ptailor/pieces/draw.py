@@ -18,6 +18,7 @@ from ptailor.geometry.topology import edge_keys, half_edges
 from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
 from ptailor.geometry.tube_axis import tube_axis
 from ptailor.model.boundary import boundary_loops
+from ptailor.model.frame import Frame
 from ptailor.model.garment import Panel, panel_labels
 from ptailor.model.pieces import Piece
 from ptailor.model.polyline import corners, signed_area
@@ -76,7 +77,7 @@ def grain_directions(
     F3: np.ndarray,
     panel_list: list[Panel],
     *,
-    up: tuple[float, float, float] = (0.0, 1.0, 0.0),
+    frame: Frame,
 ) -> np.ndarray:
     """Each panel's lengthwise grain in the pattern, read off the drape.
 
@@ -97,8 +98,8 @@ def grain_directions(
     F3 : (m, 3) int array
         Its triangles, row for row the same cloth as ``F2``.
     panel_list : list of Panel
-    up : (3,) sequence of float
-        The body's up axis.
+    frame : Frame
+        The garment's frame (its up is the body's).
 
     Returns
     -------
@@ -107,11 +108,9 @@ def grain_directions(
     """
     n = len(panel_list)
     flab = panel_labels(panel_list, len(F2))
-    u = np.asarray(up, dtype=np.float64)
-    u = u / np.linalg.norm(u)
     axes = np.empty((n, 3))
     for p in panel_list:  # a loop over panels: each one's normal tensor
-        axes[p.index] = _panel_axis(V3, F3, p.faces, u)
+        axes[p.index] = _panel_axis(V3, F3, p.faces, frame)
     J, ok = pattern_jacobians(V3, F3, V2, F2)
     sol, good = least_squares_preimages(J, axes[flab], ok)
     norm = np.linalg.norm(sol, axis=1)
@@ -126,8 +125,10 @@ def grain_directions(
     return out
 
 
-def _panel_axis(V3: np.ndarray, F3: np.ndarray, faces: np.ndarray, up: np.ndarray) -> np.ndarray:
-    """A panel's tube axis (the direction its normals avoid), else ``up``; pointing up."""
+def _panel_axis(V3: np.ndarray, F3: np.ndarray, faces: np.ndarray, frame: Frame) -> np.ndarray:
+    """A panel's tube axis (the direction its normals avoid), else the frame's up; pointing
+    up."""
+    up = frame.matrix()[1]
     axis = tube_axis(V3, F3[faces])
     ax = up if axis is None else axis
     s = float(ax @ up)

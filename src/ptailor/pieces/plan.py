@@ -131,24 +131,19 @@ def piece_plan(
     panel_list: list[Panel] | None = None,
     *,
     pattern: PatternFile | None = None,
-    up: tuple[float, float, float] = (0.0, 1.0, 0.0),
-    front: tuple[float, float, float] = (0.0, 0.0, 1.0),
 ) -> PiecePlan:
     """Match a pattern file's pieces to the garment's panels; draw the rest from the mesh.
 
     Parameters
     ----------
     garment : Garment
-        The input garment (pattern in ``garment.units``).
+        The input garment (pattern in ``garment.units``); pieces drawn from the mesh take
+        their grain from its frame's up.
     panel_list : list of Panel, optional
-        The garment's panels; by default those of its cached structure for ``up`` and
-        ``front`` (:func:`ptailor.model.structure.structure`), which the adjustment shares.
+        The garment's panels; by default those of its cached structure
+        (:func:`ptailor.model.structure.structure`), which the adjustment shares.
     pattern : PatternFile, optional
         Pieces in ``pattern.units``.
-    up : (3,) sequence of float
-        The drape's up axis: pieces drawn from the mesh take their grain from it.
-    front : (3,) sequence of float
-        The wearer's front, naming the panels when ``panel_list`` is not given.
 
     Returns
     -------
@@ -161,7 +156,7 @@ def piece_plan(
     """
     loops = pairs = None
     if panel_list is None:
-        st = structure(garment, up=up, front=front)
+        st = structure(garment)
         panel_list = st.panels
         loops = st.panel_loops  # cached: the previews' outlines read them again
         pairs = st.seam_halfedges
@@ -172,7 +167,7 @@ def piece_plan(
         file_pieces, matches = _file_pieces(garment, panel_list, pattern)
     used = {m.panel for m in matches}
     rest = [p for p in panel_list if p.index not in used]
-    grain = grain_directions(V2, F2, garment.V3, garment.F3, panel_list, up=up)
+    grain = grain_directions(V2, F2, garment.V3, garment.F3, panel_list, frame=garment.frame)
     drawn = mesh_pieces(
         V2, F2, rest, F3=garment.F3, V3=garment.V3, grain=grain,
         loops=None if loops is None else (lambda p: loops(p.index)), seam_pairs=pairs,
@@ -259,9 +254,7 @@ def source_panels(adj: Adjustment, orig: tuple[Panel, ...]) -> dict[str, int]:
     return out
 
 
-def carry_plan(
-    adj: Adjustment, plan: PiecePlan, *, up: tuple[float, float, float] = (0.0, 1.0, 0.0)
-) -> tuple[PiecePlan, list[CarriedPiece | None]]:
+def carry_plan(adj: Adjustment, plan: PiecePlan) -> tuple[PiecePlan, list[CarriedPiece | None]]:
     """Carry every planned piece through an adjustment; every adjusted panel gets a piece.
 
     A panel a cut split in two (a V-neck through a neckband) gets a piece per part: the
@@ -275,8 +268,6 @@ def carry_plan(
     adj : Adjustment
     plan : PiecePlan
         Made on ``adj.original`` (the input garment).
-    up : (3,) sequence of float
-        The drape's up axis, for the grain of pieces drawn from the mesh.
 
     Returns
     -------
@@ -286,12 +277,12 @@ def carry_plan(
         One per piece of the returned plan; ``None`` where the piece's panel was removed
         whole.
     """
-    new_plan, carried, _ = _carry(adj, plan, up=up)
+    new_plan, carried, _ = _carry(adj, plan)
     return new_plan, carried
 
 
 def _carry(
-    adj: Adjustment, plan: PiecePlan, *, up: tuple[float, float, float]
+    adj: Adjustment, plan: PiecePlan
 ) -> tuple[PiecePlan, list[CarriedPiece | None], list[int]]:
     """:func:`carry_plan`, and per planned piece the index of its (first) carried piece."""
     g0 = adj.original if adj.original is not None else adj.state.base
@@ -323,7 +314,7 @@ def _carry(
         covered.update(p.name for p in now)
         out += group
     rest = [p for p in adj.state.panels if p.name not in covered]
-    for p, pc in zip(rest, _drawn(adj, rest, up=up), strict=True):  # a loop over panels
+    for p, pc in zip(rest, _drawn(adj, rest), strict=True):  # a loop over panels
         pieces.append(pc)
         matches.append(PieceMatch(len(pieces) - 1, -1, "mesh", np.eye(2), np.zeros(2), 0.0))
         from_file.append(False)
@@ -389,12 +380,12 @@ def _carry_parts(
     return group
 
 
-def _drawn(adj: Adjustment, rest: list[Panel], *, up: tuple[float, float, float]) -> list[Piece]:
+def _drawn(adj: Adjustment, rest: list[Panel]) -> list[Piece]:
     """Pieces drawn from the adjusted mesh for the panels ``rest`` no planned piece became."""
     if not rest:
         return []
     g = adj.garment
-    grain = grain_directions(g.V2, g.F2, g.V3, g.F3, list(adj.state.panels), up=up)
+    grain = grain_directions(g.V2, g.F2, g.V3, g.F3, list(adj.state.panels), frame=g.frame)
     return mesh_pieces(g.V2, g.F2, rest, F3=g.F3, V3=g.V3, grain=grain)
 
 
@@ -413,5 +404,5 @@ def adjusted_pieces(adj: Adjustment, plan: PiecePlan) -> list[CarriedPiece | Non
         One per piece of ``plan`` (a split panel's first part); ``None`` where the piece's
         panel was removed whole. :func:`carry_plan` gives every part its piece.
     """
-    _, carried, first = _carry(adj, plan, up=(0.0, 1.0, 0.0))
+    _, carried, first = _carry(adj, plan)
     return [carried[k] for k in first]

@@ -34,8 +34,7 @@ from ptailor.recipe.spec import (
     TOP_KEYS,
     Recipe,
     axes_problem,
-    axis_vector,
-    resolve_axes,
+    resolve_frame,
 )
 
 __all__ = [
@@ -51,13 +50,12 @@ __all__ = [
     "Recipe",
     "RecipeProblemsError",
     "axes_problem",
-    "axis_vector",
     "load_recipe",
     "one_line",
     "parse_recipe",
     "read_recipe_text",
     "recipe_loader",
     "recipe_problems",
-    "resolve_axes",
+    "resolve_frame",
     "validate",
 ]

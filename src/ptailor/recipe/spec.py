@@ -13,6 +13,7 @@ from ptailor.edits.checks import (
     number,
 )
 from ptailor.errors import PtailorError
+from ptailor.model.frame import AXIS_NAMES, Frame
 
 FLATTEN_PARAMS = {
     "method": (choice("scale-preserving", "uniform"), "scale-preserving"),
@@ -27,7 +28,6 @@ FLATTEN_PARAMS = {
 TOP_KEYS = ("format", "units", "up", "front", "symmetric", "steps", "flatten")
 #: A step key every operation accepts (see :mod:`ptailor.edits.mirror`).
 STEP_KEYS = ("symmetric",)
-AXIS_NAMES = ("x", "y", "z", "-x", "-y", "-z")
 #: Step parameters that are lengths an edit adds or removes (bounded by
 #: :data:`ptailor.tolerances.RECIPE_MAX_LENGTH_CM`).
 LENGTH_PARAMS = {
@@ -65,10 +65,20 @@ def axes_problem(
     return None
 
 
-def resolve_axes(
-    up: str | None, front: str | None, recipe: Recipe | None = None
-) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
-    """The run's ``(up, front)`` vectors: the command line's, else the recipe's, else y, z.
+def resolve_frame(up: str | None, front: str | None, recipe: Recipe | None = None) -> Frame:
+    """The garment's frame from axis names: the command line's, else the recipe's, else
+    :data:`~ptailor.model.frame.DEFAULT_FRAME` (y up, z front).
+
+    Parameters
+    ----------
+    up, front : str or None
+        ``--up``, ``--front`` (``"z"``, ``"-y"``, ...); None where not given.
+    recipe : Recipe, optional
+        Its ``up:``/``front:`` where the command line gives none.
+
+    Returns
+    -------
+    Frame
 
     Raises
     ------
@@ -85,15 +95,7 @@ def resolve_axes(
     )
     if bad:
         raise PtailorError(bad)
-    return axis_vector(u or DEFAULT_UP), axis_vector(f or DEFAULT_FRONT)
-
-
-def axis_vector(name: str) -> tuple[float, float, float]:
-    """``"-y"`` -> ``(0, -1, 0)``."""
-    sign = -1.0 if name.startswith("-") else 1.0
-    v = [0.0, 0.0, 0.0]
-    v["xyz".index(name[-1])] = sign
-    return (v[0], v[1], v[2])
+    return Frame.from_names(u or DEFAULT_UP, f or DEFAULT_FRONT)
 
 
 @dataclass(frozen=True)

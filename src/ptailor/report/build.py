@@ -99,8 +99,7 @@ def _stable_seam_names(adj, seam_list: list, now: list[str]) -> list[str]:
         return now
     from scipy.spatial import cKDTree  # (0.1 s: only after surgery)
 
-    up, front = adj.axes
-    s0 = structure(g0, up=up, front=front)
+    s0 = structure(g0)
     names0 = seam_names(g0.V3, s0.seams, s0.layout, [p.name for p in s0.panels])
     owner = np.full(len(g0.V3), -1, dtype=np.int64)  # an input vertex's seam (one of them)
     for k, sm in enumerate(s0.seams):  # a loop over seams
@@ -188,8 +187,7 @@ def build_report(
     Report
         JSON-serialisable, deterministic apart from ``timing_s``.
     """
-    up, front = adj.axes
-    gs = structure(adj.state.base, up=up, front=front)
+    gs = structure(adj.state.base)
     err = triangle_errors(adj) if errors is None else errors
     shown = shown or {}
     return {

@@ -29,14 +29,12 @@ def _why(name: str, layout, i: int) -> str:
     return why
 
 
-def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.0, 1.0)) -> dict:
-    """A JSON-ready description of a garment.
+def garment_summary(loaded: LoadedGarment) -> dict:
+    """A JSON-ready description of a garment, named under its frame.
 
     Parameters
     ----------
     loaded : LoadedGarment
-    up, front : (3,) sequence of float
-        Axes for naming openings.
 
     Returns
     -------
@@ -50,7 +48,7 @@ def garment_summary(loaded: LoadedGarment, *, up=(0.0, 1.0, 0.0), front=(0.0, 0.
         ``units``, ``triangles``.
     """
     g = loaded.garment
-    st = structure(g, up=up, front=front)
+    st = structure(g)
     names = [p.name for p in st.panels]
     snames = seam_names(g.V3, st.seams, st.layout, names)
     out_s = [

@@ -26,15 +26,13 @@ def check_engine() -> None:
         raise EngineMissingError()
 
 
-def check_seam_allowance(garment, allowance: float, *, up, front) -> None:
+def check_seam_allowance(garment, allowance: float) -> None:
     """Refuse a seam allowance above ``tol.SEAM_ALLOWANCE_MAX_REL`` of the largest piece
-    (``up``, ``front``: the run's axes, under which its panels are found)."""
+    (the garment's panels, found under its frame)."""
     from ptailor.model.structure import structure
 
     diag = 0.0
-    for p in structure(
-        garment, up=up, front=front
-    ).panels:  # a loop over panels (kept for the run's later use)
+    for p in structure(garment).panels:  # a loop over panels (kept for the run's later use)
         P = garment.V2[p.vertices]
         diag = max(diag, float(np.linalg.norm(P.max(axis=0) - P.min(axis=0))))
     if not allowance <= tol.SEAM_ALLOWANCE_MAX_REL * diag:

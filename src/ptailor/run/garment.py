@@ -238,18 +238,18 @@ def _read_inputs(
         )
     if spec is not None:  # matched before any work: a specification of another garment fails
         loaded = spec_units(loaded, spec)
-        spec_match = matched_specification(loaded, spec, up=edits.up, front=edits.front)
+        spec_match = matched_specification(loaded, spec)
     body_fit = None
     if options.body == "auto":
-        body, body_fit = fitted_body(loaded.garment, up=edits.up, front=edits.front, path=shown)
+        body, body_fit = fitted_body(loaded.garment, path=shown)
         edits = replace(edits, body=body)
     elif edits.body is not None:
         if options.drape_units is None:
             check_size_against_body(loaded.garment, edits.body, path=shown)
         check_body_placement(loaded.garment, edits.body, path=options.body)
-    plan = plan_pieces(loaded, edits, options)
+    plan = plan_pieces(loaded, options)
     if options.seam_allowance:
-        check_seam_allowance(loaded.garment, options.seam_allowance, up=edits.up, front=edits.front)
+        check_seam_allowance(loaded.garment, options.seam_allowance)
     return _Inputs(loaded, edits, plan, body_fit, spec_match, spec_note)
 
 
@@ -266,7 +266,7 @@ def _output_context(
     panel gets one, a split panel one per part), the errors, the sheet's title."""
     plan, carried = inputs.plan, []
     if plan is not None:
-        plan, carried = carry_plan(adj, plan, up=inputs.edits.up)
+        plan, carried = carry_plan(adj, plan)
     allowance = options.seam_allowance
     units = inputs.loaded.garment.units
     return OutputContext(
@@ -401,7 +401,6 @@ def _write_redrapes(tmp: Path, staged: _Staged) -> list[str]:
         staged.redrapes,
         loaded=staged.ctx.loaded,
         body=edits.body,
-        axes=(edits.up, edits.front),
     )
 
 

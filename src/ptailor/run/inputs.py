@@ -5,7 +5,7 @@ from __future__ import annotations
 from ptailor.edits import EditOptions
 from ptailor.formats.garment import LoadedGarment, load_garment
 from ptailor.pieces import PiecePlan
-from ptailor.recipe import Recipe, load_recipe, resolve_axes
+from ptailor.recipe import Recipe, load_recipe, resolve_frame
 from ptailor.run.checks import check_engine
 from ptailor.run.options import RunOptions
 from ptailor.run.outputs import needs_pieces
@@ -29,18 +29,15 @@ def load_body(path: str, *, units: str, to: str):
 
 
 def edit_options(recipe: Recipe, options: RunOptions) -> EditOptions:
-    """The edits' options: the garment's axes (the options', else the recipe's) and the body
-    (``--body auto`` is fitted once the garment is read: :func:`fitted_body`)."""
-    up, front = resolve_axes(options.up, options.front, recipe)
+    """The edits' options: the body (``--body auto`` is fitted once the garment is read:
+    :func:`fitted_body`)."""
     body = options.body if options.body != "auto" else None
     return EditOptions(
-        up=up,
-        front=front,
         body=load_body(body, units=options.body_units, to=recipe.units) if body else None,
     )
 
 
-def fitted_body(garment, *, up, front, path: str | None = None):
+def fitted_body(garment, *, path: str | None = None):
     """``--body auto``: the mean body fitted to a garment's drape
     (:func:`ptailor.verify.fit.fit_body`), as a trimesh in the garment's frame and units,
     and the fit's record.
@@ -52,16 +49,15 @@ def fitted_body(garment, *, up, front, path: str | None = None):
     """
     import trimesh
 
-    from ptailor.model.openings import openings
+    from ptailor.model.structure import structure
     from ptailor.model.units import CM_PER
     from ptailor.verify.fit import fit_body
 
     fit = fit_body(
         garment.V3,
         garment.F3,
-        openings=openings(garment.V3, garment.F3, up=up, front=front, F2=garment.F2),
-        up=up,
-        front=front,
+        openings=structure(garment).openings,
+        frame=garment.frame,
         cm_per_unit=CM_PER.get(garment.units, 1.0),
         path=path,
     )
@@ -71,7 +67,9 @@ def fitted_body(garment, *, up, front, path: str | None = None):
 def load_input(
     garment: str, drape: str | None, recipe: Recipe, options: RunOptions
 ) -> LoadedGarment:
-    """The garment in the recipe's units (:func:`ptailor.formats.garment.load_garment`)."""
+    """The garment in the recipe's units and its frame (the options' axes, else the
+    recipe's: :func:`ptailor.recipe.resolve_frame`) (:func:`ptailor.formats.garment.
+    load_garment`)."""
     return load_garment(
         garment,
         drape=drape,
@@ -81,10 +79,11 @@ def load_input(
         weld=options.weld,
         size=options.size,
         dxf_units=options.dxf_units,
+        frame=resolve_frame(options.up, options.front, recipe),
     )
 
 
-def plan_pieces(loaded: LoadedGarment, edits: EditOptions, options: RunOptions) -> PiecePlan | None:
+def plan_pieces(loaded: LoadedGarment, options: RunOptions) -> PiecePlan | None:
     """The pieces, matched (a CAD pattern's, failing early) or drawn from the mesh, when a
     pattern file is read or written; else None."""
     from ptailor.pieces import piece_plan
@@ -92,4 +91,4 @@ def plan_pieces(loaded: LoadedGarment, edits: EditOptions, options: RunOptions) 
     if loaded.pattern is None and not needs_pieces(options.formats):
         return None
     # the panels: the garment's cached structure, the one the adjustment reads too
-    return piece_plan(loaded.garment, pattern=loaded.pattern, up=edits.up, front=edits.front)
+    return piece_plan(loaded.garment, pattern=loaded.pattern)

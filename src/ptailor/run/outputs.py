@@ -105,7 +105,7 @@ def _loop_finder(adj: Adjustment, ctx: OutputContext):
     same triangles; computed otherwise.
     """
     lg = ctx.loaded.garment
-    st = structure(lg, up=adj.axes[0], front=adj.axes[1])
+    st = structure(lg)
     at = {p.name: i for i, p in enumerate(st.panels)}
 
     def loops(name: str, F2: np.ndarray, faces: np.ndarray) -> list[np.ndarray]:
@@ -123,9 +123,7 @@ def sheet(adj: Adjustment, ctx: OutputContext, *, caller: str = "pattern_svg") -
     computed once for both; ``caller`` names the writer in its errors)."""
     g = adj.garment
     g0 = adj.original if adj.original is not None else adj.state.base
-    s0 = structure(
-        g0, up=adj.axes[0], front=adj.axes[1]
-    )  # the input's panels, as the adjustment found them
+    s0 = structure(g0)  # the input's panels, as the adjustment found them
     at = {p.name: i for i, p in enumerate(s0.panels)}
     loops = _loop_finder(adj, ctx)
     before = [

@@ -71,10 +71,10 @@ def spec_units(loaded: LoadedGarment, spec: Specification) -> LoadedGarment:
     )
 
 
-def matched_specification(loaded: LoadedGarment, spec: Specification, *, up, front) -> SpecMatching:
-    """``spec`` matched to the input garment's panels and seams (in the run's axes)."""
-    st = structure(loaded.garment, up=up, front=front)
-    return match_specification(loaded.garment, spec, st.panels, seams=st.seams, up=up, front=front)
+def matched_specification(loaded: LoadedGarment, spec: Specification) -> SpecMatching:
+    """``spec`` matched to the input garment's panels and seams (under its frame)."""
+    st = structure(loaded.garment)
+    return match_specification(loaded.garment, spec, st.panels, seams=st.seams)
 
 
 def spec_outputs(tmp: Path, adj, matching: SpecMatching) -> tuple[list[str], dict, list[str]]:
@@ -86,7 +86,7 @@ def spec_outputs(tmp: Path, adj, matching: SpecMatching) -> tuple[list[str], dic
     from ptailor.spec.check import spec_fit
 
     g0 = adj.original if adj.original is not None else adj.state.base
-    orig = structure(g0, up=adj.axes[0], front=adj.axes[1]).panels
+    orig = structure(g0).panels
     adjusted = adjusted_specification(adj, matching, orig, source_panels(adj, tuple(orig)))
     write_specification(
         tmp / SPEC_FILE,

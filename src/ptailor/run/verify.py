@@ -18,6 +18,7 @@ import numpy as np
 from ptailor.errors import PtailorError
 from ptailor.formats import writer_for
 from ptailor.formats.garment import LoadedGarment
+from ptailor.model.frame import Frame
 from ptailor.model.garment import Garment
 from ptailor.model.units import CM_PER
 from ptailor.pipeline import Adjustment
@@ -73,6 +74,8 @@ class Redrape:
     face_panel : (m,) int array
     vertex_panel : (n2,) int array
         The panel of each pattern vertex.
+    frame : Frame
+        The garment's frame: the drapes are turned so that its up is +y.
     """
 
     V3_edit: np.ndarray
@@ -83,6 +86,7 @@ class Redrape:
     panel_names: list
     face_panel: np.ndarray
     vertex_panel: np.ndarray
+    frame: Frame
 
 
 @dataclass(frozen=True)
@@ -125,11 +129,10 @@ def engine_settings(max_steps: int | None):
     return Settings(max_steps=int(max_steps))
 
 
-def to_y_up(up) -> np.ndarray:
-    """The rotation (3x3, det 1) taking the unit vector ``up`` to +y: the engine's gravity
-    pulls along -y, so a garment with another up axis is turned for the simulation."""
-    u = np.asarray(up, dtype=float)
-    u = u / np.linalg.norm(u)
+def to_y_up(frame: Frame) -> np.ndarray:
+    """The rotation (3x3, det 1) taking the frame's up to +y: the engine's gravity pulls
+    along -y, so a garment with another up axis is turned for the simulation."""
+    u = frame.matrix()[1]
     y = np.array([0.0, 1.0, 0.0])
     c = float(u @ y)
     if c < -1.0 + 1e-12:  # upside down: half a turn about x
@@ -140,11 +143,11 @@ def to_y_up(up) -> np.ndarray:
 
 
 def redrape_check(
-    inp: Redrape, *, body, rest: str, up, units: str, max_steps: int | None, progress=None
+    inp: Redrape, *, body, rest: str, units: str, max_steps: int | None, progress=None
 ) -> Redrapes:
     """Run the three re-drapes (:func:`ptailor.verify.check.verify_patterns`), the garment
-    turned so that ``up`` is +y (the engine's gravity is along -y) and the settled drapes
-    turned back.
+    turned so that its frame's up is +y (the engine's gravity is along -y) and the settled
+    drapes turned back.
 
     Parameters
     ----------
@@ -152,7 +155,6 @@ def redrape_check(
     body : trimesh.Trimesh or None
         In the computation units.
     rest : {"intrinsic", "pattern"}
-    up : 3-tuple
     units : str
         The computation unit (the report's).
     max_steps : int, optional
@@ -161,7 +163,7 @@ def redrape_check(
     """
     from ptailor.verify.check import verify_patterns
 
-    R = to_y_up(up)
+    R = to_y_up(inp.frame)
     arrays = body_arrays(body)
     section, drapes, stretch = verify_patterns(
         inp.V3_edit @ R.T,
@@ -175,7 +177,7 @@ def redrape_check(
         vertex_panel=inp.vertex_panel,
         body=None if arrays is None else (arrays[0] @ R.T, arrays[1]),
         rest=rest,
-        up=(0.0, 1.0, 0.0),
+        frame=Frame(R @ inp.frame.up, R @ inp.frame.front),
         units_m=units_m(units),
         to_units=1.0,
         settings=engine_settings(max_steps),
@@ -207,12 +209,12 @@ def adjustment_redrapes(adj: Adjustment, *, body, options: RunOptions, progress=
         panel_names=[p.name for p in adj.state.panels],
         face_panel=face_panel,
         vertex_panel=vertex_panels(face_panel, base.F2, len(base.V2)),
+        frame=base.frame,
     )
     return redrape_check(
         inp,
         body=body,
         rest=options.verify_rest,
-        up=adj.axes[0],
         units=base.units,
         max_steps=options.verify_max_steps,
         progress=progress,
@@ -234,7 +236,6 @@ def write_verify_files(
     *,
     loaded: LoadedGarment,
     body,
-    axes: tuple,
 ) -> list[str]:
     """``verify_ours.obj``, ``verify_baseline.obj`` (v = the settled drape, vt = the pattern
     sewn, in the input files' units) and ``verify.png``; returns the file names."""
@@ -262,8 +263,7 @@ def write_verify_files(
         inp.F3,
         res.stretch,
         body=body_arrays(body),
-        up=tuple(axes[0]),
-        front=tuple(axes[1]),
+        frame=inp.frame,
         captions=worst_panel_captions(res.section, units),
     )
     return list(VERIFY_FILES)
@@ -318,33 +318,32 @@ def verify_garment(
     dict
         What ``verify.json`` holds.
     """
-    from ptailor.recipe import resolve_axes
+    from ptailor.recipe import resolve_frame
     from ptailor.run.inputs import fitted_body, load_body
 
     check_engine()
     auto = options.body == "auto"
     check_output_dir(out, [garment, original, None if auto else options.body])
-    axes = resolve_axes(options.up, options.front)
-    orig = None if original is None else _load(original, options, units)
-    edited = _load(garment, _same_pattern_scale(options, orig, units), units)
+    frame = resolve_frame(options.up, options.front)
+    orig = None if original is None else _load(original, options, units, frame)
+    edited = _load(garment, _same_pattern_scale(options, orig, units), units, frame)
     orig = orig or edited
     same_faces(edited.garment, orig.garment, garment=garment, original=original or garment)
     fit = None
     if auto:  # fitted to the original drape, the one the garment was simulated on
-        body, fit = fitted_body(orig.garment, up=axes[0], front=axes[1], path=original or garment)
+        body, fit = fitted_body(orig.garment, path=original or garment)
     else:
         body = load_body(options.body, units=options.body_units, to=units) if options.body else None
         if body is not None:
             if options.drape_units is None:
                 check_size_against_body(orig.garment, body, path=original or garment)
             check_body_placement(orig.garment, body, path=options.body)
-    inp = garment_redrape(edited.garment, orig.garment, axes=axes)
+    inp = garment_redrape(edited.garment, orig.garment)
     t0 = time.perf_counter()
     res = redrape_check(
         inp,
         body=body,
         rest=options.verify_rest,
-        up=axes[0],
         units=units,
         max_steps=options.verify_max_steps,
         progress=progress,
@@ -356,7 +355,7 @@ def verify_garment(
     if fit is not None:
         doc["body_fit"] = fit
     with staged_dir(out) as tmp:
-        written = write_verify_files(tmp, res, loaded=edited, body=body, axes=axes)
+        written = write_verify_files(tmp, res, loaded=edited, body=body)
         if options.write_body and body is not None:
             written += write_body(tmp, body, drape_scale=edited.drape_scale, units=units)
         doc["outputs"] = sorted(["verify.json", *written])
@@ -366,7 +365,7 @@ def verify_garment(
     return doc
 
 
-def _load(path: str, options: RunOptions, units: str) -> LoadedGarment:
+def _load(path: str, options: RunOptions, units: str, frame: Frame) -> LoadedGarment:
     from ptailor.formats.garment import load_garment
 
     return load_garment(
@@ -375,6 +374,7 @@ def _load(path: str, options: RunOptions, units: str) -> LoadedGarment:
         pattern_units=options.pattern_units,
         drape_units=options.drape_units,
         weld=options.weld,
+        frame=frame,
     )
 
 
@@ -408,13 +408,14 @@ def same_faces(edited: Garment, orig: Garment, *, garment: str, original: str) -
         )
 
 
-def garment_redrape(edited: Garment, orig: Garment, *, axes: tuple) -> Redrape:
+def garment_redrape(edited: Garment, orig: Garment) -> Redrape:
     """What ``ptailor verify`` re-drapes: ``edited``'s pattern (ours), its uniform
-    flattening (baseline) and ``orig``'s pattern, each on ``edited``'s drape."""
+    flattening (baseline) and ``orig``'s pattern, each on ``edited``'s drape (panels named
+    under ``orig``'s frame)."""
     from ptailor.model.structure import structure
     from ptailor.verify.check import uniform_pattern
 
-    st = structure(orig, up=axes[0], front=axes[1])
+    st = structure(orig)
     return Redrape(
         V3_edit=edited.V3,
         F3=edited.F3,
@@ -428,6 +429,7 @@ def garment_redrape(edited: Garment, orig: Garment, *, axes: tuple) -> Redrape:
         panel_names=[p.name for p in st.panels],
         face_panel=np.asarray(st.face_panel),
         vertex_panel=np.asarray(st.vertex_panel),
+        frame=orig.frame,
     )
 
 

@@ -118,35 +118,25 @@ def spec_scale(spec: Specification, units: str) -> float:
     return spec.cm_per_unit / CM_PER[units]
 
 
-def _axes_frame(up, front) -> np.ndarray:
-    """The rotation taking the specification's axes (y up, z front) onto ``up``, ``front``."""
-    u = np.asarray(up, dtype=float)
-    f = np.asarray(front, dtype=float)
-    return np.column_stack([np.cross(u, f), u, f])
-
-
 def match_specification(
     garment: Garment,
     spec: Specification,
     panel_list: list[Panel],
     *,
     seams: list,
-    up=(0.0, 1.0, 0.0),
-    front=(0.0, 0.0, 1.0),
 ) -> SpecMatching:
     """Match a specification's panels to the garment's panels and its stitches to seams.
 
     Parameters
     ----------
     garment : Garment
-        The garment the specification describes (pattern and drape in ``garment.units``).
+        The garment the specification describes (pattern and drape in ``garment.units``;
+        its frame places the specification's, y up and z front).
     spec : Specification
     panel_list : list of Panel
         The garment's panels.
     seams : list of Seam
         The garment's seams over ``panel_list`` (:attr:`GarmentStructure.seams`).
-    up, front : (3,) sequence of float
-        The drape's axes (the specification's are y up, z front).
 
     Returns
     -------
@@ -182,7 +172,9 @@ def match_specification(
                 path=spec.path,
             )
     first_error = None
-    for rows, cols, fits in _placements(cands, placed, garment, panel_list, _axes_frame(up, front)):
+    for rows, cols, fits in _placements(
+        cands, placed, garment, panel_list, garment.frame.matrix().T
+    ):
         try:
             matches = _panel_matches(spec, panel_list, mesh, outlines, rows, cols, fits)
             stitches = _stitch_matches(garment, spec, matches, panel_list, seams, k)

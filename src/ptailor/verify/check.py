@@ -14,6 +14,7 @@ from collections.abc import Callable
 import numpy as np
 
 from ptailor.method.flatten import flatten
+from ptailor.model.frame import Frame
 from ptailor.model.garment import Garment
 from ptailor.model.structure import structure
 from ptailor.verify.engine import Settings, redrape
@@ -142,7 +143,7 @@ def verify_patterns(
     vertex_panel: np.ndarray,
     body: tuple[np.ndarray, np.ndarray] | None = None,
     rest: str = "intrinsic",
-    up=(0.0, 1.0, 0.0),
+    frame: Frame,
     units_m: float,
     to_units: float,
     settings: Settings | None = None,
@@ -172,10 +173,10 @@ def verify_patterns(
         A static collider in the garment's frame and units.
     rest : {"intrinsic", "pattern"}
         :func:`ptailor.verify.rest.rest_shapes`'s mode.
-    up : 3-vector
-        The wearer's up, which must be +y: the engine's gravity pulls along -y (turn a
-        garment with another up axis first, as ``ptailor.run.verify`` does). The top
-        opening (highest boundary loop) is pinned.
+    frame : Frame
+        The drapes' wearer's axes, whose up must be +y: the engine's gravity pulls along -y
+        (turn a garment with another up axis first, as ``ptailor.run.verify`` does). The
+        top opening (highest boundary loop) is pinned.
     units_m : float
         Metres per garment unit.
     to_units : float
@@ -198,20 +199,22 @@ def verify_patterns(
     stretches : dict of str to (m, 2) float array
         Their principal stretches.
     """
-    _check_up(up)
+    _check_up(frame)
     s = settings if settings is not None else Settings()
     common = _common_inputs(V3_edit, F3, F2, V2_orig, V3_orig, rest=rest, sim_faces=s.sim_faces)
-    run = _engine_options(common, up=up, units_m=units_m, body=body, settings=s, device=device)
+    run = _engine_options(
+        common, frame=frame, units_m=units_m, body=body, settings=s, device=device
+    )
     measure = _measure_options(to_units, face_panel, vertex_panel, panel_names)
     reports, drapes, stretches = _redrapes(patterns, common, run, measure, progress)
     return _section(reports, common, rest), drapes, stretches
 
 
-def _check_up(up) -> None:
-    """Refuse an ``up`` other than +y: the engine's gravity is along -y."""
-    u = np.asarray(up, dtype=float)
-    if u.shape != (3,) or not np.allclose(u / np.linalg.norm(u), [0.0, 1.0, 0.0]):
-        raise ValueError(f"up must be +y (the engine's gravity is along -y), not {tuple(u)}")
+def _check_up(frame: Frame) -> None:
+    """Refuse a frame whose up is not +y: the engine's gravity is along -y."""
+    u = frame.matrix()[1]
+    if not np.allclose(u, [0.0, 1.0, 0.0]):
+        raise ValueError(f"up must be +y (the engine's gravity is along -y), not {frame.up}")
 
 
 def _common_inputs(V3_edit, F3, F2, V2_orig, V3_orig, *, rest: str, sim_faces) -> dict:
@@ -233,11 +236,13 @@ def _common_inputs(V3_edit, F3, F2, V2_orig, V3_orig, *, rest: str, sim_faces) -
     return common
 
 
-def _engine_options(common: dict, *, up, units_m: float, body, settings: Settings, device) -> dict:
+def _engine_options(
+    common: dict, *, frame: Frame, units_m: float, body, settings: Settings, device
+) -> dict:
     """:func:`ptailor.verify.engine.redrape`'s options: the top opening pinned (on the
     simulation mesh's vertices when there is one)."""
     sim = common["sim"]
-    pinned = top_opening(common["V3_edit"], common["F3"], up=up)
+    pinned = top_opening(common["V3_edit"], common["F3"], frame=frame)
     if sim is not None:  # (every pattern boundary vertex is a simulation vertex)
         pinned = np.searchsorted(sim.keep3, pinned)
     return {
@@ -297,7 +302,6 @@ def verify_section(
     *,
     body: tuple[np.ndarray, np.ndarray] | None = None,
     rest: str = "intrinsic",
-    up=None,
     units_m: float,
     to_units: float,
     settings: Settings | None = None,
@@ -312,9 +316,7 @@ def verify_section(
         the edited drape, ``adj.result.V2`` ours, ``adj.baseline.V2`` the uniform baseline
         (computed with :func:`uniform_pattern` when ``adj.baseline`` is None).
     body, rest, units_m, to_units, settings, device
-        As in :func:`verify_patterns`.
-    up : 3-vector, optional
-        Default: the run's up (``adj.axes[0]``).
+        As in :func:`verify_patterns` (the frame is the garment's: its up must be +y).
 
     Returns
     -------
@@ -327,7 +329,6 @@ def verify_section(
         adj,
         body=body,
         rest=rest,
-        up=up,
         units_m=units_m,
         to_units=to_units,
         settings=settings,
@@ -336,7 +337,7 @@ def verify_section(
     return section, drapes
 
 
-def verify_adjustment(adj, *, up=None, **kw) -> tuple[dict, dict, dict]:
+def verify_adjustment(adj, **kw) -> tuple[dict, dict, dict]:
     """:func:`verify_section` with the stretches too (for ``picture.verify_png``).
 
     Returns
@@ -345,9 +346,7 @@ def verify_adjustment(adj, *, up=None, **kw) -> tuple[dict, dict, dict]:
         As :func:`verify_patterns`.
     """
     base = adj.state.base
-    up_axis, front = adj.axes
-    up = up_axis if up is None else up
-    s = structure(base, up=up_axis, front=front)
+    s = structure(base)
     baseline = (
         adj.baseline.V2
         if adj.baseline is not None
@@ -364,6 +363,6 @@ def verify_adjustment(adj, *, up=None, **kw) -> tuple[dict, dict, dict]:
         panel_names=[p.name for p in s.panels],
         face_panel=s.face_panel,
         vertex_panel=s.vertex_panel,
-        up=up,
+        frame=base.frame,
         **kw,
     )

@@ -28,7 +28,8 @@ from importlib import resources
 import numpy as np
 
 from ptailor.errors import PtailorError
-from ptailor.model.openings import Opening, body_frame
+from ptailor.model.frame import Frame
+from ptailor.model.openings import Opening
 
 __all__ = ["BodyFit", "fit_body", "mean_body"]
 
@@ -131,8 +132,7 @@ def fit_body(
     F3: np.ndarray,
     *,
     openings: list[Opening],
-    up=(0.0, 1.0, 0.0),
-    front=(0.0, 0.0, 1.0),
+    frame: Frame,
     cm_per_unit: float = 1.0,
     path: str | None = None,
 ) -> BodyFit:
@@ -144,8 +144,8 @@ def fit_body(
     F3 : (m, 3) int array
     openings : list of Opening
         The drape's named openings (:func:`ptailor.model.openings.openings`).
-    up, front : 3-vectors
-        How the garment is worn.
+    frame : Frame
+        How the garment is worn (``Garment.frame``).
     cm_per_unit : float, keyword-only
         The drape's unit.
     path : str, optional
@@ -161,7 +161,7 @@ def fit_body(
         A drape with no neckline and no waist (nothing to hang it on), or one the body
         cannot be fitted inside at any scale in :data:`SCALE_RANGE`.
     """
-    frame = body_frame(up, front)  # rows: left, up, front (the body's x, y, z)
+    R = frame.matrix()  # rows: left, up, front (the body's x, y, z)
     ops = {o.name: o for o in openings}
     anchor = "neckline" if "neckline" in ops else "waist" if "waist" in ops else None
     if anchor is None:
@@ -170,17 +170,17 @@ def fit_body(
             f"(its openings: {', '.join(sorted(ops)) or 'none'}); give a body with --body FILE",
             path=path,
         )
-    pose = _pose(ops, frame)
+    pose = _pose(ops, R)
     BV, BF = mean_body(pose)
     import trimesh
 
     BN = np.asarray(trimesh.Trimesh(BV, BF, process=False).vertex_normals)  # outward, unit
     to_m = cm_per_unit / 100.0
-    P, a_g = _garment_points(V3, F3, ops, anchor, frame, to_m)
+    P, a_g = _garment_points(V3, F3, ops, anchor, R, to_m)
     fit = _Placement(P, BV, BN, _body_anchor(BV, anchor), a_g, _offsets())
     s = _largest_scale(fit, path=path)
     inside, dist = _inside(P, fit.placed(s, fit.best[s]), BN)
-    V_g = (fit.placed(s, fit.best[s]) / to_m) @ frame  # back to the garment's axes and units
+    V_g = (fit.placed(s, fit.best[s]) / to_m) @ R  # back to the garment's axes and units
     return BodyFit(
         V=V_g,
         F=BF,

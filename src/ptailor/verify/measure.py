@@ -7,6 +7,7 @@ import numpy as np
 from ptailor.geometry.closed_forms import inv2
 from ptailor.geometry.triangles import edge_matrices
 from ptailor.model.boundary import boundary_loops
+from ptailor.model.frame import Frame
 
 __all__ = ["panel_stats", "pattern_vertex_values", "principal_stretches", "top_opening"]
 
@@ -142,15 +143,15 @@ def pattern_vertex_values(
     return out
 
 
-def top_opening(V3: np.ndarray, F3: np.ndarray, *, up=(0.0, 1.0, 0.0)) -> np.ndarray:
+def top_opening(V3: np.ndarray, F3: np.ndarray, *, frame: Frame) -> np.ndarray:
     """The drape's top opening: the boundary loop with the highest mean height.
 
     Parameters
     ----------
     V3 : (n, 3) float array
     F3 : (m, 3) int array
-    up : 3-vector
-        The wearer's up axis (need not be unit).
+    frame : Frame
+        The wearer's axes (heights along its up).
 
     Returns
     -------
@@ -162,13 +163,12 @@ def top_opening(V3: np.ndarray, F3: np.ndarray, *, up=(0.0, 1.0, 0.0)) -> np.nda
     --------
     >>> from ptailor.samples import cylinder
     >>> g = cylinder()
-    >>> bool(g.V3[top_opening(g.V3, g.F3), 1].min() == g.V3[:, 1].max())
+    >>> bool(g.V3[top_opening(g.V3, g.F3, frame=g.frame), 1].min() == g.V3[:, 1].max())
     True
     """
     loops = boundary_loops(np.asarray(F3))
     if not loops:
         return np.zeros(0, dtype=int)
-    u = np.asarray(up, dtype=float)
-    h = np.asarray(V3, dtype=float) @ (u / np.linalg.norm(u))
+    h = np.asarray(V3, dtype=float) @ frame.matrix()[1]
     heights = [float(h[lp].mean()) for lp in loops]
     return np.asarray(loops[int(np.argmax(heights))], dtype=int)

@@ -13,6 +13,7 @@ import os
 import numpy as np
 
 from ptailor.geometry.triangles import triangle_normals
+from ptailor.model.frame import Frame
 
 __all__ = ["STRETCH_RANGE", "TITLES", "bisect_long", "camera", "verify_png"]
 
@@ -34,12 +35,13 @@ def _unit(v) -> np.ndarray:
     return v / np.linalg.norm(v)
 
 
-def camera(up, front, *, azimuth: float = 30.0, elevation: float = 15.0) -> np.ndarray:
+def camera(frame: Frame, *, azimuth: float = 30.0, elevation: float = 15.0) -> np.ndarray:
     """An orthographic camera looking at the wearer's front from a little to the side and above.
 
     Parameters
     ----------
-    up, front : 3-vectors
+    frame : Frame
+        The wearer's axes.
     azimuth, elevation : float
         Degrees: turned from ``front`` towards the wearer's left (``up x front``), then up.
 
@@ -50,13 +52,12 @@ def camera(up, front, *, azimuth: float = 30.0, elevation: float = 15.0) -> np.n
 
     Examples
     --------
-    >>> camera((0, 1, 0), (0, 0, 1), azimuth=0, elevation=0).round(6)
+    >>> camera(Frame((0, 1, 0), (0, 0, 1)), azimuth=0, elevation=0).round(6)
     array([[1., 0., 0.],
            [0., 1., 0.],
            [0., 0., 1.]])
     """
-    u, f = _unit(up), _unit(front)
-    side = _unit(np.cross(u, f))
+    side, u, f = frame.matrix()
     a, e = np.radians(azimuth), np.radians(elevation)
     eye = np.cos(e) * (np.cos(a) * f + np.sin(a) * side) + np.sin(e) * u
     right = _unit(np.cross(u, eye))
@@ -133,8 +134,7 @@ def verify_png(
     stretch: dict[str, np.ndarray],
     *,
     body: tuple[np.ndarray, np.ndarray] | None = None,
-    up=(0.0, 1.0, 0.0),
-    front=(0.0, 0.0, 1.0),
+    frame: Frame,
     captions: dict[str, str] | None = None,
     height: int = 900,
     dpi: int = 100,
@@ -155,9 +155,9 @@ def verify_png(
         (blue compressed, yellow at rest, red stretched; nan in grey).
     body : (V (nb, 3), F (mb, 3)), optional
         Drawn in light grey, in every panel.
-    up, front : 3-vectors
-        The wearer's axes: one camera for every panel, from the front, a little to the side
-        and above.
+    frame : Frame
+        The drapes' wearer's axes: one camera for every panel, from the front, a little to
+        the side and above.
     captions : dict of str to str, optional
         A line under each title (the report's worst panel, say); by default the 95th
         percentile of the largest stretch over all triangles.
@@ -169,7 +169,7 @@ def verify_png(
     from matplotlib.figure import Figure
 
     F3 = np.asarray(F3)
-    cam = camera(up, front)
+    cam = camera(frame)
     body = None if body is None else (np.asarray(body[0], float), np.asarray(body[1]))
     norm = TwoSlopeNorm(vmin=STRETCH_RANGE[0], vcenter=STRETCH_RANGE[1], vmax=STRETCH_RANGE[2])
     cmap = colormaps[_CMAP].with_extremes(bad=(0.5, 0.5, 0.5))

@@ -54,8 +54,9 @@ def _grown_state(state: EditState, plan: RowPlan, built: Rows, new_e: np.ndarray
         face_group=np.concatenate([flab, lab_new]),
         group_names=tuple(p.name for p in state.panels),
         units=g.units,
+        frame=g.frame,
     )
-    new_panels = structure(base, up=state.up, front=state.front).panels
+    new_panels = structure(base).panels
     old_even = {p.name: bool(state.even[p.index]) for p in state.panels}
     even = np.array([old_even.get(q.name, False) for q in new_panels], dtype=bool)
     free = np.ones(len(base.V2), dtype=bool)
@@ -108,7 +109,7 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     pattern vertices from the old edge; ``drape``, the same of their surface distance from
     the old opening.
     """
-    name, loop = find_opening(state, step["opening"], options=options)
+    name, loop = find_opening(state, step["opening"])
     by = float(step["by"])
     measure = step.get("measure") or "drape"
     oe = opening_edges(state.base.F3, state.base.F2, loop)

@@ -109,7 +109,7 @@ def loosen(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         faces = region_faces(step.get("region") or "all", g, V3, state.panels)
         by = float(step["by"]) * (1.0 if step["op"] == "loosen" else -1.0)
         # the seam pairs the flatten after the edit takes from the same structure
-        pairs = structure(g, up=options.up, front=options.front).seam_halfedges
+        pairs = structure(g).seam_halfedges
         V_new, sigma = offset_region(
             V3,
             g.F3,
@@ -117,7 +117,7 @@ def loosen(state: EditState, step: dict, *, options: EditOptions) -> EditState:
             state.panels,
             faces,
             by=by,
-            up=options.up,
+            frame=g.frame,
             pairs=pairs,
             symbolic=options.symbolic,
         )
@@ -129,7 +129,7 @@ def loosen(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         }
     else:
         view = step.get("view") or "front"
-        frame = view_frame(view, up=options.up, front=options.front)
+        frame = view_frame(view, frame=g.frame)
         X = V3 @ frame.T
         T = g.F3
         h = float(np.linalg.norm(V3[T] - V3[np.roll(T, -1, axis=1)], axis=2).mean())

@@ -16,6 +16,7 @@ from ptailor.edits.loosen.normals import (
 from ptailor.errors import PtailorError
 from ptailor.geometry.triangles import triangle_normals
 from ptailor.method.geodesic import geodesic_distance
+from ptailor.model.frame import Frame
 from ptailor.model.garment import Panel, panel_labels
 
 #: the offset falls off to zero over a band this many times ``|by|`` wide (the offset's slope
@@ -74,7 +75,7 @@ def falloff_weights(V: np.ndarray, F3: np.ndarray, faces: np.ndarray, *, band: f
 
 
 def where_faces(
-    V: np.ndarray, F3: np.ndarray, plist: list[Panel], mask: np.ndarray, *, up: np.ndarray
+    V: np.ndarray, F3: np.ndarray, plist: list[Panel], mask: np.ndarray, *, frame: Frame
 ) -> str:
     """Where some triangles are, in words: their panels and their heights.
 
@@ -85,8 +86,8 @@ def where_faces(
     plist : list of Panel
     mask : (m,) bool array
         The triangles (at least one).
-    up : (3,) float array, keyword-only
-        The garment's up axis: heights are the centroids' coordinates along it.
+    frame : Frame, keyword-only
+        The garment's frame: heights are the centroids' coordinates along its up.
 
     Returns
     -------
@@ -97,7 +98,7 @@ def where_faces(
     fp = panel_labels(plist, len(F3))[mask]
     count = np.bincount(fp[fp >= 0], minlength=len(plist))
     worst = np.argsort(-count, kind="stable")[: min(3, int((count > 0).sum()))]
-    height = V[F3[mask]].mean(axis=1) @ (up / np.linalg.norm(up))
+    height = V[F3[mask]].mean(axis=1) @ frame.matrix()[1]
     names = ", ".join(f"'{plist[i].name}'" for i in worst) or "(none)"
     lo, hi = float(height.min()), float(height.max())
     at = f"{lo:.1f}" if hi - lo < 0.05 else f"{lo:.1f} to {hi:.1f}"
@@ -112,7 +113,7 @@ def offset_error(
     *,
     by: float,
     sigma: float,
-    up: np.ndarray,
+    frame: Frame,
     washed_out: bool,
 ) -> PtailorError:
     """The error for an offset that cannot be made, naming the panels and heights.
@@ -130,14 +131,14 @@ def offset_error(
         Signed offset.
     sigma : float, keyword-only
         The widest smoothing tried.
-    up : (3,) float array, keyword-only
+    frame : Frame, keyword-only
     washed_out : bool, keyword-only
         True when the smoothing an offset of this size needs is wider than the panels
         (their smoothed normals no longer point out of them), False when triangles turn
         over even at the widest smoothing.
     """
     verb = "loosening" if by > 0 else "tightening"
-    where = where_faces(V, F3, plist, mask, up=up)
+    where = where_faces(V, F3, plist, mask, frame=frame)
     if washed_out:
         return PtailorError(
             f"{verb} by {abs(by):g} needs the normals smoothed over about {sigma:.3g},"
@@ -159,7 +160,7 @@ def offset_region(
     faces: np.ndarray,
     *,
     by: float,
-    up: tuple[float, float, float] = (0.0, 1.0, 0.0),
+    frame: Frame,
     pairs: np.ndarray | None = None,
     symbolic=None,
 ) -> tuple[np.ndarray, float]:
@@ -201,8 +202,8 @@ def offset_region(
         The region's triangles.
     by : float, keyword-only
         Signed offset: positive outward (loosen), negative inward (tighten).
-    up : (3,) float tuple, keyword-only
-        The garment's up axis, for the error message.
+    frame : Frame, keyword-only
+        The garment's frame, for the error message's heights.
     pairs : (k, 2) int array, optional, keyword-only
         :func:`ptailor.model.seams.seam_halfedges` of ``F3, F2`` when known (the garment's
         structure holds them, and the flatten after the edit uses the same); computed
@@ -225,7 +226,7 @@ def offset_region(
     w = falloff_weights(V, F3, faces, band=FALLOFF_BY * abs(by))
     N0 = outward_normals(V, F3, F2, plist, pairs=pairs)
     live = _LiveFaces.of(V, F3, plist, faces, w)
-    return _smoothed_offset(V, F3, plist, faces, w, N0, live, by=by, up=up, symbolic=symbolic)
+    return _smoothed_offset(V, F3, plist, faces, w, N0, live, by=by, frame=frame, symbolic=symbolic)
 
 
 class _LiveFaces(NamedTuple):
@@ -280,7 +281,7 @@ def _smoothed_offset(
     live: _LiveFaces,
     *,
     by: float,
-    up: tuple[float, float, float],
+    frame: Frame,
     symbolic=None,
 ) -> tuple[np.ndarray, float]:
     """The offset of :func:`offset_region` along normals smoothed level after level.
@@ -295,7 +296,6 @@ def _smoothed_offset(
     moving = np.flatnonzero(w > 0.0)
     sigma = SMOOTH_BY * abs(by)
     step = normal_smoother(V, F3, tau=sigma * sigma / (2.0 * SMOOTH_STEPS), symbolic=symbolic)
-    up_v = np.asarray(up, float)
     N, done, turned = N0, 0, np.zeros(len(T), dtype=bool)
     for level in range(SMOOTH_LEVELS):  # a loop over smoothing levels
         for _ in range(SMOOTH_STEPS * 4**level - done):  # over diffusion steps
@@ -307,7 +307,7 @@ def _smoothed_offset(
             fp = live.panel
             bad = np.zeros(len(F3), dtype=bool)
             bad[faces[live.live & lost[np.maximum(fp, 0)] & (fp >= 0)]] = True
-            raise offset_error(V, F3, plist, bad, by=by, sigma=sigma, up=up_v, washed_out=True)
+            raise offset_error(V, F3, plist, bad, by=by, sigma=sigma, frame=frame, washed_out=True)
         if lost.any():
             break
         V_new = V.copy()
@@ -318,4 +318,4 @@ def _smoothed_offset(
     bad = np.zeros(len(F3), dtype=bool)
     bad[faces[turned]] = True
     tried = sigma * 2.0 ** (level - int(lost.any()))
-    raise offset_error(V, F3, plist, bad, by=by, sigma=tried, up=up_v, washed_out=False)
+    raise offset_error(V, F3, plist, bad, by=by, sigma=tried, frame=frame, washed_out=False)

@@ -2,8 +2,8 @@
 
 A recipe written for a catalogue says ``sleeve_left`` or ``side_right``, not ``panel_3``. When
 the file's groups do not name the panels, :func:`panel_layout` names them from where they sit
-on the garment, in the wearer's frame the openings use (:func:`ptailor.model.openings.
-body_frame`: y up and z front by default; ``left = up x front`` is the wearer's left, +x),
+on the garment, in the wearer's frame the openings use (:class:`ptailor.model.frame.
+Frame`: y up and z front by default; ``left = up x front`` is the wearer's left, +x),
 and :func:`seam_names` names every seam from the panels it joins and where it runs.
 
 Panel rules (see :func:`panel_layout` for the details):

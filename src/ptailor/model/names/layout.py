@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ptailor.model.frame import Frame
 from ptailor.model.names.measures import OpeningTouch, edge_graph, panel_measures
 from ptailor.model.names.roles import (
     _unique_names,
@@ -20,7 +21,7 @@ from ptailor.model.names.roles import (
     strip_shape,
     tiers,
 )
-from ptailor.model.openings import Opening, body_frame, openings
+from ptailor.model.openings import Opening, openings
 
 
 @dataclass(frozen=True)
@@ -127,8 +128,7 @@ def panel_layout(
     face_panel: np.ndarray,
     n_panels: int,
     *,
-    up=(0.0, 1.0, 0.0),
-    front=(0.0, 0.0, 1.0),
+    frame: Frame,
     opening_list: list[Opening] | None = None,
 ) -> PanelLayout:
     """Name every panel from where it sits on the drape.
@@ -142,10 +142,10 @@ def panel_layout(
     face_panel : (m,) int array
         Panel index per triangle, ``0 .. n_panels - 1``.
     n_panels : int
-    up, front : 3-vectors
-        The wearer's up and front directions.
+    frame : Frame
+        The wearer's axes (``Garment.frame``).
     opening_list : list of Opening, optional
-        ``openings(V3, F3, up=up, front=front, F2=F2)``, when the caller already has it.
+        ``openings(V3, F3, frame=frame, F2=F2)``, when the caller already has it.
 
     Returns
     -------
@@ -153,13 +153,13 @@ def panel_layout(
         See the module docstring of :mod:`ptailor.model.names` for the rules.
     """
     n_p = int(n_panels)
-    frame = body_frame(up, front)
+    R = frame.matrix()
     V3 = np.asarray(V3, dtype=np.float64)
     F3 = np.asarray(F3, dtype=np.int64).reshape(-1, 3)
     lab = np.asarray(face_panel, dtype=np.int64)
-    pm = panel_measures(V3, F3, lab, n_p, frame)
+    pm = panel_measures(V3, F3, lab, n_p, R)
     graph = edge_graph(V3, F3, F2, lab, n_p)
-    ops = openings(V3, F3, up=up, front=front, F2=F2) if opening_list is None else opening_list
+    ops = openings(V3, F3, frame=frame, F2=F2) if opening_list is None else opening_list
     touches = OpeningTouch(ops, len(V3), graph, n_p)
 
     L, strip = strip_shape(graph.perim, pm.At)
@@ -191,7 +191,7 @@ def panel_layout(
         s0=pm.s0,
         f0=pm.f0,
         h0=pm.h0,
-        frame=frame,
+        frame=R,
         openings=ops,
         mirror=mirror,
         why=why,
