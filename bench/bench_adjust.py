@@ -46,8 +46,8 @@ import numpy as np
 
 from ptailor.formats.obj import write_garment
 from ptailor.method import flatten as flatten_mod
-from ptailor.method import stitch_problem as stitch_mod
 from ptailor.method.flatten import central_vertices, flatten
+from ptailor.method.solver import problem as stitch_mod
 from ptailor.model.garment import Garment, panels, vertex_labels
 from ptailor.samples import sample_for_triangles
 from timing import LIBIGL_ITERATIONS, libigl_arap, machine, median, ptailor_command, run_cli

@@ -299,7 +299,7 @@ def test_solver_failure_maps_to_exit_2(garments, tmp_path, monkeypatch):
 def test_factor_refuses_singular_and_non_finite_matrices():
     import scipy.sparse as sp
 
-    from ptailor.method.linear import factor
+    from ptailor.method.solver import factor
 
     with pytest.raises(PtailorError, match="cannot be factored"):
         factor(sp.csc_matrix(np.zeros((3, 3))))

@@ -393,7 +393,7 @@ def test_a_flat_drape_ends_with_a_warning_that_says_why(tmp_path, recipe):
 
 
 def test_a_singular_seam_system_is_factored_once_without_least_squares(monkeypatch):
-    from ptailor.method.linear import bordered_solver, spd_factor
+    from ptailor.method.solver.small_systems import bordered_solver, spd_factor
 
     rng = np.random.default_rng(0)
     G = rng.normal(size=(40, 25))

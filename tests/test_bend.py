@@ -10,7 +10,7 @@ from ptailor import tolerances as tol
 from ptailor.geometry.triangles import edge_matrices
 from ptailor.method.bend import seam_bend
 from ptailor.method.ease import SeamEase, side_zigzag
-from ptailor.method.stitch import stitch
+from ptailor.method.solver import stitch
 from tests.test_ease import grid, squares_targets, two_squares
 
 

@@ -10,7 +10,7 @@ import pytest
 from ptailor.geometry.triangles import edge_matrices
 from ptailor.method.ease import SeamEase, seam_ease
 from ptailor.method.flatten import flatten
-from ptailor.method.stitch import stitch
+from ptailor.method.solver import stitch
 from ptailor.model.garment import panel_labels, panels
 from ptailor.model.structure import structure
 from ptailor.pipeline import adjustment, solver_warnings

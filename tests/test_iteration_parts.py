@@ -8,8 +8,8 @@ import scipy.sparse as sp
 from ptailor.geometry.triangles import edge_lengths
 from ptailor.method.anderson import Anderson
 from ptailor.method.flatten import panel_strain
-from ptailor.method.linear import factor
-from ptailor.method.stitch_problem import _PanelIndex
+from ptailor.method.solver import factor
+from ptailor.method.solver.problem import PanelIndex, panel_sizes
 
 
 def _reference_mix(fs: list[np.ndarray], gs: list[np.ndarray], m: int) -> np.ndarray:
@@ -69,7 +69,7 @@ def test_rigid_misfit_matches_per_panel_procrustes():
         wobble = 0.01 * (p + 1) * rng.normal(size=(sel.sum(), 2))
         P[sel] = Q[sel] @ R.T + rng.normal(size=2) + wobble
     P[vlab < 0] = 1e6  # unused vertices never count
-    got = _PanelIndex(vlab, k).rigid_misfit(P, Q)
+    got = PanelIndex(vlab, k).rigid_misfit(P, Q)
     want = [_procrustes_misfit(P[vlab == p], Q[vlab == p]) if np.any(vlab == p) else 0.0
             for p in range(k)]  # fmt: skip
     np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-12)
@@ -121,13 +121,11 @@ def test_blockwise_leaves_an_unsorted_matrix_as_it_was():
 
 
 def test_panel_sizes_are_the_bounding_box_diagonals():
-    from ptailor.method.stitch_problem import _panel_sizes
-
     rng = np.random.default_rng(11)
     vlab = np.array([2, 0, -1, 2, 0, 0, 2, -1])  # panel 1 is empty
     V = rng.normal(size=(8, 2))
     V[vlab < 0] = 1e6  # unused vertices never count
-    got = _panel_sizes(V, vlab, 3)
+    got = panel_sizes(V, vlab, 3)
     for p in (0, 2):
         box = np.ptp(V[vlab == p], axis=0)
         assert got[p] == np.linalg.norm(box)

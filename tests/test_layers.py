@@ -5,6 +5,10 @@ no import cycle exists between modules, counting imports inside functions (``imp
 anywhere in a file, ``TYPE_CHECKING`` blocks included). A package's ``__init__`` may import its
 own submodules (to register or re-export them); they then import each other directly, never the
 package back.
+
+A closed package (``CLOSED``: the stitching solver) has one front door: its modules import no
+name with a leading underscore from another module, and code outside it imports only what its
+``__init__`` exports, never its modules.
 """
 
 from __future__ import annotations
@@ -19,7 +23,8 @@ from scipy.sparse.csgraph import connected_components
 
 SRC = Path(__file__).resolve().parents[1] / "src"
 
-#: bottom up; a name stands for the module or package and everything below it
+#: bottom up; a name stands for the module or package and everything below it (``ptailor.method``:
+#: its ``solver`` package too)
 LAYERS: tuple[tuple[str, ...], ...] = (
     ("ptailor", "ptailor.errors", "ptailor.tolerances", "ptailor.digest"),
     ("ptailor.geometry",),
@@ -36,6 +41,10 @@ LAYERS: tuple[tuple[str, ...], ...] = (
 
 #: pairs in one layer that must not import each other
 APART = (("ptailor.formats", "ptailor.method"),)
+
+#: packages whose modules import no private name from another module, imported from outside
+#: only through their ``__init__``
+CLOSED = ("ptailor.method.solver",)
 
 
 def modules() -> dict[str, Path]:
@@ -80,6 +89,31 @@ def imports(mods: dict[str, Path]) -> dict[str, set[str]]:
                         targets.add(t)
         graph[m] = targets
     return graph
+
+
+def private_imports(m: str, tree: ast.AST, mods: dict[str, Path]) -> list[str]:
+    """``"module imports name from other"`` for each name with a leading underscore that
+    module ``m`` imports from another ptailor module (``from x import _y``; a module of the
+    package, ``_x``, counts too)."""
+    package = m if mods[m].name == "__init__.py" else m.rpartition(".")[0]
+    out = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")[: len(package.split(".")) - node.level + 1]
+                stem = ".".join(base + ([node.module] if node.module else []))
+            else:
+                stem = node.module or ""
+            pairs = [(stem, a.name) for a in node.names]
+        elif isinstance(node, ast.Import):
+            pairs = [tuple(a.name.rsplit(".", 1)) for a in node.names if "." in a.name]
+        else:
+            continue
+        for stem, name in pairs:
+            if (stem == "ptailor" or stem.startswith("ptailor.")) and stem != m:
+                if name.startswith("_") and not name.startswith("__"):
+                    out.append(f"{m} imports {name} from {stem}")
+    return out
 
 
 def layer_of(m: str) -> tuple[int, str]:
@@ -140,3 +174,49 @@ def test_cycle_finder_finds_a_planted_cycle():
     g = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}, "p": {"p.x"}, "p.x": set()}
     assert cycles(g) == [["a", "b", "c"]]
     assert cycles({**g, "p.x": {"p"}}) == [["a", "b", "c"], ["p", "p.x"]]
+
+
+def inside(m: str, package: str) -> bool:
+    return m == package or m.startswith(package + ".")
+
+
+@pytest.mark.parametrize("package", CLOSED)
+def test_closed_packages_import_no_private_names(package):
+    assert [m for m in MODULES if inside(m, package)]  # the package exists
+    found = [
+        hit
+        for m, p in MODULES.items()
+        if inside(m, package)
+        for hit in private_imports(m, ast.parse(p.read_text(encoding="utf-8")), MODULES)
+    ]
+    assert found == []
+
+
+@pytest.mark.parametrize("package", CLOSED)
+def test_closed_packages_are_imported_through_their_init(package):
+    through = [
+        f"{a} imports {b}"
+        for a, bs in sorted(GRAPH.items())
+        if not inside(a, package)
+        for b in sorted(bs)
+        if inside(b, package) and b != package
+    ]
+    assert through == []
+
+
+def test_private_imports_finds_planted_ones():
+    mods = {"ptailor.p.a": Path("a.py"), "ptailor.p": Path("__init__.py")}
+    src = (
+        "from ptailor.p.b import _x, y\n"
+        "from .c import _z as z\n"
+        "from ptailor.p.a import _own\n"  # its own names: not another module's
+        "from __future__ import annotations\n"
+        "import ptailor.p._d\n"
+        "def f():\n    from ptailor import _e\n"
+    )
+    assert private_imports("ptailor.p.a", ast.parse(src), mods) == [
+        "ptailor.p.a imports _x from ptailor.p.b",
+        "ptailor.p.a imports _z from ptailor.p.c",
+        "ptailor.p.a imports _d from ptailor.p",
+        "ptailor.p.a imports _e from ptailor",
+    ]

@@ -7,8 +7,10 @@ import pytest
 import scipy.sparse as sp
 
 from ptailor.errors import PtailorError
-from ptailor.method import linear
-from ptailor.method.linear import factor
+from ptailor.method.solver import SymbolicCache, factor
+from ptailor.method.solver.cholesky import superlu_solver
+from ptailor.method.solver.seam_block import schur_inverses, seam_block
+from ptailor.method.solver.seam_factor import SeamFactor
 
 
 def spd(n: int, seed: int) -> sp.csc_matrix:
@@ -33,8 +35,6 @@ def test_factor_solves_vectors_and_blocks():
 
 
 def test_a_symbolic_cache_reuses_the_analysis_and_keeps_each_solve_exact():
-    from ptailor.method.symbolic import SymbolicCache
-
     A, B = spd(40, 0), spd(40, 2)  # one pattern, other values
     b = np.arange(40.0)
     cache = SymbolicCache()
@@ -50,8 +50,6 @@ def test_analyses_are_shared_only_through_the_cache_passed():
     """Two garments flattened in threads of one process (a Dask worker) never share an
     analysis: nothing is shared but the cache a caller passes (no hidden state)."""
     import threading
-
-    from ptailor.method.symbolic import SymbolicCache
 
     seen: dict[int, int] = {}
     barrier = threading.Barrier(2)
@@ -86,7 +84,6 @@ def test_seam_block_from_the_schur_complement_matches_back_substitution(coupled)
     from ptailor.geometry.triangles import edge_matrices
     from ptailor.method.ease import seam_ease
     from ptailor.method.flatten import central_vertices
-    from ptailor.method.linear import seam_block
     from ptailor.method.operators import asap_rows, stitch_matrix
     from ptailor.model.garment import panel_labels, panels, vertex_labels
     from ptailor.samples import lantern_sleeve
@@ -127,7 +124,7 @@ def test_factor_of_a_lower_triangle_solves_the_symmetric_matrix():
     L = sp.tril(A, format="csc")
     b = np.linspace(-1.0, 2.0, 30)
     np.testing.assert_allclose(A @ factor(L, lower=True)(b), b, atol=1e-12)
-    np.testing.assert_allclose(A @ linear._superlu(L, lower=True)(b), b, atol=1e-12)
+    np.testing.assert_allclose(A @ superlu_solver(L, lower=True)(b), b, atol=1e-12)
 
 
 def test_without_cvxopt_superlu_and_back_substitution_serve(monkeypatch):
@@ -138,7 +135,7 @@ def test_without_cvxopt_superlu_and_back_substitution_serve(monkeypatch):
     expected = factor(A)(b)
     monkeypatch.setitem(sys.modules, "cvxopt", None)  # import cvxopt fails
     np.testing.assert_allclose(factor(A)(b), expected, rtol=1e-10)
-    assert linear._schur_inverses(A, np.array([3, 7]), [np.array([0, 1])]) is None
+    assert schur_inverses(A, np.array([3, 7]), [np.array([0, 1])]) is None
     with pytest.raises(PtailorError, match="cannot be factored"):
         factor(sp.csc_matrix(np.zeros((3, 3))))
 
@@ -161,8 +158,6 @@ def test_factor_by_component_matches_the_whole_solve():
     for solve in (factor(A), factor(sp.tril(A, format="csc"), lower=True)):
         np.testing.assert_allclose(solve(b), expected, rtol=1e-10, atol=1e-12)
         np.testing.assert_allclose(solve(b[:, 1]), expected[:, 1], rtol=1e-10, atol=1e-12)
-    from ptailor.method.symbolic import SymbolicCache
-
     cache = SymbolicCache()
     sa = factor(A, symbolic=cache)
     sb = factor(2.0 * A, symbolic=cache)  # same pattern: every block's analysis is shared
@@ -191,8 +186,6 @@ def test_blocks_of_one_pattern_keep_their_own_factors(monkeypatch):
     calls = []
     numeric = cholmod.numeric
     monkeypatch.setattr(cholmod, "numeric", lambda *a: calls.append(1) or numeric(*a))
-    from ptailor.method.symbolic import SymbolicCache
-
     cache = SymbolicCache()
     solve = factor(A, symbolic=cache)
     assert len(cache) == 2
@@ -232,7 +225,7 @@ def test_seam_factor_splits_the_constrained_solve_exactly():
     rng = np.random.default_rng(9)
     b = rng.normal(size=(N, 2))
     for last, parts in ((rng.choice(N, 25, replace=False), 4), (np.r_[1, 5, 7, 71, 75, 77], 3)):
-        f = linear.SeamFactor(sp.tril(A, format="csc"), last)
+        f = SeamFactor(sp.tril(A, format="csc"), last)
         assert len(f._parts) == parts
         E = np.zeros((N, len(last)))
         E[last, np.arange(len(last))] = 1.0
@@ -252,7 +245,7 @@ def test_seam_factor_refuses_an_indefinite_block():
     A = spd(20, 5).tolil()
     A[3, 3] = -5.0
     with pytest.raises(ArithmeticError):
-        linear.SeamFactor(sp.tril(sp.csc_matrix(A), format="csc"), np.array([0, 1]))
+        SeamFactor(sp.tril(sp.csc_matrix(A), format="csc"), np.array([0, 1]))
 
 
 def test_stitch_matrix_holds_no_triplet_sized_arrays():

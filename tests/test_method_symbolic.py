@@ -7,7 +7,7 @@ import numpy as np
 
 from ptailor.method.deform import arap_deform, arap_precompute, arap_solve
 from ptailor.method.flatten import flatten
-from ptailor.method.linear import SymbolicCache, factor
+from ptailor.method.solver import SymbolicCache, factor
 from ptailor.samples import lantern_sleeve
 from tests.test_linear import spd  # (the shared analysis with a cache: test_linear)
 

@@ -7,9 +7,9 @@ import pytest
 
 from ptailor.geometry.triangles import edge_matrices
 from ptailor.method.ease import SeamEase
-from ptailor.method.linear import bordered_solver
-from ptailor.method.stitch import stitch
-from ptailor.method.stitch_problem import _PanelIndex, _Problem
+from ptailor.method.solver import stitch
+from ptailor.method.solver.problem import PanelIndex, Problem
+from ptailor.method.solver.small_systems import bordered_solver
 
 
 def strip(nx: int = 60, ny: int = 2, length: float = 48.0, width: float = 1.6, y0: float = 0.0):
@@ -33,8 +33,8 @@ def bending_targets(V: np.ndarray, F: np.ndarray, radius: float) -> np.ndarray:
     return T
 
 
-def problem(V, F, T, ease=None) -> _Problem:
-    return _Problem(
+def problem(V, F, T, ease=None) -> Problem:
+    return Problem(
         V, F, T, pins=np.array([len(V) // 2]), vertex_panel=None, asap_faces=None,
         asap_exclude=None, ease=ease, panel_weight=None, w_pin=1e3, w_asap=0.0,
     )  # fmt: skip
@@ -52,10 +52,9 @@ def test_projected_hessian_is_the_energys_second_derivative_where_nothing_is_com
         P = rng.standard_normal(V.shape)
         h = 1e-4
         e = [pb.energy(X + t * h * P) / 2 for t in (-1.0, 0.0, 1.0)]
-        pb._rot = (None, None)
         fd = (e[0] - 2 * e[1] + e[2]) / h**2
         pb.rotations(X)
-        quad = float((P * pb._hessian(X, P, None)).sum())
+        quad = float((P * pb.hessian(X, P, None)).sum())
         assert quad == pytest.approx(fd, rel=1e-5)
 
 
@@ -64,9 +63,7 @@ def test_projected_hessian_is_positive_semi_definite_where_triangles_are_compres
     rng = np.random.default_rng(1)
     pb = problem(V, F, edge_matrices(V, F))
     X = 0.7 * V + 0.05 * rng.standard_normal(V.shape)  # compressed: the twist is negative
-    quads = [
-        float((P * pb._hessian(X, P, None)).sum()) for P in rng.standard_normal((20, *V.shape))
-    ]
+    quads = [float((P * pb.hessian(X, P, None)).sum()) for P in rng.standard_normal((20, *V.shape))]
     assert min(quads) >= 0.0
     # the unprojected twist (alpha = 1/r) would be indefinite here: the projection matters
     J, _, _ = pb.rotations(X)
@@ -104,7 +101,7 @@ def test_newton_steps_bend_a_slender_strip_that_local_global_steps_crawl_on(radi
     size = np.ptp(V, axis=0).max()
 
     def off(Y):  # rigid motion removed: the pin holds one vertex, the strip may turn
-        return float(_PanelIndex(np.zeros(len(V), int), 1).rigid_misfit(Y, ref)[0])
+        return float(PanelIndex(np.zeros(len(V), int), 1).rigid_misfit(Y, ref)[0])
 
     # converged means near the answer, not merely that the last step was small
     assert off(X) < 1e-5 * size
@@ -138,7 +135,7 @@ def test_the_split_factor_and_two_solves_give_one_answer(monkeypatch):
     """The constrained steps through the factor that orders the seam unknowns last (one
     forward and one back-substitution) and through two plain solves (as without CHOLMOD)
     reach the same pattern, Newton steps included."""
-    import ptailor.method.stitch_problem as st
+    import ptailor.method.solver.problem as st
 
     Va, Fa = strip(60, 2, 48.0, 0.8, 0.0)
     Vb, Fb = strip(60, 2, 48.0, 0.8, 0.8)
@@ -157,11 +154,11 @@ def test_the_split_factor_and_two_solves_give_one_answer(monkeypatch):
         ease=ease, max_iter=300,
     )  # fmt: skip
     made = []
-    split = st._split_solver
-    monkeypatch.setattr(st, "_split_solver", lambda *a: made.append(split(*a)) or made[-1])
+    split = st.split_solver
+    monkeypatch.setattr(st, "split_solver", lambda *a: made.append(split(*a)) or made[-1])
     X1, info1 = stitch(V, F, T, **kw)
     assert made and made[0] is not None
-    monkeypatch.setattr(st, "_split_solver", lambda *a: None)
+    monkeypatch.setattr(st, "split_solver", lambda *a: None)
     X2, info2 = stitch(V, F, T, **kw)
     assert info1.converged and info2.converged and info1.newton_steps >= 1
     assert info1.iterations == info2.iterations

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from ptailor import samples
-from ptailor.method.stitch import stitch
+from ptailor.method.solver import stitch
 from ptailor.model.garment import Garment, panels
 from ptailor.model.seams import seams
 from ptailor.recipe import parse_recipe

@@ -17,7 +17,7 @@ from ptailor.errors import PtailorError
 from ptailor.geometry.labels import used_indices
 from ptailor.geometry.triangles import triangle_areas
 from ptailor.method.flatten import FlattenResult, flatten
-from ptailor.method.symbolic import SymbolicCache
+from ptailor.method.solver import SymbolicCache
 from ptailor.model.frame import Frame
 from ptailor.model.garment import Garment, panel_labels, vertex_labels, with_panel_names
 from ptailor.model.structure import structure

@@ -285,7 +285,7 @@ def apply_mirrored(
         recs = out.log[n_log:]
         rec = {**(recs[-1] if recs else {"op": op.name}), "mirrored": True, "mirror": "own"}
         return replace(out, log=(*state.log, rec))
-    from ptailor.method.symbolic import SymbolicCache
+    from ptailor.method.solver import SymbolicCache
 
     # the two applications factor matrices of one pattern (a loosen's diffusion matrix over
     # the same triangles): one symbolic analysis serves both

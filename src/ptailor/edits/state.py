@@ -71,7 +71,7 @@ class EditOptions:
     body : trimesh.Trimesh or None
         A watertight body in the computation unit: extended rows are pushed out of it.
     symbolic : SymbolicCache or None
-        Symbolic analyses the step's factorisations share (:mod:`ptailor.method.symbolic`):
+        Symbolic analyses the step's factorisations share (:mod:`ptailor.method.solver`):
         a mirrored step's two applications factor matrices of one pattern.
     """
 

@@ -18,7 +18,7 @@ from ptailor.geometry.rotations import rigid_fits_3d
 from ptailor.method.anderson import Anderson
 from ptailor.method.cell_rotations import warm_rotations
 from ptailor.method.cotangent import DEGENERATE_REL, corner_cotangents, edge_matrix
-from ptailor.method.symbolic import SymbolicCache
+from ptailor.method.solver import SymbolicCache
 
 __all__ = ["ArapPrecompute", "arap_precompute", "arap_solve"]
 
@@ -193,7 +193,7 @@ def arap_precompute(
     (vertices of triangles with a free corner); the energy used for the stopping test
     leaves out the other cells, which are constant.
     """
-    from ptailor.method.linear import factor
+    from ptailor.method.solver import factor
 
     V, F, handles, _ = _check_inputs(V, F, handles, np.zeros((np.size(handles), 3)))
     numbering = None

@@ -31,7 +31,7 @@ from ptailor.method.arap import (
 )
 from ptailor.method.cell_rotations import warm_rotations
 from ptailor.method.cotangent import DEGENERATE_REL, cotangent_weights
-from ptailor.method.symbolic import SymbolicCache
+from ptailor.method.solver import SymbolicCache
 
 __all__ = [
     "ANDERSON",
@@ -77,7 +77,7 @@ def arap_deform(
     component's rigid fit), the same maxima as a batched 3x3 SVD at a fraction of its cost.
     Global step: the handles are eliminated and the free-free block of the
     cotangent Laplacian (symmetric positive definite) is factored once
-    (:func:`ptailor.method.linear.factor`, a sparse Cholesky); each
+    (:func:`ptailor.method.solver.factor`, a sparse Cholesky); each
     iteration is one back-substitution with 3 right-hand sides. The iterations are
     Anderson-accelerated (Peng et al. 2018): a mix of the last iterates whose energy comes
     out higher than its predecessor's is replaced by the plain step (an extra local step),

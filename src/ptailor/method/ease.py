@@ -9,7 +9,7 @@ equality::
     (d_b . (x_b1 - x_b0) - r d_a . (x_a1 - x_a0)) / sqrt(1 + r^2) = 0
 
 added to the stitching's global step with Lagrange multipliers
-(:func:`ptailor.method.stitch.stitch`) and re-linearised every iteration; at convergence
+(:func:`ptailor.method.solver.stitch`) and re-linearised every iteration; at convergence
 the directions are the edges' own, so the lengths meet the ratio exactly.
 """
 

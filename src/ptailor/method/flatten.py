@@ -13,8 +13,7 @@ from ptailor.geometry.rotations import rigid_fit_groups
 from ptailor.geometry.triangles import edge_lengths, edge_matrices
 from ptailor.method.ease import SeamEase, seam_ease
 from ptailor.method.intrinsic import Intrinsic, intrinsic_targets
-from ptailor.method.stitch import StitchInfo, stitch
-from ptailor.method.symbolic import SymbolicCache
+from ptailor.method.solver import StitchInfo, SymbolicCache, stitch
 from ptailor.model.garment import Garment, Panel, panel_labels, vertex_labels
 from ptailor.model.structure import structure
 
@@ -164,7 +163,7 @@ def flatten(
         purpose, the side on ``p`` ``f`` times longer relative to the side on ``q``
         (:func:`ptailor.method.ease.seam_ease`).
     w_pin, w_asap, max_iter, step_tol, history
-        Solver settings (see :func:`ptailor.method.stitch.stitch`).
+        Solver settings (see :func:`ptailor.method.solver.stitch`).
     panel_list, seam_pairs : list of Panel, (s, 2) int array, optional
         The panels and their ``seam_halfedges`` (those used with ``seams="ease"``), as the
         caller found them; default: ``structure(garment)``'s (named under the garment's

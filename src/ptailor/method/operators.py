@@ -1,5 +1,5 @@
 """Sparse operators of the stitching energy: triangle Jacobians, the stitching matrix and the
-as-similar-as-possible boundary rows (:mod:`ptailor.method.stitch`)."""
+as-similar-as-possible boundary rows (:mod:`ptailor.method.solver`)."""
 
 from __future__ import annotations
 
@@ -67,7 +67,7 @@ def stitch_matrix(
 
     Assembled from triplets in one conversion, so explicit zeros stay in the pattern: two
     target sets on one pattern give one sparsity pattern (the baseline shares ours'
-    symbolic factorisation, :class:`ptailor.method.symbolic.SymbolicCache`).
+    symbolic factorisation, :class:`ptailor.method.solver.SymbolicCache`).
 
     Parameters
     ----------

@@ -64,7 +64,7 @@ class ConvergedWhen(TypedDict):
 
 
 class SolverRecord(TypedDict):
-    """The stitching solver's run (:class:`ptailor.method.stitch.StitchInfo`)."""
+    """The stitching solver's run (:class:`ptailor.method.solver.StitchInfo`)."""
 
     iterations: int
     newton_steps: int

@@ -12,7 +12,7 @@ from ptailor.edits.region import region_axis, region_centroid
 from ptailor.geometry.topology import half_edges
 from ptailor.geometry.triangles import triangle_areas, triangle_normals
 from ptailor.method.deform import cotangent_weights
-from ptailor.method.linear import factor
+from ptailor.method.solver import factor
 from ptailor.model.garment import Panel, panel_labels
 from ptailor.model.seams import seam_halfedges
 

@@ -1,7 +1,7 @@
 """The seam-length constraints of the stitching: the factorisation that eliminates the
-seam unknowns last (:class:`_SplitSolve`), a solve under way (:class:`_Solved`), and the
-constrained global step of :class:`ptailor.method.stitch._Problem`
-(:class:`_SeamConstraints`: a sequential-quadratic-programming step through a Schur
+seam unknowns last (:class:`SplitSolve`), a solve under way (:class:`Solved`), and the
+constrained global step of :class:`ptailor.method.solver.problem.Problem`
+(:class:`SeamConstraints`: a sequential-quadratic-programming step through a Schur
 complement on the one factorisation)."""
 
 from __future__ import annotations
@@ -14,15 +14,35 @@ import numpy as np
 import scipy.sparse as sp
 
 from ptailor import tolerances as tol
-from ptailor.method.linear import SeamBlock, SeamFactor, bordered_solver, seam_block
-from ptailor.method.symbolic import SymbolicCache
+from ptailor.method.solver.seam_block import SeamBlock, seam_block
+from ptailor.method.solver.seam_factor import SeamFactor
+from ptailor.method.solver.small_systems import bordered_solver
+from ptailor.method.solver.symbolic import SymbolicCache
 
 
-class _SplitSolve:
+class SplitSolve:
     """``A^-1`` over unknowns ``[x; y]`` through a :class:`SeamFactor` that eliminates the
     seam unknowns ``U = [verts; verts + n]`` last: the constrained step's two solves in
-    about the time of one (:class:`_Solved`), and the seam block of ``A^-1`` from the same
-    factorisation (no second one when the seams switch on)."""
+    about the time of one (:class:`Solved`), and the seam block of ``A^-1`` from the same
+    factorisation (no second one when the seams switch on).
+
+    Parameters
+    ----------
+    A : sparse matrix
+        Lower triangle of the stitching matrix, ``n x n`` when x and y decouple, ``2n x 2n``
+        when coupled.
+    n : int
+        Pattern vertices.
+    verts : (q,) int array
+        The seam vertices.
+    symbolic : SymbolicCache, optional
+        Symbolic analyses shared with the caller's other factorisations.
+
+    Raises
+    ------
+    ArithmeticError, ValueError, ImportError
+        As :class:`SeamFactor` (:func:`split_solver` turns them into None).
+    """
 
     def __init__(
         self,
@@ -44,6 +64,7 @@ class _SplitSolve:
         return X[:, 0] if self.coupled else X.T.ravel()
 
     def solve_many(self, rhs: np.ndarray) -> np.ndarray:
+        """``A^-1 rhs`` for columns over ``[x; y]``, ``(2n, c)``."""
         if self.coupled:
             return self.fac(rhs)
         n, c = self.n, rhs.shape[1]
@@ -51,6 +72,7 @@ class _SplitSolve:
         return np.concatenate([sol[:, :c], sol[:, c:]], axis=0)
 
     def forward(self, b: np.ndarray) -> list[np.ndarray]:
+        """The factor's forward substitutions of ``b`` ``(2n,)`` (:meth:`SeamFactor.forward`)."""
         return self.fac.forward(self._cols(b, self.n))
 
     def seam(self, Z: list[np.ndarray]) -> np.ndarray:
@@ -63,35 +85,55 @@ class _SplitSolve:
         return self._vec(self.fac.finish(Z, c, None if w is None else self._cols(w, self.q)))
 
     def seam_block(self) -> SeamBlock:
+        """The seam block of ``A^-1`` from the factor's trailing blocks.
+
+        Raises
+        ------
+        ArithmeticError
+            The trailing factor is not usable (:meth:`SeamFactor.blocks`).
+        """
         blocks = self.fac.blocks()
         if not self.coupled:  # one n x n block per panel serves x and y
             blocks += [(g + self.q, G) for g, G in blocks]
         return SeamBlock(U=self.U, blocks=blocks)
 
 
-def _split_solver(
+def split_solver(
     A: sp.csc_matrix, n: int, verts: np.ndarray, symbolic: SymbolicCache | None = None
-) -> _SplitSolve | None:
-    """:class:`_SplitSolve` where CHOLMOD factors ``A`` with the seam unknowns last; None
-    otherwise (no cvxopt, a block not positive definite: :func:`factor` decides)."""
+) -> SplitSolve | None:
+    """:class:`SplitSolve` where CHOLMOD factors ``A`` with the seam unknowns last; None
+    otherwise (no cvxopt, a block not positive definite: the caller's :func:`factor`
+    decides)."""
     try:
-        return _SplitSolve(A, n, verts, symbolic)
+        return SplitSolve(A, n, verts, symbolic)
     except (ImportError, ArithmeticError, ValueError):
         return None
 
 
-class _Solved:
+class Solved:
     """``y = A^-1 b`` under way: its seam values ``y[U]`` at once, the whole vector (less
     ``A^-1 E_U w`` for ``w`` on the seam unknowns) on request, from one forward and one
-    back-substitution where the factor splits the seam unknowns off (:class:`_SplitSolve`),
-    else from one solve (and one more for ``w``). ``pb`` is the stitching problem
-    (:class:`ptailor.method.stitch._Problem`)."""
+    back-substitution where the factor splits the seam unknowns off (:class:`SplitSolve`),
+    else from one solve (and one more for ``w``).
+
+    Parameters
+    ----------
+    pb : Problem
+        The stitching problem (:class:`ptailor.method.solver.problem.Problem`) with its seam
+        constraints on: its ``seam_block``, ``split``, ``n`` and ``solve`` are read.
+    b : (2n,) float array
+
+    Attributes
+    ----------
+    seam : (2q,) float array
+        ``y[U]``.
+    """
 
     def __init__(self, pb, b: np.ndarray) -> None:
         self.pb, self.U = pb, pb.seam_block.U
-        if pb._split is not None:
-            self._Z = pb._split.forward(b)
-            self.seam = pb._split.seam(self._Z)
+        if pb.split is not None:
+            self._Z = pb.split.forward(b)
+            self.seam = pb.split.seam(self._Z)
         else:
             self._y = pb.solve(b)
             self.seam = self._y[self.U]
@@ -99,8 +141,8 @@ class _Solved:
     def full(self, w: np.ndarray | None = None) -> np.ndarray:
         """``A^-1 (b - E_U w)`` over ``[x; y]``, ``(2n,)``."""
         pb = self.pb
-        if pb._split is not None:
-            return pb._split.finish(self._Z, w)
+        if pb.split is not None:
+            return pb.split.finish(self._Z, w)
         if w is None:
             return self._y
         r = np.zeros(2 * pb.n)
@@ -109,9 +151,10 @@ class _Solved:
 
 
 @dataclass(frozen=True)
-class _SeamStep:
+class SeamStep:
     """The seam rows of one linearisation and the solver of their Woodbury system, kept
-    to project further right-hand sides onto the same constraints (:meth:`_Problem.newton`).
+    to project further right-hand sides onto the same constraints
+    (:meth:`ptailor.method.solver.newton.NewtonModel.newton`).
 
     Attributes
     ----------
@@ -144,12 +187,15 @@ class _SeamStep:
         return self.parts[0] if len(self.parts) == 1 else sp.vstack(self.parts).tocsr()
 
 
-class _SeamConstraints:
-    """The seam-constraint half of :class:`ptailor.method.stitch._Problem`: switching
+class SeamConstraints:
+    """The seam-constraint half of :class:`ptailor.method.solver.problem.Problem` (a mixin:
+    it reads the problem's public attributes, ``ease``, ``seam_block``, ``split``, ``n``,
+    ``vlab``, ``B``, ``solve_many``, and its :meth:`solve` and :meth:`matrix`): switching
     them on, the constrained global step, and its system applied to other right-hand
-    sides (the Newton step's preconditioner)."""
+    sides (the Newton step's preconditioner). It fills ``seam_step`` (and ``seam_block``,
+    once), the problem's state it owns."""
 
-    def _constrained(self, sol: _Solved, X_lin: np.ndarray) -> np.ndarray:
+    def constrained(self, sol: Solved, X_lin: np.ndarray) -> np.ndarray:
         """The global step ``y = A^-1 b`` under the seam constraints linearised at
         ``X_lin``, a sequential-quadratic-programming step.
 
@@ -166,7 +212,7 @@ class _SeamConstraints:
         their projected length), and the iterations crawl on fine meshes: the 100-iteration
         cap at 82k triangles where 21 do with it."""
         blk, ease = self.seam_block, self.ease
-        self._seam_step = None
+        self.seam_step = None
         C = ease.rows(X_lin)
         B = ease.total_columns(X_lin)  # each curve's factor free within the step
         CR = blk.restrict(C)  # over the seam unknowns U, as y's seam values
@@ -196,21 +242,21 @@ class _SeamConstraints:
             if nu is not None:
                 y_c = sol.full(PR.T @ nu[: len(kappa)] + CR.T @ nu[len(kappa) :])
                 if np.all(np.isfinite(y_c)):
-                    self._seam_step = _SeamStep(X_lin, C, full, P, kappa, (PR, CR))
+                    self.seam_step = SeamStep(X_lin, C, full, P, kappa, (PR, CR))
                     return y_c
         y_c = sol.full(CR.T @ lam)  # no curvature (none, or its solve failed)
         if not np.all(np.isfinite(y_c)):
             return sol.full()
-        self._seam_step = _SeamStep(X_lin, C, cc, None, np.zeros(0), (CR,))
+        self.seam_step = SeamStep(X_lin, C, cc, None, np.zeros(0), (CR,))
         return y_c
 
-    def _project(self, R: np.ndarray, seam: _SeamStep | None) -> np.ndarray:
+    def project(self, R: np.ndarray, seam: SeamStep | None) -> np.ndarray:
         """``z`` minimising ``1/2 z^T (A + P^T kappa P) z - R . z`` with ``C z`` on the
         seams' linearisation ``seam`` (its curves' factors free), ``(n, 2)``: the
         local/global step's own system, applied to another right-hand side ``R (n, 2)``."""
         if seam is None:
             return self.solve(R.T.ravel()).reshape(2, self.n).T
-        sol = _Solved(self, R.T.ravel())
+        sol = Solved(self, R.T.ravel())
         nu = seam.solve(seam.QU @ sol.seam)
         y = sol.full() if nu is None else sol.full(seam.QU.T @ nu)
         return y.reshape(2, self.n).T
@@ -233,13 +279,13 @@ class _SeamConstraints:
 
     def seams_on(self) -> None:
         """Switch the seam constraints on: the seam block of ``A^-1``, once."""
-        if self._split is not None:
+        if self.split is not None:
             try:
-                self.seam_block = self._split.seam_block()
+                self.seam_block = self.split.seam_block()
                 return
             except ArithmeticError:  # the trailing factor is not usable: solve as before
-                self._split = None
+                self.split = None
         self.seam_block = seam_block(
             self.solve_many, self.ease, np.maximum(self.vlab, 0), self.n,
-            coupled=self.B is not None, A=self._matrix(),
+            coupled=self.B is not None, A=self.matrix(),
         )  # fmt: skip

@@ -1,5 +1,5 @@
 """The stitching's iteration: local/global steps from an iterate, with Newton steps where
-they crawl (:func:`_iterate`).
+they crawl (:func:`iterate` over an :class:`Iterate`).
 
 Local/global iterations (Liu et al. 2008) accelerated by Anderson mixing (Peng et al.
 2018) with their safeguard: an accelerated iterate is kept only when the energy after a
@@ -17,7 +17,14 @@ from ptailor import tolerances as tol
 from ptailor.method.anderson import Anderson
 
 
-def _finite_or_fail(Y: np.ndarray) -> np.ndarray:
+def finite_or_fail(Y: np.ndarray) -> np.ndarray:
+    """``Y`` itself where every entry is finite.
+
+    Raises
+    ------
+    PtailorError
+        A non-finite entry: the solver diverged.
+    """
     if not np.all(np.isfinite(Y)):
         from ptailor.errors import PtailorError
 
@@ -28,14 +35,33 @@ def _finite_or_fail(Y: np.ndarray) -> np.ndarray:
     return Y
 
 
-class _Iterate:
-    """The iteration's current point ``X``, its plain step ``GX`` and their measures, on
-    the stitching problem ``pb`` (:class:`ptailor.method.stitch._Problem`)."""
+class Iterate:
+    """The iteration's current point and its plain step, with their measures.
+
+    Parameters
+    ----------
+    pb : Problem
+        The stitching problem (:class:`ptailor.method.solver.problem.Problem`).
+    X : (n, 2) float array
+        The first point.
+    history : int
+        Anderson history length (0: the plain steps' energies are not needed).
+
+    Attributes
+    ----------
+    X, GX : (n, 2) float arrays
+        The current point and the plain step from it (new arrays on every move: never
+        changed in place).
+    res : (n_panels,) float array
+        Each panel's move from ``X`` to ``GX``, rigid motion removed, over its size.
+    e_gx : float
+        The energy at ``GX`` (0 without a history).
+    """
 
     def __init__(self, pb, X: np.ndarray, history: int) -> None:
         self.pb, self.history = pb, history
         self.X = X
-        self.GX = _finite_or_fail(pb.step(X))
+        self.GX = finite_or_fail(pb.step(X))
         self.res = pb.residual(self.X, self.GX)
         self.e_gx = pb.energy(self.GX) if history else 0.0
 
@@ -43,7 +69,7 @@ class _Iterate:
         """Move to the plain step's output and take the next plain step."""
         pb = self.pb
         self.X = self.GX
-        self.GX = _finite_or_fail(pb.step(self.X))
+        self.GX = finite_or_fail(pb.step(self.X))
         self.res = pb.residual(self.X, self.GX)
         self.e_gx = pb.energy(self.GX) if self.history else 0.0
 
@@ -63,13 +89,13 @@ class _Iterate:
         return False
 
     def newton(self, *, max_cg: int, rtol: float) -> tuple[bool, float]:
-        """A Newton step (:meth:`_Problem.newton`) from ``X``, kept, like an accelerated
-        iterate, when the energy after a plain step from it is below the plain step's;
-        where it is not, the step halved up to ``tol.NEWTON_BACKTRACK`` times (a
-        backtracking line search). ``(kept, the largest panel move over the panel's size
-        of the last step tried)``."""
+        """A Newton step (:meth:`ptailor.method.solver.newton.NewtonModel.newton`) from
+        ``X``, kept, like an accelerated iterate, when the energy after a plain step from it
+        is below the plain step's; where it is not, the step halved up to
+        ``tol.NEWTON_BACKTRACK`` times (a backtracking line search). ``(kept, the largest
+        panel move over the panel's size of the last step tried)``."""
         pb = self.pb
-        if self.pb._seam_step is not None and self.pb._seam_step.X is not self.X:
+        if pb.seam_step is not None and pb.seam_step.X is not self.X:
             self.GX = pb.step(self.X)  # the seams linearised at X again (after a rejection)
         step = pb.newton(self.X, self.GX, max_cg=max_cg, rtol=rtol)
         if step is None:  # no model: the plain step's move is all there is to judge by
@@ -108,9 +134,9 @@ def _stalls(h: list[float]) -> bool:
     return len(h) > 2 * w and min(h[-w:]) > (1.0 - tol.ARAP_STALL_GAIN) * min(h[:-w])
 
 
-def _iterate(
-    pb,  # the stitching problem, ptailor.method.stitch._Problem
-    s: _Iterate,
+def iterate(
+    pb,  # the stitching problem, ptailor.method.solver.problem.Problem
+    s: Iterate,
     *,
     max_iter: int,
     step_tol: float,
@@ -118,9 +144,24 @@ def _iterate(
     newton_cg: int = tol.NEWTON_CG_MAX,
     progress: Callable[[int, float], None] | None = None,
 ) -> tuple[int, bool, bool, list[float], int]:
-    """Local/global iterations from ``s`` (updated); ``(iterations, converged, stalled,
-    residual history, Newton steps)``. ``progress(iteration, residual)`` is called once
-    per iteration."""
+    """Local/global iterations from ``s`` (updated).
+
+    Parameters
+    ----------
+    pb : Problem
+        The stitching problem (:class:`ptailor.method.solver.problem.Problem`).
+    s : Iterate
+        The start; the last point on return.
+    max_iter, step_tol, history, newton_cg : int, float, int, int
+        :func:`ptailor.method.solver.stitch`'s settings.
+    progress : callable, optional
+        ``progress(iteration, residual)``, called once per iteration.
+
+    Returns
+    -------
+    tuple
+        ``(iterations, converged, stalled, residual history, Newton steps)``.
+    """
     acc = Anderson(m=history)
     it, converged, stalled, since, last, newton = 0, False, False, 0, 0, 0
     hist: list[float] = []

@@ -1,8 +1,8 @@
-"""The stitching problem (:func:`ptailor.method.stitch.stitch`'s system): the panels'
-index, the matrix and its factor, the local step, the energy; the seam constraints and the
-Newton step come from :mod:`ptailor.method.stitch_seams` and
-:mod:`ptailor.method.stitch_newton`, the iteration that drives it from
-:mod:`ptailor.method.stitch_iteration`.
+"""The stitching problem (:func:`ptailor.method.solver.stitch`'s system, :class:`Problem`):
+the panels' index, the matrix and its factor, the local step, the energy; the seam
+constraints and the Newton step come from :mod:`ptailor.method.solver.seams` and
+:mod:`ptailor.method.solver.newton`, the iteration that drives it from
+:mod:`ptailor.method.solver.iteration`.
 """
 
 from __future__ import annotations
@@ -16,11 +16,12 @@ from ptailor import tolerances as tol
 from ptailor.geometry.closed_forms import det2
 from ptailor.method.bend import SeamBend, seam_bend
 from ptailor.method.ease import SeamEase
-from ptailor.method.linear import SeamBlock, factor
 from ptailor.method.operators import asap_rows, gradient_operator, stitch_matrix
-from ptailor.method.stitch_newton import _NewtonModel
-from ptailor.method.stitch_seams import _SeamConstraints, _SeamStep, _Solved, _split_solver
-from ptailor.method.symbolic import SymbolicCache
+from ptailor.method.solver.linear import factor
+from ptailor.method.solver.newton import NewtonModel
+from ptailor.method.solver.seam_block import SeamBlock
+from ptailor.method.solver.seams import SeamConstraints, SeamStep, Solved, split_solver
+from ptailor.method.solver.symbolic import SymbolicCache
 
 
 def _vertex_panels(F2: np.ndarray, n: int, vertex_panel: np.ndarray | None) -> np.ndarray:
@@ -38,8 +39,21 @@ def _vertex_panels(F2: np.ndarray, n: int, vertex_panel: np.ndarray | None) -> n
     return np.where(used, vertex_panel, -1)
 
 
-def _panel_sizes(V2: np.ndarray, vlab: np.ndarray, n_panels: int) -> np.ndarray:
-    """Bounding-box diagonal per panel, for a scale-free convergence test."""
+def panel_sizes(V2: np.ndarray, vlab: np.ndarray, n_panels: int) -> np.ndarray:
+    """Bounding-box diagonal per panel, for a scale-free convergence test.
+
+    Parameters
+    ----------
+    V2 : (n, 2) float array
+    vlab : (n,) int array
+        Panel of each vertex, -1 for vertices no triangle uses.
+    n_panels : int
+
+    Returns
+    -------
+    (max(n_panels, 1),) float array
+        Each panel's diagonal (1 where there is no panel; never 0).
+    """
     size = np.ones(max(n_panels, 1))
     if n_panels:
         used = np.flatnonzero(vlab >= 0)
@@ -73,8 +87,15 @@ def _solver(A: sp.csc_matrix, n: int, symbolic: SymbolicCache | None = None):
     return solve_many
 
 
-class _PanelIndex:
-    """The used vertices grouped by panel, for per-panel rigid fits and maxima."""
+class PanelIndex:
+    """The used vertices grouped by panel, for per-panel rigid fits and maxima.
+
+    Parameters
+    ----------
+    vlab : (n,) int array
+        Panel of each vertex, -1 for vertices no triangle uses.
+    n_panels : int
+    """
 
     def __init__(self, vlab: np.ndarray, n_panels: int) -> None:
         used = np.flatnonzero(vlab >= 0)
@@ -112,10 +133,23 @@ class _PanelIndex:
         return out
 
 
-class _Problem(_SeamConstraints, _NewtonModel):
+class Problem(SeamConstraints, NewtonModel):
     """The stitching energy of one pattern: its factored matrix, steps and measures (the
-    seam constraints' steps from :class:`_SeamConstraints`, the Newton step from
-    :class:`_NewtonModel`)."""
+    seam constraints' steps from :class:`SeamConstraints`, the Newton step from
+    :class:`NewtonModel`).
+
+    The arguments are :func:`ptailor.method.solver.stitch`'s. What the package's other
+    modules read besides the steps: ``V2``, ``n``, ``m``, ``pins``, ``vlab``, ``used``
+    (vertices a triangle uses), ``area`` (each triangle's weighted target area), ``pin_w``,
+    ``B`` and ``w_asap`` (the as-similar-as-possible rows and weight), ``D`` and :attr:`Dt`
+    (the gradient operator and its transpose), ``ease``, ``bend`` and ``bend_H`` (the seam
+    sides' bending and its ``(n, n)`` matrix), ``split`` (the factor that orders the seam
+    unknowns last, or None), ``seam_block`` (None until the seams switch on) and
+    ``seam_step`` (the last constrained step's rows, :meth:`constrained`'s).
+
+    Iterates are never changed in place: :meth:`rotations` keeps the last ``X``'s by
+    identity.
+    """
 
     def __init__(
         self,
@@ -151,32 +185,31 @@ class _Problem(_SeamConstraints, _NewtonModel):
         pin_w[~used] = 1.0
         self.B = self._asap(V2, F2, asap_faces, asap_exclude, panel_weight, stiff)
         self.ease = None if ease is not None and not ease.n_rows else ease
-        self.size = _panel_sizes(V2, vlab, n_panels)
+        self.size = panel_sizes(V2, vlab, n_panels)
         self.bend: SeamBend | None = None
         if self.ease is not None and tol.SEAM_BEND > 0:
             mu = np.zeros(n)
             mu[used] = tol.SEAM_BEND * self.size[vlab[used]] ** 3 * stiff[vlab[used]]
             self.bend = seam_bend(F2, targets, self.ease.vertices(), mu, np.maximum(vlab, 0))
-        self._bend_H = None if self.bend is None else self.bend.matrix()  # (n, n)
-        self._bend_M = None if self.bend is None else sp.tril(self._bend_H)
+        self.bend_H = None if self.bend is None else self.bend.matrix()  # (n, n)
+        self._bend_M = None if self.bend is None else sp.tril(self.bend_H)
         # the seam block, if the seams switch on, factors the matrix once more: assembled
         # again then rather than held through the iterations (15 MB at 300k triangles)
         self._F2, self._targets = F2, targets
-        A = self._matrix()
+        A = self.matrix()
         # with seam constraints, one factorisation that eliminates the seam unknowns last
         verts = None if self.ease is None else self.ease.vertices()
-        self._split = None if verts is None else _split_solver(A, n, verts, symbolic)
-        split = self._split
+        self.split = None if verts is None else split_solver(A, n, verts, symbolic)
+        split = self.split
         self.solve_many = split.solve_many if split is not None else _solver(A, n, symbolic)
         del A
         # the seam constraints switch on at the first iteration that misses a seam (an
         # identity edit or a uniform scale never pays for them)
         self.seam_block: SeamBlock | None = None
         self.pin_rhs = pin_w[:, None] * V2
-        self._panels = _PanelIndex(vlab, n_panels)
+        self._panels = PanelIndex(vlab, n_panels)
         self._rot: tuple = (None, None)  # the last iterate's rotations, for reuse
-        self._twist_at: tuple | None = None  # and their Hessian's twist weights
-        self._seam_step: _SeamStep | None = None  # the last constrained step's rows
+        self.seam_step: SeamStep | None = None  # the last constrained step's rows
 
     def _asap(self, V2, F2, asap_faces, asap_exclude, panel_weight, stiff):
         """The as-similar-as-possible rows (weighted by panel), or None without any."""
@@ -187,8 +220,9 @@ class _Problem(_SeamConstraints, _NewtonModel):
                 B = sp.diags(np.sqrt(stiff[self.vlab[B.indices[B.indptr[:-1]] % self.n]])) @ B
         return None if B is None or B.shape[0] == 0 else B
 
-    def _matrix(self) -> sp.csc_matrix:
-        """The lower triangle of the stitching system (with the seam sides' bending)."""
+    def matrix(self) -> sp.csc_matrix:
+        """The lower triangle of the stitching system (with the seam sides' bending),
+        assembled again on each call."""
         A = stitch_matrix(self._F2, self._targets, self.area, self.pin_w, self.B, self.w_asap)
         if self._bend_M is None:
             return A
@@ -196,16 +230,18 @@ class _Problem(_SeamConstraints, _NewtonModel):
         return sp.csc_matrix(A + L)
 
     @cached_property
-    def _Dt(self) -> sp.csc_matrix:
+    def Dt(self) -> sp.csc_matrix:
         """``D^T``, a view of ``D``'s arrays (the transpose object built once, not per step)."""
         return self.D.T
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
+        """``A^-1 rhs`` for one vector over ``[x; y]``, ``(2n,)``."""
         return self.solve_many(rhs[:, None])[:, 0]
 
     def rotations(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(J, cos, sin)``: the Jacobians ``(2m, 2)`` (``D @ X``) and the closest rotation
-        to each (closed form, ``atan2(J10 - J01, J00 + J11)``; identity for ``J = 0``)."""
+        to each (closed form, ``atan2(J10 - J01, J00 + J11)``; identity for ``J = 0``),
+        kept for the next call with the same ``X`` (the object: iterates are new arrays)."""
         if self._rot[0] is X:
             return self._rot[1]
         m = self.m
@@ -221,6 +257,7 @@ class _Problem(_SeamConstraints, _NewtonModel):
         return J, cos, sin
 
     def energy(self, X: np.ndarray) -> float:
+        """``E(X)`` (:func:`ptailor.method.solver.stitch`'s energy, with the bending)."""
         J, cos, sin = self.rotations(X)
         m, pins = self.m, self.pins
         # |J - R|_F^2 per triangle, (a^2 + b^2) + (c^2 + d^2) in place (4 temporaries)
@@ -249,16 +286,17 @@ class _Problem(_SeamConstraints, _NewtonModel):
         W = np.empty((2 * self.m, 2))  # the rotations stacked like the Jacobians
         W[: self.m, 0], W[: self.m, 1] = ac, as_
         W[self.m :, 0], W[self.m :, 1] = -as_, ac
-        rhs = self._Dt @ W + self.pin_rhs
+        rhs = self.Dt @ W + self.pin_rhs
         if self.bend is not None:
             rhs = rhs + self.bend.rhs(X_lin)
         if self.seam_block is not None and X_lin is not None:
-            y = self._constrained(_Solved(self, rhs.T.ravel()), X_lin)
+            y = self.constrained(Solved(self, rhs.T.ravel()), X_lin)
         else:
             y = self.solve(rhs.T.ravel())
         return y.reshape(2, self.n).T
 
     def step(self, X: np.ndarray) -> np.ndarray:
+        """The plain local/global step from ``X`` (the seams linearised at ``X``)."""
         _, cos, sin = self.rotations(X)
         return self.global_step(cos, sin, X)
 

@@ -1,19 +1,25 @@
-"""The Newton step of the stitching (:class:`_NewtonModel`, part of
-:class:`ptailor.method.stitch._Problem`): the energy's projected Hessian and conjugate
-gradients preconditioned by the local/global step's own system, taken where the
+"""The Newton step of the stitching (:class:`NewtonModel`, part of
+:class:`ptailor.method.solver.problem.Problem`): the energy's projected Hessian and
+conjugate gradients preconditioned by the local/global step's own system, taken where the
 local/global steps crawl."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from ptailor.method.stitch_seams import _SeamStep
+from ptailor.method.solver.seams import SeamStep
+
+#: ``(cos, sin, area * alpha)`` per triangle at one iterate (:meth:`NewtonModel._twist`)
+Twist = tuple[np.ndarray, np.ndarray, np.ndarray]
 
 
-class _NewtonModel:
-    """The Newton half of :class:`ptailor.method.stitch._Problem`."""
+class NewtonModel:
+    """The Newton half of :class:`ptailor.method.solver.problem.Problem` (a mixin: it reads
+    the problem's public attributes, ``D``, ``Dt``, ``m``, ``n``, ``area``, ``pin_w``,
+    ``bend_H``, ``B``, ``w_asap``, ``seam_block``, ``seam_step``, and its
+    :meth:`rotations` and :meth:`project`), keeping nothing between calls."""
 
-    def _rotation_hessian(self, X: np.ndarray, V: np.ndarray) -> np.ndarray:
+    def _rotation_hessian(self, tw: Twist, V: np.ndarray) -> np.ndarray:
         """The part of the energy's Hessian the local/global step leaves out, applied to
         ``V (n, 2)``: ``sum_i A_i alpha_i (t_i . J_i(V)) D_i^T t_i`` (half-energy units).
 
@@ -23,12 +29,12 @@ class _NewtonModel:
         ``I - t t^T / r``, whose one eigenvalue below 1 is the twist's, ``1 - 2 / r``.
         Projected onto the positive semi-definite cone (Teran et al.'s per-element
         projection): ``alpha = 1 / r`` where ``r >= 2``, ``1/2`` (the twist free) where
-        the triangle is compressed."""
-        return self._Dt @ self._rotation_weights(X, self.D @ V)
+        the triangle is compressed. ``tw``: :meth:`_twist` at the iterate."""
+        return self.Dt @ self._rotation_weights(tw, self.D @ V)
 
-    def _rotation_weights(self, X: np.ndarray, JV: np.ndarray) -> np.ndarray:
+    def _rotation_weights(self, tw: Twist, JV: np.ndarray) -> np.ndarray:
         """:meth:`_rotation_hessian` before ``D^T``, from ``JV = D V``, ``(2m, 2)``."""
-        cos, sin, w = self._twist(X)
+        cos, sin, w = tw
         m = self.m
         # t = [[-sin, -cos], [cos, -sin]] in J's (coordinate, target axis) layout
         coef = w * (cos * (JV[:m, 1] - JV[m:, 0]) - sin * (JV[:m, 0] + JV[m:, 1]))
@@ -37,31 +43,42 @@ class _NewtonModel:
         W[m:, 0], W[m:, 1] = -cos * coef, -sin * coef
         return W
 
-    def _twist(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``(cos, sin, area * alpha)`` of :meth:`_rotation_hessian` at ``X`` (kept for the
-        conjugate-gradient iterations of one Newton step, all at one ``X``)."""
-        cached = self._twist_at
-        if cached is not None and cached[0] is X:
-            return cached[1]
+    def _twist(self, X: np.ndarray) -> Twist:
+        """``(cos, sin, area * alpha)`` of :meth:`_rotation_hessian` at ``X`` (computed once
+        per Newton step: its conjugate-gradient iterations are all at one ``X``)."""
         J, cos, sin = self.rotations(X)
         m = self.m
         r = np.hypot(J[:m, 0] + J[m:, 1], J[:m, 1] - J[m:, 0])
         alpha = np.where(r >= 2.0, 1.0 / np.maximum(r, 2.0), 0.5)
-        out = (cos, sin, self.area * alpha)
-        self._twist_at = (X, out)
-        return out
+        return cos, sin, self.area * alpha
 
-    def _hessian(self, X: np.ndarray, V: np.ndarray, seam: _SeamStep | None) -> np.ndarray:
+    def hessian(
+        self, X: np.ndarray, V: np.ndarray, seam: SeamStep | None, tw: Twist | None = None
+    ) -> np.ndarray:
         """The projected Hessian of the half energy with the seams' curvature at ``X``,
-        applied to ``V (n, 2)``: one product with ``D`` and one with ``D^T``."""
+        applied to ``V (n, 2)``: one product with ``D`` and one with ``D^T``.
+
+        Parameters
+        ----------
+        X, V : (n, 2) float arrays
+            The iterate, and the direction.
+        seam : SeamStep or None
+            The seams' linearisation at ``X`` (its curvature rows), None without.
+        tw : tuple of arrays, optional
+            :meth:`_twist` at ``X``, where the caller has it (default: computed).
+
+        Returns
+        -------
+        (n, 2) float array
+        """
         JV = self.D @ V
-        W = self._rotation_weights(X, JV)
+        W = self._rotation_weights(self._twist(X) if tw is None else tw, JV)
         JV[: self.m] *= self.area[:, None]
         JV[self.m :] *= self.area[:, None]
         JV -= W
-        out = self._Dt @ JV + self.pin_w[:, None] * V
-        if self._bend_H is not None:
-            out += self._bend_H @ V
+        out = self.Dt @ JV + self.pin_w[:, None] * V
+        if self.bend_H is not None:
+            out += self.bend_H @ V
         v = None
         if self.B is not None:
             v = V.T.ravel()
@@ -91,12 +108,13 @@ class _NewtonModel:
         ``GX`` must be the step from ``X`` (the seams linearised at ``X``)."""
         seam = None
         if self.seam_block is not None:
-            seam = self._seam_step
+            seam = self.seam_step
             if seam is None or seam.X is not X:
                 return None
         d = GX - X
-        res = -self._rotation_hessian(X, d)  # the model's gradient at d, C^T lam left out
-        z = self._project(res, seam)
+        tw = self._twist(X)
+        res = -self._rotation_hessian(tw, d)  # the model's gradient at d, C^T lam left out
+        z = self.project(res, seam)
         rz = rz0 = float((res * z).sum())
         if not rz > 0:
             return GX, 0
@@ -104,14 +122,14 @@ class _NewtonModel:
         k = 0
         while k < max_cg:
             k += 1
-            Hp = self._hessian(X, p, seam)
+            Hp = self.hessian(X, p, seam, tw)
             curv = float((p * Hp).sum())
             if not curv > 0:
                 break
             a = rz / curv
             d += a * p
             res += a * Hp
-            z = self._project(res, seam)
+            z = self.project(res, seam)
             rz_new = float((res * z).sum())
             if not rz_new > rtol * rtol * rz0:
                 break

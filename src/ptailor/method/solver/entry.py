@@ -11,10 +11,11 @@ term is Liu et al. 2008's triangle ARAP energy: cotangent-weighted edge terms), 
 rotation per triangle, ``n_k`` the unit normal of the original boundary chord at ``k``.
 The matrix never changes: it is factored once and each iteration back-substitutes.
 
-The parts: the seam constraints (:mod:`ptailor.method.stitch_seams`), the Newton step
-(:mod:`ptailor.method.stitch_newton`) and the iteration
-(:mod:`ptailor.method.stitch_iteration`); the system
-(:mod:`ptailor.method.stitch_problem`); this module runs it (:func:`stitch`).
+The parts: the seam constraints (:mod:`ptailor.method.solver.seams`), the Newton step
+(:mod:`ptailor.method.solver.newton`) and the iteration
+(:mod:`ptailor.method.solver.iteration`); the system
+(:mod:`ptailor.method.solver.problem`); this module runs it (:func:`stitch`, the package's
+entry).
 """
 
 from __future__ import annotations
@@ -26,9 +27,9 @@ import numpy as np
 
 from ptailor import tolerances as tol
 from ptailor.method.ease import SeamEase
-from ptailor.method.stitch_iteration import _finite_or_fail, _Iterate, _iterate
-from ptailor.method.stitch_problem import _Problem
-from ptailor.method.symbolic import SymbolicCache
+from ptailor.method.solver.iteration import Iterate, finite_or_fail, iterate
+from ptailor.method.solver.problem import Problem
+from ptailor.method.solver.symbolic import SymbolicCache
 
 __all__ = ["StitchInfo", "stitch"]
 
@@ -56,7 +57,8 @@ class StitchInfo:
         The iterations stopped before ``max_iter`` because the largest residual made no
         progress over ``tol.ARAP_STALL_ITER`` iterations (not converged).
     newton_steps : int
-        Iterations that were a Newton step (:meth:`_Problem.newton`), taken where the
+        Iterations that were a Newton step
+        (:meth:`ptailor.method.solver.newton.NewtonModel.newton`), taken where the
         local/global steps crawl.
     """
 
@@ -93,7 +95,7 @@ def stitch(
     """Stitch per-triangle targets into continuous panels.
 
     Local/global iterations, Anderson-accelerated under Peng et al.'s safeguard, Newton
-    steps where they crawl (:mod:`ptailor.method.stitch_iteration`). The result is always
+    steps where they crawl (:mod:`ptailor.method.solver.iteration`). The result is always
     a plain step's output, so the constraints hold at the last linearisation.
 
     Parameters
@@ -113,7 +115,8 @@ def stitch(
         and outline vertices left free even on those panels.
     ease : SeamEase, optional
         Seam-length constraints (:func:`ptailor.method.ease.seam_ease`), enforced exactly
-        with Lagrange multipliers and their curvature (:meth:`_Problem._constrained`) from
+        with Lagrange multipliers and their curvature
+        (:meth:`ptailor.method.solver.seams.SeamConstraints.constrained`) from
         the first iteration where a seam misses its ratio by more than
         ``tol.SEAM_EXACT_REL`` (an identity edit or a uniform scale never pays for them).
     panel_weight : (n_panels,) float array, optional
@@ -126,7 +129,8 @@ def stitch(
         vertex (rigid motion removed) by more than ``step_tol`` of the panel's size.
     history, newton_cg : int
         Anderson history length, and conjugate-gradient iterations at most of a Newton
-        step (:meth:`_Problem.newton`); 0 for plain local/global, or no Newton steps.
+        step (:meth:`ptailor.method.solver.newton.NewtonModel.newton`); 0 for plain
+        local/global, or no Newton steps.
     progress : callable, optional
         ``progress(iteration, residual)`` once per iteration (the largest panel residual
         before it): a progress line's feed. Nothing else depends on it.
@@ -139,20 +143,20 @@ def stitch(
         Stitched positions; vertices no triangle uses keep their original position.
     info : StitchInfo
     """
-    pb = _Problem(
+    pb = Problem(
         V2, F2, targets, pins=pins, vertex_panel=vertex_panel, asap_faces=asap_faces,
         asap_exclude=asap_exclude, ease=ease, panel_weight=panel_weight, w_pin=w_pin,
         w_asap=w_asap, symbolic=symbolic,
     )  # fmt: skip
     X0 = pb.global_step(np.ones(len(F2)), np.zeros(len(F2)), None)  # identity rotations
-    s = _Iterate(pb, _finite_or_fail(X0), history)
+    s = Iterate(pb, finite_or_fail(X0), history)
     kw = dict(max_iter=max_iter, step_tol=step_tol, history=history, newton_cg=newton_cg)
-    return _result(pb, s, V2, *_iterate(pb, s, **kw, progress=progress))
+    return _result(pb, s, V2, *iterate(pb, s, **kw, progress=progress))
 
 
 def _result(
-    pb: _Problem,
-    s: _Iterate,
+    pb: Problem,
+    s: Iterate,
     V2: np.ndarray,
     it: int,
     converged: bool,
@@ -160,10 +164,12 @@ def _result(
     hist: list[float],
     newton: int,
 ) -> tuple[np.ndarray, StitchInfo]:
-    """The stitched positions and the solver's record after :func:`_iterate`'s run."""
-    X = s.GX  # a plain step: the constraints hold at the last linearisation
+    """The stitched positions and the solver's record after :func:`iterate`'s run."""
+    # a plain step: the constraints hold at the last linearisation; a copy (its layout
+    # kept), so that no measure the problem keeps of the iterate, by identity, is taken
+    # for this one
+    X = s.GX.copy(order="K")
     X[~pb.used] = V2[~pb.used]
-    pb._rot, pb._twist_at = (None, None), None  # X changed in place
     viol = float(pb.ease.violation(X).max()) if pb.ease is not None else 0.0
     if viol > tol.SEAM_EXACT_REL:
         converged = False  # the cap came before the seams were enforced, or they were skipped

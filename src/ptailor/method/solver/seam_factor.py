@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from ptailor.method.cholesky import (
+from ptailor.method.solver.cholesky import (
     as_slice,
     check_finite,
     column_block,
@@ -15,7 +15,7 @@ from ptailor.method.cholesky import (
     equal_matrices,
     factor_part,
 )
-from ptailor.method.symbolic import SymbolicCache, _Symbolic, cvx_matrix
+from ptailor.method.solver.symbolic import Symbolic, SymbolicCache, cvx_matrix
 
 
 class SeamFactor:
@@ -65,7 +65,7 @@ class SeamFactor:
         slot[self.last] = np.arange(len(self.last))
         groups, local = components(L)
         self._parts: list[dict] = []
-        taken: list[_Symbolic] = []
+        taken: list[Symbolic] = []
         seen: dict[tuple[int, int], list[tuple[sp.csc_matrix, dict]]] = {}  # by shape
         for g in groups:
             g = as_slice(g)

@@ -1,6 +1,6 @@
 """Sparse Cholesky building blocks of the stitching's solves: a matrix cut into the
 connected blocks of its pattern, one CHOLMOD factorisation per block (its symbolic
-analysis from :mod:`ptailor.method.symbolic`), and SuperLU where CHOLMOD cannot."""
+analysis from :mod:`ptailor.method.solver.symbolic`), and SuperLU where CHOLMOD cannot."""
 
 from __future__ import annotations
 
@@ -9,15 +9,22 @@ from collections.abc import Callable
 import numpy as np
 import scipy.sparse as sp
 
-from ptailor.method.symbolic import (
+from ptailor.method.solver.symbolic import (
+    Symbolic,
     SymbolicCache,
-    _Symbolic,
     cholmod_analysis,
     symbolic_analysis,
 )
 
 
 def check_finite(A: sp.csc_matrix) -> None:
+    """Refuse a matrix with a non-finite stored entry.
+
+    Raises
+    ------
+    PtailorError
+        Degenerate target triangles or extreme flatten weights made an entry non-finite.
+    """
     from ptailor.errors import PtailorError
 
     if not np.all(np.isfinite(A.data)):
@@ -85,7 +92,7 @@ def groups_of(label: np.ndarray) -> list[np.ndarray]:
 def factor_part(
     L: sp.csc_matrix,
     cholmod,
-    taken: list[_Symbolic] | None = None,
+    taken: list[Symbolic] | None = None,
     perm=None,
     symbolic: SymbolicCache | None = None,
 ) -> tuple[Callable[..., np.ndarray], Callable[[], object]]:

@@ -10,9 +10,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from ptailor import tolerances as tol
-from ptailor.method.cholesky import groups_of
 from ptailor.method.ease import SeamEase
-from ptailor.method.symbolic import _OPTIONS, cvx_matrix
+from ptailor.method.solver.cholesky import groups_of
+from ptailor.method.solver.symbolic import cholmod_options, cvx_matrix
 
 
 @dataclass(frozen=True)
@@ -138,7 +138,7 @@ def seam_block(
     else:  # one n x n block per panel serves x and y
         groups = groups_of(pan)
         unknowns = verts
-    inv = _schur_inverses(A, unknowns, groups) if A is not None else None
+    inv = schur_inverses(A, unknowns, groups) if A is not None else None
     if inv is None:
         inv = _solved_inverses(solve_many, U if coupled else U[:q], groups, 2 * n)
     blocks = list(zip(groups, inv, strict=True))
@@ -168,9 +168,24 @@ def _solved_inverses(solve_many, U: np.ndarray, groups, size: int) -> list[np.nd
     return [0.5 * (G + G.T) for G in out]
 
 
-def _schur_inverses(A: sp.spmatrix, unknowns: np.ndarray, groups) -> list[np.ndarray] | None:
+def schur_inverses(A: sp.spmatrix, unknowns: np.ndarray, groups) -> list[np.ndarray] | None:
     """Per group, ``A^-1`` on its unknowns from the Schur complements of a CHOLMOD
-    factorisation that orders them last; None without cvxopt or if it fails."""
+    factorisation that orders them last (:func:`seam_block`'s fast path).
+
+    Parameters
+    ----------
+    A : (N, N) sparse matrix
+        Symmetric positive definite (its lower triangle is read).
+    unknowns : (k,) int array
+        The seam unknowns, rows of ``A``.
+    groups : list of int arrays
+        Positions in ``unknowns`` of each separate block's unknowns.
+
+    Returns
+    -------
+    list of (k_g, k_g) float arrays or None
+        None without cvxopt or where the factorisation fails.
+    """
     try:
         from cvxopt import amd, cholmod, matrix
     except ImportError:  # pragma: no cover - cvxopt is a dependency
@@ -185,17 +200,12 @@ def _schur_inverses(A: sp.spmatrix, unknowns: np.ndarray, groups) -> list[np.nda
     last = np.zeros(N, dtype=bool)
     last[unknowns] = True
     p = np.concatenate([p0[~last[p0]], unknowns[np.concatenate(groups)]])
-    with _OPTIONS:
-        saved = dict(cholmod.options)
-        cholmod.options.update(supernodal=2, nmethods=1)  # this order, not AMD's
+    with cholmod_options(cholmod, supernodal=2, nmethods=1):  # this order, not AMD's
         try:
             F = cholmod.symbolic(S, p=matrix(p.astype(int)), uplo="L")
             cholmod.numeric(S, F)
         except (ArithmeticError, ValueError):
             return None
-        finally:
-            cholmod.options.clear()
-            cholmod.options.update(saved)
     pos = matrix(np.arange(N, dtype=float))
     cholmod.solve(F, pos, sys=8)  # where each unknown sits in the (postordered) factor
     pos = np.rint(np.asarray(pos).ravel()).astype(np.int64)

@@ -1,12 +1,11 @@
-"""Linear solves of the stitching: one sparse factorisation per solve, the seam vertices'
-block of its inverse, and the small Schur-complement systems of the seam constraints.
+"""The sparse factorisation every solve of the stitching (and the ARAP deformation's)
+goes through: :func:`factor`, CHOLMOD per connected block through a :class:`SeamFactor`
+with no seam unknowns, SuperLU where CHOLMOD cannot.
 
-The parts live in their own modules and are importable from here as before:
-:mod:`~ptailor.method.symbolic` (the symbolic analyses and the :class:`SymbolicCache`
-that shares them), :mod:`~ptailor.method.cholesky` (per-block CHOLMOD, SuperLU),
-:mod:`~ptailor.method.seam_factor` (:class:`SeamFactor`), :mod:`~ptailor.method.seam_block`
-(:class:`SeamBlock`, :func:`seam_block`) and :mod:`~ptailor.method.small_systems` (the
-seam step's dense systems).
+Its parts are the package's other modules: :mod:`~ptailor.method.solver.symbolic` (the
+symbolic analyses and the :class:`SymbolicCache` that shares them),
+:mod:`~ptailor.method.solver.cholesky` (per-block CHOLMOD, SuperLU) and
+:mod:`~ptailor.method.solver.seam_factor` (:class:`SeamFactor`).
 """
 
 from __future__ import annotations
@@ -14,30 +13,11 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from ptailor.method.cholesky import check_finite, superlu_solver
-from ptailor.method.cholesky import superlu_solver as _superlu  # noqa: F401 - tests' name
-from ptailor.method.seam_block import SeamBlock, seam_block
-from ptailor.method.seam_block import _schur_inverses as _schur_inverses
-from ptailor.method.seam_factor import SeamFactor
-from ptailor.method.small_systems import (
-    bordered_solver,
-    solve_bordered,
-    solve_spd,
-    spd_factor,
-)
-from ptailor.method.symbolic import SymbolicCache
+from ptailor.method.solver.cholesky import check_finite, superlu_solver
+from ptailor.method.solver.seam_factor import SeamFactor
+from ptailor.method.solver.symbolic import SymbolicCache
 
-__all__ = [
-    "SeamBlock",
-    "SeamFactor",
-    "SymbolicCache",
-    "bordered_solver",
-    "factor",
-    "seam_block",
-    "solve_bordered",
-    "solve_spd",
-    "spd_factor",
-]
+__all__ = ["factor"]
 
 
 def factor(A: sp.spmatrix, *, lower: bool = False, symbolic: SymbolicCache | None = None):
