@@ -19,10 +19,10 @@ from ptailor.method.anderson import Anderson
 
 def _finite_or_fail(Y: np.ndarray) -> np.ndarray:
     if not np.all(np.isfinite(Y)):
-        from ptailor.errors import PtailorError
+        from ptailor.errors import NumericError
 
-        raise PtailorError(
-            "flatten: the stitching solver diverged (non-finite positions); check the "
+        raise NumericError(
+            "the stitching solver diverged (non-finite positions); check the "
             "flatten weights and the edit"
         )
     return Y
