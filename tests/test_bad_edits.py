@@ -285,15 +285,27 @@ def test_final_guard_refuses_non_finite_results(garments, tmp_path, monkeypatch)
 
 
 def test_solver_failure_maps_to_exit_2(garments, tmp_path, monkeypatch):
-    """A SuperLU RuntimeError anywhere in the method is exit 2 naming where."""
+    """SuperLU's singular RuntimeError is exit 2 naming the step (where CHOLMOD declined);
+    a RuntimeError elsewhere in the method is a bug, not the garment's (issue 40)."""
+    import scipy.sparse.linalg
+    from cvxopt import cholmod
 
     def singular(*a, **kw):
         raise RuntimeError("Factor is exactly singular")
 
-    monkeypatch.setattr("ptailor.pipeline.flatten", singular)
+    def not_positive_definite(*a, **kw):
+        raise ArithmeticError(3)
+
+    monkeypatch.setattr(cholmod, "numeric", not_positive_definite)
+    monkeypatch.setattr(scipy.sparse.linalg, "splu", singular)
     r = parse_recipe("steps: [{op: scale, factor: 1.1}]")
     msg = refused(garments["sleeve"], r, tmp_path)
     assert "flatten" in msg and "exactly singular" in msg
+    monkeypatch.undo()
+    monkeypatch.setattr("ptailor.pipeline.flatten", singular)
+    with pytest.raises(RuntimeError, match="exactly singular"):
+        run_garment(str(garments["sleeve"]), r, tmp_path / "out", options=RunOptions())
+    assert not (tmp_path / "out").exists()
 
 
 def test_factor_refuses_singular_and_non_finite_matrices():

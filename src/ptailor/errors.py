@@ -1,4 +1,13 @@
-"""Exceptions. The CLI maps :class:`PtailorError` to exit status 2, once."""
+"""Exceptions, by kind. The CLI maps them to exit statuses in one place (``ptailor.cli.main``):
+
+- :class:`PtailorError` (:class:`RecipeError`, :class:`NumericError`): the input, exit 2;
+- ``MemoryError``: out of memory, exit 2 (neither the garment's fault nor a bug);
+- :class:`Interrupted`: a signal, exit 128 + it;
+- any other exception: an internal error, a bug in ptailor, exit 1 with
+  :func:`internal_error`'s line (the traceback only with ``ptailor --debug``).
+
+The kind comes from the exception's type, never from its message.
+"""
 
 from __future__ import annotations
 
@@ -36,6 +45,37 @@ class RecipeError(PtailorError):
         n = len(self.problems)
         head = f"{n} problem{'s' if n != 1 else ''} in recipe"
         super().__init__(head + ": " + "; ".join(self.problems), path=path)
+
+
+class NumericError(PtailorError):
+    """A numeric failure of a solve: a singular or indefinite factorisation, a non-finite
+    value where the method needs a finite one (still the input's kind, exit 2: the garment or
+    the edit leaves a degenerate problem).
+
+    Raised where the solve is (the factor and solve wrappers of :mod:`ptailor.method`, the
+    finiteness checks), naming what failed; the pipeline prefixes the step (:meth:`at`).
+    """
+
+    def at(self, where: str) -> NumericError:
+        """The same failure, its message prefixed with ``where`` (a step of the pipeline)."""
+        return NumericError(f"{where}: {self.message}", path=self.path)
+
+
+def internal_error(exc: BaseException, more: str = "") -> str:
+    """One line for an exception of no known kind: a bug in ptailor, to be reported.
+
+    ``internal error: TYPE: message (a bug in ptailor VERSION: please report it)``, with
+    ``more`` before the closing parenthesis.
+    """
+    from ptailor import __version__
+
+    what = " ".join(str(exc).split())
+    what = f"{type(exc).__name__}: {what}" if what else type(exc).__name__
+    return f"internal error: {what} (a bug in ptailor {__version__}: please report it{more})"
+
+
+#: The line for a ``MemoryError`` (exit 2; ``batch``: the garment's ``input`` failure).
+OUT_OF_MEMORY = "out of memory: the garment or its edit needs more memory than there is"
 
 
 class Interrupted(KeyboardInterrupt):

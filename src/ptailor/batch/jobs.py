@@ -26,7 +26,7 @@ from ptailor.batch.inputs import REJECTED_DIR, drape_for, output_names
 from ptailor.batch.manifest import ManifestRow, as_rows
 from ptailor.batch.records import RECORD_KEYS, key_numbers
 from ptailor.batch.stamp import STAMP, inputs_digest, make_stamp, recipe_digest, up_to_date
-from ptailor.errors import PtailorError
+from ptailor.errors import OUT_OF_MEMORY, PtailorError, internal_error
 from ptailor.run.options import RunOptions
 from ptailor.run.spec import spec_input
 
@@ -64,6 +64,9 @@ class GarmentJob:
     rejected_abs : str or None
         Where the garment's outputs go when a quality gate rejects them (``batch --html``:
         ``OUT/_rejected/NAME``, for the catalogue to show); None: nowhere.
+    debug : bool
+        Print an internal error's traceback on stderr (``ptailor --debug``; the record
+        has its one line either way).
     """
 
     index: int
@@ -81,6 +84,7 @@ class GarmentJob:
     timeout: float | None = None
     drape: str | None = None
     rejected_abs: str | None = None
+    debug: bool = False
 
     def record(self, status: str, **values: Any) -> dict:
         """A record for this garment with every key of :data:`RECORD_KEYS`."""
@@ -121,6 +125,7 @@ def make_jobs(
     force: bool = False,
     timeout: float | None = None,
     keep_rejected: bool = False,
+    debug: bool = False,
 ) -> list[GarmentJob]:
     """One :class:`GarmentJob` per garment, output folders named by
     :func:`~ptailor.batch.inputs.output_names`.
@@ -141,6 +146,8 @@ def make_jobs(
         As :class:`GarmentJob`'s.
     keep_rejected : bool
         Keep what the gates reject in ``OUT/_rejected/NAME`` (:data:`REJECTED_DIR`).
+    debug : bool
+        Internal errors' tracebacks on stderr (:class:`GarmentJob`'s ``debug``).
 
     Returns
     -------
@@ -172,6 +179,7 @@ def make_jobs(
                 timeout=timeout,
                 drape=drape,
                 rejected_abs=str(out_abs / REJECTED_DIR / name) if keep_rejected else None,
+                debug=debug,
             )
         )
     return jobs
@@ -388,9 +396,16 @@ def _run_job(job: GarmentJob) -> dict:
             failed_gates=broken_gates(exc.report, job.gates),
             **key_numbers(exc.report),
         )
-    except PtailorError as exc:
+    except PtailorError as exc:  # bad input, a numeric failure (NumericError) too
         return job.record("failed", failure="input", reason=job.shown(str(exc)))
-    except Exception as exc:  # per-garment isolation: report and go on
-        reason = job.shown(f"internal error: {type(exc).__name__}: {exc}")
-        return job.record("failed", failure="internal", reason=reason)
+    except MemoryError:  # as the CLI's exit 2: not a bug
+        return job.record("failed", failure="input", reason=f"{job.garment}: {OUT_OF_MEMORY}")
+    except Exception as exc:  # no known kind, a bug: one garment's failure, the others go on
+        if job.debug:
+            import sys
+            import traceback
+
+            tb = "".join(traceback.format_exception(exc))
+            sys.stderr.write(f"ptailor: {job.garment}: internal error:\n{job.shown(tb)}")
+        return job.record("failed", failure="internal", reason=job.shown(internal_error(exc)))
     return job.record("ok", **key_numbers(report))

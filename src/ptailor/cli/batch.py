@@ -278,7 +278,8 @@ def batch(
     if log:
         _check_log(log, paths, recipe, manifest)
     todo = make_jobs(paths, out, rec, options=options, gates=gates, force=force,
-                     timeout=timeout, keep_rejected=html)  # fmt: skip
+                     timeout=timeout, keep_rejected=html,
+                     debug=bool(ctx.find_root().params.get("debug")))  # fmt: skip
     bar = not quiet and sys.stderr.isatty()
     workers = jobs or os.cpu_count() or 1
     result = _run(todo, workers=workers, scheduler=scheduler, log=log, as_json=as_json, bar=bar)

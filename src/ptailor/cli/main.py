@@ -4,8 +4,12 @@
 - :class:`~ptailor.errors.PtailorError` and ``OSError`` (a file that cannot be read or
   written: permissions, a name too long, a full disk) exit 2 with one line on stderr,
   naming the file (never a hidden staging folder);
+- a numeric failure of a solve (:class:`~ptailor.errors.NumericError`, a ``PtailorError``)
+  exits 2 naming the step; ``MemoryError`` exits 2 with one line too;
 - SIGINT and SIGTERM raise :class:`~ptailor.errors.Interrupted` (a ``KeyboardInterrupt``:
   staging folders are removed on the way out) and exit 128 + the signal;
+- any other exception is an internal error, a bug: exit 1 with one line asking to report
+  it (:func:`~ptailor.errors.internal_error`), Python's traceback only with ``--debug``;
 - Python warnings and logging records from libraries (numpy, ezdxf) are captured for the
   run (``adjust`` puts them into the report's warnings) instead of being printed.
 """
@@ -113,7 +117,7 @@ class _Group(click.Group):
         import contextlib
         import signal
 
-        from ptailor.errors import Interrupted, PtailorError
+        from ptailor.errors import OUT_OF_MEMORY, Interrupted, PtailorError, internal_error
         from ptailor.run.library_warnings import capture_library_warnings
 
         saved = {}
@@ -139,6 +143,19 @@ class _Group(click.Group):
             name = signal.Signals(signum).name
             click.echo(f"ptailor: interrupted ({name}): no partial output left", err=True)
             ctx.exit(128 + signum)
+        except (click.exceptions.Exit, click.exceptions.Abort, click.ClickException):
+            raise  # click's own (Exit and Abort are RuntimeErrors)
+        except MemoryError:  # neither the input's fault nor a bug
+            click.echo(f"ptailor: error: {OUT_OF_MEMORY}; nothing written", err=True)
+            ctx.exit(2)
+        except Exception as exc:  # no known kind: a bug in ptailor
+            if ctx.params.get("debug"):
+                import traceback
+
+                click.echo("".join(traceback.format_exception(exc)).rstrip(), err=True)
+            more = "" if ctx.params.get("debug") else "; ptailor --debug shows the traceback"
+            click.echo(f"ptailor: {one_line(internal_error(exc, more))}", err=True)
+            ctx.exit(1)
         finally:
             global _FINISHED
             _FINISHED = True
@@ -149,7 +166,14 @@ class _Group(click.Group):
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="ptailor")
-def cli() -> None:
+@click.option(
+    "--debug",
+    is_flag=True,
+    envvar="PTAILOR_DEBUG",
+    help="On an internal error (a bug in ptailor), print Python's traceback too; batch: "
+    "each garment's. Also PTAILOR_DEBUG=1.",
+)
+def cli(debug: bool) -> None:
     """Adjust sewing patterns after garments are edited in 3D.
 
     ptailor keeps what the designer built into a pattern (elastic cuffs, gathers, straight

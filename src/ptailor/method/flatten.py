@@ -93,10 +93,10 @@ def check_targets(targets: np.ndarray, E2: np.ndarray, plist: list[Panel], m: in
 
     Raises
     ------
-    PtailorError
-        Naming the panels.
+    NumericError
+        Naming the panels (the pipeline names the step).
     """
-    from ptailor.errors import PtailorError
+    from ptailor.errors import NumericError
     from ptailor.geometry.closed_forms import det2
 
     with np.errstate(all="ignore"):
@@ -109,8 +109,8 @@ def check_targets(targets: np.ndarray, E2: np.ndarray, plist: list[Panel], m: in
         return
     lab = panel_labels(plist, m)
     names = sorted({plist[i].name for i in lab[~ok] if i >= 0})
-    raise PtailorError(
-        f"flatten: {int((~ok).sum())} target triangle(s) of panel(s) {', '.join(names[:5])} "
+    raise NumericError(
+        f"{int((~ok).sum())} target triangle(s) of panel(s) {', '.join(names[:5])} "
         "are degenerate or not finite (the edit collapses or blows up the drape there)"
     )
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ptailor import tolerances as tol
-from ptailor.errors import PtailorError
+from ptailor.errors import NumericError, PtailorError
 from ptailor.geometry.labels import used_indices
 from ptailor.pipeline import Adjustment, solver_warnings
 from ptailor.run.options import RunOptions
@@ -56,7 +56,7 @@ def check_finite_result(adj: Adjustment, errors: np.ndarray, *, path: str) -> No
 
     Raises
     ------
-    PtailorError
+    NumericError
         Naming the array and the solver step that produced it.
     """
     g = adj.garment
@@ -71,7 +71,7 @@ def check_finite_result(adj: Adjustment, errors: np.ndarray, *, path: str) -> No
         checks.append(("the uniform baseline (flatten)", adj.baseline.V2[used2]))
     for what, arr in checks:  # a handful of arrays
         if not np.all(np.isfinite(arr)):
-            raise PtailorError(
+            raise NumericError(
                 f"{what} has non-finite values: a numeric failure; nothing written", path=path
             )
 
@@ -276,7 +276,7 @@ def check_finite_report(report: dict, *, path: str) -> None:
     """Refuse a report holding NaN or infinite numbers (naming where)."""
     bad = non_finite_numbers(report)
     if bad:
-        raise PtailorError(
+        raise NumericError(
             f"the report would hold non-finite numbers (at {', '.join(bad[:3])}): "
             "a numeric failure in the method; nothing written",
             path=path,

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from ptailor.edits import EditOptions
-from ptailor.errors import PtailorError
+from ptailor.errors import NumericError, PtailorError
 from ptailor.formats.garment import LoadedGarment
 from ptailor.formats.spec_json import read_specification as read_spec
 from ptailor.pieces import PiecePlan, carry_plan
@@ -422,7 +422,8 @@ def _adjustment(
         if exc.path is not None:
             raise
         # the garment decides (an opening it lacks, an edit it cannot take): name it
-        raise PtailorError(exc.message, path=shown) from None
+        kind = NumericError if isinstance(exc, NumericError) else PtailorError
+        raise kind(exc.message, path=shown) from None
 
 
 def _checked_errors(adj: Adjustment, *, shown: str) -> tuple[np.ndarray, ScaleReference | None]:

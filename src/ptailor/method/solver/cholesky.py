@@ -18,18 +18,18 @@ from ptailor.method.solver.symbolic import (
 
 
 def check_finite(A: sp.csc_matrix) -> None:
-    """Refuse a matrix with a non-finite stored entry.
+    """Refuse a matrix with a non-finite stored entry before it is factored.
 
     Raises
     ------
-    PtailorError
+    NumericError
         Degenerate target triangles or extreme flatten weights made an entry non-finite.
     """
-    from ptailor.errors import PtailorError
+    from ptailor.errors import NumericError
 
     if not np.all(np.isfinite(A.data)):
-        raise PtailorError(
-            "flatten: the stitching matrix has non-finite entries (degenerate target "
+        raise NumericError(
+            "the sparse system to factor has non-finite entries (degenerate target "
             "triangles or extreme flatten weights)"
         )
 
@@ -147,7 +147,7 @@ def superlu_solver(A: sp.csc_matrix, *, lower: bool = False):
     triangle of the symmetric matrix)."""
     from scipy.sparse.linalg import splu
 
-    from ptailor.errors import PtailorError
+    from ptailor.errors import NumericError
 
     if lower:
         A = sp.csc_matrix(A + sp.tril(A, -1).T)
@@ -159,9 +159,15 @@ def superlu_solver(A: sp.csc_matrix, *, lower: bool = False):
             diag_pivot_thresh=0.0,
             options={"SymmetricMode": True},
         )
-    except RuntimeError as exc:  # SuperLU: "Factor is exactly singular"
-        raise PtailorError(
-            f"flatten: the stitching matrix cannot be factored ({exc}): degenerate target "
+    except RuntimeError as exc:
+        # SuperLU has no exception type of its own: a singular matrix is a RuntimeError
+        # "Factor is exactly singular" (scipy's gstrf wrapper, info <= n), as is any abort
+        # inside SuperLU. Only the first is the matrix's; the others pass (a bug), so the
+        # message decides here, for this one call.
+        if "singular" not in str(exc):
+            raise
+        raise NumericError(
+            f"the sparse system cannot be factored (SuperLU: {exc}): degenerate target "
             "triangles or extreme flatten weights"
         ) from None
     return lu.solve

@@ -26,10 +26,10 @@ def finite_or_fail(Y: np.ndarray) -> np.ndarray:
         A non-finite entry: the solver diverged.
     """
     if not np.all(np.isfinite(Y)):
-        from ptailor.errors import PtailorError
+        from ptailor.errors import NumericError
 
-        raise PtailorError(
-            "flatten: the stitching solver diverged (non-finite positions); check the "
+        raise NumericError(
+            "the stitching solver diverged (non-finite positions); check the "
             "flatten weights and the edit"
         )
     return Y

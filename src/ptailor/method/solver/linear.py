@@ -46,7 +46,7 @@ def factor(A: sp.spmatrix, *, lower: bool = False, symbolic: SymbolicCache | Non
 
     Raises
     ------
-    PtailorError
+    NumericError
         Non-finite entries, or a matrix SuperLU finds singular.
     """
     A = sp.csc_matrix(A)
