@@ -234,7 +234,10 @@ def make_recipe(case: dict):
         return None, exc
     if not raw:
         return recipe, None
-    steps = [{**full, **st} for full, st in zip(recipe.steps, case["steps"], strict=True)]
+    steps = [
+        replace(full, **{k: v for k, v in st.items() if k != "op"})
+        for full, st in zip(recipe.steps, case["steps"], strict=True)
+    ]
     try:  # a Recipe checks its flatten settings itself: an extreme weight is refused here
         return replace(recipe, steps=steps, flatten={**recipe.flatten, **case["flatten"]}), None
     except PtailorError as exc:

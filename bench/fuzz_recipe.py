@@ -81,7 +81,7 @@ def _accepted(text: str) -> tuple[str, str | None]:
         rec = parse_recipe(text)
     except RecipeError as exc:
         return "contract", f"validate 0 but parse_recipe: {str(exc)[:80]}"
-    if not (all_finite(rec.steps) and all_finite(rec.flatten)):
+    if not all_finite(rec.to_dict()):
         return "contract", "validate 0 with a non-finite or huge number"
     return "exit0", None
 

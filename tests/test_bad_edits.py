@@ -46,14 +46,15 @@ def raw_recipe(text: str, **values):
     ``values``: ``step1_factor=5e-324`` sets steps[1].factor; ``flatten_w_pin=...``.
     """
     r = parse_recipe(text)
-    steps = [dict(s) for s in r.steps]
+    steps = list(r.steps)
     fl = dict(r.flatten)
     for key, v in values.items():
         where, name = key.split("_", 1)
         if where == "flatten":
             fl[name] = v
         else:
-            steps[int(where[4:]) - 1][name] = v
+            i = int(where[4:]) - 1
+            steps[i] = replace(steps[i], **{name: v})
     return replace(r, steps=steps, flatten=fl)
 
 

@@ -144,13 +144,13 @@ def test_a_few_anchors_are_fine():
         "  - {op: scale, region: &s {panels: [sleeve]}, factor: 1.1}\n"
         "  - {op: scale, region: *s, direction: around, factor: 1.2}\n"
     )
-    assert r.steps[1]["region"] == {"panels": ["sleeve"]}
+    assert r.steps[1].region == {"panels": ["sleeve"]}
 
 
 def test_numbers_in_exponent_form_are_numbers():
     """YAML 1.2 (and the schema's editors) read 1e-1 as a number; so do recipes."""
     r = parse_recipe("steps: [{op: scale, factor: 11e-1}]")
-    assert r.steps[0]["factor"] == pytest.approx(1.1)
+    assert r.steps[0].factor == pytest.approx(1.1)
 
 
 def test_many_problems_stay_linear():

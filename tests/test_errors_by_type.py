@@ -129,7 +129,7 @@ def test_out_of_memory_is_not_a_bug(garment, recipe, tmp_path, monkeypatch):
 
 
 def test_a_singular_system_is_a_numeric_error_naming_what_failed():
-    from ptailor.method.linear import factor
+    from ptailor.method.solver.linear import factor
 
     singular = r"cannot be factored \(SuperLU: Factor is exactly singular\)"
     with pytest.raises(NumericError, match=singular):
@@ -142,7 +142,7 @@ def test_superlu_errors_other_than_singular_are_internal(monkeypatch):
     """Only SuperLU's 'singular' RuntimeError is the matrix's: another abort is a bug."""
     import scipy.sparse.linalg
 
-    from ptailor.method.cholesky import superlu_solver
+    from ptailor.method.solver.cholesky import superlu_solver
 
     def abort(*a, **k):
         raise RuntimeError("SuperLU: some internal abort")

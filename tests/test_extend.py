@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import ptailor.edits.extend  # noqa: F401  (registers the op)
-from ptailor.edits import OPERATIONS, EditOptions
+from ptailor.edits import OPERATIONS, EditOptions, ExtendStep
 from ptailor.edits.body import closest_points, push_out, winding_numbers
 from ptailor.edits.extend import opening_edges
 from ptailor.errors import PtailorError
@@ -309,7 +309,7 @@ def test_extend_pushes_new_rows_out_of_the_body():
     g = lantern_sleeve(n_around=24, n_sleeve=8, n_cuff=4)
     body = icosphere(5.0, [0.0, -4.0, 0.0])  # under the cuff, wider than the tube
     state = apply_steps(g, parse_recipe("steps: []"), options=EditOptions())
-    step = {"op": "extend", "opening": "cuff", "by": 4.0, "clearance": 0.25}
+    step = ExtendStep(opening="cuff", by=4.0, clearance=0.25)
     plain = OPERATIONS["extend"].apply(state, step, options=EditOptions())
     pushed = OPERATIONS["extend"].apply(state, step, options=BodyOptions(body=body))
     n3 = len(g.V3)
@@ -321,6 +321,22 @@ def test_extend_pushes_new_rows_out_of_the_body():
     np.testing.assert_array_equal(pushed.V3[:n3], g.V3)  # only the new rows move
     np.testing.assert_array_equal(pushed.base.V3, plain.base.V3)  # the base rows do not
     np.testing.assert_array_equal(pushed.base.V2, plain.base.V2)
+
+
+def test_extend_without_clearance_keeps_half_an_edge_from_the_body():
+    """No ``clearance``: half the opening's mean edge (the step's own default; extend once
+    read ``options.clearance``, a field EditOptions never had)."""
+    g = lantern_sleeve(n_around=24, n_sleeve=8, n_cuff=4)
+    body = icosphere(5.0, [0.0, -4.0, 0.0])
+    state = apply_steps(g, parse_recipe("steps: []"), options=EditOptions())
+    T = g.V3[g.F3[opening_edges(g.F3, g.F2, loop_named(g.V3, g.F3, "cuff")).face]]
+    half = 0.5 * float(np.linalg.norm(T - np.roll(T, -1, axis=1), axis=2).mean())
+    apply, options = OPERATIONS["extend"].apply, BodyOptions(body=body)
+    default = apply(state, ExtendStep(opening="cuff", by=4.0), options=options)
+    given = apply(state, ExtendStep(opening="cuff", by=4.0, clearance=half), options=options)
+    np.testing.assert_array_equal(default.V3, given.V3)
+    _, d, _ = closest_points(default.V3[len(g.V3) :], body.vertices, body.faces)
+    assert d.min() >= half - 1e-2 and half > 0.25 + 1e-2  # not the 0.25 of the test above
 
 
 # ---------------------------------------------------------------------------------------

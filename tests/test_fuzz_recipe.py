@@ -321,7 +321,7 @@ def check_contract(text: str, path: Path) -> dict:
     if r.exit_code == 0:
         assert lines == [] and problems == []
         rec = parse_recipe(text)  # the path adjust takes agrees
-        assert all_finite(rec.steps) and all_finite(rec.flatten)
+        assert all_finite(rec.to_dict())
     else:
         assert len(lines) == len(problems) >= 1  # exactly one line per problem
         assert all(ln.startswith(f"{path}:") for ln in lines), lines

@@ -110,9 +110,9 @@ def private_imports(m: str, tree: ast.AST, mods: dict[str, Path]) -> list[str]:
         else:
             continue
         for stem, name in pairs:
-            if (stem == "ptailor" or stem.startswith("ptailor.")) and stem != m:
-                if name.startswith("_") and not name.startswith("__"):
-                    out.append(f"{m} imports {name} from {stem}")
+            ours = (stem == "ptailor" or stem.startswith("ptailor.")) and stem != m
+            if ours and name.startswith("_") and not name.startswith("__"):
+                out.append(f"{m} imports {name} from {stem}")
     return out
 
 

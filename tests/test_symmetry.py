@@ -7,7 +7,7 @@ import pytest
 from click.testing import CliRunner
 
 from ptailor.cli.main import cli
-from ptailor.edits import EditOptions
+from ptailor.edits import EditOptions, LoosenStep, ScaleSeamStep, ScaleStep, ShortenStep
 from ptailor.edits.mirror import mirror_state, mirror_step
 from ptailor.errors import PtailorError, RecipeError
 from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
@@ -275,13 +275,13 @@ def test_step_symmetric_overrides_the_recipe():
     g = cone_skirt()
     used = np.unique(g.F3)
     off = parse_recipe(f"symmetric: true\nsteps: [{BOX_STEP % ', symmetric: false'}]")
-    assert off.steps[0]["symmetric"] is False and off.symmetric is True
+    assert off.steps[0].symmetric is False and off.symmetric is True
     st = apply_steps(g, off, options=EditOptions())
     gap = mirror_gap(st.V3, used)
     assert gap > 2.0  # kept one-sided
     assert [r["op"] for r in st.log] == ["scale"]  # no plane was needed
     on = parse_recipe(f"steps: [{BOX_STEP % ', symmetric: true'}]")
-    assert on.steps[0]["symmetric"] is True and on.symmetric is False
+    assert on.steps[0].symmetric is True and on.symmetric is False
     assert mirror_gap(apply_steps(g, on, options=EditOptions()).V3, used) < 0.15 * gap
 
 
@@ -341,27 +341,25 @@ def test_mirror_step_renames_panels_and_loops():
     g = two_sleeves()
     st = apply_steps(g, parse_recipe("steps: []"), options=EditOptions())
     pl = sagittal_plane(g.V3, g.F3, frame=Frame())
-    step = {
-        "op": "scale_seam",
-        "seam": ["cuff", "sleeve"],
-        "part": "sleeve",
-        "fix": [{"loop": 1}, ["sleeve", "cuff"], "hem"],
-        "opening": {"loop": 0},
-        "region": {"panels": ["sleeve_1"]},
-        "view": "left",
-    }
-    out = mirror_step(
-        step, before=st, mirrored=mirror_state(st, pl), plane=pl, options=EditOptions()
+    m = mirror_state(st, pl)
+
+    def mirrored(step):
+        return mirror_step(step, before=st, mirrored=m, plane=pl, options=EditOptions())
+
+    fix = [{"loop": 1}, ["sleeve", "cuff"], "hem"]
+    seam = ScaleSeamStep(seam=["cuff", "sleeve"], part="sleeve", factor=1.2, fix=fix)
+    assert mirrored(seam) == ScaleSeamStep(
+        seam=["cuff_1", "sleeve_1"],
+        part="sleeve_1",
+        factor=1.2,
+        fix=[{"loop": 3}, ["sleeve_1", "cuff_1"], "hem"],  # names are found on the mirror
     )
-    assert out == {
-        "op": "scale_seam",
-        "seam": ["cuff_1", "sleeve_1"],
-        "part": "sleeve_1",
-        "fix": [{"loop": 3}, ["sleeve_1", "cuff_1"], "hem"],  # names are found on the mirror
-        "opening": {"loop": 2},
-        "region": {"panels": ["sleeve"]},
-        "view": "left",  # geometric: the mirrored garment's left is the other side
-    }
+    loop = ShortenStep(opening={"loop": 0}, by=2)
+    assert mirrored(loop) == ShortenStep(opening={"loop": 2}, by=2)
+    region = ScaleStep(region={"panels": ["sleeve_1"]}, factor=1.1)
+    assert mirrored(region) == ScaleStep(region={"panels": ["sleeve"]}, factor=1.1)
+    sketch = LoosenStep(view="left", silhouette=[[0, 0], [0, 1]])
+    assert mirrored(sketch) == sketch  # geometric: the mirrored garment's left is the other side
 
 
 # ---------------------------------------------------------------------------------------
@@ -393,7 +391,7 @@ def test_every_op_accepts_symmetric():
     from ptailor.edits import OPERATIONS
 
     r = parse_recipe("steps: [{op: scale, factor: 1.1}]")
-    assert r.steps[0]["symmetric"] is False and r.symmetric is False
+    assert r.steps[0].symmetric is False and r.symmetric is False
     with pytest.raises(RecipeError) as exc:
         parse_recipe("steps: [{op: scale, factor: 1.1, mirror: true}]")
     assert "symmetric" in exc.value.problems[0]  # listed among the known keys
@@ -519,12 +517,11 @@ def test_is_centred_compares_the_panels_a_region_selects():
     plist = [
         SimpleNamespace(name=n) for n in ("skirt_front", "skirt_back_left", "skirt_back_right")
     ]
-    a = {"op": "scale", "region": {"panels": ["skirt"]}}
-    b = {
-        "op": "scale",
-        "region": {"panels": ["skirt_front", "skirt_back_right", "skirt_back_left"]},
-    }
-    c = {"op": "scale", "region": {"panels": ["skirt_front", "skirt_back_right"]}}
+    a = ScaleStep(region={"panels": ["skirt"]}, factor=1.1)
+    b = ScaleStep(
+        region={"panels": ["skirt_front", "skirt_back_right", "skirt_back_left"]}, factor=1.1
+    )
+    c = ScaleStep(region={"panels": ["skirt_front", "skirt_back_right"]}, factor=1.1)
     assert is_centred(a, b, panels=plist)
     assert not is_centred(a, c, panels=plist)
 
@@ -535,12 +532,12 @@ def test_a_symmetric_region_that_overlaps_its_mirror_is_refused():
     from ptailor.edits.mirror import overlap_error
 
     plist = [SimpleNamespace(name=n) for n in ("front", "sleeve_left", "sleeve_right")]
-    step = {"op": "loosen", "region": {"panels": ["front", "sleeve_left"]}}
-    mstep = {"op": "loosen", "region": {"panels": ["front", "sleeve_right"]}}
+    step = LoosenStep(region={"panels": ["front", "sleeve_left"]}, by=1.0)
+    mstep = LoosenStep(region={"panels": ["front", "sleeve_right"]}, by=1.0)
     err = overlap_error(step, mstep, panels=plist)
     assert err is not None and "front" in str(err) and "sleeve_left" in str(err)
-    assert overlap_error(step, {"op": "loosen", "region": {"panels": ["sleeve_right"]}},
-                         panels=plist) is None  # fmt: skip
+    other = LoosenStep(region={"panels": ["sleeve_right"]}, by=1.0)
+    assert overlap_error(step, other, panels=plist) is None
 
 
 def test_tee6_symmetric_loosen_of_front_and_one_sleeve_exits_2(tmp_path):

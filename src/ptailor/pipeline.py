@@ -106,7 +106,7 @@ def apply_steps(garment: Garment, recipe: Recipe, *, options: EditOptions) -> Ed
         even=np.ones(len(plist), dtype=bool),
     )
     plane = None
-    if any(step.get("symmetric") for step in recipe.steps):
+    if any(step.symmetric for step in recipe.steps):
         plane = sagittal_plane(garment.V3, garment.F3, frame=garment.frame, body=options.body)
         rec = plane.record()
         state = replace(
@@ -122,13 +122,13 @@ def apply_steps(garment: Garment, recipe: Recipe, *, options: EditOptions) -> Ed
             ),
         )
     for i, step in enumerate(recipe.steps, start=1):
-        where = f"steps[{i}] ({step['op']})"
+        where = f"steps[{i}] ({step.op})"
         try:
             with numeric_failures(where):
-                if step.get("symmetric") and plane is not None:
+                if step.symmetric and plane is not None:
                     state = apply_mirrored(state, step, options=options, plane=plane)
                 else:
-                    state = OPERATIONS[step["op"]].apply(state, step, options=options)
+                    state = OPERATIONS[step.op].apply(state, step, options=options)
         except PtailorError as exc:
             if exc.path is not None or str(exc).startswith("steps["):
                 raise

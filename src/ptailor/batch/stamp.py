@@ -8,7 +8,6 @@ garment's path: a folder whose stamp has the key a new run would write is up to 
 from __future__ import annotations
 
 import json
-from dataclasses import asdict
 from pathlib import Path
 
 from ptailor import __version__
@@ -23,8 +22,7 @@ def recipe_digest(recipe) -> str:
 
     Comments, formatting, key order and spelled-out defaults do not change it.
     """
-    data = asdict(recipe)
-    data.pop("source", None)
+    data = recipe.to_dict()
     return text_sha256(json.dumps(data, sort_keys=True, separators=(",", ":"), default=str))
 
 

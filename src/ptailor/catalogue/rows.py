@@ -160,12 +160,9 @@ def saved_records(out: Path) -> tuple[list[dict], Summary] | None:
 
 def recipe_text(recipe) -> str:
     """A validated recipe as YAML, every default filled in (what the run applied)."""
-    from dataclasses import asdict
-
     import yaml
 
-    data = {k: v for k, v in asdict(recipe).items() if k != "source"}
-    return yaml.safe_dump(data, sort_keys=False, default_flow_style=False, width=88)
+    return yaml.safe_dump(recipe.to_dict(), sort_keys=False, default_flow_style=False, width=88)
 
 
 def saved_text(records: list[dict], summary: Summary) -> str:

@@ -1,10 +1,14 @@
 """Recipe operations: one module per edit, registered by name.
 
-Each operation is an :class:`Operation` (:mod:`ptailor.edits.registry`): a parameter spec,
-checked when the recipe is validated (before any garment is read), and a pure function
+Each operation is an :class:`Operation` (:mod:`ptailor.edits.registry`): a typed step (a
+frozen :class:`Step` dataclass: its parameters, their checks and defaults), built by the
+recipe rules when the recipe is validated (before any garment is read), and a pure function
 applying the step::
 
-    apply(state: EditState, step: dict, *, options: EditOptions) -> EditState
+    apply(state: EditState, step: Step, *, options: EditOptions) -> EditState
+
+The steps: :class:`ScaleStep`, :class:`ScaleSeamStep`, :class:`ShortenStep`,
+:class:`ExtendStep`, :class:`CutStep`, :class:`LoosenStep` and :class:`TightenStep`.
 
 Importing this package registers every operation in :data:`OPERATIONS`.
 
@@ -21,24 +25,38 @@ Modules, read top down:
   :mod:`~ptailor.edits.opening` (openings and their edges), :mod:`~ptailor.edits.region`
   (regions and axes), :mod:`~ptailor.edits.body` (keeping cloth outside a body),
   :mod:`~ptailor.edits.achieved` (what an edit achieved, for the report);
-- the registry: :mod:`~ptailor.edits.registry` (:class:`Param`, :class:`Operation`,
-  :func:`register`), :mod:`~ptailor.edits.state` (:class:`EditState`,
-  :class:`EditOptions`), :mod:`~ptailor.edits.checks` (parameter checks),
+- the registry: :mod:`~ptailor.edits.registry` (:class:`Step`, :func:`checked`,
+  :class:`Param`, :class:`Operation`, :func:`register`), :mod:`~ptailor.edits.state`
+  (:class:`EditState`, :class:`EditOptions`), :mod:`~ptailor.edits.checks` (parameter checks),
   :mod:`~ptailor.edits.limits` (sizes checked at apply time).
 """
 
 from __future__ import annotations
 
-from ptailor.edits import cut, extend, loosen, scale, scale_seam, shorten  # noqa: F401  (register)
-from ptailor.edits.registry import OPERATIONS, Check, Operation, Param, register
+from ptailor.edits.cut import CutStep
+from ptailor.edits.extend import ExtendStep
+from ptailor.edits.loosen import LoosenStep, TightenStep
+from ptailor.edits.registry import OPERATIONS, Check, Operation, Param, Step, checked, register
+from ptailor.edits.scale import ScaleStep
+from ptailor.edits.scale_seam import ScaleSeamStep
+from ptailor.edits.shorten import ShortenStep
 from ptailor.edits.state import EditOptions, EditState
 
 __all__ = [
     "OPERATIONS",
     "Check",
+    "CutStep",
     "EditOptions",
     "EditState",
+    "ExtendStep",
+    "LoosenStep",
     "Operation",
     "Param",
+    "ScaleSeamStep",
+    "ScaleStep",
+    "ShortenStep",
+    "Step",
+    "TightenStep",
+    "checked",
     "register",
 ]

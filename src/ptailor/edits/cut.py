@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -10,7 +10,7 @@ import numpy as np
 from ptailor.edits.checks import VEC3, boolean, choice, is_number, vector3, with_schema
 from ptailor.edits.opening import find_opening, opening_spec
 from ptailor.edits.region import region_centroid, unit_vector
-from ptailor.edits.registry import Param, register
+from ptailor.edits.registry import Step, checked, register
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.edits.surgery import panel_changes, split_keep
 from ptailor.errors import PtailorError
@@ -197,15 +197,64 @@ def origin_spec(x: Any, where: str) -> list[str]:
     return opening_spec(x, where)
 
 
-def sketch_origin(state: EditState, step: dict, *, options: EditOptions) -> np.ndarray:
+@dataclass(frozen=True, kw_only=True)
+class CutStep(Step):
+    """A ``cut`` step (see :func:`cut`): a plane, or a sketch in a view (exactly one).
+
+    Attributes
+    ----------
+    plane : dict or None
+        ``{point: [x, y, z], normal: [x, y, z]}``.
+    view : str or list of float
+        The sketch's view: a name or a view direction ``[x, y, z]``.
+    sketch : list of [u, v] or None
+        A polyline in the view's image plane.
+    remove : {"above", "below", "left", "right"}
+        The side of the sketch removed.
+    layers : {"both", "near"}
+    origin : str, dict, list or None
+        An opening (or a list: the first the garment has) the sketch is measured from.
+    symmetric : bool
+        Also cut the mirror image (a parameter of its own: the cut mirrors itself).
+    """
+
+    op = "cut"
+    plane: dict[str, list[float]] | None = field(
+        default=None,
+        metadata=checked(plane_spec, "{point, normal}: removes the side the normal points to"),
+    )
+    view: str | list[float] = field(
+        default="front", metadata=checked(view_spec, "front | back | left | right | top | bottom")
+    )
+    sketch: list[list[float]] | None = field(
+        default=None,
+        metadata=checked(sketch_spec, "polyline [[u, v], ...] in the view's image plane"),
+    )
+    remove: str = field(
+        default="above", metadata=checked(choice("above", "below", "left", "right"))
+    )
+    layers: str = field(default="both", metadata=checked(choice("both", "near")))
+    origin: str | dict[str, int] | list[Any] | None = field(
+        default=None,
+        metadata=checked(
+            origin_spec,
+            "an opening (or a list: the first the garment has): the sketch is measured "
+            "from its centre across and its lowest point up in the view (a neckline: the "
+            "front neck point)",
+        ),
+    )
+    symmetric: bool = field(default=False, metadata=checked(boolean, "also cut the mirror image"))
+
+
+def sketch_origin(state: EditState, step: CutStep, *, options: EditOptions) -> np.ndarray:
     """Where a sketch's ``[0, 0]`` lies in its view, ``(2,)``: the view's own origin, or
     with ``origin: OPENING`` that opening's centre across and its lowest point up (a
     neckline's front neck point in the front view), so one sketch fits garments of any
     height and placement. A list of openings takes the first the garment has."""
-    spec = step.get("origin")
+    spec = step.origin
     if spec is None:
         return np.zeros(2)
-    frame = view_frame(step["view"], frame=state.frame)
+    frame = view_frame(step.view, frame=state.frame)
     if isinstance(spec, list):
         for i, o in enumerate(spec):
             try:
@@ -217,7 +266,7 @@ def sketch_origin(state: EditState, step: dict, *, options: EditOptions) -> np.n
     else:
         _, loop = find_opening(state, spec)
     X = state.V3[loop] @ frame[:2].T
-    if step["layers"] == "near":  # the layer facing the viewer: its lowest point
+    if step.layers == "near":  # the layer facing the viewer: its lowest point
         used = used_indices(state.base.F3, len(state.V3))
         mid = float(np.median(state.V3[used] @ frame[2]))
         near = state.V3[loop] @ frame[2] <= mid
@@ -227,61 +276,44 @@ def sketch_origin(state: EditState, step: dict, *, options: EditOptions) -> np.n
 
 
 def sketch_field(
-    V: np.ndarray, step: dict, *, frame: Frame, origin: np.ndarray | None = None
+    V: np.ndarray, step: CutStep, *, frame: Frame, origin: np.ndarray | None = None
 ) -> np.ndarray:
     """Field whose negative side is what a sketch cut removes (the sketch's points offset
     by ``origin``, :func:`sketch_origin`), seen under the garment's ``frame``."""
-    X = V @ view_frame(step["view"], frame=frame).T  # (right, up, depth)
-    Q = np.asarray(step["sketch"], float) + (0.0 if origin is None else origin)
+    X = V @ view_frame(step.view, frame=frame).T  # (right, up, depth)
+    Q = np.asarray(step.sketch, float) + (0.0 if origin is None else origin)
     side = polyline_side(X[:, :2], Q)
     # which way is "above" / "left" for this polyline's direction of travel
     travel = Q[-1] - Q[0]
     left_normal = np.array([-travel[1], travel[0]])
-    want = {"above": [0, 1], "below": [0, -1], "left": [-1, 0], "right": [1, 0]}[step["remove"]]
+    want = {"above": [0, 1], "below": [0, -1], "left": [-1, 0], "right": [1, 0]}[step.remove]
     sign = 1.0 if left_normal @ np.asarray(want, float) > 0 else -1.0
     phi = -sign * side  # removed where phi < 0
-    if step["layers"] == "near":
+    if step.layers == "near":
         used = np.isfinite(X[:, 2])
         mid = float(np.median(X[used, 2]))
         phi = np.maximum(phi, X[:, 2] - mid)  # only the layer nearer than the middle goes
     return phi
 
 
-def one_tool(step: dict, where: str) -> list[str]:
+def one_tool(step: CutStep, where: str) -> list[str]:
     """A cut has a plane or a sketch, not both."""
-    if (step.get("plane") is None) == (step.get("sketch") is None):
+    if (step.plane is None) == (step.sketch is None):
         return [f"{where}: cut needs exactly one of 'plane' or 'sketch'"]
     return []
 
 
-@register(
-    "cut",
-    {
-        "plane": Param(plane_spec, doc="{point, normal}: removes the side the normal points to"),
-        "view": Param(view_spec, default="front", doc="front | back | left | right | top | bottom"),
-        "sketch": Param(sketch_spec, doc="polyline [[u, v], ...] in the view's image plane"),
-        "remove": Param(choice("above", "below", "left", "right"), default="above"),
-        "layers": Param(choice("both", "near"), default="both"),
-        "origin": Param(
-            origin_spec,
-            doc="an opening (or a list: the first the garment has): the sketch is measured "
-            "from its centre across and its lowest point up in the view (a neckline: the "
-            "front neck point)",
-        ),
-        "symmetric": Param(boolean, default=False, doc="also cut the mirror image"),
-    },
-    check=one_tool,
-)
-def cut(state: EditState, step: dict, *, options: EditOptions) -> EditState:
+@register(CutStep, check=one_tool)
+def cut(state: EditState, step: CutStep, *, options: EditOptions) -> EditState:
     """Cut with a plane, or with a sketched polyline extruded along the view direction.
 
     Triangles are split exactly on the cutting surface and the chosen side is removed;
     the pattern follows by barycentric transfer.
     """
     V = state.V3
-    if step.get("plane") is not None:
-        p = np.asarray(step["plane"]["point"], float)
-        nrm = unit_vector(step["plane"]["normal"], "plane normal")
+    if step.plane is not None:
+        p = np.asarray(step.plane["point"], float)
+        nrm = unit_vector(step.plane["normal"], "plane normal")
 
         def field(X: np.ndarray) -> np.ndarray:
             return -(X - p) @ nrm
@@ -295,11 +327,11 @@ def cut(state: EditState, step: dict, *, options: EditOptions) -> EditState:
 
         what = "sketch"
         used = used_indices(state.base.F3, len(V))
-        frame = view_frame(step["view"], frame=state.frame)
+        frame = view_frame(step.view, frame=state.frame)
         X2 = V[used] @ frame[:2].T
         lo, hi = X2.min(axis=0), X2.max(axis=0)
         pad = 1e-9 * max(float(np.max(hi - lo)), 1e-300)
-        if not segments_meet_box(np.asarray(step["sketch"], float) + o, lo - pad, hi + pad):
+        if not segments_meet_box(np.asarray(step.sketch, float) + o, lo - pad, hi + pad):
             raise PtailorError(
                 "the cut's sketch misses the garment: it does not overlap the garment in its "
                 f"view (the garment spans "
@@ -307,7 +339,7 @@ def cut(state: EditState, step: dict, *, options: EditOptions) -> EditState:
                 "nothing to cut"
             )
     phi = field(V)
-    if step["symmetric"]:
+    if step.symmetric:
         # remove what the cut removes and what its mirror image removes
         phi = np.minimum(phi, field(sagittal_mirror(V, state.base.F3, frame=state.frame)))
     used = used_indices(state.base.F3, len(V))
@@ -320,7 +352,7 @@ def cut(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         "by": what,
         **(
             {"origin": [round(float(x), 6) for x in o]}
-            if what == "sketch" and step.get("origin") is not None
+            if what == "sketch" and step.origin is not None
             else {}
         ),
         "removed_triangles": res.removed_triangles,

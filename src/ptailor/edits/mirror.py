@@ -26,8 +26,14 @@ from typing import Any
 
 import numpy as np
 
+from ptailor.edits.cut import CutStep
+from ptailor.edits.extend import ExtendStep
+from ptailor.edits.loosen import LoosenStep
 from ptailor.edits.opening import drape_openings
-from ptailor.edits.registry import OPERATIONS
+from ptailor.edits.registry import OPERATIONS, Step
+from ptailor.edits.scale import ScaleStep
+from ptailor.edits.scale_seam import ScaleSeamStep, resolve_seam
+from ptailor.edits.shorten import ShortenStep
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.errors import PtailorError
 from ptailor.model.symmetry import SagittalPlane, mirror_points, panel_mirror_map
@@ -124,24 +130,25 @@ class _Renamer:
 
 
 def mirror_step(
-    step: dict,
+    step: Step,
     *,
     before: EditState,
     mirrored: EditState,
     plane: SagittalPlane,
     options: EditOptions,
-) -> dict:
+) -> Step:
     """A step's references renamed for its application to the mirrored garment.
 
-    Renamed, by parameter name (whatever the operation): ``region: {panels: [...]}``,
-    ``seam: [a, b]``, ``part: a``, the seams ``[a, b]`` and ``{loop: k}`` openings in
-    ``fix``, and an ``opening: {loop: k}``. Panels map through
-    :func:`ptailor.model.symmetry.panel_mirror_map` on the garment before the step; a
-    ``{loop: k}`` to the loop of the mirrored garment nearest where loop ``k`` was.
+    Renamed: a ``region: {panels: [...]}`` (``scale``, ``loosen``, ``tighten``),
+    ``scale_seam``'s ``seam`` and ``part`` and the seams ``[a, b]`` and ``{loop: k}``
+    openings in its ``fix``, and an ``opening: {loop: k}`` (``shorten``, ``extend``).
+    Panels map through :func:`ptailor.model.symmetry.panel_mirror_map` on the garment
+    before the step; a ``{loop: k}`` to the loop of the mirrored garment nearest where
+    loop ``k`` was.
 
     Parameters
     ----------
-    step : dict
+    step : Step
     before : EditState
         The garment before the step (the step's names refer to it).
     mirrored : EditState
@@ -151,7 +158,8 @@ def mirror_step(
 
     Returns
     -------
-    dict
+    Step
+        Of the same type.
 
     Raises
     ------
@@ -159,28 +167,31 @@ def mirror_step(
         A named panel or loop without a mirror image.
     """
     r = _Renamer(before, mirrored, plane, options)
-    out = dict(step)
-    reg = step.get("region")
+    changes: dict[str, Any] = {}
+    reg = _region(step)
     if isinstance(reg, dict) and "panels" in reg:
         from ptailor.edits.region import panels_named
 
         names = [p.name for p in panels_named(reg["panels"], before.panels)]  # families named
-        out["region"] = {**reg, "panels": [r.panel(n) for n in names]}
-    if isinstance(step.get("seam"), str) and "part" in step:
-        from ptailor.edits.scale_seam import resolve_seam  # a name: its panels, then mirrored
-
-        out["seam"] = [r.panel(n) for n in resolve_seam(before, step["seam"], step["part"])]
-    elif isinstance(step.get("seam"), list):
-        out["seam"] = [r.panel(n) for n in step["seam"]]
-    if "part" in step:
-        out["part"] = r.panel(step["part"])
-    if isinstance(step.get("fix"), list):
-        out["fix"] = [
-            [r.panel(n) for n in f] if isinstance(f, list) else r.opening(f) for f in step["fix"]
+        changes["region"] = {**reg, "panels": [r.panel(n) for n in names]}
+    if isinstance(step, ScaleSeamStep):
+        # a seam's name: its panels, then mirrored
+        seam = step.seam
+        if isinstance(seam, str):
+            seam = resolve_seam(before, seam, step.part)
+        changes["seam"] = [r.panel(n) for n in seam]
+        changes["part"] = r.panel(step.part)
+        changes["fix"] = [
+            [r.panel(n) for n in f] if isinstance(f, list) else r.opening(f) for f in step.fix
         ]
-    if "opening" in step:
-        out["opening"] = r.opening(step["opening"])
-    return out
+    if isinstance(step, (ShortenStep, ExtendStep)):
+        changes["opening"] = r.opening(step.opening)
+    return replace(step, **changes)
+
+
+def _region(step: Step) -> Any:
+    """A step's ``region`` (``scale``, ``loosen``, ``tighten``), None for other steps."""
+    return step.region if isinstance(step, (ScaleStep, LoosenStep)) else None
 
 
 def _restore(after: EditState, pre: EditState, mirrored: EditState, plane) -> EditState:
@@ -194,7 +205,7 @@ def _restore(after: EditState, pre: EditState, mirrored: EditState, plane) -> Ed
     return replace(back, base=base, V3=V3)
 
 
-def is_centred(step: dict, mstep: dict, *, panels: list | None = None) -> bool:
+def is_centred(step: Step, mstep: Step, *, panels: list | None = None) -> bool:
     """A step that is its own mirror image: renaming changed nothing, it names no side.
 
     A region's panels compare as sets of the panels they select (``[front, back_left,
@@ -204,22 +215,27 @@ def is_centred(step: dict, mstep: dict, *, panels: list | None = None) -> bool:
     a sketch or silhouette) are never taken as centred: their mirror image is another
     place.
     """
-    reg = step.get("region")
-    geometric = (isinstance(reg, dict) and "box" in reg) or any(
-        step.get(k) is not None for k in ("plane", "sketch", "silhouette")
+    reg = _region(step)
+    geometric = (
+        (isinstance(reg, dict) and "box" in reg)
+        or isinstance(step, CutStep)  # a plane or a sketch
+        or (isinstance(step, LoosenStep) and step.silhouette is not None)
     )
-    sided = any(
-        isinstance(v, str) and (v.endswith("_left") or v.endswith("_right"))
-        for v in [step.get("opening"), *(step.get("fix") or [])]
-    )
+    if isinstance(step, (ShortenStep, ExtendStep)):
+        named = [step.opening]
+    elif isinstance(step, ScaleSeamStep):
+        named = list(step.fix)
+    else:
+        named = []
+    sided = any(isinstance(v, str) and (v.endswith("_left") or v.endswith("_right")) for v in named)
     if geometric or sided:
         return False
     return _canonical(step, panels) == _canonical(mstep, panels)
 
 
-def _region_panels(step: dict, panels: list | None) -> frozenset[str] | None:
+def _region_panels(step: Step, panels: list | None) -> frozenset[str] | None:
     """The names of the panels a step's ``region: {panels: [...]}`` selects, None without."""
-    reg = step.get("region")
+    reg = _region(step)
     if not (isinstance(reg, dict) and "panels" in reg):
         return None
     if panels is None:
@@ -229,15 +245,15 @@ def _region_panels(step: dict, panels: list | None) -> frozenset[str] | None:
     return frozenset(p.name for p in panels_named(reg["panels"], panels))
 
 
-def _canonical(step: dict, panels: list | None) -> dict:
+def _canonical(step: Step, panels: list | None) -> Step:
     """A step with its region's panels as the set they select."""
     sel = _region_panels(step, panels)
     if sel is None:
         return step
-    return {**step, "region": {**step["region"], "panels": sel}}
+    return replace(step, region={**_region(step), "panels": sel})
 
 
-def overlap_error(step: dict, mstep: dict, *, panels: list) -> PtailorError | None:
+def overlap_error(step: Step, mstep: Step, *, panels: list) -> PtailorError | None:
     """A symmetric step whose region and mirror region share panels but differ (``[front,
     sleeve_left]`` mirrors to ``[front, sleeve_right]``): applied twice, the shared panels
     would get the edit twice. None where they are disjoint or the same."""
@@ -246,7 +262,7 @@ def overlap_error(step: dict, mstep: dict, *, panels: list) -> PtailorError | No
         return None
     both = ", ".join(sorted(a & b))
     return PtailorError(
-        f"step '{step['op']}' with symmetric: its region's panels {both} are their own mirror"
+        f"step '{step.op}' with symmetric: its region's panels {both} are their own mirror"
         f" images, so the mirrored application would edit them a second time; split the step:"
         f" one step for {both} (not symmetric), one symmetric step for"
         f" {', '.join(sorted(a - b))}"
@@ -254,14 +270,14 @@ def overlap_error(step: dict, mstep: dict, *, panels: list) -> PtailorError | No
 
 
 def apply_mirrored(
-    state: EditState, step: dict, *, options: EditOptions, plane: SagittalPlane
+    state: EditState, step: Step, *, options: EditOptions, plane: SagittalPlane
 ) -> EditState:
     """Apply a step and its mirror image across the sagittal plane.
 
     Parameters
     ----------
     state : EditState
-    step : dict
+    step : Step
         A validated step.
     options : EditOptions
     plane : SagittalPlane
@@ -278,10 +294,10 @@ def apply_mirrored(
     PtailorError
         A panel or loop the step names that has no mirror image.
     """
-    op = OPERATIONS[step["op"]]
+    op = OPERATIONS[step.op]
     n_log = len(state.log)
     if "symmetric" in op.params:  # the operation mirrors itself
-        out = op.apply(state, {**step, "symmetric": True}, options=options)
+        out = op.apply(state, replace(step, symmetric=True), options=options)
         recs = out.log[n_log:]
         rec = {**(recs[-1] if recs else {"op": op.name}), "mirrored": True, "mirror": "own"}
         return replace(out, log=(*state.log, rec))

@@ -1,9 +1,12 @@
-"""The registry of recipe operations: their parameter specs and apply functions, by name.
+"""The registry of recipe operations: their typed steps and apply functions, by name.
 
-Each operation is an :class:`Operation`: a parameter spec, checked when the recipe is
-validated (before any garment is read), and a pure function applying the step::
+Each operation is an :class:`Operation`: a :class:`Step` subclass, a frozen dataclass whose
+fields are the operation's parameters (each field's recipe check and description in its
+metadata, :func:`checked`; its default the parameter's, the one place a default is given),
+built by the recipe rules once its values passed their checks (before any garment is
+read), and a pure function applying the step::
 
-    apply(state: EditState, step: dict, *, options: EditOptions) -> EditState
+    apply(state: EditState, step: Step, *, options: EditOptions) -> EditState
 
 Operation modules register themselves with :func:`register` when imported
 (:mod:`ptailor.edits` imports them all).
@@ -11,19 +14,26 @@ Operation modules register themselves with :func:`register` when imported
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Callable
-from dataclasses import dataclass
-from typing import Any
+from dataclasses import MISSING, Field, dataclass, fields
+from typing import Any, ClassVar
 
 from ptailor.edits.state import EditState
 
 #: validate(value, where) -> list of problems
 Check = Callable[[Any, str], list[str]]
 
+#: Step fields every operation has (not parameters of their own unless one declares it
+#: :func:`checked`); a step's mapping lists them after its own parameters.
+COMMON_FIELDS = ("symmetric",)
+
 
 @dataclass(frozen=True)
 class Param:
-    """One step parameter: its check, whether it is required, its default."""
+    """One step parameter as the rules and the JSON Schema see it (read off a
+    :class:`Step` field by :meth:`Step.params`): its check, whether it is required, its
+    default, its description."""
 
     check: Check
     required: bool = False
@@ -31,36 +41,124 @@ class Param:
     doc: str = ""
 
 
+def checked(check: Check, doc: str = "") -> dict[str, Any]:
+    """The metadata that makes a :class:`Step` field a recipe parameter::
+
+        factor: float = field(metadata=checked(number(gt=0.0)))  # required
+        direction: str = field(default="uniform", metadata=checked(choice("around", ...)))
+
+    Parameters
+    ----------
+    check : Check
+        The recipe check of its value (with a JSON Schema fragment, see
+        :mod:`ptailor.edits.checks`).
+    doc : str
+        Its description (the JSON Schema's).
+
+    Returns
+    -------
+    dict
+        ``dataclasses.field``'s ``metadata``. The field's default is the parameter's
+        (no default: required).
+    """
+    return {"check": check, "doc": doc}
+
+
+def _plain(x: Any) -> Any:
+    """``x`` copied as :func:`dataclasses.asdict` copies a field's value (no object shared,
+    so YAML writes no anchors)."""
+    if isinstance(x, dict):
+        return {_plain(k): _plain(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return type(x)(_plain(v) for v in x)
+    return copy.deepcopy(x)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Step:
+    """A validated recipe step: one frozen subclass per operation, its parameters as fields.
+
+    The recipe rules (:mod:`ptailor.recipe.rules`) build a step once its parameters passed
+    their checks; edits read its attributes. Values are kept as the recipe wrote them
+    (lists, mappings, ints), so :meth:`to_dict` gives back the validated mapping.
+
+    Attributes
+    ----------
+    op : str
+        The operation's name (a class attribute).
+    symmetric : bool
+        Also apply the step's mirror image (resolved: the step's own, else the recipe's).
+    """
+
+    op: ClassVar[str] = ""
+    symmetric: bool = False
+
+    @classmethod
+    def recipe_fields(cls) -> list[Field]:
+        """The fields in the recipe mapping's order: the operation's own, then
+        :data:`COMMON_FIELDS`."""
+        own = [f for f in fields(cls) if f.name not in COMMON_FIELDS]
+        return own + [f for f in fields(cls) if f.name in COMMON_FIELDS]
+
+    @classmethod
+    def params(cls) -> dict[str, Param]:
+        """The operation's parameters (the fields with :func:`checked` metadata), in order."""
+        out = {}
+        for f in cls.recipe_fields():
+            if "check" not in f.metadata:
+                continue
+            required = f.default is MISSING and f.default_factory is MISSING
+            default = f.default if f.default is not MISSING else None
+            if f.default_factory is not MISSING:
+                default = f.default_factory()
+            out[f.name] = Param(
+                f.metadata["check"], required=required, default=default, doc=f.metadata["doc"]
+            )
+        return out
+
+    def to_dict(self) -> dict[str, Any]:
+        """The step as the validated recipe mapping: ``op``, every parameter (defaults
+        filled in), ``symmetric``: what reports and the catalogue echo."""
+        out: dict[str, Any] = {"op": self.op}
+        for f in self.recipe_fields():
+            out[f.name] = _plain(getattr(self, f.name))
+        return out
+
+
 @dataclass(frozen=True)
 class Operation:
-    """A registered recipe operation."""
+    """A registered recipe operation: its step type, apply function and whole-step check."""
 
     name: str
-    params: dict[str, Param]
+    step: type[Step]
     apply: Callable[..., EditState]
     doc: str = ""
-    check: Callable[[dict, str], list[str]] | None = None
+    check: Callable[[Any, str], list[str]] | None = None
+
+    @property
+    def params(self) -> dict[str, Param]:
+        """``step.params()``: the parameters the rules check and the schema publishes."""
+        return self.step.params()
 
 
 OPERATIONS: dict[str, Operation] = {}
 
 
 def register(
-    name: str,
-    params: dict[str, Param],
-    doc: str = "",
+    step: type[Step],
     *,
-    check: Callable[[dict, str], list[str]] | None = None,
+    doc: str = "",
+    check: Callable[[Any, str], list[str]] | None = None,
 ) -> Callable:
-    """Decorator registering ``apply`` as the recipe operation ``name``.
+    """Decorator registering ``apply`` as the recipe operation ``step.op``.
 
-    ``check(step, where)``, when given, validates the step as a whole (rules that tie
+    ``check(step, where)``, when given, validates the built step as a whole (rules that tie
     parameters together) after each parameter passed its own check.
     """
 
     def deco(fn: Callable[..., EditState]) -> Callable[..., EditState]:
-        OPERATIONS[name] = Operation(
-            name=name, params=params, apply=fn, doc=doc or fn.__doc__ or "", check=check
+        OPERATIONS[step.op] = Operation(
+            name=step.op, step=step, apply=fn, doc=doc or fn.__doc__ or "", check=check
         )
         return fn
 

@@ -2,15 +2,18 @@
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 
 from ptailor import tolerances as tol
-from ptailor.edits.checks import axis, choice, number, region
+from ptailor.edits.checks import axis as axis_spec
+from ptailor.edits.checks import choice, number
+from ptailor.edits.checks import region as region_spec
 from ptailor.edits.follow import rigid_apart
 from ptailor.edits.region import region_axis, region_centroid, region_faces, unit_vector
-from ptailor.edits.registry import Param, register
+from ptailor.edits.registry import Step, checked, register
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.method.deform import arap_deform
 from ptailor.model.frame import Frame
@@ -39,16 +42,36 @@ def scale_matrix(direction: str, ax: np.ndarray, factor: float) -> np.ndarray:
     return factor * np.eye(3)
 
 
-@register(
-    "scale",
-    {
-        "region": Param(region, default="all", doc="all | {panels: [...]} | {box: {min, max}}"),
-        "direction": Param(choice("around", "along", "uniform"), default="uniform"),
-        "axis": Param(axis, default="auto", doc="auto (the region's principal axis) | [x, y, z]"),
-        "factor": Param(number(gt=0.0, le=100.0), required=True),
-    },
-)
-def scale(state: EditState, step: dict, *, options: EditOptions) -> EditState:
+@dataclass(frozen=True, kw_only=True)
+class ScaleStep(Step):
+    """A ``scale`` step (see :func:`scale`).
+
+    Attributes
+    ----------
+    region : str or dict
+        ``all``, ``{panels: [...]}`` or ``{box: {min, max}}``.
+    direction : {"uniform", "around", "along"}
+    axis : str or list of float
+        ``auto`` or ``[x, y, z]``.
+    factor : float
+    """
+
+    op = "scale"
+    region: str | dict[str, Any] = field(
+        default="all", metadata=checked(region_spec, "all | {panels: [...]} | {box: {min, max}}")
+    )
+    direction: str = field(
+        default="uniform", metadata=checked(choice("around", "along", "uniform"))
+    )
+    axis: str | list[float] = field(
+        default="auto",
+        metadata=checked(axis_spec, "auto (the region's principal axis) | [x, y, z]"),
+    )
+    factor: float = field(metadata=checked(number(gt=0.0, le=100.0)))
+
+
+@register(ScaleStep)
+def scale(state: EditState, step: ScaleStep, *, options: EditOptions) -> EditState:
     """Scale a region of the drape; the rest follows by as-rigid-as-possible deformation.
 
     The region's triangles are mapped by ``c + A (p - c)`` with ``c`` the region's centroid
@@ -56,11 +79,11 @@ def scale(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     panels partly inside, or moved only by the follow-up deformation, do not.
     """
     g, V3 = state.base, state.V3
-    faces = region_faces(step["region"], g, V3, state.panels)
+    faces = region_faces(step.region, g, V3, state.panels)
     warnings: list[str] = []
     # with axis: auto, each connected part of the region about its own axis and centroid
     # (both sleeves of a shirt: each around its own arm, not around one axis through both)
-    parts = region_parts(g.F3, faces, len(V3)) if step["axis"] == "auto" else [faces]
+    parts = region_parts(g.F3, faces, len(V3)) if step.axis == "auto" else [faces]
     in_region = np.zeros(len(V3), dtype=bool)
     in_region[g.F3[faces]] = True
     handles = np.flatnonzero(in_region)  # sorted, as np.unique (a mask is cheaper)
@@ -69,13 +92,13 @@ def scale(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     row[handles] = np.arange(len(handles))
     records = []
     for part in parts:  # a loop over the region's connected parts (a few)
-        if step["axis"] == "auto":
+        if step.axis == "auto":
             ax = region_axis(V3, g.F3, part, body=options.body)
             warnings += auto_axis_warnings(V3, g.F3, part, ax, options, frame=g.frame)
         else:
-            ax = unit_vector(step["axis"], "axis")
+            ax = unit_vector(step.axis, "axis")
         c = region_centroid(V3, g.F3, part)
-        A = scale_matrix(step["direction"], ax, float(step["factor"]))
+        A = scale_matrix(step.direction, ax, float(step.factor))
         r = row[np.unique(g.F3[part])]
         moved[r] = c + (V3[handles[r]] - c) @ A.T
         records.append((ax, c, int(part.size)))
@@ -98,8 +121,8 @@ def scale(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         even[p.index] &= inside or still
     rec = {
         "op": "scale",
-        "direction": step["direction"],
-        "factor": float(step["factor"]),
+        "direction": step.direction,
+        "factor": float(step.factor),
         "axis": [round(float(x), 6) for x in ax],
         "centroid": [round(float(x), 6) for x in c],
         "triangles": int(faces.size),

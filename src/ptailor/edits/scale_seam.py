@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -11,7 +11,7 @@ from ptailor.edits.checks import choice, number, with_schema
 from ptailor.edits.follow import rigid_apart
 from ptailor.edits.opening import find_opening, opening_spec
 from ptailor.edits.region import body_axis, unit_vector
-from ptailor.edits.registry import Param, register
+from ptailor.edits.registry import Step, checked, register
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.errors import PtailorError
 from ptailor.geometry.labels import used_indices
@@ -60,11 +60,43 @@ def seam_spec(x: Any, where: str) -> list[str]:
     ]
 
 
-def part_in_seam(step: dict, where: str) -> list[str]:
+@dataclass(frozen=True, kw_only=True)
+class ScaleSeamStep(Step):
+    """A ``scale_seam`` step (see :func:`scale_seam`).
+
+    Attributes
+    ----------
+    seam : str or list of str
+        Its two panels ``[a, b]``, or a seam's or seam line's name.
+    part : str
+        The panel on the side that is scaled.
+    direction : {"around", "along"}
+    factor : float
+    fix : list
+        Openings (names or ``{loop: k}``) and seams (``[a, b]``) that must not move.
+    """
+
+    op = "scale_seam"
+    seam: str | list[str] = field(
+        metadata=checked(
+            seam_spec,
+            "the seam: its two panels [a, b], or a seam's or seam line's name "
+            "(armhole_left_front, armhole_left)",
+        )
+    )
+    part: str = field(metadata=checked(name, "the panel on the side that is scaled"))
+    direction: str = field(default="around", metadata=checked(choice("around", "along")))
+    factor: float = field(metadata=checked(number(gt=0.0, le=100.0)))
+    fix: list[Any] = field(
+        default_factory=list, metadata=checked(fix_list, "openings or seams that must not move")
+    )
+
+
+def part_in_seam(step: ScaleSeamStep, where: str) -> list[str]:
     """The scaled part is one of the seam's two panels (a named seam: checked on the
     garment)."""
-    if isinstance(step["seam"], list) and step["part"] not in step["seam"]:
-        return [f"{where}.part: {step['part']!r} is not one of the seam's panels {step['seam']}"]
+    if isinstance(step.seam, list) and step.part not in step.seam:
+        return [f"{where}.part: {step.part!r} is not one of the seam's panels {step.seam}"]
     return []
 
 
@@ -329,23 +361,8 @@ def _fixed_vertices(
     return np.setdiff1d(np.unique(np.concatenate(fixed)), ring) if fixed else np.zeros(0, int)
 
 
-@register(
-    "scale_seam",
-    {
-        "seam": Param(
-            seam_spec,
-            required=True,
-            doc="the seam: its two panels [a, b], or a seam's or seam line's name "
-            "(armhole_left_front, armhole_left)",
-        ),
-        "part": Param(name, required=True, doc="the panel on the side that is scaled"),
-        "direction": Param(choice("around", "along"), default="around"),
-        "factor": Param(number(gt=0.0, le=100.0), required=True),
-        "fix": Param(fix_list, default=[], doc="openings or seams that must not move"),
-    },
-    check=part_in_seam,
-)
-def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditState:
+@register(ScaleSeamStep, check=part_in_seam)
+def scale_seam(state: EditState, step: ScaleSeamStep, *, options: EditOptions) -> EditState:
     """Move a seam line and scale the part on one side; what ``fix`` names stays put.
 
     The axis is the normal of the seam line's best-fit plane (or the body's local axis with
@@ -360,8 +377,8 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
     keeps the seam at that new ratio (``gathers``).
     """
     g, V3 = state.base, state.V3
-    part = step["part"]
-    a, b = resolve_seam(state, step["seam"], part)
+    part = step.part
+    a, b = resolve_seam(state, step.seam, part)
     if a == b:
         raise PtailorError(
             f"seam [{a}, {b}]: a panel's seam with itself (a tube's closing seam) cannot be "
@@ -373,16 +390,16 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
     line_edges = np.concatenate([named, *(seam_edges(state, [part, x]) for x in others[1:])])
     ring = np.unique(line_edges.ravel())
     c, ax = _seam_frame(V3, line_edges, ring, body=options.body)
-    f = float(step["factor"])
+    f = float(step.factor)
     by_name = {p.name: p for p in state.panels}
     part_v = used_indices(g.F3[by_name[part].faces], len(g.V3))
     across = np.concatenate([by_name[x].faces for x in others])
     other_v = np.setdiff1d(used_indices(g.F3[across], len(g.V3)), ring)
-    fixed_v = _fixed_vertices(state, step["fix"], ring, seam=[a, b], options=options)
+    fixed_v = _fixed_vertices(state, step.fix, ring, seam=[a, b], options=options)
     handles, targets = _part_targets(
-        V3, part_v, other_v, fixed_v, c=c, ax=ax, f=f, direction=step["direction"]
+        V3, part_v, other_v, fixed_v, c=c, ax=ax, f=f, direction=step.direction
     )
-    targets = _hold_fixed(V3, handles, targets, fixed_v, step["fix"], part)
+    targets = _hold_fixed(V3, handles, targets, fixed_v, step.fix, part)
     V_new = arap_deform(V3, g.F3, handles, targets)
     held = np.zeros(len(V3), dtype=bool)
     held[handles] = True
@@ -396,16 +413,16 @@ def scale_seam(state: EditState, step: dict, *, options: EditOptions) -> EditSta
         "op": "scale_seam",
         "seam": [a, b],
         "part": part,
-        "direction": step["direction"],
+        "direction": step.direction,
         "factor": f,
         "axis": [round(float(x), 6) for x in ax],
         "seam_vertices": len(ring),
         "fixed_vertices": len(fixed_v),
         "pattern_kept": other,
         "seam_line": others,
-        "seam_ratio_factor": f if step["direction"] == "around" else 1.0,
+        "seam_ratio_factor": f if step.direction == "around" else 1.0,
     }
-    gather = tuple((part, x, f) for x in others) if step["direction"] == "around" else ()
+    gather = tuple((part, x, f) for x in others) if step.direction == "around" else ()
     return replace(
         state,
         V3=V_new,

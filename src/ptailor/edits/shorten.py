@@ -8,7 +8,8 @@ straight and moves up by exactly ``by``).
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 
@@ -22,7 +23,7 @@ from ptailor.edits.pattern_distance import (
     opening_pattern_distance,
     refine_crossings,
 )
-from ptailor.edits.registry import Param, register
+from ptailor.edits.registry import Step, checked, register
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.edits.surgery import SplitResult, split_keep
 from ptailor.errors import PtailorError
@@ -32,11 +33,10 @@ from ptailor.model.garment import panel_labels
 
 #: Where ``by`` is measured.
 MEASURES = ("drape", "pattern")
-
-MEASURE_PARAM = Param(
+#: The recipe check and description of ``shorten``'s and ``extend``'s ``measure``.
+MEASURE = checked(
     choice(*MEASURES),
-    default="drape",
-    doc="where `by` is measured: drape (along the 3D surface, the paper's) | pattern "
+    "where `by` is measured: drape (along the 3D surface, the paper's) | pattern "
     "(in each panel's 2D pattern: the new edge lies exactly `by` from the old one)",
 )
 
@@ -147,15 +147,30 @@ def _drape_amount(
     return spread_stats(val[np.isfinite(val)])
 
 
-@register(
-    "shorten",
-    {
-        "opening": Param(opening_spec, required=True, doc="hem | neckline | ... | {loop: k}"),
-        "by": Param(number(gt=0.0), required=True, doc="width removed, recipe units (see measure)"),
-        "measure": MEASURE_PARAM,
-    },
-)
-def shorten(state: EditState, step: dict, *, options: EditOptions) -> EditState:
+@dataclass(frozen=True, kw_only=True)
+class ShortenStep(Step):
+    """A ``shorten`` step (see :func:`shorten`).
+
+    Attributes
+    ----------
+    opening : str or dict
+        An opening's name or ``{loop: k}``.
+    by : float
+        The width removed, recipe units.
+    measure : {"drape", "pattern"}
+        Where ``by`` is measured.
+    """
+
+    op = "shorten"
+    opening: str | dict[str, Any] = field(
+        metadata=checked(opening_spec, "hem | neckline | ... | {loop: k}")
+    )
+    by: float = field(metadata=checked(number(gt=0.0), "width removed, recipe units (see measure)"))
+    measure: str = field(default="drape", metadata=MEASURE)
+
+
+@register(ShortenStep)
+def shorten(state: EditState, step: ShortenStep, *, options: EditOptions) -> EditState:
     """Cut the garment on the iso-line at distance ``by`` from an opening; remove the strip.
 
     ``measure: drape``: distances are measured on the edited drape from the opening's curve
@@ -172,9 +187,9 @@ def shorten(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     pattern vertices from the old edge; ``drape``, the same of their surface distance from
     the old opening on the edited drape.
     """
-    name, loop = find_opening(state, step["opening"])
-    by = float(step["by"])
-    measure = step.get("measure") or "drape"
+    name, loop = find_opening(state, step.opening)
+    by = float(step.by)
+    measure = step.measure
     g = state.base
     used = used_indices(g.F3, len(g.V3))
     lv = state.V3 if measure != "pattern" else None

@@ -7,7 +7,7 @@ from __future__ import annotations
 from typing import Any
 
 from ptailor import tolerances as tol
-from ptailor.edits import OPERATIONS
+from ptailor.edits import OPERATIONS, Step
 from ptailor.edits.checks import (
     boolean,
     choice,
@@ -80,8 +80,8 @@ def _top_level_problems(data: dict) -> list[str]:
     return probs
 
 
-def _steps(steps_in: Any, *, units: Any, symmetric: Any) -> tuple[list[dict], list[str]]:
-    """The steps with every parameter filled in, and their problems (``steps[i]...``)."""
+def _steps(steps_in: Any, *, units: Any, symmetric: Any) -> tuple[list[Step], list[str]]:
+    """The typed steps (every parameter filled in), and their problems (``steps[i]...``)."""
     if steps_in is None:
         steps_in = []
     probs: list[str] = []
@@ -94,49 +94,50 @@ def _steps(steps_in: Any, *, units: Any, symmetric: Any) -> tuple[list[dict], li
             "(ptailor.tolerances.RECIPE_MAX_STEPS)"
         )
         steps_in = []
-    steps: list[dict] = []
+    steps: list[Step] = []
     for i, st in enumerate(steps_in, start=1):
-        full, step_probs = _step(st, f"steps[{i}]", units=units, symmetric=symmetric)
+        step, step_probs = _step(st, f"steps[{i}]", units=units, symmetric=symmetric)
         probs += step_probs
-        if full is not None:
-            steps.append(full)
+        if step is not None:
+            steps.append(step)
     return steps, probs
 
 
-def _step(st: Any, where: str, *, units: Any, symmetric: Any) -> tuple[dict | None, list[str]]:
-    """One step with its defaults filled in (None when it names no known op), and its
-    problems: unknown keys, missing or bad parameters, then sizes and the op's own check
-    (each only when nothing before it was wrong)."""
+def _step(st: Any, where: str, *, units: Any, symmetric: Any) -> tuple[Step | None, list[str]]:
+    """One step, typed (:class:`ptailor.edits.Step`; its defaults are its fields'), or None
+    where it has problems: unknown keys, missing or bad parameters, then sizes and the op's
+    own check (each only when nothing before it was wrong)."""
     if not isinstance(st, dict) or "op" not in st:
         return None, [f"{where}: expected a mapping with 'op'"]
     op = OPERATIONS.get(st["op"]) if isinstance(st["op"], str) else None
     if op is None:
         return None, [f"{where}.op: unknown op {show(st['op'])} (known: {', '.join(OPERATIONS)})"]
-    full = {"op": op.name}
-    known = [*op.params, *(k for k in spec.STEP_KEYS if k not in op.params)]
+    params = op.params
+    known = [*params, *(k for k in spec.STEP_KEYS if k not in params)]
     probs = [
         f"{where}: unknown key {show(k)} for {op.name} (known: {', '.join(known)})"
         for k in st
         if k != "op" and k not in known
     ]
-    for k, prm in op.params.items():
+    given: dict[str, Any] = {}
+    for k, prm in params.items():
         if k in st:
             probs += prm.check(st[k], f"{where}.{k}")
-            full[k] = st[k]
+            given[k] = st[k]
         elif prm.required:
             probs.append(f"{where}: {op.name} needs {k!r}")
-        else:
-            full[k] = prm.default
     # symmetric: every op's, defaulting to the recipe's (an op's own symmetric param, such
     # as cut's, takes the same resolved value and mirrors itself)
-    if "symmetric" in st and "symmetric" not in op.params:
+    if "symmetric" in st and "symmetric" not in params:
         probs += boolean(st["symmetric"], f"{where}.symmetric")
-    full["symmetric"] = st.get("symmetric", symmetric is True)
-    if not probs:
-        probs += _sizes(full, where, units)
+    if probs:
+        return None, probs
+    given["symmetric"] = st.get("symmetric", symmetric is True)
+    step = op.step(**given)
+    probs += _sizes(step, where, units)
     if op.check is not None and not probs:
-        probs += op.check(full, where)
-    return full, probs
+        probs += op.check(step, where)
+    return (None if probs else step), probs
 
 
 def _flatten(fl_in: Any) -> tuple[dict, list[str]]:
@@ -160,24 +161,24 @@ def _flatten(fl_in: Any) -> tuple[dict, list[str]]:
     return flatten, probs
 
 
-def _sizes(step: dict, where: str, units: Any) -> list[str]:
+def _sizes(step: Step, where: str, units: Any) -> list[str]:
     """Lengths within :data:`~ptailor.tolerances.RECIPE_MAX_LENGTH_CM`; directions usable."""
     probs = []
     cm = CM_PER.get(units, 1.0) if isinstance(units, str) else 1.0
     limit = tol.RECIPE_MAX_LENGTH_CM / cm
-    for k in spec.LENGTH_PARAMS.get(step["op"], ()):
-        x = step.get(k)
+    for k in spec.LENGTH_PARAMS.get(step.op, ()):
+        x = getattr(step, k)
         if is_number(x) and abs(x) > limit:
             probs.append(
                 f"{where}.{k}: {x} is longer than {limit:g} {units} "
                 f"({tol.RECIPE_MAX_LENGTH_CM:g} cm; ptailor.tolerances.RECIPE_MAX_LENGTH_CM)"
             )
-    for path in spec.DIRECTION_PARAMS.get(step["op"], ()):
-        x: Any = step
-        for k in path:
+    for first, *rest in spec.DIRECTION_PARAMS.get(step.op, ()):
+        x: Any = getattr(step, first)
+        for k in rest:
             x = x.get(k) if isinstance(x, dict) else None
         if isinstance(x, list) and not vector3(x, where):
-            bad = direction_problem(x, f"{where}." + ".".join(path))
+            bad = direction_problem(x, f"{where}." + ".".join([first, *rest]))
             if bad:
                 probs.append(bad)
     return probs

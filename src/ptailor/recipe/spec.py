@@ -12,6 +12,7 @@ from ptailor.edits.checks import (
     choice,
     number,
 )
+from ptailor.edits.registry import COMMON_FIELDS, Step
 from ptailor.errors import PtailorError
 from ptailor.model.frame import AXIS_NAMES, Frame
 
@@ -26,8 +27,9 @@ FLATTEN_PARAMS = {
     "max_iter": (number(ge=1, le=10000, integer=True), tol.ARAP_MAX_ITER),
 }
 TOP_KEYS = ("format", "units", "up", "front", "symmetric", "steps", "flatten")
-#: A step key every operation accepts (see :mod:`ptailor.edits.mirror`).
-STEP_KEYS = ("symmetric",)
+#: A step key every operation accepts (see :mod:`ptailor.edits.mirror`): the fields every
+#: :class:`ptailor.edits.Step` has.
+STEP_KEYS = COMMON_FIELDS
 #: Step parameters that are lengths an edit adds or removes (bounded by
 #: :data:`ptailor.tolerances.RECIPE_MAX_LENGTH_CM`).
 LENGTH_PARAMS = {
@@ -105,9 +107,10 @@ class Recipe:
     Attributes
     ----------
     units : str
-    steps : list of dict
-        Each with ``op``, all of its parameters and ``symmetric`` (resolved: the step's
-        own, else the recipe's).
+    steps : tuple of Step
+        One typed step per recipe step (:class:`ptailor.edits.Step`: ``ScaleStep``,
+        ``ShortenStep``, ...), every parameter filled in, ``symmetric`` resolved (the
+        step's own, else the recipe's).
     flatten : dict
         ``method``, ``intrinsic``, ``boundary``, ``w_pin``, ``w_asap``, ``max_iter``.
     source : str
@@ -120,7 +123,7 @@ class Recipe:
     """
 
     units: str = "cm"
-    steps: list[dict] = field(default_factory=list)
+    steps: tuple[Step, ...] = ()
     flatten: dict = field(default_factory=lambda: {k: d for k, (_, d) in FLATTEN_PARAMS.items()})
     source: str = "<string>"
     up: str | None = None
@@ -138,3 +141,23 @@ class Recipe:
         ]
         if problems:
             raise PtailorError("; ".join(problems), path=self.source)
+        object.__setattr__(self, "steps", tuple(self.steps))
+
+    def to_dict(self) -> dict[str, Any]:
+        """The recipe as validated, every default filled in, without its source: the
+        mapping the catalogue writes as YAML and a batch's stamp hashes.
+
+        Returns
+        -------
+        dict
+            ``units``, ``steps`` (each :meth:`ptailor.edits.Step.to_dict`), ``flatten``,
+            ``up``, ``front``, ``symmetric``.
+        """
+        return {
+            "units": self.units,
+            "steps": [s.to_dict() for s in self.steps],
+            "flatten": dict(self.flatten),
+            "up": self.up,
+            "front": self.front,
+            "symmetric": self.symmetric,
+        }

@@ -7,7 +7,8 @@ flattening glues it to its panels (outline free along the new cloth).
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 
@@ -19,19 +20,53 @@ from ptailor.edits.extend.pattern import pattern_rows
 from ptailor.edits.extend.rows import RowPlan, Rows, quad_rows, row_plan
 from ptailor.edits.limits import check_by, check_new_triangles
 from ptailor.edits.opening import OpeningEdges, find_opening, opening_edges, opening_spec
-from ptailor.edits.registry import Param, register
-from ptailor.edits.shorten import MEASURE_PARAM, pattern_amounts, spread_stats
+from ptailor.edits.registry import Step, checked, register
+from ptailor.edits.shorten import MEASURE, pattern_amounts, spread_stats
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.method.geodesic import geodesic_distance
 from ptailor.model.garment import Garment
 from ptailor.model.structure import structure
 
-__all__ = ["OpeningEdges", "extend", "opening_edges"]
+__all__ = ["ExtendStep", "OpeningEdges", "extend", "opening_edges"]
+
+#: Without ``clearance``, new rows keep this many of the opening's mean edge lengths from
+#: the body.
+CLEARANCE_EDGES = 0.5
 
 
-def _default_clearance(options: EditOptions, mean_edge: float) -> float:
-    c = getattr(options, "clearance", None)
-    return 0.5 * mean_edge if c is None else float(c)
+@dataclass(frozen=True, kw_only=True)
+class ExtendStep(Step):
+    """An ``extend`` step (see :func:`extend`).
+
+    Attributes
+    ----------
+    opening : str or dict
+        An opening's name or ``{loop: k}``.
+    by : float
+        The length added, recipe units.
+    clearance : float or None
+        The distance new rows keep from a body (with ``options.body``); None:
+        :data:`CLEARANCE_EDGES` of the opening's mean edge length (:meth:`clearance_for`).
+    measure : {"drape", "pattern"}
+        Where ``by`` is measured.
+    """
+
+    op = "extend"
+    opening: str | dict[str, Any] = field(
+        metadata=checked(opening_spec, "hem | neckline | ... | {loop: k}")
+    )
+    by: float = field(metadata=checked(number(gt=0.0), "length added, recipe units (see measure)"))
+    clearance: float | None = field(
+        default=None,
+        metadata=checked(
+            number(ge=0.0), "distance kept from the body (with a body); default half an edge"
+        ),
+    )
+    measure: str = field(default="drape", metadata=MEASURE)
+
+    def clearance_for(self, mean_edge: float) -> float:
+        """The clearance kept from a body: the step's, else half the opening's mean edge."""
+        return CLEARANCE_EDGES * mean_edge if self.clearance is None else float(self.clearance)
 
 
 def _grown_state(state: EditState, plan: RowPlan, built: Rows, new_e: np.ndarray) -> EditState:
@@ -65,20 +100,8 @@ def _grown_state(state: EditState, plan: RowPlan, built: Rows, new_e: np.ndarray
     return replace(state, base=base, V3=V3_new, panels=new_panels, even=even, outline_free=free)
 
 
-@register(
-    "extend",
-    {
-        "opening": Param(opening_spec, required=True, doc="hem | neckline | ... | {loop: k}"),
-        "by": Param(number(gt=0.0), required=True, doc="length added, recipe units (see measure)"),
-        "clearance": Param(
-            number(ge=0.0),
-            default=None,
-            doc="distance kept from the body (with a body); default half an edge",
-        ),
-        "measure": MEASURE_PARAM,
-    },
-)
-def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
+@register(ExtendStep)
+def extend(state: EditState, step: ExtendStep, *, options: EditOptions) -> EditState:
     """Add rows of triangles beyond an opening, continuing the surface, ``by`` long.
 
     ``measure: drape`` (the paper's): each opening vertex grows a straight line of new
@@ -109,21 +132,17 @@ def extend(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     pattern vertices from the old edge; ``drape``, the same of their surface distance from
     the old opening.
     """
-    name, loop = find_opening(state, step["opening"])
-    by = float(step["by"])
-    measure = step.get("measure") or "drape"
+    name, loop = find_opening(state, step.opening)
+    by = float(step.by)
+    measure = step.measure
     oe = opening_edges(state.base.F3, state.base.F2, loop)
     mean_edge, rows = _row_count(state, oe, by=by, measure=measure, name=name)
     plan = row_plan(state, oe, name=name, by=by, rows=rows)
     make = pattern_rows if measure == "pattern" else drape_rows
     built = make(state, plan)
     new_e = built.new_e
-    body = getattr(options, "body", None)
-    if body is not None:
-        clearance = step.get("clearance")
-        if clearance is None:
-            clearance = _default_clearance(options, mean_edge)
-        new_e = push_out(new_e, body, clearance=float(clearance))
+    if options.body is not None:
+        new_e = push_out(new_e, options.body, clearance=step.clearance_for(mean_edge))
 
     grown = _grown_state(state, plan, built, new_e)
     rec = _extend_record(

@@ -20,12 +20,13 @@ round cross-section stays round; the rest follows by as-rigid-as-possible deform
 
 from __future__ import annotations
 
-from dataclasses import replace
-from typing import Any
+from dataclasses import dataclass, field, replace
+from typing import Any, ClassVar
 
 import numpy as np
 
-from ptailor.edits.checks import number, region
+from ptailor.edits.checks import number
+from ptailor.edits.checks import region as region_spec
 from ptailor.edits.cut import sketch_spec, view_frame, view_spec
 from ptailor.edits.loosen.normals import (
     normal_smoother,
@@ -36,7 +37,7 @@ from ptailor.edits.loosen.normals import (
 from ptailor.edits.loosen.offset import FALLOFF_BY, falloff_weights, offset_region
 from ptailor.edits.loosen.silhouette import ROW_EDGES, row_crossings, silhouette_targets
 from ptailor.edits.region import region_faces
-from ptailor.edits.registry import Param, register
+from ptailor.edits.registry import Step, checked, register
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.method.deform import arap_deform
 from ptailor.model.garment import panel_labels
@@ -44,6 +45,8 @@ from ptailor.model.structure import structure
 
 __all__ = [
     "FALLOFF_BY",
+    "LoosenStep",
+    "TightenStep",
     "falloff_weights",
     "loosen",
     "normal_smoother",
@@ -59,31 +62,82 @@ def view_name(view: Any) -> str:
     return view if isinstance(view, str) else "[" + ", ".join(f"{float(x):g}" for x in view) + "]"
 
 
-def one_form(step: dict, where: str) -> list[str]:
+@dataclass(frozen=True, kw_only=True)
+class LoosenStep(Step):
+    """A ``loosen`` step (see :func:`loosen`): the offset form (``by``, with ``region``)
+    or the silhouette form (``silhouette``, with ``view``), exactly one.
+
+    Attributes
+    ----------
+    region : str, dict or None
+        The offset form's region; None: not given (:attr:`offset_region`).
+    by : float or None
+        The offset along the normals, recipe units.
+    view : str, list of float or None
+        The silhouette form's view; None: not given (:attr:`sketch_view`).
+    silhouette : list of [u, v] or None
+        The over-sketched outline in the view's image plane.
+    """
+
+    op = "loosen"
+    #: What the offset form edits without ``region``, and the silhouette form's view
+    #: without ``view``.
+    DEFAULT_REGION: ClassVar[str] = "all"
+    DEFAULT_VIEW: ClassVar[str] = "front"
+    region: str | dict[str, Any] | None = field(
+        default=None,
+        metadata=checked(
+            region_spec, "all | {panels: [...]} | {box: {min, max}} (with by; default all)"
+        ),
+    )
+    by: float | None = field(
+        default=None,
+        metadata=checked(number(gt=0.0), "offset along the surface normals, recipe units"),
+    )
+    view: str | list[float] | None = field(
+        default=None,
+        metadata=checked(
+            view_spec, "front | back | left | right | top | bottom | [x, y, z] (default front)"
+        ),
+    )
+    silhouette: list[list[float]] | None = field(
+        default=None,
+        metadata=checked(
+            sketch_spec, "over-sketched outline [[u, v], ...] in the view's image plane"
+        ),
+    )
+
+    @property
+    def offset_region(self) -> str | dict[str, Any]:
+        """The offset form's region: the step's, else :attr:`DEFAULT_REGION`."""
+        return self.DEFAULT_REGION if self.region is None else self.region
+
+    @property
+    def sketch_view(self) -> str | list[float]:
+        """The silhouette form's view: the step's, else :attr:`DEFAULT_VIEW`."""
+        return self.DEFAULT_VIEW if self.view is None else self.view
+
+
+@dataclass(frozen=True, kw_only=True)
+class TightenStep(LoosenStep):
+    """A ``tighten`` step: :class:`LoosenStep`'s forms, the offset inward."""
+
+    op = "tighten"
+
+
+def one_form(step: LoosenStep, where: str) -> list[str]:
     """Exactly one of ``by`` (with ``region``) or ``silhouette`` (with ``view``)."""
-    op = step["op"]
-    has_by, has_sketch = step.get("by") is not None, step.get("silhouette") is not None
+    has_by, has_sketch = step.by is not None, step.silhouette is not None
     if has_by == has_sketch:
         return [
-            f"{where}: {op} needs exactly one of 'by' (with 'region') or 'silhouette' (with 'view')"
+            f"{where}: {step.op} needs exactly one of 'by' (with 'region') or 'silhouette' "
+            "(with 'view')"
         ]
-    if has_by and step.get("view") is not None:
+    if has_by and step.view is not None:
         return [f"{where}: 'view' goes with 'silhouette', not with 'by'"]
-    if has_sketch and step.get("region") is not None:
+    if has_sketch and step.region is not None:
         return [f"{where}: 'region' goes with 'by', not with 'silhouette'"]
     return []
-
-
-PARAMS = {
-    "region": Param(region, doc="all | {panels: [...]} | {box: {min, max}} (with by; default all)"),
-    "by": Param(number(gt=0.0), doc="offset along the surface normals, recipe units"),
-    "view": Param(
-        view_spec, doc="front | back | left | right | top | bottom | [x, y, z] (default front)"
-    ),
-    "silhouette": Param(
-        sketch_spec, doc="over-sketched outline [[u, v], ...] in the view's image plane"
-    ),
-}
 
 
 def moved_panels_uneven(state: EditState, V_new: np.ndarray) -> np.ndarray:
@@ -96,7 +150,7 @@ def moved_panels_uneven(state: EditState, V_new: np.ndarray) -> np.ndarray:
     return state.even & ~moved
 
 
-def loosen(state: EditState, step: dict, *, options: EditOptions) -> EditState:
+def loosen(state: EditState, step: LoosenStep, *, options: EditOptions) -> EditState:
     """Loosen or tighten: offset a region along its normals, or over-sketch a silhouette.
 
     Offset form: see :func:`offset_region` (``+by`` for loosen, ``-by`` for tighten).
@@ -105,9 +159,9 @@ def loosen(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     whose drape moved loses ``even`` (its outline is free when flattened).
     """
     g, V3 = state.base, state.V3
-    if step.get("by") is not None:
-        faces = region_faces(step.get("region") or "all", g, V3, state.panels)
-        by = float(step["by"]) * (1.0 if step["op"] == "loosen" else -1.0)
+    if step.by is not None:
+        faces = region_faces(step.offset_region, g, V3, state.panels)
+        by = float(step.by) * (1.0 if step.op == "loosen" else -1.0)
         # the seam pairs the flatten after the edit takes from the same structure
         pairs = structure(g).seam_halfedges
         V_new, sigma = offset_region(
@@ -122,13 +176,13 @@ def loosen(state: EditState, step: dict, *, options: EditOptions) -> EditState:
             symbolic=options.symbolic,
         )
         rec = {
-            "op": step["op"],
-            "by": float(step["by"]),
+            "op": step.op,
+            "by": float(step.by),
             "triangles": int(faces.size),
             "smoothing": round(sigma, 6),
         }
     else:
-        view = step.get("view") or "front"
+        view = step.sketch_view
         frame = view_frame(view, frame=g.frame)
         X = V3 @ frame.T
         T = g.F3
@@ -136,7 +190,7 @@ def loosen(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         handles, targets, change = silhouette_targets(
             X,
             T,
-            np.asarray(step["silhouette"], float),
+            np.asarray(step.silhouette, float),
             row=ROW_EDGES * h,
             view_name=view_name(view),
         )
@@ -150,7 +204,7 @@ def loosen(state: EditState, step: dict, *, options: EditOptions) -> EditState:
         else:
             V_new = arap_deform(V3, T, handles, moved, symbolic=options.symbolic)
         rec = {
-            "op": step["op"],
+            "op": step.op,
             "view": view,
             "outline_points": int(change.size),
             "handles": int(handles.size),
@@ -161,5 +215,5 @@ def loosen(state: EditState, step: dict, *, options: EditOptions) -> EditState:
     return replace(state, V3=V_new, even=even, log=(*state.log, rec))
 
 
-register("loosen", PARAMS, check=one_form)(loosen)
-register("tighten", PARAMS, check=one_form)(loosen)
+register(LoosenStep, check=one_form)(loosen)
+register(TightenStep, check=one_form)(loosen)
