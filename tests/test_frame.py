@@ -211,3 +211,48 @@ def test_adjust_under_z_up_gives_the_same_report_and_names(recipe, sample, tmp_p
     back_z = load_garment(tmp_path / "oz" / "garment.obj", frame=Z_FRAME).garment
     assert [p.name for p in structure(back_z).panels] == [p.name for p in structure(back_y).panels]
     np.testing.assert_allclose(back_z.V3, back_y.V3 @ Z_UP.T, atol=1e-6)
+
+
+def test_a_file_ptailor_wrote_carries_its_frame(tmp_path):
+    """A garment written in a frame other than the default says so in a comment, and a
+    reader given no axes takes it: an adjusted z-up garment reads back z up."""
+    g = turned(GARMENTS["skirt"](), Z_UP, Z_FRAME)
+    write_garment(tmp_path / "z.obj", g)
+    assert "# ptailor frame: up z, front -y\n" in (tmp_path / "z.obj").read_text()
+    assert load_garment(tmp_path / "z.obj").garment.frame == Z_FRAME
+    # the command line's axes win over the file's
+    assert load_garment(tmp_path / "z.obj", frame=DEFAULT_FRAME).garment.frame == DEFAULT_FRAME
+    # a default-frame garment's file says nothing (and reads back y up)
+    write_garment(tmp_path / "y.obj", GARMENTS["skirt"]())
+    assert "ptailor frame" not in (tmp_path / "y.obj").read_text()
+    assert load_garment(tmp_path / "y.obj").garment.frame == DEFAULT_FRAME
+    # a frame off the axes has no names to write: the file says nothing
+    assert Frame((0, 1, 0), (1, 0, 1)).header() is None
+
+
+def test_a_bad_frame_comment_is_exit_2_naming_the_file(tmp_path):
+    bad = tmp_path / "bad.obj"
+    write_garment(bad, GARMENTS["skirt"](), header=["ptailor frame: up z, front z"])
+    r = CliRunner().invoke(cli, ["inspect", str(bad)])
+    assert r.exit_code == 2
+    assert "bad.obj" in r.output and "parallel" in r.output
+
+
+def test_adjust_then_inspect_keeps_the_frame(tmp_path):
+    """``adjust --up z --front -y`` writes a garment that ``inspect`` (no axes) names the
+    same way: its openings are found under the frame the file states."""
+    g = GARMENTS["skirt"]()
+    _write_bare(tmp_path / "z.obj", g, g.V3 @ Z_UP.T)
+    (tmp_path / "r.yaml").write_text("units: cm\nsteps: []\n")
+    r = CliRunner().invoke(cli, ["adjust", str(tmp_path / "z.obj"), str(tmp_path / "r.yaml"),
+                                 "-o", str(tmp_path / "o"), "--formats", "obj",
+                                 "--up", "z", "--front", "-y"])  # fmt: skip
+    assert r.exit_code == 0, r.output
+    info = CliRunner().invoke(cli, ["inspect", str(tmp_path / "o" / "garment.obj"), "--json"])
+    assert info.exit_code == 0, info.output
+    names = sorted(o["name"] for o in json.loads(info.output)["openings"])
+    assert names == names_of_openings(g)
+
+
+def names_of_openings(g) -> list[str]:
+    return sorted(o.name for o in structure(g).openings)

@@ -117,7 +117,7 @@ def _garment_info(garment, *, drape, units, pattern_units, drape_units, weld, ax
         pattern_units=pattern_units,
         drape_units=drape_units,
         weld=weld,
-        frame=resolve_frame(*axes),
+        frame=resolve_frame(*axes, default=None),
     )
     matching = None
     if spec is not None:

@@ -13,7 +13,7 @@ from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
 from ptailor.formats import is_pattern_file, pattern_reader_for, reader_for
 from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
-from ptailor.model.frame import DEFAULT_FRAME, Frame
+from ptailor.model.frame import DEFAULT_FRAME, Frame, frame_from_header
 from ptailor.model.garment import Garment
 from ptailor.model.pieces import PatternFile
 from ptailor.model.repair import check_units, intake, unit_ratios
@@ -135,7 +135,7 @@ def load_garment(
     size: str | None = None,
     dxf_units: str | None = None,
     weld: str | float = "auto",
-    frame: Frame = DEFAULT_FRAME,
+    frame: Frame | None = None,
 ) -> LoadedGarment:
     """Read, repair and check a garment.
 
@@ -159,9 +159,12 @@ def load_garment(
     weld : str or float
         ``auto``, ``off`` or a distance in ``units`` (:func:`parse_weld`,
         :func:`ptailor.model.repair.intake`).
-    frame : Frame
+    frame : Frame, optional
         The wearer's axes in the drape's coordinates (the command line's ``--up`` and
-        ``--front``, else the recipe's): the garment carries it.
+        ``--front``, else the recipe's): the garment carries it. None: the frame the
+        file's comment lines state (``# ptailor frame: up z, front -y``, as ptailor writes
+        a garment in any frame but the default), else
+        :data:`~ptailor.model.frame.DEFAULT_FRAME`.
 
     Returns
     -------
@@ -190,6 +193,11 @@ def load_garment(
             dxf_units=dxf_units,
             weld=weld,
         )
+    if frame is None:
+        try:
+            frame = frame_from_header(loaded.header) or DEFAULT_FRAME
+        except ValueError as exc:
+            raise PtailorError(f"its frame comment: {exc}", path=path) from None
     return replace(loaded, garment=loaded.garment.with_frame(frame))
 
 

@@ -421,5 +421,5 @@ def write_garment(path: str | Path, garment: Garment, *, header: Sequence[str] =
         F2=garment.F2,
         face_panel=st.face_panel,
         panel_names=[p.name for p in plist],
-        header=list(header),
+        header=[*header, *filter(None, [garment.frame.header()])],
     )

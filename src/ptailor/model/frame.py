@@ -18,13 +18,14 @@ Frame(up=(0.0, 0.0, 1.0), front=(0.0, -1.0, 0.0))
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 import numpy as np
 
 from ptailor import tolerances as tol
 
-__all__ = ["AXIS_NAMES", "DEFAULT_FRAME", "Axis", "Frame", "axis_vector"]
+__all__ = ["AXIS_NAMES", "DEFAULT_FRAME", "Axis", "Frame", "axis_vector", "frame_from_header"]
 
 Axis = tuple[float, float, float]
 #: the names ``--up``, ``--front`` and a recipe's ``up:``, ``front:`` take
@@ -86,6 +87,31 @@ class Frame:
         """The frame of two axis names (``"z"``, ``"-y"``)."""
         return cls(axis_vector(up), axis_vector(front))
 
+    def names(self) -> tuple[str, str] | None:
+        """``(up, front)`` as axis names when both lie along an axis (``("z", "-y")``),
+        else None.
+
+        Examples
+        --------
+        >>> Frame((0, 0, 2), (0, -1, 0)).names(), Frame((0, 1, 0), (1, 0, 1)).names()
+        (('z', '-y'), None)
+        """
+        out = []
+        for v in (self.up, self.front):
+            k = [i for i, c in enumerate(v) if c != 0.0]
+            if len(k) != 1:
+                return None
+            out.append(("-" if v[k[0]] < 0 else "") + "xyz"[k[0]])
+        return out[0], out[1]
+
+    def header(self) -> str | None:
+        """The comment line a garment file carries its frame in (:func:`frame_from_header`
+        reads it back), or None for the default frame or one off the axes."""
+        names = self.names()
+        if names is None or self == DEFAULT_FRAME:
+            return None
+        return f"{_HEADER} up {names[0]}, front {names[1]}"
+
     @property
     def side(self) -> Axis:
         """The wearer's left, ``up x front`` made unit (+x with y up and z front: the
@@ -115,3 +141,26 @@ class Frame:
 #: the frame of garments that say none: y up, z front (the OBJ datasets' and every
 #: generated sample's convention)
 DEFAULT_FRAME = Frame()
+#: how a garment file's comment line starts that says its frame (:meth:`Frame.header`)
+_HEADER = "ptailor frame:"
+_HEADER_RE = re.compile(r"^ptailor frame: up (-?[xyz]), front (-?[xyz])$")
+
+
+def frame_from_header(header) -> Frame | None:
+    """The frame a garment file's comment lines state (:meth:`Frame.header`), or None.
+
+    Parameters
+    ----------
+    header : sequence of str
+        The file's leading comment lines, without ``#``.
+
+    Examples
+    --------
+    >>> frame_from_header(["made by hand", "ptailor frame: up z, front -y"])
+    Frame(up=(0.0, 0.0, 1.0), front=(0.0, -1.0, 0.0))
+    """
+    for line in header:
+        m = _HEADER_RE.match(line.strip())
+        if m:
+            return Frame.from_names(m.group(1), m.group(2))
+    return None

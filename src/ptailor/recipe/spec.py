@@ -14,7 +14,7 @@ from ptailor.edits.checks import (
 )
 from ptailor.edits.registry import COMMON_FIELDS, Step
 from ptailor.errors import PtailorError
-from ptailor.model.frame import AXIS_NAMES, Frame
+from ptailor.model.frame import AXIS_NAMES, DEFAULT_FRAME, Frame
 
 FLATTEN_PARAMS = {
     "method": (choice("scale-preserving", "uniform"), "scale-preserving"),
@@ -67,9 +67,15 @@ def axes_problem(
     return None
 
 
-def resolve_frame(up: str | None, front: str | None, recipe: Recipe | None = None) -> Frame:
+def resolve_frame(
+    up: str | None,
+    front: str | None,
+    recipe: Recipe | None = None,
+    *,
+    default: Frame | None = DEFAULT_FRAME,
+) -> Frame | None:
     """The garment's frame from axis names: the command line's, else the recipe's, else
-    :data:`~ptailor.model.frame.DEFAULT_FRAME` (y up, z front).
+    ``default``.
 
     Parameters
     ----------
@@ -77,10 +83,14 @@ def resolve_frame(up: str | None, front: str | None, recipe: Recipe | None = Non
         ``--up``, ``--front`` (``"z"``, ``"-y"``, ...); None where not given.
     recipe : Recipe, optional
         Its ``up:``/``front:`` where the command line gives none.
+    default : Frame or None
+        When neither gives an axis: :data:`~ptailor.model.frame.DEFAULT_FRAME` (y up, z
+        front), or None to leave it to the garment file (``load_garment(frame=None)``
+        reads the frame a ptailor-written file states, else the default).
 
     Returns
     -------
-    Frame
+    Frame or None
 
     Raises
     ------
@@ -89,6 +99,8 @@ def resolve_frame(up: str | None, front: str | None, recipe: Recipe | None = Non
     """
     u = up or (recipe.up if recipe else None)
     f = front or (recipe.front if recipe else None)
+    if u is None and f is None:
+        return default
     bad = axes_problem(
         u,
         f,

@@ -79,7 +79,7 @@ def load_input(
         weld=options.weld,
         size=options.size,
         dxf_units=options.dxf_units,
-        frame=resolve_frame(options.up, options.front, recipe),
+        frame=resolve_frame(options.up, options.front, recipe, default=None),
     )
 
 

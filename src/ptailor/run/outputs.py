@@ -78,6 +78,7 @@ def output_obj(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
         f"v: {loaded.drape_scale:.9g} {g.units} per unit; "
         f"vt: {loaded.pattern_scale:.9g} {g.units} per unit"
         + (" (estimated)" if loaded.pattern_units_estimated else ""),
+        *filter(None, [g.frame.header()]),
     ]
     name = FILE_NAMES["obj"]
     writer_for(name)(

@@ -255,6 +255,7 @@ def write_verify_files(
                 f"ptailor re-drape check ({key}): v = settled drape, vt = the pattern sewn",
                 f"v: {loaded.drape_scale:.9g} {units} per unit; "
                 f"vt: {loaded.pattern_scale:.9g} {units} per unit",
+                *filter(None, [inp.frame.header()]),
             ],
         )
     verify_png(
@@ -324,7 +325,7 @@ def verify_garment(
     check_engine()
     auto = options.body == "auto"
     check_output_dir(out, [garment, original, None if auto else options.body])
-    frame = resolve_frame(options.up, options.front)
+    frame = resolve_frame(options.up, options.front, default=None)
     orig = None if original is None else _load(original, options, units, frame)
     edited = _load(garment, _same_pattern_scale(options, orig, units), units, frame)
     orig = orig or edited
