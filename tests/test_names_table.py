@@ -16,6 +16,11 @@ row must change the table in the same commit. Rewrite it with
 and read ``git diff tests/names``: each changed line is a renamed panel, seam or opening. A
 new sample, a new option value or a new shared garment needs its case in ``cases.py`` (a test
 here fails without one). The shared garments' cases skip when ../shared is absent.
+
+Two more checks over every case: the table keeps one scheme (each word once, one side at
+most, no ``_2``, every left name beside its right one: :mod:`ptailor.model.names`), and the
+garment reflected across its centre plane gets the mirror names. The whole file runs in
+about 5 s.
 """
 
 from __future__ import annotations
@@ -87,3 +92,57 @@ def test_every_shared_garment_has_a_case():
     cased = {shared_file(c) for c in CASES if c.shared}
     found = {p for p in GARMENTS.rglob("*.obj")}
     assert found <= cased, f"shared garments without a case: {sorted(found - cased)}"
+
+
+def _swap(name: str) -> str:
+    return "_".join({"left": "right", "right": "left"}.get(w, w) for w in name.split("_"))
+
+
+@pytest.mark.parametrize("case", CASES, ids=[c.key for c in CASES])
+def test_the_table_keeps_one_scheme(case):
+    """Every name of the table says each word once (no ``bodice_front_right_bodice_front_
+    upper``, no ``side_right_left``), at most one side, no ``_2`` (a place word tells equal
+    names apart), and a name with a side has its mirror name beside it."""
+    if not case.path.is_file():
+        pytest.skip(f"no table for {case.key}")
+    t = json.loads(case.path.read_text())
+    names = [*t["panels"], *t.get("geometry", []), *(s[0] for s in t["seams"])]
+    for n in names:
+        w = n.split("_")
+        assert len(w) == len(set(w)) and not {"left", "right"} <= set(w), n
+        assert not w[-1].isdigit() or n.startswith(("panel_", "opening_")), n
+    own = [*t.get("geometry", t["panels"]), *(s[0] for s in t["seams"])]
+    lonely = [n for n in own if _swap(n) not in own]
+    assert not lonely, f"names without their mirror name: {lonely}"
+
+
+@pytest.mark.parametrize("case", CASES, ids=[c.key for c in CASES])
+def test_a_mirrored_garment_gets_the_mirror_names(case):
+    """The garment reflected across its centre plane: the same rows with left and right
+    swapped (a panel or seam and its mirror image are named from their shared place)."""
+    from dataclasses import replace
+
+    import numpy as np
+
+    from tests.names.cases import _AXIS, garment_of, names_of
+
+    if case.shared and not shared_file(case).is_file():
+        pytest.skip(f"{shared_file(case)} not available (../shared is absent)")
+    g = garment_of(case)
+    left = np.cross(_AXIS[case.up], _AXIS[case.front])
+    flip = np.eye(3) - 2.0 * np.outer(left, left)
+    m = replace(
+        g,
+        V3=g.V3 @ flip.T,
+        F3=np.ascontiguousarray(g.F3[:, ::-1]),
+        V2=g.V2 * np.array([-1.0, 1.0]),
+        F2=np.ascontiguousarray(g.F2[:, ::-1]),
+    )
+    want, got = names_of(case), names_of(case, garment=m)
+    assert got["panels"] == [_swap(n) for n in want["panels"]]
+    assert got.get("geometry") == (
+        [_swap(n) for n in want["geometry"]] if "geometry" in want else None
+    )
+    rows = sorted([_swap(n), *sorted(map(_swap, ab))] for n, *ab in want["seams"])
+    assert sorted([n, *sorted(ab)] for n, *ab in got["seams"]) == rows
+    assert sorted(got["openings"]) == sorted(map(_swap, want["openings"]))

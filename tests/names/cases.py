@@ -111,13 +111,14 @@ def garment_of(case: Case):
     return load_garment(shared_file(case), pattern_units=pattern, drape_units=drape).garment
 
 
-def names_of(case: Case) -> dict:
+def names_of(case: Case, garment=None) -> dict:
     """What the table holds for ``case``: the garment's names, as ``ptailor inspect --json``
-    has them (:func:`ptailor.report.inspection.garment_summary`)."""
+    has them (:func:`ptailor.report.inspection.garment_summary`); of ``garment`` instead
+    of the case's own when given (the same garment moved)."""
     from ptailor.model.names import seam_names
     from ptailor.model.structure import structure
 
-    g = garment_of(case)
+    g = garment_of(case) if garment is None else garment
     st = structure(g, up=_AXIS[case.up], front=_AXIS[case.front])
     panels = [p.name for p in st.panels]
     seams = seam_names(g.V3, st.seams, st.layout, panels)
