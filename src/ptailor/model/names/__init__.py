@@ -34,7 +34,19 @@ Panel rules (see :func:`panel_layout` for the details):
   ``_upper``/``_lower`` (stacked) or ``_side``/``_centre`` (outward/inward of it), whichever
   offset dominates (measured against the largest's extent); of two side by side, the inner
   keeps the name and the outer is ``_side`` (``bodice_back_left``,
-  ``bodice_back_left_side``); names still equal get ``_2``, ``_3``, ...
+  ``bodice_back_left_side``); panels that got the same qualifier are told apart again the
+  same way along the other axis (``front_right_upper``, ``front_right_upper_side``); names
+  still equal get ``_2``, ``_3``, ...
+- A panel in the centre plane (reaching across it by float noise only) is centred.
+
+Names, panels' and seams' alike, follow one scheme: ``[tier_]kind[_face][_side][_place]``
+(``bodice_front_right``, ``sleeve_left_back``, ``bodice_yoke_front_left``,
+``skirt_side_right_outer``): each word once, the side (``left``/``right``) the only word a
+mirror swaps, place words last. A panel or seam and its mirror image are told apart from the
+others by their shared place (the mean of the one's measures and the other's mirrored), and
+get mirror names: naming the mirrored garment gives the mirror names. A seam between a panel
+and one that continues it (above it, across the body) is a yoke seam, not the two panels'
+names joined; ``tests/names/`` pins every name of the samples and shared garments.
 
 Everything is vectorised over triangles; loops run over panels, openings and seams only.
 """

@@ -227,7 +227,6 @@ def _mirrored_names(
         A centred panel's own index, a paired panel's partner, else -1.
     """
     n_p = len(side)
-    names = _unique_names(base, area, rel, ext, s_abs)
     pairs = mirror_pairs(rel, area, ext, side)
     mirror = np.full(n_p, -1, dtype=np.int64)
     mirror[[p for p in range(n_p) if side[p] == "centre"]] = [
@@ -235,4 +234,13 @@ def _mirrored_names(
     ]
     for p, q in pairs:
         mirror[p], mirror[q] = q, p
+    # a panel and its mirror image are told apart from others by their shared place: the
+    # means of the one's measures and the other's mirrored (mirror names, whichever side
+    # the last bits of an asymmetric mesh fall on)
+    img = np.where(mirror >= 0, mirror, np.arange(n_p))
+    flip = np.array([-1.0, 1.0, 1.0])
+    rel_s = np.where((img == np.arange(n_p))[:, None], rel, (rel + rel[img] * flip) / 2.0)
+    names = _unique_names(
+        base, (area + area[img]) / 2.0, rel_s, (ext + ext[img]) / 2.0, (s_abs + s_abs[img]) / 2.0
+    )
     return mirrored_names(names, pairs), mirror

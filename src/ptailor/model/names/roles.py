@@ -14,6 +14,9 @@ _STRIP_TOUCH = 0.4
 #: A panel straddles the centre line when its shorter reach across it is this fraction of
 #: its longer one.
 _CENTRED = 1.0 / 3.0
+#: A panel lies in the centre plane when it reaches no further across it than this fraction
+#: of the garment's width.
+_ON_LINE = 1e-9
 
 _CENTRED_OPENINGS = ("neckline", "hem", "waist", "armhole_left", "armhole_right")
 #: A panel is named as going around the body (a tube) only when it holds at least this
@@ -43,6 +46,10 @@ def sides(pm: PanelMeasures) -> tuple[list[str], np.ndarray, np.ndarray]:
     centred = (np.minimum(reach_l, reach_r) > 0) & (
         np.minimum(reach_l, reach_r) >= _CENTRED * np.maximum(reach_l, reach_r)
     )
+    # a panel in the centre plane (a fin standing out from the centre front) is its own
+    # mirror image: centred, not on the side its last bits fall on
+    width = float(pm.hi_abs[:, 0].max() - pm.lo_abs[:, 0].min()) if n_p else 0.0
+    centred |= np.maximum(np.abs(reach_l), np.abs(reach_r)) <= _ON_LINE * width
     for p in range(n_p):
         if not centred[p]:
             side[p] = "left" if s_rel[p] > 0 else "right"
@@ -264,26 +271,50 @@ def _unique_names(
     Returns
     -------
     list of str
+        Panels that got the same qualifier (two both above the largest) are told apart
+        again the same way along the other axis (``front_right_upper``,
+        ``front_right_upper_side``); names still equal get ``_2``, ``_3``, ...
     """
     out = list(base)
     for name in sorted(set(base)):
         idx = [p for p, b in enumerate(base) if b == name]
-        if len(idx) < 2:
-            continue
-        idx.sort(key=lambda p: (-area[p], p))
-        ref = idx[0]
-        for p in idx[1:]:
-            dh = (cen[p, 1] - cen[ref, 1]) / max(ext[ref, 1], 1e-12)
-            ds = (reach[p] - reach[ref]) / max(ext[ref, 0], 1e-12)
-            if abs(dh) >= abs(ds):
-                out[p] = f"{name}_{'upper' if dh > 0 else 'lower'}"
-            elif ds > 0:
-                out[p] = f"{name}_side"
-            elif len(idx) == 2:  # the inner of two side by side keeps the name
-                out[ref] = f"{name}_side"
-            else:
-                out[p] = f"{name}_centre"
+        if len(idx) > 1:
+            _qualify_panels(out, idx, area, cen, ext, reach, frozenset())
     return _suffix_duplicates(out)
+
+
+def _qualify_panels(
+    out: list[str],
+    idx: list[int],
+    area: np.ndarray,
+    cen: np.ndarray,
+    ext: np.ndarray,
+    reach: np.ndarray,
+    used: frozenset,
+) -> None:
+    """Qualify the panels ``idx`` of one name in ``out`` against the largest of them, along
+    up (``_upper``/``_lower``) or across (``_side``/``_centre``), whichever offset dominates
+    and is not in ``used``; recurse into panels that got the same qualifier."""
+    idx = sorted(idx, key=lambda p: (-area[p], p))
+    ref, name = idx[0], out[idx[0]]
+    got: dict[tuple[str, str], list[int]] = {}
+    for p in idx[1:]:
+        dh = (cen[p, 1] - cen[ref, 1]) / max(ext[ref, 1], 1e-12)
+        ds = (reach[p] - reach[ref]) / max(ext[ref, 0], 1e-12)
+        if "across" in used or ("up" not in used and abs(dh) >= abs(ds)):
+            word, axis = ("upper" if dh > 0 else "lower"), "up"
+        elif ds > 0:
+            word, axis = "side", "across"
+        elif len(idx) == 2:  # the inner of two side by side keeps the name
+            out[ref] = f"{name}_side"
+            continue
+        else:
+            word, axis = "centre", "across"
+        out[p] = f"{name}_{word}"
+        got.setdefault((out[p], axis), []).append(p)
+    for (_, axis), same in got.items():
+        if len(same) > 1 and not used:  # one more axis, then _2, _3
+            _qualify_panels(out, same, area, cen, ext, reach, used | {axis})
 
 
 def mirror_name(name: str) -> str:

@@ -17,6 +17,18 @@ _SHOULDER = 0.75
 #: A seam between two fronts (backs) is a centre seam when its midpoint is this close to the
 #: centre line (fraction of the tier's half-width).
 _CENTRE_SEAM = 0.15
+#: the words a mirror swaps; place words along each axis (across: of a sided name)
+_SIDES = frozenset({"left", "right"})
+_WORDS = (("inner", "outer"), ("lower", "upper"), ("back", "front"))
+_ACROSS = (("right", -1), ("", 0), ("left", 1))
+#: Seams of one name are split at their median along an axis (the middle one of an odd count
+#: ``middle``: the bare name is the stem of the others, their seam line's name) when the
+#: widest gap between them is less than this times the next.
+_EVEN_GAPS = 1.5
+_FLIP = np.array([-1.0, 1.0, 1.0])
+#: A seam's mirror image lies this near its mirrored midpoint (fraction of the distance
+#: between the two midpoints, twice the distance from the centre line).
+_MIRROR_NEAR = 0.25
 
 
 def seam_names(
@@ -49,63 +61,110 @@ def seam_names(
           bodice_>``;
         - two body panels of one tier (prefixed ``bodice_``/``skirt_`` on a two-tier
           garment), front and back: ``shoulder_<side>`` when the seam is not vertical and in
-          the top quarter of the tier, else ``side_<side>``; both front (back):
-          ``yoke_front`` (``yoke_back``) when the seam is level, ``<panel a>_<panel b>``
-          when it is diagonal, else ``center_front`` (``center_back``) when its midpoint is
-          near the centre line, else ``princess_front_<side>`` (``princess_back_<side>``);
-          (vertical: the up component of the seam's principal direction >= 0.8; level:
-          <= 0.6);
+          the top quarter of the tier, else ``side_<side>``; both front (back): when the
+          seam is not vertical (it runs across, level or slanting: a panel and the one above
+          it) ``yoke_front`` (``yoke_back``), else ``center_front`` (``center_back``), each
+          with ``_<side>`` when its midpoint is not near the centre line (a vertical one then
+          ``princess_front_<side>``); vertical: the up component of the seam's principal
+          direction >= 0.8;
         - a body panel around the body (a tube) and another: a vertical seam is
           ``side_<side>`` or ``center_front``/``center_back`` by where its midpoint sits,
-          any other ``<panel a>_<panel b>``;
-        - anything else: ``<panel a>_<panel b>``.
+          any other is named by its panels (below);
+        - anything else by its panels: the first one's name, then the words of the second's
+          it lacks (each word once: ``cuff_left`` and ``front`` give ``cuff_left_front``).
 
-        Equal names get ``_front``/``_back``, ``_upper``/``_lower`` or ``_left``/``_right``
-        along the axis that separates their midpoints most, then ``_2``, ``_3``, ...
+        One scheme for every name: ``[tier_]kind[_face][_side][_place]``, where ``_side``
+        (``left``/``right``) is the only word a mirror swaps. A seam and its mirror image
+        (the seam across the centre line between the mirror images of its panels) are named
+        from their shared place, the mean of the one's midpoint and the other's mirrored,
+        so they get mirror names. Equal names are told apart by place words
+        (:func:`_place_words`): ``_upper``/``_lower``, ``_front``/``_back``, across the
+        body ``_left``/``_right`` (for a name without a side) or ``_inner``/``_outer`` (for
+        one with it), along the axis that separates their midpoints most, then along
+        another; ``_2``, ``_3``, ... only where no axis does.
     """
     X = np.asarray(V3, dtype=np.float64) @ layout.frame.T
     origin = np.array([layout.s0, layout.h0, layout.f0])
     pn = list(layout.names if panel_names is None else panel_names)
-    base, mids = [], []
-    for s in seam_list:  # a loop over seams
-        e = np.asarray(s.edges3)
-        P, Q = X[e[:, 0]] - origin, X[e[:, 1]] - origin
-        seg = np.linalg.norm(Q - P, axis=1)
-        tot = float(seg.sum())
-        mid = ((P + Q) * 0.5 * seg[:, None]).sum(0) / tot if tot > 0 else P.mean(0)
-        pts = np.concatenate([P, Q])
-        if len(pts) > 1:
-            _, _, vt = np.linalg.svd(pts - pts.mean(0), full_matrices=False)
-            upc = abs(float(vt[0, 1]))
-        else:
-            upc = 0.5
-        mids.append(mid)
-        base.append(_seam_base(s.panels, mid, upc, layout, pn))
-    M = np.array(mids).reshape(-1, 3)
-    return _mirrored(_qualify(base, M), seam_list, M, layout.mirror)
+    geo = [_seam_geometry(X[np.asarray(s.edges3)] - origin) for s in seam_list]
+    M = np.array([m for m, _ in geo]).reshape(-1, 3)
+    U = np.array([u for _, u in geo])
+    partner = _partners(seam_list, M, layout.mirror)
+    # a seam and its mirror image are named from their shared place: the mean of the one's
+    # midpoint and the other's mirrored (so the two get mirror names, whichever side the
+    # last bits of an asymmetric mesh fall on)
+    S = (M + M[partner] * _FLIP) / 2.0
+    S[partner == np.arange(len(M))] = M[partner == np.arange(len(M))]
+    Us = (U + U[partner]) / 2.0
+    base = [_seam_base(s.panels, S[i], Us[i], layout, pn) for i, s in enumerate(seam_list)]
+    return _mirrored(_qualify(base, S), partner, S)
 
 
-def _mirrored(names: list[str], seam_list: list, mids: np.ndarray, mirror: np.ndarray) -> list[str]:
-    """Mirror seams named alike: a seam on the wearer's right whose panels are the mirror
-    images of a left seam's (a centred panel its own) takes the left one's name with
-    ``left`` and ``right`` swapped, unless another seam has that name."""
-    if len(mirror) == 0 or not len(names):
-        return names
-    out = list(names)
-    pairs = [tuple(sorted(int(mirror[p]) for p in s.panels)) for s in seam_list]
+def _seam_geometry(E: np.ndarray) -> tuple[np.ndarray, float]:
+    """A seam's length-weighted midpoint and the up component of its principal direction,
+    from its edges ``E`` (``(k, 2, 3)``, in the wearer's frame)."""
+    P, Q = E[:, 0], E[:, 1]
+    seg = np.linalg.norm(Q - P, axis=1)
+    tot = float(seg.sum())
+    mid = ((P + Q) * 0.5 * seg[:, None]).sum(0) / tot if tot > 0 else P.mean(0)
+    pts = np.concatenate([P, Q])
+    if len(pts) < 2:
+        return mid, 0.5
+    _, _, vt = np.linalg.svd(pts - pts.mean(0), full_matrices=False)
+    return mid, abs(float(vt[0, 1]))
+
+
+def _partners(seam_list: list, mids: np.ndarray, mirror: np.ndarray) -> np.ndarray:
+    """Each seam's mirror image: a seam on the other side of the centre line whose panels
+    are the mirror images of its own (a centred panel its own) and whose midpoint lies
+    nearer the mirrored one than ``_MIRROR_NEAR`` of the two midpoints' distance, nearest
+    first; a seam without one is its own (the front and back seams of two halves, each
+    across the centre line, are not each other's).
+
+    Returns
+    -------
+    (n_s,) int array
+    """
+    n = len(seam_list)
+    partner = np.arange(n)
+    if len(mirror) == 0 or n == 0:
+        return partner
     own = [tuple(sorted(int(p) for p in s.panels)) for s in seam_list]
-    flip = mids * np.array([-1.0, 1.0, 1.0])
-    for i in np.argsort(-mids[:, 0], kind="stable").tolist():  # left seams first
-        if mids[i, 0] <= 0 or -1 in pairs[i]:
-            continue
-        cand = [j for j in range(len(out)) if own[j] == pairs[i] and j != i and mids[j, 0] < 0]
-        if not cand:
-            continue
-        j = min(cand, key=lambda k: float(np.linalg.norm(mids[k] - flip[i])))
-        want = mirror_name(out[i])
+    image = [tuple(sorted(int(mirror[p]) for p in s.panels)) for s in seam_list]
+    flip = mids * _FLIP
+    cand = [
+        (float(np.linalg.norm(mids[j] - flip[i])), i, j)
+        for i in range(n)
+        if mids[i, 0] > 0 and -1 not in image[i]
+        for j in range(n)
+        if j != i and own[j] == image[i] and mids[j, 0] < 0
+    ]
+    apart = [float(np.linalg.norm(mids[i] - mids[j])) for _, i, j in cand]
+    cand = [c for c, a in zip(cand, apart, strict=True) if c[0] <= _MIRROR_NEAR * a]
+    for _, i, j in sorted(cand):  # a loop over candidate pairs, nearest first
+        if partner[i] == i and partner[j] == j:
+            partner[i], partner[j] = j, i
+    return partner
+
+
+def _mirrored(names: list[str], partner: np.ndarray, mids: np.ndarray) -> list[str]:
+    """Mirror seams named alike: the right seam of each pair takes the left one's name with
+    ``left`` and ``right`` swapped, unless another seam has that name."""
+    out = list(names)
+    for i in np.flatnonzero((partner != np.arange(len(partner))) & (mids[:, 0] > 0)).tolist():
+        want, j = mirror_name(out[i]), int(partner[i])
         if out[j] != want and want not in out:
             out[j] = want
     return out
+
+
+def _joined(a: str, b: str) -> str:
+    """A seam named by its panels: ``a``'s words, then those of ``b`` that ``a`` lacks, so
+    that each word (the tier, the face, the side a mirror swaps) is said once
+    (``cuff_left`` and ``front``: ``cuff_left_front``; ``skirt`` and ``skirt_front``:
+    ``skirt_front``; a panel's seam with itself: its name)."""
+    words = a.split("_")
+    return "_".join(words + [w for w in b.split("_") if w not in words])
 
 
 def _sfx(side: str) -> str:
@@ -129,7 +188,7 @@ def _seam_base(
         return name
     if roles == {"body"}:
         return _body_seam(a, b, mid, upc, lay, pn)
-    return f"{pn[a]}_{pn[b]}" if a != b else pn[a]
+    return _joined(pn[a], pn[b])
 
 
 def _role_seam(a: int, b: int, lay: PanelLayout) -> str | None:
@@ -167,7 +226,7 @@ def _body_seam(a: int, b: int, mid: np.ndarray, upc: float, lay: PanelLayout, pn
     sd = _side_of(float(mid[0]))
     if not fa or not fb:  # a panel around the body
         if not vertical:
-            return f"{pn[a]}_{pn[b]}" if a != b else pn[a]
+            return _joined(pn[a], pn[b])
         if abs(mid[0]) >= abs(mid[2]):
             return f"{pre}side_{sd}"
         return f"{pre}center_{'front' if mid[2] > 0 else 'back'}"
@@ -177,28 +236,102 @@ def _body_seam(a: int, b: int, mid: np.ndarray, upc: float, lay: PanelLayout, pn
         t_hi = float(lay.hi[members, 1].max())
         top = (mid[1] - t_lo) >= _SHOULDER * max(t_hi - t_lo, 1e-12)
         return f"{pre}{'shoulder' if top and not vertical else 'side'}_{sd}"
-    if upc <= _LEVEL:
-        return f"{pre}yoke_{fa}"
-    if not vertical:  # diagonal: named by its panels
-        return f"{pn[a]}_{pn[b]}"
     half_w = max(float(np.abs(np.r_[lay.lo[members, 0], lay.hi[members, 0]]).max()), 1e-12)
-    if abs(mid[0]) <= _CENTRE_SEAM * half_w:
-        return f"{pre}center_{fa}"
-    return f"{pre}princess_{fa}_{sd}"
+    centred = abs(mid[0]) <= _CENTRE_SEAM * half_w
+    if not vertical:  # across the body (level or slanting): a panel and the one above it
+        return f"{pre}yoke_{fa}" + ("" if centred else f"_{sd}")
+    return f"{pre}center_{fa}" if centred else f"{pre}princess_{fa}_{sd}"
 
 
 def _qualify(base: list[str], mids: np.ndarray) -> list[str]:
-    """Tell equal seam names apart along the axis that separates their midpoints most."""
+    """Tell equal seam names apart by where their midpoints sit (:func:`_place_words`)."""
     out = list(base)
-    words = (("right", "left"), ("lower", "upper"), ("back", "front"))
     for name in sorted(set(base)):
         idx = [i for i, b in enumerate(base) if b == name]
         if len(idx) < 2:
             continue
-        M = mids[idx]
-        ax = int(np.argmax(np.ptp(M, axis=0)))
-        cut = float(np.median(M[:, ax]))
-        for j, i in enumerate(idx):
-            hi = M[j, ax] > (M[1 - j, ax] if len(idx) == 2 else cut)
-            out[i] = f"{name}_{words[ax][int(hi)]}"
+        words = _place_words(mids[idx], sided=bool(_SIDES & set(name.split("_"))))
+        for i, w in zip(idx, words, strict=True):
+            out[i] = "_".join([name, *w])
     return _suffix_duplicates(out)
+
+
+def _place_words(M: np.ndarray, *, sided: bool) -> list[list[str]]:
+    """Place words that tell apart seams of one name, mirror images alike.
+
+    The seams are split along the axis that separates their midpoints most, at the widest
+    gap between them (where the gaps are even, at the median: an odd count's middle seam is
+    ``middle``), and each part again, along another axis, while its seams still share the
+    words: ``lower``/``upper``, ``back``/``front``, and across the body
+    ``right``/``left`` by the side of the centre line a midpoint lies on (a seam on the
+    centre line gets no side word), or, for a name that already has its side (and for the
+    seams of one side), ``inner``/``outer`` by the distance from the centre line. A side
+    word goes first (``waist_right_back``, as ``armhole_right_back``).
+
+    Parameters
+    ----------
+    M : (k, 3) float array
+        Midpoints ``(left, up, front)`` from the centre line.
+    sided : bool
+        The name has its side word.
+
+    Returns
+    -------
+    list of list of str
+        The words per seam (seams no axis separates keep equal words: ``_2``, ``_3`` follow).
+    """
+    words: list[list[str]] = [[] for _ in range(len(M))]
+    _split(M, list(range(len(M))), sided, words, frozenset())
+    return [sorted(w, key=lambda x: x not in _SIDES) for w in words]
+
+
+def _split(
+    M: np.ndarray, members: list[int], sided: bool, words: list[list[str]], used: frozenset
+) -> None:
+    """Split ``members`` along the axis not in ``used`` that separates them most (axis
+    ``-1``: the side of the centre line); recurse into the parts."""
+    best = None
+    for ax in (0, 1, 2):
+        key = -1 if ax == 0 and not sided else ax
+        parts = None if key in used else _parts(M[members], key)
+        if parts is not None and (best is None or parts[0] > best[0]):
+            best = (*parts, key)
+    if best is None:
+        return
+    _, groups, key = best
+    for word, sub in groups:
+        chosen = [members[k] for k in sub]
+        for m in chosen:
+            if word:
+                words[m].append(word)
+        if len(chosen) > 1:
+            _split(M, chosen, sided or key == -1, words, used | {key})
+
+
+def _parts(M: np.ndarray, key: int) -> tuple[float, list] | None:
+    """How axis ``key`` splits the midpoints ``M`` (0: by the distance from the centre
+    line; -1: by its side): its spread and ``(word, indices)`` per part, or None when it
+    separates nothing (by side: when all lie on the centre line)."""
+    if key == -1:
+        x = M[:, 0]
+        tol = _CENTRE_SEAM * max(float(np.abs(x).max()), 1e-12)
+        side = np.where(x > tol, 1, np.where(x < -tol, -1, 0))
+        groups = [(w, np.flatnonzero(side == v).tolist()) for w, v in _ACROSS]
+        groups = [g for g in groups if g[1]]
+        if len(groups) < 2 and groups[0][0] == "":
+            return None
+        return float(np.ptp(x)), groups
+    v = np.abs(M[:, 0]) if key == 0 else M[:, key]
+    order = np.argsort(v, kind="stable")
+    gaps = np.diff(v[order])
+    if not len(gaps) or gaps.max() <= 0.0:
+        return None
+    lo_w, hi_w = _WORDS[key]
+    n, widest = len(v), np.sort(gaps)[::-1]
+    if len(gaps) > 1 and widest[0] < _EVEN_GAPS * widest[1]:  # evenly spread: at the median
+        lo, mid = order[: n // 2], order[n // 2 : (n + 1) // 2]
+        parts = [(lo_w, lo), ("middle", mid), (hi_w, order[(n + 1) // 2 :])]
+    else:  # at the widest gap
+        cut = int(np.argmax(gaps)) + 1
+        parts = [(lo_w, order[:cut]), (hi_w, order[cut:])]
+    return float(np.ptp(v)), [(w, sorted(p.tolist())) for w, p in parts if len(p)]
