@@ -124,12 +124,12 @@ def test_a_mirrored_garment_gets_the_mirror_names(case):
 
     import numpy as np
 
-    from tests.names.cases import _AXIS, garment_of, names_of
+    from tests.names.cases import garment_of, names_of
 
     if case.shared and not shared_file(case).is_file():
         pytest.skip(f"{shared_file(case)} not available (../shared is absent)")
     g = garment_of(case)
-    left = np.cross(_AXIS[case.up], _AXIS[case.front])
+    left = np.asarray(g.frame.side)
     flip = np.eye(3) - 2.0 * np.outer(left, left)
     m = replace(
         g,

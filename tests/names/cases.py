@@ -16,10 +16,6 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 
-#: axis name -> vector (as ``--up``/``--front`` take them)
-_AXIS = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
-
-
 @dataclass(frozen=True)
 class Case:
     """One garment of the table.
@@ -98,28 +94,33 @@ def shared_file(case: Case) -> Path:
 
 
 def garment_of(case: Case):
-    """The case's garment, as ``ptailor inspect`` reads it (a sample as generated)."""
+    """The case's garment, as ``ptailor inspect`` reads it (a sample as generated), worn in
+    the case's axes."""
+    from ptailor.model.frame import Frame
+
+    frame = Frame.from_names(case.up, case.front)
     kind, _, what = case.garment.partition(":")
     if kind == "sample":
         from ptailor import samples
 
         make: Callable = getattr(samples, what)
-        return make(**case.options)
+        return make(**case.options).with_frame(frame)
     from ptailor.formats.garment import load_garment
 
     pattern, drape = case.units
-    return load_garment(shared_file(case), pattern_units=pattern, drape_units=drape).garment
+    path = shared_file(case)
+    return load_garment(path, pattern_units=pattern, drape_units=drape, frame=frame).garment
 
 
 def names_of(case: Case, garment=None) -> dict:
     """What the table holds for ``case``: the garment's names, as ``ptailor inspect --json``
     has them (:func:`ptailor.report.inspection.garment_summary`); of ``garment`` instead
-    of the case's own when given (the same garment moved)."""
+    of the case's own when given (the same garment moved), named under its frame."""
     from ptailor.model.names import seam_names
     from ptailor.model.structure import structure
 
     g = garment_of(case) if garment is None else garment
-    st = structure(g, up=_AXIS[case.up], front=_AXIS[case.front])
+    st = structure(g)
     panels = [p.name for p in st.panels]
     seams = seam_names(g.V3, st.seams, st.layout, panels)
     out: dict = {"garment": case.garment}
