@@ -192,6 +192,17 @@ def test_closed_packages_import_no_private_names(package):
     assert found == []
 
 
+def test_no_module_imports_another_modules_private_names():
+    """A name one module shares with another is public (documented, no underscore): the
+    house rule the closed packages started, now for every module."""
+    found = [
+        hit
+        for m, p in MODULES.items()
+        for hit in private_imports(m, ast.parse(p.read_text(encoding="utf-8")), MODULES)
+    ]
+    assert found == []
+
+
 @pytest.mark.parametrize("package", CLOSED)
 def test_closed_packages_are_imported_through_their_init(package):
     through = [

@@ -16,6 +16,7 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 
+
 @dataclass(frozen=True)
 class Case:
     """One garment of the table.

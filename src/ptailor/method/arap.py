@@ -34,7 +34,16 @@ ITERATIONS = 5
 ANDERSON = 5
 
 
-def _check_inputs(V, F, handles, handle_positions):
+def check_arap_inputs(V, F, handles, handle_positions):
+    """``(V, F, handles, handle_positions)`` checked and as arrays (``V`` (n, 3) float,
+    ``F`` (m, 3) int, ``handles`` (h,) int, ``handle_positions`` (h, 3) float) for
+    :func:`arap` and :func:`ptailor.method.deform.arap_deform`.
+
+    Raises
+    ------
+    ValueError
+        Naming the first argument of the wrong shape, type or range.
+    """
     V = np.asarray(V, dtype=np.float64)
     if V.ndim != 2 or V.shape[1] != 3:
         raise ValueError(f"V must have shape (n, 3), got {V.shape}")
@@ -195,7 +204,7 @@ def arap_precompute(
     """
     from ptailor.method.solver import factor
 
-    V, F, handles, _ = _check_inputs(V, F, handles, np.zeros((np.size(handles), 3)))
+    V, F, handles, _ = check_arap_inputs(V, F, handles, np.zeros((np.size(handles), 3)))
     numbering = None
     if handles.size and F.shape[0]:
         numbering = _numbering(V, F, handles)

@@ -25,9 +25,9 @@ from ptailor.method.arap import (
     SIMILAR_MAX,
     UNIFORM_REG,
     ArapPrecompute,
-    _check_inputs,
     arap_precompute,
     arap_solve,
+    check_arap_inputs,
 )
 from ptailor.method.cell_rotations import warm_rotations
 from ptailor.method.cotangent import DEGENERATE_REL, cotangent_weights
@@ -126,6 +126,6 @@ def arap_deform(
         On malformed shapes, indices out of range, repeated handles or non-finite input
         (degenerate triangles, accuracy: the notes of :func:`arap_precompute`, :func:`arap_solve`).
     """
-    V, F, handles, Q = _check_inputs(V, F, handles, handle_positions)
+    V, F, handles, Q = check_arap_inputs(V, F, handles, handle_positions)
     pre = arap_precompute(V, F, handles, similar=similar, symbolic=symbolic)
     return arap_solve(pre, Q, iterations=iterations, tol=tol, anderson=anderson)

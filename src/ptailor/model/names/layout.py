@@ -9,7 +9,6 @@ import numpy as np
 from ptailor.model.frame import Frame
 from ptailor.model.names.measures import OpeningTouch, edge_graph, panel_measures
 from ptailor.model.names.roles import (
-    _unique_names,
     base_names,
     faces,
     limbs,
@@ -20,6 +19,7 @@ from ptailor.model.names.roles import (
     strip_roles,
     strip_shape,
     tiers,
+    unique_names,
 )
 from ptailor.model.openings import Opening, openings
 
@@ -240,7 +240,7 @@ def _mirrored_names(
     img = np.where(mirror >= 0, mirror, np.arange(n_p))
     flip = np.array([-1.0, 1.0, 1.0])
     rel_s = np.where((img == np.arange(n_p))[:, None], rel, (rel + rel[img] * flip) / 2.0)
-    names = _unique_names(
+    names = unique_names(
         base, (area + area[img]) / 2.0, rel_s, (ext + ext[img]) / 2.0, (s_abs + s_abs[img]) / 2.0
     )
     return mirrored_names(names, pairs), mirror

@@ -251,7 +251,7 @@ def base_names(
     return _two_piece_limbs(base, role, limb_side, cen_abs)
 
 
-def _unique_names(
+def unique_names(
     base: list[str], area: np.ndarray, cen: np.ndarray, ext: np.ndarray, reach: np.ndarray
 ) -> list[str]:
     """Disambiguate equal names: the largest keeps it, others get a place qualifier.
@@ -280,7 +280,7 @@ def _unique_names(
         idx = [p for p, b in enumerate(base) if b == name]
         if len(idx) > 1:
             _qualify_panels(out, idx, area, cen, ext, reach, frozenset())
-    return _suffix_duplicates(out)
+    return suffix_duplicates(out)
 
 
 def _qualify_panels(
@@ -373,7 +373,7 @@ def mirrored_names(names: list[str], pairs: list) -> list[str]:
     return out
 
 
-def _suffix_duplicates(names: list[str]) -> list[str]:
+def suffix_duplicates(names: list[str]) -> list[str]:
     """Names still equal get ``_2``, ``_3``, ... in list order (the first keeps its name)."""
     seen: dict[str, int] = {}
     taken = set(names)

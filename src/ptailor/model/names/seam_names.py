@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ptailor.model.names.layout import PanelLayout
-from ptailor.model.names.roles import _suffix_duplicates, mirror_name
+from ptailor.model.names.roles import mirror_name, suffix_duplicates
 
 #: A seam is vertical when the up component of its principal direction is at least this
 #: (37 degrees from up), level when at most ``_LEVEL`` (53 degrees); in between (a diagonal
@@ -253,7 +253,7 @@ def _qualify(base: list[str], mids: np.ndarray) -> list[str]:
         words = _place_words(mids[idx], sided=bool(_SIDES & set(name.split("_"))))
         for i, w in zip(idx, words, strict=True):
             out[i] = "_".join([name, *w])
-    return _suffix_duplicates(out)
+    return suffix_duplicates(out)
 
 
 def _place_words(M: np.ndarray, *, sided: bool) -> list[list[str]]:
