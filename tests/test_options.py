@@ -177,3 +177,127 @@ def test_run_options_are_checked_where_they_are_made(field, value, option):
         RunOptions(**{field: value})
     with pytest.raises(PtailorError, match=option):
         replace(RunOptions(), **{field: value})
+
+
+#: one value per RunOptions field, as the command line gives it, different from the default
+_RUN_ARGS = {
+    "pattern_units": ("--pattern-units", "mm"),
+    "drape_units": ("--drape-units", "mm"),
+    "weld": ("--weld", "off"),
+    "method": ("--method", "uniform"),
+    "intrinsic": ("--intrinsic", "paper"),
+    "baseline": ("--no-baseline",),
+    "formats": ("--formats", "obj,svg"),
+    "up": ("--up", "z"),
+    "front": ("--front", "y"),
+    "body": ("--body", "body.obj"),
+    "body_units": ("--body-units", "mm"),
+    "write_body": ("--write-body",),
+    "size": ("--size", "M"),
+    "dxf_units": ("--dxf-units", "mm"),
+    "seam_allowance": ("--seam-allowance", "1cm"),
+    "verify": ("--verify",),
+    "verify_rest": ("--verify-rest", "pattern"),
+    "verify_max_steps": ("--verify-max-steps", "10"),
+    "spec": ("--spec", "auto"),
+}
+
+
+def _run_probe():
+    import click
+
+    from ptailor.cli.options import run_options
+
+    return click.command()(run_options(lambda **run: None))
+
+
+def test_one_builder_makes_every_run_option_from_the_command_line():
+    """Every RunOptions field is an option of adjust and batch (both take ``run_options``),
+    and the builder turns the options' defaults into RunOptions' defaults."""
+    from dataclasses import fields
+
+    from ptailor.cli.options import build_run_options
+    from ptailor.run.options import RunOptions
+
+    assert set(_RUN_ARGS) == {f.name for f in fields(RunOptions)}
+    probe = _run_probe()
+    default = RunOptions()
+    assert build_run_options(probe.make_context("probe", []).params) == default
+    for field, args in _RUN_ARGS.items():
+        built = build_run_options(probe.make_context("probe", list(args)).params, units="mm")
+        changed = [
+            f.name for f in fields(default) if getattr(built, f.name) != getattr(default, f.name)
+        ]
+        assert changed == [field]
+    seam = probe.make_context("probe", ["--seam-allowance", "1cm"]).params
+    assert build_run_options(seam, units="mm").seam_allowance == pytest.approx(10.0)
+    assert build_run_options({"formats": "obj,svg"}).formats == ("obj", "svg")
+
+
+def test_the_builder_takes_verifys_names_and_refuses_any_other():
+    from ptailor.cli.options import build_run_options
+    from ptailor.errors import PtailorError
+
+    built = build_run_options({"rest": "pattern", "max_steps": 5}, verify=True)
+    assert (built.verify, built.verify_rest, built.verify_max_steps) == (True, "pattern", 5)
+    with pytest.raises(TypeError):
+        build_run_options({"out": "o"})  # a command's own parameter
+    with pytest.raises(PtailorError, match="--seam-allowance"):
+        build_run_options({"seam_allowance": "wide"})
+
+
+def test_the_command_line_choices_are_run_options_own():
+    import click
+
+    from ptailor.run import options as run
+
+    choices = {
+        p.name: tuple(p.type.choices)
+        for p in _run_probe().params
+        if isinstance(p.type, click.Choice)
+    }
+    assert choices == {
+        "up": run.AXES,
+        "front": run.AXES,
+        "method": run.METHODS,
+        "intrinsic": run.INTRINSICS,
+        "verify_rest": run.REST_MODES,
+        "dxf_units": run.DXF_UNITS,
+    }
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "option, field, value",
+    [("--method", "method", "uniform"), ("--intrinsic", "intrinsic", "paper")],
+)
+def test_batch_takes_the_method_options_as_adjust_does(tmp_path, option, field, value):
+    """Issue 40: batch lacked ``--method`` and ``--intrinsic``. With either, a garment's
+    report is adjust's with the same option (to its timing), and the option is stamped: a
+    rerun without it redoes the garment."""
+    from ptailor.samples import lantern_sleeve
+
+    def run(*args):
+        return CliRunner().invoke(cli, [str(a) for a in args], catch_exceptions=False)
+
+    def read(path):
+        return json.loads(path.read_text())
+
+    g, recipe = tmp_path / "sleeve.obj", tmp_path / "wider.yaml"
+    write_garment(g, lantern_sleeve(n_around=12, n_sleeve=6, n_cuff=2))
+    recipe.write_text("steps: [{op: scale, region: all, direction: around, factor: 1.2}]\n")
+    fast = ("--formats", "obj", "--no-baseline")
+    alone, out, log = tmp_path / "alone", tmp_path / "out", tmp_path / "log.jsonl"
+    assert run("adjust", g, recipe, "-o", alone, *fast, option, value).exit_code == 0
+    args = ("batch", recipe, g, "-o", out, "-j", 1, "--log", log, *fast)
+    assert run(*args, option, value).exit_code == 0
+    want, got = read(alone / "report.json"), read(out / "sleeve" / "report.json")
+    assert want[field] == value  # (the option took effect)
+    want.pop("timing_s"), got.pop("timing_s")
+    assert got == want
+    assert read(out / "sleeve" / "batch.json")["options"][field] == value
+    assert run(*args, option, value).exit_code == 0
+    assert read(log)["status"] == "skipped"
+    assert run(*args).exit_code == 0
+    assert read(log)["status"] == "ok"
+    assert read(out / "sleeve" / "report.json")[field] != value

@@ -4,71 +4,18 @@ from __future__ import annotations
 
 import click
 
-from ptailor.cli.options import (
-    axes_options,
-    baseline_option,
-    body_options,
-    dxf_options,
-    garment_options,
-    output_options,
-    spec_option,
-    verify_options,
-)
+from ptailor.cli.options import drape_option, run_options
 
 
 @click.command()
 @click.argument("garment", type=click.Path(dir_okay=False))
 @click.argument("recipe", type=click.Path(dir_okay=False, allow_dash=True))
 @click.option("-o", "--out", required=True, type=click.Path(file_okay=False), help="Output folder.")
-@garment_options
-@spec_option()
-@axes_options
-@click.option(
-    "--method",
-    type=click.Choice(["scale-preserving", "uniform"]),
-    default=None,
-    help="Override the recipe's flatten method (uniform: the paper's baseline).",
-)
-@click.option(
-    "--intrinsic",
-    type=click.Choice(["polar", "paper"]),
-    default=None,
-    help="Override how intrinsic scale targets are formed.",
-)
-@body_options
-@verify_options
-@baseline_option
-@output_options
-@dxf_options
+@drape_option
+@run_options
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON on stdout.")
 @click.option("-q", "--quiet", is_flag=True, help="Print nothing on success.")
-def adjust(
-    garment,
-    recipe,
-    out,
-    drape,
-    pattern_units,
-    drape_units,
-    weld,
-    spec,
-    up,
-    front,
-    method,
-    intrinsic,
-    body,
-    body_units,
-    write_body,
-    verify,
-    verify_rest,
-    verify_max_steps,
-    no_baseline,
-    formats,
-    size,
-    dxf_units,
-    seam_allowance,
-    as_json,
-    quiet,
-) -> None:
+def adjust(garment, recipe, out, drape, as_json, quiet, **run) -> None:
     """Apply RECIPE's 3D edits to GARMENT and write the adjusted pattern to OUT.
 
     GARMENT is an OBJ with v = drape and vt = pattern (faces f v/vt), or an AAMA/ASTM DXF
@@ -77,38 +24,17 @@ def adjust(
     GARMENT is read. --verify re-drapes the result with the cloth engine (the body, when
     given, holds the re-drapes too; the top opening is pinned).
     """
-    from ptailor.cli.options import check_engine_first, parse_formats, parse_seam_allowance
+    from ptailor.cli.options import build_run_options, check_engine_first
     from ptailor.cli.progress import progress_line
     from ptailor.recipe import load_recipe
     from ptailor.run.folder import check_output_dir
     from ptailor.run.garment import run_garment
-    from ptailor.run.options import RunOptions
 
-    check_engine_first(verify)  # (before any file is read)
+    check_engine_first(run["verify"])  # (before any file is read)
     # every input (the recipe too) is checked against the output folder before any is read
-    check_output_dir(out, [garment, recipe, drape, body, spec])
+    check_output_dir(out, [garment, recipe, drape, run["body"], run["spec"]])
     rec = load_recipe(recipe)
-    options = RunOptions(
-        pattern_units=pattern_units,
-        drape_units=drape_units,
-        weld=weld,
-        method=method,
-        intrinsic=intrinsic,
-        baseline=not no_baseline,
-        formats=parse_formats(formats),
-        up=up,
-        front=front,
-        body=body,
-        body_units=body_units,
-        write_body=write_body,
-        size=size,
-        dxf_units=dxf_units,
-        seam_allowance=parse_seam_allowance(seam_allowance, units=rec.units),
-        verify=verify,
-        verify_rest=verify_rest,
-        verify_max_steps=verify_max_steps,
-        spec=spec,
-    )
+    options = build_run_options(run, units=rec.units)
     with progress_line(quiet=quiet) as progress:
         report = run_garment(garment, rec, out, options=options, drape=drape, progress=progress)
     _show(report, out, as_json=as_json, quiet=quiet)

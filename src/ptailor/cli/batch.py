@@ -7,17 +7,7 @@ import functools
 import click
 
 from ptailor import tolerances as tol
-from ptailor.cli.options import (
-    Finite,
-    axes_options,
-    baseline_option,
-    body_options,
-    dxf_options,
-    output_options,
-    spec_option,
-    units_options,
-    verify_options,
-)
+from ptailor.cli.options import Finite, run_options
 
 
 def _interrupt(signum, frame) -> None:
@@ -154,14 +144,7 @@ to finish).
     type=click.Path(file_okay=False),
     help="Output root: one folder per garment, named after its file.",
 )
-@units_options
-@spec_option()
-@axes_options
-@baseline_option
-@body_options
-@verify_options
-@output_options
-@dxf_options
+@run_options
 @click.option(
     "-j",
     "--jobs",
@@ -212,23 +195,6 @@ def batch(
     garments,
     manifest,
     out,
-    pattern_units,
-    drape_units,
-    spec,
-    body,
-    body_units,
-    write_body,
-    weld,
-    up,
-    front,
-    no_baseline,
-    verify,
-    verify_rest,
-    verify_max_steps,
-    formats,
-    seam_allowance,
-    size,
-    dxf_units,
     jobs,
     scheduler,
     timeout,
@@ -238,42 +204,26 @@ def batch(
     quiet,
     html,
     gates,
+    **run,
 ) -> None:
-    """``ptailor batch``: its help is :data:`BATCH_HELP`."""
+    """``ptailor batch``: its help is :data:`BATCH_HELP`; ``run``: the run's options
+    (:func:`~ptailor.cli.options.run_options`), each garment's unless its manifest row
+    overrides one."""
     import os
     import sys
 
     from ptailor.batch import make_jobs
-    from ptailor.cli.options import check_engine_first, parse_formats, parse_seam_allowance
+    from ptailor.cli.options import build_run_options, check_engine_first
     from ptailor.recipe import load_recipe
-    from ptailor.run.options import RunOptions
 
     html = html or _has_catalogue(out)  # a catalogue once made is kept current
     _check_arguments(
         recipe, garments, manifest, timeout=timeout, scheduler=scheduler, gates=gates,
-        verify=verify, spec=spec, html_out=out if html else None,
+        verify=run["verify"], spec=run["spec"], html_out=out if html else None,
     )  # fmt: skip
-    check_engine_first(verify)  # (before any file is read)
+    check_engine_first(run["verify"])  # (before any file is read)
     rec = load_recipe(recipe)
-    options = RunOptions(
-        pattern_units=pattern_units,
-        drape_units=drape_units,
-        weld=weld,
-        baseline=not no_baseline,
-        formats=parse_formats(formats),
-        up=up,
-        front=front,
-        body=body,
-        body_units=body_units,
-        write_body=write_body,
-        size=size,
-        dxf_units=dxf_units,
-        seam_allowance=parse_seam_allowance(seam_allowance, units=rec.units),
-        verify=verify,
-        verify_rest=verify_rest,
-        verify_max_steps=verify_max_steps,
-        spec=spec,
-    )
+    options = build_run_options(run, units=rec.units)
     paths = _garment_paths(ctx, garments, manifest, out)
     if log:
         _check_log(log, paths, recipe, manifest)

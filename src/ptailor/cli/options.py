@@ -1,11 +1,27 @@
-"""Options shared by several commands, defined once."""
+"""Options shared by several commands, defined once, and the one builder of a run's options.
+
+:func:`run_options` declares every option of one garment's run (what
+:class:`~ptailor.run.options.RunOptions` holds), for ``adjust`` and ``batch`` alike;
+:func:`build_run_options` turns a command's run parameters into ``RunOptions`` (``adjust``,
+``batch`` and ``verify``). A command names its own parameters and takes the run's as
+``**run``: the builder refuses a name that is not a run option.
+"""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
+
 import click
 
-#: the axes --up and --front take
+if TYPE_CHECKING:
+    from ptailor.run.options import RunOptions
+
+#: the axes --up and --front take (:data:`ptailor.run.options.AXES`)
 AXES = ["x", "y", "z", "-x", "-y", "-z"]
+#: ``--method`` and ``--intrinsic`` (:data:`ptailor.run.options.METHODS`, ``INTRINSICS``)
+METHODS = ["scale-preserving", "uniform"]
+INTRINSICS = ["polar", "paper"]
 
 UNIT_HELP = "mm, cm, m, in, or a scaled unit such as 0.3333cm"
 
@@ -70,15 +86,19 @@ def units_options(fn):
     return fn
 
 
-def garment_options(fn):
-    """``--drape``, ``--pattern-units``, ``--drape-units``, ``--weld``."""
-    fn = units_options(fn)
+def drape_option(fn):
+    """``--drape``: the drape of a pattern-only garment (one garment's: not ``batch``'s)."""
     return click.option(
         "--drape",
         type=click.Path(dir_okay=False),
         default=None,
         help="OBJ holding the drape (v) when GARMENT holds only the pattern.",
     )(fn)
+
+
+def garment_options(fn):
+    """``--drape``, ``--pattern-units``, ``--drape-units``, ``--weld``."""
+    return drape_option(units_options(fn))
 
 
 def spec_option(*, writes: bool = True):
@@ -116,6 +136,29 @@ def axes_options(fn):
                 default=None,
                 type=click.Choice(AXES),
                 help="Front axis [default: the recipe's, else z].",
+            ),
+        ]
+    ):
+        fn = opt(fn)
+    return fn
+
+
+def method_options(fn):
+    """``--method`` and ``--intrinsic``: the recipe's flatten settings overridden."""
+    for opt in reversed(
+        [
+            click.option(
+                "--method",
+                type=click.Choice(METHODS),
+                default=None,
+                help="Override the recipe's flatten method (uniform: the paper's baseline).",
+            ),
+            click.option(
+                "--intrinsic",
+                type=click.Choice(INTRINSICS),
+                default=None,
+                help="Override how intrinsic scale targets are formed (paper: the paper's "
+                "designated-edge formula).",
             ),
         ]
     ):
@@ -237,6 +280,79 @@ def verify_options(fn):
     ):
         fn = opt(fn)
     return fn
+
+
+def run_options(fn):
+    """Every option of one garment's run, in ``--help`` order: ``--pattern-units``,
+    ``--drape-units``, ``--weld``, ``--spec``, ``--up``, ``--front``, ``--method``,
+    ``--intrinsic``, ``--body``, ``--body-units``, ``--write-body``, ``--verify``,
+    ``--verify-rest``, ``--verify-max-steps``, ``--no-baseline``, ``--formats``,
+    ``--seam-allowance``, ``--size``, ``--dxf-units``.
+
+    ``adjust`` and ``batch`` both take exactly these (each has options of its own besides);
+    the command gets them as keyword arguments, for :func:`build_run_options`.
+    """
+    for opt in reversed(
+        [
+            units_options,
+            spec_option(),
+            axes_options,
+            method_options,
+            body_options,
+            verify_options,
+            baseline_option,
+            output_options,
+            dxf_options,
+        ]
+    ):
+        fn = opt(fn)
+    return fn
+
+
+#: run parameters whose :class:`~ptailor.run.options.RunOptions` field has another name
+#: (``ptailor verify``'s ``--rest`` and ``--max-steps``)
+RENAMED = {"rest": "verify_rest", "max_steps": "verify_max_steps"}
+
+
+def build_run_options(params: Mapping[str, Any], *, units: str = "cm", **fixed: Any) -> RunOptions:
+    """The run's options from a command's run parameters: the one place a command's
+    options become a :class:`~ptailor.run.options.RunOptions` (which checks them).
+
+    Parameters
+    ----------
+    params : mapping
+        The run parameters by their click name, as the command got them (its ``**run``):
+        a ``RunOptions`` field by its own name, or ``no_baseline`` (``baseline`` negated),
+        ``formats`` (``obj,svg``: split), ``seam_allowance`` (``1cm``: parsed), ``rest`` and
+        ``max_steps`` (``verify_rest`` and ``verify_max_steps``, :data:`RENAMED`). A field
+        not given keeps its default.
+    units : str
+        The recipe's unit (default cm): a seam allowance is converted to it (a bare number
+        is in it).
+    **fixed
+        Fields the command sets itself (``ptailor verify``: ``verify=True``).
+
+    Returns
+    -------
+    RunOptions
+
+    Raises
+    ------
+    PtailorError
+        A bad value, naming its option (exit 2).
+    TypeError
+        A parameter that is not a run option (a command's own parameter passed on).
+    """
+    from ptailor.run.options import RunOptions
+
+    values = {RENAMED.get(name, name): value for name, value in params.items()}
+    if "no_baseline" in values:
+        values["baseline"] = not values.pop("no_baseline")
+    if "formats" in values:
+        values["formats"] = parse_formats(values["formats"])
+    if "seam_allowance" in values:
+        values["seam_allowance"] = parse_seam_allowance(values["seam_allowance"], units=units)
+    return RunOptions(**values, **fixed)
 
 
 def check_engine_first(verify: bool) -> None:

@@ -25,23 +25,7 @@ from ptailor.cli.options import AXES, body_options, max_steps_option, rest_optio
 @max_steps_option()
 @click.option("--json", "as_json", is_flag=True, help="Print verify.json on stdout.")
 @click.option("-q", "--quiet", is_flag=True, help="Print nothing on success.")
-def verify(
-    garment,
-    original,
-    out,
-    pattern_units,
-    drape_units,
-    weld,
-    up,
-    front,
-    body,
-    body_units,
-    write_body,
-    rest,
-    max_steps,
-    as_json,
-    quiet,
-) -> None:
+def verify(garment, original, out, as_json, quiet, **run) -> None:
     """Re-drape GARMENT's pattern with a cloth engine and write the check to OUT.
 
     GARMENT is an OBJ with v = drape and vt = pattern, typically an adjusted garment.obj
@@ -54,26 +38,13 @@ def verify(
     """
     import json
 
-    from ptailor.cli.options import check_engine_first
+    from ptailor.cli.options import build_run_options, check_engine_first
     from ptailor.model.units import CM_PER
-    from ptailor.run.options import RunOptions
     from ptailor.run.verify import verify_garment
 
     check_engine_first(True)  # (before any file is read)
-    units = drape_units if drape_units in CM_PER else "cm"
-    options = RunOptions(
-        pattern_units=pattern_units,
-        drape_units=drape_units,
-        weld=weld,
-        up=up,
-        front=front,
-        body=body,
-        body_units=body_units,
-        write_body=write_body,
-        verify=True,
-        verify_rest=rest,
-        verify_max_steps=max_steps,
-    )
+    units = run["drape_units"] if run["drape_units"] in CM_PER else "cm"
+    options = build_run_options(run, verify=True)  # (--rest, --max-steps: verify_*)
     from ptailor.cli.progress import progress_line
 
     with progress_line(quiet=quiet) as progress:
