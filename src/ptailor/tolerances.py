@@ -48,10 +48,10 @@ may stay inline, as they decide nothing a tolerance would:
 """
 
 # --- shared guards: the same value for the same reason, wherever it repeats ---
-#: Division guard (unitless, any unit): ``x / max(d, TINY)`` where ``d`` is zero only when
-#: ``x`` is too (a zero-length edge, an empty panel). Far below any length, area or weight
-#: ptailor computes (GARMENT_SIZE_MAX keeps them far from both ends), yet a normal double
-#: (the smallest is 2.2e-308), so the quotient stays finite for a zero numerator.
+#: Division guard (in the divisor's unit): ``x / max(d, TINY)`` where ``d`` is zero only
+#: when ``x`` is too (a zero-length edge, an empty panel). Far below any length, area or
+#: weight ptailor computes, yet a normal double (the smallest is 2.2e-308), so the quotient
+#: is zero, not NaN, for a zero numerator.
 TINY = 1e-300
 #: A penalty or cost larger than any real one (unitless), still finite so that sums and
 #: comparisons stay ordinary numbers (an arc fit's wrong-side candidate).
@@ -318,7 +318,7 @@ BATCH_POOL_STRIKES = 2
 MANIFEST_PROBLEMS_SHOWN = 10
 #: A step field longer than this (characters) is cut on a catalogue page.
 CATALOGUE_SHOWN_MAX = 240
-#: A preview PNG's ``size`` is at least this many pixels: below, nothing is legible.
+#: A preview PNG's ``size`` is at least this many pixels (a smaller one is refused).
 PREVIEW_MIN_PIXELS = 16
 #: Sheet layout: shelf widths and sheet sizes within this (in the pattern's unit) are equal:
 #: sums of piece widths round to far less, a visible difference is far more.
@@ -379,6 +379,6 @@ SPEC_CORNER_KEEP_REL = 1e-6
 #: A seam's target ratio differs from its ratio before when by more than this fraction of
 #: it (relative): the summary counts it as gathered.
 SUMMARY_RATIO_CHANGED_REL = 1e-6
-#: The summary says every seam is at its target when the worst mismatch is below this (in
-#: the garment's unit): it rounds to 0.000 at the three decimals the report shows.
+#: The summary says every seam is at its target ("mismatch below 0.001") when the worst
+#: mismatch is below this (in the garment's unit): what rounds to 0.000 at three decimals.
 SUMMARY_MISMATCH_ZERO = 5e-4

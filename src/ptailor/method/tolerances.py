@@ -10,7 +10,7 @@ literals that may stay inline: :mod:`ptailor.tolerances`). Code reads them as at
 #: Local/global stitching stops when no panel's last step moved a vertex (rigid motion
 #: removed) by more than this fraction of the panel's size (relative) ...
 ARAP_STEP_TOL = 1e-7
-#: ... or after this many iterations (a count: the paper's problems converge in 20-60).
+#: ... or after this many iterations (a count).
 ARAP_MAX_ITER = 100
 #: Default weights of the pinned-vertex and as-similar-as-possible terms (unitless, the
 #: paper's).
@@ -105,7 +105,7 @@ DEFORM_UNIFORM_REG = 1e-8
 #: a single point): the rigid pre-alignment then only translates that component.
 DEFORM_COLLINEAR_REL = 1e-10
 #: The largest uniform scale (unitless; and its inverse the smallest) a ``similar`` cell may
-#: take: a strip grows with its seam, not without bound.
+#: take: a strip that follows an edit by similarities grows or shrinks at most twofold.
 ARAP_SIMILAR_MAX = 2.0
 #: Local/global iterations of arap_deform (a count), Anderson-accelerated with a history of
 #: ARAP_ANDERSON: 5 end at least as close to the converged deformation as 10 plain ones did
@@ -115,7 +115,7 @@ ARAP_SIMILAR_MAX = 2.0
 ARAP_ITERATIONS = 5
 ARAP_ANDERSON = 5
 #: arap_deform stops early when its energy falls by less than this fraction of its previous
-#: value (relative): a further iteration moves no vertex measurably.
+#: value (relative) ...
 ARAP_ENERGY_TOL = 1e-6
 #: ... and at once when the energy is at most this fraction of its scale (relative): the
 #: energy's sum cancels to about 1e-16 of the scale, so below a hundred times that it is
@@ -133,8 +133,8 @@ ROTATION_PD_REL = 1e-9
 #: Newton steps at most (a count: two or three reach rounding from the previous iteration's
 #: rotations) ...
 ROTATION_STEPS = 6
-#: ... stopping once at most one cell in this many is left (a count): those go to the SVD,
-#: cheaper than another step on all.
+#: ... stopping once at most one cell in this many is left (a count: all but 1 % accepted);
+#: those left are computed by SVD.
 ROTATION_SVD_SHARE = 100
 #: While more than one cell in this many (a count) is still moving, a step is taken on all
 #: cells (cheaper than gathering the few that are done); else only on those left.
@@ -162,5 +162,5 @@ GEODESIC_STEP_EDGES = 2.0
 #: search that follows makes the result independent of it, only the time depends on it).
 TRANSFER_CANDIDATES = 8
 #: A point whose barycentric coordinates are all at least minus this (unitless) lies inside
-#: its triangle: a point on an edge computes to about -1e-16, never to -1e-12.
+#: its triangle: a point on an edge computes to minus a few roundings (about -1e-16).
 TRANSFER_INSIDE_BARY = 1e-12

@@ -9,8 +9,7 @@ a naming threshold (:mod:`ptailor.edits.tolerances` has the edits' own).
 
 # --- intake: repair, validation, units (ptailor.model.repair, .validate, .unit_ratio, .size)
 #: A triangle whose area is at most this times the squared bounding-box size of the
-#: referenced vertices (relative) is degenerate: rounding leaves a sliver's area at about
-#: 1e-16 of it.
+#: referenced vertices (relative) is degenerate: an area near rounding is no area.
 ZERO_AREA_REL = 1e-12
 #: ``--weld auto`` (and a weld without a distance) merges drape vertices closer than this
 #: fraction of the mean drape edge length (relative). Measured: the shortest edge of the
@@ -21,7 +20,7 @@ WELD_REL = 1e-3
 #: pairs) only beyond the weld distance grown by this fraction (relative) ...
 REPAIR_APART_MARGIN_REL = 1e-6
 #: ... plus this fraction of the largest coordinate (relative: a projection's rounding is
-#: about 1e-16 of it, so 1e-9 is far above rounding and far below any weld distance).
+#: about 1e-16 of it, so 1e-9 is far above rounding and far below a weld distance).
 REPAIR_APART_ROUNDING_REL = 1e-9
 #: A garment whose median pattern/drape edge length ratio lies outside these bounds
 #: (unitless) has its units wrong (elastic and gathered parts measure about 0.7-1.4).
@@ -80,7 +79,7 @@ SYMMETRY_MAX_TURN = 0.2
 #: it).
 SYMMETRY_EXACT = 1e-12
 #: The plane fit stops when an update moves the normal plus the offset over the surface's
-#: size by less than this (unitless): the next would be rounding.
+#: size by less than this (unitless: near rounding).
 SYMMETRY_STILL = 1e-13
 #: ICP iterations of the plane fit at most (a count: a skirt tilted 8 degrees converges in
 #: five; the fit stops earlier once the plane no longer moves).
