@@ -144,8 +144,9 @@ def run_cli(path: Path, text: str, pu: str, du: str) -> tuple[int, int | None, f
 
 def measure(key: str, region_kind: str, d: float, op: str, shared: Path, cli: bool) -> dict:
     from ptailor.edits import EditOptions
-    from ptailor.edits.loosen import FALLOFF_BY, FALLOFF_EDGES, falloff_weights
+    from ptailor.edits.loosen import FALLOFF_EDGES, falloff_weights
     from ptailor.edits.region import region_faces
+    from ptailor.edits.tolerances import LOOSEN_FALLOFF_BY as FALLOFF_BY
     from ptailor.errors import PtailorError
     from ptailor.formats.garment import load_garment
     from ptailor.model.garment import panels

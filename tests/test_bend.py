@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ptailor import tolerances as tol
 from ptailor.geometry.triangles import edge_matrices
+from ptailor.method import tolerances as method_tol
 from ptailor.method.bend import seam_bend
 from ptailor.method.ease import SeamEase, side_zigzag
 from ptailor.method.solver import stitch
@@ -82,7 +82,7 @@ def test_a_stretched_seam_side_on_a_fine_mesh_converges_without_a_sawtooth(bend,
     minimum (every other vertex out: the 100-iteration cap, turning alternating by 3.4 rad);
     with the sides' bending it converges in about 20 iterations, the side smooth."""
     if not bend:
-        monkeypatch.setattr(tol, "SEAM_BEND", 0.0)
+        monkeypatch.setattr(method_tol, "SEAM_BEND", 0.0)
     V, F, ea, eb, vlab = two_squares(80)
     T = squares_targets(V, F, vlab, 0.85)
     k = len(ea)
@@ -101,4 +101,4 @@ def test_a_stretched_seam_side_on_a_fine_mesh_converges_without_a_sawtooth(bend,
         assert info.converged and info.iterations <= 30 and info.seam_violation < 1e-9
         assert zig < 0.05
     else:  # the sawtooth the term cures (so that this test can fail)
-        assert not info.converged and zig > tol.SEAM_ZIGZAG_RAD
+        assert not info.converged and zig > method_tol.SEAM_ZIGZAG_RAD

@@ -16,6 +16,7 @@ from ptailor.edits.mirror import apply_mirrored
 from ptailor.errors import NumericError, PtailorError
 from ptailor.geometry.labels import used_indices
 from ptailor.geometry.triangles import triangle_areas
+from ptailor.method import tolerances as method_tol
 from ptailor.method.flatten import FlattenResult, flatten
 from ptailor.method.solver import SymbolicCache
 from ptailor.model.frame import Frame
@@ -378,17 +379,17 @@ def solver_warnings(adj: Adjustment) -> list[str]:
     -------
     list of str
         One line naming the unconverged panels (worst first) with their last relative
-        step, and one when a seam constraint is met less well than ``tol.SEAM_WARN_REL``.
+        step, and one when a seam constraint is met less well than ``method_tol.SEAM_WARN_REL``.
     """
     info = adj.result.info
     out = []
     res = np.asarray(info.panel_residual)
-    bad = np.argsort(-res)[: int(np.sum(res > tol.ARAP_STEP_TOL))]
+    bad = np.argsort(-res)[: int(np.sum(res > method_tol.ARAP_STEP_TOL))]
     if not info.converged and len(res) and not len(bad):
         out.append(
-            f"solver stopped with every panel's step below {tol.ARAP_STEP_TOL:g} but its seam"
-            f" constraints met only to {info.seam_violation:.2g} (relative; converged needs"
-            f" {tol.SEAM_EXACT_REL:g}): its seam rows are likely dependent (a flat or"
+            f"solver stopped with every panel's step below {method_tol.ARAP_STEP_TOL:g} but its"
+            f" seam constraints met only to {info.seam_violation:.2g} (relative; converged needs"
+            f" {method_tol.SEAM_EXACT_REL:g}): its seam rows are likely dependent (a flat or"
             " self-touching drape whose weld joined what is not sewn?)"
         )
     elif not info.converged and len(res):
@@ -403,7 +404,7 @@ def solver_warnings(adj: Adjustment) -> list[str]:
             f"solver stopped {why} before"
             f" converging: panel {names}{more} still moving (last step / panel size)"
         )
-    if info.seam_violation > tol.SEAM_WARN_REL:
+    if info.seam_violation > method_tol.SEAM_WARN_REL:
         out.append(
             f"seam ease met only to {100 * info.seam_violation:.2g} % (relative length"
             " mismatch of the worst seam edge)"
@@ -418,7 +419,7 @@ def solver_warnings(adj: Adjustment) -> list[str]:
 
 def _zigzag_warnings(adj: Adjustment) -> list[str]:
     """One line per panel whose seam side the stitching zigzagged
-    (:func:`ptailor.method.ease.side_zigzag` above ``tol.SEAM_ZIGZAG_RAD``)."""
+    (:func:`ptailor.method.ease.side_zigzag` above ``method_tol.SEAM_ZIGZAG_RAD``)."""
     if adj.settings.get("seams") != "ease":
         return []
     from ptailor.geometry.topology import half_edges
@@ -429,7 +430,7 @@ def _zigzag_warnings(adj: Adjustment) -> list[str]:
     if not len(pairs):
         return []
     z = side_zigzag(g.V2, adj.result.V2, half_edges(g.F2)[np.asarray(pairs).ravel()])
-    bad = z > tol.SEAM_ZIGZAG_RAD
+    bad = z > method_tol.SEAM_ZIGZAG_RAD
     if not bad.any():
         return []
     lab = vertex_labels(adj.state.panels, len(g.V2))

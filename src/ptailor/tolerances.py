@@ -1,105 +1,90 @@
-"""Every numeric tolerance in one place (trimesh style)."""
+"""Every numeric tolerance and limit, named in one of five modules: this one and one per
+package that has many of its own (the naming rules keep theirs for now).
 
-#: Relative (to the panel's bounding-box diagonal) area below which a triangle is degenerate.
-ZERO_AREA_REL = 1e-12
-#: Local/global stitching stops when no panel's last step moved a vertex (rigid motion
-#: removed) by more than this fraction of the panel's size ...
-ARAP_STEP_TOL = 1e-7
-#: ...or after this many iterations.
-ARAP_MAX_ITER = 100
-#: Default weights of the pinned-vertex and as-similar-as-possible terms (the paper's).
-W_PIN = 1000.0
-W_ASAP = 1000.0
-#: With seam ease, panels whose drape no edge of changed length by more than this fraction
-#: (untouched by the edits), and panels a step keeps, are stiffer in the stitching ...
-KEPT_STRAIN = 1e-3
-#: ... by this factor on their whole energy: the edited panels absorb the seams' cost.
-KEPT_PANEL_WEIGHT = 1000.0
-#: Seam constraints switch on at the first iteration where a seam edge misses its ratio by
-#: more than this (relative).
-SEAM_EXACT_REL = 1e-9
-#: The seam constraints' curvature (the stitching's SQP step) leaves out the edges whose
-#: weight is below this fraction of the largest (ptailor.method.ease.SeamEase.curvature)
-SEAM_CURVATURE_MIN_REL = 0.05
-#: A seam curve whose edge pairs' ratios all lie within this (relative) of its total's
-#: ratio gets no total row (ptailor.method.ease.seam_ease): the pairs hold its total to
-#: this fraction of its length (0.001 cm on a 1 m seam); a simulated pattern's float noise
-#: is about 3e-6.
-SEAM_TOTAL_UNIFORM_REL = 1e-5
-#: A seam edge whose two sides miss their target ratio by more than this (relative) after
-#: the solve is reported as a warning.
-SEAM_WARN_REL = 1e-4
-#: A seam side whose outline turning alternates vertex to vertex by more than this (radians)
-#: after the stitching is reported as zigzagging (:func:`ptailor.method.ease.side_zigzag`).
-#: An edit that stretches a jagged simulated outline evens it out, which alternates too (up
-#: to 0.25 rad on the shared garments); the sawtooth of a stretched side at 16x reaches 1.9.
-SEAM_ZIGZAG_RAD = 0.5
-#: Seam sides get a bending stiffness ``mu = SEAM_BEND * size^3`` (``size`` the panel's
-#: diagonal; ptailor.method.bend), which keeps a side the seam stretches from a sawtooth
-#: on fine meshes and moves a smooth side by about 1e-5 of its panel's size. Vertices whose
-#: target turning exceeds SEAM_BEND_CORNER_RAD are corners and get none.
-SEAM_BEND = 1e-7
-SEAM_BEND_CORNER_RAD = 0.35
-#: Anderson acceleration history of the stitching iterations (0: plain local/global).
-ANDERSON_HISTORY = 10
-#: The stitching takes a Newton step when its largest residual fell by less than
-#: NEWTON_CRAWL over the last NEWTON_WINDOW iterations (a slender panel's bending, where
-#: local/global steps crawl); each solves its model by at most NEWTON_CG_MAX
-#: preconditioned conjugate-gradient iterations, to NEWTON_CG_RTOL of the first residual.
-NEWTON_WINDOW = 5
-NEWTON_CRAWL = 0.5
-NEWTON_CG_MAX = 40
-NEWTON_CG_RTOL = 1e-3
-#: A Newton step that does not lower the energy is halved up to this many times.
-NEWTON_BACKTRACK = 3
-#: Right-hand sides per back-substitution batch when the seam block of ``A^-1`` is formed
-#: (SuperLU slows down twentyfold per column beyond about 32).
-SEAM_BLOCK_CHUNK = 16
-#: A 2D triangle whose signed area has the opposite sign of its panel's is flipped when
-#: its magnitude exceeds this fraction of the panel's mean triangle area.
-FLIP_REL = 1e-9
-#: Boundary vertices where the outline turns by more than this are corners: the
-#: as-similar-as-possible term (a tangent direction) does not apply there.
-ASAP_CORNER_DEG = 30.0
+- ``ptailor.tolerances`` (this module): the shared guards, geometry, pattern pieces, what
+  ptailor reads (input bounds), numeric safety, recipes, outputs and batch,
+  specifications, the report.
+- :mod:`ptailor.model.tolerances`: intake, the frame, polylines, openings, the sagittal
+  plane, seam lines.
+- :mod:`ptailor.method.tolerances`: the stitching, the 3D deformation, rotations, geodesic
+  distance, transfer.
+- :mod:`ptailor.edits.tolerances`: how the drape deforms and splits in each edit.
+- :mod:`ptailor.verify.tolerances`: the re-drape check.
+- ``ptailor.model.names``: the naming rules keep theirs while that package is rewritten.
 
-# 3D surface deformation (ptailor.method.deform)
-#: A triangle whose doubled area is at most this times its longest squared edge is
-#: degenerate: its cotangents are taken as zero.
-DEFORM_DEGENERATE_REL = 1e-12
-#: Uniform weight added to every triangle edge in ARAP surface deformation, relative to the
-#: mean absolute cotangent weight. It keeps a vertex whose triangles are all degenerate
-#: attached to its neighbours (instead of an empty row making the system singular); on a
-#: sound mesh its effect is of this relative order. Rigid motions stay exact.
-DEFORM_UNIFORM_REG = 1e-8
-#: A follow-up deformation in which strips sewn to an edited region grow by similarities
-#: (``edits/follow.py``) iterates up to this many times (the energy's own stop ends it
-#: sooner): the default 5 leave a 40 cm cuff 1.6 cm from a similarity of its pattern, 20 to
-#: convergence 0.16 cm.
-FOLLOW_SIMILAR_ITER = 40
-#: Singular-value ratio below which a component's handles count as collinear (or a single
-#: point): the rigid pre-alignment then only translates that component.
-DEFORM_COLLINEAR_REL = 1e-10
+Every constant has a ``#:`` comment: what it bounds, its unit (cm, bytes, seconds, degrees,
+radians; *relative*: a fraction of a size the comment names; *unitless*: a cosine, a
+ratio, a barycentric coordinate; *a count*) and why that value. Code reads a constant as
+an attribute (``tol.ROUNDING_REL``, ``method_tol.ARAP_STEP_TOL``), so a test may patch it.
+No other module defines a module-level numeric constant (``tests/test_tolerances.py``,
+which lists the few that are not tolerances), and geometry never reads a naming rule's
+threshold: an edit's constants are its own, so a new naming rule cannot move a drape.
 
-# Surgery (shorten, cut)
-#: Field values within this many mean edge lengths of zero snap to zero before splitting,
-#: so a cut passing next to a vertex goes through it instead of making a sliver.
-SPLIT_SNAP_REL = 1e-3
+A literal that decides something (``x < 1e-9``, ``d > 0.05 * size``) is named here. These
+may stay inline, as they decide nothing a tolerance would:
 
-# Geodesic distance (ptailor.method.geodesic)
-#: A distance that decreases by less than this fraction of (itself plus the mean edge
-#: length) is still lowered, but does not make its triangles active again; the iteration
-#: stops when no change is larger, so the result is a fixed point to about this order.
-GEODESIC_REL_TOL = 1e-12
-#: A triangle corner whose ``|a|^2 |b|^2 - (a.b)^2`` (squared doubled area) is at most this
-#: times ``|a|^2 |b|^2`` (an angle below about 1e-7 rad) is degenerate: only the one-point
-#: (edge) updates apply there.
-GEODESIC_DEGENERATE_REL = 1e-14
-#: With a finite ``limit``, vertices below ``limit`` plus this many longest edge lengths
-#: keep propagating. A value may depend on a neighbour's slightly larger value (through an
-#: obtuse triangle), so the band reaches a little beyond ``limit``.
-GEODESIC_BAND_MARGIN_EDGES = 2.0
-#: Vertices propagate in order of distance, this many mean edge lengths at a time.
-GEODESIC_STEP_EDGES = 2.0
+- arithmetic: ``0.5 *``, ``2.0 *``, ``/ 3.0`` (a centroid), ``/ 12.0`` (a segment's second
+  moment), ``% 360.0``, unit factors (``2.54``), percentiles that define a statistic
+  (``np.percentile(x, 95)``: the report's p95), a perpendicular picked away from an axis
+  (``abs(n[0]) < 0.9``), an ``np.arange`` end nudged past its last step (``+ 1e-9``), the
+  ``n ** 3 < 2^63`` bound of an int64 key;
+- guards: a divisor's floor ``max(d, TINY)`` where ``d`` is zero only when the numerator
+  is too (:data:`TINY` wherever it repeats; a guard used once with another floor,
+  ``max(size, 1e-9)``, stays), a floor that keeps a tolerance positive at zero size
+  (``+ 1e-12``), a clip that keeps a value off a singular end (``1.0 - 1e-12``), candidates
+  rounded before they are compared (``np.round(cand, 9)``);
+- drawing: fonts, gaps, strokes, dashes, figure and colour-bar placement of the previews
+  and pictures (``ptailor.formats.sheet``, ``.footer``, ``.svg``, ``.png``,
+  ``.dxf.writer``'s text, ``ptailor.verify.picture``): a picture's layout, not a result;
+- the sizes of the generated sample garments (``ptailor.samples``) and the demo's;
+- how much of a list a message quotes (the first 3 or 5 names, 200 characters);
+- work splitting that changes the time, never a result: chunk sizes, a sort or a select by
+  size, size groups of an exact search (``ptailor.method.transfer``);
+- a keyword default that sets a resolution, documented in its signature (samples per
+  specification edge, ``outline(per_edge=64)``; a picture's camera angles);
+- the fields of a settings dataclass (:class:`ptailor.verify.engine.Settings`), each
+  documented with its unit there: its fields are the one place their defaults are given,
+  like a recipe step's.
+"""
+
+# --- shared guards: the same value for the same reason, wherever it repeats ---
+#: Division guard (in the divisor's unit): ``x / max(d, TINY)`` where ``d`` is zero only
+#: when ``x`` is too (a zero-length edge, an empty panel). Far below any length, area or
+#: weight ptailor computes, yet a normal double (the smallest is 2.2e-308), so the quotient
+#: is zero, not NaN, for a zero numerator.
+TINY = 1e-300
+#: A penalty or cost larger than any real one (unitless), still finite so that sums and
+#: comparisons stay ordinary numbers (an arc fit's wrong-side candidate).
+HUGE = 1e300
+#: Cost of an infeasible pair in an assignment (unitless): far above the real costs
+#: (relative distances and areas, well below 1; a pair past its threshold is infeasible),
+#: so a pair at this cost is never chosen over a feasible one, and ``cost < COST_NONE``
+#: tells them apart (the sagittal plane's panel pairs, pieces to panels, specification
+#: panels to panels).
+COST_NONE = 1e6
+#: Two values computed along different float paths from the same data are equal when they
+#: differ by at most this fraction of the size they are measured against (relative): sums
+#: over a garment's up to millions of terms round to about 1e-16 times their count, while
+#: a real difference on a garment (a micrometre on a metre) is 1e-6. Ties, "unchanged",
+#: zero-length and flat tests, and slack on a box or a search radius use it.
+ROUNDING_REL = 1e-9
+
+# --- geometry (ptailor.geometry) ---
+#: A Bezier foot's Newton step falls back to Gauss-Newton where the full Newton curvature is
+#: at most this fraction of the Gauss-Newton one (relative): not a descent there.
+CURVE_NEWTON_CURVATURE_REL = 1e-12
+#: Newton (or Gauss-Newton) steps per foot of a point on a Bezier edge (a count), from the
+#: nearer of the previous foot and the nearest of 257 samples: quadratic convergence from
+#: there reaches rounding in a few.
+CURVE_FOOT_STEPS = 6
+#: ``scipy.optimize.least_squares``'s ``xtol``, ``ftol`` and ``gtol`` when an arc's centre
+#: is fitted (relative): near the double's resolution (2.2e-16), so the fit stops when it
+#: stalls, not at scipy's default 1e-8.
+CURVE_ARC_FIT_TOL = 1e-15
+#: An arc's radius is grown by this fraction (relative) before its flags are tried: a
+#: semicircle's radius, rounded below half the chord, would be grown to it, where the two
+#: candidate centres coincide and the flags tell nothing.
+CURVE_ARC_RADIUS_GROW_REL = 1e-12
 
 # Pattern pieces (ptailor.pieces, ptailor.model.polyline)
 #: An outline point where the outline turns by more than this is a turn point (corner).
@@ -132,6 +117,26 @@ GRAIN_TUBE_RATIO = 4.0
 #: Seams of at least this many edges get a balance notch at their middle (pieces drawn
 #: from a mesh).
 BALANCE_MIN_EDGES = 4
+#: Nearest points on a closed outline start from samples, this many along its length (a
+#: count): the segments of the 8 nearest samples are then searched exactly ...
+PIECE_CURVE_SAMPLES = 4096
+#: ... each outline resampled to this many points (a count) when outlines are compared.
+PIECE_SAMPLES = 256
+#: Rigid-fit (ICP) residuals, relative to the piece's diagonal, closer than this are a tie
+#: (a symmetric outline fits several ways): the first such fit is kept.
+PIECE_FIT_TIE_REL = 1e-6
+#: ICP stops when a step moves the fit by less than this (unitless: rotation entries, and
+#: translation over the outline's size) ...
+PIECE_ICP_STILL = 1e-10
+#: ... or after this many iterations (a count) when a moved piece is matched by shape.
+PIECE_ICP_ITER = 30
+#: A piece is compared with a panel as they lie only when their bounding boxes come within
+#: this fraction of the piece's diagonal (relative) plus the seam allowance.
+PIECE_MATCH_REACH_REL = 0.1
+#: A piece read from a file whose outline lies further from the drape's mesh (mean
+#: distance) than this many ``--seam-allowance`` (unitless) already has one (a cut line):
+#: a warning says the option added another.
+PIECE_OUTSIDE_ALLOWANCE_WARN = 0.25
 
 # Input bounds: the OBJ reader, garment checks, options (ptailor.formats.obj, .garment)
 #: Largest OBJ file read, bytes (a 5-million-triangle garment is about 300 MB).
@@ -194,11 +199,6 @@ FLATTEN_WEIGHT_RANGE = (1e-6, 1e9)
 INTRINSIC_ERROR_WARN = 0.5
 #: ``--seam-allowance`` at most this many times the largest piece's bounding-box diagonal.
 SEAM_ALLOWANCE_MAX_REL = 0.5
-#: Past twice this many iterations, the stitching stops when the largest residual of the
-#: last this many iterations is not below (1 - ARAP_STALL_GAIN) of the best before them
-#: (a large ``max_iter`` on a problem that no longer converges; the default cap is 100).
-ARAP_STALL_ITER = 200
-ARAP_STALL_GAIN = 0.01
 #: Largest extent of a garment's drape or pattern in its computation unit (any unit): a
 #: garment checked by ``check_garment`` has squared lengths and areas far from overflow.
 GARMENT_SIZE_MAX = 1e12
@@ -227,6 +227,40 @@ DXF_MIN_EXTENT = 1e-3
 DXF_MIN_AREA_REL = 1e-6
 #: A ``Quantity:`` above this is refused (a piece is cut a few times per garment).
 DXF_MAX_QUANTITY = 1_000
+#: An MTEXT's raw text (formatting codes included) may hold this many times DXF_MAX_TEXT
+#: characters (a count) before it is decoded: codes cost a few characters each.
+DXF_MTEXT_RAW_FACTOR = 8
+#: A header value (``$INSUNITS``, ``$MEASUREMENT``) beyond +-this (unitless) is no code:
+#: it is ignored (the codes are below 30).
+DXF_HEADER_CODE_MAX = 1e6
+#: A ``Quantity:`` written as a decimal (``"2.0"``) is read when an integer in 0..this
+#: (a count; far above DXF_MAX_QUANTITY, which then refuses it with its own message).
+DXF_QUANTITY_READ_MAX = 1e9
+#: At most this many warnings of ezdxf's recover mode are kept per file (a count): bounds
+#: the memory of a file that logs one per entity.
+DXF_RECOVER_MESSAGES_MAX = 1000
+#: Outline segments chain into a closed loop when their ends lie within this fraction of
+#: the piece's bounding-box diagonal (relative) ...
+DXF_CHAIN_REL = 1e-3
+#: ... and consecutive outline points closer than this fraction of it (relative) are one
+#: point (rounding).
+DXF_DUPLICATE_REL = 1e-9
+#: The diagonal those fractions are taken of is at least this (file units): a piece of no
+#: extent still gets a positive chaining tolerance (DXF_MIN_EXTENT refuses it later).
+DXF_DIAGONAL_MIN = 1e-12
+#: A curve (spline, ellipse, bulge) is flattened to within this fraction of its control
+#: polygon's extent (relative: a 1 m curve to 1 mm).
+DXF_FLATTEN_REL = 1e-3
+#: A file that names no unit is in millimetres when its largest piece exceeds this (file
+#: units: 300 cm or 300 in is longer than any piece, 300 mm is an ordinary one).
+DXF_MM_ABOVE = 300.0
+#: A graded outline corresponds to the sample's point by point when an affine fit between
+#: them leaves an RMS residual below this fraction of the diagonal (relative).
+DXF_GRADE_FIT_REL = 0.05
+#: A drape's ``vt`` is taken in a unit when its size, judged from the drape's area, is
+#: within this factor of it (unitless).
+DXF_VT_UNIT_SLACK = 1.5
+
 
 # Recipes (ptailor.recipe): read and validated whole, with bounded work, before any garment
 #: A recipe file larger than this (bytes) is refused before it is parsed (real recipes are
@@ -270,23 +304,26 @@ LIBRARY_WARNINGS_MAX = 20
 TIMEOUT_GRACE_S = 5.0
 #: The longest ``batch --timeout`` (seconds: 30 days); beyond it a timer overflows.
 BATCH_TIMEOUT_MAX_S = 2_592_000.0
-#: ``axis: auto`` on a region that is no tube falls back to its longest extent; more than
-#: this many degrees from the garment's up is a warning (ptailor.edits.scale).
-AUTO_AXIS_UP_DEG = 30.0
 #: A batch worker checks this often (seconds) that its batch is alive, and ends if not.
 WORKER_PARENT_POLL_S = 0.5
-#: A scale_seam ``fix`` that the part's scaling would move by more than this fraction of
-#: the garment's size lies inside the scaled part: an error (ptailor.edits.scale_seam).
-FIX_INSIDE_REL = 0.005
-#: ``scale`` with ``axis: auto`` scales each connected part of its region about its own
-#: axis (both sleeves: each around its arm) when every part holds at least this fraction
-#: of the region's triangles; else the region as one.
-REGION_PART_MIN = 0.1
-#: A cut or shorten that removes more than this fraction of a panel's pattern area says so.
-SURGERY_REMOVED_WARN = 0.5
-#: A seam of the scaled part continues a scale_seam's seam line where it leaves their
-#: shared end vertex within this many degrees of straight on (ptailor.edits.scale_seam).
-SEAM_LINE_TURN_DEG = 60.0
+#: A folder's ``.ptailor`` marker larger than this (bytes) is no marker of ptailor's ...
+OUTPUT_MARKER_MAX_BYTES = 1 << 20
+#: ... and a legacy folder's ``report.json`` larger than this (bytes) is no report of its.
+LEGACY_REPORT_MAX_BYTES = 64 << 20
+#: A garment still unfinished after this many broken process pools runs in a worker of its
+#: own (a count), so that a garment that kills its worker fails by itself and the others
+#: finish.
+BATCH_POOL_STRIKES = 2
+#: A manifest's message lists at most this many problems (a count; then how many more).
+MANIFEST_PROBLEMS_SHOWN = 10
+#: A step field longer than this (characters) is cut on a catalogue page.
+CATALOGUE_SHOWN_MAX = 240
+#: A preview PNG's ``size`` is at least this many pixels (a smaller one is refused).
+PREVIEW_MIN_PIXELS = 16
+#: Sheet layout: shelf widths and sheet sizes within this (in the pattern's unit) are equal:
+#: sums of piece widths round to far less, a visible difference is far more.
+SHEET_LAYOUT_TIE = 1e-9
+
 
 # --- pattern specifications (GarmentCode / Garment-Pattern-Generator, ptailor.spec) ---
 #: A specification panel matches a mesh panel whose outline area is within this fraction ...
@@ -299,6 +336,49 @@ SPEC_MATCH_REL = 0.005
 SPEC_FIT_WARN_CM = 0.1
 #: A straight edge whose adjusted points leave its chord by more than this gets a curve.
 SPEC_BEND_CM = 0.05
-#: A frame's front whose part perpendicular to up is shorter than this fraction of its
-#: length (unitless) is parallel to up (ptailor.model.frame.Frame): no side can be told.
-FRAME_PARALLEL = 1e-9
+#: A specification outline is sampled this many times per edge (a count) when it is
+#: matched ...
+SPEC_PER_EDGE = 64
+#: ... and this many when its curves are compared with a mesh outline (a count) ...
+SPEC_FIT_SAMPLES = 128
+#: ... and each edge carries this many samples to refit its curve (a count) ...
+SPEC_REFIT_SAMPLES = 32
+#: ... in this many rounds of geometric refitting of a Bezier edge (a count;
+#: :func:`ptailor.geometry.curves.fit_curve`).
+SPEC_REPARAMETRIZE = 8
+#: Rounds of the robust similarity fit of a panel's frame (a count: iteratively reweighted
+#: least squares).
+SPEC_IRLS_ROUNDS = 12
+#: A new outline run turns by more than this (degrees) at a corner: it is split there.
+SPEC_CORNER_DEG = 35.0
+#: A specification panel's best coarse fit must be within this many times SPEC_MATCH_REL
+#: (unitless) for the panel to be tried at full resolution ...
+SPEC_COARSE_FACTOR = 4.0
+#: The coarse fits take every this-th sample (a count: 64 of 256) ...
+SPEC_COARSE_STRIDE = 4
+#: ... and this many ICP iterations (a count) ...
+SPEC_COARSE_ICP_ITER = 12
+#: ... and the starts refined are those within this many times the best coarse residual
+#: (unitless) plus SPEC_START_SLACK (relative to the panel's size) ...
+SPEC_START_FACTOR = 3.0
+SPEC_START_SLACK = 1e-4
+#: ... and the fits kept are those within this many times the best (unitless) plus
+#: SPEC_KEEP_SLACK (relative): a symmetric panel fits two ways about as well.
+SPEC_KEEP_FACTOR = 2.0
+SPEC_KEEP_SLACK = 1e-6
+#: An adjusted outline's points are labelled with the specification edge within this many
+#: times the input's own fit distance (unitless) of them, or SPEC_REACH_MIN_CM (cm) ...
+SPEC_REACH_FITS = 3.0
+SPEC_REACH_MIN_CM = 0.05
+#: ... and an input corner is still in the panel when it lies within this many times the
+#: fit distance (unitless) plus SPEC_CORNER_KEEP_REL of the outline's extent (relative).
+SPEC_CORNER_KEEP_FITS = 3.0
+SPEC_CORNER_KEEP_REL = 1e-6
+
+# --- the report (ptailor.report) ---
+#: A seam's target ratio differs from its ratio before when by more than this fraction of
+#: it (relative): the summary counts it as gathered.
+SUMMARY_RATIO_CHANGED_REL = 1e-6
+#: The summary says every seam is at its target ("mismatch below 0.001") when the worst
+#: mismatch is below this (in the garment's unit): what rounds to 0.000 at three decimals.
+SUMMARY_MISMATCH_ZERO = 5e-4

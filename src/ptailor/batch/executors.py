@@ -17,6 +17,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Protocol, runtime_checkable
 
+from ptailor import tolerances as tol
 from ptailor.batch.jobs import GarmentJob, check_unchanged, enter_worker, run_job
 from ptailor.batch.records import BatchResult, InOrder
 from ptailor.errors import PtailorError
@@ -94,17 +95,14 @@ class InProcess:
 
 # --------------------------------------------------------------------------- process pool
 
-#: a garment still unfinished after this many broken pools runs in a worker of its own
-_STRIKES = 2
-
 
 class ProcessPool:
     """Jobs in a pool of ``n`` worker processes.
 
     A worker that dies (killed, out of memory, a crash in a native library) breaks the
     pool: the garments not finished go to a new pool, and one still unfinished after
-    :data:`_STRIKES` broken pools runs alone, so that a garment that kills its worker fails
-    by itself ("its worker process died") and the others finish.
+    :data:`ptailor.tolerances.BATCH_POOL_STRIKES` broken pools runs alone, so that a garment
+    that kills its worker fails by itself ("its worker process died") and the others finish.
     """
 
     def __init__(self, n: int) -> None:
@@ -128,7 +126,7 @@ class ProcessPool:
 
         todo = list(jobs)
         while todo:
-            shared = [j for j in todo if strikes[j.index] < _STRIKES]
+            shared = [j for j in todo if strikes[j.index] < tol.BATCH_POOL_STRIKES]
             rounds = ([shared] if shared else []) + [[j] for j in todo if j not in shared]
             todo = []
             for part in rounds:
@@ -152,7 +150,7 @@ def _strike(unfinished: list[GarmentJob], strikes: dict, timed_out, done: Done) 
             continue
         if not killer:  # a worker killed for a timeout is no strike for the others
             strikes[job.index] += 1
-        if strikes[job.index] > _STRIKES:
+        if strikes[job.index] > tol.BATCH_POOL_STRIKES:
             reason = "internal error: its worker process died (killed, or out of memory?)"
             done(job, job.record("failed", failure="internal", reason=reason))
         else:

@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ptailor import tolerances as tol
 from ptailor.batch.inputs import RESERVED_NAMES, drape_for
 from ptailor.errors import PtailorError
 from ptailor.formats import is_pattern_file
@@ -40,8 +41,6 @@ MANIFEST_COLUMNS = ("garment", "drape", "spec", "name", *OPTION_COLUMNS)
 UNIT_OPTIONS = {"pattern_units": True, "drape_units": False}
 #: suffixes read as JSON Lines (any other file is CSV unless it starts with ``{``)
 JSON_LINES_SUFFIXES = (".jsonl", ".ndjson", ".json")
-#: a message lists at most this many problems (then how many more)
-MAX_PROBLEMS_SHOWN = 10
 #: the longest output folder name, in UTF-8 bytes (a file name's limit)
 NAME_MAX_BYTES = 255
 
@@ -147,9 +146,9 @@ def read_manifest(path: str | Path, *, check: Check) -> list[ManifestRow]:
     problems += _name_problems(rows)
     if problems:
         shown = [f"row {n}: {msg}" for n, msg in sorted(problems, key=lambda p: p[0])]
-        if len(shown) > MAX_PROBLEMS_SHOWN:
-            more = len(shown) - MAX_PROBLEMS_SHOWN
-            shown = [*shown[:MAX_PROBLEMS_SHOWN], f"and {more} more"]
+        if len(shown) > tol.MANIFEST_PROBLEMS_SHOWN:
+            more = len(shown) - tol.MANIFEST_PROBLEMS_SHOWN
+            shown = [*shown[: tol.MANIFEST_PROBLEMS_SHOWN], f"and {more} more"]
         head = "" if len(problems) == 1 else f"{len(problems)} problems: "
         raise PtailorError(head + "; ".join(shown), path=path)
     if not rows:

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any
 from urllib.parse import quote
 
+from ptailor import tolerances as tol
 from ptailor.batch.gates import (
     GATE_OPTIONS,
     area_change,
@@ -28,8 +29,6 @@ from ptailor.catalogue.thumbnails import PREVIEW, THUMBNAIL
 GENERATOR = "ptailor catalogue"
 #: the re-drape picture in a garment folder
 VERIFY_PICTURE = "verify.png"
-#: a step field shown longer than this is cut (characters)
-SHOWN_MAX = 240
 
 #: the index's number columns: (record key, heading, how it is shown, title)
 COLUMNS = (
@@ -85,7 +84,7 @@ def shown_number(value: Any, how: str = "g4") -> str:
     return f"{value:.{digits}g}"
 
 
-def shown(value: Any, *, limit: int = SHOWN_MAX) -> str:
+def shown(value: Any, *, limit: int = tol.CATALOGUE_SHOWN_MAX) -> str:
     """Any report value in a few words: numbers to 4 digits, lists in brackets, mappings as
     ``key: value``; cut at ``limit`` characters."""
     text = _shown(value)

@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ptailor.edits import tolerances as edit_tol
+
 #: Point-face pairs evaluated per chunk (bounds the memory of the brute-force passes).
 _PAIRS_PER_CHUNK = 1 << 19
 
@@ -120,7 +122,7 @@ def push_out(V: np.ndarray, body, *, clearance: float) -> np.ndarray:
     bary = points_to_barycentric(BV[BF[fm]], Qm)
     N = np.einsum("ij,ijk->ik", bary, np.asarray(body.vertex_normals)[BF[fm]])
     nl = np.linalg.norm(N, axis=1)
-    bad = nl < 1e-12
+    bad = nl < edit_tol.BODY_NORMAL_ZERO
     N[bad] = np.asarray(body.face_normals)[fm[bad]]
     N /= np.linalg.norm(N, axis=1)[:, None]
     out[move] = Qm + float(clearance) * N

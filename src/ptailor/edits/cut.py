@@ -7,6 +7,8 @@ from typing import Any
 
 import numpy as np
 
+from ptailor import tolerances as tol
+from ptailor.edits import tolerances as edit_tol
 from ptailor.edits.checks import VEC3, boolean, choice, is_number, vector3, with_schema
 from ptailor.edits.opening import find_opening, opening_spec
 from ptailor.edits.region import region_centroid, unit_vector
@@ -116,7 +118,7 @@ def view_frame(view: Any, *, frame: Frame) -> np.ndarray:
     else:
         d = unit_vector(view, "view")
         img_up = u - d * (u @ d)
-        if np.linalg.norm(img_up) < 1e-9:
+        if np.linalg.norm(img_up) < edit_tol.CUT_VIEW_PARALLEL:
             img_up = f - d * (f @ d)
         img_up /= np.linalg.norm(img_up)
     right = np.cross(d, img_up)
@@ -141,7 +143,7 @@ def polyline_side(P: np.ndarray, Q: np.ndarray) -> np.ndarray:
     """
     A, B = Q[:-1], Q[1:]
     AB = B - A
-    L2 = np.maximum((AB * AB).sum(1), 1e-300)
+    L2 = np.maximum((AB * AB).sum(1), tol.TINY)
     AP = P[:, None, :] - A[None]
     t = (AP * AB[None]).sum(2) / L2[None]
     lo = np.where(np.arange(len(A)) == 0, -np.inf, 0.0)
@@ -330,7 +332,7 @@ def cut(state: EditState, step: CutStep, *, options: EditOptions) -> EditState:
         frame = view_frame(step.view, frame=state.frame)
         X2 = V[used] @ frame[:2].T
         lo, hi = X2.min(axis=0), X2.max(axis=0)
-        pad = 1e-9 * max(float(np.max(hi - lo)), 1e-300)
+        pad = tol.ROUNDING_REL * max(float(np.max(hi - lo)), tol.TINY)
         if not segments_meet_box(np.asarray(step.sketch, float) + o, lo - pad, hi + pad):
             raise PtailorError(
                 "the cut's sketch misses the garment: it does not overlap the garment in its "

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ptailor import tolerances as tol
+from ptailor.edits import tolerances as edit_tol
 from ptailor.method.deform import arap_deform
 from ptailor.model.garment import Garment
 
@@ -12,7 +13,8 @@ from ptailor.model.garment import Garment
 def strip_panels(g: Garment, plist: list) -> np.ndarray:
     """Panels whose pattern is a strip (a band, a cuff, a collar stand): the rectangle with
     the panel's pattern area and outline length is at least
-    ``model.names.roles._STRIP_ASPECT`` (3.5) times as long as it is wide, ``(k,)`` bool.
+    :data:`ptailor.edits.tolerances.FOLLOW_STRIP_ASPECT` times as long as it is wide,
+    ``(k,)`` bool. The deformation's own test: a naming rule's strip never decides it.
 
     Parameters
     ----------
@@ -20,7 +22,6 @@ def strip_panels(g: Garment, plist: list) -> np.ndarray:
     plist : list of Panel
     """
     from ptailor.geometry.triangles import signed_areas_2d
-    from ptailor.model.names.roles import strip_shape
 
     out = np.zeros(len(plist), dtype=bool)
     if not plist:
@@ -35,7 +36,19 @@ def strip_panels(g: Garment, plist: list) -> np.ndarray:
         b = u[c == 1]  # the outline's edges (each used by one triangle)
         perim[p.index] = float(np.linalg.norm(g.V2[b[:, 1]] - g.V2[b[:, 0]], axis=1).sum())
         area[p.index] = float(a2[p.faces].sum())
-    return strip_shape(perim, area)[1]
+    return _long_rectangle(perim, area)
+
+
+def _long_rectangle(perim: np.ndarray, area: np.ndarray) -> np.ndarray:
+    """Whether the rectangle with each perimeter ``perim`` and area ``area`` ``(k,)`` is at
+    least :data:`ptailor.edits.tolerances.FOLLOW_STRIP_ASPECT` times as long as it is wide:
+    its sides are the roots of ``x^2 - (perim / 2) x + area`` (a square's where none is
+    real), ``(k,)`` bool."""
+    half = perim / 2.0
+    disc = np.sqrt(np.maximum(half**2 - 4.0 * area, 0.0))
+    length = (half + disc) / 2.0
+    width = np.maximum((half - disc) / 2.0, tol.TINY)
+    return length / width >= edit_tol.FOLLOW_STRIP_ASPECT
 
 
 def rigid_apart(
@@ -87,7 +100,7 @@ def rigid_apart(
         if not similar.any():
             return V_follow
         return arap_deform(
-            V3, F3, handles, moved, similar=similar, iterations=tol.FOLLOW_SIMILAR_ITER
+            V3, F3, handles, moved, similar=similar, iterations=edit_tol.FOLLOW_SIMILAR_ITER
         )
     fv, target = _rigid_targets(V3, F3[apart], V_follow)
     both = np.concatenate([handles, fv])
@@ -100,7 +113,7 @@ def rigid_apart(
         both[order],
         np.concatenate([moved, target])[order],
         similar=similar,
-        iterations=tol.FOLLOW_SIMILAR_ITER,
+        iterations=edit_tol.FOLLOW_SIMILAR_ITER,
     )
 
 
@@ -166,6 +179,8 @@ def _rigid_targets(
     fv = np.unique(T)
     _, comp = np.unique(lab[fv], return_inverse=True)
     k = int(comp.max()) + 1
-    R, cp, cq = rigid_fits_3d(V3[fv], V_follow[fv], comp, k, collinear_rel=1e-10)
+    R, cp, cq = rigid_fits_3d(
+        V3[fv], V_follow[fv], comp, k, collinear_rel=edit_tol.FOLLOW_COLLINEAR_REL
+    )
     target = np.einsum("kij,kj->ki", R[comp], V3[fv] - cp[comp]) + cq[comp]
     return fv, target

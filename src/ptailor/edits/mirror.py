@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from ptailor.edits import tolerances as edit_tol
 from ptailor.edits.cut import CutStep
 from ptailor.edits.extend import ExtendStep
 from ptailor.edits.loosen import LoosenStep
@@ -37,10 +38,6 @@ from ptailor.edits.shorten import ShortenStep
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.errors import PtailorError
 from ptailor.model.symmetry import SagittalPlane, mirror_points, panel_mirror_map
-
-#: A ``{loop: k}`` opening's mirror is the loop whose centroid is nearest the mirrored
-#: centroid, within this fraction of the loop's length.
-_LOOP_DIST = 0.25
 
 
 def mirror_state(state: EditState, plane: SagittalPlane) -> EditState:
@@ -118,7 +115,7 @@ class _Renamer:
         cen = np.array([o.centroid for o in ops1]).reshape(-1, 3)
         d = np.linalg.norm(cen - ops0[k].centroid, axis=1)
         j = int(np.argmin(d)) if len(d) else -1
-        if j < 0 or d[j] > _LOOP_DIST * ops0[k].length:
+        if j < 0 or d[j] > edit_tol.MIRROR_LOOP_DIST * ops0[k].length:
             raise PtailorError(
                 f"opening {{loop: {k}}} has no mirror image across the sagittal plane: "
                 "set symmetric: false on this step"

@@ -11,13 +11,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ptailor import tolerances as tol
+from ptailor.edits import tolerances as edit_tol
 from ptailor.geometry.topology import half_edges
 from ptailor.model.garment import Garment, Panel
 
 #: Point-segment pairs evaluated at once by :func:`weighted_segment_distance`.
 _PAIR_CHUNK = 1 << 21
-#: Most steps of :func:`refine_crossings` (regula falsi; a few are usual).
-_REFINE_STEPS = 100
 
 
 def weighted_segment_distance(
@@ -340,13 +340,13 @@ def refine_crossings(
     x = np.clip(t[ok], 0.0, 1.0)
     side = np.zeros(len(A), dtype=np.int8)  # which end was kept last (-1 lo, +1 hi)
     todo = np.arange(len(A))
-    tol_f = 1e-12 * max(level, 1e-300)
-    for _ in range(_REFINE_STEPS):  # iterations, vectorised over the open edges
+    tol_f = edit_tol.PATTERN_LEVEL_TOL_REL * max(level, tol.TINY)
+    for _ in range(edit_tol.PATTERN_REFINE_STEPS):  # iterations, vectorised over the open edges
         if not todo.size:
             break
         i = todo
         fx = field.at(A[i] + x[i, None] * (B[i] - A[i]), pan[i]) - level
-        done = (np.abs(fx) <= tol_f) | (hi[i] - lo[i] <= 1e-13)
+        done = (np.abs(fx) <= tol_f) | (hi[i] - lo[i] <= edit_tol.PATTERN_BRACKET_MIN)
         left = fx * flo[i] > 0  # the root lies in (x, hi)
         # Illinois: halve the value of an end kept twice in a row
         fhi[i] = np.where(left & (side[i] == 1), 0.5 * fhi[i], fhi[i])

@@ -6,6 +6,8 @@ from typing import Any
 
 import numpy as np
 
+from ptailor import tolerances as tol
+from ptailor.edits import tolerances as edit_tol
 from ptailor.errors import PtailorError
 from ptailor.geometry.triangles import triangle_normals
 from ptailor.geometry.tube_axis import extent_axis, tube_axis
@@ -106,7 +108,9 @@ def _untiered(name: str) -> str:
     return name
 
 
-def body_axis(P: np.ndarray, body_vertices: np.ndarray, *, k: int = 16) -> np.ndarray:
+def body_axis(
+    P: np.ndarray, body_vertices: np.ndarray, *, k: int = edit_tol.BODY_AXIS_NEIGHBOURS
+) -> np.ndarray:
     """The body's local axis near some garment points.
 
     The body part nearest to the points (each point's ``k`` nearest body vertices) and its
@@ -172,4 +176,4 @@ def region_centroid(V3: np.ndarray, F3: np.ndarray, faces: np.ndarray) -> np.nda
     T = F3[faces]
     a, b, c = V3[T[:, 0]], V3[T[:, 1]], V3[T[:, 2]]
     w = np.linalg.norm(triangle_normals(V3, T, unit=False), axis=1)  # twice the areas
-    return ((a + b + c) / 3.0 * w[:, None]).sum(axis=0) / max(float(w.sum()), 1e-300)
+    return ((a + b + c) / 3.0 * w[:, None]).sum(axis=0) / max(float(w.sum()), tol.TINY)

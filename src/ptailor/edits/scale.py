@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from ptailor import tolerances as tol
+from ptailor.edits import tolerances as edit_tol
 from ptailor.edits.checks import axis as axis_spec
 from ptailor.edits.checks import choice, number
 from ptailor.edits.checks import region as region_spec
@@ -144,7 +144,7 @@ def scale(state: EditState, step: ScaleStep, *, options: EditOptions) -> EditSta
 def region_parts(F3: np.ndarray, faces: np.ndarray, n: int) -> list[np.ndarray]:
     """The region's triangles ``faces`` split into its connected parts on the drape
     (triangles sharing a vertex), largest first; the whole region as one part where a
-    part holds less than ``tol.REGION_PART_MIN`` of its triangles.
+    part holds less than ``edit_tol.REGION_PART_MIN`` of its triangles.
 
     Parameters
     ----------
@@ -166,7 +166,7 @@ def region_parts(F3: np.ndarray, faces: np.ndarray, n: int) -> list[np.ndarray]:
     )
     lab = connected_components(adj, directed=False)[1][T[:, 0]]
     _, inv, cnt = np.unique(lab, return_inverse=True, return_counts=True)
-    if len(cnt) == 1 or cnt.min() < tol.REGION_PART_MIN * len(faces):
+    if len(cnt) == 1 or cnt.min() < edit_tol.REGION_PART_MIN * len(faces):
         return [faces]  # one part, or crumbs (a box through a fold): the region as one
     order = np.argsort(-cnt, kind="stable")
     return [faces[inv == k] for k in order]
@@ -183,7 +183,7 @@ def auto_axis_warnings(
 ) -> list[str]:
     """A warning where ``axis: auto`` had no tube to go by (the region's normals avoid no
     one direction: a whole T-shirt, torso and sleeves) and its fallback, the direction of
-    largest extent, lies more than ``tol.AUTO_AXIS_UP_DEG`` from the garment's up: the
+    largest extent, lies more than ``edit_tol.AUTO_AXIS_UP_DEG`` from the garment's up: the
     shared tshirt's came out 55 degrees from vertical, and a symmetric ``along`` x1.1 grew
     one sleeve 10.8 % and the other 2.8 %. A tube's axis (a sleeve's: horizontal in a
     T-pose) and a body's are what they are."""
@@ -193,7 +193,7 @@ def auto_axis_warnings(
         return []
     up = frame.matrix()[1]
     angle = float(np.degrees(np.arccos(min(1.0, abs(float(ax @ up))))))
-    if angle <= tol.AUTO_AXIS_UP_DEG:
+    if angle <= edit_tol.AUTO_AXIS_UP_DEG:
         return []
     return [
         f"axis: auto found no tube in the region and took its longest extent, {angle:.0f}"

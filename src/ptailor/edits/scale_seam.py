@@ -7,6 +7,7 @@ from typing import Any
 
 import numpy as np
 
+from ptailor.edits import tolerances as edit_tol
 from ptailor.edits.checks import choice, number, with_schema
 from ptailor.edits.follow import rigid_apart
 from ptailor.edits.opening import find_opening, opening_spec
@@ -162,15 +163,13 @@ def state_seam_names(state: EditState) -> list[str]:
         The state's panels are not the garment's own (after a cut or an extension: seams
         are named by their panels there).
     """
-    from ptailor.model.names import seam_names
-
     st = state.structure
     if state.panels is not st.panels:
         raise PtailorError(
             "seams are named by name only on the garment as read; after a cut or an "
             "extension name a seam by its two panels, [a, b]"
         )
-    return seam_names(state.base.V3, st.seams, st.layout, [p.name for p in st.panels])
+    return list(st.seam_names)
 
 
 def resolve_seam(state: EditState, seam: Any, part: str) -> list[str]:
@@ -287,9 +286,8 @@ def _hold_fixed(
     """``targets`` with every fixed vertex at its place: what ``fix`` names stays put
     exactly (the part's scaled field once moved a fixed cuff opening by 2 mm and a fixed
     seam of the part by 2.1 cm, as if unfixed). A fixed line the scaling moves by more
-    than ``tol.FIX_INSIDE_REL`` of the garment's size lies inside the scaled part, where
+    than ``edit_tol.FIX_INSIDE_REL`` of the garment's size lies inside the scaled part, where
     it cannot stay put without tearing the part's scaling: an error naming it."""
-    from ptailor import tolerances as tol
 
     if not len(fixed_v):
         return targets
@@ -298,7 +296,7 @@ def _hold_fixed(
     r = row[fixed_v]
     move = np.linalg.norm(targets[r] - V3[fixed_v], axis=1)
     size = float(np.linalg.norm(np.ptp(V3, axis=0))) or 1.0
-    if move.max(initial=0.0) > tol.FIX_INSIDE_REL * size:
+    if move.max(initial=0.0) > edit_tol.FIX_INSIDE_REL * size:
         raise PtailorError(
             f"fix: {fix} lies inside the scaled part {part}, where this step moves it by up"
             f" to {move.max():.3g} (units of the drape): it cannot stay put; fix the part's"

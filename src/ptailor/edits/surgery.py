@@ -16,7 +16,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ptailor import tolerances as tol
+from ptailor.edits import tolerances as edit_tol
 from ptailor.edits.state import EditState
 from ptailor.errors import PtailorError
 from ptailor.geometry.topology import edge_keys
@@ -151,7 +151,7 @@ def _cut_edges(
     lo3 = a3 < b3
     t2 = t  # where each side of the pattern is cut
     if crossing is not None:
-        lim = tol.SPLIT_SNAP_REL  # no sliver next to a corner
+        lim = edit_tol.SPLIT_SNAP_REL  # no sliver next to a corner
         t2 = np.clip(crossing(a2, b2, t, fs[rows]), lim, 1.0 - lim)
         tm = _group_mean(key3, np.where(lo3, t2, 1.0 - t2))
         t = np.where(lo3, tm, 1.0 - tm)
@@ -242,7 +242,7 @@ def split_keep(
     state : EditState
     phi : (n3,) float array
         Field on the drape vertices; triangles it crosses are split on ``phi = 0``. Values
-        within ``tol.SPLIT_SNAP_REL`` mean edge lengths of zero snap to zero, so no sliver is
+        within ``edit_tol.SPLIT_SNAP_REL`` mean edge lengths of zero snap to zero, so no sliver is
         made next to a vertex.
     crossing : callable, optional, keyword-only
         ``crossing(a2, b2, t, face) -> t``: where each crossed edge is cut, given its
@@ -299,7 +299,7 @@ def _signs(
     Returns
     -------
     s : (n3,) float array
-        ``phi`` with values within ``tol.SPLIT_SNAP_REL`` mean edge lengths of 0 set to 0.
+        ``phi`` with values within ``edit_tol.SPLIT_SNAP_REL`` mean edge lengths of 0 set to 0.
     S : (m, 3) float array
         ``s`` at each triangle's corners.
     keep_whole : (m,) bool array
@@ -315,7 +315,7 @@ def _signs(
     F3 = state.base.F3
     E = state.V3[F3[:, [1, 2, 0]]] - state.V3[F3]
     h = float(np.linalg.norm(E, axis=2).mean())
-    s = np.where(np.abs(phi) <= tol.SPLIT_SNAP_REL * h, 0.0, phi)
+    s = np.where(np.abs(phi) <= edit_tol.SPLIT_SNAP_REL * h, 0.0, phi)
     S = s[F3]  # (m, 3)
     cp, cn = (S > 0).sum(1), (S < 0).sum(1)
     keep_whole = cn == 0
@@ -434,7 +434,7 @@ def panel_changes(before: EditState, res: SplitResult) -> tuple[dict, list[str]]
     """What a split did to each panel of ``before``: the fraction of its pattern area
     removed and the panels it became (each with its share of the original's area), for
     the step record; and a warning for a panel that lost more than
-    ``tol.SURGERY_REMOVED_WARN`` of its area (a cut sketched too high on a taller garment
+    ``edit_tol.SURGERY_REMOVED_WARN`` of its area (a cut sketched too high on a taller garment
     once removed most of two bodice panels and said only ``removed_triangles``).
 
     Returns
@@ -463,11 +463,11 @@ def panel_changes(before: EditState, res: SplitResult) -> tuple[dict, list[str]]
         mine = np.flatnonzero(src == i)
         parts = {}
         for q in np.unique(lab1[mine]):
-            share = float(area1[mine[lab1[mine] == q]].sum()) / max(float(a0[i]), 1e-300)
+            share = float(area1[mine[lab1[mine] == q]].sum()) / max(float(a0[i]), tol.TINY)
             parts[res.state.panels[int(q)].name] = round(share, 6)
-        removed = 1.0 - float(kept[i]) / max(float(a0[i]), 1e-300)
-        if removed > 1e-9 or len(parts) > 1 or list(parts) != [p.name]:
+        removed = 1.0 - float(kept[i]) / max(float(a0[i]), tol.TINY)
+        if removed > tol.ROUNDING_REL or len(parts) > 1 or list(parts) != [p.name]:
             out[p.name] = {"removed": round(removed, 6), "parts": parts}
-        if removed > tol.SURGERY_REMOVED_WARN:
+        if removed > edit_tol.SURGERY_REMOVED_WARN:
             warnings.append(f"removes {100 * removed:.0f} % of panel {p.name}'s pattern area")
     return out, warnings

@@ -359,7 +359,7 @@ def _read_meshes(path: str | Path, drape: str | Path | None):
         V2, F2 = mesh.vt, mesh.fvt
     else:
         z = mesh.v[:, 2]
-        if np.ptp(z) > 1e-9 * max(float(np.ptp(mesh.v[:, :2])), 1e-300):
+        if np.ptp(z) > tol.ROUNDING_REL * max(float(np.ptp(mesh.v[:, :2])), tol.TINY):
             raise PtailorError("no 2D pattern: no vt and the v are not planar", path=spath)
         V2, F2 = mesh.v[:, :2], mesh.fv
     if len(dmesh.fv) != len(F2):

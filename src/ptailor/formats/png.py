@@ -12,6 +12,7 @@ import os
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.formats.preview import (
     AFTER,
     BEFORE,
@@ -146,7 +147,7 @@ class _Pen:
         Q = np.vstack([xy[-2:-1], xy]) if closed else xy
         a, b = Q[1:-1] - Q[:-2], Q[2:] - Q[1:-1]
         na, nb = np.hypot(*a.T), np.hypot(*b.T)
-        cos = (a * b).sum(axis=1) / np.maximum(na * nb, 1e-300)
+        cos = (a * b).sum(axis=1) / np.maximum(na * nb, tol.TINY)
         r = width / 2.0
         for x, y in Q[1:-1][cos < _JOIN_COS].tolist():  # the corners, a few per outline
             self.draw.ellipse((x - r, y - r, x + r, y + r), fill=ink)
@@ -280,8 +281,10 @@ def pattern_png(
     no Python loop over triangles, no hairline seams between triangles. Identical inputs give
     identical bytes (Pillow writes no software/time metadata; the bundled font).
     """
-    if int(size) < 16:
-        raise ValueError(f"pattern_png: size must be at least 16 pixels, got {size}")
+    if int(size) < tol.PREVIEW_MIN_PIXELS:
+        raise ValueError(
+            f"pattern_png: size must be at least {tol.PREVIEW_MIN_PIXELS} pixels, got {size}"
+        )
     if not dpi > 0:
         raise ValueError(f"pattern_png: dpi must be positive, got {dpi}")
     pat, s = preview_sheet(

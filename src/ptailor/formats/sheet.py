@@ -15,6 +15,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.formats.footer import LineSample, Swatch, footer_layout, text_width
 from ptailor.formats.preview import Pattern, check_inputs
 
@@ -63,10 +64,10 @@ def grid_layout(cell_w: np.ndarray, cell_h: np.ndarray, gap: float, sheet_size=N
     cand = np.unique(np.maximum(np.round(cand, 9), cell_w.max()))
     best = None
     for t in cand.tolist():
-        origin, width, height = _shelves(cell_w, cell_h, gap, t + 1e-9)
+        origin, width, height = _shelves(cell_w, cell_h, gap, t + tol.SHEET_LAYOUT_TIE)
         sw, sh = (width, height) if sheet_size is None else sheet_size(width, height)
         sheet = max(sw / math.sqrt(2.0), sh)
-        if best is None or sheet < best[0] - 1e-9:
+        if best is None or sheet < best[0] - tol.SHEET_LAYOUT_TIE:
             best = (sheet, origin, width, height)
     return best[1], best[2], best[3]
 

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ptailor import tolerances as tol
+
 
 def det2(A: np.ndarray) -> np.ndarray:
     """Determinants of 2x2 matrices in closed form.
@@ -70,5 +72,5 @@ def sqrt_spd2(C: np.ndarray) -> np.ndarray:
            [0., 3.]])
     """
     s = np.sqrt(np.maximum(det2(C), 0.0))
-    t = np.sqrt(np.maximum(C[:, 0, 0] + C[:, 1, 1] + 2.0 * s, 1e-300))
+    t = np.sqrt(np.maximum(C[:, 0, 0] + C[:, 1, 1] + 2.0 * s, tol.TINY))
     return (C + s[:, None, None] * np.eye(2)) / t[:, None, None]

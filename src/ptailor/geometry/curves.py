@@ -19,6 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ptailor import tolerances as tol
+
 __all__ = [
     "CURVE_KINDS",
     "arc_center",
@@ -49,7 +51,7 @@ def to_relative(P0: np.ndarray, P1: np.ndarray, X: np.ndarray) -> np.ndarray:
     """Points ``X`` ``(k, 2)`` in the frame of the edge ``P0 -> P1`` (inverse of
     :func:`to_absolute`)."""
     e, n = _frame(P0, P1)
-    L2 = max(float(e @ e), 1e-300)
+    L2 = max(float(e @ e), tol.TINY)
     d = np.asarray(X, dtype=float).reshape(-1, 2) - np.asarray(P0, dtype=float)
     return np.stack([d @ e / L2, d @ n / L2], axis=1)
 
@@ -78,7 +80,7 @@ def arc_center(
     h = (a - b) / 2.0
     d2 = float(h @ h)
     r = max(abs(float(radius)), np.sqrt(d2))
-    coef = np.sqrt(max(r * r - d2, 0.0) / max(d2, 1e-300))
+    coef = np.sqrt(max(r * r - d2, 0.0) / max(d2, tol.TINY))
     if bool(large_arc) == sweep_flag:
         coef = -coef
     c = coef * np.array([h[1], -h[0]]) + (a + b) / 2.0
@@ -201,7 +203,9 @@ def fit_curve(
     raise ValueError(f"unknown edge curve kind {kind!r}")
 
 
-def _feet(ctrl: np.ndarray, X: np.ndarray, t: np.ndarray, steps: int = 6) -> np.ndarray:
+def _feet(
+    ctrl: np.ndarray, X: np.ndarray, t: np.ndarray, steps: int = tol.CURVE_FOOT_STEPS
+) -> np.ndarray:
     """Parameters of the feet of points ``X`` on the Bezier curve ``ctrl``, by Newton
     steps on ``|B(t) - X|^2`` from ``t`` (kept in ``[0, 1]``)."""
     deg = len(ctrl) - 1
@@ -222,8 +226,8 @@ def _feet(ctrl: np.ndarray, X: np.ndarray, t: np.ndarray, steps: int = 6) -> np.
         num = np.sum(r * g1, axis=1)
         gn = np.sum(g1 * g1, axis=1)  # Gauss-Newton: where the full Newton step is not a descent
         den = gn + np.sum(r * g2, axis=1)
-        den = np.where(den > 1e-12 * np.maximum(gn, 1e-300), den, gn)
-        step = np.where(den > 1e-300, num / np.where(den > 1e-300, den, 1.0), 0.0)
+        den = np.where(den > tol.CURVE_NEWTON_CURVATURE_REL * np.maximum(gn, tol.TINY), den, gn)
+        step = np.where(den > tol.TINY, num / np.where(den > tol.TINY, den, 1.0), 0.0)
         t = np.clip(t - step, 0.0, 1.0)
     return t
 
@@ -234,7 +238,7 @@ def _fit_arc(P0: np.ndarray, P1: np.ndarray, X: np.ndarray, start: np.ndarray | 
 
     m = (P0 + P1) / 2.0
     e, n = _frame(P0, P1)
-    L = max(float(np.linalg.norm(e)), 1e-300)
+    L = max(float(np.linalg.norm(e)), tol.TINY)
     n = n / L
 
     def resid(s):
@@ -246,7 +250,10 @@ def _fit_arc(P0: np.ndarray, P1: np.ndarray, X: np.ndarray, start: np.ndarray | 
         s0 = float((c0 - m) @ n)
     else:
         s0 = 0.0
-    s = float(least_squares(resid, [s0], x_scale=[L], xtol=1e-15, ftol=1e-15, gtol=1e-15).x[0])
+    fit_tol = tol.CURVE_ARC_FIT_TOL
+    s = float(
+        least_squares(resid, [s0], x_scale=[L], xtol=fit_tol, ftol=fit_tol, gtol=fit_tol).x[0]
+    )
     c = m + s * n
     r = float(np.linalg.norm(P0 - c))
     # the flags: the arc passes the points' side of the chord
@@ -254,9 +261,11 @@ def _fit_arc(P0: np.ndarray, P1: np.ndarray, X: np.ndarray, start: np.ndarray | 
     best = None
     for large in (0, 1):
         for right in (0, 1):
-            cc, _, _, _ = arc_center(P0, P1, r * (1 + 1e-12), bool(large), bool(right))
+            cc, _, _, _ = arc_center(
+                P0, P1, r * (1 + tol.CURVE_ARC_RADIUS_GROW_REL), bool(large), bool(right)
+            )
             pts = curve_points(P0, P1, "circle", np.array([r, large, right]), np.array([0.5]))
-            score = np.linalg.norm(cc - c) + (0.0 if (pts[0] - m) @ n * side > 0 else 1e300)
+            score = np.linalg.norm(cc - c) + (0.0 if (pts[0] - m) @ n * side > 0 else tol.HUGE)
             if best is None or score < best[0]:
                 best = (score, large, right)
     return np.array([r, float(best[1]), float(best[2])])

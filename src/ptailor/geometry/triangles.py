@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ptailor import tolerances as tol
+
 
 def edge_matrices(V: np.ndarray, F: np.ndarray) -> np.ndarray:
     """Edge matrices of triangles.
@@ -102,7 +104,7 @@ def triangle_normals(V: np.ndarray, F: np.ndarray, *, unit: bool = True) -> np.n
     cr = np.cross(V[F[:, 1]] - a, V[F[:, 2]] - a)
     if not unit:
         return cr
-    return cr / np.maximum(np.linalg.norm(cr, axis=1), 1e-300)[:, None]
+    return cr / np.maximum(np.linalg.norm(cr, axis=1), tol.TINY)[:, None]
 
 
 def triangle_areas(V: np.ndarray, F: np.ndarray, *, robust: bool = False) -> np.ndarray:

@@ -29,9 +29,9 @@ def normal_tensor(V: np.ndarray, F: np.ndarray) -> np.ndarray:
     """
     cr = triangle_normals(V, F, unit=False)  # |cr| = 2 area, so cr cr^T / |cr| = 2 area n n^T
     w = np.linalg.norm(cr, axis=1)
-    nrm = cr / np.maximum(w, 1e-300)[:, None]
+    nrm = cr / np.maximum(w, tol.TINY)[:, None]
     N = (nrm * w[:, None]).T @ nrm
-    return N / max(np.trace(N), 1e-300)
+    return N / max(np.trace(N), tol.TINY)
 
 
 def tube_axis(

@@ -12,6 +12,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ptailor import tolerances as tol
+from ptailor.method import tolerances as method_tol
+
 
 @dataclass
 class Anderson:
@@ -84,9 +87,9 @@ class Anderson:
             if not self._slot:
                 return gx
             # least squares min |f_k - dF gamma|, scaled columns and a tiny ridge for stability
-            s = np.maximum(np.sqrt(np.diag(self._gram)), 1e-300)
+            s = np.maximum(np.sqrt(np.diag(self._gram)), tol.TINY)
             H = self._gram / s[:, None] / s[None, :]
-            H[np.diag_indices_from(H)] += 1e-10
+            H[np.diag_indices_from(H)] += method_tol.ANDERSON_RIDGE
             rhs = (self._DF[self._slot] @ f) / s
             try:
                 gamma = np.linalg.solve(H, rhs) / s

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ptailor import tolerances as tol
 from ptailor.geometry.rotations import rigid_fits_3d
+from ptailor.method import tolerances as method_tol
 from ptailor.method.anderson import Anderson
 from ptailor.method.cell_rotations import warm_rotations
 from ptailor.method.cotangent import DEGENERATE_REL, corner_cotangents, edge_matrix
@@ -22,16 +22,12 @@ from ptailor.method.solver import SymbolicCache
 
 __all__ = ["ArapPrecompute", "arap_precompute", "arap_solve"]
 
-#: The largest uniform scale (and the inverse the smallest) a ``similar`` cell may take.
-SIMILAR_MAX = 2.0
-UNIFORM_REG = tol.DEFORM_UNIFORM_REG
-COLLINEAR_REL = tol.DEFORM_COLLINEAR_REL
-#: local/global iterations of arap_deform, Anderson-accelerated with this history: 5 end at
-#: least as close to the converged deformation as 10 plain ones did (largest distance from
-#: it over the largest displacement, 100k-triangle sleeve: cuff scaled by 1.3 13.2 % vs
-#: 15.1 %, scale_seam 1.3 13.0 % vs 15.4 %; at 20k 4.4 % vs 4.8 % and 3.1 % vs 5.2 %)
-ITERATIONS = 5
-ANDERSON = 5
+SIMILAR_MAX = method_tol.ARAP_SIMILAR_MAX
+UNIFORM_REG = method_tol.DEFORM_UNIFORM_REG
+COLLINEAR_REL = method_tol.DEFORM_COLLINEAR_REL
+#: see :data:`ptailor.method.tolerances.ARAP_ITERATIONS`
+ITERATIONS = method_tol.ARAP_ITERATIONS
+ANDERSON = method_tol.ARAP_ANDERSON
 
 
 def check_arap_inputs(V, F, handles, handle_positions):
@@ -356,7 +352,7 @@ def arap_solve(
     handle_positions: np.ndarray,
     *,
     iterations: int = ITERATIONS,
-    tol: float = 1e-6,
+    tol: float = method_tol.ARAP_ENERGY_TOL,
     anderson: int = ANDERSON,
 ) -> np.ndarray:
     """The as-rigid-as-possible deformation of a precomputed mesh (:func:`arap_precompute`)
@@ -450,8 +446,10 @@ def _iterate(
             Xa[:nf] = x_plain
             acc.reset()
             R, energy, s = _local_step(sys, Xa, R)
-        # the sum cancels to about 1e-16 * scale; below a few times that it is zero
-        if energy <= 1e-14 * sys.scale or (np.isfinite(E_prev) and E_prev - energy <= tol * E_prev):
+        # the sum cancels to about 1e-16 * scale: ARAP_ZERO_ENERGY_REL
+        if energy <= method_tol.ARAP_ZERO_ENERGY_REL * sys.scale or (
+            np.isfinite(E_prev) and E_prev - energy <= tol * E_prev
+        ):
             break
         E_prev = energy
         # global step: L x = b / 3, b_a = sum over edges (a, b) of w (R_c0 + R_c1 + R_c2) e_ab

@@ -27,7 +27,7 @@ of ``R``; neither is a minimiser of the term, so the local/global fixed point is
 energy's stationary point and Newton steps drift or fail (the shared long-sleeve with both
 armholes gathered, 4x: 83 iterations, against 35 with the panel similarity and 36 without
 the term; at 1x with the triangles' rotations: the 100-iteration cap). Corners (a target
-turning above ``tol.SEAM_BEND_CORNER_RAD``) are left out: their angle is the triangles'
+turning above ``method_tol.SEAM_BEND_CORNER_RAD``) are left out: their angle is the triangles'
 business.
 """
 
@@ -38,8 +38,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ptailor import tolerances as tol
 from ptailor.geometry.topology import half_edges
+from ptailor.method import tolerances as method_tol
 
 __all__ = ["SeamBend", "seam_bend"]
 
@@ -116,7 +116,7 @@ def seam_bend(
     mu: np.ndarray,
     panel: np.ndarray,
     *,
-    corner: float = tol.SEAM_BEND_CORNER_RAD,
+    corner: float = method_tol.SEAM_BEND_CORNER_RAD,
 ) -> SeamBend | None:
     """The bending rows of the seam sides through ``vertices``.
 

@@ -7,15 +7,12 @@ from __future__ import annotations
 import numpy as np
 
 from ptailor.geometry.rotations import max_trace_rotations
+from ptailor.method import tolerances as method_tol
 
 __all__ = ["warm_rotations"]
 
-#: warm_rotations accepts a rotation once its Newton step is at most this (radians): the
-#: error after it is of order the step cubed, below rounding (steps of 1.3e-5 and 3.9e-6
-#: were followed by 8e-16 and 2e-16 on the sleeve's cells)
-ROTATION_DONE = 1e-5
-#: and its Hessian's determinant is above this times trace(M)^3 (positive definite)
-ROTATION_PD_REL = 1e-9
+#: see :data:`ptailor.method.tolerances.ROTATION_DONE`
+ROTATION_DONE = method_tol.ROTATION_DONE
 
 
 def _newton_step(M: np.ndarray):
@@ -46,7 +43,7 @@ def _newton_step(M: np.ndarray):
     c12 = h01 * h02 - h00 * h12
     c22 = h00 * h11 - h01 * h01
     det = h00 * c00 + h01 * c01 + h02 * c02
-    pd = (h00 > 0.0) & (c22 > 0.0) & (det > ROTATION_PD_REL * t**3)
+    pd = (h00 > 0.0) & (c22 > 0.0) & (det > method_tol.ROTATION_PD_REL * t**3)
     inv = np.divide(1.0, det, out=np.zeros_like(det), where=pd)
     w = np.stack(
         [
@@ -80,7 +77,11 @@ def _cayley(w: np.ndarray) -> np.ndarray:
 
 
 def warm_rotations(
-    S: np.ndarray, R0: np.ndarray, *, steps: int = 6, done: float = ROTATION_DONE
+    S: np.ndarray,
+    R0: np.ndarray,
+    *,
+    steps: int = method_tol.ROTATION_STEPS,
+    done: float = ROTATION_DONE,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Rotations maximising ``trace(R S)`` for a stack ``S (k, 3, 3)``, from guesses ``R0``.
 
@@ -112,9 +113,11 @@ def warm_rotations(
     R, todo = R0, np.arange(k)
     tr = np.empty(k)
     for _ in range(steps):
-        if todo.size <= k // 100:
+        if todo.size <= k // method_tol.ROTATION_SVD_SHARE:
             break
-        if 4 * todo.size > k:  # most still move: a step on all is cheaper than gathering
+        if (
+            method_tol.ROTATION_GATHER_SHARE * todo.size > k
+        ):  # most still move: a step on all is cheaper than gathering
             w, pd, tr[:] = _newton_step(S @ R)
             R = R @ _cayley(w)
             todo = np.flatnonzero(~(pd & (np.abs(w).max(axis=0) <= done)))

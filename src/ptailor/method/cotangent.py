@@ -6,11 +6,11 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from ptailor import tolerances as tol
+from ptailor.method import tolerances as method_tol
 
 __all__ = ["corner_cotangents", "cotangent_weights", "edge_matrix"]
 
-DEGENERATE_REL = tol.DEFORM_DEGENERATE_REL
+DEGENERATE_REL = method_tol.DEFORM_DEGENERATE_REL
 
 
 def corner_cotangents(V: np.ndarray, F: np.ndarray, eps: float) -> np.ndarray:

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ptailor.method import tolerances as method_tol
 from ptailor.method.arap import (
     ANDERSON,
     COLLINEAR_REL,
@@ -56,7 +57,7 @@ def arap_deform(
     handle_positions: np.ndarray,
     *,
     iterations: int = ITERATIONS,
-    tol: float = 1e-6,
+    tol: float = method_tol.ARAP_ENERGY_TOL,
     anderson: int = ANDERSON,
     similar: np.ndarray | None = None,
     symbolic: SymbolicCache | None = None,

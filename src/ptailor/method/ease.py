@@ -23,6 +23,7 @@ import scipy.sparse as sp
 
 from ptailor import tolerances as tol
 from ptailor.geometry.topology import half_edges
+from ptailor.method import tolerances as method_tol
 from ptailor.model.seams import seam_curve_labels, seam_halfedges
 
 Granularity = Literal["edge", "seam"]
@@ -104,7 +105,7 @@ class SeamEase:
         """Relative mismatch ``|L_b - r L_a| / L_b`` of each row (``r`` its
         :meth:`ratios` at ``X``), ``(k,)`` float."""
         la, lb = self.lengths(X)
-        return np.abs(lb - self.ratios(X) * la) / np.maximum(lb, 1e-300)
+        return np.abs(lb - self.ratios(X) * la) / np.maximum(lb, tol.TINY)
 
     @property
     def n_totals(self) -> int:
@@ -131,7 +132,7 @@ class SeamEase:
 
         def side(E, coef, row) -> tuple[np.ndarray, ...]:
             e = X[E[:, 1]] - X[E[:, 0]]
-            d = e / np.maximum(np.linalg.norm(e, axis=1), 1e-300)[:, None]
+            d = e / np.maximum(np.linalg.norm(e, axis=1), tol.TINY)[:, None]
             d = d * coef[:, None]
             rows = np.tile(row, 4)
             cols = np.concatenate([E[:, 1], E[:, 1] + n, E[:, 0], E[:, 0] + n])
@@ -180,7 +181,7 @@ class SeamEase:
         return -(ratio * norm)[self.row], norm[self.row]
 
     def curvature(
-        self, X: np.ndarray, lam: np.ndarray, *, min_rel: float = tol.SEAM_CURVATURE_MIN_REL
+        self, X: np.ndarray, lam: np.ndarray, *, min_rel: float = method_tol.SEAM_CURVATURE_MIN_REL
     ) -> tuple[sp.csr_matrix, np.ndarray]:
         """The constraints' curvature at ``X`` under multipliers ``lam``, projected.
 
@@ -256,7 +257,7 @@ def seam_ease(
     face_panel: np.ndarray,
     factors: dict[tuple[int, int], float] | None = None,
     granularity: Granularity = "edge",
-    min_length_rel: float = 1e-6,
+    min_length_rel: float = method_tol.SEAM_MIN_LENGTH_REL,
     pairs: np.ndarray | None = None,
 ) -> SeamEase | None:
     """The seam-ease constraints of a garment, at the ratios its pattern ``V2`` has.
@@ -345,10 +346,10 @@ def _curve_totals(
     hi = np.bincount(curve, pa > pb, nc)
     cnt = np.bincount(curve, minlength=nc)
     whole = (lo == cnt) | (hi == cnt)
-    total = np.bincount(curve, lb_gained, nc) / np.maximum(np.bincount(curve, la, nc), 1e-300)
+    total = np.bincount(curve, lb_gained, nc) / np.maximum(np.bincount(curve, la, nc), tol.TINY)
     # a curve whose pairs all have about its total's ratio needs no total row: the pairs
     # hold the total to that fraction of its length
-    off = np.abs(pair_ratio / total[curve] - 1.0) > tol.SEAM_TOTAL_UNIFORM_REL
+    off = np.abs(pair_ratio / total[curve] - 1.0) > method_tol.SEAM_TOTAL_UNIFORM_REL
     whole &= np.bincount(curve, off, nc) > 0
     number = np.full(nc, -1, dtype=np.int64)
     number[whole] = np.arange(int(whole.sum()))  # the whole curves, renumbered

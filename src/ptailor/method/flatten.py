@@ -11,6 +11,7 @@ import numpy as np
 from ptailor import tolerances as tol
 from ptailor.geometry.rotations import rigid_fit_groups
 from ptailor.geometry.triangles import edge_lengths, edge_matrices
+from ptailor.method import tolerances as method_tol
 from ptailor.method.ease import SeamEase, seam_ease
 from ptailor.method.intrinsic import Intrinsic, intrinsic_targets
 from ptailor.method.solver import StitchInfo, SymbolicCache, stitch
@@ -79,7 +80,7 @@ def panel_strain(
     n_panels : int
     """
     l0, l1 = edge_lengths(V3, F3), edge_lengths(V3_edit, F3)
-    strain = (np.abs(l1 - l0) / np.maximum(l0, 1e-300)).max(axis=1)
+    strain = (np.abs(l1 - l0) / np.maximum(l0, tol.TINY)).max(axis=1)
     out = np.zeros(n_panels)
     np.maximum.at(out, face_panel, strain)
     return out
@@ -126,11 +127,11 @@ def flatten(
     frozen_panels: np.ndarray | None = None,
     seams: Seams = "ease",
     seam_factors: dict[tuple[int, int], float] | None = None,
-    w_pin: float = tol.W_PIN,
-    w_asap: float = tol.W_ASAP,
-    max_iter: int = tol.ARAP_MAX_ITER,
-    step_tol: float = tol.ARAP_STEP_TOL,
-    history: int = tol.ANDERSON_HISTORY,
+    w_pin: float = method_tol.W_PIN,
+    w_asap: float = method_tol.W_ASAP,
+    max_iter: int = method_tol.ARAP_MAX_ITER,
+    step_tol: float = method_tol.ARAP_STEP_TOL,
+    history: int = method_tol.ANDERSON_HISTORY,
     panel_list: list[Panel] | None = None,
     seam_pairs: np.ndarray | None = None,
     progress: Callable[[int, float], None] | None = None,
@@ -230,7 +231,7 @@ def _seam_terms(
 ) -> tuple[SeamEase | None, np.ndarray | None]:
     """With ``seams="ease"``, the seam-ease constraints and the panels' weights
     ``(n_panels,)``: the frozen panels, and the panels whose drape no edge of changed in
-    length by ``tol.KEPT_STRAIN``, are ``tol.KEPT_PANEL_WEIGHT`` times stiffer in the
+    length by ``method_tol.KEPT_STRAIN``, are ``method_tol.KEPT_PANEL_WEIGHT`` times stiffer in the
     stitching, so the panels an edit touched take up what keeping the seams costs.
     ``(None, None)`` with ``seams="free"``."""
     if seams != "ease":
@@ -239,10 +240,10 @@ def _seam_terms(
     ease = seam_ease(
         garment.F3, garment.F2, V2, face_panel=flab, factors=seam_factors, pairs=seam_pairs
     )
-    kept = panel_strain(garment.V3, V3_edit, garment.F3, flab, len(plist)) < tol.KEPT_STRAIN
+    kept = panel_strain(garment.V3, V3_edit, garment.F3, flab, len(plist)) < method_tol.KEPT_STRAIN
     if frozen_panels is not None:
         kept |= np.asarray(frozen_panels, dtype=bool)
-    return ease, np.where(kept, tol.KEPT_PANEL_WEIGHT, 1.0)
+    return ease, np.where(kept, method_tol.KEPT_PANEL_WEIGHT, 1.0)
 
 
 def _asap_faces(plist: list[Panel], m: int, asap_panels: np.ndarray | None) -> np.ndarray | None:

@@ -24,15 +24,15 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from ptailor import tolerances as tol
 from ptailor.geometry.labels import used_indices
+from ptailor.method import tolerances as method_tol
 
 __all__ = ["geodesic_distance"]
 
-GEODESIC_REL_TOL = tol.GEODESIC_REL_TOL
-GEODESIC_DEGENERATE_REL = tol.GEODESIC_DEGENERATE_REL
-GEODESIC_BAND_MARGIN_EDGES = tol.GEODESIC_BAND_MARGIN_EDGES
-GEODESIC_STEP_EDGES = tol.GEODESIC_STEP_EDGES
+GEODESIC_REL_TOL = method_tol.GEODESIC_REL_TOL
+GEODESIC_DEGENERATE_REL = method_tol.GEODESIC_DEGENERATE_REL
+GEODESIC_BAND_MARGIN_EDGES = method_tol.GEODESIC_BAND_MARGIN_EDGES
+GEODESIC_STEP_EDGES = method_tol.GEODESIC_STEP_EDGES
 
 
 def _vertex_triangles(F: np.ndarray, n: int) -> sp.csr_matrix:

@@ -8,6 +8,7 @@ import scipy.sparse as sp
 
 from ptailor import tolerances as tol
 from ptailor.geometry.closed_forms import inv2
+from ptailor.method import tolerances as method_tol
 from ptailor.model.boundary import boundary_loops
 
 
@@ -139,8 +140,8 @@ def asap_rows(
     # a corner has no tangent: skip vertices where the outline turns sharply
     a, b = V2[cur] - V2[prv], V2[nxt] - V2[cur]
     na, nb = np.linalg.norm(a, axis=1), np.linalg.norm(b, axis=1)
-    cos_turn = np.einsum("ij,ij->i", a, b) / np.maximum(na * nb, 1e-300)
-    keep = (length > 0) & (cos_turn >= np.cos(np.radians(tol.ASAP_CORNER_DEG)))
+    cos_turn = np.einsum("ij,ij->i", a, b) / np.maximum(na * nb, tol.TINY)
+    keep = (length > 0) & (cos_turn >= np.cos(np.radians(method_tol.ASAP_CORNER_DEG)))
     if exclude is not None:
         keep &= ~exclude[cur]
     nrm = np.stack([-chord[:, 1], chord[:, 0]], 1)[keep] / length[keep, None]

@@ -7,11 +7,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
 from ptailor.geometry.segments import segment_feet
-
-#: Triangles (nearest by centroid) examined per point for a first guess.
-_CANDIDATES = 8
+from ptailor.method import tolerances as method_tol
 
 
 @dataclass(frozen=True)
@@ -71,7 +70,7 @@ def _pair_distance(P: np.ndarray, T: np.ndarray) -> tuple[np.ndarray, np.ndarray
     bary : (..., 3) float array
     """
     bary = barycentric_2d(P, T)
-    inside = np.all(bary >= -1e-12, axis=-1)
+    inside = np.all(bary >= -method_tol.TRANSFER_INSIDE_BARY, axis=-1)
     dist = np.min(
         np.stack(
             [segment_feet(P, T[..., i, :], T[..., (i + 1) % 3, :])[0] for i in range(3)],
@@ -145,12 +144,12 @@ def _first_guess(
     P: np.ndarray, T: np.ndarray, C: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Per point of ``P (k, 2)``, the nearest of the triangles ``T (j, 3, 2)`` with the
-    ``_CANDIDATES`` nearest centroids ``C (j, 2)``: ``(face (k,), distance (k,),
+    ``TRANSFER_CANDIDATES`` nearest centroids ``C (j, 2)``: ``(face (k,), distance (k,),
     bary (k, 3))``, faces as positions in ``T``."""
     from scipy.spatial import cKDTree  # imported when needed (costly)
 
     k = len(P)
-    kk = min(_CANDIDATES, len(T))
+    kk = min(method_tol.TRANSFER_CANDIDATES, len(T))
     _, idx = cKDTree(C).query(P, k=kk)
     idx = np.asarray(idx).reshape(k, kk)
     d0, b0 = _pair_distance(np.broadcast_to(P[:, None, :], (k, kk, 2)), T[idx])
@@ -175,13 +174,13 @@ def _nearest_within(
     from scipy.spatial import cKDTree  # imported when needed (costly)
 
     r = np.linalg.norm(T - C[:, None, :], axis=2).max(axis=1)  # (j,)
-    group = np.floor(np.log2(np.maximum(r, 1e-300) / max(float(r.max()), 1e-300)))
+    group = np.floor(np.log2(np.maximum(r, tol.TINY) / max(float(r.max()), tol.TINY)))
     group = np.maximum(group, -60.0).astype(np.int64)
     pt_parts, tri_parts = [], []
     for g in np.unique(group).tolist():  # a loop over size groups (a few dozen at most)
         members = np.flatnonzero(group == g)
         lists = cKDTree(C[members]).query_ball_point(
-            P[todo], r=dist[todo] + float(r[members].max()) * (1 + 1e-9)
+            P[todo], r=dist[todo] + float(r[members].max()) * (1 + tol.ROUNDING_REL)
         )
         counts = np.fromiter((len(a) for a in lists), dtype=np.int64, count=len(todo))
         flat = np.fromiter(

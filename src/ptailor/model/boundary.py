@@ -32,6 +32,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from ptailor import tolerances as tol
 from ptailor.geometry.topology import edge_groups, edge_keys, half_edges
 
 
@@ -114,10 +115,10 @@ def _multi_links(
         V = np.asarray(V, dtype=np.float64)
         a, b = V[h[idx, 0]], V[h[idx, 1]]
         t = b - a
-        t /= np.maximum(np.linalg.norm(t, axis=1), 1e-300)[:, None]
+        t /= np.maximum(np.linalg.norm(t, axis=1), tol.TINY)[:, None]
         w = V[opp] - a
         w -= (w * t).sum(axis=1)[:, None] * t
-        w /= np.maximum(np.linalg.norm(w, axis=1), 1e-300)[:, None]
+        w /= np.maximum(np.linalg.norm(w, axis=1), tol.TINY)[:, None]
         score += (w[ci] * w[cj]).sum(axis=1)  # -1: the two half-planes are opposite (flat)
     elif F2 is None:
         return np.zeros((0, 2), dtype=np.int64)

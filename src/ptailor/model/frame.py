@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ptailor import tolerances as tol
+from ptailor.model import tolerances as model_tol
 
 __all__ = ["AXIS_NAMES", "DEFAULT_FRAME", "Axis", "Frame", "axis_vector", "frame_from_header"]
 
@@ -132,7 +132,7 @@ class Frame:
         u = u / np.linalg.norm(u)
         f = f - (f @ u) * u
         nf = np.linalg.norm(f)
-        if nf < tol.FRAME_PARALLEL * max(1.0, float(np.linalg.norm(self.front))):
+        if nf < model_tol.FRAME_PARALLEL * max(1.0, float(np.linalg.norm(self.front))):
             raise ValueError("front axis must be non-zero and not parallel to the up axis")
         f = f / nf
         return np.stack([np.cross(u, f), u, f])

@@ -12,19 +12,9 @@ import numpy as np
 
 from ptailor.geometry.labels import used_indices
 from ptailor.geometry.triangles import triangle_areas
+from ptailor.model import tolerances as model_tol
 from ptailor.model.boundary import boundary_curves
 from ptailor.model.frame import Frame
-
-#: A loop shorter than this fraction of the longest loop is a mesh defect, never named.
-_MIN_REL_LENGTH = 0.05
-#: A loop is "horizontal" when its plane normal is within 60 degrees of the up axis.
-_HORIZONTAL_COS = 0.5
-#: a lone tube is a limb when its two loops are at least this many times the longer loop's
-#: length apart
-_LIMB_LENGTH = 1.0
-#: Minimum height of the band below the side loops where the torso is measured (fraction of
-#: the garment's height).
-_BAND_REL = 0.05
 
 
 @dataclass(frozen=True)
@@ -236,8 +226,8 @@ def _loop_measures(
         ch=cen @ frame[1],
         smin=np.array([S[L].min() for L in loops]),
         smax=np.array([S[L].max() for L in loops]),
-        big=length >= _MIN_REL_LENGTH * length.max(),
-        horizontal=np.abs(nrm @ frame[1]) >= _HORIZONTAL_COS,
+        big=length >= model_tol.OPENING_MIN_REL_LENGTH * length.max(),
+        horizontal=np.abs(nrm @ frame[1]) >= model_tol.OPENING_HORIZONTAL_COS,
     )
 
 
@@ -337,7 +327,7 @@ def _sleeve_kind(
     """
     hl, hr = band
     lo = min(hl.min(), hr.min())
-    band_h = max(np.ptp(hl), np.ptp(hr), _BAND_REL * H)
+    band_h = max(np.ptp(hl), np.ptp(hr), model_tol.OPENING_BAND_REL * H)
     sel = used[(Hc[used] < lo) & (Hc[used] >= lo - band_h)]
     d = S[sel] - s0
     half_l = max(float(d.max()), 0.0) if d.size else 0.0
@@ -387,4 +377,6 @@ def _lone_limb(centred: list[int], flat: list[int], ch: np.ndarray, lengths: np.
     if len(centred) != 2 or len(flat) != 2:
         return False
     lo, hi = flat
-    return float(ch[hi] - ch[lo]) >= _LIMB_LENGTH * float(max(lengths[lo], lengths[hi]))
+    return float(ch[hi] - ch[lo]) >= model_tol.OPENING_LIMB_LENGTH * float(
+        max(lengths[lo], lengths[hi])
+    )

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ptailor import tolerances as tol
+from ptailor.model import tolerances as model_tol
 
 
 def signed_area(P: np.ndarray) -> float:
@@ -19,7 +20,7 @@ def signed_area(P: np.ndarray) -> float:
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
 
 
-def dedupe_closed(P: np.ndarray, *, rel: float = 1e-12) -> np.ndarray:
+def dedupe_closed(P: np.ndarray, *, rel: float = model_tol.POLYLINE_DUPLICATE_REL) -> np.ndarray:
     """Indices of the points kept after dropping points equal to their predecessor.
 
     Parameters
@@ -34,7 +35,7 @@ def dedupe_closed(P: np.ndarray, *, rel: float = 1e-12) -> np.ndarray:
     """
     if len(P) == 0:
         return np.zeros(0, dtype=np.int64)
-    eps = rel * max(float(np.ptp(P, axis=0).max()), 1e-300)
+    eps = rel * max(float(np.ptp(P, axis=0).max()), tol.TINY)
     step = np.linalg.norm(P - np.roll(P, 1, axis=0), axis=1)
     keep = step > eps
     if not keep.any():
@@ -118,7 +119,8 @@ def offset_closed(P: np.ndarray, d: float, *, miter_limit: float = tol.MITER_LIM
     n_in = np.roll(n, 1, axis=0)  # the edge arriving at P[i]
     m = n_in + n
     denom = 1.0 + (n_in * n).sum(axis=1)  # = |m|^2 / 2
-    miter = np.where(denom[:, None] > 1e-12, d * m / np.maximum(denom, 1e-12)[:, None], 0.0)
+    opposed = model_tol.MITER_OPPOSED
+    miter = np.where(denom[:, None] > opposed, d * m / np.maximum(denom, opposed)[:, None], 0.0)
     bevel = (denom <= 2.0 / miter_limit**2) | (np.linalg.norm(miter, axis=1) > miter_limit * abs(d))
     count = np.where(bevel, 2, 1)
     idx = np.repeat(np.arange(len(P)), count)
@@ -133,19 +135,21 @@ def offset_closed(P: np.ndarray, d: float, *, miter_limit: float = tol.MITER_LIM
 def _line_side(P: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Signed distance of points ``(k, 2)`` from the line through ``a`` and ``b`` (left > 0)."""
     d = np.asarray(b, dtype=float) - np.asarray(a, dtype=float)
-    n = np.array([-d[1], d[0]]) / max(float(np.hypot(*d)), 1e-300)
+    n = np.array([-d[1], d[0]]) / max(float(np.hypot(*d)), tol.TINY)
     return (np.asarray(P, dtype=float) - a) @ n
 
 
 def reflect(P: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Points ``(k, 2)`` mirrored across the line through ``a`` and ``b``."""
     d = np.asarray(b, dtype=float) - np.asarray(a, dtype=float)
-    u = d / max(float(np.hypot(*d)), 1e-300)
+    u = d / max(float(np.hypot(*d)), tol.TINY)
     q = np.asarray(P, dtype=float) - a
     return a + 2.0 * np.outer(q @ u, u) - q
 
 
-def unfold(P: np.ndarray, a: np.ndarray, b: np.ndarray, *, rel: float = 1e-3) -> np.ndarray | None:
+def unfold(
+    P: np.ndarray, a: np.ndarray, b: np.ndarray, *, rel: float = model_tol.FOLD_ON_LINE_REL
+) -> np.ndarray | None:
     """The whole outline of a piece cut on the fold: the half and its mirror image.
 
     Parameters
@@ -167,7 +171,7 @@ def unfold(P: np.ndarray, a: np.ndarray, b: np.ndarray, *, rel: float = 1e-3) ->
     P = np.asarray(P, dtype=float)
     k = len(P)
     diag = float(np.hypot(*np.ptp(P, axis=0)))
-    on = np.abs(_line_side(P, a, b)) <= rel * max(diag, 1e-300)
+    on = np.abs(_line_side(P, a, b)) <= rel * max(diag, tol.TINY)
     if on.all() or on.sum() < 2:
         return None
     # the longest cyclic run of points on the line: the fold edge, from i to j

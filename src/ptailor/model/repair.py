@@ -31,6 +31,7 @@ from ptailor.errors import PtailorError
 from ptailor.geometry.labels import component_labels, used_indices
 from ptailor.geometry.topology import edge_groups, edge_keys, half_edges
 from ptailor.geometry.triangles import edge_lengths, triangle_areas
+from ptailor.model import tolerances as model_tol
 from ptailor.model.unit_ratio import UNIT_RATIO_RANGE, UnitMismatchError, check_units, unit_ratios
 
 # the units check moved to ptailor.model.unit_ratio; its names are still importable from here
@@ -50,10 +51,8 @@ __all__ = [
     "zero_area_faces",
 ]
 
-#: ``--weld auto`` (and a weld without a distance) merges drape vertices closer than this
-#: fraction of the mean drape edge length. Measured: the shortest edge of the shared garments
-#: is 0.24-0.66 of their mean, and no two of their referenced vertices are within 0.1.
-WELD_REL = 1e-3
+#: see :data:`ptailor.model.tolerances.WELD_REL`
+WELD_REL = model_tol.WELD_REL
 
 
 def weld_vertices(
@@ -122,7 +121,10 @@ def _clearly_apart(P: np.ndarray, distance: float, *, rounds: int = 32) -> bool:
     that close, so each is compared with its next neighbours in projection order."""
     if len(P) < 2 or P.shape[1] != 3:
         return len(P) < 2
-    reach = distance * (1 + 1e-6) + float(np.abs(P).max()) * 1e-9
+    reach = (
+        distance * (1 + model_tol.REPAIR_APART_MARGIN_REL)
+        + float(np.abs(P).max()) * model_tol.REPAIR_APART_ROUNDING_REL
+    )
     order = np.argsort(p := P @ _DIRECTION)
     p = p[order]
     for k in range(1, rounds + 1):
@@ -228,7 +230,7 @@ def zero_area_faces(V: np.ndarray, F: np.ndarray) -> np.ndarray:
     d = float(np.ptp(V if used.all() else V[used], axis=0).max()) if used.any() else 0.0
     area = triangle_areas(V, F)
     repeated = (F[:, 0] == F[:, 1]) | (F[:, 1] == F[:, 2]) | (F[:, 2] == F[:, 0])
-    return repeated | (area <= tol.ZERO_AREA_REL * max(d, 1e-300) ** 2)
+    return repeated | (area <= model_tol.ZERO_AREA_REL * max(d, tol.TINY) ** 2)
 
 
 def non_manifold_edges(F: np.ndarray) -> np.ndarray:

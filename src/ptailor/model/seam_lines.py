@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ptailor import tolerances as tol
+from ptailor.model import tolerances as model_tol
 from ptailor.model.seams import Seam
 
 
@@ -45,7 +46,7 @@ def seam_line(
     part: int,
     other: int,
     *,
-    turn_deg: float = tol.SEAM_LINE_TURN_DEG,
+    turn_deg: float = model_tol.SEAM_LINE_TURN_DEG,
 ) -> list[int]:
     """The panels ``part`` meets across the seam line through its seam with ``other``, in
     the order found (``other`` first).
@@ -89,7 +90,7 @@ def seam_line(
             e = Ex[(Ex == u).any(axis=1)][0]
             w = e[1] if e[0] == u else e[0]
             d = V3[w] - V3[u]
-            out[u] = d / max(float(np.linalg.norm(d)), 1e-300)
+            out[u] = d / max(float(np.linalg.norm(d)), tol.TINY)
         return out
 
     grown = True

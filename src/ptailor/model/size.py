@@ -19,6 +19,7 @@ import numpy as np
 
 from ptailor import tolerances as tol
 from ptailor.geometry.labels import component_labels
+from ptailor.model import tolerances as model_tol
 
 __all__ = [
     "GarmentSize",
@@ -205,9 +206,10 @@ def plausible_units(size: GarmentSize) -> list[tuple[str, GarmentSize]]:
             out.append((name, s))
 
     def typical(item: tuple[str, GarmentSize]) -> float:  # nearest a 70 cm garment first
+        cm = model_tol.UNIT_GUESS_TYPICAL_CM
         s = item[1]
-        x = s.extent if np.isfinite(s.extent) else s.pieces[:, 0].max(initial=70.0)
-        return abs(float(np.log(max(x, 1e-9) / 70.0)))
+        x = s.extent if np.isfinite(s.extent) else s.pieces[:, 0].max(initial=cm)
+        return abs(float(np.log(max(x, 1e-9) / cm)))
 
     return sorted(out, key=typical)
 

@@ -37,7 +37,7 @@ from ptailor.model.garment import (
     panel_labels,
     vertex_labels,
 )
-from ptailor.model.names import PanelLayout, panel_layout
+from ptailor.model.names import PanelLayout, panel_layout, seam_names
 from ptailor.model.openings import Opening, openings
 from ptailor.model.seams import Seam, seam_halfedges, seams
 
@@ -79,6 +79,10 @@ class GarmentStructure:
     layout : PanelLayout
         :func:`ptailor.model.names.panel_layout` over ``panel_components`` and
         ``openings``.
+    seam_names : tuple of str
+        :func:`ptailor.model.names.seam_names` of ``seams``, with ``panels``' names (what
+        ``inspect`` and the report call them): the edits read seam names here, never from
+        the naming rules.
     """
 
     def __init__(self, garment: Garment) -> None:
@@ -168,6 +172,12 @@ class GarmentStructure:
             frame=g.frame,
             opening_list=self.openings,
         )
+
+    @cached_property
+    def seam_names(self) -> tuple[str, ...]:
+        g = self.garment
+        names = [p.name for p in self.panels]
+        return tuple(seam_names(g.V3, self.seams, self.layout, names))
 
     def panel_loops(self, index: int) -> list[np.ndarray]:
         """Boundary loops (pattern vertex indices) of panel ``index``.

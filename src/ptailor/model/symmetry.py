@@ -14,31 +14,14 @@ from typing import Any
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
 from ptailor.geometry.labels import used_indices
 from ptailor.geometry.triangles import triangle_areas, triangle_normals
+from ptailor.model import tolerances as model_tol
 from ptailor.model.frame import Frame
 from ptailor.model.garment import Garment, Panel
 from ptailor.model.structure import structure
-
-#: Fraction of the worst pairs (largest mirror distance) left out of each plane update.
-_TRIM = 0.1
-#: Weight of the point-to-point term next to the point-to-plane one in the plane fit: small
-#: enough for fast point-to-plane convergence, enough to pin directions the surface's
-#: tangent planes leave free (turning a surface of revolution about its axis).
-_MU = 0.1
-#: Levenberg-Marquardt damping of the plane update, relative to the normal matrix diagonal.
-_DAMP = 1e-6
-#: Largest turn of the normal per update (radians, about).
-_MAX_TURN = 0.2
-#: Mirrored vertices within this fraction of the surface's size of a vertex are on the
-#: surface (their distance to it is taken as to the vertex: rounding, about 1e-15 of it).
-_EXACT = 1e-12
-#: Panels are mirror images when their mirrored centroids are closer than this fraction of
-#: the square root of the larger panel's area ...
-_PANEL_DIST = 0.25
-#: ... and their areas differ by less than this fraction of the larger one.
-_PANEL_AREA = 0.2
 
 
 @dataclass(frozen=True)
@@ -114,7 +97,7 @@ def _vertex_areas(V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, np.ndarray,
         [np.bincount(corners, weights=np.repeat(cr[:, k], 3), minlength=len(V)) for k in range(3)],
         axis=1,
     )
-    return w, centroid, N / np.maximum(np.linalg.norm(N, axis=1), 1e-300)[:, None]
+    return w, centroid, N / np.maximum(np.linalg.norm(N, axis=1), tol.TINY)[:, None]
 
 
 def _surface_distance(
@@ -211,9 +194,9 @@ def _plane_step(
     # the point-to-point terms as one (3k, 3) product: a three-operand einsum takes 4x as long
     Jf = J.reshape(-1, 3)
     Jw = Jf * np.repeat(w, 3)[:, None]
-    A = (Jr * w[:, None]).T @ Jr + _MU * (Jw.T @ Jf)
-    b = -(Jr * w[:, None]).T @ r - _MU * (Jw.T @ E.ravel())
-    A = A + _DAMP * np.diag(np.diag(A)) + 1e-300 * np.eye(3)
+    A = (Jr * w[:, None]).T @ Jr + model_tol.SYMMETRY_MU * (Jw.T @ Jf)
+    b = -(Jr * w[:, None]).T @ r - model_tol.SYMMETRY_MU * (Jw.T @ E.ravel())
+    A = A + model_tol.SYMMETRY_DAMP * np.diag(np.diag(A)) + tol.TINY * np.eye(3)
     x = np.linalg.solve(A, b)
     return np.concatenate([B @ x[:2], x[2:]])
 
@@ -224,8 +207,8 @@ def sagittal_plane(
     *,
     frame: Frame,
     body: Any = None,
-    iterations: int = 20,
-    trim: float = _TRIM,
+    iterations: int = model_tol.SYMMETRY_ITERATIONS,
+    trim: float = model_tol.SYMMETRY_TRIM,
 ) -> SagittalPlane:
     """Fit the mirror plane of a garment's drape (or of a body).
 
@@ -286,7 +269,7 @@ def sagittal_plane(
     n = n * (1.0 if n @ left >= 0 else -1.0)
     point = centroid - ((centroid - c) @ n) * n
     plane = SagittalPlane(point=point, normal=n, rms=0.0, max=0.0)
-    d = _mirror_distances(plane, V, F, used, tree, exact=_EXACT * scale)
+    d = _mirror_distances(plane, V, F, used, tree, exact=model_tol.SYMMETRY_EXACT * scale)
     rms = float(np.sqrt((w * d * d).sum() / w.sum()))
     return SagittalPlane(point=point, normal=n, rms=rms, max=float(d.max()))
 
@@ -338,14 +321,14 @@ def _icp_plane(
         keep = d <= np.quantile(d, 1.0 - trim) if trim > 0 else np.ones(len(d), dtype=bool)
         x = _plane_step(P[keep] - c, s[keep], m[keep], r[keep], E[keep], w[keep], n)
         turn = np.linalg.norm(x[:3])
-        if turn > _MAX_TURN:  # a careful first step from a poor start
-            x[:3] *= _MAX_TURN / turn
+        if turn > model_tol.SYMMETRY_MAX_TURN:  # a careful first step from a poor start
+            x[:3] *= model_tol.SYMMETRY_MAX_TURN / turn
         n_new = n + x[:3]
         n_new /= np.linalg.norm(n_new)
         c = c + x[3] * n
         moved = np.linalg.norm(n_new - n) + abs(x[3]) / scale
         n = n_new
-        if moved < 1e-13:
+        if moved < model_tol.SYMMETRY_STILL:
             break
     return n, c
 
@@ -404,14 +387,14 @@ def panel_mirror_map(
     mid = (a + b + c) / 3.0
     A = np.array([area[p.faces].sum() for p in plist])  # a loop over panels
     C = np.array([(mid[p.faces] * area[p.faces, None]).sum(0) for p in plist])
-    C = C / np.maximum(A, 1e-300)[:, None]
+    C = C / np.maximum(A, tol.TINY)[:, None]
     MC = mirror_points(C, plane)
     dist = np.linalg.norm(MC[:, None, :] - C[None, :, :], axis=2)
     big = np.maximum(A[:, None], A[None, :])
     size = np.sqrt(big)
-    darea = np.abs(A[:, None] - A[None, :]) / np.maximum(big, 1e-300)
-    ok = (dist <= _PANEL_DIST * size) & (darea <= _PANEL_AREA)
-    cost = np.where(ok, dist / np.maximum(size, 1e-300) + darea, 1e6)
+    darea = np.abs(A[:, None] - A[None, :]) / np.maximum(big, tol.TINY)
+    ok = (dist <= model_tol.SYMMETRY_PANEL_DIST * size) & (darea <= model_tol.SYMMETRY_PANEL_AREA)
+    cost = np.where(ok, dist / np.maximum(size, tol.TINY) + darea, tol.COST_NONE)
     rows, cols = linear_sum_assignment(cost)
     out = np.full(k, -1, dtype=np.int64)
     good = ok[rows, cols]

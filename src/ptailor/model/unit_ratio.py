@@ -12,12 +12,12 @@ import numpy as np
 from ptailor.errors import PtailorError
 from ptailor.geometry.labels import component_labels
 from ptailor.geometry.triangles import edge_lengths
+from ptailor.model import tolerances as model_tol
 
 __all__ = ["UNIT_RATIO_RANGE", "UnitMismatchError", "check_units", "unit_ratios"]
 
-#: A garment whose median pattern/drape edge length ratio lies outside these bounds has its
-#: units wrong (elastic and gathered parts measure about 0.7-1.4).
-UNIT_RATIO_RANGE = (0.5, 2.0)
+#: see :data:`ptailor.model.tolerances.UNIT_RATIO_RANGE`
+UNIT_RATIO_RANGE = model_tol.UNIT_RATIO_RANGE
 
 
 class UnitMismatchError(PtailorError):

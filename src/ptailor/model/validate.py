@@ -7,6 +7,7 @@ import numpy as np
 from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
 from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
+from ptailor.model import tolerances as model_tol
 from ptailor.model.garment import Garment
 
 
@@ -56,7 +57,7 @@ def check_garment(g: Garment, *, path: str | None = None) -> None:
         a3 = triangle_areas(g.V3, g.F3)
         a2 = np.abs(signed_areas_2d(g.V2, g.F2))
     for name, a, d in (("3D (drape)", a3, diag3), ("2D (pattern)", a2, diag2)):
-        bad = np.flatnonzero(a <= tol.ZERO_AREA_REL * max(d, 1e-300) ** 2)
+        bad = np.flatnonzero(a <= model_tol.ZERO_AREA_REL * max(d, tol.TINY) ** 2)
         if bad.size:
             raise PtailorError(
                 f"{bad.size} zero-area triangle(s) in {name}, first is face {int(bad[0]) + 1}",

@@ -289,7 +289,7 @@ def _on_outline(
     """
     if not len(notches):
         return np.ones(0, dtype=bool)
-    scale = float(np.linalg.norm(np.ptp(outline, axis=0))) / max(diag, 1e-300)
+    scale = float(np.linalg.norm(np.ptp(outline, axis=0))) / max(diag, tol.TINY)
     return ClosedCurve(outline).nearest(notches)[0] <= keep_d * max(scale, 1.0)
 
 
@@ -302,12 +302,12 @@ def _fold_half(
     d0 = b0 - a0
     side = float(np.sign(np.mean((piece.outline - a0) @ np.array([-d0[1], d0[0]]))))
     half = clip_half_plane(outline, mirror[0], mirror[-1], side or 1.0)
-    half = half[dedupe_closed(half, rel=1e-9)]
+    half = half[dedupe_closed(half, rel=tol.ROUNDING_REL)]
     if len(half) < 3:
         return outline, turn, mirror
     u = mirror[-1] - mirror[0]
-    u = u / max(float(np.linalg.norm(u)), 1e-300)
-    on = np.abs((half - mirror[0]) @ np.array([-u[1], u[0]])) <= 1e-9 * diag + 1e-12
+    u = u / max(float(np.linalg.norm(u)), tol.TINY)
+    on = np.abs((half - mirror[0]) @ np.array([-u[1], u[0]])) <= tol.ROUNDING_REL * diag + 1e-12
     if on.sum() >= 2:
         t = (half[on] - mirror[0]) @ u
         mirror = mirror[0] + np.outer([t.min(), t.max()], u)
@@ -326,7 +326,7 @@ def _carried_grain(
     if piece.grain is None:
         return None
     d0 = piece.grain[1] - piece.grain[0]
-    u = Rq @ (d0 / max(np.linalg.norm(d0), 1e-300))
+    u = Rq @ (d0 / max(np.linalg.norm(d0), tol.TINY))
     if kept[:2].all() or kept[2]:
         ends, mid = moved[:2], moved[2]
         length = float(np.linalg.norm(ends[1] - ends[0]))

@@ -132,7 +132,7 @@ def _panel_axis(V3: np.ndarray, F3: np.ndarray, faces: np.ndarray, frame: Frame)
     axis = tube_axis(V3, F3[faces])
     ax = up if axis is None else axis
     s = float(ax @ up)
-    return ax * (-1.0 if s < -1e-9 else 1.0)
+    return ax * (-1.0 if s < -tol.ROUNDING_REL else 1.0)
 
 
 def mesh_pieces(
@@ -199,7 +199,7 @@ def mesh_pieces(
         if V3 is not None and F3 is not None:
             balance = _balance_notches(P, outer, across, to3, V3)
         a = np.abs(areas[p.faces])
-        c = (V2[F2[p.faces]].mean(axis=1) * a[:, None]).sum(axis=0) / max(a.sum(), 1e-300)
+        c = (V2[F2[p.faces]].mean(axis=1) * a[:, None]).sum(axis=0) / max(a.sum(), tol.TINY)
         gd = np.array([0.0, 1.0]) if grain is None else grain[p.index]
         half = 0.25 * float(np.ptp(P @ gd))
         holes = tuple(np.vstack([V2[lp], V2[lp[:1]]]) for lp in lps if len(lp) != len(outer))
@@ -245,7 +245,7 @@ def _balance_notches(
         half = 0.5 * cum[-1]
         j = int(np.searchsorted(cum, half))
         before = cum[j] - length[idx[j]]
-        t = (half - before) / max(length[idx[j]], 1e-300)
+        t = (half - before) / max(length[idx[j]], tol.TINY)
         e = order[idx[j]]
         out.append((1 - t) * P[e] + t * P[(e + 1) % k])
     return np.array(out).reshape(-1, 2)

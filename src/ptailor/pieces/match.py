@@ -91,7 +91,7 @@ class ClosedCurve:
         self.A = P
         self.B = np.roll(P, -1, axis=0)
         seg = np.linalg.norm(self.B - self.A, axis=1)
-        h = max(float(seg.sum()) / 4096.0, 1e-300)
+        h = max(float(seg.sum()) / tol.PIECE_CURVE_SAMPLES, tol.TINY)
         count = np.ceil(seg / h).astype(np.int64) + 1
         sid = np.repeat(np.arange(len(P)), count)
         start = np.repeat(np.cumsum(count) - count, count)
@@ -116,15 +116,6 @@ def _outline_distance(A: np.ndarray, ca: ClosedCurve, B: np.ndarray, cb: ClosedC
     return 0.5 * float(cb.nearest(A)[0].mean() + ca.nearest(B)[0].mean())
 
 
-#: Relative residuals closer than this are a tie (a symmetric outline fits several ways).
-_TIE = 1e-6
-#: ICP stops when a step moves the fit by less than this (rotation entries, translation
-#: over the outline's size)
-_ICP_STILL = 1e-10
-#: Rigid-fit refinement iterations (ICP) when matching a moved piece by shape.
-_ICP_ITER = 30
-
-
 def icp_fit(
     A: np.ndarray,
     cb: ClosedCurve,
@@ -132,18 +123,18 @@ def icp_fit(
     t: np.ndarray,
     diag: float,
     *,
-    iterations: int = 30,
+    iterations: int = tol.PIECE_ICP_ITER,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Refine the rigid map ``(R, t)`` of outline samples ``A`` onto curve ``cb`` by ICP
     against its segments (a reflection stays one), until a step moves it by less than
-    ``_ICP_STILL`` or after ``iterations`` steps."""
+    ``PIECE_ICP_STILL`` or after ``iterations`` steps."""
     reflect = bool(np.linalg.det(R) < 0)
     for _ in range(iterations):
         _, Q = cb.nearest(A @ R.T + t)
         R1, t1 = rigid_fit(A, Q, reflect=reflect)
-        step = np.abs(R1 - R).max() + np.abs(t1 - t).max() / max(diag, 1e-300)
+        step = np.abs(R1 - R).max() + np.abs(t1 - t).max() / max(diag, tol.TINY)
         R, t = R1, t1
-        if step < _ICP_STILL:  # converged: the next steps would not move it
+        if step < tol.PIECE_ICP_STILL:  # converged: the next steps would not move it
             break
     return R, t
 
@@ -156,7 +147,12 @@ def fit_residual(A: np.ndarray, R, t, cb: ClosedCurve, B: np.ndarray, diag: floa
 
 
 def shape_fits(
-    A: np.ndarray, cb: ClosedCurve, B: np.ndarray, diag: float, *, iterations: int = _ICP_ITER
+    A: np.ndarray,
+    cb: ClosedCurve,
+    B: np.ndarray,
+    diag: float,
+    *,
+    iterations: int = tol.PIECE_ICP_ITER,
 ) -> list[tuple[np.ndarray, np.ndarray, float]]:
     """Rigid fits of outline samples ``A`` onto curve ``cb`` (sampled as ``B``).
 
@@ -190,11 +186,7 @@ def _fit_shape(
     start's."""
     fits = shape_fits(A, cb, B, diag)
     best = min(f[2] for f in fits)
-    return next(f for f in fits if f[2] <= best + _TIE)
-
-
-#: Points per outline when outlines are compared.
-_SAMPLES = 256
+    return next(f for f in fits if f[2] <= best + tol.PIECE_FIT_TIE_REL)
 
 
 @dataclass(frozen=True)
@@ -211,7 +203,7 @@ class _Outline:
     @classmethod
     def of(cls, P: np.ndarray) -> _Outline:
         """The outline through points ``P`` ``(k, 2)`` (closed)."""
-        samples = resample_closed(P, _SAMPLES)
+        samples = resample_closed(P, tol.PIECE_SAMPLES)
         return cls(
             P=P,
             samples=samples,
@@ -223,7 +215,7 @@ class _Outline:
 
     def threshold(self, allowance: float) -> float:
         """The largest mean outline distance, relative to the diagonal, that still matches."""
-        return tol.PIECE_MATCH_REL + allowance / max(self.diag, 1e-300)
+        return tol.PIECE_MATCH_REL + allowance / max(self.diag, tol.TINY)
 
 
 def _shape_match(
@@ -305,7 +297,7 @@ def _position_cost(piece: _Outline, panel: _Outline, allowance: float) -> float:
     piece's diagonal; inf when their boxes are too far apart to compare."""
     lo, hi = panel.samples.min(axis=0), panel.samples.max(axis=0)
     clo, chi = piece.samples.min(axis=0), piece.samples.max(axis=0)
-    reach = 0.1 * piece.diag + allowance
+    reach = tol.PIECE_MATCH_REACH_REL * piece.diag + allowance
     if np.any(clo > hi + reach) or np.any(chi < lo - reach):
         return np.inf
     d = _outline_distance(piece.samples, piece.curve, panel.samples, panel.curve)
@@ -315,12 +307,12 @@ def _position_cost(piece: _Outline, panel: _Outline, allowance: float) -> float:
 def _named_ties(cost: np.ndarray, same: np.ndarray) -> np.ndarray:
     """``cost`` for the assignment with ties broken by name: costs compare on a grid of
     ``tol.PIECE_TIE_REL`` and, within one step, a piece goes to the panel with its name
-    (infeasible pairs, ``>= 1e6``, stay as they are).
+    (infeasible pairs, ``>= COST_NONE``, stay as they are).
 
     Parameters
     ----------
     cost : (p, q) float array
-        Relative costs, 1e6 where a pair cannot match.
+        Relative costs, ``COST_NONE`` where a pair cannot match.
     same : (p, q) bool array
         Whether each piece has each panel's name.
 
@@ -330,7 +322,7 @@ def _named_ties(cost: np.ndarray, same: np.ndarray) -> np.ndarray:
     """
     step = tol.PIECE_TIE_REL
     tied = np.round(cost / step) * step - 0.5 * step * same
-    return np.where(cost < 1e6, tied, cost)
+    return np.where(cost < tol.COST_NONE, tied, cost)
 
 
 def _position_matches(
@@ -345,10 +337,10 @@ def _position_matches(
         for j, pn in enumerate(pans):
             cost[i, j] = _position_cost(po, pn, allowance)
     matches: dict[int, PieceMatch] = {}
-    ok = np.where(cost < thr[:, None], cost, 1e6)
+    ok = np.where(cost < thr[:, None], cost, tol.COST_NONE)
     rows, cols = linear_sum_assignment(_named_ties(ok, same))
     for i, j in zip(rows.tolist(), cols.tolist(), strict=True):
-        if ok[i, j] < 1e6:
+        if ok[i, j] < tol.COST_NONE:
             c = float(cost[i, j])
             matches[i] = PieceMatch(i, j, "position", np.eye(2), np.zeros(2), c, c * outs[i].diag)
     return matches
@@ -369,7 +361,7 @@ def _shape_matches(
     if not (rest and free_panels):
         return {}
     fits = {}
-    shape_cost = np.full((len(rest), len(free_panels)), 1e6)
+    shape_cost = np.full((len(rest), len(free_panels)), tol.COST_NONE)
     for a, i in enumerate(rest):
         for b, j in enumerate(free_panels):
             fit = _shape_match(outs[i], pans[j], allowance)
@@ -379,7 +371,7 @@ def _shape_matches(
     matches: dict[int, PieceMatch] = {}
     rr, cc = linear_sum_assignment(_named_ties(shape_cost, same[np.ix_(rest, free_panels)]))
     for a, b in zip(rr.tolist(), cc.tolist(), strict=True):
-        if shape_cost[a, b] < 1e6:
+        if shape_cost[a, b] < tol.COST_NONE:
             i, j = rest[a], free_panels[b]
             R, t, res = fits[i, j]
             matches[i] = PieceMatch(i, j, "shape", R, t, res, res * outs[i].diag)

@@ -249,7 +249,7 @@ def source_panels(adj: Adjustment, orig: tuple[Panel, ...]) -> dict[str, int]:
         for p in unknown:  # a loop over panels
             f = p.faces[int(np.argmax(a[p.faces]))]
             loc = locate_points(g0.V2, g0.F2, base.V2[base.F2[f]].mean(axis=0, keepdims=True))
-            if loc.distance[0] <= 1e-9 * max(float(np.ptp(g0.V2)), 1e-300):
+            if loc.distance[0] <= tol.ROUNDING_REL * max(float(np.ptp(g0.V2)), tol.TINY):
                 out[p.name] = int(flab[loc.face[0]])
     return out
 
@@ -354,7 +354,11 @@ def _carry_parts(
     group = []
     for k, p in enumerate(now):  # the parts of one panel (one unless a cut split it)
         sb = float(ab[p.faces].sum())
-        unchanged = len(now) == 1 and len(p.faces) == len(p0.faces) and abs(sb - s0) <= 1e-9 * s0
+        unchanged = (
+            len(now) == 1
+            and len(p.faces) == len(p0.faces)
+            and abs(sb - s0) <= tol.ROUNDING_REL * s0
+        )
         if not unchanged and not reach:
             loc = locate_points(g0.V2, g0.F2, m.to_panel(piece_curve(piece)), faces=p0.faces)
             reach = float(loc.distance.max(initial=0.0))

@@ -14,6 +14,7 @@ from ptailor.edits.checks import (
 )
 from ptailor.edits.registry import COMMON_FIELDS, Step
 from ptailor.errors import PtailorError
+from ptailor.method import tolerances as method_tol
 from ptailor.model.frame import AXIS_NAMES, DEFAULT_FRAME, Frame
 
 FLATTEN_PARAMS = {
@@ -22,9 +23,15 @@ FLATTEN_PARAMS = {
     "boundary": (choice("auto", "similar", "free"), "auto"),
     "seams": (choice("ease", "free", "keep"), "ease"),
     # outside tol.FLATTEN_WEIGHT_RANGE the stitching matrix overflows or loses the shape
-    "w_pin": (number(ge=tol.FLATTEN_WEIGHT_RANGE[0], le=tol.FLATTEN_WEIGHT_RANGE[1]), tol.W_PIN),
-    "w_asap": (number(ge=tol.FLATTEN_WEIGHT_RANGE[0], le=tol.FLATTEN_WEIGHT_RANGE[1]), tol.W_ASAP),
-    "max_iter": (number(ge=1, le=10000, integer=True), tol.ARAP_MAX_ITER),
+    "w_pin": (
+        number(ge=tol.FLATTEN_WEIGHT_RANGE[0], le=tol.FLATTEN_WEIGHT_RANGE[1]),
+        method_tol.W_PIN,
+    ),
+    "w_asap": (
+        number(ge=tol.FLATTEN_WEIGHT_RANGE[0], le=tol.FLATTEN_WEIGHT_RANGE[1]),
+        method_tol.W_ASAP,
+    ),
+    "max_iter": (number(ge=1, le=10000, integer=True), method_tol.ARAP_MAX_ITER),
 }
 TOP_KEYS = ("format", "units", "up", "front", "symmetric", "steps", "flatten")
 #: A step key every operation accepts (see :mod:`ptailor.edits.mirror`): the fields every

@@ -11,6 +11,7 @@ from ptailor import __version__
 from ptailor import tolerances as tol
 from ptailor.digest import file_sha256
 from ptailor.geometry.labels import scatter_labels
+from ptailor.method import tolerances as method_tol
 from ptailor.model.names import seam_names
 from ptailor.model.structure import structure
 from ptailor.pipeline import Adjustment, seam_factors, seam_mode
@@ -111,7 +112,7 @@ def _stable_seam_names(adj, seam_list: list, now: list[str]) -> list[str]:
     for i, sm in enumerate(seam_list):  # a loop over seams
         v = np.unique(np.asarray(sm.edges3).ravel())
         d, j = tree.query(g.V3[v])
-        hit = owner[j[d <= 1e-9 * size]]
+        hit = owner[j[d <= tol.ROUNDING_REL * size]]
         hit = hit[hit >= 0]
         if not len(hit):
             continue
@@ -228,9 +229,9 @@ def solver_record(adj: Adjustment) -> SolverRecord:
         # within `seam_violation` (relative) of its ratio; a run that took Newton steps
         # (where local/global steps crawl) ends with one that moves no more than `step`
         "converged_when": {
-            "step": tol.ARAP_STEP_TOL,
-            "seam_violation": tol.SEAM_EXACT_REL,
-            "newton_step": tol.ARAP_STEP_TOL,
+            "step": method_tol.ARAP_STEP_TOL,
+            "seam_violation": method_tol.SEAM_EXACT_REL,
+            "newton_step": method_tol.ARAP_STEP_TOL,
         },
     }
 
@@ -313,7 +314,7 @@ def seam_records(adj: Adjustment, gs) -> list[SeamRecord]:
         la1, lb1 = s.lengths(V2a)
         pa, pb = s.panels
         f = gathers.get((pa, pb), 1.0) / gathers.get((pb, pa), 1.0) if pa != pb else 1.0
-        r0 = la0 / max(lb0, 1e-300)
+        r0 = la0 / max(lb0, tol.TINY)
         target = r0 * f
         out.append(
             {
@@ -323,7 +324,7 @@ def seam_records(adj: Adjustment, gs) -> list[SeamRecord]:
                 "length_before": [_r(la0), _r(lb0)],
                 "length_after": [_r(la1), _r(lb1)],
                 "ratio_before": _r(r0, 6),
-                "ratio_after": _r(la1 / max(lb1, 1e-300), 6),
+                "ratio_after": _r(la1 / max(lb1, tol.TINY), 6),
                 "ratio_target": _r(target, 6),
                 "mismatch": _r(la1 - target * lb1, 6),
             }
@@ -369,14 +370,17 @@ def _panel_lines(report: dict) -> list[str]:
 def _seam_line(seams: list[dict], u: str) -> str:
     """One line on the seams: how many, how many gathered, the worst mismatch."""
     changed = [
-        s for s in seams if abs(s["ratio_target"] - s["ratio_before"]) > 1e-6 * s["ratio_before"]
+        s
+        for s in seams
+        if abs(s["ratio_target"] - s["ratio_before"])
+        > tol.SUMMARY_RATIO_CHANGED_REL * s["ratio_before"]
     ]
     line = f"seams: {len(seams)}"
     if changed:
         line += f", {len(changed)} with a new ratio (gathered)"
     if seams:
         worst = max(seams, key=lambda s: abs(s["mismatch"]))
-        if abs(worst["mismatch"]) < 5e-4:
+        if abs(worst["mismatch"]) < tol.SUMMARY_MISMATCH_ZERO:
             line += f", every one at its target length ratio (mismatch below 0.001 {u})"
         else:
             line += (

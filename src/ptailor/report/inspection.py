@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.formats.garment import LoadedGarment
 from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
 from ptailor.model.names import seam_names
@@ -111,7 +112,7 @@ def _panel_summaries(g, st) -> list[dict]:
     a3 = triangle_areas(g.V3, g.F3)
     tc = g.V3[g.F3].mean(axis=1) * a3[:, None]  # area-weighted triangle centroids
     c3 = np.stack([np.bincount(flab, tc[:, j], minlength=n) for j in range(3)], axis=1)
-    c3 /= np.maximum(np.bincount(flab, a3, minlength=n), 1e-300)[:, None]
+    c3 /= np.maximum(np.bincount(flab, a3, minlength=n), tol.TINY)[:, None]
     return [
         {
             "name": p.name,

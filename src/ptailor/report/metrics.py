@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.geometry.closed_forms import inv2, sqrt_spd2
 from ptailor.geometry.labels import used_indices
 from ptailor.geometry.rotations import closest_rotations
@@ -69,7 +70,7 @@ def boundary_deviation(
     a, t = X - cx[lab], Y - cy[lab]
     dot = _by_label(lab, (a * t).sum(1), n)
     crs = _by_label(lab, a[:, 0] * t[:, 1] - a[:, 1] * t[:, 0], n)
-    saa = np.maximum(_by_label(lab, (a * a).sum(1), n), 1e-300)
+    saa = np.maximum(_by_label(lab, (a * a).sum(1), n), tol.TINY)
     s = np.hypot(dot, crs) / saa  # similarity scale taking after onto before
     ang = np.arctan2(crs, dot)
     c, si = np.cos(ang)[lab], np.sin(ang)[lab]

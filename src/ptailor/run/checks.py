@@ -113,7 +113,7 @@ def piece_warnings(plan, carried: list, seam_allowance: float | None) -> list[st
         wide = [
             plan.pieces[m.piece].name
             for m, ff in zip(plan.matches, plan.from_file, strict=True)
-            if ff and m.distance > 0.25 * seam_allowance
+            if ff and m.distance > tol.PIECE_OUTSIDE_ALLOWANCE_WARN * seam_allowance
         ]
         if wide:
             warnings.append(

@@ -24,7 +24,7 @@ from collections.abc import Iterable, Mapping
 from contextlib import contextmanager
 from pathlib import Path
 
-from ptailor import tolerances
+from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
 
 #: the marker file every output folder gets (hidden; lists the files ptailor wrote there)
@@ -34,10 +34,9 @@ LEGACY_NAMES = frozenset(
     {"report.json", "garment.obj", "pattern.dxf", "pattern.svg", "preview.png", "batch.json"}
 )
 #: see :data:`ptailor.tolerances.STAGING_NAME_BYTES`
-STAGING_NAME_BYTES = tolerances.STAGING_NAME_BYTES
+STAGING_NAME_BYTES = tol.STAGING_NAME_BYTES
 #: the longest file name most file systems take (bytes)
 NAME_MAX = 255
-_MARKER_MAX_BYTES = 1 << 20
 
 
 # --------------------------------------------------------------------------- names
@@ -220,7 +219,7 @@ def read_marker(folder: Path) -> list[str] | None:
     written (missing, not a plain file, not ptailor's JSON)."""
     p = folder / MARKER
     try:
-        if not p.is_file() or p.is_symlink() or p.stat().st_size > _MARKER_MAX_BYTES:
+        if not p.is_file() or p.is_symlink() or p.stat().st_size > tol.OUTPUT_MARKER_MAX_BYTES:
             return None
         data = json.loads(p.read_text())
     except (OSError, ValueError):
@@ -252,7 +251,7 @@ def legacy_files(folder: Path) -> set[str] | None:
     """
     rp = folder / "report.json"
     try:
-        if rp.is_symlink() or not rp.is_file() or rp.stat().st_size > 64 * _MARKER_MAX_BYTES:
+        if rp.is_symlink() or not rp.is_file() or rp.stat().st_size > tol.LEGACY_REPORT_MAX_BYTES:
             return None
         rep = json.loads(rp.read_text())
     except (OSError, ValueError):

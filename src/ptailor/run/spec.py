@@ -58,7 +58,7 @@ def spec_units(loaded: LoadedGarment, spec: Specification) -> LoadedGarment:
     k = spec.cm_per_unit / CM_PER[g.units]
     a_spec = sum(abs(signed_area(p.outline(64)[0])) for p in spec.panels) * k * k
     a_mesh = float(np.abs(signed_areas_2d(g.V2, g.F2)).sum())
-    s = float(np.sqrt(a_spec / max(a_mesh, 1e-300)))
+    s = float(np.sqrt(a_spec / max(a_mesh, tol.TINY)))
     units = dict(loaded.intake.get("units", {}))
     scale = loaded.pattern_scale * s
     units.update(pattern=f"{scale:.9g}{g.units}", pattern_source="specification")

@@ -30,6 +30,7 @@ from ptailor.run.checks import (
 )
 from ptailor.run.folder import check_output_dir, staged_dir, write_json
 from ptailor.run.options import RunOptions
+from ptailor.verify import tolerances as verify_tol
 
 #: the re-drapes whose settled drapes are written, and their files
 DRAPE_FILES = {"ours": "verify_ours.obj", "baseline": "verify_baseline.obj"}
@@ -135,7 +136,7 @@ def to_y_up(frame: Frame) -> np.ndarray:
     u = frame.matrix()[1]
     y = np.array([0.0, 1.0, 0.0])
     c = float(u @ y)
-    if c < -1.0 + 1e-12:  # upside down: half a turn about x
+    if c < -1.0 + verify_tol.UPSIDE_DOWN:  # upside down: half a turn about x
         return np.diag([1.0, -1.0, -1.0])
     k = np.cross(u, y)
     K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])

@@ -128,7 +128,11 @@ def _versions(adj, sp: SpecPanel, m: PanelMatch, k: float, p0: Panel, now: list[
     out = []
     for j, part in enumerate(now):  # the parts of one panel (one unless a cut split it)
         sb = float(np.abs(signed_areas_2d(base.V2, base.F2[part.faces])).sum())
-        same = len(now) == 1 and len(part.faces) == len(p0.faces) and abs(sb - s0) <= 1e-9 * s0
+        same = (
+            len(now) == 1
+            and len(part.faces) == len(p0.faces)
+            and abs(sb - s0) <= tol.ROUNDING_REL * s0
+        )
         if same:
             new, ch = carried_panel(sp, m, k, adj, part, bend)
         else:

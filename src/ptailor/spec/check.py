@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.model.garment import Panel
 from ptailor.model.specification import Specification
 from ptailor.pieces.draw import outer_loop
@@ -11,9 +12,6 @@ from ptailor.pieces.match import ClosedCurve
 from ptailor.spec.adjust import AdjustedSpec
 
 __all__ = ["edge_lengths", "spec_fit"]
-
-#: samples per edge when a specification's curves are compared with a mesh outline
-FIT_SAMPLES = 128
 
 
 def spec_fit(
@@ -36,7 +34,7 @@ def spec_fit(
     list of (e,) float arrays
         Computation units, one array per panel of ``adjusted.spec``.
     """
-    t = np.linspace(0.0, 1.0, FIT_SAMPLES + 1)
+    t = np.linspace(0.0, 1.0, tol.SPEC_FIT_SAMPLES + 1)
     out = []
     for sp, ch in zip(adjusted.spec.panels, adjusted.changes, strict=True):  # spec panels
         A, b = ch.to_pattern

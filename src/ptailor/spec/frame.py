@@ -12,12 +12,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.spec.match import PanelMatch
 
-__all__ = ["IRLS_ROUNDS", "PanelFrame", "panel_frame", "similarity"]
-
-#: rounds of the robust similarity fit (iteratively reweighted least squares)
-IRLS_ROUNDS = 12
+__all__ = ["PanelFrame", "panel_frame", "similarity"]
 
 
 def similarity(
@@ -25,9 +23,10 @@ def similarity(
 ) -> tuple[np.ndarray, np.ndarray, float]:
     """The similarity ``W ~ s X @ Q.T + b`` (rotation ``Q``, no reflection) fitted to the
     closed outline ``X -> W`` where it fits: least squares weighted by each point's share of
-    the outline's length (so a finer mesh weighs the same), then :data:`IRLS_ROUNDS`
-    reweightings by ``1 / (1 + (r / scale)^2)`` (Cauchy): the part of a panel an edit left
-    alone holds it in place, however much the rest moved.
+    the outline's length (so a finer mesh weighs the same), then
+    :data:`ptailor.tolerances.SPEC_IRLS_ROUNDS` reweightings by ``1 / (1 + (r / scale)^2)``
+    (Cauchy): the part of a panel an edit left alone holds it in place, however much the
+    rest moved.
 
     Parameters
     ----------
@@ -44,16 +43,16 @@ def similarity(
     """
     seg = np.linalg.norm(np.roll(X, -1, axis=0) - X, axis=1)
     length = 0.5 * (seg + np.roll(seg, 1))
-    w = length / max(float(length.sum()), 1e-300)
+    w = length / max(float(length.sum()), tol.TINY)
     wk = w
-    for _ in range(IRLS_ROUNDS + 1):
+    for _ in range(tol.SPEC_IRLS_ROUNDS + 1):
         cx, cw = wk @ X / wk.sum(), wk @ W / wk.sum()
         a, c = X - cx, W - cw
         H = (a * wk[:, None]).T @ c
         U, _, Vt = np.linalg.svd(H)
         D = np.diag([1.0, np.sign(np.linalg.det(Vt.T @ U.T)) or 1.0])
         Q = Vt.T @ D @ U.T
-        s = float(np.sum(wk[:, None] * c * (a @ Q.T)) / max(float(wk @ (a * a).sum(1)), 1e-300))
+        s = float(np.sum(wk[:, None] * c * (a @ Q.T)) / max(float(wk @ (a * a).sum(1)), tol.TINY))
         b = cw - s * (Q @ cx)
         r = np.linalg.norm(W - (s * X @ Q.T + b), axis=1)
         wk = w / (1.0 + (r / scale) ** 2)

@@ -29,9 +29,6 @@ from ptailor.pieces.match import ClosedCurve, fit_residual, icp_fit, shape_fits
 
 __all__ = ["PanelMatch", "SpecMatching", "StitchMatch", "match_specification", "spec_scale"]
 
-#: samples per edge of a specification outline when it is matched and checked
-PER_EDGE = 64
-
 
 @dataclass(frozen=True)
 class PanelMatch:
@@ -159,7 +156,7 @@ def match_specification(
     for p in panel_list:  # a loop over panels
         B = V2[outer_loop(F2, p.faces, V2)]
         mesh.append((B, ClosedCurve(B), resample_closed(B, 256), abs(signed_area(B))))
-    outlines = [sp.outline(PER_EDGE)[0] * k for sp in spec.panels]
+    outlines = [sp.outline(tol.SPEC_PER_EDGE)[0] * k for sp in spec.panels]
     # the specification's 3D places of the same samples (its frame: y up, z front)
     placed = [sp.placement(X / k) * k for sp, X in zip(spec.panels, outlines, strict=True)]
     cands = _candidates(garment, panel_list, mesh, outlines)
@@ -221,13 +218,16 @@ def _candidates(
             if abs(area - barea) > tol.SPEC_AREA_REL * max(area, barea):
                 continue
             # coarse first (64 samples), then the fits worth it refined at full resolution
-            coarse = shape_fits(A[::4], cb, Bs[::4], diag, iterations=12)
+            step = tol.SPEC_COARSE_STRIDE
+            coarse = shape_fits(
+                A[::step], cb, Bs[::step], diag, iterations=tol.SPEC_COARSE_ICP_ITER
+            )
             best = min(f[2] for f in coarse)
-            if best > 4.0 * tol.SPEC_MATCH_REL:
+            if best > tol.SPEC_COARSE_FACTOR * tol.SPEC_MATCH_REL:
                 continue
             fits = []
             for R, t, res in coarse:  # the starts that may fit the shape
-                if res <= 3.0 * best + 1e-4:
+                if res <= tol.SPEC_START_FACTOR * best + tol.SPEC_START_SLACK:
                     R, t = icp_fit(A, cb, R, t, diag)
                     fits.append((R, t, fit_residual(A, R, t, cb, Bs, diag)))
             fits.sort(key=lambda f: f[2])
@@ -235,7 +235,7 @@ def _candidates(
                 continue
             keep = []
             for R, t, res in fits:  # the fits that match the shape
-                if res <= 2.0 * fits[0][2] + 1e-6:
+                if res <= tol.SPEC_KEEP_FACTOR * fits[0][2] + tol.SPEC_KEEP_SLACK:
                     loc = locate_points(V2, F2, X @ R.T + t, faces=panel_list[j].faces)
                     keep.append((R, t, res, np.einsum("ki,kij->kj", loc.bary, V3[F3[loc.face]])))
             out[i, j] = keep
@@ -258,13 +258,13 @@ def _cube_rotations() -> list[np.ndarray]:
 def _unit_cloud(C: np.ndarray) -> np.ndarray:
     """Points ``(n, 3)`` centred on their mean and scaled to unit RMS radius."""
     D = C - C.mean(axis=0)
-    return D / max(float(np.sqrt((D * D).sum(1).mean())), 1e-300)
+    return D / max(float(np.sqrt((D * D).sum(1).mean())), tol.TINY)
 
 
 def _assignment(cost: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
     from scipy.optimize import linear_sum_assignment
 
-    big = np.where(np.isfinite(cost), cost, 1e6)
+    big = np.where(np.isfinite(cost), cost, tol.COST_NONE)
     rows, cols = linear_sum_assignment(big)
     return rows, cols, float(big[rows, cols].sum())
 
@@ -284,7 +284,7 @@ def _placements(cands, placed, garment: Garment, panel_list: list[Panel], Q0: np
     from ptailor.geometry.triangles import triangle_areas
 
     V3, F3 = garment.V3, garment.F3
-    a3 = triangle_areas(V3, F3) + 1e-300
+    a3 = triangle_areas(V3, F3) + tol.TINY
     c_mesh = np.array([np.average(V3[F3[p.faces]].mean(axis=1), axis=0, weights=a3[p.faces])
                        for p in panel_list])  # fmt: skip
     Cm = _unit_cloud(c_mesh)
@@ -363,7 +363,7 @@ def _stitch_matches(
     along both stitched edges."""
     index = {p.name: i for i, p in enumerate(spec.panels)}
     lengths = [p.edge_lengths() * k for p in spec.panels]
-    t = np.linspace(0.0, 1.0, PER_EDGE + 1)
+    t = np.linspace(0.0, 1.0, tol.SPEC_PER_EDGE + 1)
     out = []
     for si, st in enumerate(spec.stitches):  # a loop over stitches
         sides = []

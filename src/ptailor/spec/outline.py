@@ -13,6 +13,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.method.transfer import carry_points, locate_points
 from ptailor.model.garment import Panel
 from ptailor.model.polyline import signed_area
@@ -40,14 +41,20 @@ def outline_panel(
         L, X = L[::-1], X[::-1]  # the loop runs the way the specification's edges do
     frame = panel_frame(m, k, Vb[L], Vn[L], scale=bend)
     Zl = frame.to_frame(Vn[L])
-    reach = (max(3.0 * m.distance, 0.05 / CM_PER[units]) + 1e-9) / k
+    reach = (
+        max(tol.SPEC_REACH_FITS * m.distance, tol.SPEC_REACH_MIN_CM / CM_PER[units]) + 1e-9
+    ) / k
     window = 1.0 / CM_PER[units] / k  # 1 cm: what a corner of the new outline is seen over
     lab = cleaned_labels(edge_labels(sp, X, reach)[0], Zl, window)
     segs = outline_segments(lab, Zl, len(sp.edges), window)
     # an input vertex still in the panel: where its two edges meet, carried
     loc_v = locate_points(Vb, Fb, m.to_pattern(sp.vertices, k), faces=part.faces)
     # (a corner off the mesh by the input's own fit is still there)
-    kept_v = loc_v.distance <= 3.0 * m.distance + 1e-6 * max(float(np.ptp(Vb[L])), 1e-300)
+    kept_v = (
+        loc_v.distance
+        <= tol.SPEC_CORNER_KEEP_FITS * m.distance
+        + tol.SPEC_CORNER_KEEP_REL * max(float(np.ptp(Vb[L])), tol.TINY)
+    )
     Zv = frame.to_frame(carry_points(Vn, Fb, loc_v))
     P, O = _junctions(sp, segs, X, Zl, Zv, kept_v)
     sources: list[int] = []

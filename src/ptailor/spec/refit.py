@@ -9,13 +9,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.geometry.curves import chord_deviation, curve_points, fit_curve
 from ptailor.geometry.segments import segment_feet
 from ptailor.model.specification import SpecPanel
 
 __all__ = [
-    "REPARAMETRIZE",
-    "SAMPLES",
     "chord_params",
     "fit_edge",
     "param_at",
@@ -23,15 +22,11 @@ __all__ = [
     "straight_or_bent",
 ]
 
-#: samples per edge carried to refit its curve
-SAMPLES = 32
-#: rounds of geometric refitting of a Bezier edge (:func:`ptailor.geometry.curves.fit_curve`)
-REPARAMETRIZE = 8
-
 
 def sample_params() -> np.ndarray:
-    """The parameters ``(SAMPLES - 1,)`` of an edge's carried samples (its ends left out)."""
-    return np.linspace(0.0, 1.0, SAMPLES + 1)[1:-1]
+    """The parameters ``(SPEC_REFIT_SAMPLES - 1,)`` of an edge's carried samples (its ends
+    left out)."""
+    return np.linspace(0.0, 1.0, tol.SPEC_REFIT_SAMPLES + 1)[1:-1]
 
 
 def fit_edge(
@@ -43,7 +38,7 @@ def fit_edge(
     dev = chord_deviation(P0, P1, Z)
     if kind == "straight":
         return "straight", np.zeros(0), dev, dev
-    params = fit_curve(P0, P1, kind, t, Z, start=start, reparametrize=REPARAMETRIZE)
+    params = fit_curve(P0, P1, kind, t, Z, start=start, reparametrize=tol.SPEC_REPARAMETRIZE)
     curve = curve_points(P0, P1, kind, params, np.linspace(0.0, 1.0, 513))
     err = float(np.max(_polyline_distance(Z, curve))) if len(Z) else 0.0
     return kind, params, err, dev
@@ -67,7 +62,7 @@ def straight_or_bent(P0, P1, Z, t, bend: float) -> tuple[str, np.ndarray, float,
 def chord_params(P: np.ndarray) -> np.ndarray:
     """Chord-length parameters ``(n,)`` in ``[0, 1]`` of the polyline ``P``."""
     s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(P, axis=0), axis=1))])
-    return s / max(float(s[-1]), 1e-300)
+    return s / max(float(s[-1]), tol.TINY)
 
 
 def param_at(sp: SpecPanel, e: int, X: np.ndarray) -> float:

@@ -10,12 +10,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.model.specification import SpecPanel
 
-__all__ = ["CORNER_DEG", "cleaned_labels", "edge_labels", "outline_segments"]
-
-#: a new outline run turns by more than this (degrees) at a corner: it is split there
-CORNER_DEG = 35.0
+__all__ = ["cleaned_labels", "edge_labels", "outline_segments"]
 
 
 def edge_labels(sp: SpecPanel, X: np.ndarray, reach: float) -> tuple[np.ndarray, np.ndarray]:
@@ -48,9 +46,10 @@ def _runs(lab: np.ndarray) -> list[tuple[int, np.ndarray]]:
 
 def _corners(Z: np.ndarray, window: float) -> np.ndarray:
     """Interior positions of an open polyline ``Z`` that are corners: where the chords
-    ``window`` long before and after a vertex turn by more than :data:`CORNER_DEG`, the
-    sharpest vertex of each such stretch (a cut line's zigzag through the triangles is no
-    corner; pieces shorter than ``window`` are not split off)."""
+    ``window`` long before and after a vertex turn by more than
+    :data:`ptailor.tolerances.SPEC_CORNER_DEG`, the sharpest vertex of each such stretch (a
+    cut line's zigzag through the triangles is no corner; pieces shorter than ``window`` are
+    not split off)."""
     if len(Z) < 3:
         return np.zeros(0, dtype=np.int64)
     s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(Z, axis=0), axis=1))])
@@ -66,7 +65,7 @@ def _corners(Z: np.ndarray, window: float) -> np.ndarray:
     a = Z[inner] - at(s[inner] - window)
     b = at(s[inner] + window) - Z[inner]
     turn = np.degrees(np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], (a * b).sum(1))))
-    sharp = turn > CORNER_DEG
+    sharp = turn > tol.SPEC_CORNER_DEG
     out = []
     for grp in np.split(np.arange(len(inner)), np.flatnonzero(np.diff(sharp.astype(int))) + 1):
         if len(grp) and sharp[grp[0]]:  # one corner per stretch: its sharpest vertex

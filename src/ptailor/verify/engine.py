@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ptailor.errors import PtailorError
+from ptailor.verify import tolerances as verify_tol
 
 #: what the missing-engine error says (the CLI prints it and exits 2)
 INSTALL_HINT = "the cloth engine is not installed: pip install 'ptailor[sim]'"
@@ -311,7 +312,7 @@ def self_radius(P: np.ndarray, s: Settings) -> float:
     if len(P) == 0:
         return s.self_radius
     edges = np.linalg.norm(P - np.roll(P, 1, axis=1), axis=2)
-    return float(min(s.self_radius, 0.4 * np.median(edges)))
+    return float(min(s.self_radius, verify_tol.ENGINE_SELF_RADIUS_EDGES * np.median(edges)))
 
 
 def self_collision(s: Settings, has_body: bool) -> bool:

@@ -5,15 +5,15 @@ hang the cloth on. ptailor ships GarmentCode's MIT mean body (``verify/bodies``:
 T-pose, decimated by pymeshlab to 7,002 vertices, in metres, y up, z front, feet at 0;
 ``bench/make_bodies.py`` makes them from ``../shared/bodies``). The fit is a similarity:
 
-1. *Pose*: a top whose cuffs lie more than ``T_POSE_DEG`` from straight down, seen from
+1. *Pose*: a top whose cuffs lie more than ``FIT_T_POSE_DEG`` from straight down, seen from
    the neckline, takes the T-pose body, every other garment the A-pose one.
 2. *Anchor*: where the garment hangs. A top's neckline centroid goes to the body's neck
-   base (``NECK_HEIGHT`` of its height, on the torso's mid-depth), a skirt's or trousers'
-   waist centroid to its waist (``WAIST_HEIGHT``). A drape with neither is refused.
-3. *Scale*: the largest body scale (about the anchor, in ``SCALE_RANGE``) at which at most
-   ``INSIDE_MAX`` of the torso's vertices (those no farther out than the hem reaches: a
+   base (``FIT_NECK_HEIGHT`` of its height, on the torso's mid-depth), a skirt's or trousers'
+   waist centroid to its waist (``FIT_WAIST_HEIGHT``). A drape with neither is refused.
+3. *Scale*: the largest body scale (about the anchor, in ``FIT_SCALE_RANGE``) at which at most
+   ``FIT_INSIDE_MAX`` of the torso's vertices (those no farther out than the hem reaches: a
    sleeve at another angle than the body's arm does not decide) lie inside the body (moved up to
-   ``OFFSET_CM`` up, down, forward or back from the anchor, the best kept), by bisection; each
+   ``FIT_OFFSET_CM`` up, down, forward or back from the anchor, the best kept), by bisection; each
    vertex is inside when it lies behind the nearest body vertex's normal (a KD-tree query:
    the body's vertices are about 1.5 cm apart, the test is that exact).
 
@@ -30,24 +30,9 @@ import numpy as np
 from ptailor.errors import PtailorError
 from ptailor.model.frame import Frame
 from ptailor.model.openings import Opening
+from ptailor.verify import tolerances as verify_tol
 
 __all__ = ["BodyFit", "fit_body", "mean_body"]
-
-#: the sleeves' angle from straight down (degrees) above which the T-pose body is taken
-T_POSE_DEG = 70.0
-#: the neck base and the waist, as fractions of the body's height
-NECK_HEIGHT = 0.835
-WAIST_HEIGHT = 0.61
-#: body scales tried, and the most garment vertices left inside the body
-SCALE_RANGE = (0.5, 1.5)
-INSIDE_MAX = 0.005
-#: bisection steps on the scale
-SCALE_STEPS = 10
-#: the body's offsets from the anchor tried, up/down and front/back: up to this (cm), in steps
-OFFSET_CM = 6.0
-OFFSET_STEP_CM = 2.0
-#: garment vertices the fit looks at, at most (evenly subsampled)
-FIT_POINTS = 6000
 
 
 @dataclass(frozen=True)
@@ -116,7 +101,7 @@ def _inside(P: np.ndarray, V: np.ndarray, N: np.ndarray) -> tuple[np.ndarray, np
 
 
 def _pose(ops: dict[str, Opening], frame: np.ndarray) -> str:
-    """``t`` when a top's cuffs lie more than :data:`T_POSE_DEG` from straight down."""
+    """``t`` when a top's cuffs lie more than ``FIT_T_POSE_DEG`` from straight down."""
     if not {"neckline", "cuff_left", "cuff_right"} <= ops.keys():
         return "a"
     neck = ops["neckline"].centroid @ frame.T
@@ -124,7 +109,7 @@ def _pose(ops: dict[str, Opening], frame: np.ndarray) -> str:
     for side in ("cuff_left", "cuff_right"):
         d = ops[side].centroid @ frame.T - neck
         angles.append(np.degrees(np.arccos(np.clip(-d[1] / np.linalg.norm(d), -1.0, 1.0))))
-    return "t" if float(np.mean(angles)) > T_POSE_DEG else "a"
+    return "t" if float(np.mean(angles)) > verify_tol.FIT_T_POSE_DEG else "a"
 
 
 def fit_body(
@@ -159,7 +144,7 @@ def fit_body(
     ------
     PtailorError
         A drape with no neckline and no waist (nothing to hang it on), or one the body
-        cannot be fitted inside at any scale in :data:`SCALE_RANGE`.
+        cannot be fitted inside at any scale in ``FIT_SCALE_RANGE``.
     """
     R = frame.matrix()  # rows: left, up, front (the body's x, y, z)
     ops = {o.name: o for o in openings}
@@ -207,7 +192,7 @@ def _garment_points(
     Returns
     -------
     P : (k, 3) float array
-        The torso's used vertices (evenly subsampled to about :data:`FIT_POINTS`).
+        The torso's used vertices (evenly subsampled to about ``FIT_POINTS``).
     a_g : (3,) float array
     """
     used = np.unique(np.asarray(F3))
@@ -219,17 +204,17 @@ def _garment_points(
     if bottom is not None:
         reach = float(np.abs((V3[bottom.loop] @ frame[0]) * to_m - a_g[0]).max())
         torso = np.abs(P[:, 0] - a_g[0]) <= reach
-        if torso.sum() >= 100:
+        if torso.sum() >= verify_tol.FIT_TORSO_MIN_POINTS:
             P = P[torso]
-    return P[:: max(1, len(P) // FIT_POINTS)], a_g
+    return P[:: max(1, len(P) // verify_tol.FIT_POINTS)], a_g
 
 
 def _body_anchor(BV: np.ndarray, anchor: str) -> np.ndarray:
     """The body's anchor ``(3,)``: its neck base or waist height, on the torso's mid-depth
     there, on the centre line."""
     h = float(BV[:, 1].max() - BV[:, 1].min())
-    y_a = h * (NECK_HEIGHT if anchor == "neckline" else WAIST_HEIGHT)
-    band = BV[np.abs(BV[:, 1] - y_a) < 0.02 * h]
+    y_a = h * (verify_tol.FIT_NECK_HEIGHT if anchor == "neckline" else verify_tol.FIT_WAIST_HEIGHT)
+    band = BV[np.abs(BV[:, 1] - y_a) < verify_tol.FIT_ANCHOR_BAND * h]
     return np.array([0.0, y_a, 0.5 * float(band[:, 2].min() + band[:, 2].max())])
 
 
@@ -239,7 +224,8 @@ def _offsets() -> np.ndarray:
     The anchor is where the garment hangs, not a landmark it hits exactly: offsets of the
     body up/down and front/back (cm) are tried at each scale, the least inside kept.
     """
-    steps = np.arange(-OFFSET_CM, OFFSET_CM + 1e-9, OFFSET_STEP_CM) / 100.0
+    reach, step = verify_tol.FIT_OFFSET_CM, verify_tol.FIT_OFFSET_STEP_CM
+    steps = np.arange(-reach, reach + 1e-9, step) / 100.0
     offsets = np.stack(np.meshgrid(steps, steps, indexing="ij"), -1).reshape(-1, 2)
     return offsets[np.argsort(np.abs(offsets).sum(axis=1), kind="stable")]  # nearest first
 
@@ -287,23 +273,23 @@ class _Placement:
 
 
 def _largest_scale(fit: _Placement, *, path: str | None) -> float:
-    """The largest scale in :data:`SCALE_RANGE` with at most :data:`INSIDE_MAX` of the
+    """The largest scale in ``FIT_SCALE_RANGE`` with at most ``FIT_INSIDE_MAX`` of the
     points inside, by bisection (``fit.best`` then holds its offset)."""
-    lo, hi = SCALE_RANGE
-    if fit.inside_fraction(lo) > INSIDE_MAX:
+    lo, hi = verify_tol.FIT_SCALE_RANGE
+    if fit.inside_fraction(lo) > verify_tol.FIT_INSIDE_MAX:
         raise PtailorError(
             f"--body auto: the body does not fit inside the drape at any scale from {lo:g} to"
             f" {hi:g} (at {lo:g}, {100 * fit.inside_fraction(lo):.1f} % of the garment is inside"
             " it); check --up, --front and the units, or give a body with --body FILE",
             path=path,
         )
-    if fit.inside_fraction(hi) <= INSIDE_MAX:
+    if fit.inside_fraction(hi) <= verify_tol.FIT_INSIDE_MAX:
         lo = hi
-    for _ in range(SCALE_STEPS):  # bisection on the scale
+    for _ in range(verify_tol.FIT_SCALE_STEPS):  # bisection on the scale
         if lo == hi:
             break
         mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if fit.inside_fraction(mid) <= INSIDE_MAX else (lo, mid)
+        lo, hi = (mid, hi) if fit.inside_fraction(mid) <= verify_tol.FIT_INSIDE_MAX else (lo, mid)
     s = lo
     if s not in fit.best:
         fit.inside_fraction(s)

@@ -12,6 +12,7 @@ import os
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.geometry.triangles import triangle_normals
 from ptailor.model.frame import Frame
 
@@ -117,7 +118,7 @@ def _scene(V, F, rgb, body, cam):
         edge = float(np.median(np.linalg.norm(V[F[:, 1]] - V[F[:, 0]], axis=1)))
         T = bisect_long(Vb[Fb], 2.0 * edge)
         n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
-        lam = np.abs(n @ cam[2]) / np.maximum(np.linalg.norm(n, axis=1), 1e-300)
+        lam = np.abs(n @ cam[2]) / np.maximum(np.linalg.norm(n, axis=1), tol.TINY)
         # cloth lying on the body sorts in front of it: the body one edge further back
         tris.append(T @ cam.T - [0.0, 0.0, edge])
         cols.append(_BODY[None, :] * (0.75 + 0.25 * lam)[:, None])

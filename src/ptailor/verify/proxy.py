@@ -19,9 +19,9 @@ quadric edge collapse (:func:`simulation_mesh`):
   vertices is).
 
 The decimation is checked: every simulation pattern triangle must keep its panel's
-orientation (all but :data:`FOLD_TOL` of them) and the pattern's area within
-:data:`AREA_TOL`; a decimation that fails is tried again to twice as many triangles
-(:data:`TARGETS`); when that fails too (or the collapse cannot get below ``max_faces`` by a
+orientation (all but ``PROXY_FOLD_TOL`` of them) and the pattern's area within
+``PROXY_AREA_TOL``; a decimation that fails is tried again to twice as many triangles
+(``PROXY_TARGETS``); when that fails too (or the collapse cannot get below ``max_faces`` by a
 useful margin) :func:`simulation_mesh` returns None and the garment is simulated as it is.
 """
 
@@ -34,21 +34,9 @@ import numpy as np
 from ptailor.geometry.labels import component_labels
 from ptailor.geometry.triangles import signed_areas_2d
 from ptailor.model.boundary import boundary_edges
+from ptailor.verify import tolerances as verify_tol
 
 __all__ = ["SimMesh", "simulation_mesh"]
-
-#: the simulation pattern's area may differ from the garment's by this fraction ...
-AREA_TOL = 0.01
-#: ... and this fraction of its triangles may be folded in the pattern (the collapse sees
-#: the drape, not the pattern: dress_initial at 8,000 triangles folds 2; tee6 at 64x folds
-#: 12 of 9,248, whose re-drapes blew up (stretch p95 4-8), and passes at 16,000)
-FOLD_TOL = 1e-3
-#: targets tried, times ``max_faces``, until a decimation passes the checks
-TARGETS = (1.0, 2.0)
-#: a decimation that keeps more than this fraction of the triangles is not used
-MIN_GAIN = 0.8
-#: candidate simulation triangles tried per point when locating it
-CANDIDATES = 12
 
 
 @dataclass(frozen=True)
@@ -222,11 +210,11 @@ def _locate(P, labels, V2, F2s, tri_label):
     T = V2[F2s]  # (mc, 3, 2)
     big = 10.0 * float(np.ptp(V2, axis=0).max() + 1.0)  # panels apart in a third coordinate
     tree = cKDTree(np.c_[T.mean(axis=1), big * tri_label])
-    tri, W = _nearest_holding(tree, big, T, P, labels, tri_label, CANDIDATES)
-    out = W.min(axis=1) < -1e-9
+    tri, W = _nearest_holding(tree, big, T, P, labels, tri_label, verify_tol.PROXY_CANDIDATES)
+    out = W.min(axis=1) < -verify_tol.PROXY_OUTSIDE_BARY
     if out.any():
         tri[out], W[out] = _nearest_holding(
-            tree, big, T, P[out], labels[out], tri_label, 8 * CANDIDATES
+            tree, big, T, P[out], labels[out], tri_label, 8 * verify_tol.PROXY_CANDIDATES
         )
     return tri, W
 
@@ -254,7 +242,7 @@ def _checked(V3, F3, V2, F2, free, panel, copies, target):
     """One decimation to ``target`` faces and its checks: (simulation faces, their pattern
     corners), or None when it does not help or fails a check."""
     _, Fc3 = _decimate(V3, F3, free, target)
-    if len(Fc3) == 0 or len(Fc3) > MIN_GAIN * len(F3):
+    if len(Fc3) == 0 or len(Fc3) > verify_tol.PROXY_MIN_GAIN * len(F3):
         return None
     corners = _pattern_corners(Fc3, F3, F2, V2, copies, panel)
     if corners is None:
@@ -262,9 +250,12 @@ def _checked(V3, F3, V2, F2, free, panel, copies, target):
     a_fine, a_sim = signed_areas_2d(V2, F2), signed_areas_2d(V2, corners)
     sign = np.zeros(int(panel.max()) + 1)
     np.add.at(sign, panel[F2[:, 0]], a_fine)
-    if (np.sign(a_sim) != np.sign(sign[panel[corners[:, 0]]])).mean() > FOLD_TOL:
+    if (np.sign(a_sim) != np.sign(sign[panel[corners[:, 0]]])).mean() > verify_tol.PROXY_FOLD_TOL:
         return None  # folded simulation triangles
-    if abs(np.abs(a_sim).sum() - np.abs(a_fine).sum()) > AREA_TOL * np.abs(a_fine).sum():
+    if (
+        abs(np.abs(a_sim).sum() - np.abs(a_fine).sum())
+        > verify_tol.PROXY_AREA_TOL * np.abs(a_fine).sum()
+    ):
         return None
     return Fc3, corners
 
@@ -302,7 +293,7 @@ def simulation_mesh(
     free = ~_boundary_vertices(F3, F2, len(V3))
     panel = _components(F2, len(V2))
     copies = _copies(F3, F2, len(V3))
-    for k in TARGETS:
+    for k in verify_tol.PROXY_TARGETS:
         found = _checked(V3, F3, V2, F2, free, panel, copies, int(k * max_faces))
         if found is not None:
             break

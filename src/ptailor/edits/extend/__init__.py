@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from ptailor.edits import tolerances as edit_tol
 from ptailor.edits.achieved import row_offsets
 from ptailor.edits.body import push_out
 from ptailor.edits.checks import number
@@ -29,10 +30,6 @@ from ptailor.model.structure import structure
 
 __all__ = ["ExtendStep", "OpeningEdges", "extend", "opening_edges"]
 
-#: Without ``clearance``, new rows keep this many of the opening's mean edge lengths from
-#: the body.
-CLEARANCE_EDGES = 0.5
-
 
 @dataclass(frozen=True, kw_only=True)
 class ExtendStep(Step):
@@ -46,7 +43,8 @@ class ExtendStep(Step):
         The length added, recipe units.
     clearance : float or None
         The distance new rows keep from a body (with ``options.body``); None:
-        :data:`CLEARANCE_EDGES` of the opening's mean edge length (:meth:`clearance_for`).
+        :data:`ptailor.edits.tolerances.EXTEND_CLEARANCE_EDGES` of the opening's mean edge
+        length (:meth:`clearance_for`).
     measure : {"drape", "pattern"}
         Where ``by`` is measured.
     """
@@ -66,7 +64,11 @@ class ExtendStep(Step):
 
     def clearance_for(self, mean_edge: float) -> float:
         """The clearance kept from a body: the step's, else half the opening's mean edge."""
-        return CLEARANCE_EDGES * mean_edge if self.clearance is None else float(self.clearance)
+        return (
+            edit_tol.EXTEND_CLEARANCE_EDGES * mean_edge
+            if self.clearance is None
+            else float(self.clearance)
+        )
 
 
 def _grown_state(state: EditState, plan: RowPlan, built: Rows, new_e: np.ndarray) -> EditState:
@@ -117,7 +119,7 @@ def extend(state: EditState, step: ExtendStep, *, options: EditOptions) -> EditS
 
     There are ``rows`` rows, about the opening's mean edge length apart; where rows would
     cross (a concave opening) the directions there are smoothed, pass by pass, and after
-    ``MAX_SMOOTHING`` passes the step fails naming where; an opening whose offset closes
+    ``EXTEND_MAX_SMOOTHING`` passes the step fails naming where; an opening whose offset closes
     on itself is refused. The edited drape ``state.V3`` grows from its own opening; the
     original drape ``state.base.V3`` grows the same rows from its opening, so the new cloth
     follows earlier edits like the cloth it continues (after a first step both are the
@@ -192,8 +194,9 @@ def _extend_record(
     achieved = row_offsets(state, oe, new_e[(rows - 1) * k :], top2, col_panel)
     names = {p.index: p.name for p in state.panels}
     top_ids = len(state.base.V3) + (rows - 1) * k + np.arange(k)
-    surf = geodesic_distance(V3_new, base.F3, loop, limit=3.0 * by)[top_ids]
-    if not np.all(surf < 3.0 * by):  # pushed far out by the body: measure all the way
+    reach = edit_tol.EXTEND_MEASURE_REACH_BY * by
+    surf = geodesic_distance(V3_new, base.F3, loop, limit=reach)[top_ids]
+    if not np.all(surf < reach):  # pushed far out by the body: measure all the way
         surf = geodesic_distance(V3_new, base.F3, loop)[top_ids]
     return {
         "op": "extend",

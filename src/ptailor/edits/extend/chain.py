@@ -7,6 +7,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.edits.opening import OpeningEdges
 
 
@@ -140,7 +141,7 @@ def _place_closed(P: np.ndarray, Q: np.ndarray, by: float, *, near: Callable) ->
     cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(Pc, axis=0), axis=1))])
     dist, sigma, _ = nearest_on(Qs, Pc[:-1], Pc[1:], cum)
     idx = np.arange(c)
-    tol_s = 1e-9 * (cum[-1] + by)
+    tol_s = tol.ROUNDING_REL * (cum[-1] + by)
     seg = np.diff(cum)
     # arc length from its own vertex, around the loop either way
     off = (sigma - cum[idx] + 0.5 * cum[-1]) % cum[-1] - 0.5 * cum[-1]
@@ -161,7 +162,7 @@ def _settled_ends(
     candidate where it lies nearest to the chain's end edge, else its ``ends`` one where
     that does; None where neither does for an end (see :func:`place_offset_chain`)."""
     cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(P, axis=0), axis=1))])
-    tol_s = 1e-9 * (cum[-1] + by)
+    tol_s = tol.ROUNDING_REL * (cum[-1] + by)
 
     def own_end(E: np.ndarray) -> np.ndarray:
         """Which of two end points lie nearest to their own end edge of the chain."""
@@ -190,7 +191,7 @@ def _place_open(
     """
     c = len(P)
     cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(P, axis=0), axis=1))])
-    tol_s = 1e-9 * (cum[-1] + by)
+    tol_s = tol.ROUNDING_REL * (cum[-1] + by)
     finite = np.all(np.isfinite(Q), axis=1)
     Qs = np.where(finite[:, None], Q, P)
     dist, sigma, _ = nearest_on(Qs, P[:-1], P[1:], cum)

@@ -9,8 +9,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ptailor import tolerances as tol
+from ptailor.edits import tolerances as edit_tol
 from ptailor.edits.extend.rows import (
-    MAX_SMOOTHING,
     RowPlan,
     Rows,
     quad_rows,
@@ -45,10 +46,10 @@ def outward_directions(V: np.ndarray, oe: OpeningEdges) -> np.ndarray:
     t = V[oe.b3] - A
     w = V[oe.opposite] - A
     out = np.cross(t, np.cross(t, w))  # = t (t.w) - w |t|^2: in-plane, away from the face
-    out /= np.maximum(np.linalg.norm(out, axis=1), 1e-300)[:, None]
+    out /= np.maximum(np.linalg.norm(out, axis=1), tol.TINY)[:, None]
     s = np.roll(out, 1, axis=0) + out  # edge i - 1 ends and edge i starts at a3[i]
     ns = np.linalg.norm(s, axis=1)
-    cusp = ns < 1e-6
+    cusp = ns < edit_tol.EXTEND_CUSP
     s[cusp] = out[cusp]
     ns[cusp] = 1.0
     return s / ns[:, None]
@@ -79,7 +80,7 @@ def seam_scales(
     h2 = half_edges(F2)[pairs]
     h3 = half_edges(F3)[pairs]
     l3 = np.linalg.norm(V3[h3[:, 1]] - V3[h3[:, 0]], axis=1)
-    ratio = np.linalg.norm(V2[h2[:, 1]] - V2[h2[:, 0]], axis=1) / np.maximum(l3, 1e-300)
+    ratio = np.linalg.norm(V2[h2[:, 1]] - V2[h2[:, 0]], axis=1) / np.maximum(l3, tol.TINY)
     colid = np.full(len(V2), -1, dtype=np.int64)
     colid[cols] = np.arange(len(cols))
     ids = colid[h2].ravel()
@@ -128,7 +129,7 @@ def match_seam_steps(disp: np.ndarray, vert3: np.ndarray, sigma: np.ndarray) -> 
     q = np.where(valid, length / np.where(valid, sigma, 1.0), 0.0)
     kappa = np.bincount(grp, q, n_g) / np.maximum(copies, 1)
     new_len = np.where(apply, np.where(valid, sigma, 0.0) * kappa[grp], length)
-    return disp * (new_len / np.maximum(length, 1e-300))[:, None]
+    return disp * (new_len / np.maximum(length, tol.TINY))[:, None]
 
 
 def smooth_directions(D: np.ndarray) -> np.ndarray:
@@ -145,7 +146,7 @@ def smooth_directions(D: np.ndarray) -> np.ndarray:
     """
     S = np.roll(D, 1, axis=0) + 2.0 * D + np.roll(D, -1, axis=0)
     n = np.linalg.norm(S, axis=1)
-    ok = n > 1e-12
+    ok = n > edit_tol.EXTEND_SMOOTH_ZERO
     out = D.copy()
     out[ok] = S[ok] / n[ok, None]
     return out
@@ -209,7 +210,7 @@ def drape_rows(state: EditState, plan: RowPlan) -> Rows:
     vert3[ca], vert3[cb] = oe.a3, oe.b3
     sigma = seam_scales(Vb, g.F3, V2, g.F2, cols)
     dir_e, dir_b = outward_directions(Ve, oe), outward_directions(Vb, oe)
-    for smoothing in range(MAX_SMOOTHING + 1):  # iterations, not vertices
+    for smoothing in range(edit_tol.EXTEND_MAX_SMOOTHING + 1):  # iterations, not vertices
         if smoothing:
             dir_e, dir_b = smooth_directions(dir_e), smooth_directions(dir_b)
         new_e = (Ve[oe.a3][None] + steps * dir_e[None]).reshape(-1, 3)
@@ -224,7 +225,7 @@ def drape_rows(state: EditState, plan: RowPlan) -> Rows:
         V2all = np.concatenate([V2, new_2])
         a2 = signed_areas_2d(V2all, F2_new) * orient[src]
         fold = np.einsum("ij,ij->i", triangle_normals(Vall, F3_new), n_src[src])
-        if np.all(a2 > 1e-9 * h * h) and np.all(fold > 0.0):
+        if np.all(a2 > edit_tol.EXTEND_ROW_AREA_MIN_REL * h * h) and np.all(fold > 0.0):
             break
     else:
         raise PtailorError(

@@ -7,9 +7,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ptailor import tolerances as tol
+from ptailor.edits import tolerances as edit_tol
 from ptailor.edits.extend.chain import chain_order, nearest_fn, place_offset_chain
 from ptailor.edits.extend.rows import (
-    MAX_SMOOTHING,
     RowPlan,
     Rows,
     crossing_error,
@@ -23,17 +24,8 @@ from ptailor.errors import PtailorError
 from ptailor.geometry.pattern_maps import pattern_jacobians
 from ptailor.geometry.triangles import signed_areas_2d, triangle_normals
 
-#: ``measure: pattern``: a seam reaching the opening is continued straight when its
-#: continuation is within 75 degrees of the end edge's outward normal (cos 75 deg) ...
-_SEAM_MIN_COS = float(np.cos(np.radians(75.0)))
-
-
-#: ... a column's offset is searched out to 2^8 ``by`` along its direction ...
-_REACH_DOUBLINGS = 8
-
-
-#: ... and placed by this many bisection steps.
-_BISECTION_STEPS = 60
+#: ``measure: pattern``: the cosine of :data:`ptailor.edits.tolerances.EXTEND_SEAM_MAX_DEG`
+_SEAM_MIN_COS = float(np.cos(np.radians(edit_tol.EXTEND_SEAM_MAX_DEG)))
 
 
 def edge_normals_2d(V2: np.ndarray, F2: np.ndarray, oe: OpeningEdges) -> np.ndarray:
@@ -48,7 +40,7 @@ def edge_normals_2d(V2: np.ndarray, F2: np.ndarray, oe: OpeningEdges) -> np.ndar
     t = V2[oe.b2] - V2[oe.a2]
     n = np.stack([t[:, 1], -t[:, 0]], 1)
     n *= np.where(np.einsum("ij,ij->i", n, V2[opp] - V2[oe.a2]) > 0, -1.0, 1.0)[:, None]
-    return n / np.maximum(np.linalg.norm(n, axis=1), 1e-300)[:, None]
+    return n / np.maximum(np.linalg.norm(n, axis=1), tol.TINY)[:, None]
 
 
 def outline_neighbours(F2: np.ndarray, n2: int) -> tuple[np.ndarray, np.ndarray]:
@@ -102,13 +94,13 @@ def offset_lengths(
     lo = np.zeros(len(P))
     hi = np.full(len(P), by)
     short = dist(hi) < by
-    for _ in range(_REACH_DOUBLINGS):  # iterations, vectorised over the columns
+    for _ in range(edit_tol.EXTEND_REACH_DOUBLINGS):  # iterations, vectorised over the columns
         if not short.any():
             break
         lo = np.where(short, hi, lo)
         hi = np.where(short, 2.0 * hi, hi)
         short = dist(hi) < by
-    for _ in range(_BISECTION_STEPS):
+    for _ in range(edit_tol.EXTEND_BISECTION_STEPS):
         mid = 0.5 * (lo + hi)
         below = dist(mid) < by
         lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
@@ -153,7 +145,7 @@ def column_directions(V2: np.ndarray, F2: np.ndarray, plan: RowPlan) -> ColumnDi
     """Where each column of an opening moves in the pattern (see :class:`ColumnDirections`).
 
     A seam reaching the opening is continued straight when its continuation is within
-    ``acos(_SEAM_MIN_COS)`` of the end edge's outward normal, else the end moves along
+    ``EXTEND_SEAM_MAX_DEG`` of the end edge's outward normal, else the end moves along
     that normal (a corner in the seam).
     """
     oe, cols, ca, cb, nc = plan.oe, plan.cols, plan.ca, plan.cb, plan.nc
@@ -168,7 +160,7 @@ def column_directions(V2: np.ndarray, F2: np.ndarray, plan: RowPlan) -> ColumnDi
     next_c = np.where(e_out >= 0, cb[np.maximum(e_out, 0)], np.arange(nc))
     U = np.zeros((nc, 2))
     U[inner] = n_e[e_in[inner]] + n_e[e_out[inner]]
-    cusp = inner & (np.linalg.norm(U, axis=1) < 1e-6)
+    cusp = inner & (np.linalg.norm(U, axis=1) < edit_tol.EXTEND_CUSP)
     U[cusp] = n_e[e_out[cusp]]
     # chain ends: continue the seam (the outline edge before the start / after the end)
     o_prev, o_next = outline_neighbours(F2, len(V2))
@@ -176,10 +168,10 @@ def column_directions(V2: np.ndarray, F2: np.ndarray, plan: RowPlan) -> ColumnDi
     n_end = np.where(start[:, None], n_e[np.maximum(e_out, 0)], n_e[np.maximum(e_in, 0)])
     other = np.where(start, o_prev[cols], o_next[cols])
     seam_dir = V2[cols] - V2[np.maximum(other, 0)]
-    seam_dir /= np.maximum(np.linalg.norm(seam_dir, axis=1), 1e-300)[:, None]
+    seam_dir /= np.maximum(np.linalg.norm(seam_dir, axis=1), tol.TINY)[:, None]
     along = (other >= 0) & (np.einsum("ij,ij->i", seam_dir, n_end) >= _SEAM_MIN_COS)
     U[~inner] = np.where(along[~inner, None], seam_dir[~inner], n_end[~inner])
-    U /= np.maximum(np.linalg.norm(U, axis=1), 1e-300)[:, None]
+    U /= np.maximum(np.linalg.norm(U, axis=1), tol.TINY)[:, None]
     return ColumnDirections(U=U, n_end=n_end, inner=inner, prev_c=prev_c, next_c=next_c)
 
 
@@ -203,7 +195,7 @@ def pattern_offsets(
     ------
     PtailorError
         An opening narrower than twice ``by`` in some panel's pattern, or rows that
-        still cross after ``MAX_SMOOTHING`` passes.
+        still cross after ``EXTEND_MAX_SMOOTHING`` passes.
     """
     V2 = state.base.V2
     oe, name, by, rows = plan.oe, plan.name, plan.by, plan.rows
@@ -227,10 +219,10 @@ def pattern_offsets(
         seqs.append((seq, nearest_fn(field.A[own], field.B[own])))
 
     mask = np.zeros(nc, bool)
-    for p_pass in range(MAX_SMOOTHING + 1):  # iterations, not vertices
+    for p_pass in range(edit_tol.EXTEND_MAX_SMOOTHING + 1):  # iterations, not vertices
         if p_pass:
             U = _smooth_masked(U, prev_c, next_c, mask & inner)
-            U /= np.maximum(np.linalg.norm(U, axis=1), 1e-300)[:, None]
+            U /= np.maximum(np.linalg.norm(U, axis=1), tol.TINY)[:, None]
         s_len = offset_lengths(field, V2[cols], U, col_panel, by)
         Q = V2[cols] + s_len[:, None] * U
         for seq, near in seqs:  # a loop over chains
@@ -250,7 +242,10 @@ def pattern_offsets(
         use_b = shorter_diagonals(V2all, plan.A2, plan.B2, plan.odd)
         F2_new = quad_rows(plan.A2, plan.B2, use_b)
         h2 = by / rows
-        ok2 = signed_areas_2d(V2all, F2_new) * orient[src] > 1e-9 * h2 * h2
+        ok2 = (
+            signed_areas_2d(V2all, F2_new) * orient[src]
+            > edit_tol.EXTEND_ROW_AREA_MIN_REL * h2 * h2
+        )
         if ok2.all():
             break
         bad_cols = np.unique(np.concatenate([ca[src[~ok2]], cb[src[~ok2]]]))
@@ -280,7 +275,7 @@ def lift_offsets(
     Raises
     ------
     PtailorError
-        Rows that still fold over after ``MAX_SMOOTHING`` passes.
+        Rows that still fold over after ``EXTEND_MAX_SMOOTHING`` passes.
     """
     g = state.base
     V2, Ve, Vb = g.V2, state.V3, g.V3
@@ -303,7 +298,7 @@ def lift_offsets(
     ring = np.arange(k)
     r_prev, r_next = np.roll(ring, 1), np.roll(ring, -1)
     mask3 = np.zeros(k, bool)
-    for smoothing in range(MAX_SMOOTHING + 1):  # iterations, not vertices
+    for smoothing in range(edit_tol.EXTEND_MAX_SMOOTHING + 1):  # iterations, not vertices
         if smoothing:
             D3e = _smooth_masked(D3e, r_prev, r_next, mask3)
             D3b = _smooth_masked(D3b, r_prev, r_next, mask3)

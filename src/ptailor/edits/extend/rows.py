@@ -6,15 +6,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.edits.opening import OpeningEdges
 from ptailor.edits.pattern_distance import PatternDistance, edge_distance
 from ptailor.edits.state import EditState
 from ptailor.errors import PtailorError
 from ptailor.geometry.triangles import triangle_normals
 from ptailor.model.garment import panel_labels
-
-#: Smoothing passes of the row directions tried before giving up on crossing rows.
-MAX_SMOOTHING = 200
 
 
 @dataclass(frozen=True)
@@ -189,7 +187,7 @@ def shorter_diagonals(V: np.ndarray, A: np.ndarray, B: np.ndarray, odd: np.ndarr
     """
     dA = np.linalg.norm(V[A[1:]] - V[B[:-1]], axis=2)
     dB = np.linalg.norm(V[A[:-1]] - V[B[1:]], axis=2)
-    tie = np.abs(dA - dB) <= 1e-9 * (dA + dB)
+    tie = np.abs(dA - dB) <= tol.ROUNDING_REL * (dA + dB)
     return np.where(tie, odd, dB < dA)
 
 

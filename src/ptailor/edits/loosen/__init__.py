@@ -25,6 +25,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from ptailor.edits import tolerances as edit_tol
 from ptailor.edits.checks import number
 from ptailor.edits.checks import region as region_spec
 from ptailor.edits.cut import sketch_spec, view_frame, view_spec
@@ -34,8 +35,8 @@ from ptailor.edits.loosen.normals import (
     panel_orientation,
     turned_faces,
 )
-from ptailor.edits.loosen.offset import FALLOFF_BY, falloff_weights, offset_region
-from ptailor.edits.loosen.silhouette import ROW_EDGES, row_crossings, silhouette_targets
+from ptailor.edits.loosen.offset import falloff_weights, offset_region
+from ptailor.edits.loosen.silhouette import row_crossings, silhouette_targets
 from ptailor.edits.region import region_faces
 from ptailor.edits.registry import Step, checked, register
 from ptailor.edits.state import EditOptions, EditState
@@ -44,7 +45,6 @@ from ptailor.model.garment import panel_labels
 from ptailor.model.structure import structure
 
 __all__ = [
-    "FALLOFF_BY",
     "LoosenStep",
     "TightenStep",
     "falloff_weights",
@@ -191,7 +191,7 @@ def loosen(state: EditState, step: LoosenStep, *, options: EditOptions) -> EditS
             X,
             T,
             np.asarray(step.silhouette, float),
-            row=ROW_EDGES * h,
+            row=edit_tol.SILHOUETTE_ROW_EDGES * h,
             view_name=view_name(view),
         )
         moved = targets @ frame

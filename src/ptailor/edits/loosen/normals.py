@@ -8,6 +8,8 @@ from collections.abc import Callable
 import numpy as np
 import scipy.sparse as sp
 
+from ptailor import tolerances as tol
+from ptailor.edits import tolerances as edit_tol
 from ptailor.edits.region import region_axis, region_centroid
 from ptailor.geometry.topology import half_edges
 from ptailor.geometry.triangles import triangle_areas, triangle_normals
@@ -15,9 +17,6 @@ from ptailor.method.deform import cotangent_weights
 from ptailor.method.solver import factor
 from ptailor.model.garment import Panel, panel_labels
 from ptailor.model.seams import seam_halfedges
-
-#: lumped vertex mass floor, relative to the mean (vertices of degenerate triangles only)
-MASS_FLOOR_REL = 1e-9
 
 
 def panel_orientation(
@@ -166,7 +165,7 @@ def normal_smoother(
     area = triangle_areas(Vl, Fl)
     mass = np.bincount(Fl.ravel(), weights=np.repeat(area / 3.0, 3), minlength=used.size)
     # a vertex whose triangles are all degenerate keeps its value (positive diagonal)
-    mass = np.maximum(mass, MASS_FLOOR_REL * max(float(mass.mean()), 1e-300))
+    mass = np.maximum(mass, edit_tol.LOOSEN_MASS_FLOOR_REL * max(float(mass.mean()), tol.TINY))
     # sparse Cholesky, once (``symbolic``: a SymbolicCache shared with a mirrored twin)
     solve = factor(_lower_system(W, mass, tau=tau), lower=True, symbolic=symbolic)
 

@@ -7,6 +7,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ptailor.edits import tolerances as edit_tol
 from ptailor.edits.loosen.normals import (
     normal_smoother,
     outward_normals,
@@ -18,22 +19,6 @@ from ptailor.geometry.triangles import triangle_normals
 from ptailor.method.geodesic import geodesic_distance
 from ptailor.model.frame import Frame
 from ptailor.model.garment import Panel, panel_labels
-
-#: the offset falls off to zero over a band this many times ``|by|`` wide (the offset's slope
-#: stays below 0.75). Lengths of the garment only, never of its mesh: the same garment at
-#: any resolution gets the same edit (a band of mean edge lengths made a 1x tee's loosen
-#: 5.8 mm away from the same garment's at 4x)
-FALLOFF_BY = 2.0
-#: the offset follows normals smoothed over this many times ``|by|``
-SMOOTH_BY = 1.0
-#: implicit diffusion steps at the first smoothing width
-SMOOTH_STEPS = 4
-#: smoothing widths tried, each twice the last, before an offset is refused
-SMOOTH_LEVELS = 3
-#: the smoothed normals must keep this area-weighted mean cosine to the raw ones on every
-#: panel that moves (below it the smoothing is wider than the panel: a thin sleeve's normals
-#: cancel out and leak in from the rest)
-NORMAL_AGREEMENT = 0.6
 
 
 def falloff_weights(V: np.ndarray, F3: np.ndarray, faces: np.ndarray, *, band: float) -> np.ndarray:
@@ -167,9 +152,9 @@ def offset_region(
     """Offset a region along its smoothed outward normals.
 
     Every vertex moves by ``by w n_s``: ``w`` its falloff weight (:func:`falloff_weights`,
-    band ``FALLOFF_BY |by|``) and ``n_s`` the outward normals (:func:`outward_normals`)
-    diffused over the whole drape (:func:`normal_smoother`: ``SMOOTH_STEPS`` steps of total
-    width ``sigma = SMOOTH_BY |by|``), normalised. Both widths are lengths of the edit, not
+    band ``LOOSEN_FALLOFF_BY |by|``) and ``n_s`` the outward normals (:func:`outward_normals`)
+    diffused over the whole drape (:func:`normal_smoother`: ``LOOSEN_SMOOTH_STEPS`` steps of total
+    width ``sigma = LOOSEN_SMOOTH_BY |by|``), normalised. Both widths are lengths of the edit, not
     of the mesh, so the same garment at any resolution gets the same offset.
 
     Why smoothed: a simulated drape's wrinkles and folds curve far more tightly (radius
@@ -183,9 +168,9 @@ def offset_region(
     ``2 pi by`` of circumference.
 
     When the offset still turns a region triangle over, the field is diffused further
-    (four times as long: twice ``sigma``), up to ``SMOOTH_LEVELS`` widths and as long as
+    (four times as long: twice ``sigma``), up to ``LOOSEN_SMOOTH_LEVELS`` widths and as long as
     the smoothed normals still follow every panel that moves (area-weighted mean cosine to
-    the raw normals at least ``NORMAL_AGREEMENT``: wider smoothing than a thin sleeve
+    the raw normals at least ``LOOSEN_NORMAL_AGREEMENT``: wider smoothing than a thin sleeve
     washes its normals out), before the offset is refused.
 
     The rest of the garment does not move: the weight is 0 on the region's border, so the
@@ -223,7 +208,7 @@ def offset_region(
         more than the surface's radius, loosening into a tight concave fold), or needs a
         smoothing wider than a panel, naming the panels and the heights where it happens.
     """
-    w = falloff_weights(V, F3, faces, band=FALLOFF_BY * abs(by))
+    w = falloff_weights(V, F3, faces, band=edit_tol.LOOSEN_FALLOFF_BY * abs(by))
     N0 = outward_normals(V, F3, F2, plist, pairs=pairs)
     live = _LiveFaces.of(V, F3, plist, faces, w)
     return _smoothed_offset(V, F3, plist, faces, w, N0, live, by=by, frame=frame, symbolic=symbolic)
@@ -265,10 +250,10 @@ class _LiveFaces(NamedTuple):
 
     def lost(self, cos: np.ndarray) -> np.ndarray:
         """Panels ``(p,)`` bool the smoothing washed out, from each region triangle's mean
-        cosine ``cos`` ``(k,)`` of smoothed to raw normals (below ``NORMAL_AGREEMENT``)."""
+        cosine ``cos`` ``(k,)`` of smoothed to raw normals (below ``LOOSEN_NORMAL_AGREEMENT``)."""
         fp = np.maximum(self.panel, 0)
         agree = np.bincount(fp, weights=self.weight * cos, minlength=len(self.total))
-        return agree < NORMAL_AGREEMENT * self.total
+        return agree < edit_tol.LOOSEN_NORMAL_AGREEMENT * self.total
 
 
 def _smoothed_offset(
@@ -286,21 +271,23 @@ def _smoothed_offset(
 ) -> tuple[np.ndarray, float]:
     """The offset of :func:`offset_region` along normals smoothed level after level.
 
-    The raw outward normals ``N0`` ``(n, 3)`` are diffused ``SMOOTH_STEPS`` steps of width
-    ``sigma = SMOOTH_BY |by|``; while the offset ``by w n_s`` turns a region triangle over,
-    four times as long (twice ``sigma``), up to ``SMOOTH_LEVELS`` widths and as long as no
+    The raw outward normals ``N0`` ``(n, 3)`` are diffused ``LOOSEN_SMOOTH_STEPS`` steps of width
+    ``sigma = LOOSEN_SMOOTH_BY |by|``; while the offset ``by w n_s`` turns a region triangle over,
+    four times as long (twice ``sigma``), up to ``LOOSEN_SMOOTH_LEVELS`` widths and as long as no
     panel that moves is washed out (:meth:`_LiveFaces.lost`). Returns the edited drape and
     the width used; raises :func:`offset_error` otherwise.
     """
     T = F3[faces]
     moving = np.flatnonzero(w > 0.0)
-    sigma = SMOOTH_BY * abs(by)
-    step = normal_smoother(V, F3, tau=sigma * sigma / (2.0 * SMOOTH_STEPS), symbolic=symbolic)
+    sigma = edit_tol.LOOSEN_SMOOTH_BY * abs(by)
+    step = normal_smoother(
+        V, F3, tau=sigma * sigma / (2.0 * edit_tol.LOOSEN_SMOOTH_STEPS), symbolic=symbolic
+    )
     N, done, turned = N0, 0, np.zeros(len(T), dtype=bool)
-    for level in range(SMOOTH_LEVELS):  # a loop over smoothing levels
-        for _ in range(SMOOTH_STEPS * 4**level - done):  # over diffusion steps
+    for level in range(edit_tol.LOOSEN_SMOOTH_LEVELS):  # a loop over smoothing levels
+        for _ in range(edit_tol.LOOSEN_SMOOTH_STEPS * 4**level - done):  # over diffusion steps
             N = step(N)
-        done = SMOOTH_STEPS * 4**level
+        done = edit_tol.LOOSEN_SMOOTH_STEPS * 4**level
         Nu = unit_rows(N)
         lost = live.lost(np.einsum("ij,ij->i", Nu, N0)[T].mean(axis=1))
         if lost.any() and level == 0:

@@ -6,16 +6,10 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from ptailor import tolerances as tol
+from ptailor.edits import tolerances as edit_tol
 from ptailor.errors import PtailorError
 from ptailor.geometry.topology import half_edges
-
-#: height of the image rows the outline is sampled in, in mean edge lengths
-ROW_EDGES = 1.5
-#: an outline point matches when the sketch, in its row, is within this fraction of the
-#: sketch's span (and within its ring's half-width: a sketch never grabs the far outline)
-MATCH_REL = 0.5
-#: smallest ring scale a sketch may ask for (below it the outline collapses)
-MIN_RING_SCALE = 0.05
 
 
 def row_crossings(P: np.ndarray, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -38,7 +32,7 @@ def row_crossings(P: np.ndarray, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]
     """
     A, B = Q[:-1], Q[1:]
     dv = B[:, 1] - A[:, 1]
-    eps = 1e-9 * (1.0 + float(np.abs(Q).max()))
+    eps = tol.ROUNDING_REL * (1.0 + float(np.abs(Q).max()))
     flat = np.abs(dv) <= eps
     t = (P[:, 1:2] - A[None, :, 1]) / np.where(flat, 1.0, dv)[None]
     du = B[:, 0] - A[:, 0]
@@ -121,7 +115,7 @@ def silhouette_targets(
 
     1. The outline in the sketch's rows (:func:`outline_rows`).
     2. Matching: an outline point matches when the sketch crosses its row within
-       ``min(MATCH_REL * span, half-width of its ring)`` of it, ``span`` the diagonal of
+       ``min(SILHOUETTE_MATCH_REL * span, half-width of its ring)`` of it, ``span`` the diagonal of
        the sketch's bounding box.
     3. Each matched point's target is that crossing (a horizontal move in the image; its
        height and depth are kept): points are matched row by row, so they move along
@@ -161,7 +155,7 @@ def silhouette_targets(
     """
     used = np.zeros(len(X), dtype=bool)
     used[F] = True
-    eps = 1e-9 * (1.0 + float(np.abs(Q).max()))
+    eps = tol.ROUNDING_REL * (1.0 + float(np.abs(Q).max()))
     v_lo, v_hi = Q[:, 1].min() - eps, Q[:, 1].max() + eps
     slab = used & (X[:, 1] >= v_lo) & (X[:, 1] <= v_hi)
     nomatch = PtailorError(
@@ -174,7 +168,7 @@ def silhouette_targets(
     if not match.any():
         raise nomatch
     ring, scale, new_c, height = _ring_fits(X, rings, u_to, match)
-    if np.any(scale[ring] < MIN_RING_SCALE):
+    if np.any(scale[ring] < edit_tol.SILHOUETTE_MIN_RING_SCALE):
         raise PtailorError(
             "the silhouette sketch shrinks the garment's outline to nothing"
             f" in the {view_name} view"
@@ -202,14 +196,14 @@ def _outline_matches(
     u_to : (2 g,) float array
         Where the sketch crosses each one's row (see :func:`row_crossings`).
     match : (2 g,) bool array
-        Crossed within ``min(MATCH_REL * span, half-width of its ring)``.
+        Crossed within ``min(SILHOUETTE_MATCH_REL * span, half-width of its ring)``.
     """
     left, right = rings["left"], rings["right"]
     half = 0.5 * (X[right, 0] - X[left, 0])
     cand = np.r_[left, right]
     u_to, found = row_crossings(X[cand, :2], Q)
     span = float(np.linalg.norm(np.ptp(Q, axis=0)))
-    tol = np.minimum(MATCH_REL * span, np.r_[half, half])
+    tol = np.minimum(edit_tol.SILHOUETTE_MATCH_REL * span, np.r_[half, half])
     match = found & (np.abs(u_to - X[cand, 0]) <= tol) & (np.r_[half, half] > 0.0)
     return cand, u_to, match
 

@@ -10,7 +10,7 @@ import numpy as np
 
 from ptailor import tolerances as _tol
 from ptailor.errors import PtailorError
-from ptailor.formats.dxf.astm import L_BOUNDARY, REL_DUP, REL_TOL, parse_quantity
+from ptailor.formats.dxf.astm import L_BOUNDARY, parse_quantity
 from ptailor.formats.dxf.document import bad_coordinate, key_value, one_line, printable_text
 from ptailor.formats.dxf.entities import (
     Candidate,
@@ -120,7 +120,7 @@ def _modelspace_candidates(m: Marks, spath: str) -> list[Candidate]:
     """Files without blocks: one piece per closed layer-1 loop, marks go to the piece
     whose bounding box holds them (the smallest such), else the nearest."""
     _check_parts(m, "modelspace", spath)
-    tol = REL_TOL * max(bbox_diagonal(m.boundary), 1e-12)
+    tol = _tol.DXF_CHAIN_REL * max(bbox_diagonal(m.boundary), _tol.DXF_DIAGONAL_MIN)
     loops, opens = chain_segments(m.boundary, tol)
     if opens:
         raise PtailorError(
@@ -239,8 +239,8 @@ def build_piece(c: Candidate, spath: str) -> Piece:
     """Chain the boundary, orient it counter-clockwise, attach the marks."""
     m = c.marks
     _check_parts(m, f"piece {c.name!r}", spath)
-    diag = max(bbox_diagonal(m.boundary), 1e-12)
-    tol = REL_TOL * diag
+    diag = max(bbox_diagonal(m.boundary), _tol.DXF_DIAGONAL_MIN)
+    tol = _tol.DXF_CHAIN_REL * diag
     loops, opens = chain_segments(m.boundary, tol)
     if not loops:
         gap = ""
@@ -254,7 +254,7 @@ def build_piece(c: Candidate, spath: str) -> Piece:
         )
     areas = np.array([signed_area(lp) for lp in loops])
     k = int(np.argmax(np.abs(areas)))
-    outline = loops[k][dedupe_closed(loops[k], rel=REL_DUP)]
+    outline = loops[k][dedupe_closed(loops[k], rel=_tol.DXF_DUPLICATE_REL)]
     if len(outline) < 3:
         raise PtailorError(
             f"piece {c.name!r}: the boundary has {len(outline)} point(s), fewer than 3",
@@ -285,13 +285,19 @@ def build_piece(c: Candidate, spath: str) -> Piece:
     internal += join_lines(m.internal, m.internal_is_line, tol)
     sew = None
     if m.sew:
-        sloops, _ = chain_segments(m.sew, REL_TOL * max(bbox_diagonal(m.sew), 1e-12))
+        sloops, _ = chain_segments(
+            m.sew, _tol.DXF_CHAIN_REL * max(bbox_diagonal(m.sew), _tol.DXF_DIAGONAL_MIN)
+        )
         if sloops:
             sew = max(sloops, key=lambda s: abs(signed_area(s)))
             if signed_area(sew) < 0:
                 sew = sew[::-1].copy()
-    grain = next((g.copy() for g in m.grain if np.hypot(*(g[-1] - g[0])) > 1e-9 * diag), None)
-    mirror = next((g.copy() for g in m.mirror if np.hypot(*(g[-1] - g[0])) > 1e-9 * diag), None)
+    grain = next(
+        (g.copy() for g in m.grain if np.hypot(*(g[-1] - g[0])) > _tol.ROUNDING_REL * diag), None
+    )
+    mirror = next(
+        (g.copy() for g in m.mirror if np.hypot(*(g[-1] - g[0])) > _tol.ROUNDING_REL * diag), None
+    )
     piece = Piece(
         name=c.name,
         outline=outline,

@@ -6,6 +6,7 @@ import re
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.model.pieces import Piece
 
 #: centimetres per file unit
@@ -18,13 +19,6 @@ L_CUTOUT, L_DRILL, L_SEW, L_TEXT = "11", "13", "14", "15"
 L_MIRROR = "6"
 NOTCH_LAYERS = frozenset({"4", "80", "81", "82", "83"})
 LAYOUTS = ("auto", "keep", "row")
-
-#: chaining / closing tolerance, relative to a piece's bounding-box diagonal
-REL_TOL = 1e-3
-#: consecutive outline points closer than this (relative) are one point
-REL_DUP = 1e-9
-#: a file that names no unit is in millimetres when its largest piece exceeds this
-MM_ABOVE = 300.0
 
 
 _QUANTITY = re.compile(r"^\s*(\d+)\s*(?:[,;/]\s*(\d+)\s*)?$")
@@ -39,7 +33,7 @@ def parse_quantity(text: str) -> tuple[int, tuple[int, int] | None] | None:
             f = float(text)
         except ValueError:
             return None
-        ok = np.isfinite(f) and f.is_integer() and 0 <= f <= 1e9
+        ok = np.isfinite(f) and f.is_integer() and 0 <= f <= tol.DXF_QUANTITY_READ_MAX
         return (int(f), None) if ok else None
     a = int(m.group(1))
     if m.group(2) is None:

@@ -29,7 +29,7 @@ class _Captured(logging.Handler):
         self.messages: list[str] = []
 
     def emit(self, record: logging.LogRecord) -> None:
-        if record.levelno >= logging.WARNING and len(self.messages) < 1000:
+        if record.levelno >= logging.WARNING and len(self.messages) < _tol.DXF_RECOVER_MESSAGES_MAX:
             with contextlib.suppress(Exception):  # a record that cannot be formatted is dropped
                 self.messages.append(" ".join(str(record.getMessage()).split())[:200])
 
@@ -152,7 +152,7 @@ def header_number(doc: Any, name: str) -> int | None:
         return None
     if isinstance(v, bool) or not isinstance(v, int | float):
         return None
-    if not np.isfinite(v) or abs(v) > 1e6:
+    if not np.isfinite(v) or abs(v) > _tol.DXF_HEADER_CODE_MAX:
         return None
     return int(v)
 
@@ -184,7 +184,7 @@ def text_of(e: Any) -> str:
     a :class:`BadEntityError`)."""
     if e.dxftype() == "MTEXT":
         raw = str(getattr(e, "text", ""))
-        if len(raw) > 8 * _tol.DXF_MAX_TEXT:
+        if len(raw) > _tol.DXF_MTEXT_RAW_FACTOR * _tol.DXF_MAX_TEXT:
             raise BadEntityError(f"has {len(raw)} characters of text (limit {_tol.DXF_MAX_TEXT})")
         t = e.plain_text()
     else:

@@ -170,7 +170,7 @@ def _flatten(e: Any) -> np.ndarray:
     if bad:
         raise BadEntityError(bad)
     size = float(np.ptp(ctrl, axis=0).max()) if len(ctrl) > 1 else 1.0
-    dist = max(size, 1e-9) * 1e-3
+    dist = max(size, 1e-9) * _tol.DXF_FLATTEN_REL
     out = []
     for v in p.flattening(distance=dist):
         out.append(entity_xy(v))
@@ -362,7 +362,7 @@ class _SegmentEnds:
         self.segs = segs
         self.tol = tol
         self.ends = np.array([[s[0], s[-1]] for s in segs], dtype=float)  # (n, 2, 2)
-        self.cell = max(float(tol), 1e-300)
+        self.cell = max(float(tol), _tol.TINY)
         keys = np.floor(self.ends / self.cell).astype(np.int64)
         self.grid: dict[tuple[int, int], list[tuple[int, int]]] = {}
         for i, j in np.ndindex(len(segs), 2):  # a loop over segment ends, once

@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.formats.dxf.astm import quantity_text
 from ptailor.formats.dxf.entities import Candidate, apply_affine
 from ptailor.model.pieces import Piece
@@ -27,7 +28,7 @@ def fill_from_sample(
     Graded blocks often hold only the cut line. The quantity and annotations are copied;
     turn points, notches, grain and fold lines, drill holes and internal lines are
     carried when the two outlines have corresponding points (same count, an affine fit
-    from the sample outline to this one within ``GRADE_FIT_REL`` of its diagonal): turn
+    from the sample outline to this one within ``DXF_GRADE_FIT_REL`` of its diagonal): turn
     flags by index, notches at the same fraction of the same outline segment, the rest by
     the affine fit. Each piece that lacked something gets a warning saying what was
     carried and what could not be.
@@ -124,11 +125,6 @@ def _carried_mark(
     return {"internal": tuple(apply_affine(a, A) for a in sp.internal)}
 
 
-#: a graded outline corresponds to the sample's point by point when an affine fit between
-#: them leaves an RMS residual below this fraction of the diagonal
-GRADE_FIT_REL = 0.05
-
-
 def _grade_fit(src: np.ndarray, dst: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
     """The affine map (row vectors: ``x @ A + t``) from outline ``src`` to ``dst`` taken point
     by point, or None when they do not correspond."""
@@ -138,14 +134,14 @@ def _grade_fit(src: np.ndarray, dst: np.ndarray) -> tuple[np.ndarray, np.ndarray
     M, *_ = np.linalg.lstsq(X, dst, rcond=None)  # (3, 2)
     rms = float(np.sqrt(np.mean(np.sum((X @ M - dst) ** 2, axis=1))))
     diag = float(np.hypot(*np.ptp(dst, axis=0)))
-    return (M[:2], M[2]) if rms <= GRADE_FIT_REL * max(diag, 1e-300) else None
+    return (M[:2], M[2]) if rms <= tol.DXF_GRADE_FIT_REL * max(diag, tol.TINY) else None
 
 
 def _arc_params(P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Each point's arc-length parameter along closed outline ``P`` (0 at ``P[0]``, total
     1), ``(k,)``, and each segment's length as a fraction, ``(k,)``."""
     seg = np.linalg.norm(np.roll(P, -1, axis=0) - P, axis=1)
-    total = max(float(seg.sum()), 1e-300)
+    total = max(float(seg.sum()), tol.TINY)
     return np.r_[0.0, np.cumsum(seg)[:-1]] / total, seg / total
 
 
@@ -154,7 +150,7 @@ def _at_params(P: np.ndarray, u: np.ndarray) -> np.ndarray:
     cum, frac = _arc_params(P)
     u = np.mod(u, 1.0)
     i = np.clip(np.searchsorted(cum, u, side="right") - 1, 0, len(P) - 1)
-    t = (u - cum[i]) / np.maximum(frac[i], 1e-300)
+    t = (u - cum[i]) / np.maximum(frac[i], tol.TINY)
     return P[i] + np.clip(t, 0.0, 1.0)[:, None] * (np.roll(P, -1, axis=0)[i] - P[i])
 
 
@@ -175,11 +171,11 @@ class _ArcMap:
     @classmethod
     def fit(cls, src: np.ndarray, dst: np.ndarray) -> _ArcMap | None:
         """The map, or None when the outlines, so matched, lie further apart on average than
-        ``GRADE_FIT_REL`` of the graded outline's diagonal."""
+        ``DXF_GRADE_FIT_REL`` of the graded outline's diagonal."""
         if len(src) < 3 or len(dst) < 3:
             return None
         lo_s, lo_d = src.min(axis=0), dst.min(axis=0)
-        k = np.ptp(dst, axis=0) / np.maximum(np.ptp(src, axis=0), 1e-300)
+        k = np.ptp(dst, axis=0) / np.maximum(np.ptp(src, axis=0), tol.TINY)
         box = (np.diag(k), lo_d - lo_s * k)
         S = apply_affine(src, box)
         j0 = int(np.argmin(np.linalg.norm(dst - S[0], axis=1)))
@@ -187,7 +183,7 @@ class _ArcMap:
         u = np.linspace(0.0, 1.0, 256, endpoint=False)
         gap = float(np.linalg.norm(_at_params(S, u) - _at_params(D, u), axis=1).mean())
         diag = float(np.hypot(*np.ptp(dst, axis=0)))
-        return cls(box, S, D, j0) if gap <= GRADE_FIT_REL * max(diag, 1e-300) else None
+        return cls(box, S, D, j0) if gap <= tol.DXF_GRADE_FIT_REL * max(diag, tol.TINY) else None
 
     def points(self, pts: np.ndarray) -> np.ndarray:
         """Points on (or near) the sample outline, at the same parameter on the graded one."""
@@ -223,7 +219,7 @@ def _nearest_segment(P: np.ndarray, pts: np.ndarray) -> tuple[np.ndarray, np.nda
     point's foot: ``(k,)`` int and ``(k,)`` float in ``[0, 1]``."""
     A, B = P, np.roll(P, -1, axis=0)
     d = B - A  # (n, 2)
-    dd = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
+    dd = np.maximum(np.einsum("ij,ij->i", d, d), tol.TINY)
     t = np.clip(np.einsum("kij,ij->ki", pts[:, None] - A[None], d) / dd, 0.0, 1.0)  # (k, n)
     foot = A[None] + t[..., None] * d[None]
     seg = np.argmin(np.linalg.norm(pts[:, None] - foot, axis=2), axis=1)

@@ -10,7 +10,8 @@ from typing import Any
 
 import numpy as np
 
-from ptailor.formats.dxf.astm import CM_PER_UNIT, INSUNITS, MM_ABOVE
+from ptailor import tolerances as tol
+from ptailor.formats.dxf.astm import CM_PER_UNIT, INSUNITS
 from ptailor.model.pieces import PatternFile, Piece
 
 
@@ -28,15 +29,19 @@ def file_units(
     ``METRIC``, ``$MEASUREMENT = 1`` or nothing said, millimetres, as AAMA/ASTM exports
     write metric patterns, unless the pieces are of a garment's size only in centimetres
     (:func:`ptailor.model.size.size_problem`: a METRIC file in cm whose largest piece
-    reads 7.3 cm in mm is in cm). A file that says
-    nothing is in mm when its largest piece exceeds ``MM_ABOVE`` units, else cm. A drape, when there
-    is one, has the last word (:func:`ptailor.formats.garment._load_dxf_pair`).
+    reads 7.3 cm in mm is in cm). A file that says nothing is in mm when its largest piece
+    exceeds ``DXF_MM_ABOVE`` units, else cm. A drape, when there is one, has the last word
+    (:func:`ptailor.formats.garment._load_dxf_pair`).
     """
     if override is not None:
         return override, f"{override} given by the caller"
     word = text.strip().upper()
     quoted = f"'Units: {text.strip()}' in the file"
-    ok = isinstance(insunits, int | float) and np.isfinite(insunits) and abs(insunits) < 1e6
+    ok = (
+        isinstance(insunits, int | float)
+        and np.isfinite(insunits)
+        and abs(insunits) < tol.DXF_HEADER_CODE_MAX
+    )
     code = INSUNITS.get(int(insunits)) if ok else None
     if word == "ENGLISH":
         return "in", quoted
@@ -51,7 +56,7 @@ def file_units(
     elif isinstance(measurement, int | float) and measurement == 1:
         src = "$MEASUREMENT = 1 (metric) in the header"
     else:  # nothing said: pieces are 5-200 cm, 50-2000 mm
-        unit = "mm" if largest > MM_ABOVE else "cm"
+        unit = "mm" if largest > tol.DXF_MM_ABOVE else "cm"
         return (
             unit,
             f"no units in the file; {unit} judged from the piece sizes (largest {largest:.4g})",
@@ -76,9 +81,8 @@ def size_in(pieces: tuple[Piece, ...], unit: str) -> str | None:
     return size_problem(GarmentSize(extent=float("nan"), pieces=ext * CM_PER_UNIT[unit]))
 
 
-#: a drape's ``vt`` is taken in a unit when its size, judged from the drape's area, is
-#: within this factor of it
-VT_UNIT_SLACK = 1.5
+#: see :data:`ptailor.tolerances.DXF_VT_UNIT_SLACK`
+VT_UNIT_SLACK = tol.DXF_VT_UNIT_SLACK
 _VT_HEADER = re.compile(r"\bvt:\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(mm|cm|m|in)\s+per unit")
 
 

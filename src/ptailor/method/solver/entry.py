@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ptailor import tolerances as tol
+from ptailor.method import tolerances as method_tol
 from ptailor.method.ease import SeamEase
 from ptailor.method.solver.iteration import Iterate, finite_or_fail, iterate
 from ptailor.method.solver.problem import Problem
@@ -55,7 +55,7 @@ class StitchInfo:
         The largest panel residual before each iteration (convergence curve).
     stalled : bool
         The iterations stopped before ``max_iter`` because the largest residual made no
-        progress over ``tol.ARAP_STALL_ITER`` iterations (not converged).
+        progress over ``method_tol.ARAP_STALL_ITER`` iterations (not converged).
     newton_steps : int
         Iterations that were a Newton step
         (:meth:`ptailor.method.solver.newton.NewtonModel.newton`), taken where the
@@ -83,12 +83,12 @@ def stitch(
     asap_exclude: np.ndarray | None = None,
     ease: SeamEase | None = None,
     panel_weight: np.ndarray | None = None,
-    w_pin: float = tol.W_PIN,
-    w_asap: float = tol.W_ASAP,
-    max_iter: int = tol.ARAP_MAX_ITER,
-    step_tol: float = tol.ARAP_STEP_TOL,
-    history: int = tol.ANDERSON_HISTORY,
-    newton_cg: int = tol.NEWTON_CG_MAX,
+    w_pin: float = method_tol.W_PIN,
+    w_asap: float = method_tol.W_ASAP,
+    max_iter: int = method_tol.ARAP_MAX_ITER,
+    step_tol: float = method_tol.ARAP_STEP_TOL,
+    history: int = method_tol.ANDERSON_HISTORY,
+    newton_cg: int = method_tol.NEWTON_CG_MAX,
     progress: Callable[[int, float], None] | None = None,
     symbolic: SymbolicCache | None = None,
 ) -> tuple[np.ndarray, StitchInfo]:
@@ -118,7 +118,7 @@ def stitch(
         with Lagrange multipliers and their curvature
         (:meth:`ptailor.method.solver.seams.SeamConstraints.constrained`) from
         the first iteration where a seam misses its ratio by more than
-        ``tol.SEAM_EXACT_REL`` (an identity edit or a uniform scale never pays for them).
+        ``method_tol.SEAM_EXACT_REL`` (an identity edit or a uniform scale never pays for them).
     panel_weight : (n_panels,) float array, optional
         Scales each panel's whole energy (default 1): where seam constraints tie panels,
         a heavier one takes less of the distortion.
@@ -171,7 +171,7 @@ def _result(
     X = s.GX.copy(order="K")
     X[~pb.used] = V2[~pb.used]
     viol = float(pb.ease.violation(X).max()) if pb.ease is not None else 0.0
-    if viol > tol.SEAM_EXACT_REL:
+    if viol > method_tol.SEAM_EXACT_REL:
         converged = False  # the cap came before the seams were enforced, or they were skipped
     return X, StitchInfo(
         iterations=it,

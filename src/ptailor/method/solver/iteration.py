@@ -13,7 +13,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ptailor import tolerances as tol
+from ptailor.method import tolerances as method_tol
 from ptailor.method.anderson import Anderson
 
 
@@ -92,7 +92,7 @@ class Iterate:
         """A Newton step (:meth:`ptailor.method.solver.newton.NewtonModel.newton`) from
         ``X``, kept, like an accelerated iterate, when the energy after a plain step from it
         is below the plain step's; where it is not, the step halved up to
-        ``tol.NEWTON_BACKTRACK`` times (a backtracking line search). ``(kept, the largest
+        ``method_tol.NEWTON_BACKTRACK`` times (a backtracking line search). ``(kept, the largest
         panel move over the panel's size of the last step tried)``."""
         pb = self.pb
         if pb.seam_step is not None and pb.seam_step.X is not self.X:
@@ -105,7 +105,7 @@ class Iterate:
             return False, np.inf
         e_gx = self.e_gx if self.history else pb.energy(self.GX)
         t, move = 1.0, 0.0
-        for _ in range(tol.NEWTON_BACKTRACK + 1):
+        for _ in range(method_tol.NEWTON_BACKTRACK + 1):
             Xn = self.X + t * d
             mv = pb.residual(self.X, Xn)
             move = float(mv.max(initial=0.0))
@@ -121,17 +121,17 @@ class Iterate:
 
 
 def _crawls(h: list[float], last: int) -> bool:
-    """The largest residual fell by less than ``tol.NEWTON_CRAWL`` over the last
-    ``tol.NEWTON_WINDOW`` iterations, none of them a Newton step (``last``: the iteration
+    """The largest residual fell by less than ``method_tol.NEWTON_CRAWL`` over the last
+    ``method_tol.NEWTON_WINDOW`` iterations, none of them a Newton step (``last``: the iteration
     count at the last one)."""
-    w = tol.NEWTON_WINDOW
-    return len(h) - last > w and h[-1] > tol.NEWTON_CRAWL * h[-1 - w]
+    w = method_tol.NEWTON_WINDOW
+    return len(h) - last > w and h[-1] > method_tol.NEWTON_CRAWL * h[-1 - w]
 
 
 def _stalls(h: list[float]) -> bool:
     """The largest residual of the last ``ARAP_STALL_ITER`` iterations is no real gain."""
-    w = tol.ARAP_STALL_ITER
-    return len(h) > 2 * w and min(h[-w:]) > (1.0 - tol.ARAP_STALL_GAIN) * min(h[:-w])
+    w = method_tol.ARAP_STALL_ITER
+    return len(h) > 2 * w and min(h[-w:]) > (1.0 - method_tol.ARAP_STALL_GAIN) * min(h[:-w])
 
 
 def iterate(
@@ -141,7 +141,7 @@ def iterate(
     max_iter: int,
     step_tol: float,
     history: int,
-    newton_cg: int = tol.NEWTON_CG_MAX,
+    newton_cg: int = method_tol.NEWTON_CG_MAX,
     progress: Callable[[int, float], None] | None = None,
 ) -> tuple[int, bool, bool, list[float], int]:
     """Local/global iterations from ``s`` (updated).
@@ -186,7 +186,7 @@ def iterate(
         # little of the distance left). A run that converges fast never takes one.
         if newton_cg and (_crawls(hist, last) or (done and newton)):
             last = len(hist)
-            kept, move = s.newton(max_cg=newton_cg, rtol=tol.NEWTON_CG_RTOL)
+            kept, move = s.newton(max_cg=newton_cg, rtol=method_tol.NEWTON_CG_RTOL)
             newton += kept
             if done and (move <= step_tol or not kept):
                 # converged: the Newton step is below the tolerance, or no step along it

@@ -14,6 +14,7 @@ import scipy.sparse as sp
 
 from ptailor import tolerances as tol
 from ptailor.geometry.closed_forms import det2
+from ptailor.method import tolerances as method_tol
 from ptailor.method.bend import SeamBend, seam_bend
 from ptailor.method.ease import SeamEase
 from ptailor.method.operators import asap_rows, gradient_operator, stitch_matrix
@@ -66,7 +67,7 @@ def panel_sizes(V2: np.ndarray, vlab: np.ndarray, n_panels: int) -> np.ndarray:
         if len(order):  # extremes are exact in any order: the same as ufunc.at's, 3x faster
             lo[has] = np.minimum.reduceat(V2[order], start, axis=0)
             hi[has] = np.maximum.reduceat(V2[order], start, axis=0)
-        size = np.maximum(np.linalg.norm(hi - lo, axis=1), 1e-300)
+        size = np.maximum(np.linalg.norm(hi - lo, axis=1), tol.TINY)
     return size
 
 
@@ -187,9 +188,9 @@ class Problem(SeamConstraints, NewtonModel):
         self.ease = None if ease is not None and not ease.n_rows else ease
         self.size = panel_sizes(V2, vlab, n_panels)
         self.bend: SeamBend | None = None
-        if self.ease is not None and tol.SEAM_BEND > 0:
+        if self.ease is not None and method_tol.SEAM_BEND > 0:
             mu = np.zeros(n)
-            mu[used] = tol.SEAM_BEND * self.size[vlab[used]] ** 3 * stiff[vlab[used]]
+            mu[used] = method_tol.SEAM_BEND * self.size[vlab[used]] ** 3 * stiff[vlab[used]]
             self.bend = seam_bend(F2, targets, self.ease.vertices(), mu, np.maximum(vlab, 0))
         self.bend_H = None if self.bend is None else self.bend.matrix()  # (n, n)
         self._bend_M = None if self.bend is None else sp.tril(self.bend_H)

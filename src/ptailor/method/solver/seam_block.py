@@ -9,7 +9,7 @@ from functools import cached_property
 import numpy as np
 import scipy.sparse as sp
 
-from ptailor import tolerances as tol
+from ptailor.method import tolerances as method_tol
 from ptailor.method.ease import SeamEase
 from ptailor.method.solver.cholesky import groups_of
 from ptailor.method.solver.symbolic import cholmod_options, cvx_matrix
@@ -155,8 +155,8 @@ def _solved_inverses(solve_many, U: np.ndarray, groups, size: int) -> list[np.nd
         slot[g] = np.arange(len(g))
     out = [np.empty((len(g), len(g))) for g in groups]
     n_slots = max(len(g) for g in groups)
-    for s0 in range(0, n_slots, tol.SEAM_BLOCK_CHUNK):  # chunks of right-hand sides
-        s1 = min(s0 + tol.SEAM_BLOCK_CHUNK, n_slots)
+    for s0 in range(0, n_slots, method_tol.SEAM_BLOCK_CHUNK):  # chunks of right-hand sides
+        s1 = min(s0 + method_tol.SEAM_BLOCK_CHUNK, n_slots)
         pick = (slot >= s0) & (slot < s1)
         rhs = np.zeros((size, s1 - s0))
         rhs[U[pick], slot[pick] - s0] = 1.0

@@ -13,7 +13,7 @@ from functools import cached_property
 import numpy as np
 import scipy.sparse as sp
 
-from ptailor import tolerances as tol
+from ptailor.method import tolerances as method_tol
 from ptailor.method.solver.seam_block import SeamBlock, seam_block
 from ptailor.method.solver.seam_factor import SeamFactor
 from ptailor.method.solver.small_systems import bordered_solver
@@ -266,7 +266,7 @@ class SeamConstraints:
         return (
             self.ease is not None
             and self.seam_block is None
-            and self.ease.violation(GX).max() > tol.SEAM_EXACT_REL
+            and self.ease.violation(GX).max() > method_tol.SEAM_EXACT_REL
         )
 
     def seams_settled(self, GX: np.ndarray) -> bool:
@@ -274,7 +274,7 @@ class SeamConstraints:
         return bool(
             self.seam_block is not None
             or self.ease is None
-            or self.ease.violation(GX).max() <= tol.SEAM_EXACT_REL
+            or self.ease.violation(GX).max() <= method_tol.SEAM_EXACT_REL
         )
 
     def seams_on(self) -> None:

@@ -7,6 +7,9 @@ from collections.abc import Callable
 
 import numpy as np
 
+from ptailor import tolerances as tol
+from ptailor.method import tolerances as method_tol
+
 
 def spd_factor(M: np.ndarray) -> Callable[[np.ndarray], np.ndarray | None] | None:
     """The solution operator of a small symmetric positive (semi-)definite ``M``, factored
@@ -22,9 +25,9 @@ def spd_factor(M: np.ndarray) -> Callable[[np.ndarray], np.ndarray | None] | Non
     if not np.all(np.isfinite(M)):
         return None
     d = float(np.abs(np.diag(M)).max(initial=0.0)) if M.size else 0.0
-    for eps in (0.0, 1e-12, 1e-9):
+    for eps in method_tol.SPD_SHIFTS:
         try:
-            A = M if eps == 0.0 else M + (eps * max(d, 1e-300)) * np.eye(len(M))
+            A = M if eps == 0.0 else M + (eps * max(d, tol.TINY)) * np.eye(len(M))
             cho = sla.cho_factor(A)
         except (sla.LinAlgError, ValueError):
             continue
@@ -101,7 +104,7 @@ def bordered_solver(
     if not np.all(np.isfinite(B)):
         return None
     Mp = M.copy()
-    rho = float(np.abs(np.diag(M)).max(initial=0.0)) / max(float((B * B).sum(1).max()), 1e-300)
+    rho = float(np.abs(np.diag(M)).max(initial=0.0)) / max(float((B * B).sum(1).max()), tol.TINY)
     for j in range(B.shape[1]):  # a loop over the seam curves
         idx = np.flatnonzero(B[:, j])
         b = B[idx, j]

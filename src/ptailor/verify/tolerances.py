@@ -1,0 +1,69 @@
+"""Every tolerance and limit of the re-drape check (:mod:`ptailor.verify`): the mean body's
+fit, the simulation mesh, the simulation's setup.
+
+Constants only, each with what it bounds, its unit and why that value (the rules and the
+literals that may stay inline: :mod:`ptailor.tolerances`). The simulation's physical
+settings (stiffness, density, contact, time step) are the fields of
+:class:`ptailor.verify.engine.Settings`, each documented there with its unit: a settings
+dataclass's fields are the one place their defaults are given.
+"""
+
+# --- the mean body fitted into a garment (ptailor.verify.fit) ---
+#: A top whose cuffs lie more than this from straight down (degrees, averaged over the
+#: cuffs) is in a T-pose: the T-pose body is taken, else the A-pose one.
+FIT_T_POSE_DEG = 70.0
+#: The mean body's neck base and waist, as fractions of its height (unitless: the mean
+#: body's own landmarks) ...
+FIT_NECK_HEIGHT = 0.835
+FIT_WAIST_HEIGHT = 0.61
+#: ... the rows of the body within this fraction of its height (unitless) of the anchor's
+#: height give the torso's mid-depth there.
+FIT_ANCHOR_BAND = 0.02
+#: Body scales tried (unitless, about the anchor): half to one and a half times the mean
+#: body ...
+FIT_SCALE_RANGE = (0.5, 1.5)
+#: ... the largest one at which at most this fraction (unitless) of the torso's garment
+#: vertices lies inside the body (a fitted body leaves at most 0.5 % inside) ...
+FIT_INSIDE_MAX = 0.005
+#: ... found by this many bisection steps on the scale (a count: 1/1000 of the range).
+FIT_SCALE_STEPS = 10
+#: The body's offsets from the anchor tried, up/down and front/back: up to this (cm), in
+#: steps of FIT_OFFSET_STEP_CM (cm): where a garment hangs is not a landmark it hits exactly.
+FIT_OFFSET_CM = 6.0
+FIT_OFFSET_STEP_CM = 2.0
+#: Garment vertices the fit looks at, at most (a count, evenly subsampled: the inside test
+#: costs per point) ...
+FIT_POINTS = 6000
+#: ... of the torso (those no farther out than the hem reaches) when it has at least this
+#: many (a count), else of the whole garment.
+FIT_TORSO_MIN_POINTS = 100
+
+# --- the simulation mesh (ptailor.verify.proxy) ---
+#: The simulation pattern's area may differ from the garment's by this fraction (relative)
+#: ...
+PROXY_AREA_TOL = 0.01
+#: ... and this fraction of its triangles may be folded in the pattern (relative; the
+#: collapse sees the drape, not the pattern: dress_initial at 8,000 triangles folds 2; tee6
+#: at 64x folds 12 of 9,248, whose re-drapes blew up (stretch p95 4-8), and passes at
+#: 16,000).
+PROXY_FOLD_TOL = 1e-3
+#: Targets tried, times ``max_faces`` (unitless), until a decimation passes the checks.
+PROXY_TARGETS = (1.0, 2.0)
+#: A decimation that keeps more than this fraction of the triangles (relative) is not used.
+PROXY_MIN_GAIN = 0.8
+#: Candidate simulation triangles tried per point when locating it (a count).
+PROXY_CANDIDATES = 12
+#: A point whose smallest barycentric coordinate in its simulation triangle is below minus
+#: this (unitless) lies outside it: it is located again among more candidates (a point on
+#: an edge computes to about -1e-16).
+PROXY_OUTSIDE_BARY = 1e-9
+
+# --- the simulation's setup (ptailor.verify.engine, ptailor.run.verify) ---
+#: The cloth-cloth contact radius is capped at this many median rest edges (unitless), so
+#: a surface's own next-but-one neighbours are not contacts (Newton's 3 mm pushes a fine
+#: mesh apart in its own plane).
+ENGINE_SELF_RADIUS_EDGES = 0.4
+#: A frame whose up's cosine to +y is below -1 plus this (unitless) is upside down: it is
+#: turned by half a turn about x (the rotation formula divides by 1 + cos, which is zero
+#: there).
+UPSIDE_DOWN = 1e-12
