@@ -367,3 +367,16 @@ def test_bow_tie_openings_are_simple_and_nonzero():
         assert len(ops) == 4
         for o in ops:
             assert o.closed and o.length > 0 and len(np.unique(o.loop)) == len(o.loop) == 16
+
+
+@pytest.mark.parametrize("shift", [(100.0, 0.0, 3.0), (-250.0, 17.0, 0.5), (1e4, 0.0, 0.0)])
+def test_a_loop_touching_the_centre_line_keeps_its_side_wherever_the_garment_is(shift):
+    """The T-seam tube's strip ends on the centre line: which side its loop lies on once
+    followed the rounding of the garment's position (moved by (100, 0, 3): 'neckline' and
+    'armhole_right' in place of 'waist' and 'opening_2')."""
+    from ptailor.samples import tseam_tube
+
+    g = tseam_tube()
+    want = [o.name for o in openings(g.V3, g.F3, F2=g.F2, frame=Frame())]
+    got = [o.name for o in openings(g.V3 + np.array(shift), g.F3, F2=g.F2, frame=Frame())]
+    assert got == want

@@ -5,14 +5,13 @@ Over the AST of every module in ``src/ptailor``:
 - no module but the tolerances modules (:data:`TOLERANCE_MODULES`) defines a module-level
   numeric constant (an UPPER_CASE or _UPPER_CASE name bound to a number, a tuple of
   numbers, or arithmetic of numbers), except the few in :data:`NOT_TOLERANCES`, which
-  are not tolerances, and those of the naming rules (:data:`PENDING`), moved when that
-  package's rewrite lands;
+  are not tolerances;
 - a tolerances module holds only its docstring and constants, each under a ``#:``
   comment (what it bounds, its unit and why; a constant right after another may share
   it), and no name is defined in two of them;
 - ``ptailor.edits`` and ``ptailor.method`` never import ``ptailor.model.names`` nor read a
-  naming threshold (``OPENING_*``) of the model's tolerances: changing a naming rule can
-  never move a drape.
+  naming threshold (``OPENING_*``, ``NAMES_*``) of the model's tolerances: changing a
+  naming rule can never move a drape.
 """
 
 from __future__ import annotations
@@ -51,9 +50,6 @@ NOT_TOLERANCES = {
     ("ptailor/batch/manifest.py", "NAME_MAX_BYTES"): "the file systems' name limit (a fact)",
     ("ptailor/samples/grid.py", "PANEL_GAP"): "a sample garment's dimension",
 }
-
-#: packages whose constants move to a tolerances module later (being rewritten now)
-PENDING = ("ptailor/model/names/",)
 
 #: packages that move geometry, and the package of the naming rules they never read
 GEOMETRY = ("ptailor.edits", "ptailor.method")
@@ -110,7 +106,7 @@ def test_no_module_but_the_tolerances_defines_a_numeric_constant():
     found = [
         f"{rel}:{line}: {name}"
         for rel, tree in TREES.items()
-        if rel not in TOLERANCE_MODULES and not rel.startswith(PENDING)
+        if rel not in TOLERANCE_MODULES
         for name, line in numeric_constants(tree)
         if (rel, name) not in NOT_TOLERANCES
     ]
@@ -207,7 +203,7 @@ def test_edits_and_method_read_no_naming_threshold():
         f"{rel}:{node.lineno}: {node.attr}"
         for rel in _geometry_modules()
         for node in ast.walk(TREES[rel])
-        if isinstance(node, ast.Attribute) and node.attr.startswith("OPENING_")
+        if isinstance(node, ast.Attribute) and node.attr.startswith(("OPENING_", "NAMES_"))
     ]
     assert found == []
 

@@ -234,9 +234,13 @@ def _loop_measures(
 def _opening_names(m: _LoopMeasures) -> dict[int, str]:
     """The names of the loops by rules 2 to 5 (a loop left out is ``opening_<k>``)."""
     n, s0, ch = len(m.loops), m.s0, m.ch
-    centred = [i for i in range(n) if m.big[i] and m.smin[i] < s0 < m.smax[i]]
-    left = [i for i in range(n) if m.big[i] and m.smin[i] >= s0]
-    right = [i for i in range(n) if m.big[i] and m.smax[i] <= s0]
+    # a loop touching the centre line is on the side it reaches into: its end on the line is
+    # there up to rounding (which grows with the distance from the origin), not exactly
+    eps = model_tol.OPENING_ON_LINE * float(np.ptp(m.S[m.used])) if len(m.used) else 0.0
+    lo, hi = m.smin >= s0 - eps, m.smax <= s0 + eps
+    centred = [i for i in range(n) if m.big[i] and lo[i] == hi[i]]  # across it, or on it
+    left = [i for i in range(n) if m.big[i] and lo[i] and not hi[i]]
+    right = [i for i in range(n) if m.big[i] and hi[i] and not lo[i]]
     centred.sort(key=lambda i: (ch[i], i))
     names: dict[int, str] = {}
 

@@ -60,6 +60,11 @@ OPENING_LIMB_LENGTH = 1.0
 #: Minimum height of the band below the side loops where the torso is measured (relative to
 #: the garment's height).
 OPENING_BAND_REL = 0.05
+#: A loop's end within this fraction of the garment's width (relative: rounding, which grows
+#: with the distance from the origin) of the centre line touches it: the loop is on the side
+#: it reaches into, a loop within it on both ends is centred (a strip sewn on the centre
+#: front once changed its side with the garment's position).
+OPENING_ON_LINE = 1e-9
 
 # --- the sagittal plane (ptailor.model.symmetry) ---
 #: Fraction of the worst pairs (largest mirror distance) left out of each plane update
@@ -94,3 +99,38 @@ SYMMETRY_PANEL_AREA = 0.2
 #: A seam of the scaled part continues a scale_seam's seam line where it leaves their
 #: shared end vertex within this many degrees of straight on (ptailor.edits.scale_seam).
 SEAM_LINE_TURN_DEG = 60.0
+
+# --- names from geometry (ptailor.model.names: roles, seam_names) ---
+#: A strip is at least this long for its width (unitless: the rectangle with the panel's
+#: area and perimeter). The edits' own strip test is ptailor.edits.tolerances'.
+NAMES_STRIP_ASPECT = 3.5
+#: A strip's long side lies along an opening when this fraction of its length touches it.
+NAMES_STRIP_TOUCH = 0.4
+#: A panel straddles the centre line when its shorter reach across it is this fraction of
+#: its longer one.
+NAMES_CENTRED = 1.0 / 3.0
+#: A panel lies in the centre plane when it reaches no further across it than this fraction
+#: of the garment's width (relative: rounding of coordinates far from the origin).
+NAMES_ON_LINE = 1e-9
+#: A panel is named as going around the body (a tube) only when it holds at least this
+#: share of its tier's body area: a tee's front whose side seams sit far back still shares
+#: the tier with its back, and is the front.
+NAMES_WRAP_SHARE = 0.8
+#: A seam is vertical when the up component of its principal direction is at least this
+#: (a cosine: 37 degrees from up) ...
+NAMES_VERTICAL = 0.8
+#: ... level when at most this (a cosine: 53 degrees); in between (a diagonal seam, where a
+#: mirror pair could fall on both sides of one threshold) it is neither.
+NAMES_LEVEL = 0.6
+#: A front/back seam in this top fraction of its tier, not vertical, is a shoulder seam.
+NAMES_SHOULDER = 0.75
+#: A seam between two fronts (backs) is a centre seam when its midpoint is this close to the
+#: centre line (fraction of the tier's half-width).
+NAMES_CENTRE_SEAM = 0.15
+#: Seams of one name are split at their median along an axis (the middle one of an odd count
+#: ``middle``: the bare name is the stem of the others, their seam line's name) when the
+#: widest gap between them is less than this times the next.
+NAMES_EVEN_GAPS = 1.5
+#: A seam's mirror image lies this near its mirrored midpoint (fraction of the distance
+#: between the two midpoints, twice the distance from the centre line).
+NAMES_MIRROR_NEAR = 0.25

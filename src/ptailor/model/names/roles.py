@@ -5,34 +5,20 @@ from __future__ import annotations
 
 import numpy as np
 
+from ptailor.model import tolerances as model_tol
 from ptailor.model.names.measures import OpeningTouch, PanelMeasures
 
-#: A strip is at least this long for its width (rectangle with the panel's area and perimeter).
-_STRIP_ASPECT = 3.5
-#: A strip's long side lies along an opening when this fraction of its length touches it.
-_STRIP_TOUCH = 0.4
-#: A panel straddles the centre line when its shorter reach across it is this fraction of
-#: its longer one.
-_CENTRED = 1.0 / 3.0
-#: A panel lies in the centre plane when it reaches no further across it than this fraction
-#: of the garment's width.
-_ON_LINE = 1e-9
-
 _CENTRED_OPENINGS = ("neckline", "hem", "waist", "armhole_left", "armhole_right")
-#: A panel is named as going around the body (a tube) only when it holds at least this
-#: share of its tier's body area: a tee's front whose side seams sit far back still shares
-#: the tier with its back, and is the front.
-_WRAP_SHARE = 0.8
 
 
 def strip_shape(perim: np.ndarray, At: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Long side ``L`` of the rectangle with each panel's area and perimeter, and whether
-    the panel is a strip (``L / width >= _STRIP_ASPECT``)."""
+    the panel is a strip (``L / width >= model_tol.NAMES_STRIP_ASPECT``)."""
     half = perim / 2.0
     disc = np.sqrt(np.maximum(half**2 - 4.0 * At, 0.0))
     L = (half + disc) / 2.0
     w = np.maximum((half - disc) / 2.0, 1e-300)
-    return L, L / w >= _STRIP_ASPECT
+    return L, L / w >= model_tol.NAMES_STRIP_ASPECT
 
 
 def sides(pm: PanelMeasures) -> tuple[list[str], np.ndarray, np.ndarray]:
@@ -44,12 +30,12 @@ def sides(pm: PanelMeasures) -> tuple[list[str], np.ndarray, np.ndarray]:
     reach_l = pm.hi_abs[:, 0] - pm.s0
     reach_r = pm.s0 - pm.lo_abs[:, 0]
     centred = (np.minimum(reach_l, reach_r) > 0) & (
-        np.minimum(reach_l, reach_r) >= _CENTRED * np.maximum(reach_l, reach_r)
+        np.minimum(reach_l, reach_r) >= model_tol.NAMES_CENTRED * np.maximum(reach_l, reach_r)
     )
     # a panel in the centre plane (a fin standing out from the centre front) is its own
     # mirror image: centred, not on the side its last bits fall on
     width = float(pm.hi_abs[:, 0].max() - pm.lo_abs[:, 0].min()) if n_p else 0.0
-    centred |= np.maximum(np.abs(reach_l), np.abs(reach_r)) <= _ON_LINE * width
+    centred |= np.maximum(np.abs(reach_l), np.abs(reach_r)) <= model_tol.NAMES_ON_LINE * width
     for p in range(n_p):
         if not centred[p]:
             side[p] = "left" if s_rel[p] > 0 else "right"
@@ -69,9 +55,9 @@ def strip_roles(
             continue
         if t_arm[p] > 0 and not centred[p]:
             role[p] = "strap"
-        elif t_neck[p] >= _STRIP_TOUCH * L[p] and t_arm[p] == 0:
+        elif t_neck[p] >= model_tol.NAMES_STRIP_TOUCH * L[p] and t_arm[p] == 0:
             role[p] = "collar"
-        elif t_waist[p] >= _STRIP_TOUCH * L[p]:
+        elif t_waist[p] >= model_tol.NAMES_STRIP_TOUCH * L[p]:
             role[p] = "waistband"
     return role
 
@@ -168,7 +154,7 @@ def tiers(body: np.ndarray, touches: OpeningTouch, ops: list, pm: PanelMeasures)
 def faces(body: np.ndarray, tier: list[str], centred: np.ndarray, pm: PanelMeasures) -> list[str]:
     """``front``/``back`` against the area-weighted mean of the panel's tier (body panels;
     ``""`` for a tube around the body: a panel straddling the tier's mean front coordinate
-    like the centre line, holding at least ``_WRAP_SHARE`` of the tier's area), else of the
+    like the centre line, holding at least ``NAMES_WRAP_SHARE`` of the tier's area), else of the
     garment."""
     n_p = len(body)
     cen_abs, At = pm.cen_abs, pm.At
@@ -180,8 +166,8 @@ def faces(body: np.ndarray, tier: list[str], centred: np.ndarray, pm: PanelMeasu
         ft = float((cen_abs[members, 2] * At[members]).sum() / max(At[members].sum(), 1e-300))
         fwd, bwd = pm.hi_abs[:, 2] - ft, ft - pm.lo_abs[:, 2]
         wraps = centred & (np.minimum(fwd, bwd) > 0)
-        wraps &= np.minimum(fwd, bwd) >= _CENTRED * np.maximum(fwd, bwd)
-        wraps &= At >= _WRAP_SHARE * float(At[members].sum())
+        wraps &= np.minimum(fwd, bwd) >= model_tol.NAMES_CENTRED * np.maximum(fwd, bwd)
+        wraps &= At >= model_tol.NAMES_WRAP_SHARE * float(At[members].sum())
         for p in np.flatnonzero(members).tolist():
             # a panel around the body (a tube) is neither front nor back
             face[p] = "" if wraps[p] else "front" if cen_abs[p, 2] >= ft else "back"
@@ -429,7 +415,7 @@ def reasons(
     for p in range(n_p):  # a loop over panels
         touching = f", touches {', '.join(on[p])}" if on[p] else ", touches no opening"
         if role[p] == "body":
-            short = "" if strip[p] else f", under {_STRIP_ASPECT:g} for a strip"
+            short = "" if strip[p] else f", under {model_tol.NAMES_STRIP_ASPECT:g} for a strip"
             why = [f"body (3D length/width {_r(aspect[p]):.2g}{short}{touching})"]
         elif role[p] in ("sleeve", "cuff"):
             why = [
@@ -437,7 +423,8 @@ def reasons(
             ]
         else:
             why = [
-                f"{role[p]} (a strip: 3D length/width {_r(aspect[p]):.2g} >= {_STRIP_ASPECT:g}"
+                f"{role[p]} (a strip: 3D length/width {_r(aspect[p]):.2g}"
+                f" >= {model_tol.NAMES_STRIP_ASPECT:g}"
                 f"{touching})"
             ]
         if tier[p]:

@@ -4,31 +4,15 @@ from __future__ import annotations
 
 import numpy as np
 
+from ptailor.model import tolerances as model_tol
 from ptailor.model.names.layout import PanelLayout
 from ptailor.model.names.roles import mirror_name, suffix_duplicates
 
-#: A seam is vertical when the up component of its principal direction is at least this
-#: (37 degrees from up), level when at most ``_LEVEL`` (53 degrees); in between (a diagonal
-#: seam, where a mirror pair could fall on both sides of one threshold) it is neither.
-_VERTICAL = 0.8
-_LEVEL = 0.6
-#: A front/back seam in this top fraction of its tier, not vertical, is a shoulder seam.
-_SHOULDER = 0.75
-#: A seam between two fronts (backs) is a centre seam when its midpoint is this close to the
-#: centre line (fraction of the tier's half-width).
-_CENTRE_SEAM = 0.15
 #: the words a mirror swaps; place words along each axis (across: of a sided name)
 _SIDES = frozenset({"left", "right"})
 _WORDS = (("inner", "outer"), ("lower", "upper"), ("back", "front"))
 _ACROSS = (("right", -1), ("", 0), ("left", 1))
-#: Seams of one name are split at their median along an axis (the middle one of an odd count
-#: ``middle``: the bare name is the stem of the others, their seam line's name) when the
-#: widest gap between them is less than this times the next.
-_EVEN_GAPS = 1.5
 _FLIP = np.array([-1.0, 1.0, 1.0])
-#: A seam's mirror image lies this near its mirrored midpoint (fraction of the distance
-#: between the two midpoints, twice the distance from the centre line).
-_MIRROR_NEAR = 0.25
 
 
 def seam_names(
@@ -117,7 +101,7 @@ def _seam_geometry(E: np.ndarray) -> tuple[np.ndarray, float]:
 def _partners(seam_list: list, mids: np.ndarray, mirror: np.ndarray) -> np.ndarray:
     """Each seam's mirror image: a seam on the other side of the centre line whose panels
     are the mirror images of its own (a centred panel its own) and whose midpoint lies
-    nearer the mirrored one than ``_MIRROR_NEAR`` of the two midpoints' distance, nearest
+    nearer the mirrored one than ``NAMES_MIRROR_NEAR`` of the two midpoints' distance, nearest
     first; a seam without one is its own (the front and back seams of two halves, each
     across the centre line, are not each other's).
 
@@ -140,7 +124,7 @@ def _partners(seam_list: list, mids: np.ndarray, mirror: np.ndarray) -> np.ndarr
         if j != i and own[j] == image[i] and mids[j, 0] < 0
     ]
     apart = [float(np.linalg.norm(mids[i] - mids[j])) for _, i, j in cand]
-    cand = [c for c, a in zip(cand, apart, strict=True) if c[0] <= _MIRROR_NEAR * a]
+    cand = [c for c, a in zip(cand, apart, strict=True) if c[0] <= model_tol.NAMES_MIRROR_NEAR * a]
     for _, i, j in sorted(cand):  # a loop over candidate pairs, nearest first
         if partner[i] == i and partner[j] == j:
             partner[i], partner[j] = j, i
@@ -222,7 +206,7 @@ def _body_seam(a: int, b: int, mid: np.ndarray, upc: float, lay: PanelLayout, pn
         return f"waist_{lay.names[upper].removeprefix('bodice_')}"
     pre = f"{ta}_" if ta else ""
     fa, fb = lay.face[a], lay.face[b]
-    vertical = upc >= _VERTICAL
+    vertical = upc >= model_tol.NAMES_VERTICAL
     sd = _side_of(float(mid[0]))
     if not fa or not fb:  # a panel around the body
         if not vertical:
@@ -234,10 +218,10 @@ def _body_seam(a: int, b: int, mid: np.ndarray, upc: float, lay: PanelLayout, pn
     if fa != fb:
         t_lo = float(lay.lo[members, 1].min())
         t_hi = float(lay.hi[members, 1].max())
-        top = (mid[1] - t_lo) >= _SHOULDER * max(t_hi - t_lo, 1e-12)
+        top = (mid[1] - t_lo) >= model_tol.NAMES_SHOULDER * max(t_hi - t_lo, 1e-12)
         return f"{pre}{'shoulder' if top and not vertical else 'side'}_{sd}"
     half_w = max(float(np.abs(np.r_[lay.lo[members, 0], lay.hi[members, 0]]).max()), 1e-12)
-    centred = abs(mid[0]) <= _CENTRE_SEAM * half_w
+    centred = abs(mid[0]) <= model_tol.NAMES_CENTRE_SEAM * half_w
     if not vertical:  # across the body (level or slanting): a panel and the one above it
         return f"{pre}yoke_{fa}" + ("" if centred else f"_{sd}")
     return f"{pre}center_{fa}" if centred else f"{pre}princess_{fa}_{sd}"
@@ -314,7 +298,7 @@ def _parts(M: np.ndarray, key: int) -> tuple[float, list] | None:
     separates nothing (by side: when all lie on the centre line)."""
     if key == -1:
         x = M[:, 0]
-        tol = _CENTRE_SEAM * max(float(np.abs(x).max()), 1e-12)
+        tol = model_tol.NAMES_CENTRE_SEAM * max(float(np.abs(x).max()), 1e-12)
         side = np.where(x > tol, 1, np.where(x < -tol, -1, 0))
         groups = [(w, np.flatnonzero(side == v).tolist()) for w, v in _ACROSS]
         groups = [g for g in groups if g[1]]
@@ -328,7 +312,9 @@ def _parts(M: np.ndarray, key: int) -> tuple[float, list] | None:
         return None
     lo_w, hi_w = _WORDS[key]
     n, widest = len(v), np.sort(gaps)[::-1]
-    if len(gaps) > 1 and widest[0] < _EVEN_GAPS * widest[1]:  # evenly spread: at the median
+    if (
+        len(gaps) > 1 and widest[0] < model_tol.NAMES_EVEN_GAPS * widest[1]
+    ):  # evenly spread: at the median
         lo, mid = order[: n // 2], order[n // 2 : (n + 1) // 2]
         parts = [(lo_w, lo), ("middle", mid), (hi_w, order[(n + 1) // 2 :])]
     else:  # at the widest gap
