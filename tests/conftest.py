@@ -28,6 +28,18 @@ def real_path(key: str) -> Path:
     return p
 
 
+#: why a test that draws the re-drape picture skips on the lean install
+PICTURE_NEEDS_MATPLOTLIB = (
+    "verify.png is drawn with matplotlib, which only the sim extra installs "
+    "(pip install -e '.[test,sim]'); the lean install cannot run the re-drape check at all"
+)
+
+
+def needs_matplotlib() -> None:
+    """Skip, saying why, where matplotlib (the sim extra's, for ``verify.png``) is absent."""
+    pytest.importorskip("matplotlib", reason=PICTURE_NEEDS_MATPLOTLIB)
+
+
 @pytest.fixture(params=sorted(REAL))
 def real_garment(request):
     """(key, LoadedGarment) for each real garment."""
