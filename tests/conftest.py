@@ -7,6 +7,14 @@ from pathlib import Path
 
 import pytest
 
+from ptailor.cli.main import one_blas_thread
+
+# One BLAS thread, as every ptailor command sets before numpy loads (unless the user chose):
+# the tests then run the code as the command runs it. A second OpenBLAS thread busy-waits for
+# work that rarely comes; on a loaded 2-core machine that made the quick loop's CPU time 6x
+# for tests/test_newton.py (38 s against 6 s).
+one_blas_thread()
+
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = Path(os.environ.get("PTAILOR_SHARED", ROOT.parent / "shared"))
 GARMENTS = SHARED / "garments"

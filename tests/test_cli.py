@@ -351,6 +351,7 @@ def test_one_blas_thread_unless_the_user_chose(monkeypatch):
     assert [os.environ.get(v) for v in BLAS_THREAD_VARIABLES] == [None, "4", None]
 
 
+@pytest.mark.slow  # a fresh interpreter importing the command and numpy: 0.9 s
 def test_the_command_sets_one_blas_thread_before_numpy_loads(tmp_path):
     import os
     import subprocess

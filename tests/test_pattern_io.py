@@ -341,6 +341,7 @@ def _flat_drape(pf, path: Path) -> None:
 CLO = Path(__file__).resolve().parents[2] / "shared" / "dxf" / "clo-pattern.dxf"
 
 
+@pytest.mark.slow  # a real CAD pattern, two runs: 1.2 s
 @pytest.mark.skipif(not CLO.is_file(), reason="../shared/dxf is absent")
 def test_a_real_clo_pattern_through_identity_and_a_uniform_scale(tmp_path):
     pf = read_dxf(CLO)
