@@ -60,9 +60,9 @@ def real_garment(request):
 # The quick loop: `pytest -m "not slow"` takes under 60 s of CPU (user + sys) on 2 cores, on
 # the lean install ('.[test]': no cloth engine, no matplotlib; .ci/run runs it so first);
 # plain `pytest` (what CI runs) runs everything. A test that takes 0.6 s or more (a parameter
-# alone, `pytest --durations=0` on a loaded 2-core machine) is made cheaper (a smaller mesh, a
-# lower iteration cap for a negative control) or else marked `@pytest.mark.slow` where it is
-# defined.
+# alone, `pytest --durations=0` on a loaded 2-core machine), or a real garment's (../shared)
+# 0.3 s or more, is made cheaper (a smaller mesh, a lower iteration cap for a negative
+# control) or else marked `@pytest.mark.slow` where it is defined.
 
 
 # Property-based fuzzing (Hypothesis): short and seeded in CI, longer on demand:

@@ -492,6 +492,7 @@ def test_inspect_garment_rejects_dxf_options(tmp_path):
 # ------------------------------------------------------------------------- an independent reader
 
 
+@pytest.mark.slow  # matplotlib.pyplot's import and a drawing: 1 s
 def test_ezdxf_drawing_addon_renders_the_written_file(tmp_path):
     matplotlib = pytest.importorskip("matplotlib")  # the sim extra's, not a core dependency
     matplotlib.use("Agg")
