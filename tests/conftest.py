@@ -7,6 +7,14 @@ from pathlib import Path
 
 import pytest
 
+from ptailor.cli.main import one_blas_thread
+
+# One BLAS thread, as every ptailor command sets before numpy loads (unless the user chose):
+# the tests then run the code as the command runs it. A second OpenBLAS thread busy-waits for
+# work that rarely comes; on a loaded 2-core machine that made the quick loop's CPU time 6x
+# for tests/test_newton.py (38 s against 6 s).
+one_blas_thread()
+
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = Path(os.environ.get("PTAILOR_SHARED", ROOT.parent / "shared"))
 GARMENTS = SHARED / "garments"
@@ -28,6 +36,18 @@ def real_path(key: str) -> Path:
     return p
 
 
+#: why a test that draws the re-drape picture skips on the lean install
+PICTURE_NEEDS_MATPLOTLIB = (
+    "verify.png is drawn with matplotlib, which only the sim extra installs "
+    "(pip install -e '.[test,sim]'); the lean install cannot run the re-drape check at all"
+)
+
+
+def needs_matplotlib() -> None:
+    """Skip, saying why, where matplotlib (the sim extra's, for ``verify.png``) is absent."""
+    pytest.importorskip("matplotlib", reason=PICTURE_NEEDS_MATPLOTLIB)
+
+
 @pytest.fixture(params=sorted(REAL))
 def real_garment(request):
     """(key, LoadedGarment) for each real garment."""
@@ -37,9 +57,12 @@ def real_garment(request):
     return request.param, load_garment(p, pattern_units=REAL[request.param][1])
 
 
-# The quick loop: `pytest -m "not slow"` runs in about a minute; plain `pytest` (what CI runs)
-# runs everything. A test that takes 0.6 s or more (its parameters together, `pytest
-# --durations=0` on a loaded 2-core machine) is marked `@pytest.mark.slow` where it is defined.
+# The quick loop: `pytest -m "not slow"` takes under 60 s of CPU (user + sys) on 2 cores, on
+# the lean install ('.[test]': no cloth engine, no matplotlib; .ci/run runs it so first);
+# plain `pytest` (what CI runs) runs everything. A test that takes 0.6 s or more (a parameter
+# alone, `pytest --durations=0` on a loaded 2-core machine), or a real garment's (../shared)
+# 0.3 s or more, is made cheaper (a smaller mesh, a lower iteration cap for a negative
+# control) or else marked `@pytest.mark.slow` where it is defined.
 
 
 # Property-based fuzzing (Hypothesis): short and seeded in CI, longer on demand:

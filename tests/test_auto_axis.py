@@ -50,6 +50,7 @@ def test_a_tube_keeps_its_axis_without_a_warning_whatever_its_direction():
     assert auto_axis_warnings(V, g.F3, faces, ax, EditOptions(), frame=Frame()) == []
 
 
+@pytest.mark.slow  # the real tshirt: 0.4-0.6 s
 def test_the_shared_tshirt_scaled_as_a_whole_along_auto_says_its_axis_leans():
     from ptailor.formats.garment import load_garment
 

@@ -79,10 +79,14 @@ def test_corners_get_no_bending_row():
 def test_a_stretched_seam_side_on_a_fine_mesh_converges_without_a_sawtooth(bend, monkeypatch):
     """A's targets 0.85x, B kept (100x stiffer), ratio 1: A's seam side is held 18 % longer
     than its cloth. On 80 x 80 squares the exact length constraint alone has a sawtooth
-    minimum (every other vertex out: the 100-iteration cap, turning alternating by 3.4 rad);
-    with the sides' bending it converges in about 20 iterations, the side smooth."""
+    minimum (every other vertex out: still not converged at the 100-iteration cap, turning
+    alternating by 2 rad); with the sides' bending it converges in about 20 iterations, the
+    side smooth. The control without bending gets the 30 iterations the bend must converge
+    within (already 2.6 rad of sawtooth there), not the default cap: a fifth of the time."""
+    budget = {}
     if not bend:
         monkeypatch.setattr(method_tol, "SEAM_BEND", 0.0)
+        budget = {"max_iter": 30}
     V, F, ea, eb, vlab = two_squares(80)
     T = squares_targets(V, F, vlab, 0.85)
     k = len(ea)
@@ -95,6 +99,7 @@ def test_a_stretched_seam_side_on_a_fine_mesh_converges_without_a_sawtooth(bend,
         vertex_panel=vlab,
         ease=ease,
         panel_weight=np.array([1.0, 100.0]),
+        **budget,
     )
     zig = side_zigzag(V, X, np.concatenate([ea, eb])).max()
     if bend:

@@ -32,6 +32,7 @@ def test_the_shipped_bodies_are_closed_1_72_m_tall_and_front_is_z():
     assert np.ptp(mean_body("t")[0][:, 0]) > np.ptp(mean_body("a")[0][:, 0]) + 0.2
 
 
+@pytest.mark.slow  # a fit tries some 600 placements of the body: 3-5 s
 def test_a_skirt_hangs_from_its_waist_with_the_body_inside():
     g = cone_skirt()
     fit = fit_body(g.V3, g.F3, openings=openings(g.V3, g.F3, F2=g.F2, frame=Frame()), frame=Frame())
@@ -49,6 +50,7 @@ def test_a_drape_with_nothing_to_hang_on_is_refused():
         fit_body(g.V3, g.F3, openings=ops, path="square.obj", frame=Frame())
 
 
+@pytest.mark.slow  # a fit tries some 600 placements of the body: 3-5 s
 @pytest.mark.parametrize(("key", "pose"), [("tee6", "t"), ("tshirt", "a"), ("longsleeve", "a")])
 def test_the_shared_tops_are_fitted_in_their_pose(key, pose):
     from ptailor.formats.garment import load_garment
@@ -62,6 +64,7 @@ def test_the_shared_tops_are_fitted_in_their_pose(key, pose):
     assert 1.0 <= fit.gap_median <= 6.0  # cm: a tee hangs a few cm off the body
 
 
+@pytest.mark.slow  # a fit tries some 600 placements of the body: 3-5 s
 def test_adjust_with_body_auto_records_the_fit(tmp_path):
     from ptailor.formats.obj import write_garment
 

@@ -492,6 +492,7 @@ def test_inspect_garment_rejects_dxf_options(tmp_path):
 # ------------------------------------------------------------------------- an independent reader
 
 
+@pytest.mark.slow  # matplotlib.pyplot's import and a drawing: 1 s
 def test_ezdxf_drawing_addon_renders_the_written_file(tmp_path):
     matplotlib = pytest.importorskip("matplotlib")  # the sim extra's, not a core dependency
     matplotlib.use("Agg")
@@ -610,10 +611,11 @@ def test_a_recipe_in_metres_writes_its_dxf_in_millimetres(tmp_path):
     """Issue 22: ``units: m`` passed ``validate``, then ``adjust`` computed everything and
     exited 2 at the DXF ("cannot write DXF in 'm'"). Any recipe unit is written: metric in
     millimetres (ASTM/AAMA METRIC), the same file as the same recipe in cm."""
-    from ptailor.samples.obj_text import sample_obj_text
+    from ptailor.formats.obj import write_garment
+    from ptailor.samples import lantern_sleeve
 
-    g = tmp_path / "sleeve.obj"
-    g.write_text(sample_obj_text("lantern_sleeve"))
+    g = tmp_path / "sleeve.obj"  # the demo's sleeve with a quarter of its triangles
+    write_garment(g, lantern_sleeve(n_around=24, n_sleeve=10, n_cuff=2))
     step = "steps: [{op: scale, region: all, direction: around, axis: auto, factor: 1.2}]\n"
     extents = []
     for unit in ("m", "cm"):

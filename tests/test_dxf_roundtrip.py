@@ -288,6 +288,7 @@ def test_own_output_of_small_pieces_reads_back_in_mm(tmp_path):
 # --------------------------------------------------------------------------- (g) other sizes
 
 
+@pytest.mark.slow  # a real graded CAD pattern read twice: 0.4-0.6 s
 def test_a_graded_size_gets_the_sample_sizes_marks_and_quantity_with_a_warning():
     sample = read_dxf(real(TANK))
     s42 = read_dxf(TANK, size="42")

@@ -79,6 +79,7 @@ def test_a_panel_apart_goes_where_the_garment_goes():
     assert np.ptp(lift) < 1e-9
 
 
+@pytest.mark.slow  # the real long-sleeved shirt, both sleeves: 0.7-0.8 s
 def test_the_shared_long_sleeves_collars_keep_their_pattern_when_both_sleeves_widen():
     """Issue 23, item 3: both sleeves 1.1 around moved the collars in 3D (0.7-0.8 % edge
     strain, the body's follow-up) and bent their patterns (outline deviation 0.09-0.11 cm,

@@ -191,6 +191,7 @@ def test_mutate_is_deterministic_and_changes_the_file(demo):
     assert mutate(data, muts) == mutate(data, muts) != data
 
 
+@pytest.mark.slow  # 60 DXF files written and read: 1 s
 @given(
     st.one_of(
         st.text(alphabet=st.characters(codec="ascii", exclude_categories=("Cc",)), max_size=12),

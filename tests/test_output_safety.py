@@ -21,7 +21,8 @@ from click.testing import CliRunner
 from ptailor import batch as pb
 from ptailor.cli.main import cli
 from ptailor.formats.obj import write_garment
-from ptailor.run.folder import MARKER, read_marker, staging_stem
+from ptailor.run.folder import MARKER, read_marker
+from ptailor.run.staging import staging_stem
 from ptailor.samples import lantern_sleeve, sample_for_triangles
 
 WIDER = "steps: [{op: scale, region: all, direction: around, axis: auto, factor: 1.2}]\n"
@@ -226,12 +227,12 @@ def test_a_long_name_that_fits_is_written_and_replaced(tmp_path, garment, recipe
 
 
 def test_an_unwritable_parent_is_one_line(tmp_path, garment, recipe, monkeypatch):
-    import ptailor.run.folder
+    import ptailor.run.staging
 
     def denied(*a, **k):
         raise PermissionError(13, "Permission denied", str(tmp_path / "ro"))
 
-    monkeypatch.setattr(ptailor.run.folder.tempfile, "mkdtemp", denied)
+    monkeypatch.setattr(ptailor.run.staging.tempfile, "mkdtemp", denied)
     line = error_line(adjust(garment, recipe, tmp_path / "ro" / "out"))
     assert str(tmp_path / "ro" / "out") in line and "Permission denied" in line
 
@@ -495,7 +496,7 @@ def test_a_signal_at_each_step_of_staging_leaves_no_staging(tmp_path, monkeypatc
             signal.raise_signal(signal.SIGINT)
         return path
 
-    monkeypatch.setattr(po.tempfile, "mkdtemp", mkdtemp)
+    monkeypatch.setattr(tempfile, "mkdtemp", mkdtemp)  # (as ptailor.run.staging calls it)
     if when == "swap":
         real_check = po.check_replaceable
 

@@ -21,6 +21,7 @@ from ptailor.pieces.draw import mesh_pieces
 from ptailor.samples import SAMPLES
 from ptailor.samples.obj_text import sample_obj_text
 from tests.conftest import real_path
+from tests.test_dxf_roundtrip import _inside
 
 IDENTITY = "steps: []\n"
 UNIFORM = "steps: [{op: scale, region: all, direction: uniform, factor: 1.1}]\n"
@@ -299,7 +300,6 @@ def _flat_drape(pf, path: Path) -> None:
     falls outside the outline dropped: the mesh's boundary is close to, not equal to, the
     DXF outline (as a simulator's mesh is).
     """
-    from matplotlib.path import Path as MPath
     from scipy.spatial import Delaunay
 
     from ptailor.model.garment import Garment
@@ -314,11 +314,11 @@ def _flat_drape(pf, path: Path) -> None:
         lo, hi = P.min(0), P.max(0)
         gx, gy = np.meshgrid(np.arange(lo[0], hi[0], step), np.arange(lo[1], hi[1], step))
         grid = np.stack([gx.ravel(), gy.ravel()], 1)
-        inside = MPath(P).contains_points(grid)
+        inside = _inside(grid, P)
         far = np.min(np.linalg.norm(grid[:, None] - P[None], axis=-1), axis=1) > 0.5 * step
         pts = np.vstack([P, grid[inside & far]])
         tri = Delaunay(pts).simplices
-        keep = MPath(P).contains_points(pts[tri].mean(axis=1))
+        keep = _inside(pts[tri].mean(axis=1), P)
         tri = tri[keep]
         V.append(pts)
         F.append(tri + n)
@@ -341,6 +341,7 @@ def _flat_drape(pf, path: Path) -> None:
 CLO = Path(__file__).resolve().parents[2] / "shared" / "dxf" / "clo-pattern.dxf"
 
 
+@pytest.mark.slow  # a real CAD pattern, two runs: 1.2 s
 @pytest.mark.skipif(not CLO.is_file(), reason="../shared/dxf is absent")
 def test_a_real_clo_pattern_through_identity_and_a_uniform_scale(tmp_path):
     pf = read_dxf(CLO)

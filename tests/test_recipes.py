@@ -154,6 +154,7 @@ def test_deeper_neckline_cuts_the_front_only_down_to_the_sketch():
 @pytest.mark.parametrize(
     ("name", "low", "high"), [("wider-sleeves", 0.18, 0.23), ("longer-sleeves", 0.08, 0.11)]
 )
+@pytest.mark.slow  # three real shirts, two recipes each: 2.4 s (the long sleeves 0.8 s a run)
 @pytest.mark.parametrize("key", ["tee6", "tshirt", "longsleeve"])
 def test_the_sleeve_recipes_change_the_sleeves_of_a_real_shirt_and_not_the_shirt(
     key, name, low, high

@@ -168,6 +168,7 @@ def test_a_fix_inside_the_scaled_part_is_an_error_saying_why():
         adjustment(g, parse_recipe(step("around", fix="[[sleeve, sleeve]]")), baseline=False)
 
 
+@pytest.mark.slow  # the real long-sleeved shirt: 0.3-0.6 s
 def test_the_shared_long_sleeves_fixed_cuff_stays_put_under_an_armhole_gather():
     """Issue 23's reproduction: the gather moved the fixed cuff opening by 2.4 mm."""
     path = real_path("longsleeve")
@@ -216,6 +217,7 @@ def test_a_gather_acts_on_the_whole_seam_line():
         assert s["length_after"][1 - i] == pytest.approx(s["length_before"][1 - i], rel=1e-4)
 
 
+@pytest.mark.slow  # the real long-sleeved shirt: 0.3-0.6 s
 def test_the_shared_long_sleeves_back_armhole_keeps_its_length_under_a_front_gather():
     from ptailor.report.build import build_report
 

@@ -194,7 +194,10 @@ def test_adjust_parallel_with_gnu_parallel(tmp_path):
     _check_adjust_parallel(tmp_path, r)
 
 
-@pytest.mark.parametrize("name", ["summary.csv", "batch.jsonl"])
+# ptailor batch itself finds a batch.jsonl, after it starts (1.1 s of CPU): slow
+@pytest.mark.parametrize(
+    "name", ["summary.csv", pytest.param("batch.jsonl", marks=pytest.mark.slow)]
+)
 def test_adjust_catalogue_leaves_a_users_files_in_outroot_alone(tmp_path, name):
     """Issue 22: the script removed OUTROOT/batch.jsonl and wrote OUTROOT/summary.csv over
     whatever they were. A file of either name that the tools did not write is exit 2,

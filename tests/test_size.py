@@ -151,6 +151,7 @@ def scaled_dxf(src, dst, s: float) -> None:
     doc.saveas(dst)
 
 
+@pytest.mark.slow  # a real CAD pattern read twice: 1 s
 def test_a_metric_dxf_in_cm_reads_as_the_same_pieces_as_the_mm_one(tmp_path):
     src = SHARED / "dxf" / "clo-pattern.dxf"
     if not src.is_file():

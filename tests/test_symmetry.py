@@ -297,9 +297,10 @@ def test_recipe_level_symmetric_turns_on_cuts_own_mirror():
     assert both.state.log[-1]["mirrored"] is True
 
 
-def two_sleeves() -> Garment:
-    """Two lantern sleeves along x, mirror images: panels sleeve, cuff, sleeve_1, cuff_1."""
-    g = lantern_sleeve(axis="x")  # cuff at x in [0, 8], sleeve to x = 48
+def two_sleeves(**resolution: int) -> Garment:
+    """Two lantern sleeves along x, mirror images: panels sleeve, cuff, sleeve_1, cuff_1
+    (``resolution``: :func:`lantern_sleeve`'s triangle counts)."""
+    g = lantern_sleeve(axis="x", **resolution)  # cuff at x in [0, 8], sleeve to x = 48
     V = g.V3 + np.array([10.0, 0.0, 0.0])
     n3, n2 = len(V), len(g.V2)
     return Garment(
@@ -500,7 +501,7 @@ def test_a_region_of_mirror_pairs_is_applied_once():
     """[sleeve, sleeve_1] mirrors to [sleeve_1, sleeve]: the same panels, so a symmetric
     step is applied once (it used to be applied twice, in the listed order's mirror: the
     dress's skirt widened by 1.1 twice)."""
-    g = two_sleeves()
+    g = two_sleeves(n_around=24, n_sleeve=10, n_cuff=2)  # a quarter of the triangles
     step = "{op: scale, region: {panels: [sleeve, sleeve_1]}, direction: around, factor: 1.2}"
     one = adjustment(g, parse_recipe(f"steps: [{step}]"), baseline=False)
     both = adjustment(g, parse_recipe(f"symmetric: true\nsteps: [{step}]"), baseline=False)

@@ -23,6 +23,7 @@ from ptailor.verify.measure import (
     top_opening,
 )
 from ptailor.verify.rest import rest_shapes
+from tests.conftest import needs_matplotlib
 
 WIDER = files("ptailor.recipes") / "wider-around.yaml"
 ARM_RADIUS = 4.6  # cm: 28.9 around, the lantern's cuff (28) is worn a little tight
@@ -315,6 +316,8 @@ def test_verify_png_is_deterministic(tmp_path):
     from PIL import Image
 
     from ptailor.verify.picture import verify_png
+
+    needs_matplotlib()
 
     g = lantern_sleeve(n_around=16, n_sleeve=8, n_cuff=2)
     m = len(g.F3)

@@ -19,6 +19,7 @@ from ptailor.batch import RECORD_KEYS, Gates, gate_failures, key_numbers
 from ptailor.cli.main import cli
 from ptailor.formats.obj import write_garment
 from ptailor.samples import cylinder, lantern_sleeve
+from tests.conftest import needs_matplotlib
 
 HINT = "ptailor: error: the cloth engine is not installed: pip install 'ptailor[sim]'"
 WIDER = "steps: [{op: scale, region: all, direction: around, axis: auto, factor: 1.2}]\n"
@@ -46,7 +47,9 @@ def panel_stats(stretch: float, displacement: float) -> dict:
 def fake_engine(monkeypatch):
     """The engine 'installed', and ``verify_patterns`` answering canned numbers: ours
     stretch p95 1.02 and displacement p95 0.4 per panel, the baseline 1.3 and 2.0; the
-    settled drapes are the edited drape moved down 0.1 (ours), 0.2, 0.3."""
+    settled drapes are the edited drape moved down 0.1 (ours), 0.2, 0.3. The picture is
+    ptailor's own, drawn with matplotlib: a test that gets as far as drawing it also asks for
+    ``picture`` (it skips, saying why, without matplotlib: the lean install)."""
     import ptailor.verify.check as check
     import ptailor.verify.engine as engine
 
@@ -84,6 +87,12 @@ def fake_engine(monkeypatch):
     monkeypatch.setattr(engine, "engine_available", lambda: True)
     monkeypatch.setattr(check, "verify_patterns", verify_patterns)
     return calls
+
+
+@pytest.fixture
+def picture():
+    """``verify.png`` is drawn: matplotlib (the sim extra's) is needed, else the test skips."""
+    needs_matplotlib()
 
 
 @pytest.fixture
@@ -143,7 +152,7 @@ def test_the_command_line_does_not_import_the_engine():
 # --------------------------------------------------------------------------- ptailor verify
 
 
-def test_verify_writes_the_check_all_or_nothing(tmp_path, fake_engine):
+def test_verify_writes_the_check_all_or_nothing(tmp_path, fake_engine, picture):
     orig = small_sleeve(tmp_path / "s.obj")
     rec = tmp_path / "r.yaml"
     rec.write_text(WIDER)
@@ -184,7 +193,7 @@ def test_verify_writes_the_check_all_or_nothing(tmp_path, fake_engine):
     assert fake_engine[-1]["rest"] == "pattern"
 
 
-def test_verify_without_original_is_its_own_original(tmp_path, fake_engine):
+def test_verify_without_original_is_its_own_original(tmp_path, fake_engine, picture):
     g = small_sleeve(tmp_path / "s.obj")
     r = run("verify", g, "-o", tmp_path / "o", "-q")
     assert r.exit_code == 0, r.output
@@ -206,7 +215,7 @@ def test_verify_refuses_an_original_with_other_faces(tmp_path, fake_engine):
     assert not out.exists() and fake_engine == []
 
 
-def test_verify_with_a_body_and_bad_options(tmp_path, fake_engine):
+def test_verify_with_a_body_and_bad_options(tmp_path, fake_engine, picture):
     import trimesh
 
     g = small_sleeve(tmp_path / "s.obj")
@@ -254,7 +263,7 @@ def test_a_body_that_is_not_worn_inside_the_garment_is_exit_2(tmp_path, fake_eng
     assert r.exit_code == 2 and "times its body's size" in r.output, r.output
 
 
-def test_write_body_writes_the_body_used(tmp_path, fake_engine):
+def test_write_body_writes_the_body_used(tmp_path, fake_engine, picture):
     """--write-body: OUT/body.obj is the body the re-drapes collided with, in the drape
     file's units (the garment's are cm here), listed in the outputs."""
     import trimesh
@@ -281,7 +290,7 @@ def test_write_body_writes_the_body_used(tmp_path, fake_engine):
     np.testing.assert_allclose(back.bounds, arm.bounds, atol=1e-6)  # read in mm, written in cm
 
 
-def test_verify_turns_a_z_up_garment_y_up_for_the_engine(tmp_path, fake_engine):
+def test_verify_turns_a_z_up_garment_y_up_for_the_engine(tmp_path, fake_engine, picture):
     """The engine's gravity is along -y: a z-up garment is turned for the simulation and
     its settled drapes turned back (the fake's drop along -y is a drop along -z)."""
     from dataclasses import replace
@@ -301,7 +310,7 @@ def test_verify_turns_a_z_up_garment_y_up_for_the_engine(tmp_path, fake_engine):
     assert np.allclose(ours.V3, V3 - [0, 0, 0.1], atol=1e-5)
 
 
-def test_an_estimated_pattern_scale_is_the_originals(tmp_path, fake_engine):
+def test_an_estimated_pattern_scale_is_the_originals(tmp_path, fake_engine, picture):
     """--pattern-units auto: the adjusted garment's pattern is read at the scale estimated
     for its original (it was written in the original's pattern units)."""
     from dataclasses import replace
@@ -336,7 +345,7 @@ def test_verify_names_a_missing_garment(tmp_path, fake_engine):
 # --------------------------------------------------------------------------- adjust --verify
 
 
-def test_adjust_verify_adds_the_section_and_the_files(tmp_path, fake_engine):
+def test_adjust_verify_adds_the_section_and_the_files(tmp_path, fake_engine, picture):
     g = small_sleeve(tmp_path / "s.obj")
     rec = tmp_path / "r.yaml"
     rec.write_text(WIDER)
@@ -404,7 +413,7 @@ def test_records_carry_the_verify_numbers():
     assert nums["verify_stretch_p95"] is None and nums["verify_displacement_p95"] is None
 
 
-def test_batch_verify_gates_and_records(tmp_path, fake_engine):
+def test_batch_verify_gates_and_records(tmp_path, fake_engine, picture):
     g = small_sleeve(tmp_path / "s.obj")
     rec = tmp_path / "r.yaml"
     rec.write_text(WIDER)

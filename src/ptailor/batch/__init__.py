@@ -28,7 +28,7 @@ from ptailor.batch.records import (
     summary_lines,
 )
 from ptailor.batch.stamp import STAMP, make_stamp, recipe_digest, up_to_date
-from ptailor.run.folder import remove_staging
+from ptailor.run.staging import remove_staging
 
 __all__ = [
     "RECORD_KEYS",

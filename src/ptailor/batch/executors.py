@@ -21,7 +21,7 @@ from ptailor import tolerances as tol
 from ptailor.batch.jobs import GarmentJob, check_unchanged, enter_worker, run_job
 from ptailor.batch.records import BatchResult, InOrder
 from ptailor.errors import PtailorError
-from ptailor.run.folder import remove_staging
+from ptailor.run.staging import remove_staging
 
 #: ``done(job, record)``: called as each job finishes
 Done = Callable[[GarmentJob, dict], None]

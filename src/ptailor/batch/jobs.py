@@ -282,7 +282,7 @@ def _watch_parent(period: float = WORKER_PARENT_POLL_S) -> None:
     batch`` once left its workers alive and idle, holding its stdout and stderr (a
     ``ptailor batch ... | tee`` never ended). A daemon thread polls the parent's pid; the
     garment the worker was on keeps its staging folder, which the next run on that output
-    removes (:func:`ptailor.run.outputs.remove_stale_staging`)."""
+    removes (:func:`ptailor.run.staging.remove_stale_staging`)."""
     parent = os.getppid()
 
     def watch() -> None:

@@ -30,7 +30,7 @@ from ptailor.cli.verify import verify
 
 def one_line(text: str) -> str:
     """A message on one line, staging folder names replaced by their output folder's."""
-    from ptailor.run.folder import hide_staging
+    from ptailor.run.staging import hide_staging
 
     return hide_staging(" ".join(str(text).split()))
 

@@ -7,18 +7,18 @@ holds that marker and nothing else than the files it lists (or is an output of a
 from before the marker: :func:`legacy_files`). A symbolic link given as the output folder
 is followed: the folder it points to is replaced under the same rules and the link kept;
 a link to nothing is refused. The inputs are never inside what gets replaced.
+
+The staging folders' names, their locks and the clean-up after a killed writer are
+:mod:`ptailor.run.staging`'s.
 """
 
 from __future__ import annotations
 
 import contextlib
-import hashlib
 import json
 import os
-import re
 import shutil
 import signal
-import tempfile
 import threading
 from collections.abc import Iterable, Mapping
 from contextlib import contextmanager
@@ -26,6 +26,7 @@ from pathlib import Path
 
 from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
+from ptailor.run.staging import hold, new_staging_dir, old_staging_dir, remove_stale_staging
 
 #: the marker file every output folder gets (hidden; lists the files ptailor wrote there)
 MARKER = ".ptailor"
@@ -33,79 +34,11 @@ MARKER = ".ptailor"
 LEGACY_NAMES = frozenset(
     {"report.json", "garment.obj", "pattern.dxf", "pattern.svg", "preview.png", "batch.json"}
 )
-#: see :data:`ptailor.tolerances.STAGING_NAME_BYTES`
-STAGING_NAME_BYTES = tol.STAGING_NAME_BYTES
 #: the longest file name most file systems take (bytes)
 NAME_MAX = 255
 
 
-# --------------------------------------------------------------------------- names
-
-
-def staging_stem(name: str) -> str:
-    """The part of an output folder's name its staging folders carry (``.STEM.*.tmp``)."""
-    raw = os.fsencode(name)
-    if len(raw) <= STAGING_NAME_BYTES:
-        return name
-    cut = raw[: STAGING_NAME_BYTES - 9].decode("utf-8", "ignore")
-    return f"{cut}~{hashlib.sha256(raw).hexdigest()[:8]}"
-
-
-def new_staging_dir(out: Path) -> Path:
-    """Create the staging folder ``out`` is written into: ``.STEM.XXXXXXXX.tmp`` beside it
-    (read back by :func:`staging_pattern`)."""
-    stem = staging_stem(out.name)
-    return Path(tempfile.mkdtemp(prefix=f".{stem}.", suffix=".tmp", dir=out.parent))
-
-
-def old_staging_dir(out: Path, tmp: Path) -> Path:
-    """Where the previous ``out`` is moved aside while ``tmp`` replaces it:
-    ``.STEM.old-.STEM.XXXXXXXX.tmp`` (read back by :func:`staging_pattern`)."""
-    return out.with_name(f".{staging_stem(out.name)}.old-{tmp.name}")
-
-
-def staging_pattern(name: str) -> re.Pattern:
-    """Matches the staging folders of an output folder named ``name``: group 1 is set for
-    ``.NAME.old-...`` (the previous output, moved aside while being replaced)."""
-    s = re.escape(staging_stem(name))
-    return re.compile(f"^\\.{s}\\.(old-\\.{s}\\.)?[a-z0-9_]{{8}}\\.tmp$")
-
-
-def _staging_folders(out: Path) -> list[tuple[Path, bool]]:
-    """The staging folders beside ``out`` (not links), each with whether it is the previous
-    output moved aside (``.NAME.old-...tmp``)."""
-    if not out.parent.is_dir():
-        return []
-    pat = staging_pattern(out.name)
-    found = []
-    for p in sorted(out.parent.iterdir()):
-        m = pat.match(p.name)
-        if m and p.is_dir() and not p.is_symlink():
-            found.append((p, bool(m.group(1))))
-    return found
-
-
-def _put_back_or_remove(p: Path, *, old: bool, out: Path) -> None:
-    """Move the previous output ``p`` back when ``out`` is missing, else remove ``p``."""
-    if old and not out.exists():
-        p.rename(out)
-    else:
-        shutil.rmtree(p, ignore_errors=True)
-
-
-def remove_staging(out: str | Path) -> list[str]:
-    """Remove the staging folders a killed writer of ``out`` left beside it.
-
-    ``.NAME.XXXXXXXX.tmp`` (being written, :func:`staged_dir`) is removed;
-    ``.NAME.old-...tmp`` (the previous output, moved aside for the replacement) is moved back
-    when ``out`` is missing, else removed. Returns the names handled.
-    """
-    out = Path(out)
-    handled = []
-    for p, old in _staging_folders(out):
-        _put_back_or_remove(p, old=old, out=out)
-        handled.append(p.name)
-    return handled
+# --------------------------------------------------------------------------- the folder
 
 
 def _missing_parents(out: Path) -> list[Path]:
@@ -126,63 +59,6 @@ def _remove_empty(folders: list[Path]) -> None:
             d.rmdir()
         except OSError:
             return
-
-
-def _hold(folder: Path) -> int | None:
-    """Lock ``folder`` for this process (an advisory ``flock``, released by the kernel
-    however the process ends); the descriptor to close when done, None where locks are not
-    available."""
-    try:
-        import fcntl
-    except ImportError:  # not POSIX
-        return None
-    try:
-        fd = os.open(folder, os.O_RDONLY)
-    except OSError:
-        return None
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except OSError:
-        os.close(fd)
-        return None
-    return fd
-
-
-def _held(folder: Path) -> bool:
-    """Whether a live process holds ``folder`` (:func:`_hold`); True where it cannot be
-    told (no locks, or the folder cannot be opened): only a folder known to be free is
-    removed."""
-    fd = _hold(folder)
-    if fd is None:
-        return True
-    os.close(fd)  # (closing releases the probe's lock)
-    return False
-
-
-def remove_stale_staging(out: str | Path) -> list[str]:
-    """Remove the staging folders of ``out`` that no live process holds: a writer killed
-    with SIGKILL (which no handler sees) left them, and :func:`remove_staging` removes
-    them only for a batch's garments whose workers are known to be gone. A folder being
-    written holds a lock (:func:`_hold`); the previous output moved aside
-    (``.NAME.old-.NAME.XXXXXXXX.tmp``) is held through the staging folder named in it, and
-    is moved back when ``out`` is missing. Returns the names handled."""
-    out = Path(out)
-    handled = []
-    for p, old in _staging_folders(out):
-        writer = p.with_name(p.name.split(".old-", 1)[1]) if old else p
-        if writer.is_dir() and _held(writer):
-            continue
-        _put_back_or_remove(p, old=old, out=out)
-        handled.append(p.name)
-    return handled
-
-
-_ANY_STAGING = re.compile(r"(?:^|(?<=/))\.([^/]+?)\.(?:old-\.[^/]+?\.)?[a-z0-9_]{8}\.tmp(?=/|$)")
-
-
-def hide_staging(text: str) -> str:
-    """``text`` with staging folder names replaced by the output folder's (messages)."""
-    return _ANY_STAGING.sub(lambda m: m.group(1), text)
 
 
 def _real(out: Path, shown: str) -> Path:
@@ -418,14 +294,14 @@ def staged_dir(out: str | Path, *, divert: tuple[type[BaseException], str | Path
     out = Path(out)
     real = _real(out, shown)
     tmp = None
-    hold = None
+    lock = None
     made = _missing_parents(real)  # removed again if the run fails (a full disk)
     try:
         with deferred_signals():  # a signal as mkdtemp returns must not orphan the folder
             real.parent.mkdir(parents=True, exist_ok=True)
             remove_stale_staging(real)
             tmp = new_staging_dir(real)
-            hold = _hold(tmp)
+            lock = hold(tmp)
         yield tmp
         _commit(tmp, real, shown)
     except BaseException as exc:
@@ -446,8 +322,8 @@ def staged_dir(out: str | Path, *, divert: tuple[type[BaseException], str | Path
             raise PtailorError(str(exc).replace(str(tmp), shown)) from None
         raise
     finally:
-        if hold is not None:
-            os.close(hold)
+        if lock is not None:
+            os.close(lock)
 
 
 def _diverted(tmp: Path, folder: str | Path) -> bool:

@@ -9,7 +9,7 @@ import warnings
 from contextlib import contextmanager
 
 from ptailor import tolerances
-from ptailor.run.folder import hide_staging
+from ptailor.run.staging import hide_staging
 
 LIBRARY_WARNINGS_MAX = tolerances.LIBRARY_WARNINGS_MAX
 #: warnings meant for developers, not for the report (dropped)
