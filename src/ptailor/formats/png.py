@@ -215,6 +215,16 @@ def _draw_footer(pen: _Pen, s: Sheet) -> None:
         pen.text(sw.text_xy, sw.label, "ms")
 
 
+def _check_size(size: int, dpi: float) -> None:
+    """Refuse a picture smaller than ``tol.PREVIEW_MIN_PIXELS`` or a resolution <= 0."""
+    if int(size) < tol.PREVIEW_MIN_PIXELS:
+        raise ValueError(
+            f"pattern_png: size must be at least {tol.PREVIEW_MIN_PIXELS} pixels, got {size}"
+        )
+    if not dpi > 0:
+        raise ValueError(f"pattern_png: dpi must be positive, got {dpi}")
+
+
 def pattern_png(
     path: str | os.PathLike,
     outlines_before: list[list[np.ndarray]],
@@ -271,8 +281,8 @@ def pattern_png(
     Raises
     ------
     ValueError
-        As :func:`ptailor.formats.preview.check_inputs`, or when ``size`` < 16 or
-        ``dpi`` <= 0.
+        As :func:`ptailor.formats.preview.check_inputs`, or when ``size`` is below
+        ``tol.PREVIEW_MIN_PIXELS`` or ``dpi`` <= 0.
 
     Notes
     -----
@@ -281,12 +291,7 @@ def pattern_png(
     no Python loop over triangles, no hairline seams between triangles. Identical inputs give
     identical bytes (Pillow writes no software/time metadata; the bundled font).
     """
-    if int(size) < tol.PREVIEW_MIN_PIXELS:
-        raise ValueError(
-            f"pattern_png: size must be at least {tol.PREVIEW_MIN_PIXELS} pixels, got {size}"
-        )
-    if not dpi > 0:
-        raise ValueError(f"pattern_png: dpi must be positive, got {dpi}")
+    _check_size(size, dpi)
     pat, s = preview_sheet(
         outlines_before, outlines_after, names, triangles, errors,
         units=units, title=title, caller="pattern_png", layout=layout,

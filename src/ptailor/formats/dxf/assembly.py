@@ -235,6 +235,12 @@ def choose_size(sizes: tuple[str, ...], size: str | None, sample: str, spath: st
     raise PtailorError(f"no size {size!r} in the file (sizes: {listed})", path=spath)
 
 
+def _first_line(lines, shortest: float) -> np.ndarray | None:
+    """A copy of the first of ``lines`` (each ``(k, 2)``) whose ends lie more than
+    ``shortest`` apart, or None."""
+    return next((g.copy() for g in lines if np.hypot(*(g[-1] - g[0])) > shortest), None)
+
+
 def build_piece(c: Candidate, spath: str) -> Piece:
     """Chain the boundary, orient it counter-clockwise, attach the marks."""
     m = c.marks
@@ -292,12 +298,7 @@ def build_piece(c: Candidate, spath: str) -> Piece:
             sew = max(sloops, key=lambda s: abs(signed_area(s)))
             if signed_area(sew) < 0:
                 sew = sew[::-1].copy()
-    grain = next(
-        (g.copy() for g in m.grain if np.hypot(*(g[-1] - g[0])) > _tol.ROUNDING_REL * diag), None
-    )
-    mirror = next(
-        (g.copy() for g in m.mirror if np.hypot(*(g[-1] - g[0])) > _tol.ROUNDING_REL * diag), None
-    )
+    grain, mirror = (_first_line(lines, _tol.ROUNDING_REL * diag) for lines in (m.grain, m.mirror))
     piece = Piece(
         name=c.name,
         outline=outline,
