@@ -178,6 +178,7 @@ def _without_coordinates(x):
     return x
 
 
+@pytest.mark.slow  # two adjust runs each: 0.3-0.8 s
 @pytest.mark.parametrize(
     ("recipe", "sample"),
     [

@@ -138,6 +138,8 @@ def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
 
 
 MODULES = modules()
+#: every module's syntax tree, parsed once for the tests that read them all
+TREES = {m: ast.parse(p.read_text(encoding="utf-8")) for m, p in MODULES.items()}
 GRAPH = imports(MODULES)
 
 
@@ -187,7 +189,7 @@ def test_closed_packages_import_no_private_names(package):
         hit
         for m, p in MODULES.items()
         if inside(m, package)
-        for hit in private_imports(m, ast.parse(p.read_text(encoding="utf-8")), MODULES)
+        for hit in private_imports(m, TREES[m], MODULES)
     ]
     assert found == []
 
@@ -195,11 +197,7 @@ def test_closed_packages_import_no_private_names(package):
 def test_no_module_imports_another_modules_private_names():
     """A name one module shares with another is public (documented, no underscore): the
     house rule the closed packages started, now for every module."""
-    found = [
-        hit
-        for m, p in MODULES.items()
-        for hit in private_imports(m, ast.parse(p.read_text(encoding="utf-8")), MODULES)
-    ]
+    found = [hit for m, p in MODULES.items() for hit in private_imports(m, TREES[m], MODULES)]
     assert found == []
 
 

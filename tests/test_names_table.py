@@ -116,7 +116,13 @@ def test_the_table_keeps_one_scheme(case):
     assert not lonely, f"names without their mirror name: {lonely}"
 
 
-@pytest.mark.parametrize("case", CASES, ids=[c.key for c in CASES])
+@pytest.mark.parametrize(
+    "case",
+    # a shared garment, mirrored and named again: 0.1-0.4 s each (the quick loop's rule:
+    # real-garment tests of 0.3 s or more are slow)
+    [pytest.param(c, marks=pytest.mark.slow) if c.shared else c for c in CASES],
+    ids=[c.key for c in CASES],
+)
 def test_a_mirrored_garment_gets_the_mirror_names(case):
     """The garment reflected across its centre plane: the same rows with left and right
     swapped (a panel or seam and its mirror image are named from their shared place)."""
