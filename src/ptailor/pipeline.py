@@ -268,6 +268,10 @@ def adjustment(
     Parameters
     ----------
     garment : Garment
+        Worn in ``garment.frame``: its names from geometry, openings, views and mirror
+        plane follow that frame. A recipe's ``up:``/``front:`` take part where the garment
+        is read (``load_garment(frame=resolve_frame(up, front, recipe))``, as the command
+        line does), not here.
     recipe : Recipe
     method, intrinsic : str, optional
         Override ``recipe.flatten``'s.
