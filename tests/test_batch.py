@@ -696,3 +696,25 @@ def test_the_log_is_not_the_drape_beside_a_dxf_garment(tmp_path, recipe, catalog
     assert log_problem(drape, [dxf, drape]) is not None
     r = run("batch", recipe, dxf, "-o", tmp_path / "out", "--log", drape, *FAST)
     assert r.exit_code == 2 and "input of this run" in r.stderr
+
+
+def test_a_folder_completed_as_the_interrupt_came_is_recorded_ok(tmp_path):
+    """The race behind a flaky interrupt test: a worker swaps its folder in, then the
+    Ctrl-C reaches it before its result does. The folder is complete and stamped by this
+    run, so its record is ``ok`` (from the folder's report), not ``interrupted``; a job
+    without its folder stays interrupted."""
+    from ptailor.batch.executors import _final_records
+    from ptailor.recipe import parse_recipe
+    from ptailor.run import RunOptions
+
+    cat = tmp_path / "cat"
+    _garments(cat, [2_000, 2_000])
+    opts = RunOptions(formats=("obj",), baseline=False)
+    jobs = pb.make_jobs(sorted(str(p) for p in cat.glob("*.obj")), tmp_path / "out",
+                        parse_recipe(WIDER), options=opts)  # fmt: skip
+    ran = pb.run_batch(jobs[:1], workers=1)
+    assert [r["status"] for r in ran.records] == ["ok"]
+    final = _final_records(jobs, [None, None], cleanup=True)
+    assert [r["status"] for r in final] == ["ok", "interrupted"]
+    assert final[0]["reason"] == "finished as the batch was interrupted"
+    assert final[0]["max_area_change"] == ran.records[0]["max_area_change"]

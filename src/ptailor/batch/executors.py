@@ -18,7 +18,13 @@ from pathlib import Path
 from typing import Protocol, runtime_checkable
 
 from ptailor import tolerances as tol
-from ptailor.batch.jobs import GarmentJob, check_unchanged, enter_worker, run_job
+from ptailor.batch.jobs import (
+    GarmentJob,
+    check_unchanged,
+    enter_worker,
+    finished_meanwhile,
+    run_job,
+)
 from ptailor.batch.records import BatchResult, InOrder
 from ptailor.errors import PtailorError
 from ptailor.run.staging import remove_staging
@@ -374,12 +380,16 @@ def run_batch(
 def _final_records(
     jobs: Sequence[GarmentJob], records: list[dict | None], *, cleanup: bool
 ) -> list[dict]:
-    """Every job's record (``interrupted`` for those not done); with ``cleanup`` (the
-    workers are gone) what an interrupted, crashed or timed-out garment left is removed."""
+    """Every job's record (``interrupted`` for those not done; ``ok`` for one whose folder
+    its worker completed before the interrupt reached it: :func:`finished_meanwhile`); with
+    ``cleanup`` (the workers are gone) what an interrupted, crashed or timed-out garment
+    left is removed."""
     final = []
     for j, r in zip(jobs, records, strict=True):
         if r is None or r["status"] == "interrupted":
-            r = j.record("interrupted", reason=(r or {}).get("reason") or "interrupted")
+            r = finished_meanwhile(j) or j.record(
+                "interrupted", reason=(r or {}).get("reason") or "interrupted"
+            )
         final.append(r)
     if cleanup:
         for j, r in zip(jobs, final, strict=True):

@@ -234,6 +234,28 @@ def check_unchanged(job: GarmentJob) -> dict | None:
     return rec
 
 
+def finished_meanwhile(job: GarmentJob) -> dict | None:
+    """The ``ok`` record of a job whose worker was interrupted after its folder was
+    complete (the folder swapped in with this run's stamp, the result not yet handed back),
+    else None. Not with ``--force``: an up-to-date folder is then an earlier run's.
+
+    Returns
+    -------
+    dict or None
+        The record from the folder's report (its key numbers), ``reason`` saying so; a
+        gate's ``failed`` record where the kept folder fails one.
+    """
+    if job.force or not (Path(job.out_abs) / STAMP).is_file():
+        return None
+    try:
+        rec = _unchanged(job, job_stamp(job))
+    except OSError:
+        return None
+    if rec is None or rec["status"] != "skipped":
+        return rec
+    return {**rec, "status": "ok", "reason": "finished as the batch was interrupted"}
+
+
 # --------------------------------------------------------------------------- worker state
 
 #: set in worker processes by :func:`enter_worker`
