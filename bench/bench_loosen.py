@@ -44,7 +44,7 @@ GARMENTS = {
         "gpg_tee6/tee6_sim.obj",
         "0.3333cm",
         "0.3333cm",
-        ["panel_4", "panel_5"],
+        ["front", "back"],
         [-20.0, -12.0, -5.0],
         (-23.0, 9.0),
     ),
@@ -144,7 +144,7 @@ def run_cli(path: Path, text: str, pu: str, du: str) -> tuple[int, int | None, f
 
 def measure(key: str, region_kind: str, d: float, op: str, shared: Path, cli: bool) -> dict:
     from ptailor.edits import EditOptions
-    from ptailor.edits.loosen import FALLOFF_EDGES, falloff_weights
+    from ptailor.edits.loosen import falloff_weights
     from ptailor.edits.region import region_faces
     from ptailor.edits.tolerances import LOOSEN_FALLOFF_BY as FALLOFF_BY
     from ptailor.errors import PtailorError
@@ -177,9 +177,8 @@ def measure(key: str, region_kind: str, d: float, op: str, shared: Path, cli: bo
     adj = adjustment(g, recipe)
     pl = panels(g)
     faces = region_faces(region, g, g.V3, pl)
-    T = g.F3[faces]
-    h = float(np.linalg.norm(g.V3[T] - g.V3[np.roll(T, -1, axis=1)], axis=2).mean())
-    w = falloff_weights(g.V3, g.F3, faces, band=max(FALLOFF_EDGES * h, FALLOFF_BY * d))
+    # the band the edit used (edits.loosen.offset_region: from by only)
+    w = falloff_weights(g.V3, g.F3, faces, band=FALLOFF_BY * abs(d))
     sign = 1.0 if op == "loosen" else -1.0
     g3, g2, wmin = [], [], []
     for y in heights:
