@@ -29,6 +29,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("ptailor", "ptailor.errors", "ptailor.tolerances", "ptailor.digest"),
     ("ptailor.geometry",),
     ("ptailor.model",),
+    ("ptailor.measures",),
     ("ptailor.formats", "ptailor.method"),
     ("ptailor.edits", "ptailor.recipe"),
     ("ptailor.pipeline",),

@@ -32,10 +32,20 @@ TOLERANCE_MODULES = (
     "ptailor/method/tolerances.py",
     "ptailor/edits/tolerances.py",
     "ptailor/verify/tolerances.py",
+    "ptailor/measures/tolerances.py",
 )
 
 #: module-level numbers that are not tolerances: ``(module, name): why``
 NOT_TOLERANCES = {
+    **{
+        ("ptailor/measures/table.py", name): "where a point of measure is taken (ASTM D5585)"
+        for name in (
+            "CHEST_BELOW_ARMHOLE_CM",
+            "BICEP_BELOW_UNDERARM_CM",
+            "HIP_BELOW_WAIST_CM",
+            "THIGH_BELOW_CROTCH_CM",
+        )
+    },
     ("ptailor/digest.py", "_BLOCK"): "bytes read at a time while hashing: never a result",
     ("ptailor/edits/body.py", "_PAIRS_PER_CHUNK"): "memory chunking over points: not a result",
     ("ptailor/edits/pattern_distance.py", "_PAIR_CHUNK"): "memory chunking over points",

@@ -7,27 +7,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ptailor.geometry.segments import nearest_segment_distance
-from ptailor.geometry.topology import half_edges
+from ptailor.geometry.topology import half_edges, loop_halfedges
 from ptailor.model.garment import panel_labels, vertex_labels
 
 if TYPE_CHECKING:
     from ptailor.edits.opening import OpeningEdges
     from ptailor.edits.state import EditState
     from ptailor.edits.surgery import SplitResult
-
-
-def opening_halfedges(F3: np.ndarray, loop: np.ndarray) -> np.ndarray:
-    """Half-edge ids (``3 * face + corner``) of the triangles along a boundary loop."""
-    h = half_edges(F3)
-    nxt = np.roll(loop, -1)
-    n = int(F3.max()) + 1
-    on = np.zeros(n, dtype=bool)
-    on[loop] = True
-    cand = np.flatnonzero(on[h[:, 0]] & on[h[:, 1]])  # both ends on the loop
-    key = h[cand, 0].astype(np.int64) * n + h[cand, 1]
-    fwd = loop.astype(np.int64) * n + nxt
-    bwd = nxt.astype(np.int64) * n + loop
-    return cand[np.isin(key, fwd) | np.isin(key, bwd)]
 
 
 def distance_stats(d: np.ndarray) -> dict:
@@ -64,7 +50,7 @@ def edge_offsets(before: EditState, res: SplitResult, loop: np.ndarray) -> dict:
     # the new edge: vertices the split made, and those already on the level
     new3 = res.state.V3[np.concatenate([res.new_vertices3, res.on_level3])]
     out = {"3d": distance_stats(nearest_segment_distance(new3, before.V3[loop], before.V3[nxt]))}
-    he = opening_halfedges(g0.F3, loop)
+    he = loop_halfedges(g0.F3, loop)
     h2 = half_edges(g0.F2)
     face_old = he // 3
     flab_old = panel_labels(before.panels, len(g0.F3))

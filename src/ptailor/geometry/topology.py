@@ -79,3 +79,29 @@ def edge_groups(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     inv[order] = np.cumsum(new) - 1
     cnt = np.diff(np.append(np.flatnonzero(new), k))
     return order, inv, cnt
+
+
+def loop_halfedges(F3: np.ndarray, loop: np.ndarray) -> np.ndarray:
+    """Half-edge ids (``3 * face + corner``) of the triangles along a boundary loop.
+
+    Parameters
+    ----------
+    F3 : (m, 3) int array
+    loop : (k,) int array
+        Ordered vertex indices of a closed loop of boundary edges.
+
+    Returns
+    -------
+    (j,) int array
+        The half-edges whose two ends are consecutive on the loop (either direction).
+    """
+    h = half_edges(F3)
+    nxt = np.roll(loop, -1)
+    n = int(F3.max()) + 1
+    on = np.zeros(n, dtype=bool)
+    on[loop] = True
+    cand = np.flatnonzero(on[h[:, 0]] & on[h[:, 1]])  # both ends on the loop
+    key = h[cand, 0].astype(np.int64) * n + h[cand, 1]
+    fwd = loop.astype(np.int64) * n + nxt
+    bwd = nxt.astype(np.int64) * n + loop
+    return cand[np.isin(key, fwd) | np.isin(key, bwd)]
