@@ -3,6 +3,9 @@ edit tests)."""
 
 from __future__ import annotations
 
+import dataclasses
+import sys
+
 import numpy as np
 
 from ptailor.geometry.topology import edge_keys, half_edges
@@ -68,3 +71,16 @@ def regrouped(g, grp, names):
     return dataclasses.replace(
         g, V2=np.concatenate(V2), F2=F2, face_group=grp, group_names=tuple(names)
     )
+
+
+def subdivided(g: Garment, levels: int = 1) -> Garment:
+    """``g`` with every triangle split in four ``levels`` times (bench/subdivide.py), drape and
+    pattern alike: the same garment at ``4 ** levels`` times the triangles."""
+    from tests.conftest import ROOT
+
+    if str(ROOT / "bench") not in sys.path:
+        sys.path.insert(0, str(ROOT / "bench"))
+    from subdivide import subdivide_garment
+
+    V3, F3, V2, F2, parent = subdivide_garment(g.V3, g.F3, g.V2, g.F2, levels=levels)
+    return dataclasses.replace(g, V3=V3, F3=F3, V2=V2, F2=F2, face_group=g.face_group[parent])

@@ -85,20 +85,19 @@ def _lower(g: Garment, ctx: lm.Context, cm: float, legs: bool) -> list[Measure]:
     """Waist, hip, hem and length of a skirt, trousers or a dress's skirt."""
     out: list[Measure] = []
     waist = lm.waist(g, ctx)
-    if waist is None:
-        return out
-    line, h_waist = waist
-    out += _line_measure(g, "waist", line, height=h_waist if ctx.tiered else None)
-    floor = lm.crotch_height(g, ctx) if legs else lm.hem_top(g, ctx)
-    h_hip = h_waist - HIP_BELOW_WAIST_CM * cm
-    if floor is not None and h_hip > floor:
-        out += _girth_at(g, ctx, "hip", h_hip, ctx.lower)
+    if waist is not None:
+        line, h_waist = waist
+        out += _line_measure(g, "waist", line, height=h_waist if ctx.tiered else None)
+        floor = lm.crotch_height(g, ctx) if legs else lm.hem_top(g, ctx)
+        h_hip = h_waist - HIP_BELOW_WAIST_CM * cm
+        if floor is not None and h_hip > floor:
+            out += _girth_at(g, ctx, "hip", h_hip, ctx.lower)
     if legs:
-        out += _legs(g, ctx, cm)
-    else:
-        if not ctx.tiered and "hem" in ctx.openings:
-            out += _line_measure(g, "hem", ctx.opening_line("hem"))
-        out += _line_measure(g, "skirt_length", lm.centre_front_length(g, ctx, h_waist))
+        return out + _legs(g, ctx, cm)
+    if not ctx.tiered and "hem" in ctx.openings:
+        out += _line_measure(g, "hem", ctx.opening_line("hem"))
+    if waist is not None:
+        out += _line_measure(g, "skirt_length", lm.centre_front_length(g, ctx, waist[1]))
     return out
 
 

@@ -221,14 +221,22 @@ def overarm(g: Garment, limb: Limb) -> MaterialLine | None:
 
 
 def high_point_shoulder(g: Garment, ctx: Context) -> int | None:
-    """The neckline's highest drape vertex on the wearer's left (else anywhere)."""
+    """The high point shoulder: the highest drape vertex of the neckline on the wearer's left
+    where a front and a back torso panel meet (the shoulder seam), else the neckline's highest
+    on the left, else anywhere."""
     op = ctx.openings.get("neckline")
     if op is None:
         return None
     loop = op.loop
+    front = ctx.torso & (ctx.face_face == "front")
+    back = ctx.torso & (ctx.face_face == "back")
+    seam = np.zeros(len(g.V3), dtype=bool)
+    seam[_shared_vertices(g.F3, front, back, len(g.V3))] = True
     left = loop[ctx.X[loop, 0] > ctx.s0]
-    cand = left if len(left) else loop
-    return int(cand[np.argmax(ctx.X[cand, 1])])
+    for cand in (left[seam[left]], left, loop):
+        if len(cand):
+            return int(cand[np.argmax(ctx.X[cand, 1])])
+    return None
 
 
 def front_length(g: Garment, ctx: Context, hps: int) -> MaterialLine | None:
@@ -272,7 +280,10 @@ def neck_drop(g: Garment, ctx: Context, hps: int) -> list[Measure]:
     front = loop[ctx.X[loop, 2] > ctx.f0]
     if len(front) == 0:
         return []
-    low = int(front[np.argmin(ctx.X[front, 1])])
+    h = ctx.X[front, 1]
+    size = float(np.linalg.norm(np.ptp(ctx.X[g.F3.ravel()], axis=0)))
+    ties = front[h <= h.min() + measures_tol.PLANE_SNAP * size]  # a flat neckline: its centre
+    low = int(ties[np.argmin(np.abs(ctx.X[ties, 0] - ctx.s0))])
     faces = np.flatnonzero(ctx.torso & (ctx.face_face != "back"))
     F = g.F3[faces]
     f_hps = faces[(hps == F).any(axis=1)]

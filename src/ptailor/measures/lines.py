@@ -117,9 +117,10 @@ def plane_section(V3, F3, *, point, normal, faces=None) -> MaterialLine:
     Returns
     -------
     MaterialLine
-        One segment per triangle the plane crosses. A vertex exactly on the plane counts as on
-        its positive side, so a triangle edge lying in the plane is counted once (in the
-        triangle on the negative side), never twice.
+        One segment per triangle the plane crosses. A vertex on the plane (within
+        ``PLANE_SNAP`` of the garment's size) counts as on its positive side, so a triangle
+        edge lying in the plane is counted once (in the triangle on the negative side), never
+        twice, and a triangle touching the plane at one corner has no segment.
     """
     V3 = np.asarray(V3, dtype=np.float64)
     F3 = np.asarray(F3, dtype=np.int64).reshape(-1, 3)
@@ -155,7 +156,8 @@ def plane_section(V3, F3, *, point, normal, faces=None) -> MaterialLine:
     at0, at1 = t == 0.0, t == 1.0
     vkey = -1 - np.where(at0, Fi[rows, c0], Fi[rows, c1])
     keys = np.where(at0 | at1, vkey, keys)
-    return MaterialLine(idx, W[:, 0], W[:, 1], keys[:, 0], keys[:, 1])
+    real = keys[:, 0] != keys[:, 1]  # not a triangle touching the plane at one corner
+    return MaterialLine(idx[real], W[real, 0], W[real, 1], keys[real, 0], keys[real, 1])
 
 
 def edge_line(F3, halfedges) -> MaterialLine:
