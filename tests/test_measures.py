@@ -25,7 +25,8 @@ def values(g) -> dict[str, tuple[float, float]]:
 
 
 def assert_close(a: dict, b: dict, rel: float = REL, atol: float = 0.02) -> None:
-    """Equal names, and values within ``rel`` (or ``atol`` cm, 0.2 mm: a flat tee's neck drop is 0)."""
+    """Equal names, and values within ``rel`` (or ``atol`` cm, 0.2 mm: a flat neckline's drop
+    is 0)."""
     assert a.keys() == b.keys()
     for k in a:
         np.testing.assert_allclose(a[k], b[k], rtol=rel, atol=atol, err_msg=k)
