@@ -239,14 +239,29 @@ def high_point_shoulder(g: Garment, ctx: Context) -> int | None:
     return None
 
 
+def _front_half(g: Garment, ctx: Context, line: MaterialLine) -> MaterialLine:
+    """The segments on front panels, and of a panel around the body (a tube: no face) those
+    in front of the centre."""
+    face = ctx.face_face[line.face]
+    A, B = line_points(line, g.V3, g.F3)
+    ahead = (0.5 * (A + B)) @ ctx.R[2] > ctx.f0
+    return line.subset((face == "front") | ((face == "") & ahead))
+
+
 def front_length(g: Garment, ctx: Context, hps: int) -> MaterialLine | None:
-    """The front's section straight down from the high point shoulder."""
+    """The front's section straight down from the high point shoulder: the piece nearest it,
+    when that piece reaches the hem (else None: a strap's or a side's piece is not the body
+    length)."""
     faces = ctx.torso & (ctx.face_face != "back")
     line = plane_section(g.V3, g.F3, point=g.V3[hps], normal=ctx.R[0], faces=faces)
-    A, B = line_points(line, g.V3, g.F3)
-    M = (0.5 * (A + B)) @ ctx.R.T
-    line = line.subset(M[:, 2] > ctx.f0)
-    return _best_piece(line, g, closed=False, near=g.V3[hps])
+    line = _front_half(g, ctx, line)
+    piece = _best_piece(line, g, closed=False, near=g.V3[hps])
+    top = hem_top(g, ctx)
+    if piece is None or top is None:
+        return None
+    A, B = line_points(piece, g.V3, g.F3)
+    low = float(min(ctx.height(A).min(), ctx.height(B).min()))
+    return piece if low <= top else None
 
 
 def centre_front_length(g: Garment, ctx: Context, h_top: float) -> MaterialLine | None:
@@ -254,10 +269,7 @@ def centre_front_length(g: Garment, ctx: Context, h_top: float) -> MaterialLine 
     faces = ctx.lower & (ctx.face_tier != "bodice") if ctx.tiered else ctx.lower
     point = ctx.s0 * ctx.R[0]
     line = plane_section(g.V3, g.F3, point=point, normal=ctx.R[0], faces=faces)
-    A, B = line_points(line, g.V3, g.F3)
-    M = (0.5 * (A + B)) @ ctx.R.T
-    line = line.subset(M[:, 2] > ctx.f0)
-    return _best_piece(line, g, closed=False)
+    return _best_piece(_front_half(g, ctx, line), g, closed=False)
 
 
 def _grain_up(g: Garment, faces: np.ndarray, up: np.ndarray) -> np.ndarray:
