@@ -279,8 +279,14 @@ def _grain_up(g: Garment, faces: np.ndarray, up: np.ndarray) -> np.ndarray:
     T2 = g.V2[g.F2[faces]]
     E3 = np.stack([T3[:, 1] - T3[:, 0], T3[:, 2] - T3[:, 0]], axis=2)  # (k, 3, 2)
     E2 = np.stack([T2[:, 1] - T2[:, 0], T2[:, 2] - T2[:, 0]], axis=2)  # (k, 2, 2)
-    J = E2 @ np.linalg.pinv(E3)  # (k, 2, 3)
-    w = J @ up
+    # up in each triangle's edge basis (least squares: its projection on the plane), then in 2D
+    G = np.einsum("kdi,kdj->kij", E3, E3)
+    b = np.einsum("kdi,d->ki", E3, up)
+    det = G[:, 0, 0] * G[:, 1, 1] - G[:, 0, 1] ** 2
+    ok = det > 0.0
+    c = np.stack([G[:, 1, 1] * b[:, 0] - G[:, 0, 1] * b[:, 1],
+                  G[:, 0, 0] * b[:, 1] - G[:, 0, 1] * b[:, 0]], axis=1)
+    w = np.einsum("kdi,ki->kd", E2[ok], c[ok] / det[ok, None])
     s = w.sum(axis=0)
     n = np.linalg.norm(s)
     return s / n if n > 0 else s
@@ -293,7 +299,7 @@ def neck_drop(g: Garment, ctx: Context, hps: int) -> list[Measure]:
     if len(front) == 0:
         return []
     h = ctx.X[front, 1]
-    size = float(np.linalg.norm(np.ptp(ctx.X[g.F3.ravel()], axis=0)))
+    size = float(np.linalg.norm(np.ptp(ctx.X, axis=0)))
     ties = front[h <= h.min() + measures_tol.PLANE_SNAP * size]  # a flat neckline: its centre
     low = int(ties[np.argmin(np.abs(ctx.X[ties, 0] - ctx.s0))])
     faces = np.flatnonzero(ctx.torso & (ctx.face_face != "back"))

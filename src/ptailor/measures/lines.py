@@ -118,7 +118,7 @@ def plane_section(V3, F3, *, point, normal, faces=None) -> MaterialLine:
     -------
     MaterialLine
         One segment per triangle the plane crosses. A vertex on the plane (within
-        ``PLANE_SNAP`` of the garment's size) counts as on its positive side, so a triangle
+        ``PLANE_SNAP`` of the size of ``V3``'s bounding box) counts as on its positive side, so a triangle
         edge lying in the plane is counted once (in the triangle on the negative side), never
         twice, and a triangle touching the plane at one corner has no segment.
     """
@@ -129,8 +129,7 @@ def plane_section(V3, F3, *, point, normal, faces=None) -> MaterialLine:
         idx = np.flatnonzero(idx)
     n = np.asarray(normal, dtype=np.float64)
     d = (V3 - np.asarray(point, dtype=np.float64)) @ (n / np.linalg.norm(n))
-    used = V3[F3.ravel()] if len(F3) else V3
-    size = float(np.linalg.norm(np.ptp(used, axis=0))) if len(used) else 0.0
+    size = float(np.linalg.norm(np.ptp(V3, axis=0))) if len(V3) else 0.0
     d[np.abs(d) <= measures_tol.PLANE_SNAP * size] = 0.0
     Fi = F3[idx]
     D = d[Fi]  # (k, 3)
