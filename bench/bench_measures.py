@@ -12,13 +12,12 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from subdivide import subdivide_garment
-from timing import median_time
-
 from ptailor.formats.garment import load_garment
 from ptailor.measures import garment_measures
 from ptailor.model.structure import structure
 from ptailor.samples import flat_tee
+from subdivide import subdivide_garment
+from timing import median_time
 
 REPEAT = 5
 TSHIRT = Path(__file__).resolve().parents[2] / "shared/garments/diffavatar/tshirt.obj"

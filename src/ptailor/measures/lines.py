@@ -118,9 +118,9 @@ def plane_section(V3, F3, *, point, normal, faces=None) -> MaterialLine:
     -------
     MaterialLine
         One segment per triangle the plane crosses. A vertex on the plane (within
-        ``PLANE_SNAP`` of the size of ``V3``'s bounding box) counts as on its positive side, so a triangle
-        edge lying in the plane is counted once (in the triangle on the negative side), never
-        twice, and a triangle touching the plane at one corner has no segment.
+        ``PLANE_SNAP`` of the size of ``V3``'s bounding box) counts as on its positive side,
+        so a triangle edge lying in the plane is counted once (in the triangle on the negative
+        side), never twice, and a triangle touching the plane at one corner has no segment.
     """
     V3 = np.asarray(V3, dtype=np.float64)
     F3 = np.asarray(F3, dtype=np.int64).reshape(-1, 3)
