@@ -220,23 +220,49 @@ def overarm(g: Garment, limb: Limb) -> MaterialLine | None:
     return _best_piece(line, g, closed=False)
 
 
-def high_point_shoulder(g: Garment, ctx: Context) -> int | None:
-    """The high point shoulder: the highest drape vertex of the neckline on the wearer's left
-    where a front and a back torso panel meet (the shoulder seam), else the neckline's highest
-    on the left, else anywhere."""
+def _on_faces(g: Garment, faces: np.ndarray) -> np.ndarray:
+    """``(n3,) bool``: the drape vertices of the triangles in mask ``faces``."""
+    on = np.zeros(len(g.V3), dtype=bool)
+    on[g.F3[faces].ravel()] = True
+    return on
+
+
+def neck_vertices(g: Garment, ctx: Context) -> np.ndarray | None:
+    """The torso's neck edge: the neckline's drape vertices on the torso panels, else (a collar
+    sewn on) the vertices the torso shares with the collar; None without a neckline."""
     op = ctx.openings.get("neckline")
     if op is None:
         return None
-    loop = op.loop
+    on_torso = _on_faces(g, ctx.torso)
+    loop = op.loop[on_torso[op.loop]]
+    if len(loop) == 0:
+        loop = np.flatnonzero(on_torso & _on_faces(g, ctx.role == "collar"))
+    return loop if len(loop) else None
+
+
+def high_point_shoulder(g: Garment, ctx: Context) -> int | None:
+    """The high point shoulder: of the neckline's drape vertices on the torso panels and on the
+    wearer's left, the highest where a front and a back torso panel meet (the shoulder seam),
+    else the highest (a strap dress: the bodice's top at the strap); None without a neckline
+    on the torso's left."""
+    loop = neck_vertices(g, ctx)
+    if loop is None:
+        return None
     front = ctx.torso & (ctx.face_face == "front")
     back = ctx.torso & (ctx.face_face == "back")
-    seam = np.zeros(len(g.V3), dtype=bool)
-    seam[_shared_vertices(g.F3, front, back, len(g.V3))] = True
+    seam = _on_faces(g, front) & _on_faces(g, back)
     left = loop[ctx.X[loop, 0] > ctx.s0]
-    for cand in (left[seam[left]], left, loop):
+    for cand in (left[seam[left]], left):
         if len(cand):
-            return int(cand[np.argmax(ctx.X[cand, 1])])
+            top = ctx.X[cand, 1]
+            ties = cand[top >= top.max() - _snap(ctx)]  # a flat neckline: its outer end
+            return int(ties[np.argmax(ctx.X[ties, 0])])
     return None
+
+
+def _snap(ctx: Context) -> float:
+    """Heights closer than this are level (``PLANE_SNAP`` of the drape's size)."""
+    return measures_tol.PLANE_SNAP * float(np.linalg.norm(np.ptp(ctx.X, axis=0)))
 
 
 def _front_half(g: Garment, ctx: Context, line: MaterialLine) -> MaterialLine:
@@ -284,8 +310,10 @@ def _grain_up(g: Garment, faces: np.ndarray, up: np.ndarray) -> np.ndarray:
     b = np.einsum("kdi,d->ki", E3, up)
     det = G[:, 0, 0] * G[:, 1, 1] - G[:, 0, 1] ** 2
     ok = det > 0.0
-    c = np.stack([G[:, 1, 1] * b[:, 0] - G[:, 0, 1] * b[:, 1],
-                  G[:, 0, 0] * b[:, 1] - G[:, 0, 1] * b[:, 0]], axis=1)
+    c = np.stack(
+        [G[:, 1, 1] * b[:, 0] - G[:, 0, 1] * b[:, 1], G[:, 0, 0] * b[:, 1] - G[:, 0, 1] * b[:, 0]],
+        axis=1,
+    )
     w = np.einsum("kdi,ki->kd", E2[ok], c[ok] / det[ok, None])
     s = w.sum(axis=0)
     n = np.linalg.norm(s)
@@ -294,13 +322,15 @@ def _grain_up(g: Garment, faces: np.ndarray, up: np.ndarray) -> np.ndarray:
 
 def neck_drop(g: Garment, ctx: Context, hps: int) -> list[Measure]:
     """How far the neckline's lowest front point lies below the high point shoulder."""
-    loop = ctx.openings["neckline"].loop
-    front = loop[ctx.X[loop, 2] > ctx.f0]
+    loop = neck_vertices(g, ctx)
+    ahead = ctx.X[loop, 2] > ctx.f0
+    on_front = _on_faces(g, ctx.torso & (ctx.face_face == "front"))[loop]
+    on_tube = _on_faces(g, ctx.torso & (ctx.face_face == ""))[loop]
+    front = loop[on_front | (on_tube & ahead)]
     if len(front) == 0:
         return []
     h = ctx.X[front, 1]
-    size = float(np.linalg.norm(np.ptp(ctx.X, axis=0)))
-    ties = front[h <= h.min() + measures_tol.PLANE_SNAP * size]  # a flat neckline: its centre
+    ties = front[h <= h.min() + _snap(ctx)]  # a flat neckline: its centre
     low = int(ties[np.argmin(np.abs(ctx.X[ties, 0] - ctx.s0))])
     faces = np.flatnonzero(ctx.torso & (ctx.face_face != "back"))
     F = g.F3[faces]
