@@ -52,7 +52,7 @@ def _top(g: Garment, ctx: lm.Context, cm: float) -> list[Measure]:
         out += _line_measure(g, "hem", ctx.opening_line("hem"))
     hps = lm.high_point_shoulder(g, ctx)
     if hps is not None and "hem" in ctx.openings:
-        out += _line_measure(g, "body_length", lm.front_length(g, ctx, hps))
+        out += lm.body_length(g, ctx, hps)
         out += lm.neck_drop(g, ctx, hps)
     return out
 

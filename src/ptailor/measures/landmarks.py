@@ -277,7 +277,8 @@ def _front_half(g: Garment, ctx: Context, line: MaterialLine) -> MaterialLine:
 def front_length(g: Garment, ctx: Context, hps: int) -> MaterialLine | None:
     """The front's section straight down from the high point shoulder: the piece nearest it,
     when that piece reaches the hem (else None: a strap's or a side's piece is not the body
-    length)."""
+    length). Where the neckline curves out past the point, the piece starts below it (see
+    :func:`body_length` for the gap)."""
     faces = ctx.torso & (ctx.face_face != "back")
     line = plane_section(g.V3, g.F3, point=g.V3[hps], normal=ctx.R[0], faces=faces)
     line = _front_half(g, ctx, line)
@@ -288,6 +289,34 @@ def front_length(g: Garment, ctx: Context, hps: int) -> MaterialLine | None:
     A, B = line_points(piece, g.V3, g.F3)
     low = float(min(ctx.height(A).min(), ctx.height(B).min()))
     return piece if low <= top else None
+
+
+def body_length(g: Garment, ctx: Context, hps: int) -> list[Measure]:
+    """The body length: :func:`front_length`, plus the straight gap from the high point
+    shoulder to where that line enters the front (across the neckline's curve, in the drape
+    and in the panel's pattern)."""
+    piece = front_length(g, ctx, hps)
+    if piece is None:
+        return []
+    A, B = line_points(piece, g.V3, g.F3)
+    ends = np.r_[A, B]
+    k = int(np.argmax(ctx.height(ends)))
+    gap3 = float(np.linalg.norm(ends[k] - g.V3[hps]))
+    a2, b2 = line_points(piece, g.V2, g.F2)
+    top2 = np.r_[a2, b2][k]
+    face = int(piece.face[k % len(piece)])
+    panel = structure(g).face_panel
+    mine = np.flatnonzero((panel == panel[face]) & (g.F3 == hps).any(axis=1))
+    if len(mine) == 0:  # the point is on another panel than the line's top: no gap in 2D
+        gap2 = gap3 if gap3 == 0.0 else float("nan")
+    else:
+        f = int(mine[0])
+        gap2 = float(np.linalg.norm(top2 - g.V2[g.F2[f, np.flatnonzero(g.F3[f] == hps)[0]]]))
+    if not np.isfinite(gap2):
+        return []
+    drape = float(np.linalg.norm(B - A, axis=1).sum()) + gap3
+    pattern = float(np.linalg.norm(b2 - a2, axis=1).sum()) + gap2
+    return [Measure("body_length", "length", drape, pattern, piece)]
 
 
 def centre_front_length(g: Garment, ctx: Context, h_top: float) -> MaterialLine | None:

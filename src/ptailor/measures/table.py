@@ -78,16 +78,20 @@ _TABLE: tuple[tuple[str, str, str, str, bool], ...] = (
         "body_length",
         "length",
         "tops, dresses",
-        "from the high point shoulder (the neckline's highest point on the wearer's left) "
-        "straight down the front to the hem: the front panels' section by the plane through "
-        "that point across the body (normal: the wearer's left)",
+        "from the high point shoulder straight down the front to the hem: the front panels' "
+        "section by the plane through that point across the body (normal: the wearer's "
+        "left), with the straight gap from the point to where that section enters the front "
+        "(a neckline curving out past it); absent unless it reaches the hem. The high point "
+        "shoulder is the highest point of the torso's neck edge on the wearer's left where "
+        "front and back meet (the shoulder seam); the neck edge is the neckline on the torso "
+        "panels, or the seam with a collar; on a strap dress, the bodice's top at the strap",
         False,
     ),
     (
         "neck_drop",
         "depth",
         "tops, dresses",
-        "how far the neckline's lowest point at the front lies below the high point shoulder, "
+        "how far the neck edge's lowest point on the front lies below the high point shoulder, "
         "along the up axis (in the pattern: along the front panel's grain, the up axis carried "
         "into the pattern)",
         False,
