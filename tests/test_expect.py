@@ -175,7 +175,9 @@ def test_a_miss_writes_the_outputs_and_exits_3_naming_the_measure(tmp_path, tube
     r = run("adjust", tube, recipe_file(tmp_path, text), "-o", out, "-q", *FAST)
     assert r.exit_code == 3
     lines = r.stderr.splitlines()
-    assert len(lines) == 1 and lines[0].startswith("ptailor: expect: hem: asked +10% (drape 44.0 cm")
+    assert len(lines) == 1 and lines[0].startswith(
+        "ptailor: expect: hem: asked +10% (drape 44.0 cm"
+    )
     assert "achieved drape 48.0, pattern 48.0 (tol 0.5 cm)" in lines[0]
     assert {"garment.obj", "report.json"} <= {p.name for p in out.iterdir()}
     hem, waist = _report(out)["expect"]
@@ -251,3 +253,18 @@ def test_the_expect_gate_reads_the_report():
     assert gate_failures({**report, "expect": [_rec("{by: 10%, on: drape}")]}, Gates()) == []
     assert gate_failures({"panels": []}, Gates()) == []  # a recipe without expect:
     assert gate_failures({"expect": "x"}, Gates())[0].startswith("report: expect is not")
+
+
+def test_the_schema_takes_what_the_rules_take_and_refuses_unknown_names():
+    jsonschema = pytest.importorskip("jsonschema")
+    import yaml
+
+    from ptailor.recipe.schema import recipe_schema
+
+    validator = jsonschema.Draft202012Validator(recipe_schema())
+    good = "steps: []\nexpect:\n  hem: {by: 10%}\n  chest: {by: -2, tol: 1%, on: drape}\n"
+    parse_recipe(good)
+    data = yaml.safe_load(good.replace(" on:", " 'on':"))  # (YAML 1.1 reads a bare on as true)
+    assert list(validator.iter_errors(data)) == []
+    for bad in ({"hemm": {"by": 1}}, {"hem": {"by": 1, "to": 2}}, {"hem": {"tol": 1}}):
+        assert list(validator.iter_errors({"steps": [], "expect": bad})), bad
