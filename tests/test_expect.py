@@ -44,7 +44,8 @@ def recipe_file(tmp_path: Path, text: str, name: str = "r.yaml") -> Path:
 
 def test_expect_is_read_with_its_defaults_and_written_back():
     r = parse_recipe(
-        "units: mm\nsteps: []\nexpect:\n  hem: {by: 10%}\n  waist: {to: 800, tol: 2%, on: pattern}\n"
+        "units: mm\nsteps: []\nexpect:\n"
+        "  hem: {by: 10%}\n  waist: {to: 800, tol: 2%, on: pattern}\n"
     )
     hem, waist = r.expect
     assert (hem.name, hem.by, hem.to, hem.on) == ("hem", "10%", None, "both")
