@@ -291,6 +291,9 @@ RECIPE_MAX_LENGTH_CM = 1000.0
 RECIPE_SHOW_CHARS = 80
 #: A recipe holds at most this many steps (each is checked, by the rules and the schema).
 RECIPE_MAX_STEPS = 200
+#: A recipe's ``expect:`` without ``tol`` allows this many centimetres between the
+#: achieved measure and its target (a pattern maker's usual +-1/4 in on a girth).
+EXPECT_TOL_CM = 0.5
 
 # Output folders and batch (ptailor.run.folder, ptailor.batch)
 #: Staging folders (``.NAME.XXXXXXXX.tmp``, ``.NAME.old-.NAME.XXXXXXXX.tmp``) carry at most

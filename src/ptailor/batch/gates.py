@@ -1,4 +1,5 @@
-"""Quality gates: limits a garment's report must keep, else the garment fails (no folder).
+"""Quality gates: limits a garment's report must keep, else the garment fails (no folder);
+and the recipe's ``expect:`` (the gate ``expect``), judged on the report.
 
 A gate reads the report strictly: a key it needs that is missing, renamed or not a number
 is a broken gate (``"... missing from the report"``), never a silent pass.
@@ -37,6 +38,10 @@ class Gates:
         farther than this from the adjusted mesh outline (``spec.panels[].fit``) fails.
     fail_on_flips : bool
         A panel with ``flipped_triangles > 0`` fails.
+    expect : bool
+        A garment whose result misses a measure its recipe's ``expect:`` asks for (the
+        report's ``expect``, :mod:`ptailor.report.expect`) fails: on by default, a gate only
+        where the recipe has ``expect:``.
     """
 
     max_area_change: float | None = None
@@ -47,6 +52,7 @@ class Gates:
     max_verify_displacement: float | None = None
     max_spec_fit: float | None = None
     fail_on_flips: bool = False
+    expect: bool = True
 
     @property
     def panel_gates(self) -> bool:
@@ -257,7 +263,22 @@ def gate_failures(report: dict, gates: Gates) -> list[str]:
         probs += _verify_failures(report, gates, units)
     if gates.max_spec_fit is not None:
         probs += _spec_failures(report, gates.max_spec_fit, units)
+    if gates.expect:
+        probs += _expect_failures(report)
     return probs
+
+
+def _expect_failures(report: dict) -> list[str]:
+    """The measures the result missed (``expect: hem: asked ...``), none where the report
+    has no ``expect`` (its recipe asks for none); a malformed one breaks the gate."""
+    from ptailor.report.expect import missed_lines
+
+    recs = report.get("expect")
+    if recs is None:
+        return []
+    if not isinstance(recs, list) or not all(isinstance(r, dict) and "ok" in r for r in recs):
+        return ["report: expect is not a list of judged measures (the gate cannot pass)"]
+    return [f"expect: {line}" for line in missed_lines(report)]
 
 
 #: each gate's option, by its :class:`Gates` attribute
@@ -270,12 +291,14 @@ GATE_OPTIONS = {
     "max_verify_displacement": "--max-verify-displacement",
     "max_spec_fit": "--max-spec-fit",
     "fail_on_flips": "--fail-on-flips",
+    "expect": "expect",
 }
 
 
 def broken_gates(report: dict, gates: Gates) -> list[str]:
-    """The options of the gates the report breaks (``["--max-area-change"]``), in
-    :data:`GATE_OPTIONS` order: each set gate judged alone by :func:`gate_failures`.
+    """The options of the gates the report breaks (``["--max-area-change"]``; the
+    recipe's ``expect:`` is ``expect``), in :data:`GATE_OPTIONS` order: each set gate
+    judged alone by :func:`gate_failures`.
 
     For a record's ``failed_gates``, which a catalogue filters on.
     """
@@ -284,7 +307,7 @@ def broken_gates(report: dict, gates: Gates) -> list[str]:
         value = getattr(gates, attr)
         if value is None or value is False:
             continue
-        if gate_failures(report, Gates(**{attr: value})):
+        if gate_failures(report, Gates(**{"expect": False, attr: value})):
             out.append(option)
     return out
 

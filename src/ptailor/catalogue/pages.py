@@ -22,6 +22,12 @@ from ptailor.batch.gates import (
     verify_number,
     verify_panels,
 )
+from ptailor.catalogue.measures import (
+    expect_cells,
+    expect_columns,
+    expected_names,
+    measures_view,
+)
 from ptailor.catalogue.rows import CATALOGUE_DIR, INDEX, ROW_STATUSES, Row, Summary
 from ptailor.catalogue.thumbnails import PREVIEW, THUMBNAIL
 
@@ -118,7 +124,7 @@ def _sort_key(value: Any) -> str:
     return repr(float(value)) if math.isfinite(value) else ""
 
 
-def _row_view(row: Row, columns: list[tuple]) -> dict:
+def _row_view(row: Row, columns: list[tuple], expected: list[str]) -> dict:
     r = row.record
     has_page = row.folder is not None
     has_thumb = has_page and (row.folder / THUMBNAIL).is_file()
@@ -138,9 +144,15 @@ def _row_view(row: Row, columns: list[tuple]) -> dict:
         "thumbnail": link(*row.parts, THUMBNAIL) if has_thumb else None,
         "gates": " ".join(str(g) for g in gates),
         "cells": [
-            {"text": shown_number(r.get(key), how), "sort": _sort_key(r.get(key))}
+            {
+                "text": shown_number(r.get(key), how),
+                "sort": _sort_key(r.get(key)),
+                "missed": False,
+                "title": "",
+            }
             for key, _, how, _ in columns
-        ],
+        ]
+        + expect_cells(row, expected),
     }
 
 
@@ -153,6 +165,7 @@ def index_view(rows: list[Row], summary: Summary, *, title: str, version: str) -
     ]  # fmt: skip
     counts = Counter(row.status for row in rows)
     seen_gates = {g for r in records for g in (r.get("failed_gates") or [])}
+    expected = expected_names(rows)  # the measures the recipe's expect: asks about
     rate = summary.rate
     return {
         "title": title,
@@ -170,8 +183,9 @@ def index_view(rows: list[Row], summary: Summary, *, title: str, version: str) -
         "recipe_text": summary.recipe_text,
         "statuses": [s for s in ROW_STATUSES if counts[s]],
         "gates": [g for g in GATE_OPTIONS.values() if g in seen_gates],
-        "columns": [{"key": k, "label": lab, "title": t} for k, lab, _, t in columns],
-        "rows": [_row_view(row, columns) for row in rows],
+        "columns": [{"key": k, "label": lab, "title": t} for k, lab, _, t in columns]
+        + expect_columns(expected),
+        "rows": [_row_view(row, columns, expected) for row in rows],
     }
 
 
@@ -293,6 +307,7 @@ def garment_view(row: Row, *, title: str, version: str) -> dict:
         "seams": _mark_worst(
             [_seam_view(s) for s in report.get("seams", []) if isinstance(s, dict)], "size"
         ),
+        "measures": measures_view(report),
         "steps": [_step_view(s) for s in report.get("steps", []) if isinstance(s, dict)],
         "warnings": [str(w) for w in report.get("warnings", [])],
         "verify": _verify_view(report, folder),

@@ -23,6 +23,9 @@ def adjust(garment, recipe, out, drape, as_json, quiet, **run) -> None:
     RECIPE is a YAML edit recipe ('-' reads it from stdin); it is validated whole before
     GARMENT is read. --verify re-drapes the result with the cloth engine (the body, when
     given, holds the re-drapes too; the top opening is pinned).
+
+    When the result misses a measure the recipe's expect: asks for, the outputs are
+    written, stderr has one line per missed measure and the exit status is 3.
     """
     from ptailor.cli.options import build_run_options, check_engine_first
     from ptailor.cli.progress import progress_line
@@ -38,6 +41,19 @@ def adjust(garment, recipe, out, drape, as_json, quiet, **run) -> None:
     with progress_line(quiet=quiet) as progress:
         report = run_garment(garment, rec, out, options=options, drape=drape, progress=progress)
     _show(report, out, as_json=as_json, quiet=quiet)
+    _expectations(report)
+
+
+def _expectations(report) -> None:
+    """Exit 3, one line per missed measure on stderr, when the result misses the recipe's
+    ``expect:`` (the outputs are written)."""
+    from ptailor.report.expect import missed_lines
+
+    missed = missed_lines(report)
+    for line in missed:
+        click.echo(f"ptailor: expect: {line}", err=True)
+    if missed:
+        raise click.exceptions.Exit(3)
 
 
 def _show(report, out, *, as_json: bool, quiet: bool) -> None:

@@ -104,8 +104,10 @@ def inspect(
 
 def _garment_info(garment, *, drape, units, pattern_units, drape_units, weld, axes, spec):
     """The summary of a garment (:func:`ptailor.report.inspection.garment_summary`), with its
-    ``spec`` section when a specification is given."""
+    ``spec`` section when a specification is given and its points of measure (``measures``,
+    in cm: :func:`ptailor.measures.measure_dicts`)."""
     from ptailor.formats.garment import load_garment
+    from ptailor.measures import garment_measures, measure_dicts
     from ptailor.model.repair import topology
     from ptailor.recipe import resolve_frame
     from ptailor.report.inspection import garment_summary, spec_summary
@@ -132,4 +134,6 @@ def _garment_info(garment, *, drape, units, pattern_units, drape_units, weld, ax
     }
     if matching is not None:
         info["spec"] = spec_summary(matching, info)
+    # the points of measure, in cm (ptailor measure's)
+    info["measures"] = measure_dicts(garment_measures(loaded.garment), loaded.garment.units)
     return info

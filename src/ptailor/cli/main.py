@@ -23,6 +23,7 @@ from ptailor.cli.adjust import adjust
 from ptailor.cli.batch import batch
 from ptailor.cli.demo import demo
 from ptailor.cli.inspect import inspect
+from ptailor.cli.measure import measure
 from ptailor.cli.report import report
 from ptailor.cli.validate import validate
 from ptailor.cli.verify import verify
@@ -184,6 +185,7 @@ def cli(debug: bool) -> None:
 
 cli.add_command(adjust)
 cli.add_command(inspect)
+cli.add_command(measure)
 cli.add_command(demo)
 cli.add_command(batch)
 cli.add_command(validate)

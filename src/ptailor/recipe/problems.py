@@ -141,7 +141,7 @@ def load_recipe(path: str | Path) -> Recipe:
 
 _WHERE = re.compile(r"^((?:[A-Za-z_]\w*)(?:\.[A-Za-z_]\w*|\[\d+\])*)(?=: )")
 _TOKEN = re.compile(r"\.?([A-Za-z_]\w*)|\[(\d+)\]")
-_UNKNOWN = re.compile(r"unknown key '([^']+)'")
+_UNKNOWN = re.compile(r"unknown (?:key|measure) '([^']+)'")
 
 
 def _path_of(message: str) -> tuple[list, str | None]:

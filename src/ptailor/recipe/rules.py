@@ -18,6 +18,7 @@ from ptailor.edits.checks import (
 )
 from ptailor.model.units import CM_PER, UNITS
 from ptailor.recipe import spec
+from ptailor.recipe.expect import expect_problems
 
 
 def validate(data: Any) -> tuple[spec.Recipe | None, list[str]]:
@@ -43,7 +44,8 @@ def validate(data: Any) -> tuple[spec.Recipe | None, list[str]]:
     symmetric = data.get("symmetric", False)
     steps, step_probs = _steps(data.get("steps", []), units=units, symmetric=symmetric)
     flatten, flatten_probs = _flatten(data.get("flatten"))
-    probs += step_probs + flatten_probs
+    expect, expect_probs = expect_problems(data.get("expect"), units=units)
+    probs += step_probs + flatten_probs + expect_probs
     if probs:
         return None, probs
     return spec.Recipe(
@@ -53,12 +55,13 @@ def validate(data: Any) -> tuple[spec.Recipe | None, list[str]]:
         up=data.get("up"),
         front=data.get("front"),
         symmetric=symmetric,
+        expect=expect,
     ), []
 
 
 def _top_level_problems(data: dict) -> list[str]:
     """The problems of a recipe's top-level keys: unknown keys, format, units, axes and
-    ``symmetric`` (``steps`` and ``flatten`` have their own checks)."""
+    ``symmetric`` (``steps``, ``flatten`` and ``expect`` have their own checks)."""
     probs = [
         f"unknown key {show(k)} (known: {', '.join(spec.TOP_KEYS)})"
         for k in data

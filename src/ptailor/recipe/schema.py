@@ -13,7 +13,9 @@ from typing import Any
 
 from ptailor.edits import OPERATIONS
 from ptailor.edits.opening import OPENING_SCHEMA
+from ptailor.measures.table import MEASURES
 from ptailor.model.units import UNITS
+from ptailor.recipe.expect import ON
 from ptailor.recipe.spec import AXIS_NAMES, FLATTEN_PARAMS, STEP_KEYS
 
 SCHEMA_ID = "https://ptailor.dev/schema/recipe-1.json"
@@ -87,9 +89,43 @@ def recipe_schema() -> dict:
                 "properties": flatten,
                 "additionalProperties": False,
             },
+            "expect": _expect_schema(),
         },
         "additionalProperties": False,
         "$defs": {"opening": OPENING_SCHEMA},
+    }
+
+
+def _expect_schema() -> dict:
+    """``expect:``: measure names (:data:`ptailor.measures.MEASURES`) to ``{by or to, tol,
+    on}`` (:mod:`ptailor.recipe.expect`)."""
+    length_or_percent = {
+        "oneOf": [
+            {"type": "number"},
+            {"type": "string", "pattern": r"^\s*[-+]?[0-9.eE+-]+\s*%\s*$"},
+        ]
+    }
+    one = {
+        "type": "object",
+        "properties": {
+            "by": {**length_or_percent, "description": "change asked: a length in the recipe's "
+                   "units, or N% of the measure before"},
+            "to": {"type": "number", "exclusiveMinimum": 0,
+                   "description": "length asked, in the recipe's units"},
+            "tol": {**length_or_percent, "description": "how far the result may be from the "
+                    "target: a length, or N% of the target (default 0.5 cm)"},
+            "on": {"enum": list(ON), "default": "both",
+                   "description": "judged in the drape, the pattern or both"},
+        },
+        "oneOf": [{"required": ["by"]}, {"required": ["to"]}],
+        "additionalProperties": False,
+    }  # fmt: skip
+    return {
+        "type": ["object", "null"],
+        "description": "points of measure the result must reach (checked after the run: a "
+        "miss is exit status 3)",
+        "propertyNames": {"enum": list(MEASURES)},
+        "additionalProperties": one,
     }
 
 

@@ -16,6 +16,7 @@ from ptailor.edits.registry import COMMON_FIELDS, Step
 from ptailor.errors import PtailorError
 from ptailor.method import tolerances as method_tol
 from ptailor.model.frame import AXIS_NAMES, DEFAULT_FRAME, Frame
+from ptailor.recipe.expect import Expectation
 
 FLATTEN_PARAMS = {
     "method": (choice("scale-preserving", "uniform"), "scale-preserving"),
@@ -33,7 +34,7 @@ FLATTEN_PARAMS = {
     ),
     "max_iter": (number(ge=1, le=10000, integer=True), method_tol.ARAP_MAX_ITER),
 }
-TOP_KEYS = ("format", "units", "up", "front", "symmetric", "steps", "flatten")
+TOP_KEYS = ("format", "units", "up", "front", "symmetric", "steps", "flatten", "expect")
 #: A step key every operation accepts (see :mod:`ptailor.edits.mirror`): the fields every
 #: :class:`ptailor.edits.Step` has.
 STEP_KEYS = COMMON_FIELDS
@@ -139,6 +140,9 @@ class Recipe:
     symmetric : bool
         The recipe-level default of every step's ``symmetric`` (each step in ``steps``
         carries its own, resolved value).
+    expect : tuple of Expectation
+        The measures the result must reach (``expect:``; :mod:`ptailor.recipe.expect`),
+        judged on the adjusted garment.
     """
 
     units: str = "cm"
@@ -148,6 +152,7 @@ class Recipe:
     up: str | None = None
     front: str | None = None
     symmetric: bool = False
+    expect: tuple[Expectation, ...] = ()
 
     def __post_init__(self) -> None:
         # the flatten settings' checks (the same the rules run on a recipe file), so that a
@@ -161,6 +166,7 @@ class Recipe:
         if problems:
             raise PtailorError("; ".join(problems), path=self.source)
         object.__setattr__(self, "steps", tuple(self.steps))
+        object.__setattr__(self, "expect", tuple(self.expect))
 
     def to_dict(self) -> dict[str, Any]:
         """The recipe as validated, every default filled in, without its source: the
@@ -170,9 +176,10 @@ class Recipe:
         -------
         dict
             ``units``, ``steps`` (each :meth:`ptailor.edits.Step.to_dict`), ``flatten``,
-            ``up``, ``front``, ``symmetric``.
+            ``up``, ``front``, ``symmetric``; ``expect`` (each measure's
+            :meth:`~ptailor.recipe.expect.Expectation.to_dict`) when the recipe has it.
         """
-        return {
+        out = {
             "units": self.units,
             "steps": [s.to_dict() for s in self.steps],
             "flatten": dict(self.flatten),
@@ -180,3 +187,6 @@ class Recipe:
             "front": self.front,
             "symmetric": self.symmetric,
         }
+        if self.expect:  # (absent otherwise: the stamps of recipes without it stay)
+            out["expect"] = {e.name: e.to_dict() for e in self.expect}
+        return out

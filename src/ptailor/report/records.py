@@ -102,10 +102,13 @@ class _ReportRequired(TypedDict):
 class Report(_ReportRequired, total=False):
     """``report.json``. The sections a run adds when it has them: ``pattern`` (the pieces
     written), ``intake`` (what reading repaired), ``verify`` (``--verify``), ``body_fit``
-    (``--body auto``), ``spec`` (``--spec``)."""
+    (``--body auto``), ``spec`` (``--spec``), ``measures`` (the points of measure before and
+    after), ``expect`` (the recipe's ``expect:`` judged)."""
 
     pattern: dict[str, Any]
     intake: dict[str, Any]
     verify: dict[str, Any]
     body_fit: dict[str, Any]
     spec: dict[str, Any]
+    measures: dict[str, Any]
+    expect: list[dict[str, Any]]

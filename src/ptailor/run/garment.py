@@ -10,7 +10,7 @@ from __future__ import annotations
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -27,6 +27,12 @@ from ptailor.report.build import (
     error_reference,
     triangle_errors,
     without_negative_zeros,
+)
+from ptailor.report.expect import (
+    expect_records,
+    garment_measure_dicts,
+    measures_before,
+    measures_section,
 )
 from ptailor.report.metrics import ScaleReference
 from ptailor.report.records import Report
@@ -169,7 +175,9 @@ def _stage(
     edits = inputs.edits
     adj = _adjustment(inputs.loaded.garment, recipe, options, edits, shown=shown, progress=progress)
     errors, reference = _checked_errors(adj, shown=shown)
-    timing = {"load": t1 - t0, **adj.timing_s}
+    t2 = time.perf_counter()
+    sections = _measure_sections(adj, recipe, inputs.measures_before)
+    timing = {"load": t1 - t0, **adj.timing_s, "measures": time.perf_counter() - t2}
     redrapes = _redrapes(adj, edits, options, timing=timing, progress=progress)
     t3 = time.perf_counter()
     if progress is not None:
@@ -184,7 +192,18 @@ def _stage(
         inputs=inputs,
         reference=reference,
         library_warnings=library,
+        sections=sections,
     )
+
+
+def _measure_sections(adj: Adjustment, recipe: Recipe, before: list[dict]) -> dict:
+    """The report's ``measures`` (the garment as read, the adjusted garment) and, when the
+    recipe has ``expect:``, ``expect`` (:mod:`ptailor.report.expect`)."""
+    after = garment_measure_dicts(adj.garment)
+    out: dict = {"measures": measures_section(before, after)}
+    if recipe.expect:
+        out["expect"] = expect_records(recipe, before, after)
+    return out
 
 
 def _redrapes(
@@ -213,6 +232,7 @@ class _Inputs:
     body_fit: dict | None = None  # --body auto: the fit's record
     spec_match: SpecMatching | None = None  # --spec: the specification matched
     spec_note: tuple[str, ...] = ()  # --spec auto without a specification: what was looked for
+    measures_before: list[dict] = field(default_factory=list)  # the garment's, as read (cm)
 
 
 def _read_inputs(
@@ -239,6 +259,8 @@ def _read_inputs(
     if spec is not None:  # matched before any work: a specification of another garment fails
         loaded = spec_units(loaded, spec)
         spec_match = matched_specification(loaded, spec)
+    # the garment's measures; a measure the recipe expects and the garment lacks fails here
+    before = measures_before(loaded.garment, recipe, shown=shown)
     body_fit = None
     if options.body == "auto":
         body, body_fit = fitted_body(loaded.garment, path=shown)
@@ -250,7 +272,7 @@ def _read_inputs(
     plan = plan_pieces(loaded, options)
     if options.seam_allowance:
         check_seam_allowance(loaded.garment, options.seam_allowance)
-    return _Inputs(loaded, edits, plan, body_fit, spec_match, spec_note)
+    return _Inputs(loaded, edits, plan, body_fit, spec_match, spec_note, before)
 
 
 def _output_context(
@@ -298,6 +320,8 @@ class _Staged:
     #: the run's library warnings (:func:`~ptailor.run.library_warnings.capture_library_warnings`'s
     #: list, which the writing still adds to)
     library_warnings: list[str]
+    #: the report's ``measures`` and ``expect`` (:func:`_measure_sections`)
+    sections: dict
 
 
 @contextmanager
@@ -387,6 +411,7 @@ def _report(
             **({"verify": staged.redrapes.section} if staged.redrapes is not None else {}),
             **({"body_fit": staged.inputs.body_fit} if staged.inputs.body_fit is not None else {}),
             **({"spec": spec_section} if spec_section is not None else {}),
+            **staged.sections,
         },
     )
 
