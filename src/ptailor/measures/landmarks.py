@@ -306,7 +306,7 @@ def body_length(g: Garment, ctx: Context, hps: int) -> list[Measure]:
     top2 = np.r_[a2, b2][k]
     face = int(piece.face[k % len(piece)])
     panel = structure(g).face_panel
-    mine = np.flatnonzero((panel == panel[face]) & (g.F3 == hps).any(axis=1))
+    mine = np.flatnonzero((panel == panel[face]) & (hps == g.F3).any(axis=1))
     if len(mine) == 0:  # the point is on another panel than the line's top: no gap in 2D
         gap2 = gap3 if gap3 == 0.0 else float("nan")
     else:
