@@ -313,6 +313,7 @@ def test_the_stamp_hashes_every_run_option(tmp_path):
         "verify_rest": "pattern",
         "verify_max_steps": 10,
         "spec": str(spec),
+        "show_measures": True,
     }
     assert set(changed) == {f.name for f in fields(RunOptions)}
 

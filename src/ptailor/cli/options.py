@@ -167,7 +167,8 @@ def method_options(fn):
 
 
 def output_options(fn):
-    """``--formats`` and ``--seam-allowance``: what is written, and how the DXF is cut."""
+    """``--formats``, ``--seam-allowance`` and ``--show-measures``: what is written, how the
+    DXF is cut, what the previews show."""
     for opt in reversed(
         [
             click.option(
@@ -185,6 +186,12 @@ def output_options(fn):
                 "outline offset outward (mitred corners), the outline becomes the sew line "
                 "(layer 14). A number in the recipe's units, or with a unit: 1cm, 10mm, "
                 "0.375in.",
+            ),
+            click.option(
+                "--show-measures",
+                is_flag=True,
+                help="Draw the adjusted garment's points of measure (chest, hem, sleeve length, "
+                "...) on pattern.svg's and preview.png's pieces, named (docs/measures.md).",
             ),
         ]
     ):
@@ -287,7 +294,7 @@ def run_options(fn):
     ``--drape-units``, ``--weld``, ``--spec``, ``--up``, ``--front``, ``--method``,
     ``--intrinsic``, ``--body``, ``--body-units``, ``--write-body``, ``--verify``,
     ``--verify-rest``, ``--verify-max-steps``, ``--no-baseline``, ``--formats``,
-    ``--seam-allowance``, ``--size``, ``--dxf-units``.
+    ``--seam-allowance``, ``--show-measures``, ``--size``, ``--dxf-units``.
 
     ``adjust`` and ``batch`` both take exactly these (each has options of its own besides);
     the command gets them as keyword arguments, for :func:`build_run_options`.

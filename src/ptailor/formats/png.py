@@ -13,6 +13,8 @@ import os
 import numpy as np
 
 from ptailor import tolerances as tol
+from ptailor.formats.footer import text_width
+from ptailor.formats.pom import POM_COLOURS, POM_OTHER, MeasureLines, placed_labels
 from ptailor.formats.preview import (
     AFTER,
     BEFORE,
@@ -25,8 +27,8 @@ from ptailor.formats.preview import (
     Pattern,
     bin_colour,
 )
-from ptailor.formats.raster import dashes, evenodd_mask, font, labels_inside
-from ptailor.formats.sheet import Sheet, preview_sheet
+from ptailor.formats.raster import dashes, evenodd_mask, font, labels_inside, segments_mask
+from ptailor.formats.sheet import Sheet, panel_boxes, preview_sheet
 
 #: Drawn this many times larger, then averaged down: the antialiasing (2: five levels
 #: along an edge; 3 looks the same at 1800 pixels and costs twice as much)
@@ -52,6 +54,8 @@ _COLOURS = (
     BEFORE,
     INK,
     FRAME,
+    *POM_COLOURS.values(),
+    POM_OTHER,
 )
 
 
@@ -162,15 +166,24 @@ class _Pen:
             (x0, y0, x1, y1), fill=_index(colour), outline=_index(FRAME), width=self.w_before
         )
 
-    def text(self, xy, text: str, anchor: str, *, title: bool = False) -> None:
+    def text(
+        self, xy, text: str, anchor: str, *, title: bool = False, colour: str = INK, halo=None
+    ) -> None:
+        """A text kept for :meth:`write`; ``halo``: a white edge that many pixels wide."""
         x, y = xy
         f = self.title_font if title else self.font
-        self.texts.append(((x * self.k, y * self.k), text, f, anchor))
+        self.texts.append(((x * self.k, y * self.k), text, f, anchor, colour, halo))
 
     def write(self, draw) -> None:
         """Draw the kept texts with ``draw`` (on the RGB picture)."""
-        for xy, text, f, anchor in self.texts:
-            draw.text(xy, text, fill=INK, font=f, anchor=anchor)
+        for xy, text, f, anchor, colour, halo in self.texts:
+            if halo:
+                draw.text(
+                    xy, text, fill=colour, font=f, anchor=anchor, stroke_width=halo,
+                    stroke_fill="#ffffff",
+                )  # fmt: skip
+            else:
+                draw.text(xy, text, fill=colour, font=f, anchor=anchor)
 
 
 def _closed(L: np.ndarray) -> np.ndarray:
@@ -190,6 +203,32 @@ def _draw_panels(pen: _Pen, pat: Pattern, s: Sheet) -> None:
         pen.text(s.labels[p], pat.names[p], "ms")
     if s.title:
         pen.text(s.title_xy, s.title, "ls", title=True)
+
+
+def _draw_measures(img, pen: _Pen, pat: Pattern, s: Sheet, measures: list[MeasureLines]):
+    """The points of measure over the panels: each measure's segments in its colour on the
+    palette picture ``img`` (returned anew), its name on each panel it crosses (horizontal,
+    a white halo under the letters)."""
+    from PIL import Image
+
+    k = pen.k
+    width = 2.0 * pen.w_after
+    ink = np.asarray(img).copy()
+    for ml in measures:  # a loop over measures
+        A, B = s.to_sheet(ml.A, ml.panel) * k, s.to_sheet(ml.B, ml.panel) * k
+        ink[segments_mask(ink.shape, A, B, width)] = _index(ml.colour)
+    out = Image.fromarray(ink)
+    out.putpalette(_palette())  # "L" -> "P"
+    lo, hi = panel_boxes(pat)
+    centres = 0.5 * (lo + hi)
+    gap = 0.8 * s.font / s.zoom  # (pattern units)
+    for ml in measures:  # a loop over measures
+        # horizontal labels: set off a steep line by half their width more
+        half = 0.5 * text_width(ml.name, s.font) / s.zoom
+        for p, xy, _, n in placed_labels(ml, centres, gap):
+            at = s.to_sheet(xy + half * abs(n[0]) * n, p)
+            pen.text(at, ml.name, "mm", colour=ml.colour, halo=max(1, pen.w_after))
+    return out
 
 
 def _draw_footer(pen: _Pen, s: Sheet) -> None:
@@ -238,6 +277,7 @@ def pattern_png(
     size: int = 1800,
     dpi: int = 150,
     layout: tuple[Pattern, Sheet] | None = None,
+    measures: list[MeasureLines] | None = None,
 ) -> tuple[int, int]:
     """Write a PNG comparing a pattern before and after adjustment.
 
@@ -272,6 +312,9 @@ def pattern_png(
     layout : (Pattern, Sheet), optional
         :func:`ptailor.formats.sheet.preview_sheet` of these very inputs, when the caller
         has it already (the SVG drew the same sheet): the inputs are then not read again.
+    measures : list of MeasureLines, optional
+        Points of measure drawn over the adjusted panels, as ``pattern_svg`` draws them
+        (labels horizontal). None: the picture is as it is without them.
 
     Returns
     -------
@@ -296,14 +339,14 @@ def pattern_png(
         outlines_before, outlines_after, names, triangles, errors,
         units=units, title=title, caller="pattern_png", layout=layout,
     )  # fmt: skip
-    img = _picture(pat, s, size=int(size))
+    img = _picture(pat, s, size=int(size), measures=measures)
     # Pillow's encoder at zlib level 1: the flat fills compress as well as at the default
     # level, in a third of the time; Pillow writes no time or software chunk
     img.save(os.fspath(path), format="PNG", compress_level=1, dpi=(dpi, dpi))
     return img.size
 
 
-def _picture(pat: Pattern, s: Sheet, *, size: int):
+def _picture(pat: Pattern, s: Sheet, *, size: int, measures: list[MeasureLines] | None = None):
     """The sheet drawn ``size`` pixels on its long side (a Pillow RGB image): the fills,
     outlines and footer on the :data:`SUPERSAMPLE` times larger palette picture, the texts
     on its RGB copy, averaged down."""
@@ -320,6 +363,11 @@ def _picture(pat: Pattern, s: Sheet, *, size: int):
     draw.fontmode = "1"
     pen = _Pen(draw, k, s, scale)
     _draw_panels(pen, pat, s)
+    if measures:
+        img = _draw_measures(img, pen, pat, s, measures)
+        draw = ImageDraw.Draw(img)
+        draw.fontmode = "1"
+        pen.draw = draw
     _draw_footer(pen, s)
     img = img.convert("RGB")
     pen.write(ImageDraw.Draw(img))

@@ -201,3 +201,62 @@ def dashes(P: np.ndarray, on: float, off: float) -> list[np.ndarray]:
     i0 = np.searchsorted(knots, starts)
     i1 = np.searchsorted(knots, ends)
     return [pts[a : b + 1] for a, b in zip(i0.tolist(), i1.tolist(), strict=True) if b > a]
+
+
+def box_pixels(lo: np.ndarray, hi: np.ndarray, shape: tuple[int, int]):
+    """The pixels whose centres lie in each box (clipped to the picture).
+
+    Parameters
+    ----------
+    lo, hi : (m, 2) float arrays
+        Boxes' corners, pixel coordinates (x, y).
+    shape : (int, int)
+        Rows and columns of the picture.
+
+    Returns
+    -------
+    owner : (s,) int array
+        The box of each pixel (a pixel in two boxes comes twice).
+    i, j : (s,) int arrays
+        Its row and column.
+    """
+    h, w = shape
+    a = np.clip(np.ceil(np.asarray(lo) - 0.5), 0, [w, h]).astype(np.int64)
+    b = np.clip(np.floor(np.asarray(hi) - 0.5), -1, [w - 1, h - 1]).astype(np.int64)
+    nx = np.maximum(b[:, 0] - a[:, 0] + 1, 0)
+    ny = np.maximum(b[:, 1] - a[:, 1] + 1, 0)
+    count = nx * ny
+    owner = np.repeat(np.arange(len(a)), count)
+    k = np.arange(len(owner)) - np.repeat(np.cumsum(count) - count, count)
+    step = np.maximum(nx[owner], 1)
+    return owner, a[owner, 1] + k // step, a[owner, 0] + k % step
+
+
+def segments_mask(shape: tuple[int, int], A: np.ndarray, B: np.ndarray, width: float):
+    """The pixels a stroke of segments covers (round caps): centres within ``width / 2`` of
+    a segment.
+
+    Parameters
+    ----------
+    shape : (int, int)
+    A, B : (k, 2) float arrays
+        Segment ends, pixel coordinates.
+    width : float
+        In pixels.
+
+    Returns
+    -------
+    (rows, cols) bool array
+    """
+    A, B = np.asarray(A, dtype=np.float64), np.asarray(B, dtype=np.float64)
+    out = np.zeros(shape, dtype=bool)
+    if len(A) == 0:
+        return out
+    r = 0.5 * width
+    owner, i, j = box_pixels(np.minimum(A, B) - r, np.maximum(A, B) + r, shape)
+    q = np.stack([j, i], axis=1) + 0.5 - A[owner]
+    d = (B - A)[owner]
+    t = np.clip((q * d).sum(axis=1) / np.maximum((d * d).sum(axis=1), 1e-12), 0.0, 1.0)
+    near = np.hypot(*(q - t[:, None] * d).T) <= r
+    out[i[near], j[near]] = True
+    return out

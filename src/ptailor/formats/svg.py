@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 
+from ptailor.formats.pom import MeasureLines, placed_labels, segments_path
 from ptailor.formats.preview import (
     AFTER,
     BEFORE,
@@ -20,7 +21,7 @@ from ptailor.formats.preview import (
     Pattern,
     bin_colour,
 )
-from ptailor.formats.sheet import Sheet, preview_sheet
+from ptailor.formats.sheet import Sheet, panel_boxes, preview_sheet
 
 #: Units the SVG can print at 1:1: pattern unit -> (CSS unit of width/height and of the
 #: viewBox, its size in pattern units). Metres are drawn in cm: font sizes of a few hundredths
@@ -35,8 +36,8 @@ _CSS_UNITS = {
 }
 
 
-#: The attributes of every text.
-_TEXT = f'font-family="Helvetica, Arial, sans-serif" fill="{INK}"'
+#: The font of every text.
+_FONT = 'font-family="Helvetica, Arial, sans-serif"'
 #: A text centred on its position.
 _MIDDLE = 'text-anchor="middle"'
 
@@ -126,6 +127,7 @@ def pattern_svg(
     triangles: list[tuple[np.ndarray, np.ndarray]] | None = None,
     errors: list[np.ndarray] | None = None,
     layout: tuple[Pattern, Sheet] | None = None,
+    measures: list[MeasureLines] | None = None,
 ) -> str:
     """A standalone SVG document comparing a pattern before and after adjustment.
 
@@ -155,6 +157,9 @@ def pattern_svg(
     layout : (Pattern, Sheet), optional
         :func:`ptailor.formats.sheet.preview_sheet` of these very inputs, when the caller
         has it already (the PNG draws the same sheet): the inputs are then not read again.
+    measures : list of MeasureLines, optional
+        Points of measure (:func:`ptailor.formats.pom.pattern_lines`) drawn over the panels,
+        named along their lines (``<g id="measures">``); None: none, the document unchanged.
 
     Returns
     -------
@@ -187,22 +192,21 @@ def pattern_svg(
     out = _head(s, title=title, css=css)
     for p in range(len(pat.names)):
         out.extend(_panel(pat, s, p))
-    out.extend(_scale_bar(s))
-    out.extend(_legend(s))
-    if s.error_title_xy is not None:
-        out.extend(_error_legend(s))
+    out.extend(_measures(pat, s, measures) if measures else [])
+    out.extend(_scale_bar(s) + _legend(s))
+    out.extend(_error_legend(s) if s.error_title_xy is not None else [])
     out.append("</svg>")
     return "\n".join(out) + "\n"
 
 
-def _text(xy, size: float, text: str, *, attrs: str = "") -> str:
+def _text(xy, size: float, text: str, *, attrs: str = "", fill: str = INK) -> str:
     """A ``<text>`` element of ``text`` (escaped) at ``xy``, the start of its baseline
-    (the middle with ``attrs=_MIDDLE``), ``size`` its font size; ``attrs`` go before the
-    font and colour."""
+    (the middle with ``attrs=_MIDDLE``), ``size`` its font size, ``fill`` its colour;
+    ``attrs`` go before the font and colour."""
     lead = f"{attrs} " if attrs else ""
     return (
         f'<text x="{_num(xy[0])}" y="{_num(xy[1])}" font-size="{_num(size)}" '
-        f"{lead}{_TEXT}>{escape(text)}</text>"
+        f'{lead}{_FONT} fill="{fill}">{escape(text)}</text>'
     )
 
 
@@ -256,6 +260,35 @@ def _panel(pat: Pattern, s: Sheet, p: int) -> list[str]:
         for L in pat.after[p]
     )
     out.append(_text(s.labels[p], s.font, pat.names[p], attrs=_MIDDLE))
+    out.append("</g>")
+    return out
+
+
+def _measures(pat: Pattern, s: Sheet, measures: list[MeasureLines]) -> list[str]:
+    """The points of measure's ``<g>``: each measure's segments (``<path class="pom">``) and
+    its labels (``<text class="pom-label">``, a white halo under the letters)."""
+    lo, hi = panel_boxes(pat)
+    centres = 0.5 * (lo + hi)
+    font = 0.8 * s.font
+    gap = font / s.zoom  # (pattern units)
+    out = ['<g id="measures">']
+    for ml in measures:  # a loop over measures
+        d = segments_path(s.to_sheet(ml.A, ml.panel), s.to_sheet(ml.B, ml.panel), decimals=3)
+        out.append(
+            f'<path class="pom" data-name="{escape(ml.name)}" d="{d}" fill="none" '
+            f'stroke="{ml.colour}" stroke-width="{_num(2.0 * s.stroke_after)}" '
+            'stroke-linecap="round"/>'
+        )
+    for ml in measures:  # labels over every line
+        for p, xy, angle, _ in placed_labels(ml, centres, gap):
+            x, y = s.to_sheet(xy, p)
+            attrs = (
+                f'class="pom-label" data-name="{escape(ml.name)}" text-anchor="middle" '
+                f'dominant-baseline="central" transform="rotate({angle:.1f} {_num(x)} {_num(y)})" '
+                f'stroke="#ffffff" stroke-width="{_num(0.25 * font)}" stroke-linejoin="round" '
+                f'paint-order="stroke"'
+            )
+            out.append(_text((x, y), font, ml.name, attrs=attrs, fill=ml.colour))
     out.append("</g>")
     return out
 

@@ -297,6 +297,7 @@ def _output_context(
         plan=plan,
         errors=errors,
         seam_allowance=allowance,
+        show_measures=options.show_measures,
         title=f"{Path(garment).name}: {Path(recipe.source).name}"
         + (f", seam allowance {allowance:g} {units}" if allowance else ""),
     )

@@ -72,6 +72,9 @@ class RunOptions:
     spec : str, optional
         A GarmentCode or Garment-Pattern-Generator specification JSON of the garment's
         pattern: matched to its panels and written back adjusted (``specification.json``).
+    show_measures : bool
+        ``pattern.svg`` and ``preview.png`` draw the adjusted garment's points of measure
+        (:mod:`ptailor.measures`) on its pieces, named.
     """
 
     pattern_units: str | None = None
@@ -93,6 +96,7 @@ class RunOptions:
     verify_rest: str = "intrinsic"
     verify_max_steps: int | None = None
     spec: str | None = None
+    show_measures: bool = False
 
     def __post_init__(self) -> None:
         from ptailor.formats.garment import parse_units, parse_weld

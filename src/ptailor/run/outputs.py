@@ -58,6 +58,8 @@ class OutputContext:
     sheet : dict or None
         What both previews draw (:func:`sheet`, its layout included), computed once when
         either is written.
+    show_measures : bool
+        The previews draw the adjusted garment's points of measure (``--show-measures``).
     """
 
     loaded: LoadedGarment
@@ -67,6 +69,7 @@ class OutputContext:
     seam_allowance: float | None = None
     title: str = ""
     sheet: dict | None = None
+    show_measures: bool = False
 
 
 def output_obj(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
@@ -121,7 +124,8 @@ def _loop_finder(adj: Adjustment, ctx: OutputContext):
 def sheet(adj: Adjustment, ctx: OutputContext, *, caller: str = "pattern_svg") -> dict:
     """The arguments both previews take: outlines before and after, triangles, errors, and
     their checked inputs and layout (``layout``, :func:`ptailor.formats.sheet.preview_sheet`,
-    computed once for both; ``caller`` names the writer in its errors)."""
+    computed once for both; ``caller`` names the writer in its errors); with
+    ``ctx.show_measures`` the adjusted garment's points of measure (``measures``)."""
     g = adj.garment
     g0 = adj.original if adj.original is not None else adj.state.base
     s0 = structure(g0)  # the input's panels, as the adjustment found them
@@ -149,11 +153,25 @@ def sheet(adj: Adjustment, ctx: OutputContext, *, caller: str = "pattern_svg") -
         "triangles": tris,
         "errors": errs,
     }
+    if ctx.show_measures:
+        out["measures"] = _measure_lines(adj)
     out["layout"] = preview_sheet(
         out["outlines_before"], out["outlines_after"], out["names"], tris, errs,
         units=g.units, title=ctx.title, caller=caller,
     )  # fmt: skip
     return out
+
+
+def _measure_lines(adj: Adjustment) -> list:
+    """The adjusted garment's points of measure in its pattern, by the previews' panels."""
+    from ptailor.formats.pom import pattern_lines
+    from ptailor.measures import garment_measures
+
+    g = adj.garment
+    face_panel = np.full(g.n_faces, -1, dtype=np.int64)
+    for i, p in enumerate(adj.state.panels):  # a loop over panels
+        face_panel[p.faces] = i
+    return pattern_lines(garment_measures(g), g.V2, g.F2, face_panel)
 
 
 def _output_sheet(fmt: str, tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
