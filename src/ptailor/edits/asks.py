@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -273,3 +273,96 @@ def measure_record(
         "achieved": {} if now is None else {"drape": round(now * k, 4)},
         "tries": tries,
     }
+
+
+def with_ask(rec: dict, keys: dict, *, what: str, target: float) -> dict:
+    """A step's record with the keys of its ask, and a warning where it missed.
+
+    Parameters
+    ----------
+    rec : dict
+        The step's record.
+    keys : dict
+        :func:`measure_record` (or a loosen's ``asked``, ``achieved``); a shorten's or an
+        extend's own ``achieved`` (the new edge's offsets) moves to ``edge_offset``.
+    what : str
+        The asked quantity, for the warning (``chest``, ``girth``).
+    target : float
+        The asked value, cm.
+
+    Returns
+    -------
+    dict
+    """
+    out = dict(rec)
+    if "achieved" in out:
+        out["edge_offset"] = out.pop("achieved")
+    out.update(keys)
+    got = keys.get("achieved", {}).get("drape")
+    if got is None or abs(got - target) > edit_tol.ASK_WARN_CM:
+        said = "is gone" if got is None else f"reached {got:.4g} cm"
+        out["warnings"] = [
+            *rec.get("warnings", []),
+            f"{what}: asked {target:.4g} cm, the drape's {said} after {keys.get('tries')} tries"
+            " (the step moves it little or not in proportion here)",
+        ]
+    return out
+
+
+def length_to(state: EditState, step: Any, apply: Callable, *, options: Any) -> EditState:
+    """``shorten`` or ``extend`` to a length: the ``by`` that brings ``step.measure`` to
+    ``step.to`` on the drape (the cut and the new rows measured on the drape: what the step
+    changes; the pattern follows through the flattening).
+
+    The first ``by`` is the difference; secant steps on the measure of the step's output
+    correct it (:func:`solve`).
+
+    Parameters
+    ----------
+    state : EditState
+    step : ShortenStep or ExtendStep
+        With ``measure`` a length measure's name and ``to``.
+    apply : callable
+        The operation's apply function, called with ``by``.
+    options : EditOptions, keyword-only
+
+    Returns
+    -------
+    EditState
+        Its last record with :func:`measure_record`'s keys (the step's own ``achieved``, the
+        new edge's offsets, as ``edge_offset``).
+
+    Raises
+    ------
+    PtailorError
+        The garment lacks the measure, or it is already that short (``shorten``) or long.
+    """
+    name, to = str(step.measure), float(step.to)
+    current = drape_measure(state, name)
+    sign = 1.0 if step.op == "shorten" else -1.0
+    first = sign * (current - to)
+    if not first > 0.0:
+        word = "short" if step.op == "shorten" else "long"
+        raise PtailorError(
+            f"{step.op} {name} to {to:g}: it is {current:.4g} {state.base.units}, already as "
+            f"{word} as that"
+        )
+
+    def run(by: float) -> tuple[EditState, float]:
+        out = apply(state, replace(step, by=by, to=None, measure="drape"), options=options)
+        return out, drape_measure(out, name)
+
+    got = solve(
+        run, anchor=(0.0, current), first=first, target=to, tol=ask_tolerance(state), lower=0.0
+    )
+    k = cm(state)
+    keys = measure_record(
+        got.out,
+        name=name,
+        asked=asked_of(state, to=to),
+        current=current,
+        target=to,
+        tries=got.tries,
+    )
+    rec = with_ask(got.out.log[-1], keys, what=name, target=to * k)
+    return replace(got.out, log=(*got.out.log[:-1], rec))

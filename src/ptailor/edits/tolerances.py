@@ -142,3 +142,7 @@ ASK_TOL_CM = 0.02
 #: ... in at most this many applications of the step (a count: the first guess, then secant
 #: steps; the offset, scale and cut are near linear in their parameter, so two do).
 ASK_TRIES = 5
+#: A step that ends further than this from its asked value (cm: a miss a spec sheet would
+#: see) warns, naming both: the step moves the measure little (a hem cut for a sleeve's
+#: length) or not in proportion.
+ASK_WARN_CM = 0.1

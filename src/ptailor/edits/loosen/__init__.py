@@ -29,7 +29,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ptailor.edits import tolerances as edit_tol
-from ptailor.edits.asks import ask_tolerance, asked_of, cm, solve
+from ptailor.edits.asks import ask_tolerance, asked_of, cm, solve, with_ask
 from ptailor.edits.checks import number
 from ptailor.edits.checks import region as region_spec
 from ptailor.edits.cut import sketch_spec, view_frame, view_spec
@@ -110,6 +110,7 @@ class LoosenStep(Step):
             number(gt=0.0),
             "girth added (loosen) or removed (tighten) at every level of the region, recipe "
             "units, instead of by: the offset that gives it is found",
+            echo_none=False,
         ),
     )
     view: str | list[float] | None = field(
@@ -146,7 +147,8 @@ class TightenStep(LoosenStep):
 def one_form(step: LoosenStep, where: str) -> list[str]:
     """Exactly one of ``by`` or ``girth`` (with ``region``) or ``silhouette`` (with
     ``view``)."""
-    given = [k for k in ("by", "girth", "silhouette") if getattr(step, k) is not None]
+    forms = {"by": step.by, "girth": step.girth, "silhouette": step.silhouette}
+    given = [k for k, v in forms.items() if v is not None]
     if len(given) != 1:
         return [
             f"{where}: {step.op} needs exactly one of 'by' or 'girth' (with 'region') or "
@@ -214,7 +216,9 @@ def offset_step(
     else:
         by, (V_new, sigma), asked = girth_offset(state, step, faces, offset)
     rec = {"op": step.op, "by": by, "triangles": int(faces.size), "smoothing": round(sigma, 6)}
-    return V_new, {**rec, **asked}
+    if not asked:
+        return V_new, rec
+    return V_new, with_ask(rec, asked, what="girth", target=asked["asked"]["girth"])
 
 
 def girth_offset(state: EditState, step: LoosenStep, faces: np.ndarray, offset) -> tuple:
