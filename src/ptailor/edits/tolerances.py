@@ -92,8 +92,10 @@ LOOSEN_NORMAL_AGREEMENT = 0.6
 #: degenerate triangles only: their row keeps a positive diagonal).
 LOOSEN_MASS_FLOOR_REL = 1e-9
 #: ``girth:`` is measured at this many levels spanning the region along its axis (a count;
-#: those whose section of the region is closed loops count, else all of them) ...
-LOOSEN_GIRTH_LEVELS = 12
+#: those whose section of the region is closed loops count, else all of them): their mean
+#: stands for the mean over the region's height, falloff bands of ``2 by`` at its borders
+#: included (12 levels sampled a 12 cm band's 1.2 cm falloff by one level each side) ...
+LOOSEN_GIRTH_LEVELS = 24
 #: ... the axis is the garment's up, or the region's tube axis where that lies more than
 #: this many degrees from the up (a sleeve in a T-pose: its girths are across the arm).
 LOOSEN_GIRTH_TUBE_DEG = 45.0

@@ -107,7 +107,7 @@ def girth_levels(V: np.ndarray, F3: np.ndarray, faces: np.ndarray, *, frame: Fra
     length = np.zeros(count)
     pieces = np.zeros(count, dtype=np.int64)
     closed = np.zeros(count, dtype=bool)
-    for i, t in enumerate(heights):  # a loop over a dozen levels
+    for i, t in enumerate(heights):  # a loop over two dozen levels
         line = plane_section(V, F3, point=t * axis, normal=axis, faces=faces)
         _, pieces[i], loops = line_pieces(line)
         length[i] = line_length(line, V, F3)
@@ -139,7 +139,7 @@ def girth_change(levels: GirthLevels, V: np.ndarray, F3: np.ndarray, faces: np.n
     """
     ax = levels.axis
     after = np.array(
-        [  # a loop over a dozen levels
+        [  # a loop over two dozen levels
             line_length(plane_section(V, F3, point=t * ax, normal=ax, faces=faces), V, F3)
             for t in levels.heights
         ]
