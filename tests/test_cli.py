@@ -260,7 +260,7 @@ def test_drape_with_different_faces(runner, tmp_path, recipe):
         ),
         (
             "steps: [{op: scale}]\nflatten: {method: magic}\nextra: 1",
-            ["needs 'factor'", "flatten.method", "'extra'"],
+            ["needs exactly one of 'factor' or 'measure'", "flatten.method", "'extra'"],
         ),
         ("steps: [{op: scale, factor: 2\n", ["YAML syntax error"]),
     ],

@@ -18,13 +18,16 @@ Modules, read top down:
   :mod:`~ptailor.edits.shorten`, :mod:`~ptailor.edits.extend` (a package: ``rows`` the plan
   and triangles, ``drape`` and ``pattern`` the two ways of growing them, ``chain`` offset
   chains), :mod:`~ptailor.edits.loosen` (``loosen`` and ``tighten``; a package: ``normals``,
-  ``offset``, ``silhouette``), :mod:`~ptailor.edits.scale`, :mod:`~ptailor.edits.scale_seam`;
+  ``offset``, ``silhouette``, ``girth``), :mod:`~ptailor.edits.scale`,
+  :mod:`~ptailor.edits.scale_seam`;
   :mod:`~ptailor.edits.mirror` applies any of them symmetrically;
 - what they share: :mod:`~ptailor.edits.surgery` (split on a level set),
   :mod:`~ptailor.edits.pattern_distance` (distances in the pattern),
   :mod:`~ptailor.edits.opening` (openings and their edges), :mod:`~ptailor.edits.region`
   (regions and axes), :mod:`~ptailor.edits.body` (keeping cloth outside a body),
-  :mod:`~ptailor.edits.achieved` (what an edit achieved, for the report);
+  :mod:`~ptailor.edits.achieved` (what an edit achieved, for the report),
+  :mod:`~ptailor.edits.asks` (steps asked in points of measure: the parameter that gives
+  the asked value, the record of asked and achieved);
 - the registry: :mod:`~ptailor.edits.registry` (:class:`Step`, :func:`checked`,
   :class:`Param`, :class:`Operation`, :func:`register`), :mod:`~ptailor.edits.state`
   (:class:`EditState`, :class:`EditOptions`), :mod:`~ptailor.edits.checks` (parameter checks),

@@ -41,7 +41,7 @@ class Param:
     doc: str = ""
 
 
-def checked(check: Check, doc: str = "") -> dict[str, Any]:
+def checked(check: Check, doc: str = "", *, echo_none: bool = True) -> dict[str, Any]:
     """The metadata that makes a :class:`Step` field a recipe parameter::
 
         factor: float = field(metadata=checked(number(gt=0.0)))  # required
@@ -54,6 +54,10 @@ def checked(check: Check, doc: str = "") -> dict[str, Any]:
         :mod:`ptailor.edits.checks`).
     doc : str
         Its description (the JSON Schema's).
+    echo_none : bool, keyword-only
+        False: :meth:`Step.to_dict` leaves the parameter out while it is None (a later
+        alternative form, such as ``girth``, so the mapping of a recipe that does not use it
+        stays as it was: the catalogue's recipe text and a batch's stamp).
 
     Returns
     -------
@@ -61,7 +65,7 @@ def checked(check: Check, doc: str = "") -> dict[str, Any]:
         ``dataclasses.field``'s ``metadata``. The field's default is the parameter's
         (no default: required).
     """
-    return {"check": check, "doc": doc}
+    return {"check": check, "doc": doc, "echo_none": echo_none}
 
 
 def _plain(x: Any) -> Any:
@@ -118,10 +122,14 @@ class Step:
 
     def to_dict(self) -> dict[str, Any]:
         """The step as the validated recipe mapping: ``op``, every parameter (defaults
-        filled in), ``symmetric``: what reports and the catalogue echo."""
+        filled in; one :func:`checked` with ``echo_none=False`` only when given),
+        ``symmetric``: what reports and the catalogue echo."""
         out: dict[str, Any] = {"op": self.op}
         for f in self.recipe_fields():
-            out[f.name] = _plain(getattr(self, f.name))
+            value = getattr(self, f.name)
+            if value is None and not f.metadata.get("echo_none", True):
+                continue
+            out[f.name] = _plain(value)
         return out
 
 

@@ -1,4 +1,10 @@
-"""``scale``: scale a region around, along or uniformly about its axis."""
+"""``scale``: scale a region around, along or uniformly about its axis.
+
+By a ``factor``, or to a point of measure's asked value (``measure`` with ``to`` or ``by``):
+the factor is then found from the measure on the step's input drape, target / current (a
+girth under an ``around`` scale of its region, a length under an ``along`` one), and
+corrected on the scaled drape (:mod:`ptailor.edits.asks`).
+"""
 
 from __future__ import annotations
 
@@ -8,6 +14,17 @@ from typing import Any
 import numpy as np
 
 from ptailor.edits import tolerances as edit_tol
+from ptailor.edits.asks import (
+    amount,
+    ask_tolerance,
+    asked_of,
+    drape_measure,
+    measure_check,
+    measure_record,
+    solve,
+    target_value,
+    with_ask,
+)
 from ptailor.edits.checks import axis as axis_spec
 from ptailor.edits.checks import choice, number
 from ptailor.edits.checks import region as region_spec
@@ -15,6 +32,8 @@ from ptailor.edits.follow import rigid_apart
 from ptailor.edits.region import region_axis, region_centroid, region_faces, unit_vector
 from ptailor.edits.registry import Step, checked, register
 from ptailor.edits.state import EditOptions, EditState
+from ptailor.errors import PtailorError
+from ptailor.measures import MEASURES
 from ptailor.method.deform import arap_deform
 from ptailor.model.frame import Frame
 
@@ -53,7 +72,15 @@ class ScaleStep(Step):
     direction : {"uniform", "around", "along"}
     axis : str or list of float
         ``auto`` or ``[x, y, z]``.
-    factor : float
+    factor : float or None
+        The scale factor; None: found from ``measure``.
+    measure : str or None
+        A point of measure (:data:`ptailor.measures.MEASURES`) the factor brings to ``to``
+        or changes ``by``.
+    to : float or None
+        Its asked value, recipe units.
+    by : float, str or None
+        Its asked change: a length (recipe units) or ``"N%"``.
     """
 
     op = "scale"
@@ -67,12 +94,131 @@ class ScaleStep(Step):
         default="auto",
         metadata=checked(axis_spec, "auto (the region's principal axis) | [x, y, z]"),
     )
-    factor: float = field(metadata=checked(number(gt=0.0, le=100.0)))
+    factor: float | None = field(
+        default=None,
+        metadata=checked(
+            number(gt=0.0, le=100.0), "the scale factor (or measure with to or by)", echo_none=False
+        ),
+    )
+    measure: str | None = field(
+        default=None,
+        metadata=checked(
+            measure_check(),
+            "a point of measure (chest, hip, body_length, ...) brought to `to` or changed "
+            "`by`, instead of factor: the factor is found",
+            echo_none=False,
+        ),
+    )
+    to: float | None = field(
+        default=None,
+        metadata=checked(
+            number(gt=0.0), "the measure's asked value, recipe units", echo_none=False
+        ),
+    )
+    by: float | str | None = field(
+        default=None,
+        metadata=checked(
+            amount, "the measure's asked change: recipe units, or 'N%'", echo_none=False
+        ),
+    )
 
 
-@register(ScaleStep)
+#: The directions that scale a measure of each kind in proportion (a girth grows with an
+#: ``around`` scale of its region, a length with an ``along`` one).
+LINEAR = {
+    "girth": ("around", "uniform"),
+    "length": ("along", "uniform"),
+    "depth": ("along", "uniform"),
+}
+
+
+def scale_form(step: ScaleStep, where: str) -> list[str]:
+    """Exactly one of ``factor`` or ``measure`` (with exactly one of ``to`` or ``by``); the
+    measure one the direction scales in proportion."""
+    if (step.factor is None) == (step.measure is None):
+        return [f"{where}: scale needs exactly one of 'factor' or 'measure' (with 'to' or 'by')"]
+    if step.measure is None:
+        extra = [k for k, v in (("to", step.to), ("by", step.by)) if v is not None]
+        return [f"{where}: '{k}' goes with 'measure', not with 'factor'" for k in extra]
+    if (step.to is None) == (step.by is None):
+        return [f"{where}: measure {step.measure} needs exactly one of 'to' or 'by'"]
+    kind = MEASURES[step.measure].kind
+    if step.direction not in LINEAR[kind]:
+        article = "an" if step.direction == "along" else "a"
+        return [
+            f"{where}: {article} {step.direction} scale does not scale the {kind} "
+            f"{step.measure} in proportion: use direction {' or '.join(LINEAR[kind])}"
+        ]
+    return []
+
+
+@register(ScaleStep, check=scale_form)
 def scale(state: EditState, step: ScaleStep, *, options: EditOptions) -> EditState:
     """Scale a region of the drape; the rest follows by as-rigid-as-possible deformation.
+
+    By ``factor`` (:func:`scale_by`), or by the factor that brings ``measure`` to its
+    asked value (:func:`scale_to_measure`).
+    """
+    if step.measure is None:
+        return scale_by(state, step, float(step.factor), options=options)
+    return scale_to_measure(state, step, options=options)
+
+
+def scale_to_measure(state: EditState, step: ScaleStep, *, options: EditOptions) -> EditState:
+    """Scale by the factor that brings ``step.measure`` to ``to`` (or changes it ``by``).
+
+    The first factor is target / current, the measure on the step's input drape; secant
+    steps on the measure of the scaled drape correct it where the region holds only part of
+    the measure's line or the rest of the garment pulls (:func:`ptailor.edits.asks.solve`).
+    The record adds ``asked``, ``before``, ``target``, ``achieved`` (cm, the drape) and
+    ``tries``.
+
+    Raises
+    ------
+    PtailorError
+        The garment lacks the measure, or the asked value is not a length (a change below
+        minus the measure).
+    """
+    name = str(step.measure)
+    current = drape_measure(state, name)
+    target = target_value(current, to=step.to, by=step.by)
+    if not target > 0.0:
+        raise PtailorError(
+            f"scale {name} by {step.by}: {name} is {current:.4g}, so that is no length"
+        )
+
+    def run(f: float) -> tuple[EditState, float]:
+        out = scale_by(state, step, f, options=options)
+        try:
+            return out, drape_measure(out, name)
+        except PtailorError as exc:
+            raise PtailorError(f"scaled by {f:.4g}, {exc}") from None
+
+    got = solve(
+        run,
+        anchor=(1.0, current),
+        first=target / current,
+        target=target,
+        tol=ask_tolerance(state),
+        lower=0.0,
+    )
+    keys = measure_record(
+        got.out,
+        name=name,
+        asked=asked_of(state, to=step.to, by=step.by),
+        current=current,
+        target=target,
+        tries=got.tries,
+    )
+    rec = with_ask(got.out.log[-1], keys, what=name, target=keys["target"]["drape"])
+    return replace(got.out, log=(*got.out.log[:-1], rec))
+
+
+def scale_by(
+    state: EditState, step: ScaleStep, factor: float, *, options: EditOptions
+) -> EditState:
+    """Scale a region of the drape by ``factor``; the rest follows by as-rigid-as-possible
+    deformation.
 
     The region's triangles are mapped by ``c + A (p - c)`` with ``c`` the region's centroid
     and ``A`` from :func:`scale_matrix`. Panels wholly inside the region move evenly;
@@ -98,7 +244,7 @@ def scale(state: EditState, step: ScaleStep, *, options: EditOptions) -> EditSta
         else:
             ax = unit_vector(step.axis, "axis")
         c = region_centroid(V3, g.F3, part)
-        A = scale_matrix(step.direction, ax, float(step.factor))
+        A = scale_matrix(step.direction, ax, factor)
         r = row[np.unique(g.F3[part])]
         moved[r] = c + (V3[handles[r]] - c) @ A.T
         records.append((ax, c, int(part.size)))
@@ -122,7 +268,7 @@ def scale(state: EditState, step: ScaleStep, *, options: EditOptions) -> EditSta
     rec = {
         "op": "scale",
         "direction": step.direction,
-        "factor": float(step.factor),
+        "factor": factor,
         "axis": [round(float(x), 6) for x in ax],
         "centroid": [round(float(x), 6) for x in c],
         "triangles": int(faces.size),

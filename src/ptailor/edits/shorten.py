@@ -4,6 +4,10 @@ The width is measured on the drape (``measure: drape``, the paper's: the iso-lin
 distance from the opening) or in the pattern (``measure: pattern``, a pattern maker's: the
 iso-line of 2D distance from the opening's edge in each panel, so a straight hem stays
 straight and moves up by exactly ``by``).
+
+Or the step asks a length measure: ``measure: body_length, to: 60`` (instead of ``by``) cuts
+on the drape the width that brings the measure to that length
+(:func:`ptailor.edits.asks.length_to`).
 """
 
 from __future__ import annotations
@@ -14,7 +18,8 @@ from typing import Any
 import numpy as np
 
 from ptailor.edits.achieved import edge_offsets
-from ptailor.edits.checks import choice, number
+from ptailor.edits.asks import length_to, measure_check
+from ptailor.edits.checks import number
 from ptailor.edits.limits import check_by
 from ptailor.edits.opening import find_opening, opening_edges, opening_spec
 from ptailor.edits.pattern_distance import (
@@ -35,10 +40,33 @@ from ptailor.model.garment import panel_labels
 MEASURES = ("drape", "pattern")
 #: The recipe check and description of ``shorten``'s and ``extend``'s ``measure``.
 MEASURE = checked(
-    choice(*MEASURES),
+    measure_check("length", also=MEASURES),
     "where `by` is measured: drape (along the 3D surface, the paper's) | pattern "
-    "(in each panel's 2D pattern: the new edge lies exactly `by` from the old one)",
+    "(in each panel's 2D pattern: the new edge lies exactly `by` from the old one); or a "
+    "length measure (body_length, skirt_length, sleeve_length_left, ...) brought `to` a "
+    "length, instead of by",
 )
+#: The recipe check and description of ``shorten``'s and ``extend``'s ``to``.
+TO = checked(
+    number(gt=0.0),
+    "the length measure's asked length, recipe units (with measure)",
+    echo_none=False,
+)
+
+
+def length_form(step: Any, where: str) -> list[str]:
+    """``by`` (with ``measure: drape`` or ``pattern``) or ``to`` (with a length measure's
+    name), exactly one: the whole-step check of ``shorten`` and ``extend``."""
+    if step.measure in MEASURES:
+        if step.to is not None:
+            return [
+                f"{where}: 'to' goes with a length measure (measure: body_length, ...), not "
+                f"with measure: {step.measure}"
+            ]
+        return [] if step.by is not None else [f"{where}: {step.op} needs 'by' (or measure + to)"]
+    if step.by is not None:
+        return [f"{where}: measure {step.measure} goes with 'to' (the length asked), not with 'by'"]
+    return [] if step.to is not None else [f"{where}: measure {step.measure} needs 'to'"]
 
 
 def spread_stats(d: np.ndarray) -> dict:
@@ -155,23 +183,37 @@ class ShortenStep(Step):
     ----------
     opening : str or dict
         An opening's name or ``{loop: k}``.
-    by : float
-        The width removed, recipe units.
-    measure : {"drape", "pattern"}
-        Where ``by`` is measured.
+    by : float or None
+        The width removed, recipe units (None: found from ``measure`` and ``to``).
+    measure : str
+        Where ``by`` is measured (``drape``, ``pattern``), or a length measure's name
+        (:data:`ptailor.measures.MEASURES`) brought ``to`` a length.
+    to : float or None
+        That measure's asked length, recipe units.
     """
 
     op = "shorten"
     opening: str | dict[str, Any] = field(
         metadata=checked(opening_spec, "hem | neckline | ... | {loop: k}")
     )
-    by: float = field(metadata=checked(number(gt=0.0), "width removed, recipe units (see measure)"))
+    by: float | None = field(
+        default=None,
+        metadata=checked(
+            number(gt=0.0), "width removed, recipe units (see measure)", echo_none=False
+        ),
+    )
     measure: str = field(default="drape", metadata=MEASURE)
+    to: float | None = field(default=None, metadata=TO)
 
 
-@register(ShortenStep)
+@register(ShortenStep, check=length_form)
 def shorten(state: EditState, step: ShortenStep, *, options: EditOptions) -> EditState:
     """Cut the garment on the iso-line at distance ``by`` from an opening; remove the strip.
+
+    With a length measure and ``to`` instead of ``by``: the drape ``by`` that brings the
+    measure to ``to`` (:func:`ptailor.edits.asks.length_to`); the record adds ``asked``,
+    ``before``, ``target``, ``achieved`` (the measure's, cm) and ``tries``, and its
+    ``achieved`` below is then ``edge_offset``.
 
     ``measure: drape``: distances are measured on the edited drape from the opening's curve
     (geodesic); every triangle the iso-line crosses is split exactly on it and the strip is
@@ -187,6 +229,8 @@ def shorten(state: EditState, step: ShortenStep, *, options: EditOptions) -> Edi
     pattern vertices from the old edge; ``drape``, the same of their surface distance from
     the old opening on the edited drape.
     """
+    if step.to is not None:
+        return length_to(state, step, shorten, options=options)
     name, loop = find_opening(state, step.opening)
     by = float(step.by)
     measure = step.measure

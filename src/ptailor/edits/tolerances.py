@@ -91,6 +91,15 @@ LOOSEN_NORMAL_AGREEMENT = 0.6
 #: Lumped vertex mass floor of the smoothing, relative to the mean mass (vertices of
 #: degenerate triangles only: their row keeps a positive diagonal).
 LOOSEN_MASS_FLOOR_REL = 1e-9
+#: ``girth:`` is measured at this many levels spanning the region along its axis (a count;
+#: those whose section of the region is closed loops count, else all of them): their mean
+#: stands for the mean over the region's height, falloff bands of ``2 by`` at its borders
+#: included (12 levels sampled a 12 cm band's 1.2 cm falloff by one level each side) ...
+LOOSEN_GIRTH_LEVELS = 24
+#: ... the axis is the garment's up, or the region's tube axis where that lies more than
+#: this many degrees from the up (a sleeve in a T-pose: its girths are across the arm).
+LOOSEN_GIRTH_TUBE_DEG = 45.0
+
 #: A silhouette's image rows are this many mean edge lengths high (unitless) ...
 SILHOUETTE_ROW_EDGES = 1.5
 #: ... an outline point matches when the sketch, in its row, is within this fraction of
@@ -126,3 +135,16 @@ MIRROR_LOOP_DIST = 0.25
 #: A body normal interpolated at a point (barycentric sum of unit vertex normals) shorter
 #: than this (unitless) cancels out: the face's normal is taken instead.
 BODY_NORMAL_ZERO = 1e-12
+
+# --- steps asked in points of measure (ptailor.edits.asks) ---
+#: A step asked in a measure (``loosen girth:``, ``scale measure:``, ``shorten``/``extend``
+#: ``to:``) is solved until its measure on the edited drape is within this of the asked
+#: value (cm; a tape measure reads 1 mm, and the spec sheets' tolerances are 5 mm) ...
+ASK_TOL_CM = 0.02
+#: ... in at most this many applications of the step (a count: the first guess, then secant
+#: steps; the offset, scale and cut are near linear in their parameter, so two do).
+ASK_TRIES = 5
+#: A step that ends further than this from its asked value (cm: a miss a spec sheet would
+#: see) warns, naming both: the step moves the measure little (a hem cut for a sleeve's
+#: length) or not in proportion.
+ASK_WARN_CM = 0.1

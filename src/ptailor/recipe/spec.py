@@ -38,13 +38,14 @@ TOP_KEYS = ("format", "units", "up", "front", "symmetric", "steps", "flatten", "
 #: A step key every operation accepts (see :mod:`ptailor.edits.mirror`): the fields every
 #: :class:`ptailor.edits.Step` has.
 STEP_KEYS = COMMON_FIELDS
-#: Step parameters that are lengths an edit adds or removes (bounded by
-#: :data:`ptailor.tolerances.RECIPE_MAX_LENGTH_CM`).
+#: Step parameters that are lengths an edit adds or removes, or a measure's asked length
+#: (bounded by :data:`ptailor.tolerances.RECIPE_MAX_LENGTH_CM`).
 LENGTH_PARAMS = {
-    "extend": ("by", "clearance"),
-    "shorten": ("by",),
-    "loosen": ("by",),
-    "tighten": ("by",),
+    "extend": ("by", "clearance", "to"),
+    "shorten": ("by", "to"),
+    "loosen": ("by", "girth"),
+    "tighten": ("by", "girth"),
+    "scale": ("to", "by"),
 }
 #: Step parameters that are directions when given as ``[x, y, z]``: (op, path in the step).
 DIRECTION_PARAMS = {

@@ -3,6 +3,10 @@
 The rows continue the surface along the tangent planes of the triangles at the opening; the
 new pattern strip takes the intrinsic scale of the triangles it grows from, and the final
 flattening glues it to its panels (outline free along the new cloth).
+
+Or the step asks a length measure: ``measure: skirt_length, to: 70`` (instead of ``by``)
+grows on the drape the rows that bring the measure to that length
+(:func:`ptailor.edits.asks.length_to`).
 """
 
 from __future__ import annotations
@@ -14,6 +18,7 @@ import numpy as np
 
 from ptailor.edits import tolerances as edit_tol
 from ptailor.edits.achieved import row_offsets
+from ptailor.edits.asks import length_to
 from ptailor.edits.body import push_out
 from ptailor.edits.checks import number
 from ptailor.edits.extend.drape import drape_rows
@@ -22,7 +27,7 @@ from ptailor.edits.extend.rows import RowPlan, Rows, quad_rows, row_plan
 from ptailor.edits.limits import check_by, check_new_triangles
 from ptailor.edits.opening import OpeningEdges, find_opening, opening_edges, opening_spec
 from ptailor.edits.registry import Step, checked, register
-from ptailor.edits.shorten import MEASURE, pattern_amounts, spread_stats
+from ptailor.edits.shorten import MEASURE, TO, length_form, pattern_amounts, spread_stats
 from ptailor.edits.state import EditOptions, EditState
 from ptailor.method.geodesic import geodesic_distance
 from ptailor.model.garment import Garment
@@ -39,21 +44,29 @@ class ExtendStep(Step):
     ----------
     opening : str or dict
         An opening's name or ``{loop: k}``.
-    by : float
-        The length added, recipe units.
+    by : float or None
+        The length added, recipe units (None: found from ``measure`` and ``to``).
     clearance : float or None
         The distance new rows keep from a body (with ``options.body``); None:
         :data:`ptailor.edits.tolerances.EXTEND_CLEARANCE_EDGES` of the opening's mean edge
         length (:meth:`clearance_for`).
-    measure : {"drape", "pattern"}
-        Where ``by`` is measured.
+    measure : str
+        Where ``by`` is measured (``drape``, ``pattern``), or a length measure's name
+        (:data:`ptailor.measures.MEASURES`) brought ``to`` a length.
+    to : float or None
+        That measure's asked length, recipe units.
     """
 
     op = "extend"
     opening: str | dict[str, Any] = field(
         metadata=checked(opening_spec, "hem | neckline | ... | {loop: k}")
     )
-    by: float = field(metadata=checked(number(gt=0.0), "length added, recipe units (see measure)"))
+    by: float | None = field(
+        default=None,
+        metadata=checked(
+            number(gt=0.0), "length added, recipe units (see measure)", echo_none=False
+        ),
+    )
     clearance: float | None = field(
         default=None,
         metadata=checked(
@@ -61,6 +74,7 @@ class ExtendStep(Step):
         ),
     )
     measure: str = field(default="drape", metadata=MEASURE)
+    to: float | None = field(default=None, metadata=TO)
 
     def clearance_for(self, mean_edge: float) -> float:
         """The clearance kept from a body: the step's, else half the opening's mean edge."""
@@ -102,9 +116,14 @@ def _grown_state(state: EditState, plan: RowPlan, built: Rows, new_e: np.ndarray
     return replace(state, base=base, V3=V3_new, panels=new_panels, even=even, outline_free=free)
 
 
-@register(ExtendStep)
+@register(ExtendStep, check=length_form)
 def extend(state: EditState, step: ExtendStep, *, options: EditOptions) -> EditState:
     """Add rows of triangles beyond an opening, continuing the surface, ``by`` long.
+
+    With a length measure and ``to`` instead of ``by``: the drape ``by`` that brings the
+    measure to ``to`` (:func:`ptailor.edits.asks.length_to`); the record adds ``asked``,
+    ``before``, ``target``, ``achieved`` (the measure's, cm) and ``tries``, and its
+    ``achieved`` below is then ``edge_offset``.
 
     ``measure: drape`` (the paper's): each opening vertex grows a straight line of new
     vertices along the unit direction tangent to the surface and across the boundary,
@@ -134,6 +153,8 @@ def extend(state: EditState, step: ExtendStep, *, options: EditOptions) -> EditS
     pattern vertices from the old edge; ``drape``, the same of their surface distance from
     the old opening.
     """
+    if step.to is not None:
+        return length_to(state, step, extend, options=options)
     name, loop = find_opening(state, step.opening)
     by = float(step.by)
     measure = step.measure

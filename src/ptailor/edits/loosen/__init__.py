@@ -4,12 +4,15 @@ Two forms of one step; both ops accept both, and in the silhouette form the op n
 only the user's intent (the sketch decides whether the outline moves in or out)::
 
     - {op: loosen, region: {panels: [front, back]}, by: 2}
+    - {op: loosen, region: {panels: [front, back]}, girth: 2}
     - {op: tighten, view: front, silhouette: [[-22, 95], [-19, 80], [-21, 60]]}
 
 *Offset* (``region`` + ``by``): the region moves along its outward normals, smoothed so
 that wrinkles and folds ride along instead of folding over, by ``+by`` (loosen) or ``-by``
 (tighten), falling off smoothly to zero at its border with the rest of the garment, which
-stays where it is.
+stays where it is. With ``girth`` instead of ``by``, the offset is the one that adds (or,
+tightening, removes) that much girth at every level of the region, measured on the drape
+the offset makes (:mod:`~ptailor.edits.loosen.girth`).
 
 *Silhouette* (``view`` + ``silhouette``): the garment's outline in the view is found row by
 row (the left and right extremes of each horizontal band of the image, per connected piece
@@ -26,9 +29,11 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ptailor.edits import tolerances as edit_tol
+from ptailor.edits.asks import ask_tolerance, asked_of, cm, solve, with_ask
 from ptailor.edits.checks import number
 from ptailor.edits.checks import region as region_spec
 from ptailor.edits.cut import sketch_spec, view_frame, view_spec
+from ptailor.edits.loosen.girth import girth_change, girth_levels
 from ptailor.edits.loosen.normals import (
     normal_smoother,
     outward_normals,
@@ -40,6 +45,7 @@ from ptailor.edits.loosen.silhouette import row_crossings, silhouette_targets
 from ptailor.edits.region import region_faces
 from ptailor.edits.registry import Step, checked, register
 from ptailor.edits.state import EditOptions, EditState
+from ptailor.errors import PtailorError
 from ptailor.method.deform import arap_deform
 from ptailor.model.garment import panel_labels
 from ptailor.model.structure import structure
@@ -64,8 +70,8 @@ def view_name(view: Any) -> str:
 
 @dataclass(frozen=True, kw_only=True)
 class LoosenStep(Step):
-    """A ``loosen`` step (see :func:`loosen`): the offset form (``by``, with ``region``)
-    or the silhouette form (``silhouette``, with ``view``), exactly one.
+    """A ``loosen`` step (see :func:`loosen`): the offset form (``by`` or ``girth``, with
+    ``region``) or the silhouette form (``silhouette``, with ``view``), exactly one.
 
     Attributes
     ----------
@@ -73,6 +79,9 @@ class LoosenStep(Step):
         The offset form's region; None: not given (:attr:`offset_region`).
     by : float or None
         The offset along the normals, recipe units.
+    girth : float or None
+        The girth added (``loosen``) or removed (``tighten``) at every level of the region,
+        recipe units: the offset is the one that gives it.
     view : str, list of float or None
         The silhouette form's view; None: not given (:attr:`sketch_view`).
     silhouette : list of [u, v] or None
@@ -87,12 +96,22 @@ class LoosenStep(Step):
     region: str | dict[str, Any] | None = field(
         default=None,
         metadata=checked(
-            region_spec, "all | {panels: [...]} | {box: {min, max}} (with by; default all)"
+            region_spec,
+            "all | {panels: [...]} | {box: {min, max}} (with by or girth; default all)",
         ),
     )
     by: float | None = field(
         default=None,
         metadata=checked(number(gt=0.0), "offset along the surface normals, recipe units"),
+    )
+    girth: float | None = field(
+        default=None,
+        metadata=checked(
+            number(gt=0.0),
+            "girth added (loosen) or removed (tighten) at every level of the region, recipe "
+            "units, instead of by: the offset that gives it is found",
+            echo_none=False,
+        ),
     )
     view: str | list[float] | None = field(
         default=None,
@@ -126,17 +145,19 @@ class TightenStep(LoosenStep):
 
 
 def one_form(step: LoosenStep, where: str) -> list[str]:
-    """Exactly one of ``by`` (with ``region``) or ``silhouette`` (with ``view``)."""
-    has_by, has_sketch = step.by is not None, step.silhouette is not None
-    if has_by == has_sketch:
+    """Exactly one of ``by`` or ``girth`` (with ``region``) or ``silhouette`` (with
+    ``view``)."""
+    forms = {"by": step.by, "girth": step.girth, "silhouette": step.silhouette}
+    given = [k for k, v in forms.items() if v is not None]
+    if len(given) != 1:
         return [
-            f"{where}: {step.op} needs exactly one of 'by' (with 'region') or 'silhouette' "
-            "(with 'view')"
+            f"{where}: {step.op} needs exactly one of 'by' or 'girth' (with 'region') or "
+            "'silhouette' (with 'view')" + (f", got {' and '.join(given)}" if given else "")
         ]
-    if has_by and step.view is not None:
-        return [f"{where}: 'view' goes with 'silhouette', not with 'by'"]
-    if has_sketch and step.region is not None:
-        return [f"{where}: 'region' goes with 'by', not with 'silhouette'"]
+    if given[0] != "silhouette" and step.view is not None:
+        return [f"{where}: 'view' goes with 'silhouette', not with '{given[0]}'"]
+    if given[0] == "silhouette" and step.region is not None:
+        return [f"{where}: 'region' goes with 'by' or 'girth', not with 'silhouette'"]
     return []
 
 
@@ -153,66 +174,130 @@ def moved_panels_uneven(state: EditState, V_new: np.ndarray) -> np.ndarray:
 def loosen(state: EditState, step: LoosenStep, *, options: EditOptions) -> EditState:
     """Loosen or tighten: offset a region along its normals, or over-sketch a silhouette.
 
-    Offset form: see :func:`offset_region` (``+by`` for loosen, ``-by`` for tighten).
-    Silhouette form: see :func:`silhouette_targets`; the rest of the drape follows by
+    Offset form: see :func:`offset_region` (``+by`` for loosen, ``-by`` for tighten; with
+    ``girth``, the offset found by :func:`girth_offset`). Silhouette form: see
+    :func:`silhouette_targets`; the rest of the drape follows by
     :func:`ptailor.method.deform.arap_deform` with the moved rings as handles. Every panel
     whose drape moved loses ``even`` (its outline is free when flattened).
     """
+    if step.silhouette is None:
+        V_new, rec = offset_step(state, step, options=options)
+    else:
+        V_new, rec = silhouette_step(state, step, options=options)
+    even = moved_panels_uneven(state, V_new)
+    return replace(state, V3=V_new, even=even, log=(*state.log, rec))
+
+
+def offset_step(
+    state: EditState, step: LoosenStep, *, options: EditOptions
+) -> tuple[np.ndarray, dict]:
+    """The offset form: the edited drape ``(n, 3)`` and the step's record."""
     g, V3 = state.base, state.V3
-    if step.by is not None:
-        faces = region_faces(step.offset_region, g, V3, state.panels)
-        by = float(step.by) * (1.0 if step.op == "loosen" else -1.0)
-        # the seam pairs the flatten after the edit takes from the same structure
-        pairs = structure(g).seam_halfedges
-        V_new, sigma = offset_region(
+    faces = region_faces(step.offset_region, g, V3, state.panels)
+    sign = 1.0 if step.op == "loosen" else -1.0
+    # the seam pairs the flatten after the edit takes from the same structure
+    pairs = structure(g).seam_halfedges
+
+    def offset(by: float) -> tuple[np.ndarray, float]:
+        return offset_region(
             V3,
             g.F3,
             g.F2,
             state.panels,
             faces,
-            by=by,
+            by=sign * by,
             frame=g.frame,
             pairs=pairs,
             symbolic=options.symbolic,
         )
-        rec = {
-            "op": step.op,
-            "by": float(step.by),
-            "triangles": int(faces.size),
-            "smoothing": round(sigma, 6),
-        }
+
+    if step.girth is None:
+        by, (V_new, sigma), asked = float(step.by), offset(float(step.by)), {}
     else:
-        view = step.sketch_view
-        frame = view_frame(view, frame=g.frame)
-        X = V3 @ frame.T
-        T = g.F3
-        h = float(np.linalg.norm(V3[T] - V3[np.roll(T, -1, axis=1)], axis=2).mean())
-        handles, targets, change = silhouette_targets(
-            X,
-            T,
-            np.asarray(step.silhouette, float),
-            row=edit_tol.SILHOUETTE_ROW_EDGES * h,
-            view_name=view_name(view),
-        )
-        moved = targets @ frame
-        seen = np.zeros(len(V3), dtype=bool)
-        seen[T] = True
-        used = np.flatnonzero(seen)  # as np.unique(T), cheaper
-        if handles.size == used.size and np.array_equal(handles, used):
-            V_new = V3.copy()
-            V_new[handles] = moved
-        else:
-            V_new = arap_deform(V3, T, handles, moved, symbolic=options.symbolic)
-        rec = {
-            "op": step.op,
-            "view": view,
-            "outline_points": int(change.size),
-            "handles": int(handles.size),
-            "change_mean": round(float(change.mean()), 6),
-            "change_max": round(float(change[np.argmax(np.abs(change))]), 6),
-        }
-    even = moved_panels_uneven(state, V_new)
-    return replace(state, V3=V_new, even=even, log=(*state.log, rec))
+        by, (V_new, sigma), asked = girth_offset(state, step, faces, offset)
+    rec = {"op": step.op, "by": by, "triangles": int(faces.size), "smoothing": round(sigma, 6)}
+    if not asked:
+        return V_new, rec
+    return V_new, with_ask(rec, asked, what="girth", target=asked["asked"]["girth"])
+
+
+def girth_offset(state: EditState, step: LoosenStep, faces: np.ndarray, offset) -> tuple:
+    """The offset that adds (loosen) or removes (tighten) ``step.girth`` at every level of
+    the region, measured on the drape each trial offset makes (so the falloff counts).
+
+    The first trial is ``girth / (2 pi)`` (a closed girth grows ``2 pi by``); secant steps
+    on the measured change (:func:`ptailor.edits.asks.solve`, from no offset: no change)
+    correct it. Returns ``(by, offset(by), record keys)``: ``asked``, ``achieved`` (the
+    mean girth change over the levels, cm), ``levels`` and ``tries``.
+    """
+    g = state.base
+    levels = girth_levels(state.V3, g.F3, faces, frame=g.frame)
+    sign = 1.0 if step.op == "loosen" else -1.0
+    want = float(step.girth)
+
+    def run(by: float) -> tuple[tuple[np.ndarray, float], float]:
+        try:
+            out = offset(by)
+        except PtailorError as exc:
+            raise PtailorError(
+                f"girth {want:g} (an offset of {by:.3g}): "
+                + str(exc).replace("a smaller 'by'", "a smaller 'girth'")
+            ) from None
+        return out, sign * girth_change(levels, out[0], g.F3, faces)
+
+    got = solve(
+        run,
+        anchor=(0.0, 0.0),
+        first=want / (2.0 * np.pi),
+        target=want,
+        tol=ask_tolerance(state),
+        lower=0.0,
+    )
+    k = cm(state)
+    keys = {
+        "asked": asked_of(state, girth=want),
+        "achieved": {"drape": round(got.value * k, 4)},
+        "levels": int(levels.heights.size),
+        "tries": got.tries,
+    }
+    return got.x, got.out, keys
+
+
+def silhouette_step(
+    state: EditState, step: LoosenStep, *, options: EditOptions
+) -> tuple[np.ndarray, dict]:
+    """The silhouette form: the edited drape ``(n, 3)`` and the step's record."""
+    g, V3 = state.base, state.V3
+    view = step.sketch_view
+    frame = view_frame(view, frame=g.frame)
+    X = V3 @ frame.T
+    T = g.F3
+    h = float(np.linalg.norm(V3[T] - V3[np.roll(T, -1, axis=1)], axis=2).mean())
+    handles, targets, change = silhouette_targets(
+        X,
+        T,
+        np.asarray(step.silhouette, float),
+        row=edit_tol.SILHOUETTE_ROW_EDGES * h,
+        view_name=view_name(view),
+    )
+    moved = targets @ frame
+    seen = np.zeros(len(V3), dtype=bool)
+    seen[T] = True
+    used = np.flatnonzero(seen)  # as np.unique(T), cheaper
+    if handles.size == used.size and np.array_equal(handles, used):
+        V_new = V3.copy()
+        V_new[handles] = moved
+    else:
+        V_new = arap_deform(V3, T, handles, moved, symbolic=options.symbolic)
+    rec = {
+        "op": step.op,
+        "view": view,
+        "outline_points": int(change.size),
+        "handles": int(handles.size),
+        "change_mean": round(float(change.mean()), 6),
+        "change_max": round(float(change[np.argmax(np.abs(change))]), 6),
+    }
+    return V_new, rec
 
 
 register(LoosenStep, check=one_form)(loosen)
