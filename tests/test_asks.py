@@ -167,7 +167,7 @@ def test_target_values_and_the_secant_solve():
     ("make", "op", "opening", "name", "to"),
     [
         (flat_tee, "shorten", "hem", "body_length", 60.0),
-        (flat_tee, "extend", "hem", "body_length", 70.0),
+        (flat_tee, "extend", "hem", "body_length", 76.0),
         (flat_tee, "shorten", "cuff_left", "sleeve_length_left", 15.0),
         (cone_skirt, "shorten", "hem", "skirt_length", 47.5),
     ],
@@ -177,10 +177,14 @@ def test_shorten_and_extend_to_a_length(make, op, opening, name, to):
     step = {"op": op, "opening": opening, "measure": name, "to": to}
     adj = adjustment(g, recipe(step), baseline=False)
     after = measures(adj.garment)[name]
+    first = measures(g)[name]
     assert after["drape"] == pytest.approx(to, abs=0.05)
-    assert after["pattern"] == pytest.approx(to, abs=0.3)  # these samples' lengths: s = 1
+    if first["drape"] == pytest.approx(first["pattern"], abs=0.01):  # s = 1 along the line
+        assert after["pattern"] == pytest.approx(to, abs=0.3)
+    else:  # the tee's pillow drape bulges across its body length: the pattern moves as asked
+        assert (after["pattern"] - first["pattern"]) * (to - first["drape"]) > 0
     rec = adj.state.log[0]
-    before = measures(g)[name]["drape"]
+    before = first["drape"]
     assert rec["asked"] == {"measure": name, "to": to}
     assert rec["measure"] == "drape"  # how the width was measured
     assert rec["by"] == pytest.approx(abs(before - to), abs=0.05)
