@@ -46,8 +46,9 @@ def test_a_cylinder_loosened_by_girth_gains_that_girth_in_drape_and_pattern(op, 
         assert drape == pytest.approx(sign * 2.0, abs=0.05)
         assert pattern == pytest.approx(sign * 2.0, abs=0.05)
     rec = adj.state.log[0]
-    assert rec["asked"] == {"girth": 2.0}
+    assert rec["asked"] == {"girth": 2.0, "on": "both"}
     assert rec["achieved"]["drape"] == pytest.approx(2.0, abs=0.02)
+    assert rec["achieved"]["pattern_predicted"] == pytest.approx(2.0, abs=0.02)  # s = 1
     # a tube: the offset 2 pi by = girth, first try (no falloff: the region is everything)
     assert rec["by"] == pytest.approx(2.0 / (2 * np.pi), rel=1e-3) and rec["tries"] == 1
     assert "warnings" not in rec
@@ -78,12 +79,45 @@ def test_a_whole_bodice_loosened_by_girth_gains_it_at_every_measure():
         assert drape == pytest.approx(2.0, abs=0.3) and pattern == pytest.approx(2.0, abs=0.3)
 
 
+def test_a_girth_on_the_drape_the_pattern_or_both():
+    """The tee's pillow drape is longer across than its pattern (a cloth worn stretched): a
+    girth on the drape adds it to the drape, on the pattern to the pattern as the flatten
+    will make it (predicted from each triangle's stretch), and both: their mean is the ask."""
+    g = flat_tee()
+    got = {}
+    for on in ("drape", "pattern", "both"):
+        step = {"op": "loosen", "region": {"panels": ["front", "back"]}, "girth": 2, "on": on}
+        adj = adjustment(g, recipe(step), baseline=False)
+        rec = adj.state.log[0]
+        assert rec["asked"] == {"girth": 2.0, "on": on}
+        got[on] = (rec["by"], rec["achieved"]["drape"], rec["achieved"]["pattern_predicted"])
+        if on == "pattern":  # the prediction holds in the flattened pattern (the hem's level)
+            assert change(g, adj, "hem")[1] == pytest.approx(2.0, abs=0.3)
+    assert got["drape"][1] == pytest.approx(2.0, abs=0.02)
+    assert got["pattern"][2] == pytest.approx(2.0, abs=0.02)
+    assert 0.5 * (got["both"][1] + got["both"][2]) == pytest.approx(2.0, abs=0.02)
+    assert got["drape"][0] < got["both"][0] < got["pattern"][0]  # stretched: more offset
+
+
+def test_on_is_a_key_as_yaml_1_2_reads_it():
+    rec = parse_recipe(
+        "steps:\n  - {op: loosen, region: all, girth: 2, on: pattern}\n"
+        "  - {op: loosen, region: all, by: 1}\n"
+    )
+    assert rec.steps[0].on == "pattern"
+    bad = "steps:\n  - {op: loosen, region: all, by: 1, on: drape}\n"
+    with pytest.raises(RecipeError, match="'on' goes with 'girth', not with 'by'"):
+        parse_recipe(bad)
+
+
 def test_the_front_alone_loosened_by_girth_measures_its_open_sections():
     """A region that is part of every girth (no closed section): the change of its
     sections is the girth it adds."""
     g = flat_tee()
     adj = adjustment(
-        g, recipe({"op": "loosen", "region": {"panels": ["front"]}, "girth": 1}), baseline=False
+        g,
+        recipe({"op": "loosen", "region": {"panels": ["front"]}, "girth": 1, "on": "drape"}),
+        baseline=False,
     )
     rec = adj.state.log[0]
     assert rec["achieved"]["drape"] == pytest.approx(1.0, abs=0.02)
@@ -296,19 +330,21 @@ def test_ask_fields_are_echoed_only_when_given():
     ("key", "units"), [("tee6", ("0.3333cm", "0.3333cm")), ("tshirt", ("auto", "cm"))]
 )
 def test_loosen_girth_2_on_the_shared_tees_makes_the_chest_2_cm_larger(key, units):
-    """The README's loosen: the torso's chest +2.0 +- 0.3 cm in the drape (tshirt +2.00,
-    tee6 +2.07). In the pattern it gains what the scale-preserving flatten gives for that
-    drape: the tshirt +1.91 (its pattern about as large as its drape), tee6 +1.55 (a knit
-    worn 14 % stretched, and wrinkled: less cloth for the same girth; outside the issue's
-    +- 0.3)."""
+    """The README's loosen, ``girth: 2`` (on both: the mean of the drape's gain and the
+    pattern's, predicted, is 2). The tshirt's pattern is about as large as its drape: chest
+    +2.0 in both. tee6 is a knit worn 14 % stretched (chest 100.2 in the drape, 87.6 in the
+    pattern): chest +2.19 in the drape, +1.65 in the pattern, short of the issue's +- 0.3
+    there: near the armhole the flatten gives less than each triangle's stretch predicts
+    (+1.14 at 12.9 cm where +1.57 was predicted; exact at the hem)."""
     g = load_garment(real_path(key), pattern_units=units[0], drape_units=units[1]).garment
     step = {"op": "loosen", "region": {"panels": ["front", "back"]}, "girth": 2}
     adj = adjustment(g, recipe(step), baseline=False)
     drape, pattern = change(g, adj, "chest")
+    rec = adj.state.log[0]["achieved"]
+    assert 0.5 * (rec["drape"] + rec["pattern_predicted"]) == pytest.approx(2.0, abs=0.02)
     assert drape == pytest.approx(2.0, abs=0.3)
-    assert adj.state.log[0]["achieved"]["drape"] == pytest.approx(2.0, abs=0.02)
     if key == "tshirt":
         assert pattern == pytest.approx(2.0, abs=0.3)
     else:
-        assert 1.4 < pattern < drape
+        assert 1.6 < pattern < drape
     assert adj.result.info.converged

@@ -117,7 +117,7 @@ def test_loosen_waist_adds_the_offset_circumference_to_the_pattern_waist():
     g = SAMPLES["bodice"]()
     adj = adjustment(g, _recipe("loosen-waist"))
     rec = adj.state.log[0]
-    assert rec["asked"] == {"girth": 4.0}
+    assert rec["asked"] == {"girth": 4.0, "on": "both"}
     assert rec["achieved"]["drape"] == pytest.approx(4.0, abs=0.02)
     assert 4.0 / (2 * np.pi) < rec["by"] < 1.2 * 4.0 / (2 * np.pi)  # the falloff costs some
     low = adj.state.V3[:, 1] < 1e-9

@@ -132,8 +132,6 @@ def _expectation(name: str, spec: Any, *, cm: float) -> tuple[Expectation | None
     where = f"expect.{name}"
     if not isinstance(spec, dict):
         return None, [f"{where}: expected a mapping with by or to (and tol, on), got {show(spec)}"]
-    # YAML 1.1 (PyYAML) reads the key ``on`` as true: it is the key ``on``
-    spec = {("on" if k is True else k): v for k, v in spec.items()}
     probs = [
         f"{where}: unknown key {show(k)} (known: {', '.join(EXPECT_KEYS)})"
         for k in spec

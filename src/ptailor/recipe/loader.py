@@ -65,6 +65,16 @@ def _loader_class():
                 )
             return super().construct_yaml_float(node)
 
+    # YAML 1.2 (and JSON, and the schema's editors) read only true and false as booleans;
+    # YAML 1.1 also yes, no, on, off: a recipe's `on: pattern` keeps its key `on`.
+    bool_tag = "tag:yaml.org,2002:bool"
+    RecipeLoader.yaml_implicit_resolvers = {
+        first: [(tag, rx) for tag, rx in resolvers if tag != bool_tag]
+        for first, resolvers in base.yaml_implicit_resolvers.items()
+    }
+    RecipeLoader.add_implicit_resolver(
+        bool_tag, re.compile(r"^(?:true|True|TRUE|false|False|FALSE)$"), list("tTfF")
+    )
     # YAML 1.2 (and JSON, and the schema's editors) read 1e5 as a number; YAML 1.1 as a
     # string: a recipe's 1e-3 or 1e300 is a number here, and checked as one.
     RecipeLoader.add_implicit_resolver(

@@ -30,10 +30,10 @@ import numpy as np
 
 from ptailor.edits import tolerances as edit_tol
 from ptailor.edits.asks import ask_tolerance, asked_of, cm, solve, with_ask
-from ptailor.edits.checks import number
+from ptailor.edits.checks import choice, number
 from ptailor.edits.checks import region as region_spec
 from ptailor.edits.cut import sketch_spec, view_frame, view_spec
-from ptailor.edits.loosen.girth import girth_change, girth_levels
+from ptailor.edits.loosen.girth import Cloth, girth_change, girth_levels
 from ptailor.edits.loosen.normals import (
     normal_smoother,
     outward_normals,
@@ -82,6 +82,8 @@ class LoosenStep(Step):
     girth : float or None
         The girth added (``loosen``) or removed (``tighten``) at every level of the region,
         recipe units: the offset is the one that gives it.
+    on : str or None
+        With ``girth``: ``drape``, ``pattern`` or ``both`` (None: :attr:`girth_on`).
     view : str, list of float or None
         The silhouette form's view; None: not given (:attr:`sketch_view`).
     silhouette : list of [u, v] or None
@@ -113,6 +115,16 @@ class LoosenStep(Step):
             echo_none=False,
         ),
     )
+    on: str | None = field(
+        default=None,
+        metadata=checked(
+            choice("drape", "pattern", "both"),
+            "with girth: where the girth is added: drape (as worn), pattern (the flatten's "
+            "pattern, predicted from each triangle's stretch) or both (their mean is the "
+            "girth asked; default: they differ only on cloth worn stretched)",
+            echo_none=False,
+        ),
+    )
     view: str | list[float] | None = field(
         default=None,
         metadata=checked(
@@ -125,6 +137,11 @@ class LoosenStep(Step):
             sketch_spec, "over-sketched outline [[u, v], ...] in the view's image plane"
         ),
     )
+
+    @property
+    def girth_on(self) -> str:
+        """Where ``girth`` is added: the step's ``on``, else ``both``."""
+        return "both" if self.on is None else self.on
 
     @property
     def offset_region(self) -> str | dict[str, Any]:
@@ -156,6 +173,8 @@ def one_form(step: LoosenStep, where: str) -> list[str]:
         ]
     if given[0] != "silhouette" and step.view is not None:
         return [f"{where}: 'view' goes with 'silhouette', not with '{given[0]}'"]
+    if given[0] != "girth" and step.on is not None:
+        return [f"{where}: 'on' goes with 'girth', not with '{given[0]}'"]
     if given[0] == "silhouette" and step.region is not None:
         return [f"{where}: 'region' goes with 'by' or 'girth', not with 'silhouette'"]
     return []
@@ -231,11 +250,13 @@ def girth_offset(state: EditState, step: LoosenStep, faces: np.ndarray, offset) 
     mean girth change over the levels, cm), ``levels`` and ``tries``.
     """
     g = state.base
-    levels = girth_levels(state.V3, g.F3, faces, frame=g.frame)
+    cloth = Cloth(g.V3, g.V2, g.F2)
+    levels = girth_levels(state.V3, g.F3, faces, frame=g.frame, cloth=cloth)
     sign = 1.0 if step.op == "loosen" else -1.0
     want = float(step.girth)
+    weight = {"drape": 1.0, "pattern": 0.0, "both": 0.5}[step.girth_on]
 
-    def run(by: float) -> tuple[tuple[np.ndarray, float], float]:
+    def run(by: float) -> tuple[tuple[tuple[np.ndarray, float], tuple], float]:
         try:
             out = offset(by)
         except PtailorError as exc:
@@ -243,7 +264,8 @@ def girth_offset(state: EditState, step: LoosenStep, faces: np.ndarray, offset) 
                 f"girth {want:g} (an offset of {by:.3g}): "
                 + str(exc).replace("a smaller 'by'", "a smaller 'girth'")
             ) from None
-        return out, sign * girth_change(levels, out[0], g.F3, faces)
+        d, p = (sign * x for x in girth_change(levels, out[0], g.F3, faces, cloth))
+        return (out, (d, p)), weight * d + (1.0 - weight) * p
 
     got = solve(
         run,
@@ -253,14 +275,15 @@ def girth_offset(state: EditState, step: LoosenStep, faces: np.ndarray, offset) 
         tol=ask_tolerance(state),
         lower=0.0,
     )
+    out, (d, p) = got.out
     k = cm(state)
     keys = {
-        "asked": asked_of(state, girth=want),
-        "achieved": {"drape": round(got.value * k, 4)},
+        "asked": asked_of(state, girth=want) | {"on": step.girth_on},
+        "achieved": {"drape": round(d * k, 4), "pattern_predicted": round(p * k, 4)},
         "levels": int(levels.heights.size),
         "tries": got.tries,
     }
-    return got.x, got.out, keys
+    return got.x, out, keys
 
 
 def silhouette_step(

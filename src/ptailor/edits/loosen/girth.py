@@ -4,7 +4,9 @@ An offset ``by`` along the surface adds about ``2 pi by`` to a closed girth, les
 region covers only part of it or where the offset falls off towards the region's border.
 :func:`girth_levels` picks levels across the region and measures its sections there;
 :func:`girth_change` measures the same levels on an offset drape: the mean change per
-section piece is the girth the offset added.
+section piece is the girth the offset added, in the drape, and in the pattern as the
+scale-preserving flatten will make it (each section carried by its triangles' stretch: a
+knit worn stretched gains less pattern than drape).
 """
 
 from __future__ import annotations
@@ -16,7 +18,13 @@ import numpy as np
 from ptailor.edits import tolerances as edit_tol
 from ptailor.errors import PtailorError
 from ptailor.geometry.tube_axis import tube_axis
-from ptailor.measures.lines import line_length, line_pieces, plane_section
+from ptailor.measures.lines import (
+    MaterialLine,
+    line_length,
+    line_pieces,
+    line_points,
+    plane_section,
+)
 from ptailor.model.frame import Frame
 
 
@@ -32,6 +40,8 @@ class GirthLevels:
         The planes' positions along ``axis``.
     before : (k,) float array
         The length of the region's section at each level, on the drape they were found on.
+    before_pattern : (k,) float array
+        The same sections' lengths carried into the pattern (:func:`pattern_length`).
     pieces : (k,) int array
         Its connected pieces (the girths it holds: two for a pair of legs).
     closed : bool
@@ -42,8 +52,49 @@ class GirthLevels:
     axis: np.ndarray
     heights: np.ndarray
     before: np.ndarray
+    before_pattern: np.ndarray
     pieces: np.ndarray
     closed: bool
+
+
+@dataclass(frozen=True)
+class Cloth:
+    """The garment's cloth as read: its drape ``V0`` ``(n, 3)`` and pattern ``V2``, ``F2``,
+    which give each triangle's stretch (drape length over pattern length, per direction)."""
+
+    V0: np.ndarray
+    V2: np.ndarray
+    F2: np.ndarray
+
+
+def pattern_length(line: MaterialLine, V: np.ndarray, F3: np.ndarray, cloth: Cloth) -> float:
+    """A section of the drape ``V`` carried into the pattern by each triangle's stretch: each
+    segment's length in ``V`` over its triangle's stretch along it (its length in the drape
+    as read over its length in the pattern), summed. What the scale-preserving flatten makes of
+    that section: a knit worn stretched gains less pattern than drape.
+
+    Parameters
+    ----------
+    line : MaterialLine
+        A section of ``V``'s triangles ``F3``.
+    V : (n, 3) float array
+    F3 : (m, 3) int array
+    cloth : Cloth
+
+    Returns
+    -------
+    float
+    """
+    if len(line) == 0:
+        return 0.0
+    A, B = line_points(line, V, F3)
+    a0, b0 = line_points(line, cloth.V0, F3)
+    a2, b2 = line_points(line, cloth.V2, cloth.F2)
+    now = np.linalg.norm(B - A, axis=1)
+    drape0 = np.linalg.norm(b0 - a0, axis=1)
+    flat0 = np.linalg.norm(b2 - a2, axis=1)
+    ratio = np.divide(flat0, drape0, out=np.ones_like(now), where=drape0 > 0.0)
+    return float((now * ratio).sum())
 
 
 def level_axis(V: np.ndarray, F3: np.ndarray, faces: np.ndarray, *, frame: Frame) -> np.ndarray:
@@ -72,7 +123,9 @@ def level_axis(V: np.ndarray, F3: np.ndarray, faces: np.ndarray, *, frame: Frame
     return up if abs(float(ax @ up)) >= limit else np.asarray(ax, dtype=np.float64)
 
 
-def girth_levels(V: np.ndarray, F3: np.ndarray, faces: np.ndarray, *, frame: Frame) -> GirthLevels:
+def girth_levels(
+    V: np.ndarray, F3: np.ndarray, faces: np.ndarray, *, frame: Frame, cloth: Cloth
+) -> GirthLevels:
     """Levels across a region where its girth is measured.
 
     ``LOOSEN_GIRTH_LEVELS`` planes across :func:`level_axis`, evenly spaced over the
@@ -89,6 +142,8 @@ def girth_levels(V: np.ndarray, F3: np.ndarray, faces: np.ndarray, *, frame: Fra
     faces : (k,) int array
         The region's triangles.
     frame : Frame, keyword-only
+    cloth : Cloth, keyword-only
+        The cloth as read (each triangle's stretch).
 
     Returns
     -------
@@ -105,22 +160,29 @@ def girth_levels(V: np.ndarray, F3: np.ndarray, faces: np.ndarray, *, frame: Fra
     count = edit_tol.LOOSEN_GIRTH_LEVELS
     heights = lo + (np.arange(count) + 0.5) / count * (hi - lo)
     length = np.zeros(count)
+    flat = np.zeros(count)
     pieces = np.zeros(count, dtype=np.int64)
     closed = np.zeros(count, dtype=bool)
     for i, t in enumerate(heights):  # a loop over two dozen levels
         line = plane_section(V, F3, point=t * axis, normal=axis, faces=faces)
         _, pieces[i], loops = line_pieces(line)
         length[i] = line_length(line, V, F3)
+        flat[i] = pattern_length(line, V, F3, cloth)
         closed[i] = pieces[i] > 0 and bool(loops.all())
     keep = closed if closed.any() else pieces > 0
     if not keep.any():
         raise PtailorError("girth: the region has no section across its axis to measure")
-    return GirthLevels(axis, heights[keep], length[keep], pieces[keep], bool(closed.any()))
+    return GirthLevels(
+        axis, heights[keep], length[keep], flat[keep], pieces[keep], bool(closed.any())
+    )
 
 
-def girth_change(levels: GirthLevels, V: np.ndarray, F3: np.ndarray, faces: np.ndarray) -> float:
+def girth_change(
+    levels: GirthLevels, V: np.ndarray, F3: np.ndarray, faces: np.ndarray, cloth: Cloth
+) -> tuple[float, float]:
     """The girth an edit added: the mean over ``levels`` of the change of the region's
-    section length per piece, on the edited drape ``V`` ``(n, 3)``.
+    section length per piece, on the edited drape ``V`` ``(n, 3)``, and the same carried into
+    the pattern (:func:`pattern_length`: what the flatten will give, predicted).
 
     Parameters
     ----------
@@ -131,17 +193,21 @@ def girth_change(levels: GirthLevels, V: np.ndarray, F3: np.ndarray, faces: np.n
     F3 : (m, 3) int array
     faces : (k,) int array
         The region's triangles.
+    cloth : Cloth
 
     Returns
     -------
-    float
-        Negative where the girth shrank.
+    (float, float)
+        The drape's change and the pattern's; negative where the girth shrank.
     """
     ax = levels.axis
-    after = np.array(
-        [  # a loop over two dozen levels
-            line_length(plane_section(V, F3, point=t * ax, normal=ax, faces=faces), V, F3)
-            for t in levels.heights
-        ]
+    lines = [  # a loop over two dozen levels
+        plane_section(V, F3, point=t * ax, normal=ax, faces=faces) for t in levels.heights
+    ]
+    after = np.array([line_length(line, V, F3) for line in lines])
+    flat = np.array([pattern_length(line, V, F3, cloth) for line in lines])
+    per = np.maximum(levels.pieces, 1)
+    return (
+        float(np.mean((after - levels.before) / per)),
+        float(np.mean((flat - levels.before_pattern) / per)),
     )
-    return float(np.mean((after - levels.before) / np.maximum(levels.pieces, 1)))
