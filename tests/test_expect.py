@@ -314,3 +314,54 @@ def test_a_fuller_skirt_with_the_default_outline_is_caught_by_its_expectations(t
     assert hem["missed"] == waist["missed"] == ["pattern"]
     assert hem["achieved"]["pattern"] < 1.09 * hem["before"]["pattern"]
     assert waist["achieved"]["pattern"] > 1.11 * waist["before"]["pattern"]
+
+
+# ------------------------------------------------- the steps' achieved values in the pattern
+
+
+def test_the_report_adds_the_patterns_achieved_value_to_asked_steps():
+    from ptailor.report.expect import steps_achieved
+
+    before = [
+        {"name": "chest", "drape": 100.0, "pattern": 90.0},
+        {"name": "hem", "drape": 104.0, "pattern": 92.0},
+    ]
+    after = [
+        {"name": "chest", "drape": 102.0, "pattern": 91.5},
+        {"name": "hem", "drape": 110.0, "pattern": 97.0},
+    ]
+    log = [
+        {"op": "cut", "by": 1.0},
+        {"op": "scale", "asked": {"measure": "hem", "to": 110.0}, "achieved": {"drape": 110.0}},
+        {
+            "op": "loosen",
+            "asked": {"girth": 2.0, "on": "both"},
+            "achieved": {"drape": 2.0, "pattern_predicted": 1.8},
+            "measures": ["chest"],
+        },
+    ]
+    out = steps_achieved(log, before, after)
+    assert out[0] is log[0]
+    assert out[1]["achieved"] == {"drape": 110.0, "pattern": 97.0}
+    assert out[2]["achieved"]["pattern"] == pytest.approx(1.5)
+    assert out[2]["achieved"]["measures"] == {"chest": {"drape": 2.0, "pattern": 1.5}}
+    assert "pattern" not in log[1]["achieved"]  # the log is not changed
+
+
+@pytest.mark.slow
+def test_a_girth_asked_reports_its_chest_in_the_pattern(tmp_path):
+    from ptailor.samples import flat_tee
+
+    p = tmp_path / "tee.obj"
+    write_garment(p, flat_tee())
+    text = "steps: [{op: loosen, region: {panels: [front, back]}, girth: 2, on: pattern}]\n"
+    out = tmp_path / "o"
+    r = run("adjust", p, recipe_file(tmp_path, text), "-o", out, "-q", *FAST)
+    assert r.exit_code == 0, r.stderr
+    rep = _report(out)
+    got = rep["steps"][0]["achieved"]
+    assert set(got["measures"]) == {"chest"}
+    before = {d["name"]: d for d in rep["measures"]["before"]}["chest"]
+    after = {d["name"]: d for d in rep["measures"]["after"]}["chest"]
+    assert got["pattern"] == pytest.approx(after["pattern"] - before["pattern"], abs=1e-3)
+    assert got["pattern"] == pytest.approx(2.0, abs=0.3)  # the prediction held

@@ -143,6 +143,22 @@ def measured(state: EditState, name: str) -> float | None:
         return None
 
 
+def region_girths(state: EditState, faces: np.ndarray) -> list[str]:
+    """The girths (points of measure of kind ``girth``) of the edited drape that lie in the
+    region (at least half of each one's line on the region's triangles ``faces``): its
+    sections (chest, hip, bicep: measured at a level) where it has some, else its openings
+    (hem, neck, cuff)."""
+    inside = np.zeros(len(state.base.F3), dtype=bool)
+    inside[faces] = True
+    found = [
+        m
+        for m in garment_measures(drape_garment(state))
+        if m.kind == "girth" and len(m.line) and inside[m.line.face].mean() >= 0.5
+    ]
+    sections = [m.name for m in found if m.height is not None or m.point is not None]
+    return sections or [m.name for m in found]
+
+
 def cm(state: EditState) -> float:
     """Multiply a length in the garment's units by this for cm."""
     return factor(state.base.units, "cm")

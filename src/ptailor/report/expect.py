@@ -131,6 +131,50 @@ def expect_records(recipe: Recipe, before: Sequence[dict], after: Sequence[dict]
     return [expect_record(e, b[e.name], a.get(e.name), units=recipe.units) for e in recipe.expect]
 
 
+def steps_achieved(log: Sequence[dict], before: Sequence[dict], after: Sequence[dict]) -> list:
+    """The report's ``steps``: each step's record, where it asked a measure (``asked`` with a
+    ``measure``) or a girth over named girths (``measures``), with the pattern's value after
+    the flatten added to its ``achieved`` (cm; after every step: a later step acting on the
+    same measure moves it too).
+
+    - A step asked in a measure: ``achieved.pattern`` is that measure's pattern value.
+    - A girth (``loosen``/``tighten`` ``girth:``): ``achieved.measures`` is the change
+      ``{drape, pattern}`` (before to after) of each named girth in its region (its sections,
+      such as the chest, else its openings), and ``achieved.pattern`` their mean pattern
+      change.
+
+    Parameters
+    ----------
+    log : sequence of dict
+        The steps' records (not changed: changed copies are returned).
+    before, after : sequence of dict
+        The garment's measures as read and adjusted (:func:`garment_measure_dicts`).
+
+    Returns
+    -------
+    list of dict
+    """
+    b = {d["name"]: d for d in before}
+    a = {d["name"]: d for d in after}
+    out = []
+    for rec in log:  # a loop over a recipe's steps
+        asked = rec.get("asked")
+        if not isinstance(asked, dict) or not isinstance(rec.get("achieved"), dict):
+            out.append(rec)
+            continue
+        got = dict(rec["achieved"])
+        name = asked.get("measure")
+        if name in a:
+            got["pattern"] = a[name]["pattern"]
+        names = [n for n in rec.get("measures", ()) if n in a and n in b]
+        if "girth" in asked and names:
+            change = {n: {s: _r(a[n][s] - b[n][s]) for s in ("drape", "pattern")} for n in names}
+            got["pattern"] = _r(sum(c["pattern"] for c in change.values()) / len(change))
+            got["measures"] = change
+        out.append({**rec, "achieved": got})
+    return out
+
+
 def _asked_text(rec: dict) -> str:
     asked = rec.get("asked") or {}
     if "to" in asked:

@@ -33,6 +33,7 @@ from ptailor.report.expect import (
     garment_measure_dicts,
     measures_before,
     measures_section,
+    steps_achieved,
 )
 from ptailor.report.metrics import ScaleReference
 from ptailor.report.records import Report
@@ -197,10 +198,14 @@ def _stage(
 
 
 def _measure_sections(adj: Adjustment, recipe: Recipe, before: list[dict]) -> dict:
-    """The report's ``measures`` (the garment as read, the adjusted garment) and, when the
-    recipe has ``expect:``, ``expect`` (:mod:`ptailor.report.expect`)."""
+    """The report's ``measures`` (the garment as read, the adjusted garment), its ``steps``
+    with the pattern's achieved values and, when the recipe has ``expect:``, ``expect``
+    (:mod:`ptailor.report.expect`)."""
     after = garment_measure_dicts(adj.garment)
-    out: dict = {"measures": measures_section(before, after)}
+    out: dict = {
+        "steps": steps_achieved(adj.state.log, before, after),
+        "measures": measures_section(before, after),
+    }
     if recipe.expect:
         out["expect"] = expect_records(recipe, before, after)
     return out

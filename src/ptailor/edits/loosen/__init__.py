@@ -29,7 +29,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ptailor.edits import tolerances as edit_tol
-from ptailor.edits.asks import ask_tolerance, asked_of, cm, solve, with_ask
+from ptailor.edits.asks import ask_tolerance, asked_of, cm, region_girths, solve, with_ask
 from ptailor.edits.checks import choice, number
 from ptailor.edits.checks import region as region_spec
 from ptailor.edits.cut import sketch_spec, view_frame, view_spec
@@ -282,6 +282,7 @@ def girth_offset(state: EditState, step: LoosenStep, faces: np.ndarray, offset) 
         "achieved": {"drape": round(d * k, 4), "pattern_predicted": round(p * k, 4)},
         "levels": int(levels.heights.size),
         "tries": got.tries,
+        "measures": region_girths(state, faces),
     }
     return got.x, out, keys
 
