@@ -229,3 +229,50 @@ def test_recipe_runs_on_the_shared_garments_it_names(path, key):
     for rec in adj.state.log:
         for w in rec.get("warnings", []):
             assert "removes" not in w, w
+
+
+# ----------------------------------------------------------------- the README's recipe
+
+
+def readme_recipe() -> str:
+    """The YAML block under the README's "## A recipe"."""
+    import re
+
+    text = (Path(__file__).resolve().parents[1] / "README.md").read_text(encoding="utf-8")
+    return re.search(r"## A recipe.*?```yaml\n(.*?)```", text, re.S).group(1)
+
+
+def test_the_readmes_recipe_is_valid_and_asks_in_measures():
+    rec = parse_recipe(readme_recipe())
+    assert [s.op for s in rec.steps] == ["scale", "loosen", "shorten"]
+    assert rec.steps[1].girth == 2.0
+    assert {e.name for e in rec.expect} == {"chest", "bicep_left", "bicep_right"}
+
+
+@pytest.mark.slow
+def test_the_readmes_recipe_on_the_tshirt_delivers_what_the_readme_says(tmp_path):
+    """The numbers the README quotes under its recipe (exit 0: every expectation met)."""
+    import json
+
+    from click.testing import CliRunner
+
+    from ptailor.cli.main import cli
+    from tests.conftest import real_path
+
+    garment = real_path("tshirt")
+    rec = tmp_path / "r.yaml"
+    rec.write_text(readme_recipe())
+    out = tmp_path / "o"
+    args = ["adjust", garment, rec, "-o", out, "--pattern-units", "auto", "-q", "--no-baseline"]
+    r = CliRunner().invoke(cli, [str(a) for a in args])
+    assert r.exit_code == 0, r.stderr
+    rep = json.loads((out / "report.json").read_text())
+    b = {d["name"]: d for d in rep["measures"]["before"]}
+    a = {d["name"]: d for d in rep["measures"]["after"]}
+    gain = {n: (a[n]["drape"] - b[n]["drape"], a[n]["pattern"] - b[n]["pattern"]) for n in a}
+    np.testing.assert_allclose(gain["chest"], (2.16, 2.07), atol=0.05)
+    np.testing.assert_allclose(gain["body_length"], (-4.2, -4.2), atol=0.1)
+    for side in ("left", "right"):
+        n = f"bicep_{side}"
+        ratio = (a[n]["drape"] / b[n]["drape"], a[n]["pattern"] / b[n]["pattern"])
+        np.testing.assert_allclose(ratio, (1.100, 1.090), atol=0.002)
