@@ -230,6 +230,12 @@ def summary_text(info: dict) -> str:
     for o in info["openings"]:
         c = ", ".join(f"{x:.1f}" for x in o["centroid"])
         lines.append(f"  {o['name']:<16} length {o['length']:8.2f}  at ({c})")
+    if info.get("measures"):
+        lines.append("points of measure (cm, drape / pattern; ptailor measure):")
+        for m in info["measures"]:
+            lines.append(
+                f"  {m['name']:<20} {m['kind']:<7} {m['drape']:8.2f} / {m['pattern']:8.2f}"
+            )
     if info.get("spec"):
         lines.extend(spec_text(info["spec"], u))
     return "\n".join(lines)
