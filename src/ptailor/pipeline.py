@@ -7,6 +7,7 @@ import warnings as _warnings
 from collections.abc import Callable
 from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -66,9 +67,10 @@ class Adjustment:
         """The garment's frame (the run's axes, carried by the garment)."""
         return self.state.base.frame
 
-    @property
+    @cached_property
     def garment(self) -> Garment:
-        """The adjusted garment: edited drape and adjusted pattern."""
+        """The adjusted garment: edited drape and adjusted pattern (made once: its structure,
+        which the report's measures and the outputs read, is computed once)."""
         return Garment(
             V3=self.state.V3,
             F3=self.state.base.F3,
