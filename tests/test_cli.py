@@ -63,7 +63,7 @@ def test_adjust_writes_outputs_and_can_adjust_its_own_output(runner, sleeve, rec
     assert cuff["size_after"] == pytest.approx([48.0, 8.0], rel=1e-6)
     assert cuff["baseline_size_after"][0] == pytest.approx(33.6, rel=1e-3)
     assert rep["inputs"]["garment"]["sha256"] and rep["method"] == "scale-preserving"
-    assert set(rep["timing_s"]) == {"load", "edit", "flatten", "baseline", "write"}
+    assert set(rep["timing_s"]) == {"load", "edit", "flatten", "baseline", "measures", "write"}
     assert "cuff" in r.output and "sleeve" in r.output
     # the output is a garment again: an identity recipe returns it unchanged
     ident = tmp_path / "id.yaml"
