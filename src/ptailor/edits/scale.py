@@ -221,8 +221,11 @@ def scale_by(
     deformation.
 
     The region's triangles are mapped by ``c + A (p - c)`` with ``c`` the region's centroid
-    and ``A`` from :func:`scale_matrix`. Panels wholly inside the region move evenly;
-    panels partly inside, or moved only by the follow-up deformation, do not.
+    and ``A`` from :func:`scale_matrix`. Panels wholly inside a ``uniform`` scale move evenly
+    (a similarity: their outline keeps its shape); an ``around`` or ``along`` scale is no
+    similarity of a panel's pattern (a cone's gore widens at the hem by its radius, a sleeve's
+    rectangle widens but keeps its length), nor is a panel partly inside or moved only by the
+    follow-up deformation: their outlines are free, so the pattern takes the widths asked.
     """
     g, V3 = state.base, state.V3
     faces = region_faces(step.region, g, V3, state.panels)
@@ -261,10 +264,11 @@ def scale_by(
     face_in[faces] = True
     changed = np.any(V_new != V3, axis=1)
     even = state.even.copy()
+    similar = step.direction == "uniform"
     for p in state.panels:  # a loop over panels, not triangles
         inside = bool(face_in[p.faces].all())
         still = not bool(changed[g.F3[p.faces]].any())
-        even[p.index] &= inside or still
+        even[p.index] &= (inside and similar) or still
     rec = {
         "op": "scale",
         "direction": step.direction,
