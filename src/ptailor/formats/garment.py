@@ -12,12 +12,12 @@ import numpy as np
 from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
 from ptailor.formats import is_pattern_file, pattern_reader_for, reader_for
-from ptailor.geometry.triangles import signed_areas_2d, triangle_areas
 from ptailor.model.frame import DEFAULT_FRAME, Frame, frame_from_header
 from ptailor.model.garment import Garment
 from ptailor.model.pieces import PatternFile
 from ptailor.model.repair import check_units, intake, unit_ratios
 from ptailor.model.size import check_size, garment_size
+from ptailor.model.unit_ratio import pattern_scale_estimate
 from ptailor.model.units import CM_PER, factor
 from ptailor.model.validate import check_garment
 
@@ -379,14 +379,13 @@ def _not_given(drape_given: bool, pattern_given: bool) -> str:
 
 
 def _estimated_pattern_scale(V3, F3, V2, F2, *, path: str) -> float:
-    """``--pattern-units auto``: the scale that gives the pattern the drape's area."""
+    """``--pattern-units auto``: :func:`ptailor.model.unit_ratio.pattern_scale_estimate`."""
     if not (np.all(np.isfinite(V2)) and np.all(np.isfinite(V3))):
         return 1.0  # check_garment reports the NaNs
-    a2 = float(np.abs(signed_areas_2d(V2, F2)).sum())
-    a3 = float(triangle_areas(V3, F3).sum())
-    if a2 <= 0:
+    scale = pattern_scale_estimate(V3, F3, V2, F2)
+    if not scale > 0:
         raise PtailorError("pattern has zero area", path=path)
-    return float(np.sqrt(a3 / a2))
+    return scale
 
 
 def _load_pattern_pair(

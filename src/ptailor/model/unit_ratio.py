@@ -11,10 +11,17 @@ import numpy as np
 
 from ptailor.errors import PtailorError
 from ptailor.geometry.labels import component_labels
-from ptailor.geometry.triangles import edge_lengths
+from ptailor.geometry.topology import edge_keys, half_edges
+from ptailor.geometry.triangles import edge_lengths, signed_areas_2d, triangle_areas
 from ptailor.model import tolerances as model_tol
 
-__all__ = ["UNIT_RATIO_RANGE", "UnitMismatchError", "check_units", "unit_ratios"]
+__all__ = [
+    "UNIT_RATIO_RANGE",
+    "UnitMismatchError",
+    "check_units",
+    "pattern_scale_estimate",
+    "unit_ratios",
+]
 
 #: see :data:`ptailor.model.tolerances.UNIT_RATIO_RANGE`
 UNIT_RATIO_RANGE = model_tol.UNIT_RATIO_RANGE
@@ -100,3 +107,44 @@ def check_units(
             "(or --pattern-units auto)",
             path=path,
         )
+
+
+def pattern_scale_estimate(V3: np.ndarray, F3: np.ndarray, V2: np.ndarray, F2: np.ndarray) -> float:
+    """The scale that puts a pattern in the drape's unit (``--pattern-units auto``).
+
+    The median, over the pattern's interior triangles (no corner on a panel's outline), of
+    each triangle's ``sqrt(drape area / pattern area)``: a box mesh's seam triangles, stretched
+    across the gaps between its placed panels (a third to two thirds of its 3D area), and
+    stretched hems and cuffs do not count. Without interior triangles, the whole garment's
+    area ratio.
+
+    Parameters
+    ----------
+    V3 : (n3, 3) float array
+    F3 : (m, 3) int array
+    V2 : (n2, 2) float array
+    F2 : (m, 3) int array
+
+    Returns
+    -------
+    float
+        NaN when the pattern has no area.
+
+    Examples
+    --------
+    >>> V2 = np.array([[0.0, 0], [1, 0], [0, 1]])
+    >>> V3 = np.c_[3.0 * V2, np.zeros(3)]
+    >>> float(pattern_scale_estimate(V3, np.array([[0, 1, 2]]), V2, np.array([[0, 1, 2]])))
+    3.0
+    """
+    a3 = triangle_areas(V3, F3)
+    a2 = np.abs(signed_areas_2d(V2, F2))
+    keys = edge_keys(half_edges(F2), n=len(V2))
+    uniq, count = np.unique(keys, return_counts=True)
+    outline = np.zeros(len(V2), dtype=bool)
+    outline[half_edges(F2)[np.isin(keys, uniq[count == 1])].ravel()] = True
+    inner = ~outline[F2].any(axis=1) & (a2 > 0) & (a3 > 0)
+    if inner.any():
+        return float(np.median(np.sqrt(a3[inner] / a2[inner])))
+    total = float(a2.sum())
+    return float(np.sqrt(a3.sum() / total)) if total > 0 else float("nan")
