@@ -4,20 +4,21 @@ from __future__ import annotations
 
 import click
 
-from ptailor.cli.options import axes_options, dxf_options, garment_options, spec_option
+from ptailor.cli.options import (
+    axes_options,
+    dxf_options,
+    garment_options,
+    report_units_option,
+    spec_option,
+)
 
 
 @click.command()
 @click.argument("garment", type=click.Path(dir_okay=False))
 @garment_options
 @axes_options
-@click.option(
-    "--units",
-    "units",
-    default="cm",
-    show_default=True,
-    type=click.Choice(["mm", "cm", "m", "in"]),
-    help="Unit to report lengths in (garments; a DXF is shown in its own units and cm).",
+@report_units_option(
+    "Unit to report lengths in (garments; a DXF is shown in its own units and cm)."
 )
 @dxf_options
 @spec_option(writes=False)

@@ -4,21 +4,14 @@ from __future__ import annotations
 
 import click
 
-from ptailor.cli.options import axes_options, garment_options
+from ptailor.cli.options import axes_options, garment_options, report_units_option
 
 
 @click.command()
 @click.argument("garment", type=click.Path(dir_okay=False))
 @garment_options
 @axes_options
-@click.option(
-    "--units",
-    "units",
-    default="cm",
-    show_default=True,
-    type=click.Choice(["mm", "cm", "m", "in"]),
-    help="Unit to report lengths in.",
-)
+@report_units_option()
 @click.option("--json", "as_json", is_flag=True, help="Print JSON instead of a table.")
 def measure(garment, drape, pattern_units, drape_units, weld, up, front, units, as_json) -> None:
     """List GARMENT's points of measure, in the drape and in the pattern.

@@ -222,6 +222,18 @@ def dxf_options(fn):
     return fn
 
 
+def report_units_option(help_text: str = "Unit to report lengths in."):
+    """``--units mm|cm|m|in``: the unit ``inspect`` and ``measure`` report lengths in."""
+    return click.option(
+        "--units",
+        "units",
+        default="cm",
+        show_default=True,
+        type=click.Choice(["mm", "cm", "m", "in"]),
+        help=help_text,
+    )
+
+
 def rest_option(name: str = "--rest"):
     """``--rest intrinsic|pattern``: how the re-drapes' triangles rest."""
     return click.option(

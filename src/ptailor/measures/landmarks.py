@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ptailor.geometry.pattern_maps import pattern_jacobians
 from ptailor.geometry.topology import half_edges, loop_halfedges
 from ptailor.measures import tolerances as measures_tol
 from ptailor.measures.lines import (
@@ -328,22 +329,25 @@ def centre_front_length(g: Garment, ctx: Context, h_top: float) -> MaterialLine 
 
 
 def _grain_up(g: Garment, faces: np.ndarray, up: np.ndarray) -> np.ndarray:
-    """The up axis carried into the pattern: the mean over ``faces`` of each triangle's
-    linear map (drape to pattern) applied to ``up``, normalised."""
-    T3 = g.V3[g.F3[faces]]
-    T2 = g.V2[g.F2[faces]]
-    E3 = np.stack([T3[:, 1] - T3[:, 0], T3[:, 2] - T3[:, 0]], axis=2)  # (k, 3, 2)
-    E2 = np.stack([T2[:, 1] - T2[:, 0], T2[:, 2] - T2[:, 0]], axis=2)  # (k, 2, 2)
-    # up in each triangle's edge basis (least squares: its projection on the plane), then in 2D
-    G = np.einsum("kdi,kdj->kij", E3, E3)
-    b = np.einsum("kdi,d->ki", E3, up)
+    """The up axis carried into the pattern: over ``faces``, the mean pattern direction each
+    triangle's map takes to ``up``'s projection on it (least squares on ``J``,
+    :func:`~ptailor.geometry.pattern_maps.pattern_jacobians`), normalised."""
+    J, ok = pattern_jacobians(g.V3, g.F3[faces], g.V2, g.F2[faces])
+    J = J[ok]
+    G = np.einsum("kdi,kdj->kij", J, J)  # (k, 2, 2)
+    b = np.einsum("kdi,d->ki", J, up)
     det = G[:, 0, 0] * G[:, 1, 1] - G[:, 0, 1] ** 2
-    ok = det > 0.0
-    c = np.stack(
-        [G[:, 1, 1] * b[:, 0] - G[:, 0, 1] * b[:, 1], G[:, 0, 0] * b[:, 1] - G[:, 0, 1] * b[:, 0]],
-        axis=1,
+    good = det > 0.0
+    w = (
+        np.stack(
+            [
+                G[:, 1, 1] * b[:, 0] - G[:, 0, 1] * b[:, 1],
+                G[:, 0, 0] * b[:, 1] - G[:, 0, 1] * b[:, 0],
+            ],
+            axis=1,
+        )[good]
+        / det[good, None]
     )
-    w = np.einsum("kdi,ki->kd", E2[ok], c[ok] / det[ok, None])
     s = w.sum(axis=0)
     n = np.linalg.norm(s)
     return s / n if n > 0 else s
