@@ -136,7 +136,7 @@ def test_batch_html_shows_every_garment_its_status_reason_and_gates(tmp_path, ga
     assert [row["data-status"] for row in page.rows] == ["failed", "ok", "failed", "failed"]
     assert page.rows[3]["data-gates"] == "--max-area-change --max-boundary-deviation"
     text = " ".join(page.text)
-    assert "not an OBJ" in text and "area change 22.1 % > 21 %" in text
+    assert "not an OBJ" in text and "area change 22.3 % > 21 %" in text
     assert "d_<b>&\"skirt'" in text  # the file name, shown as text
     raw = (out / "index.html").read_text()
     assert "d_<b>" not in raw and "d_&lt;b&gt;&amp;&#34;skirt&#39;" in raw
