@@ -196,10 +196,13 @@ def seam_sides(adj) -> list[tuple[float, float]]:
 
 @pytest.mark.slow
 def test_a_tube_widened_on_one_side_keeps_its_side_seams():
-    """Bodice front 10 % wider: its side seams stay equal (free stitching lets them drift)."""
+    """Bodice front 10 % wider, its outline kept similar: its side seams stay equal (free
+    stitching lets them drift). (The default outline rule frees an around-scaled panel,
+    which then barely drifts: 2e-6.)"""
     g = bodice()
-    free = adjustment(g, parse_recipe(SLEEVE_WIDER + "\nflatten: {seams: free}"), baseline=False)
-    ease = adjustment(g, parse_recipe(SLEEVE_WIDER), baseline=False)
+    kept = "\nflatten: {boundary: similar"
+    free = adjustment(g, parse_recipe(SLEEVE_WIDER + kept + ", seams: free}"), baseline=False)
+    ease = adjustment(g, parse_recipe(SLEEVE_WIDER + kept + "}"), baseline=False)
     assert ease.settings["seams"] == "ease"
     gaps_free = [abs(a - b) / b for a, b in seam_sides(free)]
     assert min(gaps_free) > 1e-4  # the drift the constraint removes
