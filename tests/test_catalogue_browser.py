@@ -207,8 +207,9 @@ def test_a_garment_page_in_chromium(browser, batch_out, tmp_path):
         .endswith("pattern.svg")
     )
     tables = browser.find_elements("css selector", "table.data")
-    assert len(tables) == 2  # panels and seams
+    assert len(tables) == 3  # panels, seams and the points of measure before and after
     assert "tube" in tables[0].text
+    assert "waist" in tables[2].text and "hem" in tables[2].text
     _no_console_errors(browser)
     browser.find_element("id", "back").click()
     assert browser.current_url == (batch_out / "index.html").as_uri()
