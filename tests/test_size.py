@@ -187,3 +187,25 @@ def test_a_garment_beside_a_body_of_another_size_is_exit_2_unless_its_units_are_
     ok = run("adjust", garment, rec, "-o", out, "--body", body, "--body-units", "m",
              "--no-baseline", "-q")  # fmt: skip
     assert ok.exit_code == 0, ok.output
+
+
+# ------------------------------------------- units given are checked too (issue 42, item 8)
+
+
+@pytest.mark.parametrize(
+    ("units", "warned"),
+    [(("cm", "cm"), False), (("mm", "mm"), True), (("m", "m"), True), (("cm", None), False)],
+)
+def test_units_given_that_make_no_garment_are_a_warning_not_a_refusal(tmp_path, units, warned):
+    from ptailor.formats.garment import load_garment
+    from ptailor.formats.obj import write_garment
+    from ptailor.samples import flat_tee
+
+    p = tmp_path / "tee.obj"
+    write_garment(p, flat_tee())
+    loaded = load_garment(p, drape_units=units[0], pattern_units=units[1])
+    found = [w for w in loaded.intake["warnings"] if "not a garment's size" in w]
+    assert bool(found) == warned
+    if warned:
+        assert found[0].startswith(f"read with --drape-units {units[0]}")
+        assert "check the units" in found[0]

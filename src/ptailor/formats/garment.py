@@ -16,7 +16,7 @@ from ptailor.model.frame import DEFAULT_FRAME, Frame, frame_from_header
 from ptailor.model.garment import Garment
 from ptailor.model.pieces import PatternFile
 from ptailor.model.repair import check_units, intake, unit_ratios
-from ptailor.model.size import check_size, garment_size
+from ptailor.model.size import check_size, garment_size, size_warning
 from ptailor.model.unit_ratio import pattern_scale_estimate
 from ptailor.model.units import CM_PER, factor
 from ptailor.model.validate import check_garment
@@ -257,6 +257,14 @@ def _load_garment(
         units=units,
     )
     check_garment(g, path=err_path)
+    given = _given_units_warning(
+        g,
+        cm_per_unit=1.0 / to_units,
+        drape=drape_units if drape_given else None,
+        pattern=pattern_units if pattern_given else None,
+    )
+    if given is not None:
+        record["warnings"].append(given)
     _check_default_units(
         g,
         cm_per_unit=1.0 / to_units,
@@ -338,6 +346,32 @@ def _check_default_units(
         path=path,
         options=_not_given(drape_given, pattern_given),
     )
+
+
+def _given_units_warning(
+    g: Garment, *, cm_per_unit: float, drape: str | None, pattern: str | None
+) -> str | None:
+    """:func:`ptailor.model.size.size_warning` on what was read in units the user gave (the
+    drape with ``--drape-units``, the pieces with ``--pattern-units`` other than ``auto``):
+    a cm drape read as mm, a 1/300 m file read as cm."""
+    pieces = pattern is not None and pattern != "auto"
+    if drape is None and not pieces:
+        return None
+    measured = garment_size(
+        g.V3 if drape is not None else None,
+        g.F3,
+        g.V2 if pieces else g.V2[:0],
+        g.F2 if pieces else g.F2[:0],
+    )
+    given = " and ".join(
+        f"{name} {value}"
+        for name, value in (
+            ("--drape-units", drape),
+            ("--pattern-units", pattern if pieces else None),
+        )
+        if value is not None
+    )
+    return size_warning(measured.scaled(cm_per_unit), options=given)
 
 
 def _read_meshes(path: str | Path, drape: str | Path | None):

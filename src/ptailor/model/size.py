@@ -256,3 +256,24 @@ def check_size(size: GarmentSize, *, path: str | None, options: str) -> None:
         f"{hint}",
         path=path,
     )
+
+
+def size_warning(size: GarmentSize, *, options: str) -> str | None:
+    """A warning when a garment read in the units it was given is not of human size: the
+    user's word stands (no refusal), but never silently. None when it is.
+
+    Parameters
+    ----------
+    size : GarmentSize
+        In centimetres.
+    options : str
+        The unit options given (``"--drape-units mm"``).
+
+    Returns
+    -------
+    str or None
+    """
+    problem = size_problem(size)
+    if problem is None:
+        return None
+    return f"read with {options}, {problem}: not a garment's size; check the units"
