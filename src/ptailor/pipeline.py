@@ -86,6 +86,10 @@ class Adjustment:
 def apply_steps(garment: Garment, recipe: Recipe, *, options: EditOptions) -> EditState:
     """Apply a recipe's steps to the drape, in order.
 
+    A step with ``optional: true`` on a garment that lacks what it names (an
+    :class:`~ptailor.errors.AbsentError`: a panel, part, opening, seam or measure) is skipped:
+    its record is :func:`skipped_record`. Every other error fails the run, naming the step.
+
     A step with ``symmetric: true`` is applied with its mirror image across the sagittal
     plane (:func:`ptailor.edits.mirror.apply_mirrored`). The plane is fitted once, to the
     input drape (or to ``options.body``), before the first step, and recorded as the
@@ -132,11 +136,13 @@ def apply_steps(garment: Garment, recipe: Recipe, *, options: EditOptions) -> Ed
                     state = apply_mirrored(state, step, options=options, plane=plane)
                 else:
                     state = OPERATIONS[step.op].apply(state, step, options=options)
-        except AbsentError as exc:
-            if not step.optional:
-                raise AbsentError(f"{where}: {exc}") from None
-            state = replace(state, log=(*state.log, skipped_record(step, where, exc)))
-            continue
+        except AbsentError as exc:  # the garment lacks what the step names
+            if step.optional:
+                state = replace(state, log=(*state.log, skipped_record(step, where, exc)))
+                continue
+            if exc.path is not None or str(exc).startswith("steps["):
+                raise
+            raise AbsentError(f"{where}: {exc}") from None
         except PtailorError as exc:
             if exc.path is not None or str(exc).startswith("steps["):
                 raise
