@@ -28,6 +28,7 @@ from ptailor.edits import (
     Step,
     TightenStep,
 )
+from ptailor.edits.registry import COMMON_FIELDS
 from ptailor.recipe import Recipe, parse_recipe
 
 EDITS = Path(edits.__file__).parent
@@ -48,7 +49,7 @@ def test_every_operation_has_its_own_step_type():
         assert dataclasses.is_dataclass(op.step) and op.step.__dataclass_params__.frozen
         # every field is a recipe parameter (checked), or a key every step has
         for f in dataclasses.fields(op.step):
-            assert "check" in f.metadata or f.name == "symmetric", f"{name}.{f.name}"
+            assert "check" in f.metadata or f.name in COMMON_FIELDS, f"{name}.{f.name}"
 
 
 def test_the_recipe_builds_typed_steps_with_the_fields_defaults():

@@ -1,6 +1,7 @@
 """Exceptions, by kind. The CLI maps them to exit statuses in one place (``ptailor.cli.main``):
 
-- :class:`PtailorError` (:class:`RecipeError`, :class:`NumericError`): the input, exit 2;
+- :class:`PtailorError` (:class:`RecipeError`, :class:`NumericError`, :class:`AbsentError`):
+  the input, exit 2;
 - ``MemoryError``: out of memory, exit 2 (neither the garment's fault nor a bug);
 - :class:`Interrupted`: a signal, exit 128 + it;
 - any other exception: an internal error, a bug in ptailor, exit 1 with
@@ -45,6 +46,16 @@ class RecipeError(PtailorError):
         n = len(self.problems)
         head = f"{n} problem{'s' if n != 1 else ''} in recipe"
         super().__init__(head + ": " + "; ".join(self.problems), path=path)
+
+
+class AbsentError(PtailorError):
+    """A recipe step names what this garment lacks: a panel, a part of the body, an
+    opening, a seam, a point of measure (``no panel named sleeve``, ``no part sleeves``).
+
+    Still the input's kind (exit 2), but a step with ``optional: true`` is skipped on such a
+    garment instead (:func:`ptailor.pipeline.apply_steps`): one recipe serves a catalogue in
+    which some garments have no sleeves.
+    """
 
 
 class NumericError(PtailorError):

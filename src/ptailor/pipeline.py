@@ -12,9 +12,9 @@ from functools import cached_property
 import numpy as np
 
 from ptailor import tolerances as tol
-from ptailor.edits import OPERATIONS, EditOptions, EditState
+from ptailor.edits import OPERATIONS, EditOptions, EditState, Step
 from ptailor.edits.mirror import apply_mirrored
-from ptailor.errors import NumericError, PtailorError
+from ptailor.errors import AbsentError, NumericError, PtailorError
 from ptailor.geometry.labels import used_indices
 from ptailor.geometry.triangles import triangle_areas
 from ptailor.method import tolerances as method_tol
@@ -86,6 +86,10 @@ class Adjustment:
 def apply_steps(garment: Garment, recipe: Recipe, *, options: EditOptions) -> EditState:
     """Apply a recipe's steps to the drape, in order.
 
+    A step with ``optional: true`` on a garment that lacks what it names (an
+    :class:`~ptailor.errors.AbsentError`: a panel, part, opening, seam or measure) is skipped:
+    its record is :func:`skipped_record`. Every other error fails the run, naming the step.
+
     A step with ``symmetric: true`` is applied with its mirror image across the sagittal
     plane (:func:`ptailor.edits.mirror.apply_mirrored`). The plane is fitted once, to the
     input drape (or to ``options.body``), before the first step, and recorded as the
@@ -132,12 +136,30 @@ def apply_steps(garment: Garment, recipe: Recipe, *, options: EditOptions) -> Ed
                     state = apply_mirrored(state, step, options=options, plane=plane)
                 else:
                     state = OPERATIONS[step.op].apply(state, step, options=options)
+        except AbsentError as exc:  # the garment lacks what the step names
+            if step.optional:
+                state = replace(state, log=(*state.log, skipped_record(step, where, exc)))
+                continue
+            if exc.path is not None or str(exc).startswith("steps["):
+                raise
+            raise AbsentError(f"{where}: {exc}") from None
         except PtailorError as exc:
             if exc.path is not None or str(exc).startswith("steps["):
                 raise
             raise PtailorError(f"{where}: {exc}") from None
         check_drape(state, where)
     return state
+
+
+def skipped_record(step: Step, where: str, exc: AbsentError) -> dict:
+    """The record of an ``optional`` step skipped on a garment without what it names:
+    ``{"op", "skipped": why, "warnings": [...]}`` (the report's warnings say so)."""
+    why = str(exc)
+    return {
+        "op": step.op,
+        "skipped": why,
+        "warnings": [f"{where} skipped (optional: true): {why}"],
+    }
 
 
 @contextmanager

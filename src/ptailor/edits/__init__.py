@@ -24,7 +24,9 @@ Modules, read top down:
 - what they share: :mod:`~ptailor.edits.surgery` (split on a level set),
   :mod:`~ptailor.edits.pattern_distance` (distances in the pattern),
   :mod:`~ptailor.edits.opening` (openings and their edges), :mod:`~ptailor.edits.region`
-  (regions and axes), :mod:`~ptailor.edits.body` (keeping cloth outside a body),
+  (regions and axes), :mod:`~ptailor.edits.parts` (regions by part of the body, from the
+  garment's structure), :mod:`~ptailor.edits.coverage` (the share of a girth a region
+  holds), :mod:`~ptailor.edits.body` (keeping cloth outside a body),
   :mod:`~ptailor.edits.achieved` (what an edit achieved, for the report),
   :mod:`~ptailor.edits.asks` (steps asked in points of measure: the parameter that gives
   the asked value, the record of asked and achieved);

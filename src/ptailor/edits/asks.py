@@ -32,7 +32,7 @@ from ptailor.edits import tolerances as edit_tol
 from ptailor.edits.checks import BIG, number_problem, show
 from ptailor.edits.registry import Check
 from ptailor.edits.state import EditState
-from ptailor.errors import PtailorError
+from ptailor.errors import AbsentError, PtailorError
 from ptailor.measures import MEASURES, garment_measures
 from ptailor.model.garment import Garment
 from ptailor.model.units import factor
@@ -131,7 +131,7 @@ def drape_measure(state: EditState, name: str) -> float:
     found = {m.name: m for m in garment_measures(drape_garment(state))}
     if name not in found:
         have = ", ".join(found) or "none"
-        raise PtailorError(f"the garment has no measure {name!r} (it has: {have})")
+        raise AbsentError(f"the garment has no measure {name!r} (it has: {have})")
     return float(found[name].drape)
 
 

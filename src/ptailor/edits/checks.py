@@ -11,6 +11,7 @@ from collections.abc import Callable
 from typing import Any
 
 from ptailor import tolerances as tol
+from ptailor.edits.parts import PARTS
 from ptailor.edits.registry import Check
 
 #: Every recipe number lies within +-this (:data:`ptailor.tolerances.RECIPE_NUMBER_MAX`).
@@ -176,6 +177,12 @@ def axis(x: Any, where: str) -> list[str]:
             },
             {
                 "type": "object",
+                "properties": {"part": {"enum": list(PARTS)}},
+                "required": ["part"],
+                "additionalProperties": False,
+            },
+            {
+                "type": "object",
                 "properties": {
                     "box": {
                         "type": "object",
@@ -191,11 +198,19 @@ def axis(x: Any, where: str) -> list[str]:
     }
 )
 def region(x: Any, where: str) -> list[str]:
-    """``all`` | ``{panels: [names]}`` | ``{box: {min: [x,y,z], max: [x,y,z]}}``."""
+    """``all`` | ``{panels: [names]}`` | ``{part: torso}`` | ``{box: {min: [x,y,z], max:
+    [x,y,z]}}`` (the parts: :data:`ptailor.edits.parts.PARTS`)."""
     if x == "all":
         return []
-    if not isinstance(x, dict) or len(x) != 1 or next(iter(x)) not in ("panels", "box"):
-        return [f"{where}: expected all, {{panels: [...]}} or {{box: {{min: ..., max: ...}}}}"]
+    if not isinstance(x, dict) or len(x) != 1 or next(iter(x)) not in ("panels", "part", "box"):
+        return [
+            f"{where}: expected all, {{panels: [...]}}, {{part: torso}} or "
+            "{box: {min: ..., max: ...}}"
+        ]
+    if "part" in x:
+        if isinstance(x["part"], str) and x["part"] in PARTS:
+            return []
+        return [f"{where}.part: expected one of {', '.join(PARTS)}, got {show(x['part'])}"]
     if "panels" in x:
         names = x["panels"]
         ok = isinstance(names, list) and names and all(isinstance(n, str) and n for n in names)

@@ -31,6 +31,7 @@ from ptailor.edits.cut import CutStep
 from ptailor.edits.extend import ExtendStep
 from ptailor.edits.loosen import LoosenStep
 from ptailor.edits.opening import drape_openings
+from ptailor.edits.parts import mirror_part
 from ptailor.edits.registry import OPERATIONS, Step
 from ptailor.edits.scale import ScaleStep
 from ptailor.edits.scale_seam import ScaleSeamStep, resolve_seam
@@ -171,6 +172,8 @@ def mirror_step(
 
         names = [p.name for p in panels_named(reg["panels"], before.panels)]  # families named
         changes["region"] = {**reg, "panels": [r.panel(n) for n in names]}
+    if isinstance(reg, dict) and "part" in reg:  # sleeve_left <-> sleeve_right
+        changes["region"] = {"part": mirror_part(reg["part"])}
     if isinstance(step, ScaleSeamStep):
         # a seam's name: its panels, then mirrored
         seam = step.seam

@@ -10,7 +10,7 @@ import numpy as np
 from ptailor import tolerances as tol
 from ptailor.edits.checks import show, with_schema
 from ptailor.edits.state import EditState
-from ptailor.errors import PtailorError
+from ptailor.errors import AbsentError, PtailorError
 from ptailor.geometry.topology import half_edges
 from ptailor.model.openings import Opening, openings
 from ptailor.model.structure import structure
@@ -83,13 +83,13 @@ def find_opening(state: EditState, spec: Any) -> tuple[str, np.ndarray]:
     if isinstance(spec, dict):
         k = spec["loop"]
         if k >= len(ops):
-            raise PtailorError(f"no opening {{loop: {k}}}: this garment has {len(ops)} loops")
+            raise AbsentError(f"no opening {{loop: {k}}}: this garment has {len(ops)} loops")
         return ops[k].name, ops[k].loop
     for o in ops:
         if o.name == spec:
             return o.name, o.loop
     names = ", ".join(o.name for o in ops) or "none"
-    raise PtailorError(f"no opening named {spec!r} on this garment (it has: {names})")
+    raise AbsentError(f"no opening named {spec!r} on this garment (it has: {names})")
 
 
 @dataclass(frozen=True)

@@ -8,7 +8,8 @@ import numpy as np
 
 from ptailor import tolerances as tol
 from ptailor.edits import tolerances as edit_tol
-from ptailor.errors import PtailorError
+from ptailor.edits.parts import part_faces
+from ptailor.errors import AbsentError, PtailorError
 from ptailor.geometry.triangles import triangle_normals
 from ptailor.geometry.tube_axis import extent_axis, tube_axis
 from ptailor.model.garment import Garment, Panel
@@ -38,7 +39,9 @@ def region_faces(region: Any, garment: Garment, V3: np.ndarray, plist: list[Pane
 
     Parameters
     ----------
-    region : ``"all"`` | ``{"panels": [...]}`` | ``{"box": {"min": ..., "max": ...}}``
+    region : ``"all"`` | ``{"panels": [...]}`` | ``{"part": ...}`` | ``{"box": {"min", "max"}}``
+        ``part``: a part of the body (:data:`ptailor.edits.parts.PARTS`), every panel
+        around it, from the garment's structure.
     garment : Garment
     V3 : (n3, 3) float array
         Current drape (a box selects triangles whose three corners are inside).
@@ -51,8 +54,9 @@ def region_faces(region: Any, garment: Garment, V3: np.ndarray, plist: list[Pane
 
     Raises
     ------
-    PtailorError
-        Unknown panel names (listing the garment's), or a region that selects nothing.
+    AbsentError
+        Unknown panel names (listing the garment's), a part the garment lacks, or a region
+        that selects nothing.
     """
     m = garment.n_faces
     if region == "all":
@@ -60,12 +64,14 @@ def region_faces(region: Any, garment: Garment, V3: np.ndarray, plist: list[Pane
     if "panels" in region:
         chosen = panels_named(region["panels"], plist)
         faces = np.unique(np.concatenate([p.faces for p in chosen]))
+    elif "part" in region:
+        faces = part_faces(region["part"], garment)
     else:
         lo, hi = np.asarray(region["box"]["min"]), np.asarray(region["box"]["max"])
         inside = np.all((lo <= V3) & (hi >= V3), axis=1)
         faces = np.flatnonzero(inside[garment.F3].all(axis=1))
     if faces.size == 0:
-        raise PtailorError(f"region {region!r} selects no triangle of the garment")
+        raise AbsentError(f"region {region!r} selects no triangle of the garment")
     return faces
 
 
@@ -94,7 +100,7 @@ def panels_named(names: list[str], plist: list) -> list:
             unknown.append(n)
         out.update((p.name, p) for p in family)
     if unknown:
-        raise PtailorError(
+        raise AbsentError(
             f"no panel named {', '.join(unknown)} (this garment has: {', '.join(by_name)})"
         )
     return list(out.values())

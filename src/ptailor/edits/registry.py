@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import copy
 from collections.abc import Callable
-from dataclasses import MISSING, Field, dataclass, fields
+from dataclasses import MISSING, Field, dataclass, field, fields
 from typing import Any, ClassVar
 
 from ptailor.edits.state import EditState
@@ -26,7 +26,13 @@ Check = Callable[[Any, str], list[str]]
 
 #: Step fields every operation has (not parameters of their own unless one declares it
 #: :func:`checked`); a step's mapping lists them after its own parameters.
-COMMON_FIELDS = ("symmetric",)
+COMMON_FIELDS = ("symmetric", "optional")
+#: What each of :data:`COMMON_FIELDS` does (the JSON Schema's description; both booleans).
+COMMON_DOCS = {
+    "symmetric": "also apply the mirror image of this step",
+    "optional": "skip this step, with a warning, on a garment without the panel, part, "
+    "opening, seam or measure it names (one recipe for garments with and without sleeves)",
+}
 
 
 @dataclass(frozen=True)
@@ -92,10 +98,14 @@ class Step:
         The operation's name (a class attribute).
     symmetric : bool
         Also apply the step's mirror image (resolved: the step's own, else the recipe's).
+    optional : bool
+        Skip the step on a garment that lacks what it names (an
+        :class:`~ptailor.errors.AbsentError`): :func:`ptailor.pipeline.apply_steps`.
     """
 
     op: ClassVar[str] = ""
     symmetric: bool = False
+    optional: bool = field(default=False, metadata={"echo_default": False})
 
     @classmethod
     def recipe_fields(cls) -> list[Field]:
@@ -123,12 +133,14 @@ class Step:
     def to_dict(self) -> dict[str, Any]:
         """The step as the validated recipe mapping: ``op``, every parameter (defaults
         filled in; one :func:`checked` with ``echo_none=False`` only when given),
-        ``symmetric``: what reports and the catalogue echo."""
+        ``symmetric``, ``optional`` only when true: what reports and the catalogue echo."""
         out: dict[str, Any] = {"op": self.op}
         for f in self.recipe_fields():
             value = getattr(self, f.name)
             if value is None and not f.metadata.get("echo_none", True):
                 continue
+            if not f.metadata.get("echo_default", True) and value == f.default:
+                continue  # optional: false, as every recipe written before it was
             out[f.name] = _plain(value)
         return out
 

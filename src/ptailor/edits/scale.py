@@ -28,6 +28,7 @@ from ptailor.edits.asks import (
 from ptailor.edits.checks import axis as axis_spec
 from ptailor.edits.checks import choice, number
 from ptailor.edits.checks import region as region_spec
+from ptailor.edits.coverage import girth_coverage, with_coverage
 from ptailor.edits.follow import rigid_apart
 from ptailor.edits.region import region_axis, region_centroid, region_faces, unit_vector
 from ptailor.edits.registry import Step, checked, register
@@ -68,7 +69,7 @@ class ScaleStep(Step):
     Attributes
     ----------
     region : str or dict
-        ``all``, ``{panels: [...]}`` or ``{box: {min, max}}``.
+        ``all``, ``{panels: [...]}``, ``{part: ...}`` or ``{box: {min, max}}``.
     direction : {"uniform", "around", "along"}
     axis : str or list of float
         ``auto`` or ``[x, y, z]``.
@@ -85,7 +86,10 @@ class ScaleStep(Step):
 
     op = "scale"
     region: str | dict[str, Any] = field(
-        default="all", metadata=checked(region_spec, "all | {panels: [...]} | {box: {min, max}}")
+        default="all",
+        metadata=checked(
+            region_spec, "all | {panels: [...]} | {part: torso, sleeves, ...} | {box: {min, max}}"
+        ),
     )
     direction: str = field(
         default="uniform", metadata=checked(choice("around", "along", "uniform"))
@@ -157,11 +161,20 @@ def scale(state: EditState, step: ScaleStep, *, options: EditOptions) -> EditSta
     """Scale a region of the drape; the rest follows by as-rigid-as-possible deformation.
 
     By ``factor`` (:func:`scale_by`), or by the factor that brings ``measure`` to its
-    asked value (:func:`scale_to_measure`).
+    asked value (:func:`scale_to_measure`). An ``around`` scale whose region holds only part
+    of a girth warns with the share it holds (:mod:`ptailor.edits.coverage`).
     """
     if step.measure is None:
-        return scale_by(state, step, float(step.factor), options=options)
-    return scale_to_measure(state, step, options=options)
+        out = scale_by(state, step, float(step.factor), options=options)
+    else:
+        out = scale_to_measure(state, step, options=options)
+    if step.direction != "around" or step.region == "all":
+        return out
+    g = state.base
+    faces = region_faces(step.region, g, state.V3, state.panels)
+    ax = None if step.axis == "auto" else unit_vector(step.axis, "axis")
+    found = girth_coverage(state.V3, g.F3, faces, garment=g, axis=ax)
+    return replace(out, log=(*out.log[:-1], with_coverage(out.log[-1], found)))
 
 
 def scale_to_measure(state: EditState, step: ScaleStep, *, options: EditOptions) -> EditState:

@@ -14,7 +14,7 @@ from ptailor.edits.opening import find_opening, opening_spec
 from ptailor.edits.region import body_axis, unit_vector
 from ptailor.edits.registry import Step, checked, register
 from ptailor.edits.state import EditOptions, EditState
-from ptailor.errors import PtailorError
+from ptailor.errors import AbsentError, PtailorError
 from ptailor.geometry.labels import used_indices
 from ptailor.geometry.segments import segment_moments
 from ptailor.method.deform import arap_deform
@@ -135,13 +135,13 @@ def seam_edges(state: EditState, pair: list[str]) -> np.ndarray:
     by_name = {p.name: p.index for p in state.panels}
     unknown = [n for n in pair if n not in by_name]
     if unknown:
-        raise PtailorError(
+        raise AbsentError(
             f"no panel named {', '.join(unknown)} (this garment has: {', '.join(by_name)})"
         )
     want = tuple(sorted((by_name[pair[0]], by_name[pair[1]])))
     found = [s for s in state_seams(state) if s.panels == want]
     if not found:
-        raise PtailorError(f"panels {pair[0]} and {pair[1]} share no seam")
+        raise AbsentError(f"panels {pair[0]} and {pair[1]} share no seam")
     return np.concatenate([s.edges3 for s in found])
 
 
@@ -194,7 +194,7 @@ def resolve_seam(state: EditState, seam: Any, part: str) -> list[str]:
     pname = {p.index: p.name for p in state.panels}
     by_name = {p.name: p.index for p in state.panels}
     if part not in by_name:
-        raise PtailorError(f"no panel named {part} (this garment has: {', '.join(by_name)})")
+        raise AbsentError(f"no panel named {part} (this garment has: {', '.join(by_name)})")
     ip = by_name[part]
     for s, nm in zip(seam_list, names, strict=True):
         if nm == seam:
@@ -211,7 +211,7 @@ def resolve_seam(state: EditState, seam: Any, part: str) -> list[str]:
     for s, nm in zip(seam_list, names, strict=True):  # a stem of one of part's seams' names
         if ip in s.panels and s.panels[0] != s.panels[1] and nm.startswith(seam + "_"):
             return [pname[s.panels[0]], pname[s.panels[1]]]  # (a two-piece sleeve's half)
-    raise PtailorError(
+    raise AbsentError(
         f"no seam or seam line named {seam!r} on {part} (its seams: {', '.join(mine) or 'none'}"
         f"; its seam lines: {', '.join(ln.name for ln in lines) or 'none'})"
     )

@@ -148,3 +148,14 @@ ASK_TRIES = 5
 #: see) warns, naming both: the step moves the measure little (a hem cut for a sleeve's
 #: length) or not in proportion.
 ASK_WARN_CM = 0.1
+
+# --- how much of a girth a region covers (ptailor.edits.coverage) ---
+#: A girth edit (``loosen``, ``tighten``, ``scale direction: around``) whose region covers
+#: less than this fraction (unitless) of the garment's closed sections at its levels warns:
+#: the girth grows only there (a poncho's centre strips without its side panels: a third;
+#: one of a tee's front and back: a half). 0.9 leaves room for a seam allowance's sliver of
+#: another panel at a level and a waist seam that is not level.
+GIRTH_COVERAGE_MIN = 0.9
+#: ... measured at this many levels spanning the region along the girths' axis (a count:
+#: a few, as a tape measure is laid at a few heights).
+GIRTH_COVERAGE_LEVELS = 7

@@ -133,9 +133,12 @@ def _step(st: Any, where: str, *, units: Any, symmetric: Any) -> tuple[Step | No
     # as cut's, takes the same resolved value and mirrors itself)
     if "symmetric" in st and "symmetric" not in params:
         probs += boolean(st["symmetric"], f"{where}.symmetric")
+    if "optional" in st:  # skipped on a garment without what it names
+        probs += boolean(st["optional"], f"{where}.optional")
     if probs:
         return None, probs
     given["symmetric"] = st.get("symmetric", symmetric is True)
+    given["optional"] = st.get("optional", False)
     step = op.step(**given)
     probs += _sizes(step, where, units)
     if op.check is not None and not probs:

@@ -13,6 +13,7 @@ from typing import Any
 
 from ptailor.edits import OPERATIONS
 from ptailor.edits.opening import OPENING_SCHEMA
+from ptailor.edits.registry import COMMON_DOCS
 from ptailor.measures.table import MEASURES
 from ptailor.model.units import UNITS
 from ptailor.recipe.expect import ON
@@ -45,10 +46,7 @@ def recipe_schema() -> dict:
         for key, prm in op.params.items():
             props[key] = _param_schema(prm)
         for key in STEP_KEYS:
-            props.setdefault(
-                key,
-                {"type": "boolean", "description": "also apply the mirror image of this step"},
-            )
+            props.setdefault(key, {"type": "boolean", "description": COMMON_DOCS[key]})
         required = ["op", *(k for k, prm in op.params.items() if prm.required)]
         then = {"properties": props, "required": required, "additionalProperties": False}
         if op.doc:

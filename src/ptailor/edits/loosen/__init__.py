@@ -32,6 +32,7 @@ from ptailor.edits import tolerances as edit_tol
 from ptailor.edits.asks import ask_tolerance, asked_of, cm, region_girths, solve, with_ask
 from ptailor.edits.checks import choice, number
 from ptailor.edits.checks import region as region_spec
+from ptailor.edits.coverage import girth_coverage, with_coverage
 from ptailor.edits.cut import sketch_spec, view_frame, view_spec
 from ptailor.edits.loosen.girth import Cloth, girth_change, girth_levels
 from ptailor.edits.loosen.normals import (
@@ -99,7 +100,8 @@ class LoosenStep(Step):
         default=None,
         metadata=checked(
             region_spec,
-            "all | {panels: [...]} | {box: {min, max}} (with by or girth; default all)",
+            "all | {panels: [...]} | {part: torso, sleeves, ...} | {box: {min, max}} (with by or "
+            "girth; default all)",
         ),
     )
     by: float | None = field(
@@ -235,9 +237,11 @@ def offset_step(
     else:
         by, (V_new, sigma), asked = girth_offset(state, step, faces, offset)
     rec = {"op": step.op, "by": by, "triangles": int(faces.size), "smoothing": round(sigma, 6)}
-    if not asked:
-        return V_new, rec
-    return V_new, with_ask(rec, asked, what="girth", target=asked["asked"]["girth"])
+    if asked:
+        rec = with_ask(rec, asked, what="girth", target=asked["asked"]["girth"])
+    if step.offset_region != "all":  # part of a girth: the share it holds, where short
+        rec = with_coverage(rec, girth_coverage(V3, g.F3, faces, garment=g))
+    return V_new, rec
 
 
 def girth_offset(state: EditState, step: LoosenStep, faces: np.ndarray, offset) -> tuple:
