@@ -257,14 +257,12 @@ def _load_garment(
         units=units,
     )
     check_garment(g, path=err_path)
-    given = _given_units_warning(
+    record["warnings"] += _given_units_warning(
         g,
         cm_per_unit=1.0 / to_units,
         drape=drape_units if drape_given else None,
         pattern=pattern_units if pattern_given else None,
     )
-    if given is not None:
-        record["warnings"].append(given)
     _check_default_units(
         g,
         cm_per_unit=1.0 / to_units,
@@ -350,13 +348,13 @@ def _check_default_units(
 
 def _given_units_warning(
     g: Garment, *, cm_per_unit: float, drape: str | None, pattern: str | None
-) -> str | None:
+) -> list[str]:
     """:func:`ptailor.model.size.size_warning` on what was read in units the user gave (the
     drape with ``--drape-units``, the pieces with ``--pattern-units`` other than ``auto``):
-    a cm drape read as mm, a 1/300 m file read as cm."""
+    a cm drape read as mm, a 1/300 m file read as cm. A list of at most one warning."""
     pieces = pattern is not None and pattern != "auto"
     if drape is None and not pieces:
-        return None
+        return []
     measured = garment_size(
         g.V3 if drape is not None else None,
         g.F3,
@@ -371,7 +369,8 @@ def _given_units_warning(
         )
         if value is not None
     )
-    return size_warning(measured.scaled(cm_per_unit), options=given)
+    found = size_warning(measured.scaled(cm_per_unit), options=given)
+    return [] if found is None else [found]
 
 
 def _read_meshes(path: str | Path, drape: str | Path | None):
