@@ -172,7 +172,8 @@ EXPECTED = {
     | SIDED("armhole"),
     "skirt": {"waist", "hip", "hem", "skirt_length"},
     "trousers": {"waist", "hip"} | SIDED("thigh", "inseam", "leg_opening"),
-    "jumpsuit": {"neck", "chest"} | SIDED("armhole", "thigh", "inseam", "leg_opening"),
+    "jumpsuit": {"neck", "chest"}
+    | SIDED("sleeve_length", "bicep", "cuff", "thigh", "inseam", "leg_opening"),
 }
 
 

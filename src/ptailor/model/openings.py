@@ -6,11 +6,12 @@ from where a loop sits on the garment, not from the file. See :func:`openings` f
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ptailor.geometry.labels import used_indices
+from ptailor.geometry.labels import component_labels, used_indices
+from ptailor.geometry.topology import loop_halfedges
 from ptailor.geometry.triangles import triangle_areas
 from ptailor.model import tolerances as model_tol
 from ptailor.model.boundary import boundary_curves
@@ -145,6 +146,8 @@ def openings(V3, F3, *, frame: Frame, F2=None, curves=None) -> list[Opening]:
     if not loops:
         return []
     m = _loop_measures(V3, F3, loops, closed, frame.matrix())
+    if F2 is not None:
+        m = replace(m, panels=_loop_panels(F3, np.asarray(F2, dtype=np.int64), loops))
     return _named_openings(m, _opening_names(m))
 
 
@@ -173,6 +176,9 @@ class _LoopMeasures:
     big : (c,) bool array
         Loops long enough to be named.
     horizontal : (c,) bool array
+    panels : list of frozenset of int
+        The pattern panels (components of ``F2``) each loop's edges lie on; empty without
+        ``F2``.
     """
 
     loops: list
@@ -190,6 +196,15 @@ class _LoopMeasures:
     smax: np.ndarray
     big: np.ndarray
     horizontal: np.ndarray
+    panels: list = field(default_factory=list)
+
+
+def _loop_panels(F3: np.ndarray, F2: np.ndarray, loops: list) -> list[frozenset]:
+    """The pattern panels (components of ``F2``) each loop's edges lie on."""
+    lab = component_labels(F2, int(F2.max()) + 1 if F2.size else 0)
+    return [  # a loop over the loops (a handful)
+        frozenset(lab[loop_halfedges(F3, L) // 3].tolist()) for L in loops
+    ]
 
 
 def _loops(V3: np.ndarray, F3: np.ndarray, F2, curves) -> tuple[list, np.ndarray]:
@@ -260,6 +275,8 @@ def _opening_names(m: _LoopMeasures) -> dict[int, str]:
         band = (m.Hc[m.loops[sl]], m.Hc[m.loops[sr]])
         inner = (m.smin[sl] - s0) + (s0 - m.smax[sr])
         kind = _sleeve_kind(band, inner, m.Hc, m.S, m.used, s0, m.H)
+        if kind == "armhole" and _sewn_on(m.panels, (sl, sr), centred):
+            kind = "cuff"  # a short sleeve hanging within the torso's width
         names[sl], names[sr] = f"{kind}_left", f"{kind}_right"
         sleeve_h = min(ch[sl], ch[sr])
 
@@ -313,6 +330,16 @@ def _legs(
     if horizontal[ll] and horizontal[lr] and max(ch[ll], ch[lr]) < min(mid, lowest_centred):
         return ll, lr
     return None
+
+
+def _sewn_on(panels: list, sides: tuple[int, int], centred: list[int]) -> bool:
+    """Whether both side loops lie on pattern panels that hold no centred loop (neckline,
+    hem): pieces sewn onto the body, sleeves, whose openings are cuffs wherever they hang.
+    False without the panels (no ``F2``) or without a centred loop."""
+    if not panels or not centred:
+        return False
+    body = frozenset().union(*(panels[i] for i in centred))
+    return all(panels[i] and not panels[i] & body for i in sides)
 
 
 def _sleeve_kind(
