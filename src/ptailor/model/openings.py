@@ -124,8 +124,10 @@ def openings(V3, F3, *, frame: Frame, F2=None, curves=None) -> list[Opening]:
        distance from the centre line of the garment's vertices in a band just below the two
        loops (as tall as the taller loop, at least 5 % of ``H``), and the loops are cuffs when
        the sum of their two inner edges' distances from the centre line exceeds the sum of the
-       two half-widths (an empty band counts as zero width). Otherwise they are
-       ``armhole_left`` and ``armhole_right`` (sleeveless tops and dresses).
+       two half-widths (an empty band counts as zero width), or (with ``F2``) when both lie
+       on pattern panels that hold no centred loop: pieces sewn onto the body (a short
+       sleeve hanging within the torso's width). Otherwise they are ``armhole_left`` and
+       ``armhole_right`` (sleeveless tops and dresses).
     5. Centred loops, sorted by centroid height:
        - top with legs (jumpsuit): the highest is ``neckline``;
        - top: with two or more, the highest is ``neckline`` and the lowest horizontal other
