@@ -172,7 +172,7 @@ EXPECTED = {
     | SIDED("armhole"),
     "skirt": {"waist", "hip", "hem", "skirt_length"},
     "trousers": {"waist", "hip"} | SIDED("thigh", "inseam", "leg_opening"),
-    "jumpsuit": {"neck", "chest"}
+    "jumpsuit": {"neck", "chest", "waist", "hip"}
     | SIDED("sleeve_length", "bicep", "cuff", "thigh", "inseam", "leg_opening"),
 }
 

@@ -87,7 +87,8 @@ def _lower(g: Garment, ctx: lm.Context, cm: float, legs: bool) -> list[Measure]:
     waist = lm.waist(g, ctx)
     if waist is not None:
         line, h_waist = waist
-        out += _line_measure(g, "waist", line, height=h_waist if ctx.tiered else None)
+        seamed = ctx.tiered or ctx.waist_seamed
+        out += _line_measure(g, "waist", line, height=h_waist if seamed else None)
         floor = lm.crotch_height(g, ctx) if legs else lm.hem_top(g, ctx)
         h_hip = h_waist - HIP_BELOW_WAIST_CM * cm
         if floor is not None and h_hip > floor:

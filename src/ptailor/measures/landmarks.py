@@ -83,6 +83,12 @@ class Context:
         return "leg_left" in self.openings and "leg_right" in self.openings
 
     @property
+    def waist_seamed(self) -> bool:
+        """A bodice sewn to legs (a jumpsuit)."""
+        t = set(self.face_tier[self.torso].tolist())
+        return {"bodice", "leg"} <= t
+
+    @property
     def tiered(self) -> bool:
         t = set(self.face_tier[self.torso].tolist())
         return {"bodice", "skirt"} <= t
@@ -391,11 +397,11 @@ def neck_drop(g: Garment, ctx: Context, hps: int) -> list[Measure]:
 
 
 def waist(g: Garment, ctx: Context) -> tuple[MaterialLine, float] | None:
-    """The waist line and its height: the waist opening, or on a dress the girth at the mean
-    height of the seam between bodice and skirt."""
-    if ctx.tiered:
+    """The waist line and its height: the waist opening, or on a dress (a jumpsuit) the girth
+    at the mean height of the seam between bodice and skirt (legs)."""
+    if ctx.tiered or ctx.waist_seamed:
         bod = ctx.torso & (ctx.face_tier == "bodice")
-        skt = ctx.torso & (ctx.face_tier == "skirt")
+        skt = ctx.torso & np.isin(ctx.face_tier, ("skirt", "leg"))
         seam = _shared_vertices(g.F3, bod, skt, len(g.V3))
         if len(seam) == 0:
             return None

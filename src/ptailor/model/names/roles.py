@@ -134,10 +134,17 @@ def limbs(
 
 
 def tiers(body: np.ndarray, touches: OpeningTouch, ops: list, pm: PanelMeasures) -> list[str]:
-    """``bodice``/``skirt`` for the body panels of a two-tier top or a skirt, else ``""``."""
+    """``bodice``/``skirt`` for the body panels of a two-tier top or a skirt, ``leg`` for
+    those that reach a leg opening (trousers, a jumpsuit's lower part: its others ``bodice``),
+    else ``""``."""
     oname = touches.index
     tops = [oname[n] for n in ("neckline", "armhole_left", "armhole_right") if n in oname]
     tier = [""] * len(body)
+    if "leg_left" in oname and "leg_right" in oname:
+        legs = body & ((touches("leg_left") > 0) | (touches("leg_right") > 0))
+        for p in np.flatnonzero(body).tolist():
+            tier[p] = "leg" if legs[p] else "bodice" if tops else ""
+        return tier
     hem_p = body & (touches("hem") > 0)
     if tops and hem_p.any():
         top_low = min(float(pm.X[ops[k].loop, 1].min()) for k in tops)

@@ -215,6 +215,8 @@ def _body_seam(a: int, b: int, mid: np.ndarray, upc: float, lay: PanelLayout, pn
             return f"{pre}side_{sd}"
         return f"{pre}center_{'front' if mid[2] > 0 else 'back'}"
     members = [p for p in range(len(lay.tier)) if lay.role[p] == "body" and lay.tier[p] == ta]
+    if ta == "leg" and vertical:
+        return _leg_seam(a, b, mid, lay, members)
     if fa != fb:
         t_lo = float(lay.lo[members, 1].min())
         t_hi = float(lay.hi[members, 1].max())
@@ -225,6 +227,21 @@ def _body_seam(a: int, b: int, mid: np.ndarray, upc: float, lay: PanelLayout, pn
     if not vertical:  # across the body (level or slanting): a panel and the one above it
         return f"{pre}yoke_{fa}" + ("" if centred else f"_{sd}")
     return f"{pre}center_{fa}" if centred else f"{pre}princess_{fa}_{sd}"
+
+
+def _leg_seam(a: int, b: int, mid: np.ndarray, lay: PanelLayout, members: list[int]) -> str:
+    """A vertical seam between two trouser-leg panels: ``inseam_<side>`` / ``outseam_<side>``
+    (front to back, nearer / farther from the centre line than the leg's middle), else
+    ``crotch_front`` / ``crotch_back`` (the left leg to the right one), else a seam within one
+    side and face (``dart_<face>_<side>``)."""
+    sd = _side_of(float(mid[0]))
+    if lay.side[a] != lay.side[b]:
+        return f"crotch_{'front' if mid[2] > 0 else 'back'}"
+    if lay.face[a] == lay.face[b]:
+        return f"dart_{lay.face[a]}_{sd}"
+    mine = [p for p in members if lay.side[p] == lay.side[a]]
+    middle = float(np.mean(0.5 * (lay.lo[mine, 0] + lay.hi[mine, 0])))
+    return f"{'inseam' if abs(mid[0]) < abs(middle) else 'outseam'}_{sd}"
 
 
 def _qualify(base: list[str], mids: np.ndarray) -> list[str]:
