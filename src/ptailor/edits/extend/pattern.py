@@ -10,6 +10,7 @@ import numpy as np
 from ptailor import tolerances as tol
 from ptailor.edits import tolerances as edit_tol
 from ptailor.edits.extend.chain import chain_order, nearest_fn, place_offset_chain
+from ptailor.edits.extend.drape import match_seam_steps
 from ptailor.edits.extend.rows import (
     RowPlan,
     Rows,
@@ -20,6 +21,7 @@ from ptailor.edits.extend.rows import (
 from ptailor.edits.opening import OpeningEdges
 from ptailor.edits.pattern_distance import PatternDistance, outline_halfedges
 from ptailor.edits.state import EditState
+from ptailor.edits.truing import seam_sides, side_lengths_at
 from ptailor.errors import PtailorError
 from ptailor.geometry.pattern_maps import pattern_jacobians
 from ptailor.geometry.triangles import signed_areas_2d, triangle_normals
@@ -209,6 +211,10 @@ def pattern_offsets(
     Q_end = V2[cols] + offset_lengths(field, V2[cols], n_end, col_panel, by)[:, None] * n_end
 
     frac = (np.arange(1, rows + 1) / rows)[:, None, None]
+    # seam ends: a seam vertex's copies grow their seam in its input ratio (trued)
+    vert3 = np.empty(nc, dtype=np.int64)
+    vert3[ca], vert3[cb] = oe.a3, oe.b3
+    weight = np.where(inner, np.nan, side_lengths_at(seam_sides(state.base), cols))
 
     order, chain, closed = chain_order(oe)
     seqs = []
@@ -236,7 +242,7 @@ def pattern_offsets(
                 f"{', '.join(names[int(q)] for q in bad)} the opening is narrower than "
                 f"twice that: offset by {by:g} its edge closes on itself; extend by less"
             )
-        D2 = Q - V2[cols]
+        D2 = match_seam_steps(Q - V2[cols], vert3, weight)
         new_2 = (V2[cols][None] + frac * D2[None]).reshape(-1, 2)
         V2all = np.concatenate([V2, new_2])
         use_b = shorter_diagonals(V2all, plan.A2, plan.B2, plan.odd)
