@@ -8,7 +8,7 @@ at a different length from the opening (a skirt's side seam 65.25 / 65.25 became
 61.99 where its panels meet the hem 10 degrees apart), and a seam eased unevenly along its
 length keeps its ratio only as a whole. :func:`seam_sides` lists a garment's seam curves
 with their sides oriented alike; :func:`true_cut` moves a cut on the two sides of the seam
-edge it crosses so that the kept sides keep the input's ratio; :func:`side_lengths_at`
+edge it crosses so that the kept sides keep the input's ratio; :func:`seam_copy_weights`
 weighs the copies of a seam vertex on an opening for ``extend``'s new columns.
 """
 
@@ -193,30 +193,34 @@ def true_cut(
     return out
 
 
-def side_lengths_at(sides: SeamSides, cols: np.ndarray) -> np.ndarray:
-    """The input length of the seam side each pattern vertex lies on, ``(c,)`` float.
+def seam_copy_weights(sides: SeamSides, cols: np.ndarray, vert3: np.ndarray) -> np.ndarray:
+    """The input length of the seam side each copy of a seam vertex lies on, ``(c,)``.
 
-    Copies of one drape vertex weighed by it grow their seam in the seam's ratio (as
-    :func:`ptailor.edits.extend.drape.match_seam_steps` weighs them).
+    Where a seam reaches an opening its drape vertex has two pattern copies, one on each
+    side of the seam: weighed by their sides' lengths, they grow the seam in its input
+    ratio (as :func:`ptailor.edits.extend.drape.match_seam_steps` weighs them).
 
     Parameters
     ----------
     sides : SeamSides
     cols : (c,) int array
-        Pattern vertices.
+        Pattern vertices (an opening's columns).
+    vert3 : (c,) int array
+        The drape vertex of each.
 
     Returns
     -------
     (c,) float array
-        NaN at a vertex on no seam side or on the sides of two curves.
+        NaN but where a drape vertex has exactly two copies among ``cols``, on the two
+        sides of one seam curve (and on no other seam): a vertex where three panels meet,
+        or whose copies lie on different seams, is left to the caller.
     """
     out = np.full(len(cols), np.nan)
     if not len(sides.curve) or not len(cols):
         return out
     ident = 2 * sides.curve[:, None] + np.arange(2)[None]  # (s, 2): curve and side
-    v = sides.side.reshape(-1, 2)  # row 2 j + side: the ends of edge j on that side
+    ends = sides.side.reshape(-1, 2).ravel()  # row 2 j + side: the ends of edge j
     which = np.repeat(ident.ravel(), 2)
-    ends = v.ravel()
     colid = np.full(int(max(ends.max(), cols.max())) + 1, -1, dtype=np.int64)
     colid[cols] = np.arange(len(cols))
     ci = colid[ends]
@@ -224,5 +228,16 @@ def side_lengths_at(sides: SeamSides, cols: np.ndarray) -> np.ndarray:
     pairs = np.unique(np.stack([ci[ok], which[ok]], 1), axis=0)
     count = np.bincount(pairs[:, 0], minlength=len(cols))
     one = pairs[count[pairs[:, 0]] == 1]
-    out[one[:, 0]] = sides.length[one[:, 1] // 2, one[:, 1] % 2]
+    cs = np.full(len(cols), -1, dtype=np.int64)  # the one (curve, side) of each column
+    cs[one[:, 0]] = one[:, 1]
+    _, grp = np.unique(vert3, return_inverse=True)
+    ng = int(grp.max()) + 1
+    lo = np.full(ng, np.iinfo(np.int64).max)
+    hi = np.full(ng, -1, dtype=np.int64)
+    np.minimum.at(lo, grp, cs)
+    np.maximum.at(hi, grp, cs)
+    copies = np.bincount(grp, minlength=ng)
+    clean = (copies == 2) & (lo >= 0) & (lo // 2 == hi // 2) & (lo != hi)
+    on = clean[grp]
+    out[on] = sides.length[cs[on] // 2, cs[on] % 2]
     return out

@@ -48,6 +48,38 @@ def input_seams(adj: Adjustment, seam_list: list) -> list[int]:
     return out
 
 
+def input_seam_edges(adj: Adjustment, seam_list: list) -> list[int]:
+    """The input seam whose edges each seam of the adjusted garment continues (index into
+    ``structure(adj.original).seams``; -1 for none): the one most of its drape edges that
+    are input edges belong to. A seam a step made (new rows of ``extend`` sewn where three
+    panels met) touches input seams only at a vertex and has none: its own ratio is its
+    target."""
+    g0, g = adj.original, adj.state.base
+    if g0 is None or g0 is g or (g0.F3.shape == g.F3.shape and np.array_equal(g0.F3, g.F3)):
+        return list(range(len(seam_list)))
+    from scipy.spatial import cKDTree
+
+    from ptailor.geometry.topology import edge_keys
+
+    s0 = structure(g0)
+    n0 = len(g0.V3)
+    E0 = np.concatenate([sm.edges3 for sm in s0.seams]) if s0.seams else np.zeros((0, 2), int)
+    own0 = np.repeat(np.arange(len(s0.seams)), [len(sm.edges3) for sm in s0.seams])
+    k0 = edge_keys(E0, n=n0)
+    order = np.argsort(k0)
+    size = float(np.linalg.norm(np.ptp(g0.V3, axis=0))) or 1.0
+    tree = cKDTree(g0.V3)
+    out = []
+    for sm in seam_list:  # a loop over seams
+        d, j = tree.query(g.V3[np.asarray(sm.edges3)])
+        on = (d <= tol.ROUNDING_REL * size).all(axis=1) & (j[:, 0] != j[:, 1])
+        q = edge_keys(j[on], n=n0)
+        pos = np.minimum(np.searchsorted(k0[order], q), max(len(k0) - 1, 0))
+        hit = own0[order[pos]][k0[order[pos]] == q] if len(k0) else np.zeros(0, int)
+        out.append(int(np.bincount(hit).argmax()) if len(hit) else -1)
+    return out
+
+
 def stable_seam_names(adj: Adjustment, seam_list: list, now: list[str], match: list[int]):
     """Seam names kept across surgery: a seam of the edited garment that lies on a seam of
     the input (``match``: :func:`input_seams`) takes that seam's name (the second piece of
@@ -116,10 +148,9 @@ def seam_records(adj: Adjustment, gs) -> list[SeamRecord]:
     names = [p.name for p in st.panels]
     gathers = seam_factors(st)
     seam_list = gs.seams
-    match = input_seams(adj, seam_list)
     now = seam_names(g.V3, seam_list, gs.layout, names)
-    seam_name = stable_seam_names(adj, seam_list, now, match)
-    before = _input_lengths(adj, seam_list, match)
+    seam_name = stable_seam_names(adj, seam_list, now, input_seams(adj, seam_list))
+    before = _input_lengths(adj, seam_list, input_seam_edges(adj, seam_list))
     out: list[SeamRecord] = []
     for si, s in enumerate(seam_list):  # one record per seam
         lac, lbc = s.lengths(g.V2)

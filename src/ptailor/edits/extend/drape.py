@@ -19,10 +19,12 @@ from ptailor.edits.extend.rows import (
 )
 from ptailor.edits.opening import OpeningEdges
 from ptailor.edits.state import EditState
-from ptailor.edits.truing import seam_sides, side_lengths_at
+from ptailor.edits.truing import seam_copy_weights, seam_sides
 from ptailor.errors import PtailorError
 from ptailor.geometry.pattern_maps import pattern_jacobians, pseudo_inverses
+from ptailor.geometry.topology import half_edges
 from ptailor.geometry.triangles import signed_areas_2d, triangle_normals
+from ptailor.model.seams import seam_halfedges
 
 
 def outward_directions(V: np.ndarray, oe: OpeningEdges) -> np.ndarray:
@@ -54,17 +56,57 @@ def outward_directions(V: np.ndarray, oe: OpeningEdges) -> np.ndarray:
     return s / ns[:, None]
 
 
+def seam_scales(
+    V3: np.ndarray, F3: np.ndarray, V2: np.ndarray, F2: np.ndarray, cols: np.ndarray
+) -> np.ndarray:
+    """Pattern/drape length ratio of the seam edges at some pattern vertices.
+
+    Parameters
+    ----------
+    V3, F3, V2, F2
+        The garment (drape ``V3``, the one the pattern was made for).
+    cols : (c,) int array
+        Pattern vertices.
+
+    Returns
+    -------
+    (c,) float array
+        Mean ``|e2| / |e3|`` over the seam half-edges (each side of a seam separately) that
+        end at each vertex; NaN where no seam edge does.
+    """
+    pairs = seam_halfedges(F3, F2).ravel()
+    sigma = np.full(len(cols), np.nan)
+    if pairs.size == 0 or len(cols) == 0:
+        return sigma
+    h2 = half_edges(F2)[pairs]
+    h3 = half_edges(F3)[pairs]
+    l3 = np.linalg.norm(V3[h3[:, 1]] - V3[h3[:, 0]], axis=1)
+    ratio = np.linalg.norm(V2[h2[:, 1]] - V2[h2[:, 0]], axis=1) / np.maximum(l3, tol.TINY)
+    colid = np.full(len(V2), -1, dtype=np.int64)
+    colid[cols] = np.arange(len(cols))
+    ids = colid[h2].ravel()
+    vals = np.repeat(ratio, 2)
+    ok = ids >= 0
+    total = np.bincount(ids[ok], vals[ok], len(cols))
+    count = np.bincount(ids[ok], minlength=len(cols))
+    has = count > 0
+    sigma[has] = total[has] / count[has]
+    return sigma
+
+
 def match_seam_steps(disp: np.ndarray, vert3: np.ndarray, sigma: np.ndarray) -> np.ndarray:
     """Give the pattern copies of one drape vertex steps in their seam's length ratio.
 
     Where a seam reaches the opening, its drape vertex has one pattern copy per side and the
     new rows continue the seam: both sides' new edges come from the same 3D edge, so their
     2D lengths should keep the seam's ratio (equal on a plain seam, the ease on an eased
-    one): with ``sigma`` each copy's side length in the input
-    (:func:`ptailor.edits.truing.side_lengths_at`), the grown seam keeps the input's ratio
-    as a whole, however its ease is spread. Each copy keeps its direction; its length
-    becomes ``sigma_c * kappa`` with ``kappa`` the mean of ``|disp_c| / sigma_c`` over the
-    copies of that vertex.
+    one). Each copy keeps its direction; its length becomes ``sigma_c * kappa`` with
+    ``kappa`` the mean of ``|disp_c| / sigma_c`` over the copies of that vertex. With
+    ``sigma`` the input lengths of the seam's two sides
+    (:func:`ptailor.edits.truing.seam_copy_weights`) the grown seam keeps the input's
+    ratio as a whole, however its ease is spread (trued); with the seam edges' local
+    pattern/drape ratios (:func:`seam_scales`, where three panels meet), the new edges
+    keep that of the edges they continue.
 
     Parameters
     ----------
@@ -73,7 +115,7 @@ def match_seam_steps(disp: np.ndarray, vert3: np.ndarray, sigma: np.ndarray) -> 
     vert3 : (c,) int array
         Drape vertex of each copy.
     sigma : (c,) float array
-        Weight of each copy: its seam side's length (NaN for none).
+        Weight of each copy (a seam side's length, or :func:`seam_scales`), NaN for none.
 
     Returns
     -------
@@ -133,7 +175,7 @@ def column_steps(
     vert3 : (c,) int array
         Drape vertex of each column.
     sigma : (c,) float array
-        Seam side lengths (:func:`ptailor.edits.truing.side_lengths_at`).
+        Weights (:func:`match_seam_steps`).
 
     Returns
     -------
@@ -172,7 +214,8 @@ def drape_rows(state: EditState, plan: RowPlan) -> Rows:
     Jp = pseudo_inverses(pattern_jacobians(Vb, Fo, V2, g.F2[oe.face])[0])
     vert3 = np.empty(nc, dtype=np.int64)
     vert3[ca], vert3[cb] = oe.a3, oe.b3
-    sigma = side_lengths_at(seam_sides(g), cols)
+    trued = seam_copy_weights(seam_sides(g), cols, vert3)  # a seam's two sides: trued
+    sigma = np.where(np.isfinite(trued), trued, seam_scales(Vb, g.F3, V2, g.F2, cols))
     dir_e, dir_b = outward_directions(Ve, oe), outward_directions(Vb, oe)
     for smoothing in range(edit_tol.EXTEND_MAX_SMOOTHING + 1):  # iterations, not vertices
         if smoothing:
