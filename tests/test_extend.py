@@ -479,7 +479,10 @@ def test_dress_neckline_extended_by_8_in_the_pattern():
     step = st.log[-1]
     assert len(step["amount"]["pattern"]) == 5
     for v in step["amount"]["pattern"].values():
-        assert v["min"] == pytest.approx(8.0, abs=1e-6) and v["max"] == pytest.approx(8.0, abs=1e-6)
+        # exact but at the seams' ends, trued (tests/test_truing.py): the straps' 1 cm
+        # seams (sides 1.22 / 1.00, 1.00 / 1.28) grow in their ratio, their ends 0.9 cm off
+        assert v["median"] == pytest.approx(8.0, abs=1e-6)
+        assert v["min"] == pytest.approx(8.0, abs=1.0) and v["max"] == pytest.approx(8.0, abs=1.2)
 
 
 @pytest.mark.slow

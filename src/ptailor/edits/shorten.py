@@ -263,9 +263,9 @@ def shorten(state: EditState, step: ShortenStep, *, options: EditOptions) -> Edi
         def crossing(a2: np.ndarray, b2: np.ndarray, t: np.ndarray, face: np.ndarray):
             return refine_crossings(field, g.V2, a2, b2, t, flab[face], by)
 
-        res = split_keep(state, phi, crossing=crossing)
+        res = split_keep(state, phi, crossing=crossing, true_seams=True)
     else:
-        res = split_keep(state, phi)
+        res = split_keep(state, phi, true_seams=True)
     rec = {
         "op": "shorten",
         "opening": name,

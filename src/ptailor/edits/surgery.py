@@ -18,6 +18,7 @@ import numpy as np
 
 from ptailor.edits import tolerances as edit_tol
 from ptailor.edits.state import EditState
+from ptailor.edits.truing import seam_sides, true_cut
 from ptailor.errors import PtailorError
 from ptailor.geometry.topology import edge_keys
 from ptailor.model.garment import Garment, panel_labels
@@ -113,6 +114,7 @@ def _cut_edges(
     fs: np.ndarray,
     *,
     crossing: Crossing | None,
+    trued: np.ndarray | None = None,
 ) -> _Cuts:
     """New vertices where the zero level crosses the split triangles' edges.
 
@@ -127,6 +129,9 @@ def _cut_edges(
         Their input triangles.
     crossing : callable or None, keyword-only
         See :func:`split_keep`.
+    trued : (n3,) float array or None, keyword-only
+        The snapped field on the drape vertices, to true the seams the level crosses
+        (:func:`ptailor.edits.truing.true_cut`); None leaves each side where it crosses.
 
     Returns
     -------
@@ -153,6 +158,10 @@ def _cut_edges(
     if crossing is not None:
         lim = edit_tol.SPLIT_SNAP_REL  # no sliver next to a corner
         t2 = np.clip(crossing(a2, b2, t, fs[rows]), lim, 1.0 - lim)
+    if trued is not None:
+        lim = edit_tol.SPLIT_SNAP_REL
+        t2 = true_cut(seam_sides(g), g.V2, trued, a2, b2, t2, sa > 0, margin=lim)
+    if crossing is not None:
         tm = _group_mean(key3, np.where(lo3, t2, 1.0 - t2))
         t = np.where(lo3, tm, 1.0 - tm)
     tl = np.where(lo3, t, 1.0 - t)
@@ -234,6 +243,7 @@ def split_keep(
     phi: np.ndarray,
     *,
     crossing: Crossing | None = None,
+    true_seams: bool = False,
 ) -> SplitResult:
     """Keep the part of the garment where ``phi >= 0``.
 
@@ -254,6 +264,11 @@ def split_keep(
         its sides' parameters (one new drape vertex, one new pattern vertex per side: the
         sides differ only where their panels meet the iso-line at different angles or the
         seam is eased). Default: the linear estimate, the same on every side.
+    true_seams : bool, keyword-only
+        Move the cut on the two sides of each seam the level crosses once so that the kept
+        sides keep the input's length ratio (:func:`ptailor.edits.truing.true_cut`: sides
+        that were equal lose the same length); the drape vertex stays where the field
+        (or, with ``crossing``, the mean of the sides) puts it.
 
     Returns
     -------
@@ -267,7 +282,7 @@ def split_keep(
     g = state.base
     s, S, keep_whole, split = _signs(state, phi)
     fs, caseA, R3, R2, RS = _odd_corner_first(g.F3, g.F2, S, split)
-    cuts = _cut_edges(state, R3, R2, RS, fs, crossing=crossing)
+    cuts = _cut_edges(state, R3, R2, RS, fs, crossing=crossing, trued=s if true_seams else None)
     parent, F3n, F2n = _kept_triangles(g.F3, g.F2, keep_whole, fs, caseA, R3, R2, cuts)
     n3, n2 = len(g.V3), len(g.V2)
     new_state, used3, used2 = _compacted_state(state, cuts, parent, F3n, F2n, keep_whole)

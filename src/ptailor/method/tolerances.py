@@ -42,6 +42,11 @@ SEAM_MIN_LENGTH_REL = 1e-6
 #: A seam edge whose two sides miss their target ratio by more than this (relative) after
 #: the solve is reported as a warning.
 SEAM_WARN_REL = 1e-4
+#: A seam whose two sides, after the adjustment, miss the length ratio they have in the
+#: input (times a step's gather) by more than this (cm: 0.1 mm, a pattern maker's truing)
+#: is reported as a warning: a cut or grown seam the step could not true, a seam the
+#: stitching did not meet.
+SEAM_MISMATCH_WARN_CM = 0.01
 #: A seam side whose outline turning alternates vertex to vertex by more than this (radians)
 #: after the stitching is reported as zigzagging (:func:`ptailor.method.ease.side_zigzag`).
 #: An edit that stretches a jagged simulated outline evens it out, which alternates too (up

@@ -12,9 +12,8 @@ from ptailor import tolerances as tol
 from ptailor.digest import file_sha256
 from ptailor.geometry.labels import scatter_labels
 from ptailor.method import tolerances as method_tol
-from ptailor.model.names import seam_names
 from ptailor.model.structure import structure
-from ptailor.pipeline import Adjustment, seam_factors, seam_mode
+from ptailor.pipeline import Adjustment, seam_mode
 from ptailor.report.metrics import (
     ScaleReference,
     boundary_deviation,
@@ -25,7 +24,8 @@ from ptailor.report.metrics import (
     scale_reference,
     summary_stats,
 )
-from ptailor.report.records import PanelRecord, Report, SeamRecord, SolverRecord
+from ptailor.report.records import PanelRecord, Report, SolverRecord
+from ptailor.report.seams import seam_records, seam_warnings
 
 
 def _r(x: float, nd: int = 6) -> float:
@@ -89,41 +89,6 @@ def _scale_errors(adj: Adjustment, V2: np.ndarray, reference: ScaleReference | N
     )
 
 
-def _stable_seam_names(adj, seam_list: list, now: list[str]) -> list[str]:
-    """Seam names kept across surgery: a seam of the edited garment that lies on a seam of
-    the input takes that seam's name (the second piece of one seam ``NAME_2``, ...), so a
-    cut does not rename the seams it did not create (a V-neck once turned
-    ``shoulder_right`` into ``shoulder_right_right``). Seams with no such seam keep ``now``.
-    """
-    g0, g = adj.original, adj.state.base
-    if g0 is None or g0 is g or (g0.F3.shape == g.F3.shape and np.array_equal(g0.F3, g.F3)):
-        return now
-    from scipy.spatial import cKDTree  # (0.1 s: only after surgery)
-
-    s0 = structure(g0)
-    names0 = seam_names(g0.V3, s0.seams, s0.layout, [p.name for p in s0.panels])
-    owner = np.full(len(g0.V3), -1, dtype=np.int64)  # an input vertex's seam (one of them)
-    for k, sm in enumerate(s0.seams):  # a loop over seams
-        owner[np.asarray(sm.edges3).ravel()] = k
-    size = float(np.linalg.norm(np.ptp(g0.V3, axis=0))) or 1.0
-    tree = cKDTree(g0.V3)
-    out = list(now)
-    taken: dict[int, int] = {}
-    for i, sm in enumerate(seam_list):  # a loop over seams
-        v = np.unique(np.asarray(sm.edges3).ravel())
-        d, j = tree.query(g.V3[v])
-        hit = owner[j[d <= tol.ROUNDING_REL * size]]
-        hit = hit[hit >= 0]
-        if not len(hit):
-            continue
-        k = int(np.bincount(hit).argmax())
-        taken[k] = taken.get(k, 0) + 1
-        out[i] = names0[k] if taken[k] == 1 else f"{names0[k]}_{taken[k]}"
-    if len(set(out)) < len(out):  # a clash with a new seam's name: the names as computed
-        return now
-    return out
-
-
 def _split_parts_before(st, g0, orig: dict, area0: np.ndarray) -> np.ndarray:
     """``area_before`` of the panels a cut split: each part's share of its original's area
     (the step record's ``panels``), not the whole original for the part that kept its name
@@ -167,7 +132,8 @@ def build_report(
     units_note : dict
         ``units`` block: computation unit and each file's unit (and whether estimated).
     warnings : list of str
-        Every warning of the run, in order (library warnings included).
+        Every warning of the run, in order (library warnings included); the seams that
+        miss their ratio follow (:func:`ptailor.report.seams.seam_warnings`).
     timing_s : dict
         Seconds per stage (load, edit, flatten, baseline, write).
     outputs : sequence of str
@@ -191,6 +157,7 @@ def build_report(
     gs = structure(adj.state.base)
     err = triangle_errors(adj) if errors is None else errors
     shown = shown or {}
+    seams = seam_records(adj, gs)
     return {
         "ptailor_version": __version__,
         "method": adj.settings["method"],
@@ -203,10 +170,10 @@ def build_report(
         "steps": list(adj.state.log),
         "solver": solver_record(adj),
         "panels": panel_records(adj, gs, err, reference=reference),
-        "seams": seam_records(adj, gs),
+        "seams": seams,
         **(extra or {}),  # type: ignore[typeddict-item]
         "timing_s": {k: round(v, 4) for k, v in timing_s.items()},
-        "warnings": list(warnings),
+        "warnings": [*warnings, *seam_warnings(adj, seams)],
         "outputs": sorted(outputs),
     }
 
@@ -295,40 +262,6 @@ def panel_records(
             rec["baseline_size_after"] = [_r(sizeb[i, 0]), _r(sizeb[i, 1])]
             rec["baseline_intrinsic_scale_error"] = {k: _r(v[i], 8) for k, v in errb.items()}  # type: ignore[typeddict-item]
         out.append(rec)
-    return out
-
-
-def seam_records(adj: Adjustment, gs) -> list[SeamRecord]:
-    """The report's ``seams``: per seam its sides' lengths before/after, the ratio of the
-    two and its target (the pattern's own ratio times the gathers the recipe set)."""
-    st = adj.state
-    g = st.base
-    V2a = adj.result.V2
-    names = [p.name for p in st.panels]
-    gathers = seam_factors(st)
-    seam_list = gs.seams
-    seam_name = _stable_seam_names(adj, seam_list, seam_names(g.V3, seam_list, gs.layout, names))
-    out: list[SeamRecord] = []
-    for si, s in enumerate(seam_list):  # one record per seam
-        la0, lb0 = s.lengths(g.V2)
-        la1, lb1 = s.lengths(V2a)
-        pa, pb = s.panels
-        f = gathers.get((pa, pb), 1.0) / gathers.get((pb, pa), 1.0) if pa != pb else 1.0
-        r0 = la0 / max(lb0, tol.TINY)
-        target = r0 * f
-        out.append(
-            {
-                "name": seam_name[si],
-                "panels": [names[pa], names[pb]],
-                "edges": len(s.edges3),
-                "length_before": [_r(la0), _r(lb0)],
-                "length_after": [_r(la1), _r(lb1)],
-                "ratio_before": _r(r0, 6),
-                "ratio_after": _r(la1 / max(lb1, tol.TINY), 6),
-                "ratio_target": _r(target, 6),
-                "mismatch": _r(la1 - target * lb1, 6),
-            }
-        )
     return out
 
 

@@ -43,9 +43,7 @@ class PanelRecord(_PanelRequired, total=False):
     baseline_intrinsic_scale_error: ErrorStats
 
 
-class SeamRecord(TypedDict):
-    """One seam: its two sides' lengths before and after, their ratio and its target."""
-
+class _SeamRequired(TypedDict):
     name: str
     panels: list[str]
     edges: int
@@ -55,6 +53,14 @@ class SeamRecord(TypedDict):
     ratio_after: float
     ratio_target: float
     mismatch: float
+
+
+class SeamRecord(_SeamRequired, total=False):
+    """One seam: its two sides' lengths in the input and after, their ratio and its target
+    (the input's ratio, times a gather); a seam a step cut or grew also its sides as the
+    step left them (``length_cut``)."""
+
+    length_cut: list[float]
 
 
 class ConvergedWhen(TypedDict):

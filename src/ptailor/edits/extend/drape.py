@@ -19,6 +19,7 @@ from ptailor.edits.extend.rows import (
 )
 from ptailor.edits.opening import OpeningEdges
 from ptailor.edits.state import EditState
+from ptailor.edits.truing import seam_copy_weights, seam_sides
 from ptailor.errors import PtailorError
 from ptailor.geometry.pattern_maps import pattern_jacobians, pseudo_inverses
 from ptailor.geometry.topology import half_edges
@@ -100,7 +101,12 @@ def match_seam_steps(disp: np.ndarray, vert3: np.ndarray, sigma: np.ndarray) -> 
     new rows continue the seam: both sides' new edges come from the same 3D edge, so their
     2D lengths should keep the seam's ratio (equal on a plain seam, the ease on an eased
     one). Each copy keeps its direction; its length becomes ``sigma_c * kappa`` with
-    ``kappa`` the mean of ``|disp_c| / sigma_c`` over the copies of that vertex.
+    ``kappa`` the mean of ``|disp_c| / sigma_c`` over the copies of that vertex. With
+    ``sigma`` the input lengths of the seam's two sides
+    (:func:`ptailor.edits.truing.seam_copy_weights`) the grown seam keeps the input's
+    ratio as a whole, however its ease is spread (trued); with the seam edges' local
+    pattern/drape ratios (:func:`seam_scales`, where three panels meet), the new edges
+    keep that of the edges they continue.
 
     Parameters
     ----------
@@ -109,7 +115,7 @@ def match_seam_steps(disp: np.ndarray, vert3: np.ndarray, sigma: np.ndarray) -> 
     vert3 : (c,) int array
         Drape vertex of each copy.
     sigma : (c,) float array
-        Seam length ratio per copy (:func:`seam_scales`), NaN for none.
+        Weight of each copy (a seam side's length, or :func:`seam_scales`), NaN for none.
 
     Returns
     -------
@@ -169,7 +175,7 @@ def column_steps(
     vert3 : (c,) int array
         Drape vertex of each column.
     sigma : (c,) float array
-        Seam ratios (:func:`seam_scales`).
+        Weights (:func:`match_seam_steps`).
 
     Returns
     -------
@@ -208,7 +214,8 @@ def drape_rows(state: EditState, plan: RowPlan) -> Rows:
     Jp = pseudo_inverses(pattern_jacobians(Vb, Fo, V2, g.F2[oe.face])[0])
     vert3 = np.empty(nc, dtype=np.int64)
     vert3[ca], vert3[cb] = oe.a3, oe.b3
-    sigma = seam_scales(Vb, g.F3, V2, g.F2, cols)
+    trued = seam_copy_weights(seam_sides(g), cols, vert3)  # a seam's two sides: trued
+    sigma = np.where(np.isfinite(trued), trued, seam_scales(Vb, g.F3, V2, g.F2, cols))
     dir_e, dir_b = outward_directions(Ve, oe), outward_directions(Vb, oe)
     for smoothing in range(edit_tol.EXTEND_MAX_SMOOTHING + 1):  # iterations, not vertices
         if smoothing:

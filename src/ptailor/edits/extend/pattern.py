@@ -10,6 +10,7 @@ import numpy as np
 from ptailor import tolerances as tol
 from ptailor.edits import tolerances as edit_tol
 from ptailor.edits.extend.chain import chain_order, nearest_fn, place_offset_chain
+from ptailor.edits.extend.drape import match_seam_steps
 from ptailor.edits.extend.rows import (
     RowPlan,
     Rows,
@@ -20,6 +21,7 @@ from ptailor.edits.extend.rows import (
 from ptailor.edits.opening import OpeningEdges
 from ptailor.edits.pattern_distance import PatternDistance, outline_halfedges
 from ptailor.edits.state import EditState
+from ptailor.edits.truing import seam_copy_weights, seam_sides
 from ptailor.errors import PtailorError
 from ptailor.geometry.pattern_maps import pattern_jacobians
 from ptailor.geometry.triangles import signed_areas_2d, triangle_normals
@@ -175,6 +177,18 @@ def column_directions(V2: np.ndarray, F2: np.ndarray, plan: RowPlan) -> ColumnDi
     return ColumnDirections(U=U, n_end=n_end, inner=inner, prev_c=prev_c, next_c=next_c)
 
 
+def _seam_weights(
+    state: EditState, plan: RowPlan, inner: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Each column's drape vertex ``(c,)`` and, at a chain's end on a seam, its seam side's
+    input length ``(c,)`` (NaN elsewhere): the copies of a seam vertex grow their seam in
+    the input's ratio (trued, :func:`ptailor.edits.extend.drape.match_seam_steps`)."""
+    vert3 = np.empty(plan.nc, dtype=np.int64)
+    vert3[plan.ca], vert3[plan.cb] = plan.oe.a3, plan.oe.b3
+    weight = seam_copy_weights(seam_sides(state.base), plan.cols, vert3)
+    return vert3, np.where(inner, np.nan, weight)
+
+
 def pattern_offsets(
     state: EditState, plan: RowPlan, dirs: ColumnDirections
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
@@ -207,9 +221,8 @@ def pattern_offsets(
     # where a continued seam runs along the opening instead of meeting its offset near the
     # end, the end goes along the end edge's normal (a corner in the seam)
     Q_end = V2[cols] + offset_lengths(field, V2[cols], n_end, col_panel, by)[:, None] * n_end
-
     frac = (np.arange(1, rows + 1) / rows)[:, None, None]
-
+    vert3, weight = _seam_weights(state, plan, inner)
     order, chain, closed = chain_order(oe)
     seqs = []
     for ch in range(int(chain.max()) + 1):  # a loop over chains (a few per panel)
@@ -236,7 +249,7 @@ def pattern_offsets(
                 f"{', '.join(names[int(q)] for q in bad)} the opening is narrower than "
                 f"twice that: offset by {by:g} its edge closes on itself; extend by less"
             )
-        D2 = Q - V2[cols]
+        D2 = match_seam_steps(Q - V2[cols], vert3, weight)
         new_2 = (V2[cols][None] + frac * D2[None]).reshape(-1, 2)
         V2all = np.concatenate([V2, new_2])
         use_b = shorter_diagonals(V2all, plan.A2, plan.B2, plan.odd)
