@@ -51,6 +51,10 @@ def seam_names(
           with ``_<side>`` when its midpoint is not near the centre line (a vertical one then
           ``princess_front_<side>``); vertical: the up component of the seam's principal
           direction >= 0.8;
+        - two leg panels (tier ``leg``: trousers, a jumpsuit's lower part), vertical:
+          ``inseam_<side>`` / ``outseam_<side>`` between a leg's front and back (nearer /
+          farther from the centre line than the leg's middle), ``crotch_front`` /
+          ``crotch_back`` between the two legs, ``dart_<face>_<side>`` within one;
         - a body panel around the body (a tube) and another: a vertical seam is
           ``side_<side>`` or ``center_front``/``center_back`` by where its midpoint sits,
           any other is named by its panels (below);
