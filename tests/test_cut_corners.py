@@ -46,6 +46,19 @@ def tip_vertex(V3: np.ndarray, frame, origin, tip) -> tuple[int, float]:
     return i, float(d[i])
 
 
+def off_the_arms(st, step, origin) -> float:
+    """How far the new neckline's drape vertices inside the V's span (front layer, from 0.5
+    cm below the origin to the tip) lie from the sketch in the front view, at most."""
+    import dataclasses
+
+    X = st.V3 @ view_frame("front", frame=st.frame).T - np.r_[origin, 0.0]
+    edge = np.unique(boundary_edges(st.base.F3))
+    inside = (X[edge, 2] < np.median(X[:, 2])) & (X[edge, 1] < -0.5) & (X[edge, 1] > -11)
+    sel = edge[inside & (np.abs(X[edge, 0]) < 7.5)]
+    both = dataclasses.replace(step, layers="both")
+    return float(np.abs(sketch_field(st.V3[sel], both, frame=st.frame, origin=origin)).max())
+
+
 def test_a_v_neck_reaches_its_depth_on_a_coarse_tee_and_says_so():
     """The tip is a vertex of the new outline in the drape and in the adjusted pattern (the
     pattern's outline turns there by the V's angle), the record gives the depth asked and
@@ -71,6 +84,8 @@ def test_a_v_neck_reaches_its_depth_on_a_coarse_tee_and_says_so():
     u, w = (G.V2[e[e != t2[0]][0]] - G.V2[t2[0]] for e in ends)
     angle = np.degrees(np.arccos(u @ w / np.linalg.norm(u) / np.linalg.norm(w)))
     assert angle == pytest.approx(np.degrees(2 * np.arctan(8 / 11)), abs=0.5)
+    # the arms are straight: every vertex of the new edge on them (0.31 cm off before)
+    assert off_the_arms(adj.state, parse_recipe(vneck(8, 10)).steps[0], rec["origin"]) < 1e-9
 
 
 @pytest.mark.parametrize(
@@ -128,6 +143,8 @@ def test_a_v_neck_on_the_shared_tshirt_reaches_its_depth():
     h = mean_edge(st.V3, st.base.F3)
     assert off <= edit_tol.CUT_CORNER_SNAP_REL * h  # on an edge within the corner's snap
     assert tip in boundary_edges(st.base.F3)
+    step = parse_recipe(vneck(8, 10)).steps[0]
+    assert off_the_arms(st, step, rec["origin"]) < 1e-5  # 0.47 cm before, next to the tip
 
 
 @pytest.mark.slow

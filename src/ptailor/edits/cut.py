@@ -14,11 +14,12 @@ from ptailor.edits.checks import VEC3, boolean, choice, is_number, vector3, with
 from ptailor.edits.corners import embed_polyline, mean_edge
 from ptailor.edits.crumbs import drop_crumbs, drop_faces
 from ptailor.edits.opening import find_opening, opening_spec
+from ptailor.edits.pattern_distance import refine_crossings
 from ptailor.edits.region import region_centroid, unit_vector
 from ptailor.edits.registry import Step, checked, register
 from ptailor.edits.sketch_lines import polyline_side, segments_meet_box
 from ptailor.edits.state import EditOptions, EditState
-from ptailor.edits.surgery import SplitResult, panel_changes, split_keep
+from ptailor.edits.surgery import Crossing, SplitResult, panel_changes, split_keep
 from ptailor.errors import PtailorError
 from ptailor.geometry.labels import used_indices
 from ptailor.model.frame import Frame
@@ -354,6 +355,33 @@ def sketch_corners(state: EditState, fld: CutField) -> tuple[EditState, int]:
     return state, n
 
 
+@dataclass(frozen=True)
+class DrapeLevel:
+    """A cut's field read where :func:`ptailor.edits.pattern_distance.refine_crossings`
+    reads a pattern distance (``at(points, panel)``): the same root finding on the drape."""
+
+    fld: CutField
+
+    def at(self, X: np.ndarray, panel: np.ndarray) -> np.ndarray:
+        """The field at drape points ``(r, 3)``, ``(r,)`` (``panel`` unused)."""
+        return self.fld(X)
+
+
+def exact_crossings(state: EditState, fld: CutField) -> Crossing:
+    """Where the split cuts each crossed edge: the root of the cut's field along it in the
+    edited drape (:func:`ptailor.edits.surgery.split_keep`'s ``crossing``). The linear
+    estimate is exact for a plane, not for a distance to a polyline next to a corner: there
+    the new edge bowed off the V's arms (0.47 cm on the shared tshirt, 0.31 on a 4 cm tee)."""
+    g = state.base
+
+    def crossing(a2: np.ndarray, b2: np.ndarray, t: np.ndarray, face: np.ndarray) -> np.ndarray:
+        a3 = g.F3[face, np.argmax(g.F2[face] == a2[:, None], axis=1)]
+        b3 = g.F3[face, np.argmax(g.F2[face] == b2[:, None], axis=1)]
+        return refine_crossings(DrapeLevel(fld), state.V3, a3, b3, t, face, 0.0)
+
+    return crossing
+
+
 def on_level_faces(before: EditState, res: SplitResult, fld: CutField) -> np.ndarray:
     """Triangles of a split's result whose three corners lie on the cut (within the
     split's snap) and whose centroid the cut removes, ``(m,)`` bool: the split keeps a
@@ -411,7 +439,7 @@ def cut(state: EditState, step: CutStep, *, options: EditOptions) -> EditState:
     if np.all(phi[used] >= 0):
         raise PtailorError(f"the cut's {'plane' if o is None else 'sketch'} misses the garment: "
                            "nothing to remove")  # fmt: skip
-    res = split_keep(state, phi)
+    res = split_keep(state, phi, crossing=exact_crossings(state, fld) if o is not None else None)
     inside = on_level_faces(state, res, fld)
     if inside.any():
         res = drop_faces(state, res, ~inside)
