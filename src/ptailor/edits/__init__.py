@@ -22,6 +22,9 @@ Modules, read top down:
   :mod:`~ptailor.edits.scale_seam`;
   :mod:`~ptailor.edits.mirror` applies any of them symmetrically;
 - what they share: :mod:`~ptailor.edits.surgery` (split on a level set),
+  :mod:`~ptailor.edits.corners` (a cut's sketch embedded in the mesh),
+  :mod:`~ptailor.edits.crumbs` (pieces a cut leaves too small, dropped),
+  :mod:`~ptailor.edits.sketch_lines` (sides of a sketched polyline),
   :mod:`~ptailor.edits.pattern_distance` (distances in the pattern),
   :mod:`~ptailor.edits.opening` (openings and their edges), :mod:`~ptailor.edits.region`
   (regions and axes), :mod:`~ptailor.edits.parts` (regions by part of the body, from the

@@ -1,14 +1,17 @@
-"""What an edit achieved: how far an edited edge moved from the opening it replaced."""
+"""What an edit achieved: how far an edited edge moved from the opening it replaced, how far
+a cut reaches."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ptailor.geometry.segments import nearest_segment_distance
-from ptailor.geometry.topology import half_edges, loop_halfedges
-from ptailor.model.garment import panel_labels, vertex_labels
+from ptailor.geometry.topology import edge_keys, half_edges, loop_halfedges
+from ptailor.measures import garment_measures
+from ptailor.model.garment import Garment, panel_labels, vertex_labels
 
 if TYPE_CHECKING:
     from ptailor.edits.opening import OpeningEdges
@@ -112,3 +115,68 @@ def row_offsets(
             )
             pattern[p.name] = distance_stats(d2)
     return {"3d": distance_stats(d3), "pattern": pattern}
+
+
+def sketch_reach(
+    res: SplitResult,
+    *,
+    rows: np.ndarray,
+    sketch: np.ndarray,
+    origin: np.ndarray,
+    remove: str,
+    near: Callable[[np.ndarray], np.ndarray],
+) -> dict:
+    """How far a sketch cut reaches from its origin into the garment, asked and achieved.
+
+    Along the view's down for ``remove: above`` (up for ``below``, right for ``left``, left
+    for ``right``): asked, the sketch's farthest point; achieved, the new edge's farthest
+    point (its drape vertices where the sketch cuts, ``near``: those the split made, and
+    those it passed through that are left on the garment's edge), both from the origin.
+
+    Parameters
+    ----------
+    res : SplitResult
+    rows : (3, 3) float array
+        The view's rows (right, up, direction).
+    sketch : (k, 2) float array
+        The sketch, relative to ``origin``.
+    origin : (2,) float array
+    remove : str
+    near : callable
+        ``(n, 3) -> (n,) bool``: the drape points the sketch cuts (not the layers' middle).
+
+    Returns
+    -------
+    dict
+        ``{"along", "asked", "achieved"}`` (lengths in the garment's units; ``achieved``
+        None where the new edge has no such point).
+    """
+    # the direction the cut reaches in, by the side it removes (image axes: right, up)
+    name, t = {
+        "above": ("down", np.array([0.0, -1.0])),
+        "below": ("up", np.array([0.0, 1.0])),
+        "left": ("right", np.array([1.0, 0.0])),
+        "right": ("left", np.array([-1.0, 0.0])),
+    }[remove]
+    # the vertices the level passed through that the cut left on the edge
+    F = res.state.base.F3
+    E = np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])
+    _, first, count = np.unique(
+        edge_keys(E, n=len(res.state.V3)), return_index=True, return_counts=True
+    )
+    on_edge = np.isin(res.on_level3, E[first[count == 1]])
+    X = res.state.V3[np.concatenate([res.new_vertices3, res.on_level3[on_edge]])]
+    X = X[np.asarray(near(X), bool)]
+    far = (X @ rows[:2].T - origin) @ t
+    return {
+        "along": name,
+        "asked": round(float(np.max(sketch @ t)), 6),
+        "achieved": round(float(far.max()), 6) if far.size else None,
+    }
+
+
+def neck_drop(g: Garment, V3: np.ndarray) -> float | None:
+    """The ``neck_drop`` point of measure of a garment draped as ``V3`` (drape, the
+    garment's units; :mod:`ptailor.measures`), None where it has none."""
+    m = [x for x in garment_measures(g.with_drape(V3)) if x.name == "neck_drop"]
+    return round(float(m[0].drape), 6) if m else None

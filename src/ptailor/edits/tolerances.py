@@ -38,6 +38,15 @@ PATTERN_LEVEL_TOL_REL = 1e-12
 PATTERN_BRACKET_MIN = 1e-13
 #: ... or after this many steps (a count; regula falsi with the Illinois rule takes a few).
 PATTERN_REFINE_STEPS = 100
+#: A cut's corner (a sketch's inner point) within this many mean edge lengths of a vertex
+#: (in the view) is that vertex, within it of an edge lies on that edge (the edge is split
+#: there); else the triangle holding it is split in three at it. Half the split's snap
+#: (``SPLIT_SNAP_REL``), so the split sees every such vertex on the cut.
+CUT_CORNER_SNAP_REL = 5e-4
+#: A piece a cut leaves whose pattern area is under this many of its panel's median
+#: triangles (a count) is dropped, with a warning: a V-neck through a dress's strap left a
+#: piece of one triangle (0.04 cm2); a real piece of a panel has many.
+CUT_CRUMB_TRIANGLES = 4
 #: A cut's view whose direction is within this (unitless: the sine of the angle) of the
 #: garment's up takes the front as its image's up instead: the up seen along itself has no
 #: direction.
