@@ -18,7 +18,7 @@ import numpy as np
 from ptailor.edits import tolerances as edit_tol
 from ptailor.edits.parts import LIMB_ROLES, PARTS
 from ptailor.geometry.tube_axis import tube_axis
-from ptailor.measures.lines import line_pieces, line_points, plane_section
+from ptailor.measures.lines import levels_across, line_pieces, line_points, plane_section
 from ptailor.model.garment import Garment
 from ptailor.model.structure import structure
 
@@ -90,13 +90,11 @@ def level_fractions(
         the length on the region over the length of those closed pieces; ``l`` at most
         ``GIRTH_COVERAGE_LEVELS``.
     """
-    h = V[np.unique(F3[faces])] @ axis
-    lo, hi = float(h.min()), float(h.max())
-    count = edit_tol.GIRTH_COVERAGE_LEVELS
+    levels = levels_across(V, F3, faces, axis=axis, count=edit_tol.GIRTH_COVERAGE_LEVELS)
     inside = np.zeros(len(F3), dtype=bool)
     inside[faces] = True
     out = []
-    for t in lo + (np.arange(count) + 0.5) / count * (hi - lo):  # a loop over a few levels
+    for t in levels:  # a loop over a few levels
         line = plane_section(V, F3, point=t * axis, normal=axis, faces=around)
         if not len(line):
             continue

@@ -159,6 +159,30 @@ def plane_section(V3, F3, *, point, normal, faces=None) -> MaterialLine:
     return MaterialLine(idx[real], W[real, 0], W[real, 1], keys[real, 0], keys[real, 1])
 
 
+def levels_across(V, F, faces, *, axis, count: int) -> np.ndarray:
+    """``count`` evenly spaced levels along ``axis`` over the extent of some triangles (none at
+    its very ends: each in the middle of its ``1 / count`` slice).
+
+    Parameters
+    ----------
+    V : (n, 3) float array
+    F : (m, 3) int array
+    faces : (k,) int array
+        The triangles.
+    axis : (3,) float array
+        Unit vector.
+    count : int
+
+    Returns
+    -------
+    (count,) float array
+        Positions along ``axis`` (a plane through ``t * axis`` with normal ``axis``).
+    """
+    h = np.asarray(V, dtype=np.float64)[np.unique(np.asarray(F)[faces])] @ np.asarray(axis)
+    lo, hi = float(h.min()), float(h.max())
+    return lo + (np.arange(count) + 0.5) / count * (hi - lo)
+
+
 def edge_line(F3, halfedges) -> MaterialLine:
     """Triangle edges as a material line (an opening, one side of a seam).
 

@@ -20,6 +20,7 @@ from ptailor.errors import PtailorError
 from ptailor.geometry.tube_axis import tube_axis
 from ptailor.measures.lines import (
     MaterialLine,
+    levels_across,
     line_length,
     line_pieces,
     line_points,
@@ -155,10 +156,8 @@ def girth_levels(
         The region has no extent along the axis (no section to measure).
     """
     axis = level_axis(V, F3, faces, frame=frame)
-    h = V[np.unique(F3[faces])] @ axis
-    lo, hi = float(h.min()), float(h.max())
     count = edit_tol.LOOSEN_GIRTH_LEVELS
-    heights = lo + (np.arange(count) + 0.5) / count * (hi - lo)
+    heights = levels_across(V, F3, faces, axis=axis, count=count)
     length = np.zeros(count)
     flat = np.zeros(count)
     pieces = np.zeros(count, dtype=np.int64)
