@@ -79,6 +79,7 @@ def test_a_whole_bodice_loosened_by_girth_gains_it_at_every_measure():
         assert drape == pytest.approx(2.0, abs=0.3) and pattern == pytest.approx(2.0, abs=0.3)
 
 
+@pytest.mark.slow
 def test_a_girth_on_the_drape_the_pattern_or_both():
     """The tee's pillow drape is longer across than its pattern (a cloth worn stretched): a
     girth on the drape adds it to the drape, on the pattern to the pattern as the flatten
@@ -110,6 +111,7 @@ def test_on_is_a_key_as_yaml_1_2_reads_it():
         parse_recipe(bad)
 
 
+@pytest.mark.slow
 def test_the_front_alone_loosened_by_girth_measures_its_open_sections():
     """A region that is part of every girth (no closed section): the change of its
     sections is the girth it adds."""

@@ -95,6 +95,7 @@ def test_coverage_of_half_a_sleeve_is_across_the_arm():
     assert c.fraction == pytest.approx(0.5, abs=0.02)  # front and back halves alike
 
 
+@pytest.mark.slow
 def test_loosen_the_torso_grows_the_chest_as_asked_without_warning():
     g = flat_tee()
     st = run(g, "steps:\n  - {op: loosen, region: {part: torso}, girth: 2, on: drape}\n")
@@ -131,6 +132,7 @@ def test_around_scale_of_centre_strips_warns_and_the_skirt_does_not():
     assert hip == pytest.approx(1.1, abs=0.005)
 
 
+@pytest.mark.slow
 def test_symmetric_part_regions_mirror():
     g = flat_tee()
     st = run(
