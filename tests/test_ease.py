@@ -237,7 +237,7 @@ def test_a_cap_that_stops_the_solver_is_a_warning_naming_the_panel():
     g = bodice()
     adj = adjustment(g, parse_recipe(SLEEVE_WIDER + "\nflatten: {max_iter: 1}"), baseline=False)
     assert not adj.result.info.converged
-    (w,) = solver_warnings(adj)
+    (w,) = [w for w in solver_warnings(adj) if "iteration cap" in w]
     assert "1-iteration cap" in w and "front (" in w
     # the plain step the solver ends with still meets the seams
     for a, b in seam_sides(adj):
