@@ -62,8 +62,9 @@ def continuation_directions(
     triangles) deep; each
     opening vertex takes the mean of minus its gradient (pointing out of the cloth, across
     the opening) over the band's triangles, area-weighted with a Gaussian of their distance
-    to the vertex along the opening (their 3D distance less their depth; the band's depth as
-    its width), every depth alike, made perpendicular to the opening
+    to the vertex along the opening (their 3D distance less their depth; a mean edge length
+    as its width: wider, a cone's fanning directions shorten the mean's flare), every depth
+    alike, made perpendicular to the opening
     (:func:`opening_tangents`). Where that mean vanishes (no band) the ``local`` direction
     is kept.
 
@@ -83,9 +84,8 @@ def continuation_directions(
     """
     a = V[oe.a3]
     P = V[F[oe.face]]
-    depth = edit_tol.EXTEND_BAND_EDGES * float(
-        np.linalg.norm(P - np.roll(P, 1, axis=1), axis=2).mean()
-    )
+    edge = float(np.linalg.norm(P - np.roll(P, 1, axis=1), axis=2).mean())
+    depth = edit_tol.EXTEND_BAND_EDGES * edge
     d = geodesic_distance(V, F, oe.a3, limit=2.0 * depth)
     band = np.flatnonzero(np.all(d[F] <= depth, axis=1))
     grad = -distance_gradients(V, F[band], d)
@@ -95,7 +95,7 @@ def continuation_directions(
     c = V[F[band]].mean(axis=1)
     r2 = np.einsum("kmd,kmd->km", a[:, None] - c[None], a[:, None] - c[None])
     lateral = np.maximum(r2 - d[F[band]].mean(axis=1)[None] ** 2, 0.0)  # along the opening
-    w = area[None] * np.exp(-lateral / max(depth * depth, tol.TINY))
+    w = area[None] * np.exp(-lateral / max(edge * edge, tol.TINY))
     s = w @ grad
     t = opening_tangents(V, oe)
     s -= np.einsum("ij,ij->i", s, t)[:, None] * t
