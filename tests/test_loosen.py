@@ -20,7 +20,7 @@ from ptailor.edits.loosen import (
     turned_faces,
 )
 from ptailor.edits.region import region_faces
-from ptailor.errors import PtailorError, RecipeError
+from ptailor.errors import LimitError, PtailorError, RecipeError
 from ptailor.formats.garment import load_garment
 from ptailor.geometry.triangles import signed_areas_2d
 from ptailor.model.garment import Garment, panels
@@ -200,6 +200,9 @@ def test_tightening_past_the_axis_is_an_error_naming_panel_and_height():
         apply_steps(g, recipe({"op": "tighten", "by": 10.0}), options=EditOptions())
     # the triangles' centroids span heights 1/3 to 20 - 1/3 (rows 1.25 apart)
     assert "(panel 'tube', height 0.4 to 19.6)" in str(err.value)
+    # the refusal names the largest of its probes that passes: 7.5 and 5 turn it too
+    assert str(err.value).endswith("(by: 2.5 passes)"), str(err.value)
+    assert isinstance(err.value, LimitError)
     # tightening by less than the radius is fine, and exact
     s = apply_steps(g, recipe({"op": "tighten", "by": 4.0}), options=EditOptions())
     np.testing.assert_allclose(radii(s.V3), radii(g.V3) - 4.0, atol=1e-9)

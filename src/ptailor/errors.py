@@ -58,6 +58,13 @@ class AbsentError(PtailorError):
     """
 
 
+class LimitError(PtailorError):
+    """An edit larger than the garment allows where it is asked: an offset that turns part
+    of a region inside out. Still the input's kind (exit 2); the step that raised it may
+    probe smaller values and name one that passes (:func:`ptailor.edits.loosen.offset_step`).
+    """
+
+
 class NumericError(PtailorError):
     """A numeric failure of a solve: a singular or indefinite factorisation, a non-finite
     value where the method needs a finite one (still the input's kind, exit 2: the garment or

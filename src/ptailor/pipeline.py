@@ -14,7 +14,7 @@ import numpy as np
 from ptailor import tolerances as tol
 from ptailor.edits import OPERATIONS, EditOptions, EditState, Step
 from ptailor.edits.mirror import apply_mirrored
-from ptailor.errors import AbsentError, NumericError, PtailorError
+from ptailor.errors import AbsentError, NumericError, PtailorError, RecipeError
 from ptailor.geometry.labels import used_indices
 from ptailor.geometry.triangles import triangle_areas
 from ptailor.method import tolerances as method_tol
@@ -140,15 +140,20 @@ def apply_steps(garment: Garment, recipe: Recipe, *, options: EditOptions) -> Ed
             if step.optional:
                 state = replace(state, log=(*state.log, skipped_record(step, where, exc)))
                 continue
-            if exc.path is not None or str(exc).startswith("steps["):
-                raise
-            raise AbsentError(f"{where}: {exc}") from None
+            raise at_step(exc, where) from None
         except PtailorError as exc:
-            if exc.path is not None or str(exc).startswith("steps["):
-                raise
-            raise PtailorError(f"{where}: {exc}") from None
+            raise at_step(exc, where) from None
         check_drape(state, where)
     return state
+
+
+def at_step(exc: PtailorError, where: str) -> PtailorError:
+    """``exc`` prefixed with the step ``where`` it came from, of the same kind (a recipe's
+    own problems become a plain input error); unchanged when it names a file or a step."""
+    if exc.path is not None or str(exc).startswith("steps["):
+        return exc
+    kind = PtailorError if isinstance(exc, RecipeError) else type(exc)
+    return kind(f"{where}: {exc}")
 
 
 def skipped_record(step: Step, where: str, exc: AbsentError) -> dict:

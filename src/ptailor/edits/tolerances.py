@@ -105,6 +105,9 @@ LOOSEN_SMOOTH_LEVELS = 3
 #: on every panel that moves (below it the smoothing is wider than the panel: a thin
 #: sleeve's normals cancel out and leak in from the rest).
 LOOSEN_NORMAL_AGREEMENT = 0.6
+#: A refused offset probes these fractions of its ``by`` (unitless, largest first) and names
+#: the first that passes: what the user can take instead.
+LOOSEN_PROBE_FRACTIONS = (0.75, 0.5, 0.25, 0.1)
 #: Lumped vertex mass floor of the smoothing, relative to the mean mass (vertices of
 #: degenerate triangles only: their row keeps a positive diagonal).
 LOOSEN_MASS_FLOOR_REL = 1e-9

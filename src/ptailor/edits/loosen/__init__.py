@@ -46,7 +46,7 @@ from ptailor.edits.loosen.silhouette import row_crossings, silhouette_targets
 from ptailor.edits.region import region_faces
 from ptailor.edits.registry import Step, checked, register
 from ptailor.edits.state import EditOptions, EditState
-from ptailor.errors import PtailorError
+from ptailor.errors import LimitError, PtailorError
 from ptailor.method.deform import arap_deform
 from ptailor.model.garment import panel_labels
 from ptailor.model.structure import structure
@@ -233,7 +233,11 @@ def offset_step(
         )
 
     if step.girth is None:
-        by, (V_new, sigma), asked = float(step.by), offset(float(step.by)), {}
+        by, asked = float(step.by), {}
+        try:
+            V_new, sigma = offset(by)
+        except LimitError as err:
+            raise refusal(err, by, offset) from None
     else:
         by, (V_new, sigma), asked = girth_offset(state, step, faces, offset)
     rec = {"op": step.op, "by": by, "triangles": int(faces.size), "smoothing": round(sigma, 6)}
@@ -242,6 +246,25 @@ def offset_step(
     if step.offset_region != "all":  # part of a girth: the share it holds, where short
         rec = with_coverage(rec, girth_coverage(V3, g.F3, faces, garment=g))
     return V_new, rec
+
+
+def refusal(err: LimitError, by: float, offset) -> LimitError:
+    """``err`` (an offset of ``by`` refused) with the largest of a few smaller offsets that
+    passes, ``by`` times ``LOOSEN_PROBE_FRACTIONS``, named; or that none of them does.
+
+    A refusal need not be monotone in ``by``: the falloff's band and the normals' smoothing
+    both widen with ``by``, so near the region's border (where the falloff ramps up) a
+    larger offset moves a tight fold less, and along normals smoothed wider, than a smaller
+    one. Only smaller values are probed: they are what a user who asked ``by`` can take.
+    """
+    for frac in edit_tol.LOOSEN_PROBE_FRACTIONS:  # a loop over a few trial offsets
+        try:
+            offset(by * frac)
+        except LimitError:
+            continue
+        return LimitError(f"{err.message} (by: {by * frac:.3g} passes)", path=err.path)
+    tried = ", ".join(f"{by * f:.3g}" for f in edit_tol.LOOSEN_PROBE_FRACTIONS)
+    return LimitError(f"{err.message} (nor do by: {tried})", path=err.path)
 
 
 def girth_offset(state: EditState, step: LoosenStep, faces: np.ndarray, offset) -> tuple:

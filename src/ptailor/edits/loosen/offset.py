@@ -14,7 +14,7 @@ from ptailor.edits.loosen.normals import (
     turned_faces,
     unit_rows,
 )
-from ptailor.errors import PtailorError
+from ptailor.errors import LimitError
 from ptailor.geometry.triangles import triangle_normals
 from ptailor.method.geodesic import geodesic_distance
 from ptailor.model.frame import Frame
@@ -100,7 +100,7 @@ def offset_error(
     sigma: float,
     frame: Frame,
     washed_out: bool,
-) -> PtailorError:
+) -> LimitError:
     """The error for an offset that cannot be made, naming the panels and heights.
 
     Parameters
@@ -125,12 +125,12 @@ def offset_error(
     verb = "loosening" if by > 0 else "tightening"
     where = where_faces(V, F3, plist, mask, frame=frame)
     if washed_out:
-        return PtailorError(
+        return LimitError(
             f"{verb} by {abs(by):g} needs the normals smoothed over about {sigma:.3g},"
             f" more than the garment allows ({where}: the smoothed normals no longer point"
             " out of the surface); use a smaller 'by'"
         )
-    return PtailorError(
+    return LimitError(
         f"{verb} by {abs(by):g} turns part of the region inside out ({where}): the surface"
         f" there curves more tightly than {abs(by):g}, even smoothed over {sigma:.3g};"
         " use a smaller 'by'"
@@ -203,7 +203,7 @@ def offset_region(
 
     Raises
     ------
-    PtailorError
+    LimitError
         When the offset turns a triangle over even at the widest smoothing (tightening by
         more than the surface's radius, loosening into a tight concave fold), or needs a
         smoothing wider than a panel, naming the panels and the heights where it happens.
