@@ -411,3 +411,49 @@ def test_a_singular_seam_system_is_factored_once_without_least_squares(monkeypat
     B[:10, 0] = 1.0
     u = bordered_solver(M, B)(r)
     assert u is not None and np.all(np.isfinite(u))
+
+
+def _obj(V, F) -> bytes:
+    lines = [f"v {x:.9g} {y:.9g} {z:.9g}" for x, y, z in V]
+    lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in F]
+    return ("\n".join(lines) + "\n").encode()
+
+
+def test_read_body_refuses_what_is_not_a_body(tmp_path):
+    """Closed is not enough: a body encloses a volume with its faces pointing out."""
+    import trimesh
+
+    from ptailor.edits.body import read_body
+
+    sphere = trimesh.creation.icosphere(subdivisions=2, radius=20.0)
+    V, F = np.asarray(sphere.vertices), np.asarray(sphere.faces)
+    flipped = F.copy()
+    flipped[:7] = flipped[:7, ::-1]
+    flat = np.c_[V[:, 0], V[:, 1], 0.0 * V[:, 2]]  # a doubled disc: closed, no volume
+    cases = {
+        "point.obj": (b"v 1 2 3\nv 1 2 3\nv 1 2 3\nf 1 2 3\n", "no proper triangles"),
+        "inside_out.obj": (_obj(V, F[:, ::-1]), "inside out"),
+        "mixed.obj": (_obj(V, flipped), "not consistently oriented"),
+        "flat.obj": (_obj(flat, F), "encloses almost no volume"),
+    }
+    for name, (data, words) in cases.items():
+        p = tmp_path / name
+        p.write_bytes(data)
+        msg = _msg(read_body, p)
+        assert str(p) in msg and words in msg, (name, msg)
+    # the sphere itself, and the same with a few degenerate triangles added, are bodies
+    p = tmp_path / "sphere_plus.obj"
+    p.write_bytes(_obj(V, np.r_[F, [[0, 0, 1], [2, 2, 2]]]))
+    m = read_body(str(p), units="cm", to="cm")
+    assert len(m.faces) == len(F) and m.volume > 0.9 * 4.0 / 3.0 * np.pi * 20.0**3
+
+
+def test_the_shared_bodies_are_bodies():
+    from ptailor.edits.body import read_body
+
+    for name in ("mean_all.obj", "mean_all_tpose.obj"):
+        path = Path(__file__).resolve().parents[2] / "shared" / "bodies" / name
+        if not path.is_file():
+            pytest.skip("../shared is absent")
+        m = read_body(str(path), units="cm", to="cm")
+        assert m.is_winding_consistent and m.volume > 0.0

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.edits import tolerances as edit_tol
 
 #: Point-face pairs evaluated per chunk (bounds the memory of the brute-force passes).
@@ -220,7 +221,13 @@ def _trimesh_arrays(path: str, ext: str) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _closed_body(V: np.ndarray, F: np.ndarray, *, path: str) -> tuple[np.ndarray, np.ndarray]:
-    """A body mesh welded at its exactly coincident vertices, checked closed.
+    """A body mesh welded at its exactly coincident vertices, checked to be a body.
+
+    Triangles with a repeated corner (after welding) are dropped. What is left must be
+    closed (every edge used by two triangles or more), consistently oriented (each edge
+    walked once each way), outward (a positive volume) and round enough to hold one (at
+    least ``BODY_MIN_ROUNDNESS`` of the volume of a sphere of the same area: a flat,
+    doubled sheet or three coincident points encloses none).
 
     Parameters
     ----------
@@ -233,21 +240,28 @@ def _closed_body(V: np.ndarray, F: np.ndarray, *, path: str) -> tuple[np.ndarray
     -------
     V : (nu, 3) float array
         The distinct vertices (sorted, as :func:`numpy.unique` gives them).
-    F : (m, 3) int array
-        The triangles on them.
+    F : (k, 3) int array
+        The triangles on them, degenerate ones dropped.
 
     Raises
     ------
     PtailorError
-        Where an edge is used by one triangle only.
+        Naming the first check that fails.
     """
     from ptailor.errors import PtailorError
 
     # exactly coincident vertices are one (STL stores each triangle's corners apart)
     V, inv = np.unique(V, axis=0, return_inverse=True)
     F = inv.reshape(-1)[F]
+    F = F[(F[:, 0] != F[:, 1]) & (F[:, 1] != F[:, 2]) & (F[:, 2] != F[:, 0])]
+    if len(F) == 0:
+        raise PtailorError(
+            "body mesh has no proper triangles (each has coincident corners): it encloses nothing",
+            path=path,
+        )
     # closed: no edge used once (push-out tells inside from outside by winding numbers)
-    E = np.sort(np.stack([F, np.roll(F, -1, axis=1)], axis=2).reshape(-1, 2), axis=1)
+    D = np.stack([F, np.roll(F, -1, axis=1)], axis=2).reshape(-1, 2)
+    E = np.sort(D, axis=1)
     _, count = np.unique(E, axis=0, return_counts=True)
     open_edges = int((count == 1).sum())
     if open_edges:
@@ -256,4 +270,36 @@ def _closed_body(V: np.ndarray, F: np.ndarray, *, path: str) -> tuple[np.ndarray
             "a body needs a watertight body",
             path=path,
         )
+    problem = _enclosure_problem(V, F, D)
+    if problem:
+        raise PtailorError(problem, path=path)
     return V, F
+
+
+def _enclosure_problem(V: np.ndarray, F: np.ndarray, D: np.ndarray) -> str:
+    """What keeps a closed mesh ``V`` ``(nv, 3)``, ``F`` ``(m, 3)`` (directed edges ``D``
+    ``(3m, 2)``) from being a body with outward faces, or ``""``."""
+    n = max(len(V), 1)
+    forward, back = D[:, 0] * n + D[:, 1], D[:, 1] * n + D[:, 0]
+    fk, fc = np.unique(forward, return_counts=True)
+    bk, bc = np.unique(back, return_counts=True)
+    if fk.size != bk.size or np.any(fk != bk) or np.any(fc != bc):
+        return (
+            "body mesh is not consistently oriented (some triangles wound against their"
+            " neighbours): inside and outside are undefined; re-orient its faces"
+        )
+    T = V[F]
+    volume = float(np.einsum("ij,ij->i", T[:, 0], np.cross(T[:, 1], T[:, 2])).sum()) / 6.0
+    area = float(np.linalg.norm(np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]), axis=1).sum())
+    sphere = (area / 2.0) ** 1.5 / (6.0 * np.sqrt(np.pi))  # a sphere's volume for that area
+    if volume < 0.0 and -volume >= edit_tol.BODY_MIN_ROUNDNESS * sphere:
+        return (
+            "body mesh is inside out (its faces point inward: negative volume); reverse its"
+            " faces' winding"
+        )
+    if volume < edit_tol.BODY_MIN_ROUNDNESS * sphere:
+        return (
+            f"body mesh encloses almost no volume ({max(volume, 0.0) / max(sphere, tol.TINY):.3g}"
+            " of a sphere of its area): flat or degenerate, not a body"
+        )
+    return ""

@@ -155,6 +155,9 @@ MIRROR_LOOP_DIST = 0.25
 #: A body normal interpolated at a point (barycentric sum of unit vertex normals) shorter
 #: than this (unitless) cancels out: the face's normal is taken instead.
 BODY_NORMAL_ZERO = 1e-12
+#: A body must enclose a volume: at least this fraction (unitless) of the volume of the sphere
+#: of its surface area (the shared bodies 0.32, a cube 0.72, a sphere 1; a flat, doubled sheet 0).
+BODY_MIN_ROUNDNESS = 0.02
 
 # --- steps asked in points of measure (ptailor.edits.asks) ---
 #: A step asked in a measure (``loosen girth:``, ``scale measure:``, ``shorten``/``extend``
