@@ -101,7 +101,9 @@ def push_out(V: np.ndarray, body, *, clearance: float) -> np.ndarray:
     (n, 3) float array
         Each offending point is moved to ``q + clearance * n``, ``q`` its closest point on
         the body and ``n`` the body's unit normal there (vertex normals interpolated
-        barycentrically); the other points are unchanged.
+        barycentrically); the other points are unchanged. A point that lands inside another
+        part of the body (parts that overlap: an arm sunk into the torso) is pushed again,
+        up to ``BODY_PUSH_ROUNDS`` rounds in all.
     """
     from trimesh.triangles import points_to_barycentric
 
@@ -113,21 +115,42 @@ def push_out(V: np.ndarray, body, *, clearance: float) -> np.ndarray:
         return out
     import trimesh
 
-    inside = body.contains(V)  # trimesh's ray test (r-tree of the body's triangles, cached)
-    Q, _, face = trimesh.proximity.closest_point(body, V)
-    dist = np.linalg.norm(V - Q, axis=1)
-    move = inside | (dist < clearance)
-    if not move.any():
-        return out
-    Qm, fm = Q[move], face[move]
-    bary = points_to_barycentric(BV[BF[fm]], Qm)
-    N = np.einsum("ij,ijk->ik", bary, np.asarray(body.vertex_normals)[BF[fm]])
-    nl = np.linalg.norm(N, axis=1)
-    bad = nl < edit_tol.BODY_NORMAL_ZERO
-    N[bad] = np.asarray(body.face_normals)[fm[bad]]
-    N /= np.linalg.norm(N, axis=1)[:, None]
-    out[move] = Qm + float(clearance) * N
+    todo = np.arange(len(V))
+    for _ in range(edit_tol.BODY_PUSH_ROUNDS):  # a body whose parts overlap: again, a few times
+        P = out[todo]
+        inside = inside_body(P, body)
+        Q, _, face = trimesh.proximity.closest_point(body, P)
+        near = inside | (np.linalg.norm(P - Q, axis=1) < clearance)
+        if not near.any():
+            break
+        Qm, fm = Q[near], face[near]
+        bary = points_to_barycentric(BV[BF[fm]], Qm)
+        N = np.einsum("ij,ijk->ik", bary, np.asarray(body.vertex_normals)[BF[fm]])
+        bad = np.linalg.norm(N, axis=1) < edit_tol.BODY_NORMAL_ZERO
+        N[bad] = np.asarray(body.face_normals)[fm[bad]]
+        N /= np.linalg.norm(N, axis=1)[:, None]
+        out[todo[near]] = Qm + float(clearance) * N
+        todo = todo[near & inside]  # pushed out of one part into another: once more
+        if todo.size == 0:
+            break
     return out
+
+
+def inside_body(P: np.ndarray, body) -> np.ndarray:
+    """Which points are inside a body, ``(n,)`` bool.
+
+    One closed piece: trimesh's ray test (``Trimesh.contains``, an r-tree of the body's
+    triangles, cached). Several pieces, which may overlap (parity counts a point inside two
+    of them as outside): generalised winding numbers (:func:`winding_numbers`) above 1/2.
+
+    Parameters
+    ----------
+    P : (n, 3) float array
+    body : trimesh.Trimesh
+    """
+    if body.body_count <= 1:
+        return np.asarray(body.contains(P), dtype=bool)
+    return winding_numbers(P, np.asarray(body.vertices), np.asarray(body.faces)) > 0.5
 
 
 def read_body(path: str, *, units: str, to: str):
@@ -187,7 +210,47 @@ def read_body(path: str, *, units: str, to: str):
                 f"body coordinates must be finite with |x| <= {tol.OBJ_COORD_MAX:g}", path=path
             )
     V, F = _closed_body(V, F, path=path)
+    F = _outer_pieces(V, F, path=path)
     return trimesh.Trimesh(vertices=V * scale, faces=F, process=False)
+
+
+def _outer_pieces(V: np.ndarray, F: np.ndarray, *, path: str) -> np.ndarray:
+    """The triangles ``(k, 3)`` of a closed body's pieces that lie inside no other piece.
+
+    A piece inside another (an eye inside the head) is dropped: cloth never reaches it. Two
+    pieces that cross each other (an arm sunk into the torso as a separate shell) are
+    refused: the body's outside is then the union of the two, which closest points and ray
+    parity do not see (a point inside both counts as outside).
+    """
+    import scipy.sparse as sp
+    from scipy.sparse.csgraph import connected_components
+
+    from ptailor.errors import PtailorError
+
+    E = F[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+    A = sp.coo_matrix((np.ones(len(E)), (E[:, 0], E[:, 1])), shape=(len(V), len(V)))
+    _, label = connected_components(A, directed=False)
+    used = np.unique(F)
+    pieces = np.unique(label[used])
+    if pieces.size <= 1:
+        return F
+    face_piece = label[F[:, 0]]
+    keep = np.ones(len(F), dtype=bool)
+    rng = np.random.default_rng(0)
+    for a in pieces:  # a loop over the body's pieces (a handful)
+        va = np.flatnonzero(label == a)
+        va = va[rng.permutation(va.size)[: edit_tol.BODY_PIECE_SAMPLES]]
+        for b in pieces[pieces != a]:  # and over the others
+            w = winding_numbers(V[va], V, F[face_piece == b]) > 0.5
+            if w.all():
+                keep[face_piece == a] = False
+            elif w.any():
+                raise PtailorError(
+                    f"body mesh has {pieces.size} pieces, two of which cross each other: join"
+                    " them into one closed surface",
+                    path=path,
+                )
+    return F[keep]
 
 
 def _trimesh_arrays(path: str, ext: str) -> tuple[np.ndarray, np.ndarray]:

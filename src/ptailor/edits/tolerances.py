@@ -158,6 +158,12 @@ BODY_NORMAL_ZERO = 1e-12
 #: A body must enclose a volume: at least this fraction (unitless) of the volume of the sphere
 #: of its surface area (the shared bodies 0.32, a cube 0.72, a sphere 1; a flat, doubled sheet 0).
 BODY_MIN_ROUNDNESS = 0.02
+#: Push-out rounds (a count): a point pushed out of one part of a body into another that
+#: overlaps it (an arm into the torso) is pushed again, up to this many times in all.
+BODY_PUSH_ROUNDS = 4
+#: A body's separate pieces are told nested or crossing by this many of their vertices (a
+#: count, seeded sample): all inside another piece, nested; some, crossing.
+BODY_PIECE_SAMPLES = 64
 
 # --- steps asked in points of measure (ptailor.edits.asks) ---
 #: A step asked in a measure (``loosen girth:``, ``scale measure:``, ``shorten``/``extend``
