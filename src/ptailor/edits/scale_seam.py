@@ -370,9 +370,10 @@ def scale_seam(state: EditState, step: ScaleSeamStep, *, options: EditOptions) -
     straight sleeve becomes a frustum (the lantern); with none it is a gather: the drape is
     kept and the part's pattern takes the extra length in a band along the seam
     (``GATHER_BAND_REL`` times the seam line's mean radius, :mod:`ptailor.method.gather`),
-    the rest of the part keeping its shape; ``along`` scales the part's positions along the axis about
-    that end, moving the seam and carrying the other panel with it. The rest of the garment
-    follows by as-rigid-as-possible deformation; what ``fix`` names stays put. The other
+    the rest of the part keeping its shape; ``along`` scales the part's positions along
+    the axis about that end, moving the seam and carrying the other panel with it. The
+    rest of the garment follows by as-rigid-as-possible deformation; what ``fix`` names
+    stays put. The other
     panel's pattern is kept (``frozen``): its drape's change goes into its intrinsic scale,
     as a gathered cuff takes up a wider sleeve. ``around`` changes the seam's length ratio
     by ``factor`` on purpose (the part's side grows, the other's is kept): the flattening
