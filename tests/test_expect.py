@@ -366,3 +366,12 @@ def test_a_girth_asked_reports_its_chest_in_the_pattern(tmp_path):
     after = {d["name"]: d for d in rep["measures"]["after"]}["chest"]
     assert got["pattern"] == pytest.approx(after["pattern"] - before["pattern"], abs=1e-3)
     assert got["pattern"] == pytest.approx(2.0, abs=0.3)  # the prediction held
+
+
+def test_measures_lost_in_the_adjustment_are_a_warning():
+    from ptailor.report.expect import lost_measures
+
+    before = [{"name": n} for n in ("waist", "hip", "hem", "skirt_length")]
+    (w,) = lost_measures(before, [{"name": "hem"}])
+    assert "waist, hip, skirt_length" in w and "check the drape" in w
+    assert lost_measures(before, before) == []

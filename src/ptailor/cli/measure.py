@@ -24,7 +24,7 @@ def measure(garment, drape, pattern_units, drape_units, weld, up, front, units, 
     """
     import json
 
-    from ptailor.formats.garment import load_garment, parse_weld
+    from ptailor.formats.garment import load_garment
     from ptailor.measures import garment_measures, measure_dicts
     from ptailor.recipe import resolve_frame
 
@@ -34,7 +34,7 @@ def measure(garment, drape, pattern_units, drape_units, weld, up, front, units, 
         units=units,
         pattern_units=pattern_units,
         drape_units=drape_units,
-        weld=parse_weld(weld, units=units),
+        weld=weld,
         frame=resolve_frame(up, front, default=None),
     )
     g = loaded.garment

@@ -79,6 +79,14 @@ EXTEND_ROW_AREA_MIN_REL = 1e-9
 #: The extension is measured on the drape by a geodesic distance limited to this many times
 #: ``by`` (unitless); a row pushed further out (by the body) is measured without a limit.
 EXTEND_MEASURE_REACH_BY = 3.0
+#: The surface's outward continuation at an opening is read from the cloth within this many
+#: mean edge lengths (of the opening's triangles) behind it (unitless): one bent or flared row of a
+#: simulated drape does not set the direction of the new rows alone ...
+EXTEND_BAND_EDGES = 4.0
+#: ... and a new row whose triangle's normal makes a cosine below this (unitless) with the
+#: row before it (the opening's triangle for the first), or that grows against the
+#: surface's continuation, is folded back: a warning naming the opening.
+EXTEND_FOLD_COS = 0.0
 
 # --- loosen, tighten (ptailor.edits.loosen) ---
 #: The offset falls off to zero over a band this many times ``|by|`` wide (unitless; the

@@ -103,13 +103,16 @@ class Context:
         return P @ self.R[1]
 
 
-def _shared_vertices(F: np.ndarray, a: np.ndarray, b: np.ndarray, n: int) -> np.ndarray:
-    """Vertices used by faces in mask ``a`` and by faces in mask ``b``."""
-    in_a = np.zeros(n, dtype=bool)
-    in_b = np.zeros(n, dtype=bool)
-    in_a[F[a].ravel()] = True
-    in_b[F[b].ravel()] = True
-    return np.flatnonzero(in_a & in_b)
+def _on_faces(g: Garment, faces: np.ndarray) -> np.ndarray:
+    """``(n3,) bool``: the drape vertices of the triangles in mask ``faces``."""
+    on = np.zeros(len(g.V3), dtype=bool)
+    on[g.F3[faces].ravel()] = True
+    return on
+
+
+def _shared_vertices(g: Garment, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The drape vertices used by triangles in mask ``a`` and by triangles in mask ``b``."""
+    return np.flatnonzero(_on_faces(g, a) & _on_faces(g, b))
 
 
 def context(g: Garment) -> Context:
@@ -163,7 +166,7 @@ def sleeve(g: Garment, ctx: Context, side: str) -> Limb | None:
     faces = np.isin(ctx.role, _LIMB_ROLES) & (ctx.face_side == side)
     if not faces.any():
         return None
-    seam = _shared_vertices(g.F3, faces, ctx.torso, len(g.V3))
+    seam = _shared_vertices(g, faces, ctx.torso)
     return _limb(ctx, faces, seam, f"cuff_{side}")
 
 
@@ -173,7 +176,7 @@ def underarm_height(g: Garment, ctx: Context) -> float | None:
     lows = []
     for side in ("left", "right"):
         limb_faces = np.isin(ctx.role, _LIMB_ROLES) & (ctx.face_side == side)
-        seam = _shared_vertices(g.F3, limb_faces, ctx.torso, len(g.V3))
+        seam = _shared_vertices(g, limb_faces, ctx.torso)
         if f"armhole_{side}" in ctx.openings:
             seam = ctx.openings[f"armhole_{side}"].loop
         if len(seam):
@@ -227,13 +230,6 @@ def overarm(g: Garment, limb: Limb) -> MaterialLine | None:
     return _best_piece(line, g, closed=False)
 
 
-def _on_faces(g: Garment, faces: np.ndarray) -> np.ndarray:
-    """``(n3,) bool``: the drape vertices of the triangles in mask ``faces``."""
-    on = np.zeros(len(g.V3), dtype=bool)
-    on[g.F3[faces].ravel()] = True
-    return on
-
-
 def neck_vertices(g: Garment, ctx: Context) -> np.ndarray | None:
     """The torso's neck edge: the neckline's drape vertices on the torso panels, else (a collar
     sewn on) the vertices the torso shares with the collar; None without a neckline."""
@@ -243,7 +239,7 @@ def neck_vertices(g: Garment, ctx: Context) -> np.ndarray | None:
     on_torso = _on_faces(g, ctx.torso)
     loop = op.loop[on_torso[op.loop]]
     if len(loop) == 0:
-        loop = np.flatnonzero(on_torso & _on_faces(g, ctx.role == "collar"))
+        loop = _shared_vertices(g, ctx.torso, ctx.role == "collar")
     return loop if len(loop) else None
 
 
@@ -402,7 +398,7 @@ def waist(g: Garment, ctx: Context) -> tuple[MaterialLine, float] | None:
     if ctx.tiered or ctx.waist_seamed:
         bod = ctx.torso & (ctx.face_tier == "bodice")
         skt = ctx.torso & np.isin(ctx.face_tier, ("skirt", "leg"))
-        seam = _shared_vertices(g.F3, bod, skt, len(g.V3))
+        seam = _shared_vertices(g, bod, skt)
         if len(seam) == 0:
             return None
         h = float(ctx.X[seam, 1].mean())
@@ -424,7 +420,7 @@ def crotch_height(g: Garment, ctx: Context) -> float | None:
     """The lowest point where the left and right lower panels meet."""
     left = ctx.lower & (ctx.face_side == "left")
     right = ctx.lower & (ctx.face_side == "right")
-    v = _shared_vertices(g.F3, left, right, len(g.V3))
+    v = _shared_vertices(g, left, right)
     return float(ctx.X[v, 1].min()) if len(v) else None
 
 

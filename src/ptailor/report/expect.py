@@ -175,6 +175,28 @@ def steps_achieved(log: Sequence[dict], before: Sequence[dict], after: Sequence[
     return out
 
 
+def lost_measures(before: Sequence[dict], after: Sequence[dict]) -> list[str]:
+    """A warning when points of measure the garment had are absent after the adjustment (its
+    openings or panels are no longer found as they were: a waist named hem, a sleeve lost),
+    and which; none when every one is still there.
+
+    Examples
+    --------
+    >>> lost_measures([{"name": "waist"}, {"name": "hem"}], [{"name": "hem"}])[0][:47]
+    'points of measure lost in the adjustment: waist'
+    >>> lost_measures([{"name": "hem"}], [{"name": "hem"}])
+    []
+    """
+    have = {d["name"] for d in after}
+    gone = [d["name"] for d in before if d["name"] not in have]
+    if not gone:
+        return []
+    return [
+        f"points of measure lost in the adjustment: {', '.join(gone)} (the adjusted "
+        "garment's openings or panels are not found as they were: check the drape)"
+    ]
+
+
 def _asked_text(rec: dict) -> str:
     asked = rec.get("asked") or {}
     if "to" in asked:

@@ -31,6 +31,7 @@ from ptailor.report.build import (
 from ptailor.report.expect import (
     expect_records,
     garment_measure_dicts,
+    lost_measures,
     measures_before,
     measures_section,
     steps_achieved,
@@ -400,6 +401,8 @@ def _report(
     spec_section, spec_warnings = spec
     warnings = run_warnings(loaded, adj, ctx.errors, ctx.plan, ctx.pieces, options)
     warnings += list(spec_warnings)
+    measures = staged.sections["measures"]
+    warnings += lost_measures(measures["before"], measures["after"])
     warnings += [w for w in staged.library_warnings if w not in warnings]
     return build_report(
         adj,

@@ -21,7 +21,8 @@ from ptailor.edits.achieved import row_offsets
 from ptailor.edits.asks import length_to
 from ptailor.edits.body import push_out
 from ptailor.edits.checks import number
-from ptailor.edits.extend.drape import drape_rows
+from ptailor.edits.extend.continuation import fold_check, fold_warning
+from ptailor.edits.extend.drape import drape_rows, surface_directions
 from ptailor.edits.extend.pattern import pattern_rows
 from ptailor.edits.extend.rows import RowPlan, Rows, quad_rows, row_plan
 from ptailor.edits.limits import check_by, check_new_triangles
@@ -148,6 +149,11 @@ def extend(state: EditState, step: ExtendStep, *, options: EditOptions) -> EditS
     triangles' original pattern (the final flattening glues them) and are outline-free;
     panels keep their ``even`` flag.
 
+    New rows folded back against the row before them (the opening's triangles for the
+    first), or growing against the surface's continuation, are a warning naming the
+    opening, and the record's ``folds`` says where
+    (:func:`ptailor.edits.extend.continuation.fold_check`).
+
     The log record's ``amount`` gives the length added both ways: ``pattern``, per panel
     the opening runs along, the ``min``, ``median`` and ``max`` distance of the new edge's
     pattern vertices from the old edge; ``drape``, the same of their surface distance from
@@ -171,6 +177,16 @@ def extend(state: EditState, step: ExtendStep, *, options: EditOptions) -> EditS
     rec = _extend_record(
         state, grown, plan, built, new_e, loop=loop, name=name, by=by, measure=measure
     )
+    folds = fold_check(
+        grown.V3,
+        grown.base.F3[state.base.n_faces :],
+        plan.n_src,
+        plan.A3,
+        surface_directions(state.V3, state.base.F3, oe),
+    )
+    if folds is not None:
+        warn = fold_warning(name, by, folds, state.base.units)
+        rec = {**rec, "folds": folds, "warnings": [*rec.get("warnings", ()), warn]}
     return replace(grown, log=(*state.log, rec))
 
 

@@ -11,6 +11,7 @@ import numpy as np
 
 from ptailor import tolerances as tol
 from ptailor.edits import tolerances as edit_tol
+from ptailor.edits.extend.continuation import continuation_directions, in_planes
 from ptailor.edits.extend.rows import (
     RowPlan,
     Rows,
@@ -27,6 +28,17 @@ from ptailor.geometry.triangles import signed_areas_2d, triangle_normals
 from ptailor.model.seams import seam_halfedges
 
 
+def edge_outward(V: np.ndarray, oe: OpeningEdges) -> np.ndarray:
+    """Unit outward in-plane normal of each opening edge, ``(k, 3)``: ``t x (t x (o - a))``,
+    perpendicular to the edge ``t``, in its triangle's plane, away from the opposite vertex
+    ``o``."""
+    A = V[oe.a3]
+    t = V[oe.b3] - A
+    w = V[oe.opposite] - A
+    out = np.cross(t, np.cross(t, w))  # = t (t.w) - w |t|^2: in-plane, away from the face
+    return out / np.maximum(np.linalg.norm(out, axis=1), tol.TINY)[:, None]
+
+
 def outward_directions(V: np.ndarray, oe: OpeningEdges) -> np.ndarray:
     """Unit directions, tangent to the surface and across the boundary, at an opening.
 
@@ -40,20 +52,22 @@ def outward_directions(V: np.ndarray, oe: OpeningEdges) -> np.ndarray:
     -------
     (k, 3) float array
         At vertex ``oe.a3[i]``: the normalised sum of the unit outward in-plane normals of
-        its two boundary edges (``t x (t x (o - a))``: perpendicular to the edge ``t``, in
-        its triangle's plane, away from the opposite vertex ``o``).
+        its two boundary edges (:func:`edge_outward`).
     """
-    A = V[oe.a3]
-    t = V[oe.b3] - A
-    w = V[oe.opposite] - A
-    out = np.cross(t, np.cross(t, w))  # = t (t.w) - w |t|^2: in-plane, away from the face
-    out /= np.maximum(np.linalg.norm(out, axis=1), tol.TINY)[:, None]
+    out = edge_outward(V, oe)
     s = np.roll(out, 1, axis=0) + out  # edge i - 1 ends and edge i starts at a3[i]
     ns = np.linalg.norm(s, axis=1)
     cusp = ns < edit_tol.EXTEND_CUSP
     s[cusp] = out[cusp]
     ns[cusp] = 1.0
     return s / ns[:, None]
+
+
+def surface_directions(V: np.ndarray, F: np.ndarray, oe: OpeningEdges) -> np.ndarray:
+    """The surface's outward continuation at an opening's vertices, ``(k, 3)``
+    (:func:`ptailor.edits.extend.continuation.continuation_directions`, the opening's own
+    :func:`outward_directions` where no band answers)."""
+    return continuation_directions(V, F, oe, outward_directions(V, oe))
 
 
 def seam_scales(
@@ -159,7 +173,13 @@ def smooth_directions(D: np.ndarray) -> np.ndarray:
 
 
 def column_steps(
-    Jp: np.ndarray, dirs: np.ndarray, inv: np.ndarray, vert3: np.ndarray, sigma: np.ndarray
+    Jp: np.ndarray,
+    dirs: np.ndarray,
+    inv: np.ndarray,
+    vert3: np.ndarray,
+    sigma: np.ndarray,
+    *,
+    planes: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> np.ndarray:
     """Pattern step of each pattern vertex on an opening per unit 3D step along its row.
 
@@ -176,6 +196,11 @@ def column_steps(
         Drape vertex of each column.
     sigma : (c,) float array
         Weights (:func:`match_seam_steps`).
+    planes : ((k, 3), (k, 3)) float arrays, optional, keyword-only
+        The unit normals of the opening's triangles and their edges' outward directions
+        (:func:`edge_outward`): each direction is first projected into its triangle's plane
+        and made unit (:func:`ptailor.edits.extend.continuation.in_planes`), so a row
+        leaving that plane still steps its full length in the pattern.
 
     Returns
     -------
@@ -184,8 +209,11 @@ def column_steps(
         (:func:`match_seam_steps`).
     """
     nc = len(vert3)
-    d_a = (Jp @ dirs[:, :, None])[:, :, 0]
-    d_b = (Jp @ np.roll(dirs, -1, axis=0)[:, :, None])[:, :, 0]
+    dir_a, dir_b = dirs, np.roll(dirs, -1, axis=0)
+    if planes is not None:
+        dir_a, dir_b = in_planes(dir_a, *planes), in_planes(dir_b, *planes)
+    d_a = (Jp @ dir_a[:, :, None])[:, :, 0]
+    d_b = (Jp @ dir_b[:, :, None])[:, :, 0]
     D = np.concatenate([d_a, d_b])
     cnt = np.bincount(inv, minlength=nc).astype(float)
     disp = np.stack([np.bincount(inv, D[:, c], nc) for c in range(2)], 1) / cnt[:, None]
@@ -195,18 +223,20 @@ def column_steps(
 def drape_rows(state: EditState, plan: RowPlan) -> Rows:
     """Rows continuing the drape along its tangent planes, ``by`` long on the surface.
 
-    Each opening vertex grows a straight line of new vertices along the unit direction
-    tangent to the surface and across the boundary (:func:`outward_directions`). Where
-    rows would cross (a 2D triangle flipped or a 3D one folded back at a concave corner of
-    the opening), the directions are smoothed along the opening (:func:`smooth_directions`),
-    pass by pass, until they do not. Pattern columns step by ``J+ dir``
-    (:func:`column_steps`).
+    Each opening vertex grows a straight line of new vertices along the surface's outward
+    continuation, read from a band of cloth behind the opening and perpendicular to it
+    (:func:`surface_directions`; the last row of a simulated drape alone is often bent or
+    flared). Where rows would cross (a 2D triangle flipped, or a 3D one turned against the
+    plane of its row's direction and the opening, at a concave corner of the opening), the
+    directions are smoothed along the opening (:func:`smooth_directions`), pass by pass,
+    until they do not. Pattern columns step by ``J+ dir``, ``dir`` in the plane of the
+    triangle it grows from (:func:`column_steps`).
     """
     g = state.base
     Ve, Vb, V2 = state.V3, g.V3, g.V2
     oe, name, by, rows = plan.oe, plan.name, plan.by, plan.rows
     cols, inv, ca, cb, nc = plan.cols, plan.inv, plan.ca, plan.cb, plan.nc
-    orient, n_src, src = plan.orient, plan.n_src, plan.src
+    orient, src = plan.orient, plan.src
     A3, B3, A2, B2 = plan.A3, plan.B3, plan.A2, plan.B2
     h = by / rows
     steps = (h * np.arange(1, rows + 1))[:, None, None]  # (rows, 1, 1)
@@ -216,13 +246,15 @@ def drape_rows(state: EditState, plan: RowPlan) -> Rows:
     vert3[ca], vert3[cb] = oe.a3, oe.b3
     trued = seam_copy_weights(seam_sides(g), cols, vert3)  # a seam's two sides: trued
     sigma = np.where(np.isfinite(trued), trued, seam_scales(Vb, g.F3, V2, g.F2, cols))
-    dir_e, dir_b = outward_directions(Ve, oe), outward_directions(Vb, oe)
+    dir_e, dir_b = surface_directions(Ve, g.F3, oe), surface_directions(Vb, g.F3, oe)
+    planes = (triangle_normals(Vb, Fo), edge_outward(Vb, oe))
+    t_e = Ve[oe.b3] - Ve[oe.a3]
     for smoothing in range(edit_tol.EXTEND_MAX_SMOOTHING + 1):  # iterations, not vertices
         if smoothing:
             dir_e, dir_b = smooth_directions(dir_e), smooth_directions(dir_b)
         new_e = (Ve[oe.a3][None] + steps * dir_e[None]).reshape(-1, 3)
         new_b = (Vb[oe.a3][None] + steps * dir_b[None]).reshape(-1, 3)
-        disp = column_steps(Jp, dir_b, inv, vert3, sigma)
+        disp = column_steps(Jp, dir_b, inv, vert3, sigma, planes=planes)
         new_2 = (V2[cols][None] + steps * disp[None]).reshape(-1, 2)
         # triangles: each quad split along its shorter 3D diagonal (ties: checkerboard)
         Vall = np.concatenate([Ve, new_e])
@@ -231,7 +263,9 @@ def drape_rows(state: EditState, plan: RowPlan) -> Rows:
         F2_new = quad_rows(A2, B2, use_b)
         V2all = np.concatenate([V2, new_2])
         a2 = signed_areas_2d(V2all, F2_new) * orient[src]
-        fold = np.einsum("ij,ij->i", triangle_normals(Vall, F3_new), n_src[src])
+        # each new triangle against the plane of its row's direction and the opening edge
+        n_row = np.cross(dir_e + np.roll(dir_e, -1, axis=0), t_e)
+        fold = np.einsum("ij,ij->i", triangle_normals(Vall, F3_new), n_row[src])
         if np.all(a2 > edit_tol.EXTEND_ROW_AREA_MIN_REL * h * h) and np.all(fold > 0.0):
             break
     else:
