@@ -391,8 +391,10 @@ def neckline_gather():
 def test_the_shared_long_sleeves_neckline_gather_keeps_the_other_panels():
     """Issue 42, item 5: the front's neckline gathered x1.2 grew the front's pattern from
     62.4 to 71.6 cm wide and the back's, not named, to 69.9; the front beyond 5 cm of the
-    neckline moved 5.1 cm. Now the back, sleeves and collar_back do not move (0.0 mm), the
-    front grows 3.9 cm wide, its far part moves 2.3 cm."""
+    neckline moved 5.1 cm. Now the back, sleeves and collars do not move (< 0.1 mm), the
+    front grows 0.5 cm wide (the neckline deeper and wider), the seam's ratio exact."""
+    from ptailor.report.build import build_report
+
     g, a = neckline_gather()
     assert a.result.info.converged
     V = a.result.V2
@@ -401,15 +403,18 @@ def test_the_shared_long_sleeves_neckline_gather_keeps_the_other_panels():
         if p.name != "front":
             np.testing.assert_allclose(w1, w0, atol=0.01)
     front = next(p for p in a.state.panels if p.name == "front")
-    assert np.ptp(V[front.vertices, 0]) - np.ptp(g.V2[front.vertices, 0]) < 4.5  # was 9.2
-    assert far_move(g, a, "front", "collar_front", 5.0) < 2.5  # was 5.05
+    assert np.ptp(V[front.vertices, 0]) - np.ptp(g.V2[front.vertices, 0]) < 1.0  # was 9.2
+    r = build_report(a, inputs={}, units_note={}, warnings=[], timing_s={})
+    (neck,) = [s for s in r["seams"] if sorted(s["panels"]) == ["collar_front", "front"]]
+    i = neck["panels"].index("front")
+    assert neck["length_after"][i] == pytest.approx(1.2 * neck["length_before"][i], rel=1e-4)
+    assert neck["length_after"][1 - i] == pytest.approx(neck["length_before"][1 - i], rel=1e-4)
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="issue 42 item 5: the front beyond 5 cm moves 2.3 cm")
 def test_the_shared_long_sleeves_neckline_gather_keeps_the_front_beyond_the_band():
-    """The ask: the front moves <= 1 cm away from the neckline. The neckline is a notch:
-    20 % more length along it in a band cannot be flat unless the parts either side of the
-    notch turn apart (a slash-and-spread's pivot), so the far front moves 2.3 cm."""
+    """The ask: the front moves <= 1 cm away from the neckline (5.05 cm before; 2.3 cm with
+    the band's stretch field, not a map: the notch's sides turned apart). The gather's map
+    grows the neckline curve itself, deeper and wider, the rest held: 0.68 cm."""
     g, a = neckline_gather()
     assert far_move(g, a, "front", "collar_front", 5.0) <= 1.0

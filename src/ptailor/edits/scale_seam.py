@@ -479,6 +479,6 @@ def gather_bands(state: EditState) -> tuple[GatherBand, ...]:
         if not found:
             continue
         sides = [s.edges_a if s.panels[0] == ip else s.edges_b for s in found]
-        seam_v = np.unique(np.concatenate(sides).ravel())
-        out.append(GatherBand(by_name[part].faces, seam_v, f, band))
+        seam_e = np.concatenate(sides)
+        out.append(GatherBand(by_name[part].faces, np.unique(seam_e), seam_e, f, band))
     return tuple(out)
