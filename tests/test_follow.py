@@ -52,7 +52,9 @@ def test_a_panel_apart_from_the_edit_moves_rigidly_and_keeps_its_pattern(step):
     assert rigid_residual(g.V3[v], a.state.V3[v]) < 1e-9
     middle = next(p for p in a.state.panels if p.name == "middle")
     w = np.unique(g.F3[middle.faces])
-    if "around" in step:  # the panel between follows, bent (along: carried, rigid)
+    # the panel between follows, bent (along: carried, rigid; a gather with no fixed end
+    # keeps the drape, issue 42)
+    if "around" in step and "scale_seam" not in step:
         assert rigid_residual(g.V3[w], a.state.V3[w]) > 1e-3
     assert a.result.info.converged
     r = build_report(a, inputs={}, units_note={}, warnings=[], timing_s={})

@@ -227,8 +227,11 @@ def test_a_production_resolution_tshirt_gathered_at_both_armholes_converges(tmp_
     """The shared tshirt subdivided 1 -> 16 (88k triangles), both armholes gathered 1.2:
     the sleeves' armhole sides are held longer than their cloth wants, and the exact length
     constraint alone has a sawtooth minimum on a mesh this fine (the 100-iteration cap
-    before the seam sides' bending, ``method/bend.py``). Now converged in about 21
-    iterations, seams exact, no warning."""
+    before the seam sides' bending, ``method/bend.py``). Then converged in about 21
+    iterations; with the gather taken in a band of the sleeve's pattern (issue 42, item 5:
+    the drape kept) the stitching hit the cap again while the band's targets were a
+    stretch field (not flat); as a map's Jacobians (``method/gather.py``): 14 iterations,
+    seams exact, no warning."""
     from ptailor.formats.garment import load_garment
     from ptailor.pipeline import adjustment, solver_warnings
 
@@ -241,6 +244,6 @@ def test_a_production_resolution_tshirt_gathered_at_both_armholes_converges(tmp_
     )
     a = adjustment(g, rec, baseline=False)
     info = a.result.info
-    assert info.converged and info.iterations <= 35 and not info.stalled
+    assert info.converged and info.iterations <= 30 and not info.stalled
     assert info.seam_violation < 1e-9
     assert not solver_warnings(a)

@@ -14,6 +14,7 @@ import numpy as np
 from ptailor import tolerances as tol
 from ptailor.edits import OPERATIONS, EditOptions, EditState, Step
 from ptailor.edits.mirror import apply_mirrored
+from ptailor.edits.scale_seam import gather_bands
 from ptailor.errors import AbsentError, NumericError, PtailorError, RecipeError
 from ptailor.geometry.labels import used_indices
 from ptailor.geometry.triangles import triangle_areas
@@ -371,6 +372,7 @@ def _adjust(
             intrinsic=settings["intrinsic"],
             seams=seams,
             seam_factors=seam_factors(state),
+            gathers=gather_bands(state),
             seam_pairs=pairs,
             progress=_stage(progress, "flatten"),
             symbolic=symbolic,

@@ -18,6 +18,7 @@ from ptailor.errors import AbsentError, PtailorError
 from ptailor.geometry.labels import used_indices
 from ptailor.geometry.segments import segment_moments
 from ptailor.method.deform import arap_deform
+from ptailor.method.gather import GatherBand
 from ptailor.model.garment import panel_labels
 from ptailor.model.seam_lines import seam_line as model_seam_line
 from ptailor.model.seams import Seam, seams
@@ -364,11 +365,15 @@ def scale_seam(state: EditState, step: ScaleSeamStep, *, options: EditOptions) -
     """Move a seam line and scale the part on one side; what ``fix`` names stays put.
 
     The axis is the normal of the seam line's best-fit plane (or the body's local axis with
-    a body). ``around`` scales the part about the axis by a factor growing linearly along
-    it from 1 at the part's fixed (or far) end to ``factor`` at the seam, so a straight
-    sleeve becomes a frustum; ``along`` scales the part's positions along the axis about
-    that end, moving the seam and carrying the other panel with it. The rest of the garment
-    follows by as-rigid-as-possible deformation; what ``fix`` names stays put. The other
+    a body). ``around`` with a fixed end on the part scales the part about the axis by a
+    factor growing linearly along it from 1 at that end to ``factor`` at the seam, so a
+    straight sleeve becomes a frustum (the lantern); with none it is a gather: the drape is
+    kept and the part's pattern takes the extra length in a band along the seam
+    (``GATHER_BAND_REL`` times the seam line's mean radius, :mod:`ptailor.method.gather`),
+    the rest of the part keeping its shape; ``along`` scales the part's positions along
+    the axis about that end, moving the seam and carrying the other panel with it. The
+    rest of the garment follows by as-rigid-as-possible deformation; what ``fix`` names
+    stays put. The other
     panel's pattern is kept (``frozen``): its drape's change goes into its intrinsic scale,
     as a gathered cuff takes up a wider sleeve. ``around`` changes the seam's length ratio
     by ``factor`` on purpose (the part's side grows, the other's is kept): the flattening
@@ -394,14 +399,13 @@ def scale_seam(state: EditState, step: ScaleSeamStep, *, options: EditOptions) -
     across = np.concatenate([by_name[x].faces for x in others])
     other_v = np.setdiff1d(used_indices(g.F3[across], len(g.V3)), ring)
     fixed_v = _fixed_vertices(state, step.fix, ring, seam=[a, b], options=options)
-    handles, targets = _part_targets(
-        V3, part_v, other_v, fixed_v, c=c, ax=ax, f=f, direction=step.direction
-    )
-    targets = _hold_fixed(V3, handles, targets, fixed_v, step.fix, part)
-    V_new = arap_deform(V3, g.F3, handles, targets)
-    held = np.zeros(len(V3), dtype=bool)
-    held[handles] = True
-    V_new = rigid_apart(g, V_new, state.panels, held, handles, targets, V3=V3)
+    band = 0.0
+    if step.direction == "around" and not np.isin(fixed_v, part_v).any():
+        # a gather: the drape kept, the pattern's extra length in a band along the seam
+        band = edit_tol.GATHER_BAND_REL * float(np.linalg.norm(V3[ring] - c, axis=1).mean())
+        V_new = V3.copy()
+    else:  # the part tapers from its fixed end (the lantern sleeve), or moves along
+        V_new = _deformed(state, part_v, other_v, fixed_v, step, c=c, ax=ax)
     changed = np.any(np.abs(V_new - V3) > 0, axis=1)
     even = state.even.copy()
     for p in state.panels:  # a loop over panels
@@ -419,13 +423,62 @@ def scale_seam(state: EditState, step: ScaleSeamStep, *, options: EditOptions) -
         "pattern_kept": other,
         "seam_line": others,
         "seam_ratio_factor": f if step.direction == "around" else 1.0,
+        "spread": "band" if band else ("taper" if step.direction == "around" else "along"),
+        "band": round(band, 6),
     }
     gather = tuple((part, x, f) for x in others) if step.direction == "around" else ()
+    bands = ((part, tuple(others), f, band),) if band else ()
     return replace(
         state,
         V3=V_new,
         even=even,
         frozen=state.frozen | set(others),
         gathers=(*state.gathers, *gather),
+        gather_bands=(*state.gather_bands, *bands),
         log=(*state.log, rec),
     )
+
+
+def _deformed(
+    state: EditState,
+    part_v: np.ndarray,
+    other_v: np.ndarray,
+    fixed_v: np.ndarray,
+    step: ScaleSeamStep,
+    *,
+    c: np.ndarray,
+    ax: np.ndarray,
+) -> np.ndarray:
+    """The drape ``(n3, 3)`` with the part tapered (``around``) or moved (``along``) by
+    :func:`_part_targets`, what ``fix`` names held, the rest following
+    (as-rigid-as-possible, panels apart from the edit rigidly)."""
+    g, V3 = state.base, state.V3
+    f = float(step.factor)
+    handles, targets = _part_targets(
+        V3, part_v, other_v, fixed_v, c=c, ax=ax, f=f, direction=step.direction
+    )
+    targets = _hold_fixed(V3, handles, targets, fixed_v, step.fix, step.part)
+    V_new = arap_deform(V3, g.F3, handles, targets)
+    held = np.zeros(len(V3), dtype=bool)
+    held[handles] = True
+    return rigid_apart(g, V_new, state.panels, held, handles, targets, V3=V3)
+
+
+def gather_bands(state: EditState) -> tuple[GatherBand, ...]:
+    """The state's gathers spread in a band (:attr:`EditState.gather_bands`) on its
+    current panels: each part's triangles and its pattern vertices on its seams with the
+    panels across its seam line (a gather whose panels a later step removed is dropped)."""
+    by_name = {p.name: p for p in state.panels}
+    out = []
+    for part, others, f, band in state.gather_bands:  # a loop over the recipe's gathers
+        if part not in by_name:
+            continue
+        ip = by_name[part].index
+        pairs = {tuple(sorted((ip, by_name[x].index))) for x in others if x in by_name}
+        found = [s for s in state_seams(state) if s.panels in pairs]
+        if not found:
+            continue
+        sides = [s.edges_a if s.panels[0] == ip else s.edges_b for s in found]
+        seam_e = np.concatenate(sides)
+        out.append(GatherBand(by_name[part].faces, np.unique(seam_e), seam_e, f, band))
+    return tuple(out)

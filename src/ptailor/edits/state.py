@@ -38,6 +38,10 @@ class EditState:
         ``(part, other, f)``: the seams between panels ``part`` and ``other`` change their
         length ratio on purpose, the side on ``part`` ``f`` times longer relative to the
         side on ``other`` (``scale_seam``'s gather); the flattening keeps that new ratio.
+    gather_bands : tuple of (str, tuple of str, float, float)
+        ``(part, others, f, band)``: gathers whose extra length the pattern of ``part``
+        takes in a band ``band`` wide (drape units) along its seam line with ``others``, the
+        drape kept (:mod:`ptailor.method.gather`).
     """
 
     base: Garment
@@ -48,6 +52,7 @@ class EditState:
     outline_free: np.ndarray | None = None
     frozen: frozenset[str] = frozenset()
     gathers: tuple[tuple[str, str, float], ...] = ()
+    gather_bands: tuple[tuple[str, tuple[str, ...], float, float], ...] = ()
 
     @property
     def frame(self) -> Frame:

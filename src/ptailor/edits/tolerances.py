@@ -142,6 +142,11 @@ REGION_PART_MIN = 0.1
 #: the garment's size (relative) lies inside the scaled part: an error
 #: (ptailor.edits.scale_seam).
 FIX_INSIDE_REL = 0.005
+#: A gather with no fixed end on its part (scale_seam ``around``) spreads its extra length
+#: over a band along the seam this many times the seam line's mean distance from its centre
+#: wide (unitless; ptailor.method.gather): a neckline's slashes reach about as far below it
+#: as the neck is wide, an armhole's into the sleeve cap.
+GATHER_BAND_REL = 1.0
 
 #: With a ``--body``, a region's (or a seam line's) axis is the body's near it: the
 #: direction of largest extent of this many nearest body vertices per garment point (a

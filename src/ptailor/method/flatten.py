@@ -13,6 +13,7 @@ from ptailor.geometry.rotations import rigid_fit_groups
 from ptailor.geometry.triangles import edge_lengths, edge_matrices
 from ptailor.method import tolerances as method_tol
 from ptailor.method.ease import SeamEase, seam_ease
+from ptailor.method.gather import GatherBand, stretch_targets
 from ptailor.method.intrinsic import Intrinsic, intrinsic_targets
 from ptailor.method.solver import StitchInfo, SymbolicCache, stitch
 from ptailor.model.garment import Garment, Panel, panel_labels, vertex_labels
@@ -125,6 +126,7 @@ def flatten(
     asap_panels: np.ndarray | None = None,
     outline_free: np.ndarray | None = None,
     frozen_panels: np.ndarray | None = None,
+    gathers: tuple[GatherBand, ...] = (),
     seams: Seams = "ease",
     seam_factors: dict[tuple[int, int], float] | None = None,
     w_pin: float = method_tol.W_PIN,
@@ -155,24 +157,23 @@ def flatten(
         Panels whose pattern triangles are kept as they were: the change of their drape is
         taken up by their intrinsic scale (the cuff a seam-line scale gathers into); with
         ``seams="ease"`` they are stiffer in the stitching (:func:`_seam_terms`).
+    gathers : tuple of GatherBand, optional
+        Gathers taken in a band along their seams (:mod:`ptailor.method.gather`).
     seams : {"ease", "free"}
-        ``ease``: each seam edge's two sides keep the length ratio they have in the input
-        pattern, exactly (:mod:`ptailor.method.ease`); ``free``: panels are stitched each
-        on its own (the paper).
+        ``ease``: each seam edge's sides keep their input length ratio, exactly
+        (:mod:`ptailor.method.ease`); ``free``: each panel on its own (the paper).
     seam_factors : dict, optional
-        ``{(p, q): f}``: the seams between panels ``p`` and ``q`` change their ratio on
-        purpose, the side on ``p`` ``f`` times longer relative to the side on ``q``
-        (:func:`ptailor.method.ease.seam_ease`).
+        ``{(p, q): f}``: the side on ``p`` of the seams of ``p`` and ``q`` ``f`` times
+        longer relative to the side on ``q`` (:func:`ptailor.method.ease.seam_ease`).
     w_pin, w_asap, max_iter, step_tol, history
         Solver settings (see :func:`ptailor.method.solver.stitch`).
     panel_list, seam_pairs : list of Panel, (s, 2) int array, optional
         The panels and their ``seam_halfedges`` (those used with ``seams="ease"``), as the
-        caller found them; default: ``structure(garment)``'s (named under the garment's
-        frame).
+        caller found them; default: ``structure(garment)``'s.
     progress : callable, optional
         ``progress(iteration, residual)`` once per stitching iteration.
     symbolic : SymbolicCache, optional
-        Symbolic analyses shared with the caller's other flattens (the baseline's).
+        Symbolic analyses shared with the caller's other flattens.
 
     Returns
     -------
@@ -182,9 +183,10 @@ def flatten(
     sign = np.where(mirror_mask(plist, len(garment.V2)), -1.0, 1.0)
     V2 = garment.V2 * np.stack([sign, np.ones(len(sign))], 1)  # mirrored panels flipped
     targets = _targets(garment, V2, V3_edit, plist, method, intrinsic, frozen_panels)
+    targets, gathered = stretch_targets(V2, garment.F2, targets, gathers)
     vlab = vertex_labels(plist, len(V2))
     ease, weight = _seam_terms(
-        garment, V2, V3_edit, plist, seams, seam_factors, seam_pairs, frozen_panels
+        garment, V2, V3_edit, plist, seams, seam_factors, seam_pairs, frozen_panels, gathered
     )
     X, info = stitch(
         V2, garment.F2, targets, pins=central_vertices(V2, vlab, len(plist)), vertex_panel=vlab,
@@ -228,11 +230,13 @@ def _seam_terms(
     seam_factors: dict[tuple[int, int], float] | None,
     seam_pairs: np.ndarray | None,
     frozen_panels: np.ndarray | None,
+    gathered: np.ndarray,
 ) -> tuple[SeamEase | None, np.ndarray | None]:
     """With ``seams="ease"``, the seam-ease constraints and the panels' weights
     ``(n_panels,)``: the frozen panels, and the panels whose drape no edge of changed in
     length by ``method_tol.KEPT_STRAIN``, are ``method_tol.KEPT_PANEL_WEIGHT`` times stiffer in the
-    stitching, so the panels an edit touched take up what keeping the seams costs.
+    stitching, so the panels an edit touched take up what keeping the seams costs (a panel
+    with ``gathered`` ``(m,)`` triangles takes up its gather: never kept).
     ``(None, None)`` with ``seams="free"``."""
     if seams != "ease":
         return None, None
@@ -243,6 +247,7 @@ def _seam_terms(
     kept = panel_strain(garment.V3, V3_edit, garment.F3, flab, len(plist)) < method_tol.KEPT_STRAIN
     if frozen_panels is not None:
         kept |= np.asarray(frozen_panels, dtype=bool)
+    kept[np.unique(flab[gathered])] = False
     return ease, np.where(kept, method_tol.KEPT_PANEL_WEIGHT, 1.0)
 
 

@@ -169,3 +169,8 @@ TRANSFER_CANDIDATES = 8
 #: A point whose barycentric coordinates are all at least minus this (unitless) lies inside
 #: its triangle: a point on an edge computes to minus a few roundings (about -1e-16).
 TRANSFER_INSIDE_BARY = 1e-12
+
+#: A gather's map (ptailor.method.gather): its seam edges' rows weigh this many times a
+#: triangle's (area over the seam edges' mean squared length, unitless), so the seam side
+#: grows by the factor edge by edge (the shared tshirt's armhole: 1.199 of 1.2 at worst).
+GATHER_SEAM_WEIGHT = 1e4

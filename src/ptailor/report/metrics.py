@@ -89,7 +89,8 @@ class ScaleReference:
     Attributes
     ----------
     U0 : (m, 2, 2) float array
-        Stretch of each original pattern triangle onto its original drape triangle.
+        The stretch each triangle should have: of its target onto its edited drape triangle
+        (with no target given, of the original pattern triangle onto the original drape).
     E3e : (m, 3, 2) float array
         Edge matrices of the edited drape.
     target : (m, 2, 2) float array
@@ -117,8 +118,14 @@ def scale_reference(
     J0 = E3 @ inv2(E2)
     U0 = sqrt_spd2(np.swapaxes(J0, 1, 2) @ J0)
     if target is None:
-        target = intrinsic_targets(V2, F2, V3, V3_edit, F3, intrinsic="polar")
-    return ScaleReference(U0=U0, E3e=E3e, target=target)
+        return ScaleReference(
+            U0=U0, E3e=E3e, target=intrinsic_targets(V2, F2, V3, V3_edit, F3, intrinsic="polar")
+        )
+    # the scale the edit asks for: the target's onto the edited drape (U0 itself where the
+    # target keeps the intrinsic scale; a kept cuff's drape stretch and a gather's spread
+    # are asked, not errors)
+    Jt = E3e @ inv2(target)
+    return ScaleReference(U0=sqrt_spd2(np.swapaxes(Jt, 1, 2) @ Jt), E3e=E3e, target=target)
 
 
 def intrinsic_scale_error(
