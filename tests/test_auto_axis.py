@@ -114,3 +114,24 @@ def test_each_part_of_a_region_scales_about_its_own_axis():
         along0 = np.ptp(V[sl] @ R[:, 1])
         along1 = np.ptp(adj.state.V3[sl] @ R[:, 1])
         assert along1 == pytest.approx(along0, rel=1e-6)
+
+
+@pytest.mark.slow  # the GPG tee: about 1 s
+def test_a_gpg_tee_s_sleeves_scaled_around_auto_grow_as_asked_without_a_warning():
+    """Each sleeve a tube about its own axis (issue 42, item 9): no 'found no tube'
+    warning, and the biceps and cuffs grow x1.1 within 1 % in the drape and the pattern."""
+    from ptailor.formats.garment import load_garment
+    from ptailor.measures import garment_measures
+
+    g = load_garment(real_path("tee6"), pattern_units="0.3333cm", drape_units="0.3333cm").garment
+    text = "steps: [{op: scale, region: {part: sleeves}, direction: around, factor: 1.1}]"
+    a = adjustment(g, parse_recipe(text), baseline=False)
+    assert not [x for x in solver_warnings(a) if "axis" in x]
+    before = {m.name: m for m in garment_measures(g)}
+    after = {m.name: m for m in garment_measures(a.garment)}
+    limb = [n for n in before if n.startswith(("bicep_", "cuff_"))]
+    assert len(limb) == 4
+    for n in limb:
+        for kind in ("drape", "pattern"):
+            ratio = getattr(after[n], kind) / getattr(before[n], kind)
+            assert abs(ratio - 1.1) <= 0.011, (n, kind, ratio)

@@ -513,7 +513,7 @@ def test_every_name_says_why():
         replace(cone_skirt(), face_group=np.full(cone_skirt().n_faces, -1), group_names=())
     )
     assert len(lay.why) == len(plist)
-    assert all("body (3D length/width" in w for w in lay.why)
+    assert all("body (length/width" in w for w in lay.why)
     front = lay.names.index("skirt_front")
     assert "front (centroid" in lay.why[front] and "ahead of its tier's mean" in lay.why[front]
     assert "centre (reaches" in lay.why[front]

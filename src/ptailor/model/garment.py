@@ -192,7 +192,9 @@ def panels(garment: Garment) -> list[Panel]:
     if any(n is None for n in names):
         from ptailor.model.names import panel_layout
 
-        geo = panel_layout(garment.V3, garment.F3, garment.F2, lab, n_p, frame=garment.frame).names
+        geo = panel_layout(
+            garment.V3, garment.F3, garment.F2, lab, n_p, frame=garment.frame, V2=garment.V2
+        ).names
     return named_panels(garment, lab, names, geo)
 
 

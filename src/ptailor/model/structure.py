@@ -171,6 +171,7 @@ class GarmentStructure:
             n_p,
             frame=g.frame,
             opening_list=self.openings,
+            V2=g.V2,
         )
 
     @cached_property

@@ -102,7 +102,7 @@ SEAM_LINE_TURN_DEG = 60.0
 
 # --- names from geometry (ptailor.model.names: roles, seam_names) ---
 #: A strip is at least this long for its width (unitless: the rectangle with the panel's
-#: area and perimeter). The edits' own strip test is ptailor.edits.tolerances'.
+#: pattern's area and outline length). The edits' own strip test is ptailor.edits.tolerances'.
 NAMES_STRIP_ASPECT = 3.5
 #: A strip's long side lies along an opening when this fraction of its length touches it.
 NAMES_STRIP_TOUCH = 0.4

@@ -17,8 +17,9 @@ Panel rules (see :func:`panel_layout` for the details):
   two-piece sleeve is split front/back (``sleeve_left_front``, ``sleeve_left_back``) or,
   when its halves sit above each other rather than before and behind, upper/lower
   (``sleeve_left_upper``, ``sleeve_left_lower``).
-- *strips*: narrow panels (length / width >= 3.5 for the rectangle with the panel's 3D area
-  and perimeter) whose long side runs along an opening: along the neckline ``collar``, along
+- *strips*: narrow panels (length / width >= 3.5 for the rectangle with the area and outline
+  length of the panel's pattern: a box mesh's stretched seam rows make a bodice look narrow in
+  3D) whose long side runs along an opening: along the neckline ``collar``, along
   a ``waist`` opening ``waistband``; a strip on one side touching an armhole is a ``strap``.
 - *body*: everything else. When the garment is a top (it has a neckline or armholes) whose
   hem panels all end below the lowest point of the neckline and armholes, it has two tiers:

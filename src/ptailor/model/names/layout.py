@@ -7,7 +7,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ptailor.model.frame import Frame
-from ptailor.model.names.measures import OpeningTouch, edge_graph, panel_measures
+from ptailor.model.names.measures import (
+    OpeningTouch,
+    edge_graph,
+    panel_measures,
+    pattern_shape,
+)
 from ptailor.model.names.roles import (
     base_names,
     faces,
@@ -130,6 +135,7 @@ def panel_layout(
     *,
     frame: Frame,
     opening_list: list[Opening] | None = None,
+    V2: np.ndarray | None = None,
 ) -> PanelLayout:
     """Name every panel from where it sits on the drape.
 
@@ -146,6 +152,9 @@ def panel_layout(
         The wearer's axes (``Garment.frame``).
     opening_list : list of Opening, optional
         ``openings(V3, F3, frame=frame, F2=F2)``, when the caller already has it.
+    V2 : (n2, 2) float array, optional
+        Pattern positions: a strip is one by its pattern's shape (a box mesh's stretched
+        seam rows inflate the drape's); without them, by its drape's.
 
     Returns
     -------
@@ -162,7 +171,7 @@ def panel_layout(
     ops = openings(V3, F3, frame=frame, F2=F2) if opening_list is None else opening_list
     touches = OpeningTouch(ops, len(V3), graph, n_p)
 
-    L, strip = strip_shape(graph.perim, pm.At)
+    L, strip, aspect = _strips(graph.perim, pm.At, V2, F2, lab)
     side, s_rel, centred = sides(pm)
     role = strip_roles(strip, L, centred, touches)
     role, side, limb_side = limbs(role, side, graph.W, centred, s_rel, touches)
@@ -174,7 +183,7 @@ def panel_layout(
     rel = pm.cen_abs - origin
     ext = pm.hi_abs - pm.lo_abs
     names, mirror = _mirrored_names(base, side, pm.At, rel, ext, np.abs(s_rel))
-    why = reasons(pm, L, strip, role, side, face, tier, s_rel, touches)
+    why = reasons(pm, aspect, strip, role, side, face, tier, s_rel, touches)
     if not recognised(ops):  # no rule knows this garment: plain names, never a wrong role
         names = [f"panel_{p}" for p in range(n_p)]
         why = [UNRECOGNISED] * n_p
@@ -196,6 +205,36 @@ def panel_layout(
         mirror=mirror,
         why=why,
     )
+
+
+def _strips(
+    perim: np.ndarray, At: np.ndarray, V2: np.ndarray | None, F2: np.ndarray, lab: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The strip test, on the pattern's shape where given, else the drape's.
+
+    Parameters
+    ----------
+    perim, At : (n_p,) float arrays
+        The drape's panel outline lengths and areas.
+    V2 : (n2, 2) float array or None
+    F2 : (m, 3) int array
+    lab : (m,) int array
+
+    Returns
+    -------
+    L : (n_p,) float array
+        The drape's long side (for the lengths along openings).
+    strip : (n_p,) bool array
+    aspect : (n_p,) float array
+        The length/width the test read.
+    """
+    L, strip = strip_shape(perim, At)
+    aspect = L * L / np.maximum(At, 1e-300)
+    if V2 is not None:
+        area2, perim2 = pattern_shape(V2, F2, lab, len(At))
+        L2, strip = strip_shape(perim2, area2)
+        aspect = L2 * L2 / np.maximum(area2, 1e-300)
+    return L, strip, aspect
 
 
 def _mirrored_names(

@@ -164,6 +164,48 @@ def edge_graph(
     return EdgeGraph(h3, hlen, hpan, bnd, perim, W)
 
 
+def pattern_shape(
+    V2: np.ndarray, F2: np.ndarray, lab: np.ndarray, n_p: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Each panel's area and outline length in the pattern.
+
+    The pattern is the panel's own shape: a box mesh's seam rows, stretched across the gaps
+    between the placed panels, inflate the drape's (a bodice front 2 wide for its length
+    reads 4 to 5 in 3D), never the pattern's.
+
+    Parameters
+    ----------
+    V2 : (n2, 2) float array
+        Pattern positions.
+    F2 : (m, 3) int array
+        Pattern triangles.
+    lab : (m,) int array
+        Panel per triangle.
+    n_p : int
+
+    Returns
+    -------
+    area, perim : (n_p,) float arrays
+        Panel areas and the lengths of their pattern boundary edges (outline, darts and
+        cuts), in pattern units.
+    """
+    V2 = np.asarray(V2, dtype=np.float64)
+    F2 = np.asarray(F2, dtype=np.int64).reshape(-1, 3)
+    d1, d2 = V2[F2[:, 1]] - V2[F2[:, 0]], V2[F2[:, 2]] - V2[F2[:, 0]]
+    cross = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
+    area = np.bincount(lab, 0.5 * np.abs(cross), minlength=n_p)
+    h2 = half_edges(F2)
+    key = edge_keys(h2)
+    order = np.argsort(key, kind="stable")
+    ks = key[order]
+    start = np.r_[True, ks[1:] != ks[:-1]] if len(ks) else np.zeros(0, dtype=bool)
+    run_id = np.cumsum(start) - 1
+    bnd = order[(np.bincount(run_id)[run_id] == 1)] if len(ks) else np.zeros(0, np.int64)
+    blen = np.linalg.norm(V2[h2[bnd, 1]] - V2[h2[bnd, 0]], axis=1)
+    perim = np.bincount(np.repeat(lab, 3)[bnd], blen, minlength=n_p)
+    return area, perim
+
+
 class OpeningTouch:
     """How long each opening's loop runs along each panel."""
 

@@ -387,7 +387,7 @@ def suffix_duplicates(names: list[str]) -> list[str]:
 
 def reasons(
     pm: PanelMeasures,
-    L: np.ndarray,
+    aspect: np.ndarray,
     strip: np.ndarray,
     role: list[str],
     side: list[str],
@@ -398,17 +398,23 @@ def reasons(
 ) -> list[str]:
     """Why each panel has its name: the rules that fired and the measures they used.
 
+    Parameters
+    ----------
+    aspect : (n_p,) float array
+        Length over width of the rectangle with each panel's area and outline length (of
+        its pattern, as the strip test read it).
+    strip : (n_p,) bool array
+        Whether the strip test found each panel a strip.
+
     Returns
     -------
     list of str
-        One line per panel, for example ``"body (3D length/width 1.4, under 3.5 for a
+        One line per panel, for example ``"body (length/width 1.4, under 3.5 for a
         strip); bodice (centroid 32.1 above the hem panels' top 30.5); front (centroid 9.1
         ahead of its tier's mean); centre (reaches 20.3 left and 21.0 right of the centre
         line)"``.
     """
     n_p = len(role)
-    width = pm.At / np.maximum(L, 1e-300)  # of the rectangle with the panel's area
-    aspect = L / np.maximum(width, 1e-300)
     names = list(touches.index)
     on = [
         [n for n in names if touches(n)[p] > 0] for p in range(n_p)
@@ -423,14 +429,14 @@ def reasons(
         touching = f", touches {', '.join(on[p])}" if on[p] else ", touches no opening"
         if role[p] == "body":
             short = "" if strip[p] else f", under {model_tol.NAMES_STRIP_ASPECT:g} for a strip"
-            why = [f"body (3D length/width {_r(aspect[p]):.2g}{short}{touching})"]
+            why = [f"body (length/width {_r(aspect[p]):.2g}{short}{touching})"]
         elif role[p] in ("sleeve", "cuff"):
             why = [
                 f"{role[p]} (in the limb that reaches cuff_{side[p]}, no centred opening{touching})"
             ]
         else:
             why = [
-                f"{role[p]} (a strip: 3D length/width {_r(aspect[p]):.2g}"
+                f"{role[p]} (a strip: length/width {_r(aspect[p]):.2g}"
                 f" >= {model_tol.NAMES_STRIP_ASPECT:g}"
                 f"{touching})"
             ]

@@ -48,9 +48,11 @@ def seam_names(
           the top quarter of the tier, else ``side_<side>``; both front (back): when the
           seam is not vertical (it runs across, level or slanting: a panel and the one above
           it) ``yoke_front`` (``yoke_back``), else ``center_front`` (``center_back``), each
-          with ``_<side>`` when its midpoint is not near the centre line (a vertical one then
-          ``princess_front_<side>``); vertical: the up component of the seam's principal
-          direction >= 0.8;
+          with ``_<side>`` when it is off the centre line (a vertical one then
+          ``princess_front_<side>``): a seam between a left and a right panel is on it, one
+          between two panels of one side off it, any other by its midpoint; a panel's seam
+          with itself is a dart, ``dart_<face>[_<side>]``; vertical: the up component of
+          the seam's principal direction >= 0.8;
         - two leg panels (tier ``leg``: trousers, a jumpsuit's lower part), vertical:
           ``inseam_<side>`` / ``outseam_<side>`` between a leg's front and back (nearer /
           farther from the centre line than the leg's middle), ``crotch_front`` /
@@ -228,6 +230,11 @@ def _body_seam(a: int, b: int, mid: np.ndarray, upc: float, lay: PanelLayout, pn
         return f"{pre}{'shoulder' if top and not vertical else 'side'}_{sd}"
     half_w = max(float(np.abs(np.r_[lay.lo[members, 0], lay.hi[members, 0]]).max()), 1e-12)
     centred = abs(mid[0]) <= model_tol.NAMES_CENTRE_SEAM * half_w
+    if a == b:  # a panel sewn to itself
+        return f"{pre}dart_{fa}" + ("" if centred else f"_{sd}")
+    sides = {lay.side[a], lay.side[b]}
+    if sides <= {"left", "right"}:  # the two halves' seam; two panels of one side's
+        centred = len(sides) == 2
     if not vertical:  # across the body (level or slanting): a panel and the one above it
         return f"{pre}yoke_{fa}" + ("" if centred else f"_{sd}")
     return f"{pre}center_{fa}" if centred else f"{pre}princess_{fa}_{sd}"
