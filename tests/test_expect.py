@@ -70,7 +70,7 @@ def test_expect_is_read_with_its_defaults_and_written_back():
         ("  hem: {to: 10%}\n", "expect.hem.to: expected a length, got '10%'"),
         ("  hem: {by: 1, tol: -1}\n", "expect.hem.tol: must be >= 0"),
         ("  hem: {by: 1, on: side}\n", "expect.hem.on: expected one of drape, pattern, both"),
-        ("  hem: {by: 1, at: 2}\n", "expect.hem: unknown key 'at' (known: by, to, tol, on)"),
+        ("  hem: {by: 1, at: 2}\n", "expect.hem: unknown key 'at' (known: by, to, tol, on, optional)"),
         ("  hem: {by: 2000}\n", "expect.hem.by: 2000 is longer than 1000"),
         ("  hem: 3\n", "expect.hem: expected a mapping with by or to"),
     ],
