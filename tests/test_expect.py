@@ -15,7 +15,7 @@ from ptailor.errors import RecipeError
 from ptailor.formats.obj import write_garment
 from ptailor.measures import MEASURES
 from ptailor.recipe import parse_recipe, recipe_problems
-from ptailor.report.expect import expect_record, missed_line
+from ptailor.report.expect import SIDES, expect_record, missed_line
 from ptailor.samples import cylinder
 
 WIDER = "steps: [{op: scale, region: all, direction: around, axis: auto, factor: 1.2}]\n"
@@ -70,9 +70,13 @@ def test_expect_is_read_with_its_defaults_and_written_back():
         ("  hem: {to: 10%}\n", "expect.hem.to: expected a length, got '10%'"),
         ("  hem: {by: 1, tol: -1}\n", "expect.hem.tol: must be >= 0"),
         ("  hem: {by: 1, on: side}\n", "expect.hem.on: expected one of drape, pattern, both"),
-        ("  hem: {by: 1, at: 2}\n", "expect.hem: unknown key 'at' (known: by, to, tol, on)"),
+        (
+            "  hem: {by: 1, at: 2}\n",
+            "expect.hem: unknown key 'at' (known: by, to, tol, on, optional)",
+        ),
         ("  hem: {by: 2000}\n", "expect.hem.by: 2000 is longer than 1000"),
         ("  hem: 3\n", "expect.hem: expected a mapping with by or to"),
+        ("  hem: {by: 1, optional: 1}\n", "expect.hem.optional: expected true or false, got 1"),
     ],
 )
 def test_bad_expectations_are_recipe_problems_with_their_line(body, message):
@@ -212,6 +216,40 @@ def test_a_measure_the_garment_lacks_is_exit_2_and_nothing_written(tmp_path, tub
     assert "hem" in line.split("its measures: ")[1]
     assert not out.exists()
     assert [p.name for p in tmp_path.iterdir() if not p.name.endswith((".obj", ".yaml"))] == []
+
+
+def test_an_optional_measure_the_garment_lacks_is_skipped_and_the_rest_judged(tmp_path, tube):
+    """``optional: true``: the tube has no chest, so it is recorded as skipped (exit 0); its
+    hem is judged; without ``optional`` the same recipe is refused (exit 2, above)."""
+    text = WIDER + "expect:\n  chest: {by: 20%, optional: true}\n  hem: {by: 20%, optional: true}\n"
+    rec = recipe_file(tmp_path, text)
+    assert parse_recipe(text).to_dict()["expect"]["chest"]["optional"] is True
+    out = tmp_path / "out"
+    r = run("adjust", tube, rec, "-o", out, "-q", *FAST)
+    assert r.exit_code == 0, r.stderr
+    chest, hem = _report(out)["expect"]
+    assert (chest["skipped"], chest["ok"], chest["achieved"]) == (True, True, dict.fromkeys(SIDES))
+    assert (hem["skipped"], hem["ok"]) == (False, True)
+    assert hem["achieved"]["drape"] == pytest.approx(1.2 * hem["before"]["drape"], rel=0.01)
+    # an optional measure the garment has and the result misses is a miss: exit 3
+    rec.write_text(WIDER + "expect:\n  hem: {by: 10%, optional: true}\n")
+    r = run("adjust", tube, rec, "-o", tmp_path / "o2", "-q", *FAST)
+    assert r.exit_code == 3
+    assert r.stderr.startswith("ptailor: expect: hem: asked +10%")
+
+
+def test_a_skipped_expectation_is_a_skipped_cell_in_the_catalogue():
+    from ptailor.catalogue.measures import expect_cell
+
+    none = dict.fromkeys(SIDES)
+    rec = {"name": "chest", "on": "both", "asked": {"by": "20%"}, "tol": 0.5, "before": none,
+           "target": none, "achieved": none, "ok": True, "missed": [], "optional": True,
+           "skipped": True}  # fmt: skip
+    cell = expect_cell(rec)
+    assert (cell["text"], cell["missed"]) == ("skipped", False)
+    both = {"drape": 1.0, "pattern": 2.0}
+    judged = {**rec, "skipped": False, "achieved": both, "target": both}
+    assert expect_cell(judged)["text"] == "1.0 / 2.0"
 
 
 # --------------------------------------------------------------------------- batch

@@ -16,6 +16,67 @@ from ptailor.samples import SAMPLES, cone_skirt
 RECIPES = sorted((Path(__file__).resolve().parents[1] / "recipes").glob("*.yaml"))
 
 
+class ExpectMissedError(AssertionError):
+    """A bundled recipe's ``expect:`` missed on a garment (a known one is marked
+    ``xfail(raises=ExpectMissedError, strict=True)`` with its numbers: any other failure of the
+    same test still fails it)."""
+
+
+def _known_miss(reason: str):
+    return pytest.mark.xfail(raises=ExpectMissedError, strict=True, reason=reason)
+
+
+def expectations_met(g, adj, rec) -> list[dict]:
+    """The recipe's ``expect:`` judged on ``adj`` (of ``g``), as ``adjust`` judges it; raises
+    :class:`ExpectMissedError` naming every miss, and fails where nothing was judged (every
+    expectation optional and absent)."""
+    from ptailor.report.expect import (
+        expect_records,
+        garment_measure_dicts,
+        measures_before,
+        missed_line,
+    )
+
+    before = measures_before(g, rec, shown="garment")  # a lacking, not optional one: exit 2
+    recs = expect_records(rec, before, garment_measure_dicts(adj.garment))
+    assert len(recs) == len(rec.expect) > 0
+    assert [r for r in recs if not r.get("skipped")], "no expectation judged on this garment"
+    missed = [missed_line(r) for r in recs if not r["ok"]]
+    if missed:
+        raise ExpectMissedError("; ".join(missed))
+    return recs
+
+
+def _sample(path: Path) -> str:
+    """The generated garment a recipe names in its '# sample: NAME' line (lantern_sleeve)."""
+    lines = [ln for ln in path.read_text().splitlines() if ln.startswith("# sample:")]
+    return lines[0].split(":", 1)[1].strip() if lines else "lantern_sleeve"
+
+
+#: bundled recipes whose sample has none of the measures they expect (all optional)
+NOT_MEASURED_ON_SAMPLE = {
+    # the generated bodice's top opening is named waist: no neckline, no neck_drop (judged
+    # on flat_tee and the shared tops)
+    "deeper-neckline",
+}
+#: known misses of a bundled recipe's expect: on its sample
+SAMPLE_MISSES = {
+    "longer-sleeves": "sleeve_length +8.4 % (48.00 -> 52.05 cm, drape and pattern) for +10 % "
+    "+-1 %: the lantern sleeve's cuff panel (not named sleeve) keeps its length",
+    "wider-sleeves": "cuff +18.8 % drape (28.00 -> 33.25), +18.6 % pattern (40.00 -> 47.42) for "
+    "+20 % +-1 %: the cuff panel (not named sleeve) follows the sleeve (bicep +20.0 %)",
+}
+
+
+def _sample_params():
+    return [
+        pytest.param(p, id=p.stem, marks=[_known_miss(SAMPLE_MISSES[p.stem])])
+        if p.stem in SAMPLE_MISSES
+        else pytest.param(p, id=p.stem)
+        for p in RECIPES
+    ]
+
+
 def test_recipes_folder_is_bundled():
     assert RECIPES
     for p in RECIPES:
@@ -23,25 +84,75 @@ def test_recipes_folder_is_bundled():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("path", RECIPES, ids=[p.stem for p in RECIPES])
+@pytest.mark.parametrize("path", _sample_params())
 def test_recipe_validates_and_runs(path):
+    """Every bundled recipe runs on the generated garment its '# sample: NAME' line names,
+    with no flipped triangle, and delivers what its ``expect:`` asks there."""
     rec = load_recipe(path)
-    # a recipe names the generated garment it is meant for in a '# sample: NAME' line
-    sample = next(
-        (
-            ln.split(":", 1)[1].strip()
-            for ln in path.read_text().splitlines()
-            if ln.startswith("# sample:")
-        ),
-        "lantern_sleeve",
-    )
-    g = SAMPLES[sample]()
+    g = SAMPLES[_sample(path)]()
     adj = adjustment(g, rec)
     assert np.all(np.isfinite(adj.result.V2))
     F2 = adj.state.base.F2
     E = adj.result.V2[F2[:, 1:]] - adj.result.V2[F2[:, :1]]
     cross = E[:, 0, 0] * E[:, 1, 1] - E[:, 0, 1] * E[:, 1, 0]
     assert np.all(cross > 0)  # no flipped triangle
+    if path.stem in NOT_MEASURED_ON_SAMPLE:
+        with pytest.raises(AssertionError, match="no expectation judged"):
+            expectations_met(g, adj, rec)
+    else:
+        expectations_met(g, adj, rec)
+
+
+#: generated kinds other than its sample each bundled recipe is judged on (its expect:)
+KINDS = {
+    "deeper-neckline": ["flat_tee"],
+    "fuller-skirt": ["gored_skirt"],
+    "identity": ["cylinder", "cone_skirt", "flat_tee"],
+    "lengthen-bodice": ["cone_skirt", "flat_tee"],
+    "longer-hem": ["skirt", "bodice", "flat_tee"],
+    "longer-sleeves": ["flat_tee"],
+    "loosen-waist": ["halved_bodice"],
+    "shorter-hem-pattern": ["skirt", "bodice", "flat_tee"],
+    "shorter-hem": ["skirt", "bodice", "flat_tee"],
+    "v-neck-front": ["cylinder", "bodice"],
+    "wider-around": ["cylinder", "cone_skirt", "flat_tee"],
+    "wider-sleeves": ["flat_tee"],
+}
+
+
+#: known misses on those kinds
+KIND_MISSES = {
+    ("loosen-waist", "halved_bodice"): "hem (the band's lower edge) +4.65 cm in the pattern "
+    "(78.51 -> 83.16; drape +4.36) for +4 +-0.5 (the design's 2 pi x offset is 4.4): the "
+    "three-panel bodice's pattern takes 0.3 cm more than its drape",
+}
+
+
+def _kind_params():
+    return [
+        pytest.param(
+            n, k, id=f"{n}-{k}",
+            marks=[_known_miss(KIND_MISSES[n, k])] if (n, k) in KIND_MISSES else [],
+        )
+        for n, ks in KINDS.items()
+        for k in ks
+    ]  # fmt: skip
+
+
+def test_every_bundled_recipe_is_judged_on_other_generated_kinds():
+    assert set(KINDS) == {p.stem for p in RECIPES}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("name", "kind"), _kind_params())
+def test_recipe_delivers_its_expect_on_generated_kinds(name, kind):
+    """Issue 42: the asked measure achieved within its tolerance on every generated kind a
+    bundled recipe is meant for (a skirt, a bodice, a tee with sleeves: flat_tee)."""
+    import ptailor.samples
+
+    g = (SAMPLES.get(kind) or getattr(ptailor.samples, kind))()
+    rec = _recipe(name)
+    expectations_met(g, adjustment(g, rec, baseline=False), rec)
 
 
 def edge_ratio(adj, g, V2):
@@ -204,14 +315,40 @@ def _garment_cases() -> list[tuple[Path, str]]:
     return out
 
 
+#: known misses of a bundled recipe's expect: on a shared garment it names (issue 42)
+SHARED_MISSES = {
+    ("deeper-neckline", "dress"): "neck_drop lost (4.08 drape / 4.47 pattern before): the V "
+    "through the strap dress's top edge leaves no neckline found (neck, chest, body_length, "
+    "armholes lost too; waist 78.3 -> 212.7)",
+    ("wider-around", "tshirt"): "chest +11.6 % (99.04 -> 110.51 drape, 100.07 -> 111.66 "
+    "pattern), hem +12.2 % / +12.4 % for +20 % +-1 %: axis: auto of the whole shirt is not "
+    "its body's (the left sleeve +19.4 % long)",
+    ("wider-around", "longsleeve"): "chest +9.3 % (118.13 -> 129.15 drape, 118.97 -> 129.99 "
+    "pattern), hem +11.4 % / +11.6 % for +20 % +-1 %: axis: auto of the whole shirt is not "
+    "its body's (body_length +20 %)",
+    ("wider-sleeves", "longsleeve"): "bicep pattern +18.8 % left (41.81 -> 49.66), +17.8 % "
+    "right (43.21 -> 50.92), cuff_right drape +18.3 % (31.55 -> 37.33) for +20 % +-1 % "
+    "(drape biceps +20.8 / +20.1 %): the thin cuff strips are not named sleeve",
+}
+
+
+def _garment_params():
+    return [
+        pytest.param(
+            p, k, id=f"{p.stem}-{k}",
+            marks=[_known_miss(SHARED_MISSES[p.stem, k])] if (p.stem, k) in SHARED_MISSES else [],
+        )
+        for p, k in _garment_cases()
+    ]  # fmt: skip
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize(
-    ("path", "key"), _garment_cases(), ids=[f"{p.stem}-{k}" for p, k in _garment_cases()]
-)
+@pytest.mark.parametrize(("path", "key"), _garment_params())
 def test_recipe_runs_on_the_shared_garments_it_names(path, key):
     """Issue 23, item 5: every bundled recipe does what its name says on the real garments
     it is written for (its '# garments:' line): it runs, converges with every seam at its
-    ratio and no flipped triangle, and no cut takes most of a panel."""
+    ratio and no flipped triangle, and no cut takes most of a panel. Issue 42: and delivers
+    what its ``expect:`` asks there (the known misses marked, with their numbers)."""
     from ptailor.formats.garment import load_garment
     from ptailor.report.build import build_report
     from tests.conftest import REAL, real_path
@@ -229,6 +366,7 @@ def test_recipe_runs_on_the_shared_garments_it_names(path, key):
     for rec in adj.state.log:
         for w in rec.get("warnings", []):
             assert "removes" not in w, w
+    expectations_met(g, adj, load_recipe(path))
 
 
 # ----------------------------------------------------------------- the README's recipe

@@ -46,6 +46,9 @@ def expect_cell(rec: dict | None) -> dict:
     distance from the target (cm)."""
     if rec is None:
         return {"text": "-", "sort": "", "missed": False, "title": ""}
+    if rec.get("skipped"):
+        title = "optional: the garment has no such measure, skipped"
+        return {"text": "skipped", "sort": "", "missed": False, "title": title}
     on = _on(rec)
     achieved, target = rec.get("achieved") or {}, rec.get("target") or {}
     misses = [

@@ -1,11 +1,12 @@
 """A recipe's expectations (``expect:``): the points of measure a result must reach.
 
 ``expect:`` maps a measure name (:data:`ptailor.measures.MEASURES`) to ``{by, to, tol,
-on}``: exactly one of ``by`` (a length added, in the recipe's units, or ``"N%"`` of the
-measure before) and ``to`` (the length it must have); ``tol`` (a length, or ``"N%"`` of the
-target; default :data:`~ptailor.tolerances.EXPECT_TOL_CM` cm); ``on`` (``drape``,
-``pattern`` or ``both``, the default). Checked with the whole recipe, before any garment is
-read; judged on the result by :mod:`ptailor.report.expect`.
+on, optional}``: exactly one of ``by`` (a length added, in the recipe's units, or ``"N%"``
+of the measure before) and ``to`` (the length it must have); ``tol`` (a length, or ``"N%"``
+of the target; default :data:`~ptailor.tolerances.EXPECT_TOL_CM` cm); ``on`` (``drape``,
+``pattern`` or ``both``, the default); ``optional`` (default false: a garment without the
+measure is refused; true: it is skipped there, as a step's ``optional``). Checked with the
+whole recipe, before any garment is read; judged on the result by :mod:`ptailor.report.expect`.
 """
 
 from __future__ import annotations
@@ -15,14 +16,14 @@ from dataclasses import dataclass
 from typing import Any
 
 from ptailor import tolerances as tol
-from ptailor.edits.checks import number_problem, show
+from ptailor.edits.checks import boolean, number_problem, show
 from ptailor.measures.table import MEASURES
 from ptailor.model.units import CM_PER
 
 #: where an expectation is judged
 ON = ("drape", "pattern", "both")
 #: the keys of one expectation
-EXPECT_KEYS = ("by", "to", "tol", "on")
+EXPECT_KEYS = ("by", "to", "tol", "on", "optional")
 _PERCENT = re.compile(r"^\s*([-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?)\s*%\s*$")
 
 
@@ -58,6 +59,9 @@ class Expectation:
         ``"N%"`` of the target.
     on : str
         ``drape``, ``pattern`` or ``both``.
+    optional : bool
+        A garment without the measure skips it (recorded as skipped) instead of being
+        refused.
     """
 
     name: str
@@ -65,6 +69,7 @@ class Expectation:
     to: float | None = None
     tol: float | str = tol.EXPECT_TOL_CM
     on: str = "both"
+    optional: bool = False
 
     @property
     def sides(self) -> tuple[str, ...]:
@@ -86,9 +91,12 @@ class Expectation:
         return abs(target) * p / 100.0 if p is not None else float(self.tol) * cm_per_unit
 
     def to_dict(self) -> dict[str, Any]:
-        """``{"by" or "to", "tol", "on"}`` as the recipe gives them (defaults filled in)."""
+        """``{"by" or "to", "tol", "on"}`` as the recipe gives them (defaults filled in;
+        ``optional`` only where true)."""
         asked = {"to": self.to} if self.to is not None else {"by": self.by}
-        return {**asked, "tol": self.tol, "on": self.on}
+        return {**asked, "tol": self.tol, "on": self.on} | (
+            {"optional": True} if self.optional else {}
+        )
 
 
 def expect_problems(x: Any, *, units: Any) -> tuple[tuple[Expectation, ...], list[str]]:
@@ -110,7 +118,7 @@ def expect_problems(x: Any, *, units: Any) -> tuple[tuple[Expectation, ...], lis
     if x is None:
         return (), []
     if not isinstance(x, dict):
-        what = "a mapping of measure names to {by or to, tol, on}"
+        what = "a mapping of measure names to {by or to, tol, on, optional}"
         return (), [f"expect: expected {what}, got {show(x)}"]
     cm = CM_PER.get(units, 1.0) if isinstance(units, str) else 1.0
     out: list[Expectation] = []
@@ -131,7 +139,8 @@ def _expectation(name: str, spec: Any, *, cm: float) -> tuple[Expectation | None
     problems."""
     where = f"expect.{name}"
     if not isinstance(spec, dict):
-        return None, [f"{where}: expected a mapping with by or to (and tol, on), got {show(spec)}"]
+        what = "a mapping with by or to (and tol, on, optional)"
+        return None, [f"{where}: expected {what}, got {show(spec)}"]
     probs = [
         f"{where}: unknown key {show(k)} (known: {', '.join(EXPECT_KEYS)})"
         for k in spec
@@ -149,6 +158,7 @@ def _expectation(name: str, spec: Any, *, cm: float) -> tuple[Expectation | None
     on = spec.get("on", "both")
     if not isinstance(on, str) or on not in ON:
         probs.append(f"{where}.on: expected one of {', '.join(ON)}, got {show(on)}")
+    probs += boolean(spec.get("optional", False), f"{where}.optional")
     if probs:
         return None, probs
     return Expectation(
@@ -157,6 +167,7 @@ def _expectation(name: str, spec: Any, *, cm: float) -> tuple[Expectation | None
         to=spec.get("to"),
         tol=spec.get("tol", tol.EXPECT_TOL_CM / cm),
         on=on,
+        optional=spec.get("optional", False),
     ), []
 
 

@@ -96,7 +96,7 @@ def recipe_schema() -> dict:
 
 def _expect_schema() -> dict:
     """``expect:``: measure names (:data:`ptailor.measures.MEASURES`) to ``{by or to, tol,
-    on}`` (:mod:`ptailor.recipe.expect`)."""
+    on, optional}`` (:mod:`ptailor.recipe.expect`)."""
     length_or_percent = {
         "oneOf": [
             {"type": "number"},
@@ -114,6 +114,9 @@ def _expect_schema() -> dict:
                     "target: a length, or N% of the target (default 0.5 cm)"},
             "on": {"enum": list(ON), "default": "both",
                    "description": "judged in the drape, the pattern or both"},
+            "optional": {"type": "boolean", "default": False,
+                         "description": "a garment without the measure skips it (recorded "
+                         "as skipped) instead of being refused"},
         },
         "oneOf": [{"required": ["by"]}, {"required": ["to"]}],
         "additionalProperties": False,

@@ -50,12 +50,13 @@ def measures_before(g: Garment, recipe: Recipe, *, shown: str) -> list[dict]:
     Raises
     ------
     PtailorError
-        The recipe expects a measure the garment lacks (exit 2, before any work), naming
-        the recipe, the measures and what the garment has.
+        The recipe expects a measure the garment lacks and does not mark it ``optional``
+        (exit 2, before any work), naming the recipe, the measures and what the garment
+        has.
     """
     before = garment_measure_dicts(g)
     have = [d["name"] for d in before]
-    lacking = [e.name for e in recipe.expect if e.name not in have]
+    lacking = [e.name for e in recipe.expect if e.name not in have and not e.optional]
     if lacking:
         raise PtailorError(
             f"expect: {shown} has no {', '.join(lacking)} "
@@ -78,15 +79,16 @@ def _r(x: float | None) -> float | None:
     return None if x is None else round(float(x), 4)
 
 
-def expect_record(e: Expectation, before: dict, after: dict | None, *, units: str) -> dict:
+def expect_record(e: Expectation, before: dict | None, after: dict | None, *, units: str) -> dict:
     """One expectation judged: the report's ``expect[i]``.
 
     Parameters
     ----------
     e : Expectation
     before, after : dict
-        The measure's dict (cm) on the garment as read, and on the adjusted garment (None:
-        the adjusted garment lacks it, a miss).
+        The measure's dict (cm) on the garment as read (None: the garment lacks it, only
+        where ``e`` is optional: skipped), and on the adjusted garment (None: the adjusted
+        garment lacks it, a miss).
     units : str
         The recipe's units (``e``'s lengths are in them).
 
@@ -96,9 +98,25 @@ def expect_record(e: Expectation, before: dict, after: dict | None, *, units: st
         ``name``, ``on``, ``asked`` (``{"by": cm}``, ``{"by": "N%"}`` or ``{"to": cm}``),
         ``tol`` (cm, or ``"N%"`` of the target), ``before``, ``target`` and ``achieved``
         (``{"drape", "pattern"}`` in cm; achieved None where the adjusted garment lacks the
-        measure), ``ok`` and ``missed`` (the sides of ``on`` out of tolerance).
+        measure), ``ok`` and ``missed`` (the sides of ``on`` out of tolerance); an optional
+        one also ``optional: true`` and ``skipped`` (true where the garment as read lacks
+        the measure: ``before``, ``target`` and ``achieved`` null, ``ok``).
     """
     k = CM_PER[units]
+    if e.to is not None:
+        asked: dict[str, Any] = {"to": _r(e.to * k)}
+    else:
+        asked = {"by": e.by if percent(e.by) is not None else _r(float(e.by or 0.0) * k)}
+    head = {
+        "name": e.name,
+        "on": e.on,
+        "asked": asked,
+        "tol": e.tol if percent(e.tol) is not None else _r(float(e.tol) * k),
+    }
+    if e.optional and before is None:
+        none = dict.fromkeys(SIDES)
+        return {**head, "before": none, "target": none, "achieved": none, "ok": True,
+                "missed": [], "optional": True, "skipped": True}  # fmt: skip
     b, a = _sides(before), _sides(after)
     target = {s: e.target(float(b[s]), k) for s in SIDES}
     missed = [
@@ -106,29 +124,28 @@ def expect_record(e: Expectation, before: dict, after: dict | None, *, units: st
         for s in e.sides
         if a[s] is None or abs(float(a[s]) - target[s]) > e.tolerance(target[s], k)
     ]
-    if e.to is not None:
-        asked: dict[str, Any] = {"to": _r(e.to * k)}
-    else:
-        asked = {"by": e.by if percent(e.by) is not None else _r(float(e.by or 0.0) * k)}
     return {
-        "name": e.name,
-        "on": e.on,
-        "asked": asked,
-        "tol": e.tol if percent(e.tol) is not None else _r(float(e.tol) * k),
+        **head,
         "before": {s: _r(b[s]) for s in SIDES},
         "target": {s: _r(target[s]) for s in SIDES},
         "achieved": {s: _r(a[s]) for s in SIDES},
         "ok": not missed,
         "missed": missed,
-    }
+    } | ({"optional": True, "skipped": False} if e.optional else {})
 
 
 def expect_records(recipe: Recipe, before: Sequence[dict], after: Sequence[dict]) -> list[dict]:
     """The report's ``expect``: each of the recipe's expectations judged
-    (:func:`expect_record`), in the recipe's order."""
+    (:func:`expect_record`; an optional one the garment as read lacks, skipped), in the
+    recipe's order."""
     b = {d["name"]: d for d in before}
     a = {d["name"]: d for d in after}
-    return [expect_record(e, b[e.name], a.get(e.name), units=recipe.units) for e in recipe.expect]
+    return [
+        expect_record(
+            e, b.get(e.name) if e.optional else b[e.name], a.get(e.name), units=recipe.units
+        )
+        for e in recipe.expect
+    ]
 
 
 def steps_achieved(log: Sequence[dict], before: Sequence[dict], after: Sequence[dict]) -> list:
