@@ -315,12 +315,6 @@ SHARED_MISSES = {
     ("deeper-neckline", "dress"): "neck_drop lost (4.08 drape / 4.47 pattern before): the V "
     "through the strap dress's top edge leaves no neckline found (neck, chest, body_length, "
     "armholes lost too; waist 78.3 -> 212.7)",
-    ("wider-around", "tshirt"): "chest +11.6 % (99.04 -> 110.51 drape, 100.07 -> 111.66 "
-    "pattern), hem +12.2 % / +12.4 % for +20 % +-1 %: axis: auto of the whole shirt is not "
-    "its body's (the left sleeve +19.4 % long)",
-    ("wider-around", "longsleeve"): "chest +9.3 % (118.13 -> 129.15 drape, 118.97 -> 129.99 "
-    "pattern), hem +11.4 % / +11.6 % for +20 % +-1 %: axis: auto of the whole shirt is not "
-    "its body's (body_length +20 %)",
     ("wider-sleeves", "longsleeve"): "bicep pattern +18.8 % left (41.81 -> 49.7), +17.8 % "
     "right (43.21 -> 50.9), cuff_right drape +18.2 % (31.55 -> 37.3) for +20 % +-1 % "
     "(drape biceps +20 %), with the cuffs in the region ({part: sleeves}) or not",

@@ -30,6 +30,7 @@ from ptailor.edits.checks import choice, number
 from ptailor.edits.checks import region as region_spec
 from ptailor.edits.coverage import girth_coverage, with_coverage
 from ptailor.edits.follow import rigid_apart
+from ptailor.edits.limbs import Piece, limb_pieces
 from ptailor.edits.region import region_axis, region_centroid, region_faces, unit_vector
 from ptailor.edits.registry import Step, checked, register
 from ptailor.edits.state import EditOptions, EditState
@@ -254,16 +255,21 @@ def scale_by(
     row[handles] = np.arange(len(handles))
     records = []
     for part in parts:  # a loop over the region's connected parts (a few)
-        if step.axis == "auto":
-            ax = region_axis(V3, g.F3, part, body=options.body)
-            warnings += auto_axis_warnings(V3, g.F3, part, ax, options, frame=g.frame)
-        else:
+        if step.axis != "auto":
             ax = unit_vector(step.axis, "axis")
-        c = region_centroid(V3, g.F3, part)
-        A = scale_matrix(step.direction, ax, factor)
-        r = row[np.unique(g.F3[part])]
-        moved[r] = c + (V3[handles[r]] - c) @ A.T
-        records.append((ax, c, int(part.size)))
+            c = region_centroid(V3, g.F3, part)
+            A = scale_matrix(step.direction, ax, factor)
+            r = row[np.unique(g.F3[part])]
+            moved[r] = c + (V3[handles[r]] - c) @ A.T
+            records.append((ax, c, int(part.size)))
+            continue
+        pieces = limb_pieces(g, part) if options.body is None else [Piece(part, True, None)]
+        for verts, target, rec in piece_moves(V3, g.F3, pieces, step, factor, options):
+            moved[row[verts]] = target
+            records.append(rec)
+        warnings += auto_axis_warnings(
+            V3, g.F3, pieces[0].faces, records[-len(pieces)][0], options, frame=g.frame
+        )
     ax, c = records[0][0], records[0][1]
     used = np.zeros(len(V3), dtype=bool)
     used[g.F3] = True
@@ -302,6 +308,36 @@ def scale_by(
     if warnings:
         rec["warnings"] = warnings
     return replace(state, V3=V_new, even=even, log=(*state.log, rec))
+
+
+def piece_moves(
+    V3: np.ndarray, F3: np.ndarray, pieces: list, step: ScaleStep, factor: float, options
+) -> list[tuple[np.ndarray, np.ndarray, tuple]]:
+    """Where ``axis: auto`` moves a part's trunk and limbs (:func:`ptailor.edits.limbs.
+    limb_pieces`), each about its own axis: the trunk about its centroid, a limb about its
+    joint carried where the trunk's map takes the joint, the joint keeping the trunk's map.
+
+    Returns
+    -------
+    list of (verts, target, record)
+        ``verts`` ``(j,)`` drape vertices, ``target`` ``(j, 3)`` their new places, and
+        ``(axis, centre, triangles)`` for the step's record; the trunk first.
+    """
+    out = []
+    c_t, A_t = np.zeros(3), np.eye(3)
+    for pc in pieces:  # a loop over the part's trunk and limbs (three at most)
+        ax = region_axis(V3, F3, pc.faces, body=options.body)
+        A = scale_matrix(step.direction, ax, factor)
+        verts = np.unique(F3[pc.faces])
+        if pc.trunk:
+            c = c_t = region_centroid(V3, F3, pc.faces)
+            A_t, shift = A, np.zeros(3)
+        else:
+            c = V3[pc.joint].mean(axis=0)
+            shift = (c - c_t) @ A_t.T + c_t - c
+            verts = np.setdiff1d(verts, pc.joint, assume_unique=True)
+        out.append((verts, c + shift + (V3[verts] - c) @ A.T, (ax, c, int(pc.faces.size))))
+    return out
 
 
 def region_parts(F3: np.ndarray, faces: np.ndarray, n: int) -> list[np.ndarray]:
