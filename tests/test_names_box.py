@@ -53,7 +53,7 @@ def test_a_box_mesh_bodice_is_no_collar():
     )
     assert all(r in ("body", "sleeve") for r in st.layout.role)
     back = names.index("bodice_back")
-    assert "body (length/width 1.3, under 3.5 for a strip" in st.layout.why[back]
+    assert "body (length/width 1.4, under 3.5 for a strip" in st.layout.why[back]
     # the drape's shape alone (no pattern given) takes the stretched back for a collar
     lab, n_p = st.panel_components
     by_drape = panel_layout(g.V3, g.F3, g.F2, lab, n_p, frame=g.frame)

@@ -106,6 +106,9 @@ SEAM_LINE_TURN_DEG = 60.0
 NAMES_STRIP_ASPECT = 3.5
 #: A strip's long side lies along an opening when this fraction of its length touches it.
 NAMES_STRIP_TOUCH = 0.4
+#: A pattern panel's width is read from its boundary sampled at its vertices and this many
+#: points between them on every edge (a count: a one-triangle strip's width to 1/5 of an edge).
+NAMES_EDGE_SAMPLES = 4
 #: A panel straddles the centre line when its shorter reach across it is this fraction of
 #: its longer one.
 NAMES_CENTRED = 1.0 / 3.0

@@ -6,10 +6,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ptailor.model import tolerances as model_tol
 from ptailor.model.frame import Frame
 from ptailor.model.names.measures import (
     OpeningTouch,
     edge_graph,
+    inscribed_radius,
     panel_measures,
     pattern_shape,
 )
@@ -230,10 +232,11 @@ def _strips(
     """
     L, strip = strip_shape(perim, At)
     aspect = L * L / np.maximum(At, 1e-300)
-    if V2 is not None:
-        area2, perim2 = pattern_shape(V2, F2, lab, len(At))
-        L2, strip = strip_shape(perim2, area2)
-        aspect = L2 * L2 / np.maximum(area2, 1e-300)
+    if V2 is not None:  # length / width of the pattern: area over the widest width squared
+        area2, _ = pattern_shape(V2, F2, lab, len(At))
+        r = inscribed_radius(V2, F2, lab, len(At))
+        aspect = area2 / np.maximum(4.0 * r * r, 1e-300)
+        strip = aspect >= model_tol.NAMES_STRIP_ASPECT
     return L, strip, aspect
 
 
