@@ -381,10 +381,11 @@ def _stitch_matches(
                 continue
             ea = s.edges_a if s.panels[0] == pa else s.edges_b
             eb = s.edges_b if s.panels[0] == pa else s.edges_a
-            got_a = _shared_edges(ea, Ea)
-            got_b = _shared_edges(eb, Eb)
-            if min(got_a, got_b) > best_n:
-                best, best_n = s_i, min(got_a, got_b)
+            got = min(_shared_edges(ea, Ea), _shared_edges(eb, Eb))
+            if pa == pb:  # a seam of a panel with itself (a dart, a one-piece sleeve): either way
+                got = max(got, min(_shared_edges(eb, Ea), _shared_edges(ea, Eb)))
+            if got > best_n:
+                best, best_n = s_i, got
         a_name, b_name = (f"{n}.{e}" for n, e in st.sides)
         if best < 0 or best_n < 0.5 * min(len(Ea), len(Eb)):
             raise PtailorError(
