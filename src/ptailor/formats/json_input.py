@@ -28,7 +28,7 @@ __all__ = ["json_depth", "parse_json", "read_json"]
 _STRING = re.compile(rb'"(?:[^"\\]|\\.)*"', re.DOTALL)
 
 
-class _Refused(ValueError):
+class _LimitError(ValueError):
     """A limit crossed inside the parser (raised from its hooks)."""
 
 
@@ -47,7 +47,7 @@ def json_depth(text: str | bytes) -> int:
 
 def _int(s: str) -> int:
     if len(s) > tol.JSON_MAX_INT_CHARS:
-        raise _Refused(
+        raise _LimitError(
             f"an integer of {len(s)} digits (at most {tol.JSON_MAX_INT_CHARS}): {s[:20]}..."
         )
     return int(s)
@@ -57,7 +57,7 @@ def _pairs(pairs: list[tuple[str, Any]]) -> dict:
     out: dict = {}
     for key, value in pairs:  # an object's members
         if key in out:
-            raise _Refused(f"the key {key!r} appears twice in one object")
+            raise _LimitError(f"the key {key!r} appears twice in one object")
         out[key] = value
     return out
 
@@ -94,7 +94,7 @@ def parse_json(text: str, *, path: str | Path, what: str) -> Any:
         )
     try:
         return json.loads(text, parse_int=_int, object_pairs_hook=_pairs)
-    except (ValueError, RecursionError) as e:  # JSONDecodeError and _Refused are ValueErrors
+    except (ValueError, RecursionError) as e:  # JSONDecodeError and _LimitError are ValueErrors
         raise PtailorError(f"not a JSON {what}: {e}", path=str(path)) from None
 
 
@@ -121,9 +121,7 @@ def read_json(path: str | Path, *, what: str, max_bytes: int | None = None) -> A
     except OSError as e:
         raise PtailorError(f"cannot read the {what}: {e.strerror}", path=str(path)) from None
     if len(data) > limit:
-        raise PtailorError(
-            f"the {what} is larger than {limit} bytes: not read", path=str(path)
-        )
+        raise PtailorError(f"the {what} is larger than {limit} bytes: not read", path=str(path))
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as e:

@@ -199,8 +199,7 @@ def _stitches(pattern: dict, panels: dict[str, SpecPanel], *, path: str) -> list
         key = frozenset(sides)
         if key in seen:
             raise PtailorError(
-                f"{what} ({label}) repeats stitch {seen[key]}: each pair of edges is "
-                "stitched once",
+                f"{what} ({label}) repeats stitch {seen[key]}: each pair of edges is stitched once",
                 path=path,
             )
         seen[key] = i
