@@ -312,7 +312,8 @@ def verify_options(fn):
 
 def run_options(fn):
     """Every option of one garment's run, in ``--help`` order: ``--pattern-units``,
-    ``--drape-units``, ``--weld``, ``--spec``, ``--spec-units``, ``--up``, ``--front``, ``--method``,
+    ``--drape-units``, ``--weld``, ``--spec``, ``--spec-units``, ``--up``, ``--front``,
+    ``--method``,
     ``--intrinsic``, ``--body``, ``--body-units``, ``--write-body``, ``--verify``,
     ``--verify-rest``, ``--verify-max-steps``, ``--no-baseline``, ``--formats``,
     ``--seam-allowance``, ``--show-measures``, ``--size``, ``--dxf-units``.

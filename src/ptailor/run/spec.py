@@ -26,8 +26,8 @@ from ptailor.spec.match import SpecMatching, match_specification
 __all__ = [
     "SPEC_FILE",
     "matched_specification",
-    "spec_input",
     "read_run_specification",
+    "spec_input",
     "spec_outputs",
     "spec_unit",
     "spec_units",
