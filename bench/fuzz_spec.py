@@ -97,8 +97,8 @@ def _drop(d, path):
 
 
 def _reroot(d: dict, rng: random.Random) -> None:
-    pat = d.get("pattern", {})
-    if not isinstance(pat.get("panels"), dict) or not pat["panels"]:
+    pat = d.get("pattern")
+    if not isinstance(pat, dict) or not isinstance(pat.get("panels"), dict) or not pat["panels"]:
         return
     name = rng.choice(list(pat["panels"]))
     p = pat["panels"][name]
@@ -117,7 +117,7 @@ def _reroot(d: dict, rng: random.Random) -> None:
 
 
 def _stitches(d: dict, rng: random.Random) -> None:
-    st = d.get("pattern", {}).get("stitches")
+    st = d["pattern"].get("stitches") if isinstance(d.get("pattern"), dict) else None
     if not isinstance(st, list) or not st:
         return
     s = rng.choice(st)
