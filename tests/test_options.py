@@ -200,6 +200,7 @@ _RUN_ARGS = {
     "verify_rest": ("--verify-rest", "pattern"),
     "verify_max_steps": ("--verify-max-steps", "10"),
     "spec": ("--spec", "auto"),
+    "spec_units": ("--spec-units", "0.3333cm"),
     "show_measures": ("--show-measures",),
 }
 

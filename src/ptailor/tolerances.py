@@ -203,6 +203,17 @@ SEAM_ALLOWANCE_MAX_REL = 0.5
 #: garment checked by ``check_garment`` has squared lengths and areas far from overflow.
 GARMENT_SIZE_MAX = 1e12
 
+# JSON files ptailor reads (ptailor.formats.json_input): specifications, catalogues, reports
+#: A JSON file larger than this many bytes is refused before it is parsed (GarmentCode's
+#: largest specifications are some 100 kB; a catalogue of 10,000 garments a few MB).
+JSON_MAX_BYTES = 64 << 20
+#: Arrays and objects nested deeper than this (a count) are refused before parsing:
+#: Python's parser recurses per level (a specification nests 7 deep, a report 6).
+JSON_MAX_DEPTH = 64
+#: An integer literal longer than this many characters is refused: far past any count or
+#: coordinate (a float holds 17 digits), and ``float()`` of a 400-digit one overflows.
+JSON_MAX_INT_CHARS = 40
+
 # DXF pattern files (ptailor.formats.dxf): a reader that fails closed
 #: A DXF larger than this many bytes is refused before it is parsed (a graded Gerber
 #: export of a whole style is a few MB).
@@ -364,11 +375,15 @@ SPEC_COARSE_ICP_ITER = 12
 #: ... and the starts refined are those within this many times the best coarse residual
 #: (unitless) plus SPEC_START_SLACK (relative to the panel's size) ...
 SPEC_START_FACTOR = 3.0
-SPEC_START_SLACK = 1e-4
+SPEC_START_SLACK = 1e-3
 #: ... and the fits kept are those within this many times the best (unitless) plus
-#: SPEC_KEEP_SLACK (relative): a symmetric panel fits two ways about as well.
+#: SPEC_KEEP_SLACK (relative): a symmetric panel fits two ways about as well, and both are
+#: kept for its place in 3D to choose. The slack is the asymmetry a meshed symmetric panel
+#: shows (a generated bodice's front: its two fits 5e-6 and 9e-5, which one is the better
+#: depending on where the edge loop starts; 1e-6 kept only one, and a re-rooted loop was
+#: refused); real fits are 3e-5 to 4e-4, the next-best other panel 0.02.
 SPEC_KEEP_FACTOR = 2.0
-SPEC_KEEP_SLACK = 1e-6
+SPEC_KEEP_SLACK = 1e-3
 #: An adjusted outline's points are labelled with the specification edge within this many
 #: times the input's own fit distance (unitless) of them, or SPEC_REACH_MIN_CM (cm) ...
 SPEC_REACH_FITS = 3.0
@@ -377,6 +392,21 @@ SPEC_REACH_MIN_CM = 0.05
 #: fit distance (unitless) plus SPEC_CORNER_KEEP_REL of the outline's extent (relative).
 SPEC_CORNER_KEEP_FITS = 3.0
 SPEC_CORNER_KEEP_REL = 1e-6
+
+#: Every number of a specification (vertex, control point, arc radius, translation,
+#: rotation) lies within this many of its units of zero (1e7: 100 km in cm): beyond it the
+#: file is refused where it is read (squared lengths stay finite; 1e300 overflowed).
+SPEC_MAX_COORD = 1e7
+#: ``properties.units_in_meter`` lies in this range (1e-3: a unit of 1 km; 1e6: of 1 um).
+SPEC_UNITS_IN_METER = (1e-3, 1e6)
+#: A specification with more panels than this, or more edges in all, is refused (counts:
+#: GarmentCode's jumpsuit has 14 panels and some 120 edges).
+SPEC_MAX_PANELS = 1_000
+SPEC_MAX_EDGES = 20_000
+#: A specification without ``units_in_meter``: its unit is the one of these (units per
+#: metre) that makes its panel areas the garment's within SPEC_AREA_REL (Garment-Pattern-
+#: Generator's older files: 100 cm or 300 (1/3 cm)) ...
+SPEC_UNIT_GUESSES = (100.0, 300.0, 1000.0, 1.0, 10.0, 39.37007874015748)
 
 # --- the report (ptailor.report) ---
 #: A seam's target ratio differs from its ratio before when by more than this fraction of

@@ -35,6 +35,7 @@ def inspect(
     size,
     dxf_units,
     spec,
+    spec_units,
     as_json,
 ) -> None:
     """List GARMENT's panels, seams, openings and units.
@@ -55,8 +56,7 @@ def inspect(
     weld = parse_weld(weld, units=units)
     specification = None
     if spec is not None:  # read first: a bad specification fails before the garment is read
-        from ptailor.formats.spec_json import read_specification
-        from ptailor.run.spec import spec_input
+        from ptailor.run.spec import read_run_specification, spec_input
 
         found = spec_input(garment, spec)
         if found is None:
@@ -65,7 +65,7 @@ def inspect(
                 "STEM_specification.json, its shorter prefixes, specification.json)",
                 path=garment,
             )
-        specification = read_specification(found)
+        specification = read_run_specification(found, spec_units)
     if is_pattern_file(garment):
         from ptailor.report.inspection import pattern_summary, pattern_summary_text
 
@@ -124,8 +124,9 @@ def _garment_info(garment, *, drape, units, pattern_units, drape_units, weld, ax
     )
     matching = None
     if spec is not None:
-        from ptailor.run.spec import matched_specification, spec_units
+        from ptailor.run.spec import matched_specification, spec_unit, spec_units
 
+        spec = spec_unit(loaded, spec)
         loaded = spec_units(loaded, spec)
         matching = matched_specification(loaded, spec)
     info = garment_summary(loaded)

@@ -102,15 +102,15 @@ def garment_options(fn):
 
 
 def spec_option(*, writes: bool = True):
-    """``--spec``: the garment's pattern specification (GarmentCode, Garment-Pattern-Generator);
-    ``writes``: the command writes it back adjusted."""
+    """``--spec`` and ``--spec-units``: the garment's pattern specification (GarmentCode,
+    Garment-Pattern-Generator) and its unit; ``writes``: the command writes it back adjusted."""
     what = (
         "matched to the garment's panels and seams, and written back adjusted as "
         "OUT/specification.json"
         if writes
         else "each of its panels shown with the garment's panel it is, each stitch with its seam"
     )
-    return click.option(
+    spec = click.option(
         "--spec",
         type=click.Path(dir_okay=False),
         default=None,
@@ -119,6 +119,15 @@ def spec_option(*, writes: bool = True):
         "the one beside the garment (STEM_specification.json, for tee6_sim.obj "
         "tee6_specification.json), none if there is none.",
     )
+    units = click.option(
+        "--spec-units",
+        default=None,
+        help=f"Unit of the specification's numbers: {UNIT_HELP}; replaces its "
+        "properties.units_in_meter [default: that; without it (older Garment-Pattern-"
+        "Generator files) the usual unit (cm, 1/3 cm, mm, m, ...) at which its panels have "
+        "the garment's area].",
+    )
+    return lambda fn: spec(units(fn))
 
 
 def axes_options(fn):
@@ -303,7 +312,8 @@ def verify_options(fn):
 
 def run_options(fn):
     """Every option of one garment's run, in ``--help`` order: ``--pattern-units``,
-    ``--drape-units``, ``--weld``, ``--spec``, ``--up``, ``--front``, ``--method``,
+    ``--drape-units``, ``--weld``, ``--spec``, ``--spec-units``, ``--up``, ``--front``,
+    ``--method``,
     ``--intrinsic``, ``--body``, ``--body-units``, ``--write-body``, ``--verify``,
     ``--verify-rest``, ``--verify-max-steps``, ``--no-baseline``, ``--formats``,
     ``--seam-allowance``, ``--show-measures``, ``--size``, ``--dxf-units``.

@@ -19,13 +19,14 @@ from __future__ import annotations
 
 import copy
 import json
-import math
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.errors import PtailorError
+from ptailor.formats.json_input import read_json
 from ptailor.geometry.curves import to_absolute, to_relative
 from ptailor.model.specification import SpecEdge, Specification, SpecPanel, Stitch
 
@@ -38,17 +39,35 @@ __all__ = [
 
 
 def _finite(x: Any, n: int | None, *, what: str, path: str) -> np.ndarray:
-    """``x`` as a finite float array of ``n`` numbers (any length when None)."""
+    """``x`` as a float array of ``n`` numbers (any length when None), each finite and
+    within ``tol.SPEC_MAX_COORD`` of zero."""
     ok = isinstance(x, list) and all(
         isinstance(v, (int, float)) and not isinstance(v, bool) for v in x
     )
     if ok and (n is None or len(x) == n):
         a = np.asarray(x, dtype=float)
-        if np.all(np.isfinite(a)):
-            return a
-        raise PtailorError(f"{what}: not a finite number in {x!r}", path=path)
+        if not np.all(np.isfinite(a)):
+            raise PtailorError(f"{what}: not a finite number in {x!r}", path=path)
+        if np.any(np.abs(a) > tol.SPEC_MAX_COORD):
+            raise PtailorError(
+                f"{what}: a number beyond +-{tol.SPEC_MAX_COORD:g} in {json.dumps(x)[:80]}",
+                path=path,
+            )
+        return a
     size = f"{n} numbers" if n is not None else "a list of numbers"
     raise PtailorError(f"{what}: expected {size}, got {json.dumps(x)[:80]}", path=path)
+
+
+def _relative(P0, P1, pts: np.ndarray, *, what: str, path: str) -> np.ndarray:
+    """Absolute control points ``(k, 2)`` relative to the edge ``P0 -> P1``, bounded."""
+    if float(np.linalg.norm(P1 - P0)) <= tol.SPEC_MAX_COORD * np.finfo(float).eps:
+        raise PtailorError(
+            f"{what}: a curved edge whose two ends coincide (its absolute control points "
+            "have no frame)",
+            path=path,
+        )
+    rel = to_relative(P0, P1, pts)
+    return _finite(rel.ravel().tolist(), None, what=f"{what} (relative)", path=path).reshape(-1, 2)
 
 
 def _curvature(
@@ -59,7 +78,7 @@ def _curvature(
         return "straight", np.zeros(0), "none"
     if isinstance(c, list):  # Garment-Pattern-Generator: one control point
         p = _finite(c, 2, what=f"{what} curvature", path=path)
-        rel = to_relative(P0, P1, p[None])[0] if absolute else p
+        rel = _relative(P0, P1, p[None], what=what, path=path)[0] if absolute else p
         return "quadratic", rel[None, :], "list"
     if not isinstance(c, dict) or "type" not in c:
         raise PtailorError(
@@ -76,7 +95,7 @@ def _curvature(
         pts = np.array([_finite(q, 2, what=f"{what} {kind} control point", path=path)
                         for q in params])  # fmt: skip
         if absolute:
-            pts = to_relative(P0, P1, pts)
+            pts = _relative(P0, P1, pts, what=what, path=path)
         return kind, pts, "typed"
     if kind == "circle":
         p = _finite(params, 3, what=f"{what} circle curvature [radius, large_arc, right]",
@@ -141,6 +160,11 @@ def _stitch_side(s: Any, panels: dict[str, SpecPanel], *, what: str, path: str) 
     if not isinstance(s, dict) or "panel" not in s or "edge" not in s:
         raise PtailorError(f"{what}: each side must be {{panel, edge}}", path=path)
     name, edge = s["panel"], s["edge"]
+    if not isinstance(name, str):
+        raise PtailorError(
+            f"{what}: a side's panel must be a panel name, got {json.dumps(name)[:80]}",
+            path=path,
+        )
     if name not in panels:
         raise PtailorError(f"{what}: no panel {name!r} in the specification", path=path)
     n = len(panels[name].edges)
@@ -151,59 +175,146 @@ def _stitch_side(s: Any, panels: dict[str, SpecPanel], *, what: str, path: str) 
     return (name, edge)
 
 
-def read_specification(path: str | Path) -> Specification:
-    """Read a GarmentCode or Garment-Pattern-Generator specification JSON.
-
-    Parameters
-    ----------
-    path : str or Path
-
-    Returns
-    -------
-    Specification
-
-    Raises
-    ------
-    PtailorError
-        The file is missing, not JSON, or not a specification; naming the panel, edge or
-        stitch at fault.
-    """
-    path = str(path)
-    try:
-        raw = json.loads(Path(path).read_text(encoding="utf-8"))
-    except OSError as e:
-        raise PtailorError(f"cannot read the specification: {e.strerror}", path=path) from None
-    except (UnicodeDecodeError, json.JSONDecodeError) as e:
-        raise PtailorError(f"not a JSON specification: {e}", path=path) from None
-    pattern = raw.get("pattern") if isinstance(raw, dict) else None
-    if not isinstance(pattern, dict) or not isinstance(pattern.get("panels"), dict):
-        raise PtailorError("not a pattern specification: no pattern.panels object", path=path)
-    if not pattern["panels"]:
-        raise PtailorError("the specification has no panels", path=path)
-    props = raw.get("properties") if isinstance(raw.get("properties"), dict) else {}
-    um = props.get("units_in_meter", 100)
-    if isinstance(um, bool) or not isinstance(um, (int, float)) or not math.isfinite(um) or um <= 0:
-        raise PtailorError(f"properties.units_in_meter must be > 0, got {um!r}", path=path)
-    absolute = props.get("curvature_coords", "relative") == "absolute"
-    panels = {n: _panel(n, p, absolute=absolute, path=path) for n, p in pattern["panels"].items()}
-    stitches = []
-    for i, s in enumerate(pattern.get("stitches", []) or []):  # a loop over stitches
+def _stitches(pattern: dict, panels: dict[str, SpecPanel], *, path: str) -> list[Stitch]:
+    """The stitches, each a pair of distinct panel edges, none repeated (either way round)."""
+    raw = pattern.get("stitches")
+    if raw is None:
+        raw = []
+    if not isinstance(raw, list):
+        raise PtailorError(
+            f"pattern.stitches must be a list of stitches, got {json.dumps(raw)[:80]}", path=path
+        )
+    stitches: list[Stitch] = []
+    seen: dict[frozenset, int] = {}
+    for i, s in enumerate(raw):  # a loop over stitches
         what = f"stitch {i}"
         if isinstance(s, dict) and "from" in s and "to" in s:
             s = [s["from"], s["to"]]
         if not isinstance(s, list) or len(s) != 2:
             raise PtailorError(f"{what}: must be a pair of {{panel, edge}}", path=path)
         sides = tuple(_stitch_side(x, panels, what=what, path=path) for x in s)
+        label = " to ".join(f"{n}.{e}" for n, e in sides)
+        if sides[0] == sides[1]:
+            raise PtailorError(f"{what} ({label}): sews an edge to itself", path=path)
+        key = frozenset(sides)
+        if key in seen:
+            raise PtailorError(
+                f"{what} ({label}) repeats stitch {seen[key]}: each pair of edges is stitched once",
+                path=path,
+            )
+        seen[key] = i
         stitches.append(Stitch(sides))  # type: ignore[arg-type]
+    return stitches
+
+
+def _parameters(raw: dict, panels: dict[str, SpecPanel], *, path: str) -> None:
+    """Garment-Pattern-Generator's design parameters, where ptailor rewrites them: each
+    ``influence`` a list of objects whose ``panel`` is a panel name and whose
+    ``edge_list`` is a list."""
+    params = raw.get("parameters")
+    if params is None:
+        return
+    if not isinstance(params, dict):
+        raise PtailorError("parameters must be an object of design parameters", path=path)
+    for name, par in params.items():  # a loop over design parameters
+        influence = par.get("influence") if isinstance(par, dict) else None
+        if influence is None:
+            continue
+        what = f"design parameter {name!r}"
+        if not isinstance(influence, list):
+            raise PtailorError(f"{what}: influence must be a list", path=path)
+        for k, inf in enumerate(influence):  # the panels it moves
+            panel = inf.get("panel") if isinstance(inf, dict) else None
+            if not isinstance(panel, str):
+                raise PtailorError(
+                    f"{what}: influence {k} must be {{panel: NAME, edge_list: [...]}}, got "
+                    f"{json.dumps(inf)[:80]}",
+                    path=path,
+                )
+            if "edge_list" in inf and not isinstance(inf["edge_list"], list):
+                raise PtailorError(f"{what}: influence {k}: edge_list must be a list", path=path)
+
+
+def _properties(raw: dict, *, path: str) -> tuple[float | None, bool]:
+    """``(units_in_meter or None when absent, absolute)`` from ``properties``."""
+    props = raw.get("properties", {})
+    if not isinstance(props, dict):
+        raise PtailorError("properties must be an object", path=path)
+    um = props.get("units_in_meter")
+    lo, hi = tol.SPEC_UNITS_IN_METER
+    if um is not None and (
+        isinstance(um, bool) or not isinstance(um, (int, float)) or not lo <= um <= hi
+    ):
+        raise PtailorError(
+            f"properties.units_in_meter must be a number in [{lo:g}, {hi:g}], got "
+            f"{json.dumps(um)[:40]}",
+            path=path,
+        )
+    coords = props.get("curvature_coords", "relative")
+    if coords not in ("relative", "absolute"):
+        raise PtailorError(
+            f"properties.curvature_coords must be relative or absolute, got "
+            f"{json.dumps(coords)[:40]}",
+            path=path,
+        )
+    return (None if um is None else float(um)), coords == "absolute"
+
+
+def read_specification(path: str | Path, *, units_in_meter: float | None = None) -> Specification:
+    """Read a GarmentCode or Garment-Pattern-Generator specification JSON.
+
+    Parameters
+    ----------
+    path : str or Path
+    units_in_meter : float, optional
+        The specification's unit (units per metre), given: it replaces the file's
+        ``properties.units_in_meter`` (``--spec-units``).
+
+    Returns
+    -------
+    Specification
+        Its ``units_source`` says where the unit came from: ``file``, ``option``, or
+        ``absent`` (then ``units_in_meter`` is 100, to be inferred from the garment:
+        :func:`ptailor.run.spec.spec_unit`).
+
+    Raises
+    ------
+    PtailorError
+        The file is missing, not JSON (too large, too deep, a key repeated), or not a
+        specification; naming the panel, edge, stitch or design parameter at fault.
+    """
+    path = str(path)
+    raw = read_json(path, what="specification")
+    pattern = raw.get("pattern") if isinstance(raw, dict) else None
+    if not isinstance(pattern, dict) or not isinstance(pattern.get("panels"), dict):
+        raise PtailorError("not a pattern specification: no pattern.panels object", path=path)
+    if not pattern["panels"]:
+        raise PtailorError("the specification has no panels", path=path)
+    if len(pattern["panels"]) > tol.SPEC_MAX_PANELS:
+        raise PtailorError(
+            f"{len(pattern['panels'])} panels (at most {tol.SPEC_MAX_PANELS})", path=path
+        )
+    n_edges = sum(
+        len(p["edges"]) if isinstance(p, dict) and isinstance(p.get("edges"), list) else 0
+        for p in pattern["panels"].values()
+    )
+    if n_edges > tol.SPEC_MAX_EDGES:
+        raise PtailorError(f"{n_edges} edges (at most {tol.SPEC_MAX_EDGES})", path=path)
+    um, absolute = _properties(raw, path=path)
+    panels = {n: _panel(n, p, absolute=absolute, path=path) for n, p in pattern["panels"].items()}
+    stitches = _stitches(pattern, panels, path=path)
+    _parameters(raw, panels, path=path)
     typed = any(e.encoding == "typed" for p in panels.values() for e in p.edges)
     flavour = "garmentcode" if typed or "panel_order" in pattern else "gpg"
+    source = "option" if units_in_meter is not None else ("file" if um is not None else "absent")
     return Specification(
         path=path,
         flavour=flavour,
         panels=tuple(panels.values()),
         stitches=tuple(stitches),
-        units_in_meter=float(um),
+        units_in_meter=float(units_in_meter or um or 100.0),
         raw=raw,
+        units_source=source,
     )
 
 

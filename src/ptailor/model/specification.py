@@ -126,6 +126,10 @@ class Specification:
         Specification units per metre (``100``: centimetres).
     raw : dict
         The JSON as read; the writer keeps everything it does not change.
+    units_source : str
+        Where ``units_in_meter`` came from: ``file`` (``properties.units_in_meter``),
+        ``option`` (``--spec-units``), ``absent`` (not given: 100 until the run infers it
+        from the garment) or ``garment`` (so inferred).
     """
 
     path: str
@@ -134,6 +138,7 @@ class Specification:
     stitches: tuple[Stitch, ...]
     units_in_meter: float
     raw: dict = field(repr=False, compare=False, default_factory=dict)
+    units_source: str = "file"
 
     @property
     def cm_per_unit(self) -> float:

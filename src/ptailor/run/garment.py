@@ -18,7 +18,6 @@ import numpy as np
 from ptailor.edits import EditOptions
 from ptailor.errors import NumericError, PtailorError
 from ptailor.formats.garment import LoadedGarment
-from ptailor.formats.spec_json import read_specification as read_spec
 from ptailor.pieces import PiecePlan, carry_plan
 from ptailor.pipeline import Adjustment, Progress, adjustment
 from ptailor.recipe import Recipe
@@ -58,7 +57,14 @@ from ptailor.run.library_warnings import capture_library_warnings
 from ptailor.run.options import RunOptions
 from ptailor.run.outputs import OutputContext, write_outputs
 from ptailor.run.sections import pattern_section, units_section
-from ptailor.run.spec import matched_specification, spec_input, spec_outputs, spec_units
+from ptailor.run.spec import (
+    matched_specification,
+    read_run_specification,
+    spec_input,
+    spec_outputs,
+    spec_unit,
+    spec_units,
+)
 from ptailor.run.verify import Redrapes
 from ptailor.spec.match import SpecMatching
 
@@ -253,7 +259,7 @@ def _read_inputs(
     """Read the garment, its specification and body; check them against each other (a
     specification of another garment, a body elsewhere) before any work."""
     edits = edit_options(recipe, options)
-    spec = read_spec(spec_file) if spec_file is not None else None
+    spec = read_run_specification(spec_file, options.spec_units) if spec_file else None
     loaded = load_input(garment, drape, recipe, options)
     spec_match = None
     spec_note: tuple[str, ...] = ()
@@ -263,6 +269,7 @@ def _read_inputs(
             "STEM_specification.json, its shorter prefixes, specification.json)",
         )
     if spec is not None:  # matched before any work: a specification of another garment fails
+        spec = spec_unit(loaded, spec)
         loaded = spec_units(loaded, spec)
         spec_match = matched_specification(loaded, spec)
     # the garment's measures; a measure the recipe expects and the garment lacks fails here

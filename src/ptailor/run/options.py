@@ -72,6 +72,9 @@ class RunOptions:
     spec : str, optional
         A GarmentCode or Garment-Pattern-Generator specification JSON of the garment's
         pattern: matched to its panels and written back adjusted (``specification.json``).
+    spec_units : str, optional
+        The specification's unit (``cm``, ``0.3333cm``): replaces its
+        ``properties.units_in_meter`` (default: that, or inferred from the garment).
     show_measures : bool
         ``pattern.svg`` and ``preview.png`` draw the adjusted garment's points of measure
         (:mod:`ptailor.measures`) on its pieces, named.
@@ -96,6 +99,7 @@ class RunOptions:
     verify_rest: str = "intrinsic"
     verify_max_steps: int | None = None
     spec: str | None = None
+    spec_units: str | None = None
     show_measures: bool = False
 
     def __post_init__(self) -> None:
@@ -105,6 +109,8 @@ class RunOptions:
             parse_units(self.pattern_units, what="--pattern-units")
         if self.drape_units is not None:
             parse_units(self.drape_units, what="--drape-units")
+        if self.spec_units is not None:
+            parse_units(self.spec_units, what="--spec-units")
         parse_units(self.body_units, what="--body-units")
         parse_weld(self.weld, units="cm")  # (the syntax; a bare number is the recipe's units)
         _one_of(self.method, METHODS, "--method")
@@ -131,4 +137,6 @@ class RunOptions:
         a batch stamp hashes."""
         data = asdict(self)
         data["formats"] = sorted(data["formats"])
+        if data["spec_units"] is None:  # (stamps written before the option stay valid)
+            del data["spec_units"]
         return dict(sorted(data.items()))

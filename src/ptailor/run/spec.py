@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from ptailor import tolerances as tol
+from ptailor.errors import PtailorError
 from ptailor.formats.garment import LoadedGarment
 from ptailor.model.specification import Specification
 from ptailor.model.structure import structure
@@ -25,8 +26,10 @@ from ptailor.spec.match import SpecMatching, match_specification
 __all__ = [
     "SPEC_FILE",
     "matched_specification",
+    "read_run_specification",
     "spec_input",
     "spec_outputs",
+    "spec_unit",
     "spec_units",
 ]
 
@@ -45,6 +48,58 @@ def spec_input(garment: str, spec: str | None) -> str | None:
     return specification_beside(garment)
 
 
+def read_run_specification(path: str, spec_units: str | None) -> Specification:
+    """The specification at ``path``, in the unit ``spec_units`` when given (``--spec-units``:
+    ``cm``, ``0.3333cm``)."""
+    from ptailor.formats.garment import parse_units
+    from ptailor.formats.spec_json import read_specification
+
+    if spec_units is None:
+        return read_specification(path)
+    cm = parse_units(spec_units, what="--spec-units")
+    return read_specification(path, units_in_meter=100.0 / cm)
+
+
+def _panel_area(spec: Specification) -> float:
+    """The specification's panels' total area, in its units squared."""
+    from ptailor.model.polyline import signed_area
+
+    return sum(abs(signed_area(p.outline(64)[0])) for p in spec.panels)
+
+
+def spec_unit(loaded: LoadedGarment, spec: Specification) -> Specification:
+    """A specification without ``units_in_meter`` in the unit that fits the garment:
+    of :data:`ptailor.tolerances.SPEC_UNIT_GUESSES`, the one at which its panels' total
+    area is the garment pattern's, within ``SPEC_AREA_REL`` (the nearest if several).
+    A specification with its unit is returned as it is.
+
+    Raises
+    ------
+    PtailorError
+        No usual unit fits (it names the scale that would): give ``--spec-units``.
+    """
+    if spec.units_source != "absent":
+        return spec
+    from ptailor.geometry.triangles import signed_areas_2d
+
+    g = loaded.garment
+    a_mesh = float(np.abs(signed_areas_2d(g.V2, g.F2)).sum()) * CM_PER[g.units] ** 2
+    a_spec = max(_panel_area(spec), tol.TINY)
+    off = {um: abs(a_spec * (100.0 / um) ** 2 / max(a_mesh, tol.TINY) - 1.0)
+           for um in tol.SPEC_UNIT_GUESSES}  # fmt: skip
+    um = min(off, key=off.get)
+    if off[um] > tol.SPEC_AREA_REL:
+        would = 100.0 / float(np.sqrt(a_mesh / a_spec))
+        raise PtailorError(
+            f"no properties.units_in_meter, and at no usual unit ("
+            f"{', '.join(f'{u:g}' for u in tol.SPEC_UNIT_GUESSES)} units per metre) have its "
+            f"panels the garment's area (they would at {would:.4g} units per metre): give "
+            "--spec-units",
+            path=spec.path,
+        )
+    return replace(spec, units_in_meter=float(um), units_source="garment")
+
+
 def spec_units(loaded: LoadedGarment, spec: Specification) -> LoadedGarment:
     """With ``--pattern-units auto``, the pattern scaled so its panels have the
     specification's total area (the atlas's scale, exactly; the drape's estimate is
@@ -52,11 +107,10 @@ def spec_units(loaded: LoadedGarment, spec: Specification) -> LoadedGarment:
     if not loaded.pattern_units_estimated:
         return loaded
     from ptailor.geometry.triangles import signed_areas_2d
-    from ptailor.model.polyline import signed_area
 
     g = loaded.garment
     k = spec.cm_per_unit / CM_PER[g.units]
-    a_spec = sum(abs(signed_area(p.outline(64)[0])) for p in spec.panels) * k * k
+    a_spec = _panel_area(spec) * k * k
     a_mesh = float(np.abs(signed_areas_2d(g.V2, g.F2)).sum())
     s = float(np.sqrt(a_spec / max(a_mesh, tol.TINY)))
     units = dict(loaded.intake.get("units", {}))
@@ -109,6 +163,7 @@ def spec_outputs(tmp: Path, adj, matching: SpecMatching) -> tuple[list[str], dic
         "input": matching.spec.path,
         "format": matching.spec.flavour,
         "units_in_meter": matching.spec.units_in_meter,
+        "units_source": matching.spec.units_source,
         "file": SPEC_FILE,
         "fit_max": round(max((float(d.max(initial=0.0)) for d in fits), default=0.0), 6),
         "fit_warn": round(tol.SPEC_FIT_WARN_CM / cm, 6),

@@ -169,18 +169,35 @@ def match_specification(
                 path=spec.path,
             )
     first_error = None
-    for rows, cols, fits in _placements(
+    for rows, cols, fits, alts in _placements(
         cands, placed, garment, panel_list, garment.frame.matrix().T
     ):
-        try:
-            matches = _panel_matches(spec, panel_list, mesh, outlines, rows, cols, fits)
-            stitches = _stitch_matches(garment, spec, matches, panel_list, seams, k)
-        except PtailorError as exc:  # this placement's stitches miss their seams: the next
-            first_error = first_error or exc
-            continue
-        return SpecMatching(spec=spec, scale=k, panels=matches, stitches=stitches)
+        while True:  # this placement, then its panels' other fits where a stitch misses
+            try:
+                matches = _panel_matches(spec, panel_list, mesh, outlines, rows, cols, fits)
+                stitches = _stitch_matches(garment, spec, matches, panel_list, seams, k)
+            except _StitchMissError as exc:
+                first_error = first_error or exc
+                pair = next(((i, j) for (i, j) in alts if i in exc.spec_panels and alts[i, j]),
+                            None)  # fmt: skip
+                if pair is None:  # no other fit of its panels: the next placement
+                    break
+                fits[pair] = alts[pair].pop(0)
+                continue
+            except PtailorError as exc:  # this placement's panels do not all match
+                first_error = first_error or exc
+                break
+            return SpecMatching(spec=spec, scale=k, panels=matches, stitches=stitches)
     assert first_error is not None  # there is always a first hypothesis
     raise first_error
+
+
+class _StitchMissError(PtailorError):
+    """A stitch that lands on no seam; ``spec_panels``: its two panels' indices."""
+
+    def __init__(self, message: str, *, path: str, spec_panels: set[int]) -> None:
+        super().__init__(message, path=path)
+        self.spec_panels = spec_panels
 
 
 def _panel_matches(spec, panel_list, mesh, outlines, rows, cols, fits) -> tuple[PanelMatch, ...]:
@@ -271,7 +288,8 @@ def _assignment(cost: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
 
 def _placements(cands, placed, garment: Garment, panel_list: list[Panel], Q0: np.ndarray):
     """Hypotheses of which mesh panel each specification panel is, and by which fit, most
-    likely first: ``(rows, cols, fits)``.
+    likely first: ``(rows, cols, fits, alts)`` (``alts``: per pair its other fits, next
+    most likely first, for the caller to try where a stitch misses its seam).
 
     Panels are assigned by their places: the specification's panel centroids and the
     drape's, each cloud centred and scaled to unit size, the specification's turned by the
@@ -279,7 +297,8 @@ def _placements(cands, placed, garment: Garment, panel_list: list[Panel], Q0: np
     assigned centroids (a drape turned any way from the specification's frame); each
     assignment once. Of a pair's fits, the one whose outline, centred, lies closest to the
     specification's placed outline, centred and turned, wins (it tells the two sides of a
-    symmetric panel apart). The caller keeps the first hypothesis its stitches confirm.
+    symmetric panel apart; a thin strip's flip, a few cm in 3D, is left to the stitches).
+    The caller keeps the first hypothesis its stitches confirm.
     """
     from ptailor.geometry.triangles import triangle_areas
 
@@ -299,18 +318,19 @@ def _placements(cands, placed, garment: Garment, panel_list: list[Panel], Q0: np
         return _assignment(np.where(ok, d, np.inf))
 
     def fitted(Q, rows, cols):
-        fits = {}
+        fits, alts = {}, {}
         for i, j in zip(rows, cols, strict=True):  # the assigned pairs: which fit is in place
             if (i, j) not in cands:
                 continue
             P = (placed[i] - placed[i].mean(axis=0)) @ Q.T
-            fits[i, j] = min(
+            ranked = sorted(
                 cands[i, j],
                 key=lambda f: (
                     float(np.linalg.norm(f[3] - f[3].mean(axis=0) - P, axis=1).mean()) + f[2]
                 ),
             )
-        return fits
+            fits[i, j], alts[i, j] = ranked[0], ranked[1:]
+        return fits, alts
 
     seen = set()
     for G in [np.eye(3), *_cube_rotations()]:  # the run's axes, then the 24 turns
@@ -323,12 +343,12 @@ def _placements(cands, placed, garment: Garment, panel_list: list[Panel], Q0: np
                     break
                 Q, _ = rigid_fit(Cs[r[keep]], Cm[c[keep]])
         rows, cols, _ = solve(Q)
-        fits = fitted(Q, rows, cols)
+        fits, alts = fitted(Q, rows, cols)
         key = tuple((i, j, *np.round(f[0], 6).ravel()) for (i, j), f in sorted(fits.items()))
         if key in seen:
             continue
         seen.add(key)
-        yield rows, cols, fits
+        yield rows, cols, fits, alts
 
 
 def _boundary_near(
@@ -381,16 +401,18 @@ def _stitch_matches(
                 continue
             ea = s.edges_a if s.panels[0] == pa else s.edges_b
             eb = s.edges_b if s.panels[0] == pa else s.edges_a
-            got_a = _shared_edges(ea, Ea)
-            got_b = _shared_edges(eb, Eb)
-            if min(got_a, got_b) > best_n:
-                best, best_n = s_i, min(got_a, got_b)
+            got = min(_shared_edges(ea, Ea), _shared_edges(eb, Eb))
+            if pa == pb:  # a seam of a panel with itself (a dart, a one-piece sleeve): either way
+                got = max(got, min(_shared_edges(eb, Ea), _shared_edges(ea, Eb)))
+            if got > best_n:
+                best, best_n = s_i, got
         a_name, b_name = (f"{n}.{e}" for n, e in st.sides)
         if best < 0 or best_n < 0.5 * min(len(Ea), len(Eb)):
-            raise PtailorError(
+            raise _StitchMissError(
                 f"stitch {si} ({a_name} to {b_name}): no seam of the garment joins panels "
                 f"{panel_list[pa].name!r} and {panel_list[pb].name!r} along these edges",
                 path=spec.path,
+                spec_panels={index[n] for n, _ in st.sides},
             )
         out.append(StitchMatch(si, best, (sa, sb), (la, lb)))
     return tuple(out)
