@@ -301,3 +301,28 @@ def test_a_closed_stdout_ends_quietly(built, tmp_path):
     err = p.stderr.read().decode()
     assert p.wait(timeout=120) == 141, err
     assert "Broken pipe" not in err and "error" not in err
+
+
+@pytest.mark.slow
+def test_names_no_file_system_takes_are_warnings_not_errors(site):
+    """A report listing an output of 400 characters, a record whose folder name has 400:
+    found by the campaign (``File name too long``, exit 2, the pages half written)."""
+    out = site / "OUT"
+    edit_json(out / "a_tube" / "report.json", lambda d: d["outputs"].append("9" * 400))
+    edit_json(out / "_catalogue" / "catalogue.json",
+              lambda d: d["records"][1].update(out="x" * 400, garment="\ud800.obj"))  # fmt: skip
+    res = run("report", out)
+    assert res.exit_code == 0, res.output
+    assert "outputs[" in res.output and "not a plain file name" in res.output
+    page = assert_links_resolve(out / "index.html")
+    assert len(page.rows) == 3  # the renamed record, and b_skirt's folder as earlier
+
+
+def test_a_manifest_naming_a_file_no_system_takes_is_exit_2(tmp_path):
+    (tmp_path / "r.yaml").write_text(WIDER)
+    m = tmp_path / "m.jsonl"
+    m.write_text(json.dumps({"garment": "9" * 400 + ".obj"}) + "\n")
+    res = run("batch", tmp_path / "r.yaml", "--manifest", m, "-o", tmp_path / "o")
+    assert res.exit_code == 2
+    assert str(m) in res.output and "not a file name (File name too long)" in res.output
+    assert not (tmp_path / "o").exists()

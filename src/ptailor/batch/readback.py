@@ -33,6 +33,8 @@ from ptailor import tolerances as tol
 NUM = "number"
 #: an integer (not bool) within READBACK_NUMBER_MAX, or null
 INT = "integer"
+#: a plain file name: not empty, ``.`` or ``..``, no ``/`` or NUL, at most 255 bytes
+FILE_NAME = "file name"
 
 
 @dataclass(frozen=True)
@@ -147,6 +149,13 @@ def _number(x: Any, *, integer: bool) -> bool:
         return False
 
 
+def is_file_name(name: str) -> bool:
+    """Whether ``name`` is a plain file name a folder can hold (:data:`FILE_NAME`)."""
+    if name in ("", ".", "..") or "/" in name or "\0" in name:
+        return False
+    return len(name.encode("utf-8", "surrogatepass")) <= tol.READBACK_NAME_MAX_BYTES
+
+
 def _kind(value: Any, schema: Any) -> str:
     if value is None:
         return "null"
@@ -162,6 +171,8 @@ def _kind(value: Any, schema: Any) -> str:
 def _want(schema: Any) -> str:
     if schema in (NUM, INT):
         return f"an {schema}" if schema == INT else "a number"
+    if schema == FILE_NAME:
+        return "a plain file name"
     if isinstance(schema, Null):
         return _want(schema.schema) + " or null"
     if isinstance(schema, OneOf):
@@ -183,6 +194,8 @@ def _check(value: Any, schema: Any, where: str, problems: list[str]) -> Any:
         ok = value is None or _number(value, integer=schema == INT)
     elif isinstance(schema, OneOf):
         ok = isinstance(value, str) and value in schema.values
+    elif schema == FILE_NAME:
+        ok = isinstance(value, str) and is_file_name(value)
     elif isinstance(schema, list):
         ok = isinstance(value, list)
         if ok:
@@ -268,7 +281,7 @@ _MEASURE = {"name": Any, "kind": Null(str), "drape": NUM, "pattern": NUM}
 #: ``report.json``: what a batch's gates and records and a catalogue's pages read
 REPORT_FIELDS = {
     "inputs": Null(Each(Null({"path": Null(str)}))),
-    "outputs": [str],
+    "outputs": [FILE_NAME],
     "units": Null(Any),
     "solver": Null(dict),
     "panels": [_PANEL],

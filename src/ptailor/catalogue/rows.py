@@ -23,6 +23,7 @@ from ptailor.batch.readback import (
     STAMP_FIELDS,
     ReadBackError,
     checked,
+    is_file_name,
     load_text,
     read_checked,
 )
@@ -267,6 +268,8 @@ def _record_row(out: Path, r: dict, warn) -> Row:
     """The row of a record: its folder, or for a gate's failure what the gates rejected
     (``OUT/_rejected/NAME``), else an earlier run's folder kept."""
     name = Path(str(r.get("out") or r.get("garment") or "garment")).name
+    if not is_file_name(name) or name in RESERVED_NAMES:  # (a name no folder of OUT has)
+        return Row(r, name)
     if r.get("failure") == "gate":
         report = _output(out / REJECTED_DIR / name, warn)
         if report is not None:
@@ -319,7 +322,9 @@ def stale_rejected(out: str | Path, records: list[dict]) -> list[Path]:
     stale = []
     for r in records:
         name = Path(str(r.get("out") or "")).name
+        if not is_file_name(name):
+            continue
         folder = out / REJECTED_DIR / name
-        if name and r.get("failure") != "gate" and _output(folder) is not None:
+        if r.get("failure") != "gate" and _output(folder) is not None:
             stale.append(folder)
     return stale

@@ -104,7 +104,7 @@ def _garment_files(row: Row, thumbnail, *, title: str, env, warn) -> None:
     elif thumbnail is not None:
         files[THUMBNAIL] = thumbnail
     view = garment_view(row, title=title, version=__version__)
-    files[INDEX] = env.get_template("garment.html").render(view).encode()
+    files[INDEX] = env.get_template("garment.html").render(view).encode("utf-8", "replace")
     try:
         add_files(row.folder, files)
     except PtailorError as exc:
@@ -165,7 +165,9 @@ def unlink_rerun(out: str | Path, names: set[str], *, warn: Callable[[str], None
     summary = replace(summary, source=f"{summary.source}; a batch is running")
     view = index_view(rows, summary, title=f"ptailor catalogue: {out.resolve().name}",
                       version=__version__)  # fmt: skip
-    replace_file(page, environment().get_template("index.html").render(view).encode())
+    replace_file(
+        page, environment().get_template("index.html").render(view).encode("utf-8", "replace")
+    )
 
 
 def write_catalogue(
@@ -225,7 +227,7 @@ def write_catalogue(
     view = index_view(rows, summary, title=title, version=__version__)
     page = out / INDEX
     try:
-        replace_file(page, env.get_template("index.html").render(view).encode())
+        replace_file(page, env.get_template("index.html").render(view).encode("utf-8", "replace"))
     except OSError as exc:
         why = exc.strerror or str(exc)
         raise PtailorError(f"cannot write the catalogue ({why})", path=str(page)) from None
