@@ -328,8 +328,25 @@ LEGACY_REPORT_MAX_BYTES = 64 << 20
 #: own (a count), so that a garment that kills its worker fails by itself and the others
 #: finish.
 BATCH_POOL_STRIKES = 2
+#: A manifest (``batch --manifest``) larger than this (bytes) is refused.
+MANIFEST_MAX_BYTES = 64 << 20
 #: A manifest's message lists at most this many problems (a count; then how many more).
 MANIFEST_PROBLEMS_SHOWN = 10
+#: What ptailor reads back (``report.json``, ``batch.json``, ``catalogue.json``): a file
+#: larger than this (bytes) is not one ptailor wrote ...
+READBACK_MAX_BYTES = 64 << 20
+#: ... nor one nested deeper than this (arrays and objects; ptailor's own nest 6 deep) ...
+READBACK_MAX_DEPTH = 32
+#: ... nor a file name in it longer than this (bytes: what a file system takes) ...
+READBACK_NAME_MAX_BYTES = 255
+#: ... and a batch log (``--log``, JSON lines) larger than this (bytes) is refused.
+READBACK_LOG_MAX_BYTES = 1 << 30
+#: A number read back is at most this large in magnitude (a larger one, or an integer of
+#: more digits than a float holds, was not written by ptailor).
+READBACK_NUMBER_MAX = 1e300
+#: A garment's ``preview.png`` larger than this (pixels) gets no thumbnail: ptailor's own
+#: previews have about 1.5 M; Pillow's decompression-bomb guard starts at 89 M.
+THUMBNAIL_PREVIEW_MAX_PIXELS = 64_000_000
 #: A step field longer than this (characters) is cut on a catalogue page.
 CATALOGUE_SHOWN_MAX = 240
 #: A preview PNG's ``size`` is at least this many pixels (a smaller one is refused).

@@ -170,6 +170,10 @@ def _read_text(path: str) -> str:
     if not p.is_file():
         raise PtailorError("not a file (--manifest)", path=path)
     try:
+        if p.stat().st_size > tol.MANIFEST_MAX_BYTES:
+            raise PtailorError(
+                f"not a manifest: larger than {tol.MANIFEST_MAX_BYTES} bytes", path=path
+            )
         return p.read_text(encoding="utf-8-sig")
     except UnicodeDecodeError:
         raise PtailorError("not a manifest: not UTF-8 text", path=path) from None
@@ -219,8 +223,8 @@ def _json_rows(text: str) -> tuple[list[tuple[int, dict]], list[Problem]]:
             continue
         try:
             obj = json.loads(line, object_pairs_hook=_pairs)
-        except ValueError as exc:
-            problems.append((n, f"not a JSON object ({exc})"))
+        except (ValueError, RecursionError) as exc:  # (nested too deep: RecursionError)
+            problems.append((n, f"not a JSON object ({str(exc)[:120]})"))
             continue
         if not isinstance(obj, _Pairs):
             problems.append((n, "not a JSON object"))
@@ -232,7 +236,10 @@ def _json_rows(text: str) -> tuple[list[tuple[int, dict]], list[Problem]]:
             if value is None:
                 continue
             if isinstance(value, bool) or not isinstance(value, str | int | float):
-                kind = "an object" if isinstance(value, _Pairs) else json.dumps(value)
+                kind = (
+                    "an object" if isinstance(value, _Pairs)
+                    else "a list" if isinstance(value, list) else json.dumps(value)
+                )  # fmt: skip
                 probs.append(f"{key}: must be a string, not {kind}")
                 continue
             cells[key] = str(value).strip()
@@ -282,16 +289,16 @@ def _row(n: int, cells: dict, base: str, check: Check) -> tuple[ManifestRow | No
         return None, [(n, "no garment (the garment column is required)"), *problems]
     garment = _resolve(base, cells["garment"])
     drape = _resolve(base, cells["drape"]) if "drape" in cells else None
-    if not Path(garment).is_file():
+    if not _is_file(garment):
         problems.append((n, f"garment {garment}: {_missing(garment)}"))
-    elif drape is not None and not Path(drape).is_file():
+    elif drape is not None and not _is_file(drape):
         problems.append((n, f"drape {drape}: {_missing(drape)}"))
-    elif drape is None and is_pattern_file(garment) and not Path(drape_for(garment)).is_file():
+    elif drape is None and is_pattern_file(garment) and not _is_file(drape_for(garment)):
         what = f"{drape_for(garment)}, the drape beside the pattern"
         problems.append((n, f"{what}: no such file (or give a drape column)"))
     if "spec" in cells:
         spec = cells["spec"] if cells["spec"] == "auto" else _resolve(base, cells["spec"])
-        if spec != "auto" and not Path(spec).is_file():
+        if spec != "auto" and not _is_file(spec):
             problems.append((n, f"spec {spec}: {_missing(spec)}"))
         options["spec"] = spec
     row = ManifestRow(garment=garment, row=n, drape=drape, name=name, options=options)
@@ -303,8 +310,19 @@ def _resolve(base: str, path: str) -> str:
     return path if not base or os.path.isabs(path) else os.path.join(base, path)
 
 
+def _is_file(path: str) -> bool:
+    """Whether ``path`` is a file (a name the system refuses, too long or with a NUL: no)."""
+    try:
+        return Path(path).is_file()
+    except (OSError, ValueError):
+        return False
+
+
 def _missing(path: str) -> str:
-    return "not a file" if Path(path).exists() else "no such file"
+    try:
+        return "not a file" if Path(path).exists() else "no such file"
+    except (OSError, ValueError) as exc:
+        return f"not a file name ({getattr(exc, 'strerror', None) or exc})"
 
 
 def _bad_name(name: str) -> str | None:

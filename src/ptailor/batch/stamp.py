@@ -67,15 +67,16 @@ def make_stamp(garment: str, garment_sha: str, recipe_sha: str, options: dict) -
 
 
 def up_to_date(folder: Path, stamp: dict) -> dict | None:
-    """The folder's report when its stamp has ``stamp``'s key and its outputs are all there."""
-    try:
-        old = json.loads((folder / STAMP).read_text())
-        if not isinstance(old, dict) or old.get("key") != stamp["key"]:
-            return None
-        report = json.loads((folder / "report.json").read_text())
-    except (OSError, ValueError):
+    """The folder's report when its stamp has ``stamp``'s key and its outputs are all there
+    (a report with a field of the wrong type is not one ptailor wrote: the garment re-runs).
+    """
+    from ptailor.batch.readback import REPORT_FIELDS, STAMP_FIELDS, read_checked
+
+    old, _ = read_checked(folder / STAMP, STAMP_FIELDS)
+    if not isinstance(old, dict) or old.get("key") != stamp["key"]:
         return None
-    outputs = report.get("outputs") if isinstance(report, dict) else None
+    report, problems = read_checked(folder / "report.json", REPORT_FIELDS)
+    outputs = report.get("outputs") if isinstance(report, dict) and not problems else None
     if not isinstance(outputs, list) or not all((folder / n).is_file() for n in outputs):
         return None
     return report

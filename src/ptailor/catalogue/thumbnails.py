@@ -5,6 +5,8 @@ from __future__ import annotations
 import io
 from pathlib import Path
 
+from ptailor import tolerances as tol
+
 #: the thumbnail's file, in the garment's folder
 THUMBNAIL = "thumbnail.png"
 #: the preview it is made from
@@ -31,11 +33,28 @@ def thumbnail_bytes(preview: str | Path, *, size: tuple[int, int] = THUMBNAIL_SI
     Raises
     ------
     OSError
-        The preview cannot be read or is not an image Pillow knows.
+        The preview cannot be read, is not an image Pillow knows, or has more than
+        :data:`~ptailor.tolerances.THUMBNAIL_PREVIEW_MAX_PIXELS` pixels (Pillow's
+        decompression-bomb refusal, and any other of its decoding errors, too).
     """
     from PIL import Image
 
+    try:
+        return _thumbnail(preview, size)
+    except (ValueError, SyntaxError, EOFError, Image.DecompressionBombError) as exc:
+        raise OSError(f"not a preview Pillow can read ({exc})") from None
+
+
+def _thumbnail(preview: str | Path, size: tuple[int, int]) -> bytes:
+    from PIL import Image
+
     with Image.open(preview) as im:
+        w, h = im.size
+        if w * h > tol.THUMBNAIL_PREVIEW_MAX_PIXELS:
+            raise OSError(
+                f"the preview is {w} x {h} pixels, more than "
+                f"{tol.THUMBNAIL_PREVIEW_MAX_PIXELS} (not one ptailor wrote)"
+            )
         im = im.convert("RGB")
         # reducing_gap: a box reduction first, then Lanczos (Pillow's fast path, same look);
         # no optimize pass (it cost a third of the time for 2 % of the size)

@@ -68,6 +68,12 @@ def check_catalogue_target(out: str | Path) -> None:
             path=str(page),
         )
     folder = out / CATALOGUE_DIR
+    if folder.is_symlink():
+        raise PtailorError(
+            "is a symbolic link (the catalogue writes only into OUT's own folders); "
+            "remove it or choose another output root",
+            path=str(folder),
+        )
     if os.path.lexists(folder):
         check_output_dir(folder)
     rejected = out / REJECTED_DIR
@@ -90,12 +96,15 @@ def _garment_files(row: Row, thumbnail, *, title: str, env, warn) -> None:
     """The garment's page, and its thumbnail when one was made, into its folder."""
     assert row.folder is not None
     files: dict[str, bytes] = {}
+    if row.folder.is_symlink() or row.folder.parent.is_symlink():  # (never outside OUT)
+        warn(f"{row.folder}: a symbolic link, not a folder of OUT's own: no page written")
+        return
     if isinstance(thumbnail, OSError):
         warn(f"{row.folder / PREVIEW}: no thumbnail ({thumbnail})")
     elif thumbnail is not None:
         files[THUMBNAIL] = thumbnail
     view = garment_view(row, title=title, version=__version__)
-    files[INDEX] = env.get_template("garment.html").render(view).encode()
+    files[INDEX] = env.get_template("garment.html").render(view).encode("utf-8", "replace")
     try:
         add_files(row.folder, files)
     except PtailorError as exc:
@@ -107,12 +116,58 @@ def _remove_output(folder: Path, warn) -> None:
     import shutil
 
     try:
+        if folder.is_symlink():
+            raise PtailorError("a symbolic link, not a folder of OUT's own")
         check_replaceable(folder, str(folder))
         shutil.rmtree(folder)
         with contextlib.suppress(OSError):
             folder.parent.rmdir()  # (only when empty)
     except (OSError, PtailorError) as exc:
         warn(f"{folder}: left in place ({exc})")
+
+
+#: the note of a row whose folder a running batch may replace (its page is not linked)
+RERUN_NOTE = (
+    "a batch started re-running it: its page is linked again when that batch has written "
+    "it (if this stays, the batch was stopped: run it again)"
+)
+
+
+def unlink_rerun(out: str | Path, names: set[str], *, warn: Callable[[str], None]) -> None:
+    """Before a batch replaces garment folders of OUT: rewrite OUT's catalogue page (only
+    where it has one) without links to the folders named ``names`` (their rows say so), so
+    that the page never links a garment page the batch has not written yet (a batch killed
+    with SIGKILL leaves it so; the batch's end writes the pages, then the page).
+
+    Parameters
+    ----------
+    out : str or Path
+        The batch's output root.
+    names : set of str
+        The output folders' names the batch may replace (in OUT and in ``_rejected``).
+    warn : callable
+        Told of a garment folder whose files are not ptailor's (it is left out).
+    """
+    from dataclasses import replace
+
+    from ptailor.catalogue.rows import saved_records
+
+    out = Path(out)
+    page = out / INDEX
+    if not is_catalogue_page(page) or page.is_symlink():
+        return
+    records, summary = saved_records(out, warn=warn) or ([], Summary(source="the garment folders"))
+    rows = [
+        Row({**row.record, "status": "interrupted", "note": RERUN_NOTE}, row.name)
+        if row.name in names else row
+        for row in catalogue_rows(out, records, warn=warn)
+    ]  # fmt: skip
+    summary = replace(summary, source=f"{summary.source}; a batch is running")
+    view = index_view(rows, summary, title=f"ptailor catalogue: {out.resolve().name}",
+                      version=__version__)  # fmt: skip
+    replace_file(
+        page, environment().get_template("index.html").render(view).encode("utf-8", "replace")
+    )
 
 
 def write_catalogue(
@@ -159,7 +214,7 @@ def write_catalogue(
     env = environment()
     for folder in stale_rejected(out, records):  # the garment passes now
         _remove_output(folder, warn)
-    rows = catalogue_rows(out, records)
+    rows = catalogue_rows(out, records, warn=warn)
     made = thumbnails([row.folder for row in rows if row.folder is not None])
     for row in rows:  # a loop over garments: each writes its own folder
         if row.folder is not None:
@@ -172,7 +227,7 @@ def write_catalogue(
     view = index_view(rows, summary, title=title, version=__version__)
     page = out / INDEX
     try:
-        replace_file(page, env.get_template("index.html").render(view).encode())
+        replace_file(page, env.get_template("index.html").render(view).encode("utf-8", "replace"))
     except OSError as exc:
         why = exc.strerror or str(exc)
         raise PtailorError(f"cannot write the catalogue ({why})", path=str(page)) from None

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import click
 
-from ptailor.cli.options import drape_option, run_options
+from ptailor.cli.options import GarmentPath, drape_option, run_options
 
 
 @click.command()
-@click.argument("garment", type=click.Path(dir_okay=False))
+@click.argument("garment", type=GarmentPath())
 @click.argument("recipe", type=click.Path(dir_okay=False, allow_dash=True))
 @click.option("-o", "--out", required=True, type=click.Path(file_okay=False), help="Output folder.")
 @drape_option

@@ -230,6 +230,8 @@ def batch(
     todo = make_jobs(paths, out, rec, options=options, gates=gates, force=force,
                      timeout=timeout, keep_rejected=html,
                      debug=bool(ctx.find_root().params.get("debug")))  # fmt: skip
+    if html:  # the page never links a garment page the run has not written yet
+        _unlink_rerun(out, todo)
     bar = not quiet and sys.stderr.isatty()
     workers = jobs or os.cpu_count() or 1
     result = _run(todo, workers=workers, scheduler=scheduler, log=log, as_json=as_json, bar=bar)
@@ -246,6 +248,17 @@ def _has_catalogue(out: str) -> bool:
     from ptailor.catalogue.write import is_catalogue_page
 
     return is_catalogue_page(Path(out) / "index.html")
+
+
+def _unlink_rerun(out: str, todo) -> None:
+    """OUT's catalogue page without links to the folders the run may replace
+    (:func:`~ptailor.catalogue.write.unlink_rerun`; its warnings come with the page the
+    run writes at its end)."""
+    from pathlib import Path
+
+    from ptailor.catalogue.write import unlink_rerun
+
+    unlink_rerun(out, {Path(job.out_abs).name for job in todo}, warn=lambda msg: None)
 
 
 def _catalogue(out: str, result, recipe, *, quiet: bool) -> None:

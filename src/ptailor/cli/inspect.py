@@ -5,6 +5,7 @@ from __future__ import annotations
 import click
 
 from ptailor.cli.options import (
+    GarmentPath,
     axes_options,
     dxf_options,
     garment_options,
@@ -14,7 +15,7 @@ from ptailor.cli.options import (
 
 
 @click.command()
-@click.argument("garment", type=click.Path(dir_okay=False))
+@click.argument("garment", type=GarmentPath())
 @garment_options
 @axes_options
 @report_units_option(

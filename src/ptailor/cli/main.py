@@ -7,7 +7,11 @@
 - a numeric failure of a solve (:class:`~ptailor.errors.NumericError`, a ``PtailorError``)
   exits 2 naming the step; ``MemoryError`` exits 2 with one line too;
 - SIGINT and SIGTERM raise :class:`~ptailor.errors.Interrupted` (a ``KeyboardInterrupt``:
-  staging folders are removed on the way out) and exit 128 + the signal;
+  staging folders are removed on the way out) and exit 128 + the signal (one that came as
+  the output folder was put in place says the folder is complete); once the command has
+  finished they are held until the process exits (its status is the command's);
+- a closed stdout (``ptailor batch --json | head``) is no error: exit 141 (128 + SIGPIPE,
+  as a shell shows a Unix tool the pipe ended) without a message;
 - any other exception is an internal error, a bug: exit 1 with one line asking to report
   it (:func:`~ptailor.errors.internal_error`), Python's traceback only with ``--debug``;
 - Python warnings and logging records from libraries (numpy, ezdxf) are captured for the
@@ -97,6 +101,16 @@ def _die(signum, frame) -> None:
     os._exit(128 + signum)
 
 
+def _quiet_stdout() -> None:
+    """Point stdout at /dev/null (a closed pipe: Python's exit would complain flushing it)."""
+    import os
+    import sys
+
+    with __import__("contextlib").suppress(Exception):
+        fd = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(fd, sys.stdout.fileno())
+
+
 class _Group(click.Group):
     #: True when run as the program (``ptailor ...``: click reads sys.argv), not called with
     #: arguments (tests): then signals after the command end the process (:func:`_die`)
@@ -112,7 +126,14 @@ class _Group(click.Group):
             for s in (signal.SIGINT, signal.SIGTERM):
                 with contextlib.suppress(ValueError, OSError):
                     signal.signal(s, _die)
-        return super().main(args, *rest, **kwargs)
+        try:
+            return super().main(args, *rest, **kwargs)
+        finally:
+            if self._process:  # Python's shutdown restores the default handlers: a late
+                # signal then killed the finished process without a word (exit 130 with
+                # OUT complete); held now, it changes nothing (the command's status)
+                with contextlib.suppress(ValueError, OSError, AttributeError):
+                    signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
 
     def invoke(self, ctx: click.Context):
         import contextlib
@@ -136,13 +157,18 @@ class _Group(click.Group):
             hint = f" (ptailor{where} --help)"
             click.echo(f"ptailor{where}: error: {one_line(exc.format_message())}{hint}", err=True)
             ctx.exit(2)
+        except BrokenPipeError:  # stdout closed (| head): not bad input; end as Unix tools do
+            _quiet_stdout()
+            ctx.exit(128 + signal.SIGPIPE)
         except OSError as exc:
             click.echo(f"ptailor: error: {one_line(os_error_message(exc))}", err=True)
             ctx.exit(2)
         except KeyboardInterrupt as exc:
             signum = exc.signum if isinstance(exc, Interrupted) else signal.SIGINT
             name = signal.Signals(signum).name
-            click.echo(f"ptailor: interrupted ({name}): no partial output left", err=True)
+            done = getattr(exc, "output_complete", None)  # (the signal came as OUT was put
+            what = f"after {done} was written: it is complete" if done else "no partial output left"
+            click.echo(f"ptailor: interrupted ({name}): {what}", err=True)
             ctx.exit(128 + signum)
         except (click.exceptions.Exit, click.exceptions.Abort, click.ClickException):
             raise  # click's own (Exit and Abort are RuntimeErrors)

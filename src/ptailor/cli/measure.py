@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import click
 
-from ptailor.cli.options import axes_options, garment_options, report_units_option
+from ptailor.cli.options import GarmentPath, axes_options, garment_options, report_units_option
 
 
 @click.command()
-@click.argument("garment", type=click.Path(dir_okay=False))
+@click.argument("garment", type=GarmentPath())
 @garment_options
 @axes_options
 @report_units_option()

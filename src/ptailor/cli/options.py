@@ -48,6 +48,25 @@ class Finite(click.FloatRange):
         return rv
 
 
+class GarmentPath(click.Path):
+    """A garment file argument: ``-`` is refused with a clear line (a garment is an OBJ or
+    a DXF with its drape beside it, read by name; only a recipe, and ``batch``'s list of
+    garment paths, come from stdin)."""
+
+    def __init__(self) -> None:
+        super().__init__(dir_okay=False)
+
+    def convert(self, value, param, ctx):
+        if value == "-":
+            self.fail(
+                "a garment cannot be read from stdin ('-'): give its file (an OBJ, or a DXF "
+                "with its drape); only the recipe may be '-'",
+                param,
+                ctx,
+            )
+        return super().convert(value, param, ctx)
+
+
 def weld_option(fn):
     """``--weld auto|off|DISTANCE``."""
     return click.option(

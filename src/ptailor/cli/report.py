@@ -38,7 +38,11 @@ def report(out, log, title, quiet) -> None:
     from ptailor.catalogue.rows import garment_folders
     from ptailor.errors import PtailorError
 
-    saved = saved_records(Path(out))
+    def warn(msg: str) -> None:
+        if not quiet:
+            click.echo(f"ptailor: warning: {msg}", err=True)
+
+    saved = saved_records(Path(out), warn=warn)
     if log is not None:  # (the recipe the last catalogue saved, if any)
         last = saved[1] if saved else Summary()
         records = read_log(log)
@@ -50,10 +54,6 @@ def report(out, log, title, quiet) -> None:
             "not a batch output root: no garment folder (with report.json) and no records",
             path=out,
         )
-
-    def warn(msg: str) -> None:
-        if not quiet:
-            click.echo(f"ptailor: warning: {msg}", err=True)
 
     page = write_catalogue(out, records, summary, title=title, warn=warn)
     click.echo(str(page))

@@ -4,11 +4,18 @@ from __future__ import annotations
 
 import click
 
-from ptailor.cli.options import AXES, body_options, max_steps_option, rest_option, units_options
+from ptailor.cli.options import (
+    AXES,
+    GarmentPath,
+    body_options,
+    max_steps_option,
+    rest_option,
+    units_options,
+)
 
 
 @click.command()
-@click.argument("garment", type=click.Path(dir_okay=False))
+@click.argument("garment", type=GarmentPath())
 @click.option(
     "--original",
     type=click.Path(dir_okay=False),

@@ -256,7 +256,10 @@ def _default_mode() -> int:
     return 0o777 & ~mask
 
 
-def _commit(tmp: Path, real: Path, shown: str) -> None:
+def _commit(tmp: Path, real: Path, shown: str, done: list | None = None) -> None:
+    """Put ``tmp`` in place as ``real`` (``done`` gets ``shown`` once it is: a signal held
+    meanwhile is delivered after, and says the folder is complete)."""
+    done = [] if done is None else done
     names = [p.name for p in tmp.iterdir()]
     (tmp / MARKER).write_text(marker_text(names))
     with deferred_signals():
@@ -270,10 +273,12 @@ def _commit(tmp: Path, real: Path, shown: str) -> None:
             except BaseException:
                 old.rename(real)
                 raise
+            done.append(shown)
             shutil.rmtree(old, ignore_errors=True)
         else:
             tmp.chmod(_default_mode())
             tmp.rename(real)
+            done.append(shown)
 
 
 @contextmanager
@@ -296,6 +301,7 @@ def staged_dir(out: str | Path, *, divert: tuple[type[BaseException], str | Path
     tmp = None
     lock = None
     made = _missing_parents(real)  # removed again if the run fails (a full disk)
+    done: list[str] = []
     try:
         with deferred_signals():  # a signal as mkdtemp returns must not orphan the folder
             real.parent.mkdir(parents=True, exist_ok=True)
@@ -303,8 +309,11 @@ def staged_dir(out: str | Path, *, divert: tuple[type[BaseException], str | Path
             tmp = new_staging_dir(real)
             lock = hold(tmp)
         yield tmp
-        _commit(tmp, real, shown)
+        _commit(tmp, real, shown, done)
     except BaseException as exc:
+        if done and isinstance(exc, KeyboardInterrupt):  # a signal held while it was put
+            exc.output_complete = shown  # in place: the folder is complete (the CLI says)
+            raise
         if tmp is None:
             _remove_empty(made)
             if isinstance(exc, OSError):
