@@ -20,14 +20,14 @@ strings).
 
 from __future__ import annotations
 
-import json
 import math
-import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from ptailor import tolerances as tol
+from ptailor.errors import PtailorError
+from ptailor.formats.json_input import json_depth, parse_json
 
 #: a number (int or float, not bool), finite and within READBACK_NUMBER_MAX, or null
 NUM = "number"
@@ -69,27 +69,9 @@ _BAD = object()  # a value that does not match its schema (dropped)
 
 
 def nesting_depth(text: str) -> int:
-    """How deep ``text``'s arrays and objects nest (strings' brackets not counted).
-
-    Parameters
-    ----------
-    text : str
-        JSON text (one document, or JSON lines).
-
-    Returns
-    -------
-    int
-        The deepest nesting (0: no array or object).
-    """
-    import numpy as np
-
-    bare = re.sub(r'"(?:[^"\\]|\\.)*"', '""', text).encode("utf-8", "replace")
-    b = np.frombuffer(bare, dtype=np.uint8)
-    if b.size == 0:
-        return 0
-    opens = (b == ord("[")) | (b == ord("{"))
-    closes = (b == ord("]")) | (b == ord("}"))
-    return int(max(0, np.cumsum(opens.astype(np.int64) - closes).max()))
+    """How deep ``text``'s arrays and objects nest (strings' brackets not counted): the
+    specification reader's count (:func:`ptailor.formats.json_input.json_depth`)."""
+    return json_depth(text)
 
 
 def load_text(path: str | Path, *, max_bytes: int = tol.READBACK_MAX_BYTES) -> str:
@@ -119,12 +101,13 @@ def load_text(path: str | Path, *, max_bytes: int = tol.READBACK_MAX_BYTES) -> s
 
 
 def parse(text: str) -> Any:
-    """``json.loads``, every failure a :class:`ReadBackError` (a 5,000-digit integer, a
-    nesting the depth check missed)."""
+    """``text`` parsed with the specification reader's limits
+    (:func:`ptailor.formats.json_input.parse_json`: long integers, repeated keys, depth),
+    every failure a :class:`ReadBackError`."""
     try:
-        return json.loads(text)
-    except (ValueError, RecursionError) as exc:
-        raise ReadBackError(f"not JSON ({str(exc).splitlines()[0][:120]})") from None
+        return parse_json(text, path="", what="file")
+    except PtailorError as exc:
+        raise ReadBackError(exc.message.replace("not a JSON file", "not JSON")) from None
 
 
 def load_json(path: str | Path, *, max_bytes: int = tol.READBACK_MAX_BYTES) -> Any:
