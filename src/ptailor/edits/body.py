@@ -214,6 +214,26 @@ def read_body(path: str, *, units: str, to: str):
     return trimesh.Trimesh(vertices=V * scale, faces=F, process=False)
 
 
+def _edges_cross(V: np.ndarray, Fa: np.ndarray, Fb: np.ndarray) -> bool:
+    """Whether an edge of the triangles ``Fa`` ``(ka, 3)`` passes through one of ``Fb``
+    ``(kb, 3)`` (trimesh's ray test along each edge, hits within the edge's length): two
+    shells that overlap in a sliver holding no vertex of either still cross."""
+    import trimesh
+
+    E = np.unique(np.sort(Fa[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1), axis=0)
+    d = V[E[:, 1]] - V[E[:, 0]]
+    length = np.linalg.norm(d, axis=1)
+    ok = length > 0.0
+    mesh = trimesh.Trimesh(vertices=V, faces=Fb, process=False)
+    loc, ray, _ = mesh.ray.intersects_location(
+        V[E[ok, 0]], d[ok] / length[ok, None], multiple_hits=True
+    )
+    if len(ray) == 0:
+        return False
+    t = np.linalg.norm(loc - V[E[ok, 0]][ray], axis=1)
+    return bool(np.any(t <= length[ok][ray]))
+
+
 def _outer_pieces(V: np.ndarray, F: np.ndarray, *, path: str) -> np.ndarray:
     """The triangles ``(k, 3)`` of a closed body's pieces that lie inside no other piece.
 
@@ -242,9 +262,10 @@ def _outer_pieces(V: np.ndarray, F: np.ndarray, *, path: str) -> np.ndarray:
         va = va[rng.permutation(va.size)[: edit_tol.BODY_PIECE_SAMPLES]]
         for b in pieces[pieces != a]:  # and over the others
             w = winding_numbers(V[va], V, F[face_piece == b]) > 0.5
-            if w.all():
+            cross = _edges_cross(V, F[face_piece == a], F[face_piece == b])
+            if w.all() and not cross:
                 keep[face_piece == a] = False
-            elif w.any():
+            elif w.any() or cross:
                 raise PtailorError(
                     f"body mesh has {pieces.size} pieces, two of which cross each other: join"
                     " them into one closed surface",
