@@ -94,8 +94,12 @@ def test_the_readmes_dxf_example_runs_on_the_demos_own_output(tmp_path):
     pieces = rep["pattern"]["pieces"]
     assert pieces and all(p["source"] == "file" for p in pieces)
     assert all(p["marks_dropped"] == 0 for p in pieces)
-    # the output of the round trip goes in again
-    r = run("adjust", rt / "pattern.dxf", d / "recipe.yaml", "--drape", rt / "garment.obj",
+    # the output of the round trip goes in again (its steps, not its expectations: a third
+    # widening makes the lantern 48.4 around for 48 long, which reads as a skirt, not a sleeve)
+    steps = tmp_path / "steps.yaml"
+    text = (d / "recipe.yaml").read_text()
+    steps.write_text(text[: text.index("expect:")])
+    r = run("adjust", rt / "pattern.dxf", steps, "--drape", rt / "garment.obj",
             "-o", tmp_path / "rt2")  # fmt: skip
     assert r.exit_code == 0, r.output
 
