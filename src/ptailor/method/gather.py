@@ -23,7 +23,6 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import spsolve
-from scipy.spatial import cKDTree
 
 from ptailor import tolerances as tol
 from ptailor.geometry.closed_forms import inv2
@@ -89,6 +88,8 @@ def gather_stretch(V2: np.ndarray, F2: np.ndarray, gather: GatherBand) -> np.nda
     F2 : (m, 3) int array
     gather : GatherBand
     """
+    from scipy.spatial import cKDTree  # (imports scipy.spatial only when a gather is asked)
+
     tri = F2[gather.faces]
     verts, local = np.unique(tri, return_inverse=True)
     local = local.reshape(tri.shape)
