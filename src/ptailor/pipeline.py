@@ -45,8 +45,7 @@ class Adjustment:
     timing_s : dict
         Seconds per stage.
     factorizations : dict
-        Sparse factorisations per stage (``edit``, ``flatten``, ``baseline``) and
-        ``repeated``: those of a matrix the run had factored already (none expected).
+        Sparse factorisations by stage (``edit``, ``flatten``, ``baseline``); ``repeated``.
     original : Garment or None
         The input garment, before any step (surgery changes ``state.base``'s triangles).
     notes : tuple of str
@@ -331,9 +330,8 @@ def adjustment(
     notes: list[str] = []
     with caught_warnings(notes), counting() as count:
         adj = _adjust(garment, recipe, settings, baseline, options, progress)
-    return replace(
-        adj, notes=tuple(notes), factorizations={**adj.factorizations, "repeated": count.repeated}
-    )
+    adj.factorizations["repeated"] = count.repeated  # its own dict, made by _adjust
+    return replace(adj, notes=tuple(notes))
 
 
 def _adjust(
@@ -345,8 +343,8 @@ def _adjust(
     progress: Progress | None = None,
 ) -> Adjustment:
     """:func:`adjust` once its settings are resolved."""
-    t0 = time.perf_counter()
-    marks = [counted_so_far()]
+    marks: list[int] = []  # the factorisations so far at each stage's start and the end
+    t0 = _clock(marks)
     if progress is not None:
         progress("edit", 0, None)
     options = options or EditOptions()
@@ -354,8 +352,7 @@ def _adjust(
     garment = with_panel_names(garment, plist=structure(garment).panels)
     with reusing():  # a matrix the steps factor again (same handles) takes its factor
         state = apply_steps(garment, recipe, options=options)
-    t1 = time.perf_counter()
-    marks.append(counted_so_far())
+    t1 = _clock(marks)
     asap = asap_mask(state, settings["boundary"])
     kw = {
         "asap_panels": asap,
@@ -387,8 +384,7 @@ def _adjust(
             symbolic=symbolic,
             **kw,
         )
-    t2 = time.perf_counter()
-    marks.append(counted_so_far())
+    t2 = _clock(marks)
     base = None
     if baseline:
         with numeric_failures("flatten (the uniform baseline)"):
@@ -405,8 +401,7 @@ def _adjust(
                     **kw,
                 )
             )
-    t3 = time.perf_counter()
-    marks.append(counted_so_far())
+    t3 = _clock(marks)
     timing = {"edit": t1 - t0, "flatten": t2 - t1, "baseline": t3 - t2}
     return Adjustment(
         factorizations=dict(zip(timing, np.diff(marks).tolist(), strict=True)),  # by stage
@@ -419,15 +414,20 @@ def _adjust(
     )
 
 
+def _clock(marks: list[int]) -> float:
+    """The time now (``time.perf_counter``), noting the factorisations so far in ``marks``."""
+    marks.append(counted_so_far())
+    return time.perf_counter()
+
+
 def solver_warnings(adj: Adjustment) -> list[str]:
     """Warnings about the stitching solve: panels it left unconverged, seams left open.
 
     Returns
     -------
     list of str
-        One line naming the unconverged panels (worst first) with their last relative
-        step (the same for the uniform baseline's solve, prefixed ``baseline:``), and one
-        when a seam constraint is met less well than ``method_tol.SEAM_WARN_REL``.
+        One line naming the unconverged panels (worst first) with their last relative step
+        (the baseline's too), and one when a seam is met worse than ``SEAM_WARN_REL``.
     """
     info = adj.result.info
     out = _unconverged(info, adj.state.panels)
