@@ -20,7 +20,7 @@ from ptailor.geometry.labels import used_indices
 from ptailor.geometry.triangles import triangle_areas
 from ptailor.method import tolerances as method_tol
 from ptailor.method.flatten import FlattenResult, flatten
-from ptailor.method.solver import SymbolicCache
+from ptailor.method.solver import SymbolicCache, counted_so_far, counting, reusing
 from ptailor.model.frame import Frame
 from ptailor.model.garment import Garment, panel_labels, vertex_labels, with_panel_names
 from ptailor.model.structure import structure
@@ -44,6 +44,8 @@ class Adjustment:
         The flatten settings used (after command-line overrides).
     timing_s : dict
         Seconds per stage.
+    factorizations : dict
+        Sparse factorisations by stage (``edit``, ``flatten``, ``baseline``); ``repeated``.
     original : Garment or None
         The input garment, before any step (surgery changes ``state.base``'s triangles).
     notes : tuple of str
@@ -55,6 +57,7 @@ class Adjustment:
     baseline: FlattenResult | None
     settings: dict
     timing_s: dict = field(default_factory=dict)
+    factorizations: dict = field(default_factory=dict)
     original: Garment | None = None
     notes: tuple[str, ...] = ()
 
@@ -325,8 +328,9 @@ def adjustment(
     if settings["method"] == "uniform":
         settings["seams"] = "free"  # the paper's baseline: the drape alone decides
     notes: list[str] = []
-    with caught_warnings(notes):
+    with caught_warnings(notes), counting() as count:
         adj = _adjust(garment, recipe, settings, baseline, options, progress)
+    adj.factorizations["repeated"] = count.repeated  # its own dict, made by _adjust
     return replace(adj, notes=tuple(notes))
 
 
@@ -339,14 +343,16 @@ def _adjust(
     progress: Progress | None = None,
 ) -> Adjustment:
     """:func:`adjust` once its settings are resolved."""
-    t0 = time.perf_counter()
+    marks: list[int] = []  # the factorisations so far at each stage's start and the end
+    t0 = _clock(marks)
     if progress is not None:
         progress("edit", 0, None)
     options = options or EditOptions()
     # panel names (from the file, else from the drape in the garment's frame) fixed once
     garment = with_panel_names(garment, plist=structure(garment).panels)
-    state = apply_steps(garment, recipe, options=options)
-    t1 = time.perf_counter()
+    with reusing():  # a matrix the steps factor again (same handles) takes its factor
+        state = apply_steps(garment, recipe, options=options)
+    t1 = _clock(marks)
     asap = asap_mask(state, settings["boundary"])
     kw = {
         "asap_panels": asap,
@@ -378,7 +384,7 @@ def _adjust(
             symbolic=symbolic,
             **kw,
         )
-    t2 = time.perf_counter()
+    t2 = _clock(marks)
     base = None
     if baseline:
         with numeric_failures("flatten (the uniform baseline)"):
@@ -395,9 +401,10 @@ def _adjust(
                     **kw,
                 )
             )
-    t3 = time.perf_counter()
+    t3 = _clock(marks)
     timing = {"edit": t1 - t0, "flatten": t2 - t1, "baseline": t3 - t2}
     return Adjustment(
+        factorizations=dict(zip(timing, np.diff(marks).tolist(), strict=True)),  # by stage
         state=state,
         result=result,
         baseline=base,
@@ -407,38 +414,25 @@ def _adjust(
     )
 
 
+def _clock(marks: list[int]) -> float:
+    """The time now (``time.perf_counter``), noting the factorisations so far in ``marks``."""
+    marks.append(counted_so_far())
+    return time.perf_counter()
+
+
 def solver_warnings(adj: Adjustment) -> list[str]:
     """Warnings about the stitching solve: panels it left unconverged, seams left open.
 
     Returns
     -------
     list of str
-        One line naming the unconverged panels (worst first) with their last relative
-        step, and one when a seam constraint is met less well than ``method_tol.SEAM_WARN_REL``.
+        One line naming the unconverged panels (worst first) with their last relative step
+        (the baseline's too), and one when a seam is met worse than ``SEAM_WARN_REL``.
     """
     info = adj.result.info
-    out = []
-    res = np.asarray(info.panel_residual)
-    bad = np.argsort(-res)[: int(np.sum(res > method_tol.ARAP_STEP_TOL))]
-    if not info.converged and len(res) and not len(bad):
-        out.append(
-            f"solver stopped with every panel's step below {method_tol.ARAP_STEP_TOL:g} but its"
-            f" seam constraints met only to {info.seam_violation:.2g} (relative; converged needs"
-            f" {method_tol.SEAM_EXACT_REL:g}): its seam rows are likely dependent (a flat or"
-            " self-touching drape whose weld joined what is not sewn?)"
-        )
-    elif not info.converged and len(res):
-        names = ", ".join(f"{adj.state.panels[i].name} ({res[i]:.2g})" for i in bad[:5])
-        more = f" and {len(bad) - 5} more" if len(bad) > 5 else ""
-        why = (
-            f"after {info.iterations} iterations without progress"
-            if getattr(info, "stalled", False)
-            else f"at the {info.iterations}-iteration cap (flatten.max_iter)"
-        )
-        out.append(
-            f"solver stopped {why} before"
-            f" converging: panel {names}{more} still moving (last step / panel size)"
-        )
+    out = _unconverged(info, adj.state.panels)
+    if adj.baseline is not None and adj.baseline is not adj.result:
+        out += [f"baseline: uniform {w}" for w in _unconverged(adj.baseline.info, adj.state.panels)]
     if info.seam_violation > method_tol.SEAM_WARN_REL:
         out.append(
             f"seam ease met only to {100 * info.seam_violation:.2g} % (relative length"
@@ -450,6 +444,31 @@ def solver_warnings(adj: Adjustment) -> list[str]:
     )
     out.extend(adj.notes)
     return out
+
+
+def _unconverged(info, panels) -> list[str]:
+    """The line naming a solve's unconverged panels (worst first, with their last relative
+    step), or saying its seams were met only to some precision; none for a converged one."""
+    res = np.asarray(info.panel_residual)
+    bad = np.argsort(-res)[: int(np.sum(res > method_tol.ARAP_STEP_TOL))]
+    if info.converged or not len(res):
+        return []
+    if not len(bad):
+        return [
+            f"solver stopped with every panel's step below {method_tol.ARAP_STEP_TOL:g} but its"
+            f" seam constraints met only to {info.seam_violation:.2g} (relative; converged needs"
+            f" {method_tol.SEAM_EXACT_REL:g}): its seam rows are likely dependent (a flat or"
+            " self-touching drape whose weld joined what is not sewn?)"
+        ]
+    names = ", ".join(f"{panels[i].name} ({res[i]:.2g})" for i in bad[:5])
+    more = f" and {len(bad) - 5} more" if len(bad) > 5 else ""
+    why = f"at the {info.iterations}-iteration cap (flatten.max_iter)"
+    if getattr(info, "stalled", False):
+        why = f"after {info.iterations} iterations without progress"
+    return [
+        f"solver stopped {why} before converging: panel {names}{more} still moving"
+        " (last step / panel size)"
+    ]
 
 
 def _zigzag_warnings(adj: Adjustment) -> list[str]:

@@ -29,6 +29,7 @@ from ptailor.geometry.closed_forms import inv2
 from ptailor.geometry.triangles import edge_matrices
 from ptailor.method import tolerances as method_tol
 from ptailor.method.operators import gradient_operator
+from ptailor.method.solver import counted
 
 __all__ = ["GatherBand", "gather_stretch", "stretch_targets"]
 
@@ -118,6 +119,7 @@ def gather_stretch(V2: np.ndarray, F2: np.ndarray, gather: GatherBand) -> np.nda
     free[np.argmax(d)] = False  # held: beyond the band (the farthest at least)
     A = (A_all[:, free].T @ W @ A_all[:, free]).tocsc()
     u = np.zeros_like(P)
+    counted(sp.tril(A, format="csc"))  # spsolve's SuperLU factorisation
     u[free] = spsolve(A, A_all[:, free].T @ (W @ rhs)).reshape(-1, 2)
     J = (D @ u).reshape(2, -1, 2).transpose(1, 2, 0)
     return np.eye(2) + (gather.factor - 1.0) * J

@@ -174,3 +174,8 @@ TRANSFER_INSIDE_BARY = 1e-12
 #: triangle's (area over the seam edges' mean squared length, unitless), so the seam side
 #: grows by the factor edge by edge (the shared tshirt's armhole: 1.199 of 1.2 at worst).
 GATHER_SEAM_WEIGHT = 1e4
+#: How many factors of the last matrices an edit factored are kept for reuse (a count):
+#: a step that factors a matrix it factored before (the same drape, triangles and handles:
+#: a scale's follow-up with the same handles, each factor a ``measure`` search tries) takes
+#: the kept factor. Two cover a step and its follow-up; more would hold memory for nothing.
+REUSE_FACTORS = 2

@@ -24,7 +24,7 @@ from ptailor.report.metrics import (
     scale_reference,
     summary_stats,
 )
-from ptailor.report.records import PanelRecord, Report, SolverRecord
+from ptailor.report.records import BaselineRecord, PanelRecord, Report, SolverRecord
 from ptailor.report.seams import seam_records, seam_warnings
 
 
@@ -169,6 +169,7 @@ def build_report(
         },
         "steps": list(adj.state.log),
         "solver": solver_record(adj),
+        **({"baseline": baseline_record(adj)} if adj.baseline is not None else {}),
         "panels": panel_records(adj, gs, err, reference=reference),
         "seams": seams,
         **(extra or {}),  # type: ignore[typeddict-item]
@@ -191,6 +192,8 @@ def solver_record(adj: Adjustment) -> SolverRecord:
         "seams": seam_mode(adj.settings["seams"]),
         "seam_violation": float(f"{info.seam_violation:.3g}"),
         "residual": float(f"{max(info.panel_residual, default=0.0):.3g}"),
+        # the run's sparse factorisations by stage, and how many factored a matrix again
+        "factorizations": {k: int(v) for k, v in adj.factorizations.items()},
         # what "converged" means: every panel's last step (its largest vertex move,
         # rigid motion removed) at most `step` of the panel's size, and every seam edge
         # within `seam_violation` (relative) of its ratio; a run that took Newton steps
@@ -200,6 +203,22 @@ def solver_record(adj: Adjustment) -> SolverRecord:
             "seam_violation": method_tol.SEAM_EXACT_REL,
             "newton_step": method_tol.ARAP_STEP_TOL,
         },
+    }
+
+
+def baseline_record(adj: Adjustment) -> BaselineRecord:
+    """The report's ``baseline``: how the uniform baseline's stitching ran (the same
+    solver, stopping rule and iteration cap as ours; its seconds are ``timing_s.baseline``)."""
+    info = adj.baseline.info  # type: ignore[union-attr] - called only with a baseline
+    return {
+        "solver": {
+            "iterations": info.iterations,
+            "newton_steps": info.newton_steps,
+            "converged": info.converged,
+            "energy": float(f"{info.energy:.6g}"),
+            "residual": float(f"{max(info.panel_residual, default=0.0):.3g}"),
+            "factorizations": int(adj.factorizations.get("baseline", 0)),
+        }
     }
 
 

@@ -81,7 +81,25 @@ class SolverRecord(TypedDict):
     seams: str
     seam_violation: float
     residual: float
+    factorizations: dict[str, int]
     converged_when: ConvergedWhen
+
+
+class BaselineSolverRecord(TypedDict):
+    """The uniform baseline's stitching run: the same solver, stopping rule and cap as ours."""
+
+    iterations: int
+    newton_steps: int
+    converged: bool
+    energy: float
+    residual: float
+    factorizations: int
+
+
+class BaselineRecord(TypedDict):
+    """The report's ``baseline`` (absent with ``--no-baseline``)."""
+
+    solver: BaselineSolverRecord
 
 
 class InputRecord(TypedDict):
@@ -106,11 +124,13 @@ class _ReportRequired(TypedDict):
 
 
 class Report(_ReportRequired, total=False):
-    """``report.json``. The sections a run adds when it has them: ``pattern`` (the pieces
+    """``report.json``. The sections a run adds when it has them: ``baseline`` (the uniform
+    baseline's solve, unless ``--no-baseline``), ``pattern`` (the pieces
     written), ``intake`` (what reading repaired), ``verify`` (``--verify``), ``body_fit``
     (``--body auto``), ``spec`` (``--spec``), ``measures`` (the points of measure before and
     after), ``expect`` (the recipe's ``expect:`` judged)."""
 
+    baseline: BaselineRecord
     pattern: dict[str, Any]
     intake: dict[str, Any]
     verify: dict[str, Any]

@@ -3,8 +3,10 @@
 The one entry is :func:`stitch` (its record, :class:`StitchInfo`); the sparse
 factorisation it runs on, :func:`factor`, and the :class:`SymbolicCache` that shares its
 analyses across a garment's factorisations are the package's other public names (the ARAP
-deformation and the edits factor their own matrices through them). Code outside the
-package imports these four from here, never from its modules.
+deformation and the edits factor their own matrices through them), with the count of a
+run's factorisations (:func:`counting`, :func:`counted`, :func:`counted_so_far`,
+:class:`FactorCount`) and the reuse of an edit's factors (:func:`reusing`). Code outside
+the package imports these from here, never from its modules.
 
 The modules, from the entry down:
 
@@ -16,6 +18,7 @@ The modules, from the entry down:
 - ``newton``: the Newton step (``NewtonModel``, a part of ``Problem``);
 - ``seams``: the constrained seam step (``SeamConstraints``, a part of ``Problem``;
   ``SplitSolve``, ``Solved``, ``SeamStep``);
+- ``count``: the factorisation count (every factorisation below notes itself there);
 - ``linear``: :func:`factor`; ``cholesky`` (per-block CHOLMOD, SuperLU); ``symbolic`` (the
   analyses, :class:`SymbolicCache`, CHOLMOD's options under one lock); ``seam_factor``
   (``SeamFactor``, the seam-last factorisation); ``seam_block`` (``SeamBlock``, the seam
@@ -27,8 +30,25 @@ that fills it (the problem's rotations of the last iterate, a :class:`SymbolicCa
 analyses): no module resets another's.
 """
 
+from ptailor.method.solver.count import (
+    FactorCount,
+    counted,
+    counted_so_far,
+    counting,
+    reusing,
+)
 from ptailor.method.solver.entry import StitchInfo, stitch
 from ptailor.method.solver.linear import factor
 from ptailor.method.solver.symbolic import SymbolicCache
 
-__all__ = ["StitchInfo", "SymbolicCache", "factor", "stitch"]
+__all__ = [
+    "FactorCount",
+    "StitchInfo",
+    "SymbolicCache",
+    "counted",
+    "counted_so_far",
+    "counting",
+    "factor",
+    "reusing",
+    "stitch",
+]

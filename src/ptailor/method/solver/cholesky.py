@@ -9,6 +9,7 @@ from collections.abc import Callable
 import numpy as np
 import scipy.sparse as sp
 
+from ptailor.method.solver.count import counted
 from ptailor.method.solver.symbolic import (
     Symbolic,
     SymbolicCache,
@@ -115,6 +116,7 @@ def factor_part(
         if sym.owner is not token:  # new, or another factorisation of this pattern came since
             if sym.owner is not None:
                 sym.S.V = matrix(data)
+                counted(again=True)  # this block's values factored once more
             cholmod.numeric(sym.S, sym.F)
             sym.owner = token
 
@@ -137,6 +139,7 @@ def factor_part(
         # (in the same ordering: the same factor)
         sym.F = cholmod_analysis(sym.S, cholmod, perm)
         cholmod.numeric(sym.S, sym.F)
+        counted(again=True)
         return Lf
 
     return solve, getfactor
@@ -151,6 +154,7 @@ def superlu_solver(A: sp.csc_matrix, *, lower: bool = False):
 
     if lower:
         A = sp.csc_matrix(A + sp.tril(A, -1).T)
+    counted(sp.tril(A, format="csc"))
 
     try:
         lu = splu(

@@ -14,6 +14,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ptailor.method.solver.cholesky import check_finite, superlu_solver
+from ptailor.method.solver.count import kept_factor
 from ptailor.method.solver.seam_factor import SeamFactor
 from ptailor.method.solver.symbolic import SymbolicCache
 
@@ -51,6 +52,13 @@ def factor(A: sp.spmatrix, *, lower: bool = False, symbolic: SymbolicCache | Non
     """
     A = sp.csc_matrix(A)
     check_finite(A)
+    # inside a ``reusing`` block (a run's edits) a matrix factored already is not again
+    L = A if lower else sp.tril(A, format="csc")
+    return kept_factor(L, lambda: _factor(A, L, lower=lower, symbolic=symbolic))
+
+
+def _factor(A: sp.csc_matrix, L: sp.csc_matrix, *, lower: bool, symbolic: SymbolicCache | None):
+    """:func:`factor`'s factorisation of ``A`` (``L`` its lower triangle)."""
     try:
         from cvxopt import cholmod  # noqa: F401 - present, or SuperLU
     except ImportError:  # pragma: no cover - cvxopt is a dependency
@@ -60,7 +68,6 @@ def factor(A: sp.spmatrix, *, lower: bool = False, symbolic: SymbolicCache | Non
         # coordinate where the as-similar-as-possible rows leave x and y apart; the unused
         # vertices together): the same fill as one, smaller analyses (at 300,000 triangles
         # 166 MB of factors instead of 222, 10 % less time)
-        L = A if lower else sp.tril(A, format="csc")
         return SeamFactor(L, np.zeros(0, dtype=np.int64), symbolic=symbolic)
     except ArithmeticError:  # not positive definite numerically: LU decides
         return superlu_solver(A, lower=lower)

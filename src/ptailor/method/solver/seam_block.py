@@ -12,6 +12,7 @@ import scipy.sparse as sp
 from ptailor.method import tolerances as method_tol
 from ptailor.method.ease import SeamEase
 from ptailor.method.solver.cholesky import groups_of
+from ptailor.method.solver.count import counted
 from ptailor.method.solver.symbolic import cholmod_options, cvx_matrix
 
 
@@ -194,6 +195,7 @@ def schur_inverses(A: sp.spmatrix, unknowns: np.ndarray, groups) -> list[np.ndar
 
     L = sp.tril(sp.csc_matrix(A), format="csc")
     L.sort_indices()
+    counted(L)
     N = L.shape[0]
     S = cvx_matrix(L)
     p0 = np.asarray(amd.order(S)).ravel()

@@ -15,6 +15,7 @@ from ptailor.method.solver.cholesky import (
     equal_matrices,
     factor_part,
 )
+from ptailor.method.solver.count import counted
 from ptailor.method.solver.symbolic import Symbolic, SymbolicCache, cvx_matrix
 
 
@@ -59,6 +60,7 @@ class SeamFactor:
         check_finite(L)
         if not L.has_sorted_indices:
             L = L.sorted_indices()  # a copy: the caller's matrix stays as it was
+        counted(L)  # one factorisation of the matrix, however many blocks it has
         N = L.shape[0]
         self.N, self.last = N, np.asarray(last, dtype=np.int64)
         slot = np.full(N, -1, dtype=np.int64)
