@@ -106,7 +106,45 @@ GOALS = {
     "batch_garments_per_min": 200.0,
     "imports_s": 0.4,
     "help_s": 0.1,
+    "peak_rss_over_libigl": 1.0,
 }
+#: in a fresh process, libigl's peer of the lean command: read the OBJ argv[1] (v, vt, f
+#: v/vt: numpy only), libigl's ARAP parametrisation of it (precomputation + 30 iterations,
+#: one pin per connected piece of the pattern), print the process's peak resident memory (MB)
+LIBIGL_PEAK = """
+import json, re, sys
+import numpy as np
+import igl
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+v, vt, fv, ft = [], [], [], []
+for line in open(sys.argv[1]):
+    t = line.split()
+    if not t:
+        continue
+    if t[0] == "v":
+        v.append([float(x) for x in t[1:4]])
+    elif t[0] == "vt":
+        vt.append([float(x) for x in t[1:3]])
+    elif t[0] == "f":
+        c = [x.split("/") for x in t[1:4]]
+        fv.append([int(a[0]) - 1 for a in c])
+        ft.append([int(a[1]) - 1 for a in c])
+V3, V2 = np.array(v), np.array(vt)
+F3, F2 = np.array(fv), np.array(ft)
+to3 = np.zeros(len(V2), dtype=np.int64)
+to3[F2.ravel()] = F3.ravel()
+V = np.ascontiguousarray(V3[to3])
+E = np.r_[F2[:, [0, 1]], F2[:, [1, 2]]]
+_, lab = connected_components(coo_matrix((np.ones(len(E)), E.T), shape=(len(V2),) * 2))
+b = np.unique(lab, return_index=True)[1].astype(np.int32)
+data = igl.ARAPData()
+data.max_iter = 30
+igl.arap_precomputation(V, F2, 2, b, data)
+U = igl.arap_solve(np.ascontiguousarray(V2[b]), data, np.ascontiguousarray(V2))
+hwm = int(re.search(r"VmHWM:\\s+(\\d+)", open("/proc/self/status").read()).group(1)) / 1024
+print(json.dumps({"peak_mb": hwm}))
+"""
 #: in a fresh process: build the sleeve of argv[1] triangles (or read the OBJ argv[1], in cm,
 #: y up), then one adjustment without baseline; prints the peak resident memory while
 #: building it and during the adjustment (the peak reset in between)
@@ -448,6 +486,17 @@ class Bench:
             w, c, rss = self.run([*cmd, "-o", str(self.folder / f"finest-{name}")])
             self.res[f"c_adjust{key}_{name}"] = {"wall_s": w, "cpu_s": c, "peak_rss_mb": rss}
             print(f"  ptailor adjust {label} {name}: {w:.2f} s, peak RSS {rss:.0f} MB")
+        r = subprocess.run(
+            [sys.executable, "-c", LIBIGL_PEAK, str(garment)], capture_output=True, text=True
+        )
+        if r.returncode != 0:
+            print(f"  libigl's process: failed ({r.stderr.strip().splitlines()[-1:]})")
+            return
+        igl_mb = json.loads(r.stdout)["peak_mb"]
+        lean = self.res[f"c_adjust{key}_no_baseline_obj"]["peak_rss_mb"]
+        self.res[f"c_libigl_peak{key}_mb"] = igl_mb
+        print(f"  libigl's ARAP process on the same mesh: peak RSS {igl_mb:.0f} MB")
+        self.goal("peak_rss_over_libigl", lean / igl_mb, 1.0, "lean command / libigl's process")
 
     def section_d(self) -> None:
         from ptailor.errors import PtailorError
