@@ -186,7 +186,9 @@ def iterate(
         # little of the distance left). A run that converges fast never takes one.
         if newton_cg and (_crawls(hist, last) or (done and newton)):
             last = len(hist)
-            kept, move = s.newton(max_cg=newton_cg, rtol=method_tol.NEWTON_CG_RTOL)
+            # a step that only confirms (done) needs the slowest mode alone: few iterations
+            cg = min(newton_cg, method_tol.NEWTON_CONFIRM_CG) if done else newton_cg
+            kept, move = s.newton(max_cg=cg, rtol=method_tol.NEWTON_CG_RTOL)
             newton += kept
             if done and (move <= step_tol or not kept):
                 # converged: the Newton step is below the tolerance, or no step along it
