@@ -21,8 +21,10 @@ W_ASAP = 1000.0
 #: stitching ...
 KEPT_STRAIN = 1e-3
 #: ... by this factor on their whole energy (unitless): the edited panels absorb the seams'
-#: cost.
-KEPT_PANEL_WEIGHT = 1000.0
+#: cost. At 1000 a kept slender panel (the shared long-sleeve's collars) bent by 1e-5 of its
+#: size, which local/global closes at 1.5 % a step: two Newton steps; at 10000 the bend is
+#: ten times smaller and below the step tolerance (docs/method.md, "What crawls").
+KEPT_PANEL_WEIGHT = 10000.0
 #: Seam constraints switch on at the first iteration where a seam edge misses its ratio by
 #: more than this (relative).
 SEAM_EXACT_REL = 1e-9
@@ -75,6 +77,12 @@ NEWTON_WINDOW = 5
 NEWTON_CRAWL = 0.5
 NEWTON_CG_MAX = 40
 NEWTON_CG_RTOL = 1e-3
+#: A Newton step that only confirms convergence (every panel's local/global step already
+#: below ARAP_STEP_TOL after an earlier Newton step) stops after at most this many
+#: conjugate-gradient iterations (a count): the crawl it looks for is the slowest mode, the
+#: one the first iterations resolve (the shared long-sleeve's sleeve 1.1: its move
+#: 9.27e-9 with 8 against 9.23e-9 with 40, at 1x; 1.13e-8 against 1.04e-8 at 4x).
+NEWTON_CONFIRM_CG = 8
 #: A Newton step that does not lower the energy is halved up to this many times (a count).
 NEWTON_BACKTRACK = 3
 #: Past twice this many iterations, the stitching stops when the largest residual of the

@@ -164,6 +164,7 @@ def iterate(
     """
     acc = Anderson(m=history)
     it, converged, stalled, since, last, newton = 0, False, False, 0, 0, 0
+    short = True  # a confirming Newton step may stop early, until one of them moves on
     hist: list[float] = []
     while it < max_iter:
         it += 1
@@ -186,7 +187,11 @@ def iterate(
         # little of the distance left). A run that converges fast never takes one.
         if newton_cg and (_crawls(hist, last) or (done and newton)):
             last = len(hist)
-            kept, move = s.newton(max_cg=newton_cg, rtol=method_tol.NEWTON_CG_RTOL)
+            # a step that only confirms (done) needs the slowest mode alone: few iterations
+            confirm = done and short
+            cg = min(newton_cg, method_tol.NEWTON_CONFIRM_CG) if confirm else newton_cg
+            kept, move = s.newton(max_cg=cg, rtol=method_tol.NEWTON_CG_RTOL)
+            short = short and not (confirm and kept and move > step_tol)
             newton += kept
             if done and (move <= step_tol or not kept):
                 # converged: the Newton step is below the tolerance, or no step along it
