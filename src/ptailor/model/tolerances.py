@@ -109,6 +109,10 @@ NAMES_STRIP_TOUCH = 0.4
 #: A pattern panel's width is read from its boundary sampled at its vertices and this many
 #: points between them on every edge (a count: a one-triangle strip's width to 1/5 of an edge).
 NAMES_EDGE_SAMPLES = 4
+#: The widest width is sought among the triangles at least this fraction (unitless) of the
+#: panel's farthest along the mesh's edges from its boundary (edge paths on a triangle mesh are
+#: at most a few percent longer than straight lines; 0.8 leaves room for 25 %).
+NAMES_WIDTH_CANDIDATES = 0.8
 #: A panel straddles the centre line when its shorter reach across it is this fraction of
 #: its longer one.
 NAMES_CENTRED = 1.0 / 3.0

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ptailor import tolerances as tol
 from ptailor.geometry.topology import edge_keys, half_edges
 from ptailor.geometry.triangles import triangle_areas
 from ptailor.model import tolerances as model_tol
@@ -199,13 +200,37 @@ def inscribed_radius(V2: np.ndarray, F2: np.ndarray, lab: np.ndarray, n_p: int) 
     A, B = V2[h2[bnd, 0]], V2[h2[bnd, 1]]
     S = (A[:, None, :] + (B - A)[:, None, :] * t[None, :, None]).reshape(-1, 2)
     slab = np.repeat(np.repeat(lab, 3)[bnd], k + 1)
-    C = V2[F2].mean(axis=1)
+    # candidates: the triangles nearly as far from the boundary along the mesh's edges as
+    # the panel's farthest (edge paths are longer than straight lines by less than
+    # 1 / NAMES_WIDTH_CANDIDATES - 1, so the farthest in a straight line is among them)
+    g = _boundary_graph_distance(V2, F2, np.unique(h2[bnd].ravel()))
+    gt = g[F2].max(axis=1)
+    far = np.zeros(n_p)
+    np.maximum.at(far, np.maximum(lab, 0), np.where(lab >= 0, gt, 0.0))
+    cand = (lab >= 0) & (gt >= model_tol.NAMES_WIDTH_CANDIDATES * far[np.maximum(lab, 0)])
+    C = V2[F2[cand]].mean(axis=1)
+    cl = lab[cand]
     r = np.zeros(n_p)
-    for p in np.unique(lab[lab >= 0]):  # a loop over the panels (a few dozen at most)
+    for p in np.unique(cl):  # a loop over the panels (a few dozen at most)
         mine = slab == p
         if mine.any():
-            r[p] = float(cKDTree(S[mine]).query(C[lab == p])[0].max())
+            r[p] = float(cKDTree(S[mine]).query(C[cl == p])[0].max())
     return r
+
+
+def _boundary_graph_distance(V2: np.ndarray, F2: np.ndarray, sources: np.ndarray) -> np.ndarray:
+    """Each pattern vertex's shortest path along the mesh's edges to any of ``sources``,
+    ``(n2,)`` (inf where none is reachable)."""
+    import scipy.sparse as sp
+    from scipy.sparse.csgraph import dijkstra
+
+    E = F2[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+    w = np.linalg.norm(V2[E[:, 1]] - V2[E[:, 0]], axis=1) + tol.TINY
+    n = len(V2)
+    W = sp.coo_matrix((w, (E[:, 0], E[:, 1])), shape=(n, n)).tocsr()
+    if sources.size == 0:
+        return np.full(n, np.inf)
+    return dijkstra(W, directed=False, indices=sources, min_only=True)
 
 
 def pattern_shape(
