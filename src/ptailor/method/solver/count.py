@@ -9,7 +9,7 @@ matrix was factored twice (:attr:`FactorCount.repeated`). Nothing is counted out
 
 Inside a :func:`reusing` block (a run's edits), :func:`ptailor.method.solver.linear.factor`
 keeps the factors of the last matrices it factored and hands one back for the same matrix
-(:func:`kept_factor`): the same answer, no second factorisation.
+(:func:`kept_solve`, :func:`keep_solve`): the same answer, no second factorisation.
 """
 
 from __future__ import annotations
@@ -23,7 +23,15 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["FactorCount", "counted", "counted_so_far", "counting", "kept_factor", "reusing"]
+__all__ = [
+    "FactorCount",
+    "counted",
+    "counted_so_far",
+    "counting",
+    "keep_solve",
+    "kept_solve",
+    "reusing",
+]
 
 
 @dataclass(eq=False)
@@ -97,7 +105,7 @@ def counted(A: sp.spmatrix | None = None, *, again: bool = False) -> None:
 @contextmanager
 def reusing() -> Iterator[None]:
     """Keep, inside the block, the factors of the last ``REUSE_FACTORS`` matrices
-    :func:`ptailor.method.solver.linear.factor` factored, for :func:`kept_factor` (they go
+    :func:`ptailor.method.solver.linear.factor` factored, for :func:`kept_solve` (they go
     with the block)."""
     token = _KEPT.set(OrderedDict())
     try:
@@ -106,20 +114,28 @@ def reusing() -> Iterator[None]:
         _KEPT.reset(token)
 
 
-def kept_factor(L: sp.csc_matrix, make: Callable[[], Callable]) -> Callable:
-    """The kept solve function of the matrix ``L`` (its lower triangle, as factored), or
-    ``make()``'s (then kept, the oldest kept one dropped beyond ``REUSE_FACTORS``); outside
-    a :func:`reusing` block simply ``make()``."""
-    from ptailor.method import tolerances as method_tol
-
+def kept_solve(L: sp.csc_matrix) -> tuple[Callable | None, tuple | None]:
+    """The kept solve function of the matrix ``L`` (its lower triangle, as factored) and
+    its key; ``(None, key)`` when none is kept (then factor it and :func:`keep_solve` it);
+    ``(None, None)`` outside a :func:`reusing` block (nothing is kept there)."""
     kept = _KEPT.get()
     if kept is None:
-        return make()
+        return None, None
     key = (L.shape, L.nnz, _fingerprint(L))
     if key in kept:
         kept.move_to_end(key)
-        return kept[key]
-    solve = make()
+        return kept[key], key
+    return None, key
+
+
+def keep_solve(key: tuple | None, solve: Callable) -> Callable:
+    """``solve`` kept under ``key`` (:func:`kept_solve`'s), the oldest kept one dropped
+    beyond ``REUSE_FACTORS``; returned as it is (nothing kept for a ``None`` key)."""
+    from ptailor.method import tolerances as method_tol
+
+    kept = _KEPT.get()
+    if kept is None or key is None:
+        return solve
     kept[key] = solve
     while len(kept) > method_tol.REUSE_FACTORS:
         kept.popitem(last=False)

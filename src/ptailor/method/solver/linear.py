@@ -14,7 +14,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ptailor.method.solver.cholesky import check_finite, superlu_solver
-from ptailor.method.solver.count import kept_factor
+from ptailor.method.solver.count import keep_solve, kept_solve
 from ptailor.method.solver.seam_factor import SeamFactor
 from ptailor.method.solver.symbolic import SymbolicCache
 
@@ -54,7 +54,10 @@ def factor(A: sp.spmatrix, *, lower: bool = False, symbolic: SymbolicCache | Non
     check_finite(A)
     # inside a ``reusing`` block (a run's edits) a matrix factored already is not again
     L = A if lower else sp.tril(A, format="csc")
-    return kept_factor(L, lambda: _factor(A, L, lower=lower, symbolic=symbolic))
+    solve, key = kept_solve(L)
+    if solve is None:  # (the count module never calls back: the factor is made here)
+        solve = keep_solve(key, _factor(A, L, lower=lower, symbolic=symbolic))
+    return solve
 
 
 def _factor(A: sp.csc_matrix, L: sp.csc_matrix, *, lower: bool, symbolic: SymbolicCache | None):
