@@ -24,14 +24,12 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import json
-import os
 import random
-import signal
 import sys
 import tempfile
 import time
-import traceback
 from collections import Counter
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -135,7 +133,7 @@ def check_case(data: bytes, work: Path) -> list[tuple[str, str]]:
             return [("message", msg[:120])]
         return [("exit", "refused")]
     except Exception as exc:
-        return [("traceback", signature(exc))]
+        return [("traceback", fuzz_obj.signature(exc))]
     why = body_problem(m)
     if why:
         return [("wrong", why)]
@@ -144,40 +142,6 @@ def check_case(data: bytes, work: Path) -> list[tuple[str, str]]:
     if np.any(winding_numbers(Q, np.asarray(m.vertices), np.asarray(m.faces)) > 0.5):
         return [("wrong", "a pushed-out point is still inside")]
     return [("exit", "accepted")]
-
-
-def signature(exc: BaseException) -> str:
-    """The exception's type and innermost ptailor frame."""
-    frames = [f for f in traceback.extract_tb(exc.__traceback__) if "ptailor" in f.filename]
-    where = f"{Path(frames[-1].filename).name}:{frames[-1].lineno}" if frames else "?"
-    return f"{type(exc).__name__} at {where}"
-
-
-def _run_forked(data: bytes, timeout: float) -> tuple[list, float]:
-    r, w = os.pipe()
-    t0 = time.perf_counter()
-    pid = os.fork()
-    if pid == 0:  # the child: one case, its result as JSON on the pipe
-        os.close(r)
-        with tempfile.TemporaryDirectory() as td:
-            res = check_case(data, Path(td))
-        os.write(w, json.dumps(res).encode())
-        os._exit(0)
-    os.close(w)
-    signal.signal(signal.SIGALRM, lambda *_: None)
-    signal.setitimer(signal.ITIMER_REAL, timeout)
-    try:
-        with os.fdopen(r, "rb") as fh:
-            raw = fh.read()
-        os.waitpid(pid, 0)
-    except InterruptedError:
-        os.kill(pid, signal.SIGKILL)
-        os.waitpid(pid, 0)
-        return [("hang", f"> {timeout:g} s")], time.perf_counter() - t0
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-    res = json.loads(raw) if raw else [("traceback", "child died")]
-    return res, time.perf_counter() - t0
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -194,7 +158,7 @@ def main(argv: list[str] | None = None) -> int:
     t_start = time.perf_counter()
     for case in range(args.cases):
         data = mutate_body(random.Random(args.seed * 1_000_003 + case))
-        res, _ = _run_forked(data, args.timeout)
+        res, _ = fuzz_obj.run_forked(partial(check_case, data), args.timeout)
         for kind, detail in res:
             if kind == "exit":
                 outcomes[detail] += 1

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import argparse
 import hashlib
+import importlib.util
 import json
 import random
 import shutil
@@ -35,11 +36,16 @@ import signal
 import sys
 import tempfile
 import time
-import traceback
 from collections import Counter
 from html.parser import HTMLParser
 from pathlib import Path
 from urllib.parse import unquote, urlsplit
+
+_spec = importlib.util.spec_from_file_location(
+    "fuzz_obj", Path(__file__).resolve().parent / "fuzz_obj.py"
+)
+fuzz_obj = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(fuzz_obj)  # its signature(): one way of naming a traceback
 
 RECIPE = "steps: [{op: scale, region: all, direction: around, axis: auto, factor: 1.1}]\n"
 KINDS = ("catalogue", "report", "stamp", "log", "manifest")
@@ -242,7 +248,7 @@ def check_case(site: Path, kind: str, text: str) -> list[tuple[str, str]]:
         code, msg, exc = res.exit_code, res.output, res.exception
     found = [(f"exit{code}", kind)]
     if code not in (0, 2) or (exc is not None and not isinstance(exc, SystemExit)):
-        found.append(("crash", f"{kind}: {signature(exc) if exc else msg[-160:]}"))
+        found.append(("crash", f"{kind}: {fuzz_obj.signature(exc) if exc else msg[-160:]}"))
     if "Traceback" in msg or "internal error" in msg:
         found.append(("crash", f"{kind}: {msg.strip()[-160:]}"))
     if code == 2:
@@ -261,15 +267,6 @@ def check_case(site: Path, kind: str, text: str) -> list[tuple[str, str]]:
     if missing or snapshot(site / "g") != before_rest:
         found.append(("lost", f"{kind}: {missing[:3]}"))
     return found
-
-
-def signature(exc: BaseException) -> str:
-    """Exception type and the innermost ptailor frame (file:line function)."""
-    frames = traceback.extract_tb(exc.__traceback__)
-    own = [f for f in frames if "ptailor" in f.filename] or frames
-    f = own[-1] if own else None
-    where = f"{Path(f.filename).name}:{f.lineno} {f.name}" if f else "?"
-    return f"{type(exc).__name__} at {where}: {str(exc)[:80]}"
 
 
 def _alarm(signum, frame):

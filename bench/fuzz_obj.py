@@ -28,6 +28,7 @@ import tempfile
 import time
 import traceback
 from collections import Counter
+from functools import partial
 from pathlib import Path
 
 RECIPE = "steps: [{op: scale, region: all, direction: around, axis: auto, factor: 1.2}]\n"
@@ -279,8 +280,10 @@ def check_case(data: bytes, work: Path, *, inspect: bool = True) -> list[tuple[s
     return results
 
 
-def _run_forked(data: bytes, timeout: float) -> tuple[list, float]:
-    """check_case in a forked child (a hang is killed after ``timeout`` seconds)."""
+def run_forked(check, timeout: float) -> tuple[list, float]:
+    """``check(work)`` (a fresh temporary folder; it returns the breaches as ``(kind,
+    detail)`` pairs) in a forked child, killed as a hang after ``timeout`` seconds; the
+    breaches and the seconds taken. Shared by the other fuzzers (``fuzz_body.py``)."""
     rfd, wfd = os.pipe()
     t0 = time.perf_counter()
     pid = os.fork()
@@ -289,7 +292,7 @@ def _run_forked(data: bytes, timeout: float) -> tuple[list, float]:
         code = 0
         try:
             with tempfile.TemporaryDirectory() as td:
-                res = check_case(data, Path(td))
+                res = check(Path(td))
             os.write(wfd, json.dumps(res).encode())
         except BaseException as exc:  # reported to the parent
             os.write(wfd, json.dumps([["traceback", "harness: " + signature(exc)]]).encode())
@@ -318,6 +321,11 @@ def _run_forked(data: bytes, timeout: float) -> tuple[list, float]:
     except ValueError:
         res = [["traceback", "harness: child died without a result"]]
     return res, time.perf_counter() - t0
+
+
+def _run_forked(data: bytes, timeout: float) -> tuple[list, float]:
+    """check_case of one mutant in a forked child (:func:`run_forked`)."""
+    return run_forked(partial(check_case, data), timeout)
 
 
 def main(argv: list[str] | None = None) -> int:
