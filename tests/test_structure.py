@@ -5,15 +5,16 @@ from __future__ import annotations
 import pickle
 
 import numpy as np
+import pytest
 
 from ptailor.model.boundary import boundary_curves, boundary_loops
 from ptailor.model.frame import Frame
-from ptailor.model.garment import panel_labels, panels, vertex_labels
+from ptailor.model.garment import MOVED_FROM, Garment, panel_labels, panels, vertex_labels
 from ptailor.model.names import panel_layout
 from ptailor.model.openings import openings
 from ptailor.model.seams import seam_halfedges, seams
 from ptailor.model.structure import structure
-from ptailor.samples import bodice, lantern_sleeve
+from ptailor.samples import bodice, flat_tee, lantern_sleeve
 
 
 def test_structure_matches_direct_computation():
@@ -69,9 +70,10 @@ def test_structure_is_cached_per_garment_and_frame():
     assert structure(g) is s
     assert structure(g.with_frame(Frame((0, 0, 1), (0, 1, 0)))) is not s
     assert s.seams is s.seams and s.face_panel is s.face_panel
-    # a garment made from another starts afresh; pickles carry no cache
+    # a garment made from another starts afresh (a moved one remembers only where it came
+    # from: MOVED_FROM); pickles carry no cache
     g2 = g.with_drape(g.V3 * 2.0)
-    assert g2.cache == {} and structure(g2) is not s
+    assert set(g2.cache) == {MOVED_FROM} and structure(g2) is not s
     g3 = pickle.loads(pickle.dumps(g))
     assert g3.cache == {} and len(structure(g3).panels) == len(s.panels)
     # the garment's arrays are untouched
@@ -143,3 +145,33 @@ def test_boundary_fast_path_pairs_ends_as_the_fans_do():
                 taken += 1
                 assert np.array_equal(partner, bd._pair_at_vertices(ends))
     assert taken >= 2
+
+
+def test_a_moved_garment_keeps_what_each_panel_is_and_measures_where_it_lies():
+    """A drape moved by an edit (same triangles) keeps the input's panel roles and opening
+    names, even where the naming rules would read the moved shape otherwise; positions and
+    lengths are the moved drape's; a garment moved twice carries the first's reading."""
+    g = flat_tee()
+    s = structure(g)
+    V3 = g.V3 * np.array([3.0, 0.3, 1.0])  # squashed: a rule reading it afresh could differ
+    moved = g.with_drape(V3).with_pattern(g.V2 * 1.5)
+    assert moved.cache[MOVED_FROM] is g
+    m = structure(moved)
+    assert m.layout.names == s.layout.names and m.layout.role == s.layout.role
+    assert m.layout.side == s.layout.side and m.layout.tier == s.layout.tier
+    assert [o.name for o in m.openings] == [o.name for o in s.openings]
+    fresh = structure(Garment(V3=V3, F3=g.F3, V2=g.V2 * 1.5, F2=g.F2, frame=g.frame))
+    np.testing.assert_allclose(m.layout.centroid, fresh.layout.centroid, atol=1e-9)
+    np.testing.assert_allclose(m.layout.height, fresh.layout.height)
+    got = {o.name: o.length for o in m.openings}
+    for o in fresh.openings:  # the same loops, measured on the moved drape
+        same = [x for x in m.openings if np.array_equal(np.sort(x.loop), np.sort(o.loop))]
+        assert len(same) == 1 and got[same[0].name] == pytest.approx(o.length, rel=1e-12)
+    assert [x.panels for x in m.seams] == [x.panels for x in s.seams]
+    # lying on its side, the rules reading it afresh name it otherwise; moved, it is the tee
+    R = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    side = Garment(V3=g.V3 @ R.T, F3=g.F3, V2=g.V2, F2=g.F2, frame=g.frame)
+    assert [o.name for o in structure(side).openings] != [o.name for o in s.openings]
+    on_side = structure(g.with_drape(g.V3 @ R.T))
+    assert [o.name for o in on_side.openings] == [o.name for o in s.openings]
+    assert on_side.layout.role == s.layout.role

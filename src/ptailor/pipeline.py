@@ -74,17 +74,9 @@ class Adjustment:
     @cached_property
     def garment(self) -> Garment:
         """The adjusted garment: edited drape and adjusted pattern (made once: its structure,
-        which the report's measures and the outputs read, is computed once)."""
-        return Garment(
-            V3=self.state.V3,
-            F3=self.state.base.F3,
-            V2=self.result.V2,
-            F2=self.state.base.F2,
-            face_group=self.state.base.face_group,
-            group_names=self.state.base.group_names,
-            units=self.state.base.units,
-            frame=self.state.base.frame,
-        )
+        which the report's measures and the outputs read, is computed once). It carries the
+        input's panels and openings under their names (``Garment.with_drape``)."""
+        return self.state.base.with_drape(self.state.V3).with_pattern(self.result.V2)
 
 
 def apply_steps(garment: Garment, recipe: Recipe, *, options: EditOptions) -> EditState:

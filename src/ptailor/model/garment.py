@@ -29,6 +29,11 @@ __all__ = [
 #: (:func:`with_panel_names`): its structure's group-free parts are this garment's too
 SAME_CLOTH = "same_cloth"
 
+#: ``Garment.cache`` key of the garment this one was moved from (:meth:`Garment.with_drape`,
+#: :meth:`Garment.with_pattern`): the same triangles, groups and frame, so the same panels,
+#: seams, openings and what each panel is, measured where this one lies
+MOVED_FROM = "moved_from"
+
 
 def read_only(a) -> np.ndarray:
     """``a`` as an array nobody can write: itself when it already is one (a garment's own
@@ -119,12 +124,18 @@ class Garment:
         return len(self.F3)
 
     def with_drape(self, V3: np.ndarray) -> Garment:
-        """Return a copy with drape positions ``V3`` (same topology)."""
-        return replace(self, V3=np.asarray(V3, dtype=np.float64))
+        """Return a copy with drape positions ``V3`` (same topology); it carries this
+        garment's panels, openings and their names (``cache[MOVED_FROM]``)."""
+        return self._moved(replace(self, V3=np.asarray(V3, dtype=np.float64)))
 
     def with_pattern(self, V2: np.ndarray) -> Garment:
-        """Return a copy with pattern positions ``V2`` (same topology)."""
-        return replace(self, V2=np.asarray(V2, dtype=np.float64))
+        """Return a copy with pattern positions ``V2`` (same topology); it carries this
+        garment's panels, openings and their names (``cache[MOVED_FROM]``)."""
+        return self._moved(replace(self, V2=np.asarray(V2, dtype=np.float64)))
+
+    def _moved(self, moved: Garment) -> Garment:
+        moved.cache[MOVED_FROM] = self.cache.get(MOVED_FROM, self)  # the first: no chains
+        return moved
 
     def with_frame(self, frame: Frame) -> Garment:
         """Return a copy whose wearer's axes are ``frame`` (same arrays)."""

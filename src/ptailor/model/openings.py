@@ -73,6 +73,32 @@ def _loop_geometry(P: np.ndarray, closed: bool = True) -> tuple[float, np.ndarra
     return length, centroid, normal
 
 
+def moved_openings(source: list[Opening], V3: np.ndarray) -> list[Opening]:
+    """The openings ``source`` of a garment, on the same cloth draped as ``V3``.
+
+    An edit that moves the drape but keeps its triangles keeps its openings: the same loops
+    under the same names (the naming rules read the garment it came from, not how far the
+    edit moved it), with their lengths and centroids measured on ``V3``.
+
+    Parameters
+    ----------
+    source : list of Opening
+        :func:`openings` of the garment before the move.
+    V3 : (n, 3) float array
+        The moved drape (the same vertices).
+
+    Returns
+    -------
+    list of Opening
+        One per source opening, in its order.
+    """
+    out = []
+    for o in source:  # a loop over the openings (a handful)
+        length, centroid, _ = _loop_geometry(np.asarray(V3, dtype=np.float64)[o.loop], o.closed)
+        out.append(Opening(o.name, o.loop, length, centroid, o.closed))
+    return out
+
+
 def openings(V3, F3, *, frame: Frame, F2=None, curves=None) -> list[Opening]:
     """The openings (boundary loops of the drape) with names from geometry.
 

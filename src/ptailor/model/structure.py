@@ -29,6 +29,7 @@ import numpy as np
 from ptailor.geometry.labels import component_labels
 from ptailor.model.boundary import boundary_curves, boundary_loops
 from ptailor.model.garment import (
+    MOVED_FROM,
     SAME_CLOTH,
     Garment,
     Panel,
@@ -38,7 +39,8 @@ from ptailor.model.garment import (
     vertex_labels,
 )
 from ptailor.model.names import PanelLayout, panel_layout, seam_names
-from ptailor.model.openings import Opening, openings
+from ptailor.model.names.layout import moved_layout
+from ptailor.model.openings import Opening, moved_openings, openings
 from ptailor.model.seams import Seam, seam_halfedges, seams
 
 #: ``Garment.cache`` key of the garment's structure
@@ -97,6 +99,12 @@ class GarmentStructure:
             return None
         return structure(same).__dict__.get(name)
 
+    def _source(self) -> GarmentStructure | None:
+        """The structure of the garment this one was moved from (same triangles, groups and
+        frame: :meth:`~ptailor.model.garment.Garment.with_drape`), or None."""
+        src = self.garment.cache.get(MOVED_FROM)
+        return None if src is None else structure(src)
+
     @cached_property
     def panel_components(self) -> tuple[np.ndarray, int]:
         """``(labels, count)``: the connected components of ``F2``, a label per triangle
@@ -105,6 +113,9 @@ class GarmentStructure:
         same = self._same("panel_components")
         if same is not None:
             return same
+        src = self._source()
+        if src is not None:
+            return src.panel_components
         lab = component_labels(g.F2, len(g.V2))
         return lab, int(lab.max()) + 1 if lab.size else 0
 
@@ -133,6 +144,8 @@ class GarmentStructure:
     @cached_property
     def seam_halfedges(self) -> np.ndarray:
         same = self._same("seam_halfedges")
+        if same is None and self._source() is not None:
+            same = self._source().seam_halfedges
         return same if same is not None else seam_halfedges(self.garment.F3, self.garment.F2)
 
     @cached_property
@@ -154,6 +167,9 @@ class GarmentStructure:
         same = self._same("openings")
         if same is not None:
             return same
+        src = self._source()
+        if src is not None:  # the same loops under the same names, measured where they lie
+            return moved_openings(src.openings, g.V3)
         return openings(g.V3, g.F3, frame=g.frame, F2=g.F2, curves=self.drape_boundary)
 
     @cached_property
@@ -163,6 +179,9 @@ class GarmentStructure:
         if same is not None:
             return same
         lab, n_p = self.panel_components
+        src = self._source()
+        if src is not None:  # what each panel is stays what it was before the move
+            return moved_layout(src.layout, g.V3, g.F3, lab, opening_list=self.openings)
         return panel_layout(
             g.V3,
             g.F3,

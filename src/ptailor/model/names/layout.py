@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -206,6 +206,54 @@ def panel_layout(
         openings=ops,
         mirror=mirror,
         why=why,
+    )
+
+
+def moved_layout(
+    source: PanelLayout,
+    V3: np.ndarray,
+    F3: np.ndarray,
+    face_panel: np.ndarray,
+    *,
+    opening_list: list[Opening],
+) -> PanelLayout:
+    """The layout ``source`` of a garment, on the same cloth draped as ``V3``.
+
+    An edit that moves the drape but keeps its triangles keeps what each panel is: its name,
+    role, side, face, tier and mirror image are ``source``'s (a sleeve widened 40 % is still
+    the sleeve; a skirt shortened to a peplum keeps its name), so measures taken before and
+    after an edit read the same panels and openings. The positions (centroids, extents,
+    height, centre line) are measured on ``V3``.
+
+    Parameters
+    ----------
+    source : PanelLayout
+        :func:`panel_layout` of the garment before the move.
+    V3 : (n3, 3) float array
+        The moved drape (the same vertices).
+    F3 : (m, 3) int array
+    face_panel : (m,) int array
+        Panel index per triangle, as ``source`` read it.
+    opening_list : list of Opening
+        The moved openings (:func:`ptailor.model.openings.moved_openings`).
+
+    Returns
+    -------
+    PanelLayout
+    """
+    n_p = len(source.names)
+    pm = panel_measures(np.asarray(V3, dtype=np.float64), F3, face_panel, n_p, source.frame)
+    origin = np.array([pm.s0, pm.h0, pm.f0])
+    return replace(
+        source,
+        centroid=pm.cen_abs - origin,
+        lo=pm.lo_abs - origin,
+        hi=pm.hi_abs - origin,
+        height=pm.H,
+        s0=pm.s0,
+        f0=pm.f0,
+        h0=pm.h0,
+        openings=opening_list,
     )
 
 
