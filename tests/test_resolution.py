@@ -271,3 +271,59 @@ def test_a_sleeve_widened_converges_without_newton_steps_at_4x():
     assert info.converged and info.iterations <= 30 and not info.stalled
     assert info.newton_steps == 0
     assert info.seam_violation < method_tol.SEAM_EXACT_REL and not solver_warnings(a)
+
+
+@pytest.fixture(scope="module")
+def tshirt_4x_16x(tmp_path_factory) -> dict:
+    """The shared tshirt subdivided 1 -> 4 (22k triangles) and 1 -> 16 (88k), loaded."""
+    from ptailor.formats.garment import load_garment
+
+    src, out = real_path("tshirt"), tmp_path_factory.mktemp("tshirt")
+    got = {}
+    for levels, key in ((1, "4x"), (2, "16x")):
+        dst = out / f"tshirt_{key}.obj"
+        subdivide_obj(src, dst, levels=levels)
+        got[key] = load_garment(dst, pattern_units="auto", drape_units="cm").garment
+    return got
+
+
+#: edit -> (recipe step, largest distance between the 4x and 16x patterns at the 4x vertices
+#: in cm, measured 2026-12-06: 0.038 / 0.054 / 0.128 cm)
+PRODUCTION_EDITS = {
+    "loosen": ("{op: loosen, region: {panels: [front, back]}, by: 2}", 0.05),
+    "sleeve": (
+        "{op: scale, region: {panels: [sleeve_left]}, direction: around, axis: auto, factor: 1.1}",
+        0.07,
+    ),
+    "gather": (
+        "{op: scale_seam, seam: [front, sleeve_left], part: sleeve_left, direction: around, "
+        "factor: 1.2}",
+        0.15,
+    ),
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("edit", sorted(PRODUCTION_EDITS))
+def test_production_resolutions_agree_converged_with_their_seams_closed(tshirt_4x_16x, edit):
+    """Issue 44: between production resolutions (the shared tshirt at 4x and 16x) every
+    edit converges in at most 30 iterations without a Newton step, every seam at its ratio
+    (1e-9 cm), and the two patterns agree at the 4x vertices: 99 % of them within 0.5 mm.
+    The largest distance is within 0.5 mm for the loosen (0.38 mm); the widened sleeve's
+    0.54 mm and the gather's 1.28 mm lie on the edited sleeve, where the asked stretch jumps
+    (the gathered seam's ends, 1.2 against the shoulder's 1.0; the scaled region's border):
+    the 16x mesh resolves that jump further, so those bounds are what was measured, not
+    0.5 mm."""
+    from ptailor.pipeline import adjustment, solver_warnings
+
+    step, worst = PRODUCTION_EDITS[edit]
+    rec = parse_recipe(f"units: cm\nsteps:\n  - {step}\n")
+    a4, a16 = (adjustment(tshirt_4x_16x[k], rec, baseline=False) for k in ("4x", "16x"))
+    for a in (a4, a16):
+        info = a.result.info
+        assert info.converged and info.iterations <= 30 and info.newton_steps == 0
+        assert info.seam_violation < 1e-9 and not solver_warnings(a)
+    n = len(a4.result.V2)
+    d = np.linalg.norm(a16.result.V2[:n] - a4.result.V2, axis=1)
+    assert np.percentile(d, 99) < 0.05
+    assert d.max() < worst
