@@ -191,6 +191,7 @@ def test_correspondence_by_length_between_turn_points():
     assert at_places(np.arange(4.0)[:, None], Places(np.array([3]), np.array([0.5]), "")) == [[1.5]]
 
 
+@pytest.mark.slow  # the generated skirt graded and written: 0.6-0.8 s
 def test_bad_sizes_exit_2_with_one_line_and_nothing_written(tmp_path):
     dxf, obj = graded_nest(tmp_path)
     rec = _recipe(tmp_path, UNIFORM)
@@ -217,6 +218,7 @@ def test_bad_sizes_exit_2_with_one_line_and_nothing_written(tmp_path):
         assert not out.exists()
 
 
+@pytest.mark.slow  # the generated skirt graded and written: 0.6-0.8 s
 def test_inspect_shows_each_sizes_grade(tmp_path):
     dxf, _ = graded_nest(tmp_path)
     r = run("inspect", dxf, "--json")

@@ -434,7 +434,7 @@ def _report(
         reference=staged.reference,
         extra={
             "pattern": pattern_section(loaded, ctx.plan, ctx.pieces, options.seam_allowance)
-            | ({"grading": grading_section(ctx.nest, loaded.pattern)} if ctx.nest else {}),
+            | ({"grading": grading_section(ctx.nest, loaded.pattern, options)} if ctx.nest else {}),
             "intake": loaded.intake,
             **({"verify": staged.redrapes.section} if staged.redrapes is not None else {}),
             **({"body_fit": staged.inputs.body_fit} if staged.inputs.body_fit is not None else {}),

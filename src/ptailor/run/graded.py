@@ -50,14 +50,16 @@ def read_sizes(
     return tuple({p.size: p for p in read}.values())  # a size asked twice, once
 
 
-def grading_section(nest: GradedNest, pattern: PatternFile) -> dict:
-    """The report's ``pattern.grading``: the base size, the sizes and their files, and per
-    size and piece how it was graded (:class:`~ptailor.pieces.grade.GradedNest`'s records,
-    lengths in the pattern file's unit)."""
+def grading_section(nest: GradedNest, pattern: PatternFile, options: RunOptions) -> dict:
+    """The report's ``pattern.grading``: the base size, the sizes and their files (when
+    DXF is written), and per size and piece how it was graded
+    (:class:`~ptailor.pieces.grade.GradedNest`'s records, lengths in the pattern file's
+    unit)."""
+    files = size_file_names(nest.sizes) if "dxf" in options.formats else {}
     return {
         "base_size": nest.base,
         "sizes": list(nest.sizes),
-        "files": {s: name for s, name in size_file_names(nest.sizes).items()},
+        "files": files,
         "units": pattern.units,
         "pieces": list(nest.records),
     }
