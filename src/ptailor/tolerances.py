@@ -268,6 +268,11 @@ DXF_MM_ABOVE = 300.0
 #: A graded outline corresponds to the sample's point by point when an affine fit between
 #: them leaves an RMS residual below this fraction of the diagonal (relative).
 DXF_GRADE_FIT_REL = 0.05
+#: Two sizes' outlines (or a piece before and after an adjustment) that do not correspond
+#: point by point are matched by length between turn points: a turn point of one meets the
+#: other's nearest (laid over its bounding box) when they are each other's nearest and
+#: within this fraction of the diagonal (relative): a grade moves a corner by a few cm.
+GRADE_TURN_MATCH_REL = 0.1
 #: A drape's ``vt`` is taken in a unit when its size, judged from the drape's area, is
 #: within this factor of it (unitless).
 DXF_VT_UNIT_SLACK = 1.5

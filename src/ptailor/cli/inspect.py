@@ -42,7 +42,9 @@ def inspect(
     """List GARMENT's panels, seams, openings and units.
 
     GARMENT may also be an AAMA/ASTM DXF pattern (PATTERN.dxf): its pieces, their sizes,
-    quantities, notches and grain lines, the sizes the file grades to and its units.
+    quantities, notches and grain lines, the sizes the file grades to and its units; for a
+    graded nest each size's grade from the size shown (--size, default the sample size):
+    per piece its width, height and area difference and the largest point delta.
 
     With --spec SPEC.json (GarmentCode or Garment-Pattern-Generator), also each
     specification panel with the mesh panel it is matched to, and each stitch with its seam
@@ -51,7 +53,7 @@ def inspect(
     import json
 
     from ptailor.errors import PtailorError
-    from ptailor.formats import is_pattern_file, pattern_reader_for
+    from ptailor.formats import is_pattern_file
     from ptailor.formats.garment import parse_weld
 
     weld = parse_weld(weld, units=units)
@@ -68,8 +70,6 @@ def inspect(
             )
         specification = read_run_specification(found, spec_units)
     if is_pattern_file(garment):
-        from ptailor.report.inspection import pattern_summary, pattern_summary_text
-
         if drape is not None:
             raise PtailorError(
                 "inspect lists a DXF's pieces on their own: drop --drape", path=garment
@@ -79,9 +79,7 @@ def inspect(
                 "--spec is matched to a garment's mesh (OBJ), not to a DXF pattern",
                 path=garment,
             )
-        pattern = pattern_reader_for(garment)(garment, size=size, units=dxf_units)
-        info = pattern_summary(pattern)
-        click.echo(json.dumps(info, indent=2) if as_json else pattern_summary_text(info))
+        _show_pattern(garment, size=size, dxf_units=dxf_units, as_json=as_json)
         return
     if size is not None or dxf_units is not None:
         raise PtailorError("--size and --dxf-units apply to DXF patterns only", path=garment)
@@ -140,3 +138,19 @@ def _garment_info(garment, *, drape, units, pattern_units, drape_units, weld, ax
     # the points of measure, in cm (ptailor measure's)
     info["measures"] = measure_dicts(garment_measures(loaded.garment), loaded.garment.units)
     return info
+
+
+def _show_pattern(garment, *, size, dxf_units, as_json: bool) -> None:
+    """A DXF's pieces, sizes and units; for a graded nest each size's grade from the size
+    shown (:func:`ptailor.report.inspection.grade_summary`)."""
+    import json
+
+    from ptailor.formats import pattern_reader_for, sizes_reader_for
+    from ptailor.report.inspection import grade_summary, pattern_summary, pattern_summary_text
+
+    pattern = pattern_reader_for(garment)(garment, size=size, units=dxf_units)
+    info = pattern_summary(pattern)
+    if len(pattern.sizes) > 1:  # a graded nest
+        every = sizes_reader_for(garment)(garment, units=pattern.units)
+        info["grades"] = grade_summary(every, pattern.size)
+    click.echo(json.dumps(info, indent=2) if as_json else pattern_summary_text(info))

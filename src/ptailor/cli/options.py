@@ -250,6 +250,18 @@ def dxf_options(fn):
     return fn
 
 
+def sizes_option(fn):
+    """``--sizes all|S,M,L``: every chosen size of a graded DXF nest, adjusted."""
+    return click.option(
+        "--sizes",
+        default=None,
+        metavar="all|S,M,...",
+        help="Graded DXF pattern (a nest of sizes): write every chosen size, each adjusted as "
+        "the drape's size (--size, default the sample size) was, its grade kept: pattern.dxf "
+        "holds them all as a graded nest, pattern_SIZE.dxf each one (docs/dxf.md).",
+    )(fn)
+
+
 def report_units_option(help_text: str = "Unit to report lengths in."):
     """``--units mm|cm|m|in``: the unit ``inspect`` and ``measure`` report lengths in."""
     return click.option(
@@ -335,7 +347,7 @@ def run_options(fn):
     ``--method``,
     ``--intrinsic``, ``--body``, ``--body-units``, ``--write-body``, ``--verify``,
     ``--verify-rest``, ``--verify-max-steps``, ``--no-baseline``, ``--formats``,
-    ``--seam-allowance``, ``--show-measures``, ``--size``, ``--dxf-units``.
+    ``--seam-allowance``, ``--show-measures``, ``--size``, ``--dxf-units``, ``--sizes``.
 
     ``adjust`` and ``batch`` both take exactly these (each has options of its own besides);
     the command gets them as keyword arguments, for :func:`build_run_options`.
@@ -351,6 +363,7 @@ def run_options(fn):
             baseline_option,
             output_options,
             dxf_options,
+            sizes_option,
         ]
     ):
         fn = opt(fn)

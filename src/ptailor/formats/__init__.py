@@ -28,6 +28,9 @@ WRITERS: dict[str, Callable[..., Any]] = {}
 #: extension -> pattern reader(path, *, size=None, units=None) returning a
 #: :class:`ptailor.model.pieces.PatternFile`
 PATTERN_READERS: dict[str, Callable[..., Any]] = {}
+#: extension -> graded pattern reader(path, *, sizes=None, units=None) returning one
+#: :class:`ptailor.model.pieces.PatternFile` per size (a graded nest, parsed once)
+SIZES_READERS: dict[str, Callable[..., Any]] = {}
 #: extension -> pattern writer(path, pattern, **options)
 PATTERN_WRITERS: dict[str, Callable[..., Any]] = {}
 #: extension -> sheet writer(path, outlines_before, outlines_after, names, **options)
@@ -62,6 +65,11 @@ def pattern_reader_for(path: str | Path) -> Callable[..., Any]:
     return _lookup(PATTERN_READERS, path, "patterns")
 
 
+def sizes_reader_for(path: str | Path) -> Callable[..., Any]:
+    """The graded (every size) pattern reader registered for ``path``'s extension."""
+    return _lookup(SIZES_READERS, path, "graded patterns")
+
+
 def writer_for(path: str | Path) -> Callable[..., Any]:
     """The writer registered for ``path``'s extension, whichever its kind (mesh, pattern
     or sheet: see the module's tables for what each takes)."""
@@ -86,6 +94,7 @@ def _register() -> None:
     READERS["obj"] = obj.read_obj
     WRITERS["obj"] = obj.write_obj
     PATTERN_READERS["dxf"] = dxf.read_dxf
+    SIZES_READERS["dxf"] = dxf.read_dxf_sizes
     PATTERN_WRITERS["dxf"] = dxf.write_dxf
     SHEET_WRITERS["svg"] = write_svg
     SHEET_WRITERS["png"] = png.pattern_png

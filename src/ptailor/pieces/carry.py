@@ -49,12 +49,38 @@ class CarriedPiece:
     kept : (q,) bool array or None
         Per mark point located (notches, drill holes, grain ends and middle, fold-line
         ends, internal-line points, in that order), whether it was kept.
+    preimage : (k, 2) float array or None
+        With ``outline_from == "mesh"``: where each point of the new outline was before the
+        adjustment, in the original piece's coordinates (None for a fold piece's half,
+        whose outline is clipped, and for carried outlines, whose points are the piece's).
+    marks_kept : MarksKept or None
+        Which of the original piece's notches, drill holes and internal-line points the
+        new piece holds (None for pieces drawn from the mesh).
     """
 
     piece: Piece
     outline_from: str
     dropped: int
     kept: np.ndarray | None = None
+    preimage: np.ndarray | None = None
+    marks_kept: MarksKept | None = None
+
+
+@dataclass(frozen=True)
+class MarksKept:
+    """Which of a piece's marks an adjustment kept, in the original piece's order.
+
+    Attributes
+    ----------
+    notches : (m,) bool array
+    drills : (h,) bool array
+    internal : tuple of (j_i,) bool arrays
+        Per internal line, its points kept; a line of fewer than 2 kept points is dropped.
+    """
+
+    notches: np.ndarray
+    drills: np.ndarray
+    internal: tuple[np.ndarray, ...]
 
 
 def carry_piece(
@@ -113,20 +139,18 @@ def carry_piece(
     )
     cuts = np.cumsum([len(g) for g in groups])[:-1]
     moved_g, kept_g = np.split(moved, cuts), np.split(kept, cuts)
-    outline, turn, sew, how = _new_outline(
-        piece, match, moved_g, F2=F2, faces=faces, V2_new=V2_new, unchanged=unchanged
+    outline, turn, sew, how, pre = _new_outline(
+        piece, match, moved_g, V2=V2, F2=F2, faces=faces, V2_new=V2_new, unchanged=unchanged
     )
     keep_n = kept_g[2]
     if not unchanged:  # on the mesh's outline, before a fold piece is halved
         keep_n = keep_n & _on_outline(moved_g[2], outline, diag=diag, keep_d=keep_d)
-    mirror, dropped = None, 0
-    if piece.mirror is not None:
-        if kept_g[5].all() or match.fold:  # a fold line is a line: its ends extend
-            mirror = moved_g[5]
-        else:
-            dropped += 2
+    # a fold line is a line: its ends extend; one cut away is 2 marks dropped
+    mirror = moved_g[5] if piece.mirror is not None and (kept_g[5].all() or match.fold) else None
+    dropped = 2 if piece.mirror is not None and mirror is None else 0
     if match.fold and not unchanged and mirror is not None:
         outline, turn, mirror = _fold_half(piece, outline, turn, mirror, diag=diag)
+        pre = None
     new, lost = _with_carried_marks(
         piece, moved_g, kept_g,
         keep_n=keep_n, outline=outline, turn=turn, sew=sew, mirror=mirror,
@@ -134,7 +158,8 @@ def carry_piece(
     )  # fmt: skip
     # a grain line is never lost (drawn again)
     marks_kept = np.concatenate([*kept_g[2:4], np.ones(len(kept_g[4]), dtype=bool), *kept_g[5:]])
-    return CarriedPiece(piece=new, outline_from=how, dropped=dropped + lost, kept=marks_kept)
+    kept_by_kind = MarksKept(keep_n.copy(), kept_g[3].copy(), tuple(kept_g[6:]))
+    return CarriedPiece(new, how, dropped + lost, marks_kept, pre, kept_by_kind)
 
 
 def _kept_points(
@@ -262,21 +287,23 @@ def _new_outline(
     match: PieceMatch,
     moved_g: list[np.ndarray],
     *,
+    V2: np.ndarray,
     F2: np.ndarray,
     faces: np.ndarray,
     V2_new: np.ndarray,
     unchanged: bool,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, str]:
-    """The carried outline ``(k, 2)``, its turn points, sew line and where it came from:
-    the piece's own points (``carried``) or the adjusted mesh's boundary (``mesh``)."""
+) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, str, np.ndarray | None]:
+    """The carried outline ``(k, 2)``, its turn points, sew line, where it came from: the
+    piece's own points (``carried``) or the adjusted mesh's boundary (``mesh``), and for a
+    mesh outline where its points were in ``V2`` (piece coordinates, ``(k, 2)``)."""
     if unchanged:
         sew = moved_g[1] if piece.sew is not None else None
-        return moved_g[0], piece.turn, sew, "carried"
+        return moved_g[0], piece.turn, sew, "carried", None
     loop = outer_loop(F2, faces, V2_new)
-    outline = match.to_piece(V2_new[loop])
+    outline, pre = match.to_piece(V2_new[loop]), match.to_piece(V2[loop])
     if np.linalg.det(match.R) < 0:
-        outline = outline[::-1]
-    return outline, corners(outline), None, "mesh"
+        outline, pre = outline[::-1], pre[::-1]
+    return outline, corners(outline), None, "mesh", pre
 
 
 def _on_outline(

@@ -52,6 +52,10 @@ class PiecePlan:
     panel_names : tuple of str
         After :func:`carry_plan`: per piece, the adjusted garment's panel it is; empty
         before.
+    sources : tuple of int
+        Per piece, the index of the pattern file's piece it is (an instance of a piece cut
+        more than once, a part of a split panel: that piece's); ``-1`` for pieces drawn from
+        the mesh.
     """
 
     pieces: tuple[Piece, ...]
@@ -60,6 +64,7 @@ class PiecePlan:
     units: str
     panels: tuple[Panel, ...]
     panel_names: tuple[str, ...] = ()
+    sources: tuple[int, ...] = ()
 
 
 def unfolded(piece: Piece) -> Piece | None:
@@ -163,8 +168,9 @@ def piece_plan(
     V2, F2 = garment.V2, garment.F2
     file_pieces: list[Piece] = []
     matches: list[PieceMatch] = []
+    sources: list[int] = []
     if pattern is not None:
-        file_pieces, matches = _file_pieces(garment, panel_list, pattern)
+        file_pieces, matches, sources = _file_pieces(garment, panel_list, pattern)
     used = {m.panel for m in matches}
     rest = [p for p in panel_list if p.index not in used]
     grain = grain_directions(V2, F2, garment.V3, garment.F3, panel_list, frame=garment.frame)
@@ -183,13 +189,15 @@ def piece_plan(
         from_file=tuple([True] * len(file_pieces) + [False] * len(drawn)),
         units=garment.units if pattern is None else pattern.units,
         panels=tuple(panel_list),
+        sources=tuple(sources + [-1] * len(drawn)),
     )
 
 
 def _file_pieces(
     garment: Garment, panel_list: list[Panel], pattern: PatternFile
-) -> tuple[list[Piece], list[PieceMatch]]:
-    """A pattern file's pieces in the garment's units, matched to its panels.
+) -> tuple[list[Piece], list[PieceMatch], list[int]]:
+    """A pattern file's pieces in the garment's units, matched to its panels, and per
+    piece the index of the file's piece it is.
 
     Every instance of a piece cut more than once becomes its own piece of quantity 1 (a
     mirrored pair may be adjusted differently, and a cutter must not cut the first one
@@ -206,6 +214,7 @@ def _file_pieces(
     extra = [replace(m, fold=matches[m.piece].fold) for m in extra]
     copies = {m.piece for m in extra}
     count: dict[int, int] = {}
+    sources = list(range(len(file_pieces)))
     for m in extra:
         count[m.piece] = count.get(m.piece, 1) + 1
         pc = file_pieces[m.piece]
@@ -218,10 +227,11 @@ def _file_pieces(
             )
         )
         matches.append(replace(m, piece=len(file_pieces) - 1))
+        sources.append(m.piece)
     for i in copies:
         pc = file_pieces[i]
         file_pieces[i] = replace(pc, quantity=1, quantity_split=_one_side(pc, matches[i]))
-    return file_pieces, matches
+    return file_pieces, matches, sources
 
 
 def source_panels(adj: Adjustment, orig: tuple[Panel, ...]) -> dict[str, int]:
@@ -299,9 +309,13 @@ def _carry(
     matches: list[PieceMatch] = []
     from_file: list[bool] = []
     names: list[str] = []
+    sources: list[int] = []
     out: list[CarriedPiece | None] = []
     covered: set[str] = set()
-    for piece, m, ff in zip(plan.pieces, plan.matches, plan.from_file, strict=True):  # pieces
+    planned_sources = plan.sources or (-1,) * len(plan.pieces)
+    for piece, m, ff, src in zip(
+        plan.pieces, plan.matches, plan.from_file, planned_sources, strict=True
+    ):  # a loop over pieces
         p0 = orig[m.panel]
         now = parts.get(m.panel, [])
         first.append(len(out))
@@ -311,6 +325,7 @@ def _carry(
             matches.append(m)
             from_file.append(ff)
             names.append(now[k].name if now else p0.name)
+            sources.append(src)
         covered.update(p.name for p in now)
         out += group
     rest = [p for p in adj.state.panels if p.name not in covered]
@@ -319,6 +334,7 @@ def _carry(
         matches.append(PieceMatch(len(pieces) - 1, -1, "mesh", np.eye(2), np.zeros(2), 0.0))
         from_file.append(False)
         names.append(p.name)
+        sources.append(-1)
         out.append(CarriedPiece(piece=pc, outline_from="mesh", dropped=0))
     matches = [replace(mm, piece=i) for i, mm in enumerate(matches)]
     new_plan = replace(
@@ -327,6 +343,7 @@ def _carry(
         matches=tuple(matches),
         from_file=tuple(from_file),
         panel_names=tuple(names),
+        sources=tuple(sources),
     )
     return new_plan, out, first
 

@@ -290,6 +290,49 @@ def pattern_summary(pattern: PatternFile) -> dict:
     }
 
 
+def grade_summary(sizes: tuple[PatternFile, ...], sample: str) -> list[dict]:
+    """Each size's grade from ``sample``: per size and piece, the width, height and area
+    difference from the sample size's piece of the same name (file units), and the largest
+    distance between a point and its sample-size point (``max_delta``; outlines
+    corresponded point by point, else by length between turn points: ``correspondence``).
+
+    Parameters
+    ----------
+    sizes : tuple of PatternFile
+        Every size of one file (:func:`ptailor.formats.dxf.read_dxf_sizes`).
+    sample : str
+
+    Returns
+    -------
+    list of dict
+    """
+    from ptailor.model.correspond import at_places, corresponding
+
+    base = next((pf for pf in sizes if pf.size == sample), sizes[0])
+    ref = {p.name.casefold(): p for p in base.pieces}
+    out = []
+    for pf in sizes:  # a loop over sizes
+        for p in pf.pieces:  # a loop over pieces
+            p0 = ref.get(p.name.casefold())
+            if p0 is None:
+                continue
+            where = corresponding(p0.outline, p0.turn, p.outline, p.turn)
+            delta = np.linalg.norm(at_places(p.outline, where) - p0.outline, axis=1)
+            dw, dh = (p.extent - p0.extent).tolist()
+            out.append(
+                {
+                    "size": pf.size,
+                    "piece": p.name,
+                    "width": round(dw, 4),
+                    "height": round(dh, 4),
+                    "area": round(p.area - p0.area, 4),
+                    "max_delta": round(float(delta.max(initial=0.0)), 4),
+                    "correspondence": where.how,
+                }
+            )
+    return out
+
+
 def pattern_summary_text(info: dict) -> str:
     """Plain-text rendering of :func:`pattern_summary`."""
     u = info["units"]["file"]
@@ -315,6 +358,17 @@ def pattern_summary_text(info: dict) -> str:
             f"  {p['quantity']:>3}  {p['notches']:>7}  {grain}"
         )
     lines.append(f"{n} piece{'s' if n != 1 else ''}")
+    if info.get("grades"):
+        lines.append(f"grade from sample size {info['size']} ({u}; area in {u}2):")
+        lines.append(
+            f"  {'size':<8} {'piece':<20} {'width':>8} {'height':>8} {'area':>10} {'max delta':>9}"
+        )
+        for g in info["grades"]:
+            by = "" if g["correspondence"] == "point by point" else f"  ({g['correspondence']})"
+            lines.append(
+                f"  {g['size']:<8} {g['piece']:<20} {g['width']:+8.2f} {g['height']:+8.2f}"
+                f" {g['area']:+10.1f} {g['max_delta']:9.2f}{by}"
+            )
     return "\n".join(lines)
 
 

@@ -19,6 +19,7 @@ from ptailor.edits import EditOptions
 from ptailor.errors import NumericError, PtailorError
 from ptailor.formats.garment import LoadedGarment
 from ptailor.pieces import PiecePlan, carry_plan
+from ptailor.pieces.grade import grade_nest
 from ptailor.pipeline import Adjustment, Progress, adjustment
 from ptailor.recipe import Recipe
 from ptailor.report.build import (
@@ -46,6 +47,7 @@ from ptailor.run.checks import (
     run_warnings,
 )
 from ptailor.run.folder import check_output_dir, staged_dir, write_json
+from ptailor.run.graded import check_sizes_input, grading_section, read_sizes
 from ptailor.run.inputs import (
     checked_recipe,
     edit_options,
@@ -150,6 +152,7 @@ def staged_run(
     spec_file = spec_input(garment, options.spec)
     check_output_dir(out, [garment, drape, body_file, spec_file])
     shown = (display_inputs or {}).get("garment", garment)  # the garment errors name
+    check_sizes_input(garment, options, shown=shown)
     # the library's warnings (numpy, ezdxf, ...) of this run, for the report's warnings
     with capture_library_warnings() as library:
         staged = _stage(
@@ -245,6 +248,7 @@ class _Inputs:
     spec_match: SpecMatching | None = None  # --spec: the specification matched
     spec_note: tuple[str, ...] = ()  # --spec auto without a specification: what was looked for
     measures_before: list[dict] = field(default_factory=list)  # the garment's, as read (cm)
+    graded: tuple | None = None  # --sizes: the sizes of a graded nest, as read
 
 
 def _read_inputs(
@@ -261,6 +265,7 @@ def _read_inputs(
     edits = edit_options(recipe, options)
     spec = read_run_specification(spec_file, options.spec_units) if spec_file else None
     loaded = load_input(garment, drape, recipe, options)
+    graded = read_sizes(garment, loaded, options, shown=shown)
     spec_match = None
     spec_note: tuple[str, ...] = ()
     if options.spec == "auto" and spec is None:
@@ -285,7 +290,7 @@ def _read_inputs(
     plan = plan_pieces(loaded, options)
     if options.seam_allowance:
         check_seam_allowance(loaded.garment, options.seam_allowance)
-    return _Inputs(loaded, edits, plan, body_fit, spec_match, spec_note, before)
+    return _Inputs(loaded, edits, plan, body_fit, spec_match, spec_note, before, graded)
 
 
 def _output_context(
@@ -299,9 +304,13 @@ def _output_context(
 ) -> OutputContext:
     """What the writers need: the pieces carried through the adjustment (every adjusted
     panel gets one, a split panel one per part), the errors, the sheet's title."""
-    plan, carried = inputs.plan, []
+    plan, carried, nest = inputs.plan, [], None
     if plan is not None:
         plan, carried = carry_plan(adj, plan)
+    if plan is not None and inputs.graded:
+        nest = grade_nest(
+            plan, carried, inputs.loaded.pattern, inputs.graded, units=adj.garment.units
+        )
     allowance = options.seam_allowance
     units = inputs.loaded.garment.units
     return OutputContext(
@@ -311,6 +320,7 @@ def _output_context(
         errors=errors,
         seam_allowance=allowance,
         show_measures=options.show_measures,
+        nest=nest,
         title=f"{Path(garment).name}: {Path(recipe.source).name}"
         + (f", seam allowance {allowance:g} {units}" if allowance else ""),
     )
@@ -408,6 +418,7 @@ def _report(
     spec_section, spec_warnings = spec
     warnings = run_warnings(loaded, adj, ctx.errors, ctx.plan, ctx.pieces, options)
     warnings += list(spec_warnings)
+    warnings += list(ctx.nest.warnings) if ctx.nest is not None else []
     measures = staged.sections["measures"]
     warnings += lost_measures(measures["before"], measures["after"])
     warnings += [w for w in staged.library_warnings if w not in warnings]
@@ -422,7 +433,8 @@ def _report(
         errors=ctx.errors,
         reference=staged.reference,
         extra={
-            "pattern": pattern_section(loaded, ctx.plan, ctx.pieces, options.seam_allowance),
+            "pattern": pattern_section(loaded, ctx.plan, ctx.pieces, options.seam_allowance)
+            | ({"grading": grading_section(ctx.nest, loaded.pattern, options)} if ctx.nest else {}),
             "intake": loaded.intake,
             **({"verify": staged.redrapes.section} if staged.redrapes is not None else {}),
             **({"body_fit": staged.inputs.body_fit} if staged.inputs.body_fit is not None else {}),

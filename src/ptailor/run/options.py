@@ -57,6 +57,10 @@ class RunOptions:
         the outputs, in the garment's frame and its drape file's units, to look at.
     size, dxf_units : str, optional
         For a CAD pattern: the size to read, and its unit (default: from the file).
+    sizes : str, optional
+        For a graded CAD pattern (a nest of sizes): ``all`` or a comma-separated list of
+        sizes, each written adjusted as ``size`` (the drape's size) was, its grade kept
+        (:mod:`ptailor.pieces.grade`).
     seam_allowance : float, optional
         In the recipe's units: the DXF's cut line is the adjusted outline offset by this
         (mitred corners), and the outline itself becomes the sew line (layer 14).
@@ -94,6 +98,7 @@ class RunOptions:
     write_body: bool = False
     size: str | None = None
     dxf_units: str | None = None
+    sizes: str | None = None
     seam_allowance: float | None = None
     verify: bool = False
     verify_rest: str = "intrinsic"
@@ -128,6 +133,10 @@ class RunOptions:
         a = self.seam_allowance
         if a is not None and not (isinstance(a, (int, float)) and math.isfinite(a) and a >= 0):
             raise PtailorError(f"--seam-allowance must be a length >= 0, not {a}")
+        if self.sizes is not None and not all(sizes_list(self.sizes)):
+            raise PtailorError(
+                f"--sizes must be all or a comma-separated list of sizes, not {self.sizes!r}"
+            )
         n = self.verify_max_steps
         if n is not None and (isinstance(n, bool) or not isinstance(n, int) or n < 1):
             raise PtailorError(f"--max-steps must be at least 1, not {n}")
@@ -137,6 +146,14 @@ class RunOptions:
         a batch stamp hashes."""
         data = asdict(self)
         data["formats"] = sorted(data["formats"])
+        if data["sizes"] is None:  # (stamps written before the option stay valid)
+            del data["sizes"]
         if data["spec_units"] is None:  # (stamps written before the option stay valid)
             del data["spec_units"]
         return dict(sorted(data.items()))
+
+
+def sizes_list(sizes: str) -> list[str]:
+    """``--sizes S,M,L`` as its names (``["S", "M", "L"]``; ``all`` as ``["all"]``); an
+    empty name (``S,,M``) stays, as ``""``, for the check to refuse."""
+    return [s.strip() for s in str(sizes).split(",")]

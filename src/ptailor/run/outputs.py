@@ -7,6 +7,7 @@ OBJ's arrays, the DXF's pieces, the previews' sheet) and hands it to the writer 
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -19,6 +20,7 @@ from ptailor.model.boundary import boundary_loops
 from ptailor.model.garment import panel_labels
 from ptailor.model.structure import structure
 from ptailor.pieces import CarriedPiece, PiecePlan
+from ptailor.pieces.grade import GradedNest
 from ptailor.pipeline import Adjustment
 
 #: output format -> the file it writes
@@ -60,6 +62,9 @@ class OutputContext:
         either is written.
     show_measures : bool
         The previews draw the adjusted garment's points of measure (``--show-measures``).
+    nest : GradedNest or None
+        ``--sizes``: every chosen size's pieces (``pattern.dxf`` is then the graded nest,
+        and each size is written alone too).
     """
 
     loaded: LoadedGarment
@@ -70,6 +75,7 @@ class OutputContext:
     title: str = ""
     sheet: dict | None = None
     show_measures: bool = False
+    nest: GradedNest | None = None
 
 
 def output_obj(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
@@ -190,25 +196,47 @@ def output_png(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
     return _output_sheet("png", tmp, adj, ctx)
 
 
-def output_dxf(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
-    """``pattern.dxf``: AAMA/ASTM pieces with their construction marks carried through."""
+def size_file_names(sizes: tuple[str, ...]) -> dict[str, str]:
+    """Size -> the file of that size alone: ``pattern_SIZE.dxf``, the size's name made
+    file-safe (letters, digits, ``.``, ``_``, ``-``) and unique."""
+    out: dict[str, str] = {}
+    used: set[str] = set()
+    for s in sizes:  # a loop over sizes
+        base = re.sub(r"[^A-Za-z0-9._-]", "_", s) or "size"
+        name, n = f"pattern_{base}.dxf", 1
+        while name.casefold() in used:
+            n += 1
+            name = f"pattern_{base}_{n}.dxf"
+        used.add(name.casefold())
+        out[s] = name
+    return out
+
+
+def _dxf_pieces(pieces, ctx: OutputContext, k: float) -> list:
+    """The pieces as written: seam allowance added, in the pattern file's unit."""
+    from ptailor.pieces import scale_piece, with_seam_allowance
+
+    out = []
+    for pc in pieces:  # a loop over pieces
+        if pc is None:
+            continue
+        if ctx.seam_allowance:
+            pc = with_seam_allowance(pc, ctx.seam_allowance)
+        out.append(scale_piece(pc, k))
+    return out
+
+
+def output_dxf(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str | list[str]:
+    """``pattern.dxf``: AAMA/ASTM pieces with their construction marks carried through;
+    with ``--sizes`` every chosen size as a graded nest, and ``pattern_SIZE.dxf`` each."""
     from ptailor.model.pieces import PatternFile
     from ptailor.model.units import CM_PER
-    from ptailor.pieces import scale_piece, with_seam_allowance
 
     units = ctx.plan.units
     k = CM_PER[adj.garment.units] / CM_PER[units]
-    pieces = []
-    for cp in ctx.pieces:  # a loop over pieces
-        if cp is None:
-            continue
-        pc = cp.piece
-        if ctx.seam_allowance:
-            pc = with_seam_allowance(pc, ctx.seam_allowance)
-        pieces.append(scale_piece(pc, k))
     src = ctx.loaded.pattern
     pf = PatternFile(
-        pieces=tuple(pieces),
+        pieces=tuple(_dxf_pieces([cp and cp.piece for cp in ctx.pieces], ctx, k)),
         units=units,
         style=src.style if src is not None else Path(ctx.loaded.inputs.get("garment", "")).stem,
         sizes=(src.size,) if src is not None and src.size else (),
@@ -218,8 +246,27 @@ def output_dxf(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
     if src is not None:
         pf = replace(pf, units_text=src.units_text)
     name = FILE_NAMES["dxf"]
-    writer_for(name)(tmp / name, pf)
-    return name
+    if ctx.nest is None:
+        writer_for(name)(tmp / name, pf)
+        return name
+    from ptailor.formats.dxf import layout_nest
+
+    nest = ctx.nest
+    files = size_file_names(nest.sizes)
+    base = nest.base if nest.base in nest.sizes else nest.sizes[0]
+    every = tuple(p for row in nest.pieces for p in _dxf_pieces(row, ctx, k))
+    every = layout_nest(every, size=base)  # every size laid as the base size is
+    for size in nest.sizes:  # a loop over sizes
+        one = replace(pf, pieces=tuple(p for p in every if p.size == size), sizes=(size,))
+        writer_for(files[size])(
+            tmp / files[size], replace(one, size=size, sample_size=size), layout="keep"
+        )
+    writer_for(name)(
+        tmp / name,
+        replace(pf, pieces=every, sizes=nest.sizes, size=base, sample_size=base),
+        layout="keep",
+    )
+    return [name, *files.values()]
 
 
 #: output format -> writer(folder, adjustment, context) returning the file name
@@ -233,4 +280,9 @@ def write_outputs(
     sheets = [f for f in FORMATS if f in formats and extension(FILE_NAMES[f]) in SHEET_WRITERS]
     if ctx.sheet is None and sheets:  # the first writer names itself in the inputs' errors
         ctx = replace(ctx, sheet=sheet(adj, ctx, caller=f"pattern_{sheets[0]}"))
-    return [OUTPUTS[f](tmp, adj, ctx) for f in FORMATS if f in formats]
+    names = []
+    for f in FORMATS:  # a loop over formats
+        if f in formats:
+            got = OUTPUTS[f](tmp, adj, ctx)
+            names += [got] if isinstance(got, str) else got
+    return names

@@ -17,7 +17,8 @@ Modules, read bottom up:
 - :mod:`~ptailor.formats.dxf.assembly`: piece candidates and their assembly into pieces;
 - :mod:`~ptailor.formats.dxf.grading`: marks carried from the sample size to graded sizes;
 - :mod:`~ptailor.formats.dxf.units`: the file's unit, and the drape ``vt`` unit against it;
-- :mod:`~ptailor.formats.dxf.reader`: :func:`read_dxf`;
+- :mod:`~ptailor.formats.dxf.reader`: :func:`read_dxf`, :func:`read_dxf_sizes` (a graded
+  nest's sizes);
 - :mod:`~ptailor.formats.dxf.writer`: :func:`write_dxf`, :func:`dxf_plan`, the layout.
 """
 
@@ -31,12 +32,13 @@ from ptailor.formats.dxf.astm import (
     quantity_text,
 )
 from ptailor.formats.dxf.document import printable_text
-from ptailor.formats.dxf.reader import read_dxf
+from ptailor.formats.dxf.reader import read_dxf, read_dxf_sizes
 from ptailor.formats.dxf.units import CM_PER_UNIT_ALL, VT_UNIT_SLACK, reconcile_units
 from ptailor.formats.dxf.writer import (
     DxfEntity,
     DxfPlan,
     dxf_plan,
+    layout_nest,
     layout_pieces,
     piece_bounds,
     write_dxf,
@@ -51,12 +53,14 @@ __all__ = [
     "DxfEntity",
     "DxfPlan",
     "dxf_plan",
+    "layout_nest",
     "layout_pieces",
     "parse_quantity",
     "piece_bounds",
     "printable_text",
     "quantity_text",
     "read_dxf",
+    "read_dxf_sizes",
     "reconcile_units",
     "write_dxf",
 ]

@@ -39,7 +39,10 @@ def write_dxf(path: str | Path, pattern: PatternFile, *, layout: str = "auto") -
         The file to write.
     pattern : PatternFile
         Pieces and style text. Millimetres and centimetres are written as ``METRIC``
-        millimetres (centimetres times 10), inches as ``ENGLISH`` inches.
+        millimetres (centimetres times 10), inches as ``ENGLISH`` inches. Pieces of
+        several sizes (each piece's ``size``) make a graded nest: one block per piece and
+        size (``NAME_SIZE``), the sizes laid over each other as graded, ``Sample Size:``
+        ``pattern.sample_size`` (else ``pattern.size``).
     layout : {"auto", "keep", "row"}
         ``keep`` keeps the coordinates, ``row`` lays the pieces out in rows without
         overlap, ``auto`` keeps them unless two outlines' bounding boxes overlap.
@@ -119,12 +122,16 @@ def dxf_plan(pattern: PatternFile, *, layout: str = "auto", path: str | None = N
                 "or fold line) is not a finite number: nothing written",
                 path=path,
             )
-    pieces = layout_pieces(pattern.pieces, layout=layout)
+    pieces = layout_nest(pattern.pieces, size=pattern.size, layout=layout)
     if pattern.units not in ("mm", "in"):  # a metric file is in mm (ASTM/AAMA "METRIC")
         to_mm = CM_PER[pattern.units] / CM_PER["mm"]
         pieces = tuple(_map_piece(p, to_mm, np.zeros(2)) for p in pieces)
     used: set[str] = set()
-    blocks = tuple((_block_name(p.name, used), _piece_entities(p)) for p in pieces)
+    graded = len({p.size for p in pieces}) > 1
+    blocks = tuple(
+        (_block_name(f"{p.name}_{p.size}" if graded else p.name, used), _piece_entities(p))
+        for p in pieces
+    )
 
     ext = max((float(p.extent.max()) for p in pieces), default=1.0) or 1.0
     h = 0.01 * ext
@@ -141,6 +148,33 @@ def dxf_plan(pattern: PatternFile, *, layout: str = "auto", path: str | None = N
         for i, t in enumerate(lines)
     )
     return DxfPlan(blocks, texts)
+
+
+def layout_nest(
+    pieces: tuple[Piece, ...], *, size: str = "", layout: str = "auto"
+) -> tuple[Piece, ...]:
+    """Pieces laid out (:func:`layout_pieces`); in a graded nest (pieces of several sizes)
+    the pieces of ``size`` (else of the first piece's size) are laid out and every other
+    size's piece of the same name moves with its own, so the sizes stay nested as graded.
+
+    Parameters
+    ----------
+    pieces : tuple of Piece
+    size : str
+    layout : {"auto", "keep", "row"}
+
+    Returns
+    -------
+    tuple of Piece
+    """
+    sizes = {p.size for p in pieces}
+    if len(sizes) <= 1:
+        return layout_pieces(pieces, layout=layout)
+    base = size if size in sizes else pieces[0].size
+    own = [p for p in pieces if p.size == base]
+    laid = layout_pieces(tuple(own), layout=layout)
+    shift = {p.name: q.outline[0] - p.outline[0] for p, q in zip(own, laid, strict=True)}
+    return tuple(_map_piece(p, 1.0, shift[p.name]) if p.name in shift else p for p in pieces)
 
 
 def _creation_date() -> str:
