@@ -311,6 +311,7 @@ def _output_context(
         errors=errors,
         seam_allowance=allowance,
         show_measures=options.show_measures,
+        paper=options.paper,
         title=f"{Path(garment).name}: {Path(recipe.source).name}"
         + (f", seam allowance {allowance:g} {units}" if allowance else ""),
     )

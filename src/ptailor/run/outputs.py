@@ -17,6 +17,7 @@ from ptailor.formats.garment import LoadedGarment
 from ptailor.formats.sheet import preview_sheet
 from ptailor.model.boundary import boundary_loops
 from ptailor.model.garment import panel_labels
+from ptailor.model.pieces import PatternFile
 from ptailor.model.structure import structure
 from ptailor.pieces import CarriedPiece, PiecePlan
 from ptailor.pipeline import Adjustment
@@ -27,9 +28,12 @@ FILE_NAMES = {
     "dxf": "pattern.dxf",
     "svg": "pattern.svg",
     "png": "preview.png",
+    "pdf": "pattern.pdf",
 }
 #: the output formats, in the order they are written
 FORMATS = tuple(FILE_NAMES)
+#: what a run writes unless told (the cutting sheet is asked for: ``--formats ...,pdf``)
+DEFAULT_FORMATS = ("obj", "dxf", "svg", "png")
 
 
 def needs_pieces(formats: tuple[str, ...]) -> bool:
@@ -60,6 +64,9 @@ class OutputContext:
         either is written.
     show_measures : bool
         The previews draw the adjusted garment's points of measure (``--show-measures``).
+    paper : str
+        The cutting sheet's paper (``--paper``: ``A4``, ``Letter``, ``A3``, ``A0``,
+        ``roll:WIDTH``).
     """
 
     loaded: LoadedGarment
@@ -70,6 +77,7 @@ class OutputContext:
     title: str = ""
     sheet: dict | None = None
     show_measures: bool = False
+    paper: str = "A4"
 
 
 def output_obj(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
@@ -190,9 +198,10 @@ def output_png(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
     return _output_sheet("png", tmp, adj, ctx)
 
 
-def output_dxf(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
-    """``pattern.dxf``: AAMA/ASTM pieces with their construction marks carried through."""
-    from ptailor.model.pieces import PatternFile
+def pattern_file(adj: Adjustment, ctx: OutputContext) -> PatternFile:
+    """The adjusted pieces in the pattern's units, as ``pattern.dxf`` and ``pattern.pdf``
+    write them (a :class:`~ptailor.model.pieces.PatternFile`: with a seam allowance each
+    outline is the cut line and ``sew`` the sew line)."""
     from ptailor.model.units import CM_PER
     from ptailor.pieces import scale_piece, with_seam_allowance
 
@@ -217,13 +226,36 @@ def output_dxf(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
     )
     if src is not None:
         pf = replace(pf, units_text=src.units_text)
+    return pf
+
+
+def output_dxf(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
+    """``pattern.dxf``: AAMA/ASTM pieces with their construction marks carried through."""
     name = FILE_NAMES["dxf"]
-    writer_for(name)(tmp / name, pf)
+    writer_for(name)(tmp / name, pattern_file(adj, ctx))
+    return name
+
+
+def output_pdf(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
+    """``pattern.pdf``: the cutting sheet, every piece 1:1 with its cut and sew lines,
+    notches, grain line, name, size and quantity, on ``ctx.paper``'s pages."""
+    name = FILE_NAMES["pdf"]
+    if ctx.seam_allowance:
+        a = f"{ctx.seam_allowance:g} {adj.garment.units}"
+        note = f"Seam allowance {a} included: cut solid, sew dashed."
+    else:
+        note = "No seam allowance: the solid line is the sew line."
+    writer_for(name)(
+        tmp / name, pattern_file(adj, ctx), paper=ctx.paper, title=ctx.title, note=note
+    )
     return name
 
 
 #: output format -> writer(folder, adjustment, context) returning the file name
-OUTPUTS = {"obj": output_obj, "dxf": output_dxf, "svg": output_svg, "png": output_png}
+OUTPUTS = {
+    "obj": output_obj, "dxf": output_dxf, "svg": output_svg, "png": output_png,
+    "pdf": output_pdf,
+}  # fmt: skip
 
 
 def write_outputs(
