@@ -150,8 +150,8 @@ def test_a_bad_paper_is_refused(paper, says):
         RunOptions(paper=paper)
 
 
-def test_paper_is_stamped_only_with_the_cutting_sheet():
-    assert "paper" not in RunOptions().stamped()
+def test_paper_is_stamped_unless_the_default():
+    assert "paper" not in RunOptions(formats=("pdf",)).stamped()  # stamps before it stay valid
     assert RunOptions(formats=("pdf",), paper="Letter").stamped()["paper"] == "Letter"
     assert "pdf" not in RunOptions().formats
 
@@ -211,8 +211,10 @@ def test_the_pdf_test_square_measures_10_cm_and_pages_match_the_tiling(tmp_path)
     assert b"/UserUnit" not in data
     boxes = re.findall(rb"/MediaBox \[\s*([\d.\s]+)\]", data)
     assert len(boxes) == len(layout.tiles) == layout.rows * layout.cols > 1
+    pw, ph = layout.page
+    assert sorted(layout.page) == [210, 297]  # A4, portrait or landscape
     for b in boxes:
-        assert [float(v) for v in b.split()] == pytest.approx([0, 0, 210 * PT, 297 * PT])
+        assert [float(v) for v in b.split()] == pytest.approx([0, 0, pw * PT, ph * PT])
     assert len(re.findall(rb"/Type /Page\b", data)) == len(layout.tiles)
     pages = pdf_pages(data)
     assert len(pages) == len(layout.tiles)
@@ -222,7 +224,7 @@ def test_the_pdf_test_square_measures_10_cm_and_pages_match_the_tiling(tmp_path)
     x, y, w, h = squares[0]
     assert w == pytest.approx(side, abs=0.01) and h == pytest.approx(side, abs=0.01)
     m = layout.style.margin
-    assert x > 0 and x + w < 210 * PT and y > 0 and y + h < 297 * PT
+    assert x > 0 and x + w < pw * PT and y > 0 and y + h < ph * PT
     assert (x / PT - m + layout.tiles[0].x0) == pytest.approx(layout.square[0], abs=0.01)
     for content in pages[1:]:
         assert not [r for r in rectangles(content) if r[2] == pytest.approx(side, abs=0.01)]
@@ -236,7 +238,7 @@ def test_adjust_writes_the_cutting_sheet_and_refuses_a_bad_paper(tmp_path):
 
     (tmp_path / "g.obj").write_text(sample_obj_text("lantern_sleeve"))
     (tmp_path / "r.yaml").write_text(bundled_recipe("wider-around"))
-    args = ["adjust", str(tmp_path / "g.obj"), str(tmp_path / "r.yaml"), "--formats", "pdf"]
+    args = ["adjust", str(tmp_path / "g.obj"), str(tmp_path / "r.yaml"), "--formats", "pdf,cut"]
     bad = CliRunner().invoke(cli, [*args, "-o", str(tmp_path / "bad"), "--paper", "B5"])
     assert bad.exit_code == 2 and "--paper" in bad.output
     assert not (tmp_path / "bad").exists()
@@ -244,6 +246,34 @@ def test_adjust_writes_the_cutting_sheet_and_refuses_a_bad_paper(tmp_path):
     r = CliRunner().invoke(cli, [*args, "-o", str(out), "--seam-allowance", "1cm"])
     assert r.exit_code == 0, r.output
     data = (out / "pattern.pdf").read_bytes()
-    assert sorted(p.name for p in out.iterdir()) == [".ptailor", "pattern.pdf", "report.json"]
+    names = sorted(p.name for p in out.iterdir())
+    assert names == [".ptailor", "pattern.pdf", "pattern_cut.svg", "report.json"]
     texts = " ".join(pdf_pages(data))
     assert "(sleeve)" in texts and "(cuff)" in texts and "Seam allowance 1 cm" in texts
+
+
+def test_a_one_page_sheet_puts_the_square_where_it_fits():
+    """Two A0-tall halves side by side fill the first shelf: the square goes below them
+    rather than a second sheet."""
+    halves = tuple(Piece(n, rect(40, 100), grain=np.array([[20, 10], [20, 90]])) for n in "ab")
+    layout = cutting_layout(PatternFile(pieces=halves, units="cm"), paper="A0")
+    assert len(layout.tiles) == 1
+    x, y, a = layout.square
+    assert np.all(inside_tiles(layout, np.array([[x, y], [x + a, y + a]])) == 1)
+    assert y + a < min(p.outline[:, 1].min() for p in layout.pieces)
+
+
+def test_the_cut_svg_is_one_sheet_in_mm_with_a_10_cm_square():
+    from ptailor.formats.cut_svg import cut_svg
+
+    text, layout = cut_svg(pattern(), title="tee <1>", note="")
+    assert len(layout.tiles) == 1 and "tee &lt;1&gt;" in text
+    w, h = (float(v) for v in re.search(r'width="([\d.]+)mm" height="([\d.]+)mm"', text).groups())
+    assert re.search(r'viewBox="0 0 ([\d.]+) ([\d.]+)"', text).groups() == (f"{w:.3f}", f"{h:.3f}")
+    assert (w, h) == pytest.approx(layout.page, abs=1e-3)
+    d = re.search(r'class="square"[^>]* d="M([^"Z]+)Z"', text).group(1)
+    P = np.array([[float(v) for v in p.split(",")] for p in d.split()])
+    assert np.ptp(P, axis=0) == pytest.approx([100, 100], abs=1e-3)
+    assert 'class="mark"' not in text  # one sheet: no registration marks
+    cut = re.search(r'class="cut"[^>]* d="([^"]+)"', text).group(1)
+    assert cut.count("M") == len(pattern().pieces)

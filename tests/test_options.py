@@ -202,6 +202,7 @@ _RUN_ARGS = {
     "spec": ("--spec", "auto"),
     "spec_units": ("--spec-units", "0.3333cm"),
     "show_measures": ("--show-measures",),
+    "paper": ("--paper", "Letter"),
 }
 
 

@@ -205,7 +205,8 @@ def output_options(fn):
                 show_default=True,
                 help="Outputs besides report.json: obj (garment.obj), dxf (pattern.dxf), svg "
                 "(pattern.svg), png (preview.png), pdf (pattern.pdf: the cutting sheet, "
-                "1:1 on tiled pages).",
+                "1:1 on tiled pages), cut (pattern_cut.svg: the cutting sheet on one "
+                "sheet, in mm).",
             ),
             click.option(
                 "--paper",

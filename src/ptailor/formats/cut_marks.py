@@ -47,6 +47,8 @@ class CutStyle:
     max_page : float
         The longest side of a PDF page (PDF 1.7: 14 400 pt, 200 in): a roll longer than
         this is cut into pages.
+    roll : float
+        The one-sheet SVG's width unless a piece is wider (36 in: a plotter's roll).
     """
 
     margin: float = 10.0
@@ -63,6 +65,7 @@ class CutStyle:
     line_width: float = 0.25
     mark_width: float = 0.2
     max_page: float = 5080.0
+    roll: float = 914.4
 
 
 #: the kinds of stroke, in the order drawn: line style per kind (``width``: the style's

@@ -121,7 +121,8 @@ class CuttingLayout:
     ----------
     paper : Paper
     page : (2,) tuple of float
-        A page's width and height, mm.
+        A page's width and height, mm (a fixed paper turned landscape when that takes
+        fewer pages).
     tile : (2,) tuple of float
         The printed part of a page (the page less its margins), mm.
     rows, cols : int
@@ -192,46 +193,59 @@ def _fit_roll(p: Piece, width: float) -> Piece:
     )
 
 
-def _shelves(sizes: np.ndarray, width: float, gap: float) -> tuple[np.ndarray, float]:
-    """Boxes laid in shelves left to right, top down, the first box first and the others
-    tallest first: their top left corners (``y`` down) and the height used."""
-    order = [0, *sorted(range(1, len(sizes)), key=lambda i: -sizes[i, 1])]
+def _shelves(
+    sizes: np.ndarray, width: float, gap: float, *, first: bool = True
+) -> tuple[np.ndarray, float]:
+    """Boxes laid in shelves left to right, top down, tallest first, each in the first shelf
+    with room (first fit; only the last shelf grows taller); with ``first`` the first box
+    (the test square) opens the first shelf. Their top left corners (``y`` down) and the
+    height used."""
+    tallest = sorted(range(len(sizes)), key=lambda i: (-sizes[i, 1], i))
+    order = [0, *(i for i in tallest if i)] if first else tallest
     at = np.zeros((len(sizes), 2))
-    x = y = shelf = 0.0
+    shelves: list[list[float]] = []  # per shelf: its top, its height, its next free x
     for i in order:  # a loop over pieces
         w, h = sizes[i]
-        if x > 0 and x + w > width:
-            x, y, shelf = 0.0, y + shelf + gap, 0.0
-        at[i] = x, y
-        x += w + gap
-        shelf = max(shelf, h)
-    return at, y + shelf
+        room = [s for s in shelves if s[2] + w <= width and (h <= s[1] or s is shelves[-1])]
+        if room:
+            s = room[0]
+        else:
+            s = [shelves[-1][0] + shelves[-1][1] + gap if shelves else 0.0, 0.0, 0.0]
+            shelves.append(s)
+        at[i] = s[2], s[0]
+        s[1], s[2] = max(s[1], h), s[2] + w + gap
+    return at, shelves[-1][0] + shelves[-1][1]
 
 
 def _grid(paper: Paper, sizes: np.ndarray, style: CutStyle):
-    """The page, the tile, the grid and the shelves: for a fixed paper the number of
-    columns that needs fewest pages (then fewest columns); a roll one column. The shelves
+    """The page, the tile, the grid and the shelves: for a fixed paper the orientation and
+    number of columns that need fewest pages (then portrait, then fewest columns); a roll
+    one column. The shelves
     start inside the top and left outer overlap strips and may reach into the bottom and
     right ones (all inside the tiles)."""
     m, o, g = style.margin, style.overlap, style.gap
     if paper.height is None:
         W = paper.width - 2 * m
-        at, used = _shelves(sizes, W - 2 * o, g)
+        at, used = min(
+            (_shelves(sizes, W - 2 * o, g, first=f) for f in (True, False)),
+            key=lambda r: r[1] if r[1] + 2 * (m + o) <= style.max_page else math.inf,
+        )
         H = min(used + 2 * o, style.max_page - 2 * m)
         rows = max(1, math.ceil(used / (H - o)))
         return (paper.width, H + 2 * m), (W, H), rows, 1, at
-    W, H = paper.width - 2 * m, paper.height - 2 * m
-    sx, sy = W - o, H - o
-    least = max(1, math.ceil(float(sizes[:, 0].max()) / sx))
     best = None
-    for cols in range(least, least + 1 + math.ceil(float(sizes[:, 0].sum()) / sx)):  # columns
-        at, used = _shelves(sizes, cols * sx, g)
-        rows = max(1, math.ceil(used / sy))
-        key = (rows * cols, cols)
-        if best is None or key < best[0]:
-            best = (key, rows, cols, at)
-    _, rows, cols, at = best
-    return (paper.width, paper.height), (W, H), rows, cols, at
+    for turn, (pw, ph) in enumerate([(paper.width, paper.height), (paper.height, paper.width)]):
+        W, H = pw - 2 * m, ph - 2 * m
+        sx, sy = W - o, H - o
+        least = max(1, math.ceil(float(sizes[:, 0].max()) / sx))
+        for cols in range(least, least + 1 + math.ceil(float(sizes[:, 0].sum()) / sx)):
+            for f in (True, False):  # the square first, or anywhere on a one-page sheet
+                at, used = _shelves(sizes, cols * sx, g, first=f)
+                rows = max(1, math.ceil(used / sy))
+                key = (rows * cols, turn, cols, not f)
+                if (f or rows * cols == 1) and (best is None or key < best[0]):
+                    best = (key, (pw, ph), (W, H), rows, cols, at)
+    return best[1:]
 
 
 def cutting_layout(

@@ -148,6 +148,6 @@ class RunOptions:
         data["formats"] = sorted(data["formats"])
         if data["spec_units"] is None:  # (stamps written before the option stay valid)
             del data["spec_units"]
-        if "pdf" not in data["formats"]:  # the paper changes only the cutting sheet
+        if data["paper"] == "A4":  # (the default: stamps written before the option stay valid)
             del data["paper"]
         return dict(sorted(data.items()))

@@ -29,7 +29,10 @@ FILE_NAMES = {
     "svg": "pattern.svg",
     "png": "preview.png",
     "pdf": "pattern.pdf",
+    "cut": "pattern_cut.svg",
 }
+#: formats drawn from the pieces whose file's extension is a preview's (``.svg``)
+CUT_FORMATS = ("cut",)
 #: the output formats, in the order they are written
 FORMATS = tuple(FILE_NAMES)
 #: what a run writes unless told (the cutting sheet is asked for: ``--formats ...,pdf``)
@@ -38,7 +41,11 @@ DEFAULT_FORMATS = ("obj", "dxf", "svg", "png")
 
 def needs_pieces(formats: tuple[str, ...]) -> bool:
     """True when one of ``formats`` writes a CAD pattern (its pieces must be planned)."""
-    return any(extension(FILE_NAMES[f]) in PATTERN_WRITERS for f in formats if f in FILE_NAMES)
+    return any(
+        f in CUT_FORMATS or extension(FILE_NAMES[f]) in PATTERN_WRITERS
+        for f in formats
+        if f in FILE_NAMES
+    )
 
 
 @dataclass(frozen=True)
@@ -240,21 +247,36 @@ def output_pdf(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
     """``pattern.pdf``: the cutting sheet, every piece 1:1 with its cut and sew lines,
     notches, grain line, name, size and quantity, on ``ctx.paper``'s pages."""
     name = FILE_NAMES["pdf"]
+    writer_for(name)(
+        tmp / name, pattern_file(adj, ctx), paper=ctx.paper, title=ctx.title,
+        note=_allowance_note(adj, ctx),
+    )  # fmt: skip
+    return name
+
+
+def _allowance_note(adj: Adjustment, ctx: OutputContext) -> str:
+    """The cutting sheet's word on the seam allowance."""
     if ctx.seam_allowance:
         a = f"{ctx.seam_allowance:g} {adj.garment.units}"
-        note = f"Seam allowance {a} included: cut solid, sew dashed."
-    else:
-        note = "No seam allowance: the solid line is the sew line."
-    writer_for(name)(
-        tmp / name, pattern_file(adj, ctx), paper=ctx.paper, title=ctx.title, note=note
-    )
+        return f"Seam allowance {a} included: cut solid, sew dashed."
+    return "No seam allowance: the solid line is the sew line."
+
+
+def output_cut(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
+    """``pattern_cut.svg``: the cutting sheet's content on one sheet, 1:1 in mm (the file
+    is an SVG but not the preview: its writer is called by name, not by extension)."""
+    from ptailor.formats.cut_svg import write_cut_svg
+
+    name = FILE_NAMES["cut"]
+    note = _allowance_note(adj, ctx)
+    write_cut_svg(tmp / name, pattern_file(adj, ctx), title=ctx.title, note=note)
     return name
 
 
 #: output format -> writer(folder, adjustment, context) returning the file name
 OUTPUTS = {
     "obj": output_obj, "dxf": output_dxf, "svg": output_svg, "png": output_png,
-    "pdf": output_pdf,
+    "pdf": output_pdf, "cut": output_cut,
 }  # fmt: skip
 
 
@@ -262,7 +284,11 @@ def write_outputs(
     tmp: Path, adj: Adjustment, ctx: OutputContext, formats: tuple[str, ...]
 ) -> list[str]:
     """Write the adjusted garment in the requested formats into ``tmp``; return file names."""
-    sheets = [f for f in FORMATS if f in formats and extension(FILE_NAMES[f]) in SHEET_WRITERS]
+    sheets = [
+        f
+        for f in FORMATS
+        if f in formats and f not in CUT_FORMATS and extension(FILE_NAMES[f]) in SHEET_WRITERS
+    ]
     if ctx.sheet is None and sheets:  # the first writer names itself in the inputs' errors
         ctx = replace(ctx, sheet=sheet(adj, ctx, caller=f"pattern_{sheets[0]}"))
     return [OUTPUTS[f](tmp, adj, ctx) for f in FORMATS if f in formats]
