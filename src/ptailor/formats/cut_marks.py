@@ -170,20 +170,22 @@ def grain_arrow(grain: np.ndarray, *, length: float) -> list[np.ndarray]:
     return [np.array([a, b]), *heads]
 
 
-def _label_anchor(p: Piece) -> tuple[np.ndarray, float]:
-    """Where a piece's texts go, and the shift of their centre from it: beside the grain
-    line's middle (inside the piece), else the outline's centroid."""
+def _label_anchor(p: Piece) -> tuple[np.ndarray, np.ndarray]:
+    """Where a piece's texts go, and which way their block moves off it: beside the grain
+    line's middle (inside the piece; right of an upright grain line, above a lying one),
+    else on the outline's centroid (no move)."""
     if p.grain is not None and np.all(np.isfinite(p.grain)):
         g = np.asarray(p.grain, dtype=float)
-        return g.mean(axis=0), 1.0
+        dx, dy = np.abs(g[1] - g[0])
+        return g.mean(axis=0), np.array([0.0, 1.0]) if dx > dy else np.array([1.0, 0.0])
     P = np.asarray(p.outline, dtype=float)
     x, y = P[:, 0], P[:, 1]
     cross = x * np.roll(y, -1) - np.roll(x, -1) * y
     a = cross.sum() / 2
     if abs(a) <= 1e-12:
-        return P.mean(axis=0), 0.0
+        return P.mean(axis=0), np.zeros(2)
     c = np.array([(x + np.roll(x, -1)) @ cross, (y + np.roll(y, -1)) @ cross]) / (6 * a)
-    return c, 0.0
+    return c, np.zeros(2)
 
 
 def piece_texts(p: Piece) -> list[str]:
@@ -225,14 +227,15 @@ def piece_drawing(p: Piece, *, style: CutStyle) -> tuple[list[Stroke], list[Labe
     arms = style.notch / 2 * np.array([[[-1.0, 0.0], [1.0, 0.0]], [[0.0, -1.0], [0.0, 1.0]]])
     for d in np.asarray(p.drills, dtype=float).reshape(-1, 2):  # a loop over drill holes
         s += [Stroke("drill", d + a) for a in arms]
-    at, side = _label_anchor(p)
+    at, move = _label_anchor(p)
     lines = piece_texts(p)
     sizes = [style.name_size] + [style.text_size] * (len(lines) - 1)
     step = 1.4 * np.array(sizes)
-    top = at[1] + step.sum() / 2 - sizes[0]
-    ys = top - np.concatenate([[0.0], np.cumsum(step[1:])])
-    half = max(len(t) * h for t, h in zip(lines, sizes, strict=True)) * 0.3  # Helvetica: ~0.6 em
-    x = at[0] + side * (half + style.arrow / 2)
+    # the block's half width and half height (Helvetica's mean advance: about 0.6 em)
+    half = np.array([max(len(t) * h for t, h in zip(lines, sizes, strict=True)) * 0.3,
+                     step.sum() / 2])  # fmt: skip
+    x, mid = at + move * (half + style.arrow / 2)
+    ys = mid + half[1] - sizes[0] - np.concatenate([[0.0], np.cumsum(step[1:])])
     labels = [
         Label(float(x), float(y), t, float(h), bold=i == 0)
         for i, (t, y, h) in enumerate(zip(lines, ys, sizes, strict=True))

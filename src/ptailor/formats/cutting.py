@@ -230,7 +230,7 @@ def _grid(paper: Paper, sizes: np.ndarray, style: CutStyle):
             (_shelves(sizes, W - 2 * o, g, first=f) for f in (True, False)),
             key=lambda r: r[1] if r[1] + 2 * (m + o) <= style.max_page else math.inf,
         )
-        H = min(used + 2 * o, style.max_page - 2 * m)
+        H = float(min(used + 2 * o, style.max_page - 2 * m))
         rows = max(1, math.ceil(used / (H - o)))
         return (paper.width, H + 2 * m), (W, H), rows, 1, at
     best = None
