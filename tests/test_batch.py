@@ -182,7 +182,8 @@ def test_bad_recipe_or_arguments_exit_2_and_write_nothing(tmp_path, recipe, cata
     cases = [
         [catalogue / "nothing*.obj"],  # no garments matched
         [catalogue / "a_sleeve.obj", "-j", "0"],
-        [catalogue / "a_sleeve.obj", "--formats", "obj,pdf"],
+        [catalogue / "a_sleeve.obj", "--formats", "obj,stl"],
+        [catalogue / "a_sleeve.obj", "--formats", "pdf", "--paper", "B5"],
         [catalogue / "a_sleeve.obj", "--pattern-units", "furlong"],
         [catalogue / "a_sleeve.obj", "--seam-allowance", "-1cm"],
     ]
