@@ -182,7 +182,8 @@ def test_bad_recipe_or_arguments_exit_2_and_write_nothing(tmp_path, recipe, cata
     cases = [
         [catalogue / "nothing*.obj"],  # no garments matched
         [catalogue / "a_sleeve.obj", "-j", "0"],
-        [catalogue / "a_sleeve.obj", "--formats", "obj,pdf"],
+        [catalogue / "a_sleeve.obj", "--formats", "obj,stl"],
+        [catalogue / "a_sleeve.obj", "--formats", "pdf", "--paper", "B5"],
         [catalogue / "a_sleeve.obj", "--pattern-units", "furlong"],
         [catalogue / "a_sleeve.obj", "--seam-allowance", "-1cm"],
     ]
@@ -316,6 +317,7 @@ def test_the_stamp_hashes_every_run_option(tmp_path):
         "show_measures": True,
         "spec_units": "cm",
         "sizes": "all",
+        "paper": "Letter",
     }
     assert set(changed) == {f.name for f in fields(RunOptions)}
 
@@ -327,7 +329,7 @@ def test_the_stamp_hashes_every_run_option(tmp_path):
     assert len(keys) == 1 + len(changed)
     stamp = pb.job_stamp(pb.make_jobs([str(g)], tmp_path / "o", parse_recipe(WIDER))[0])
     # an option added later is left out at its default: earlier runs' stamps stay valid
-    assert list(stamp["options"]) == sorted(set(changed) - {"spec_units", "sizes"})
+    assert list(stamp["options"]) == sorted(set(changed) - {"spec_units", "sizes", "paper"})
     assert stamp["options"]["formats"] == sorted(base.formats)
 
 

@@ -203,6 +203,7 @@ _RUN_ARGS = {
     "spec_units": ("--spec-units", "0.3333cm"),
     "show_measures": ("--show-measures",),
     "sizes": ("--sizes", "all"),
+    "paper": ("--paper", "Letter"),
 }
 
 

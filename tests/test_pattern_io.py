@@ -115,9 +115,9 @@ def test_formats_option_writes_only_those(tmp_path):
     assert names == [".ptailor", "pattern.dxf", "report.json"]
     r = CliRunner().invoke(
         cli, ["adjust", str(obj), str(tmp_path / "r.yaml"), "-o", str(tmp_path / "o2"),
-              "--formats", "obj,pdf"]
+              "--formats", "obj,stl"]
     )  # fmt: skip
-    assert r.exit_code == 2 and "pdf" in r.output and not (tmp_path / "o2").exists()
+    assert r.exit_code == 2 and "stl" in r.output and not (tmp_path / "o2").exists()
 
 
 @pytest.mark.slow

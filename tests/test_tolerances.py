@@ -53,6 +53,7 @@ NOT_TOLERANCES = {
     ("ptailor/formats/obj_scan.py", "_INDEX_MAX"): "the int64 range numpy parses (a fact)",
     ("ptailor/formats/footer.py", "_CHAR"): "a font's character advance (drawing)",
     ("ptailor/formats/png.py", "SUPERSAMPLE"): "antialiasing of a picture (drawing)",
+    ("ptailor/formats/pdf.py", "PT"): "points per millimetre (PDF's unit: a fact)",
     ("ptailor/formats/preview.py", "ERROR_EDGES"): "the preview legend's colour bins",
     ("ptailor/verify/picture.py", "STRETCH_RANGE"): "the picture's colour scale",
     ("ptailor/catalogue/thumbnails.py", "THUMBNAIL_SIZE"): "a thumbnail's size (drawing)",

@@ -195,8 +195,8 @@ def method_options(fn):
 
 
 def output_options(fn):
-    """``--formats``, ``--seam-allowance`` and ``--show-measures``: what is written, how the
-    DXF is cut, what the previews show."""
+    """``--formats``, ``--paper``, ``--seam-allowance`` and ``--show-measures``: what is
+    written, on which paper the cutting sheet, how the DXF is cut, what the previews show."""
     for opt in reversed(
         [
             click.option(
@@ -204,7 +204,18 @@ def output_options(fn):
                 default="obj,dxf,svg,png",
                 show_default=True,
                 help="Outputs besides report.json: obj (garment.obj), dxf (pattern.dxf), svg "
-                "(pattern.svg), png (preview.png).",
+                "(pattern.svg), png (preview.png), pdf (pattern.pdf: the cutting sheet, "
+                "1:1 on tiled pages), cut (pattern_cut.svg: the cutting sheet on one "
+                "sheet, in mm).",
+            ),
+            click.option(
+                "--paper",
+                default="A4",
+                show_default=True,
+                metavar="PAPER",
+                help="pattern.pdf's paper: A4, Letter or A3 (tiled pages with registration "
+                "marks), A0 (a plotter sheet) or roll:WIDTH (one plotter sheet as long as "
+                "the pattern: roll:914mm, roll:36in).",
             ),
             click.option(
                 "--seam-allowance",

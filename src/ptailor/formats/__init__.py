@@ -7,7 +7,10 @@ Four kinds of file, one table each for reading and writing:
 - patterns (``.dxf``): :data:`PATTERN_READERS` give a
   :class:`ptailor.model.pieces.PatternFile`, :data:`PATTERN_WRITERS` take one;
 - sheets (``.svg``, ``.png``): :data:`SHEET_WRITERS` draw a pattern before and after an
-  adjustment (the keywords of :func:`ptailor.formats.svg.pattern_svg`).
+  adjustment (the keywords of :func:`ptailor.formats.svg.pattern_svg`);
+- cutting sheets (``.pdf``): a pattern writer too (:data:`PATTERN_WRITERS`), drawing a
+  :class:`ptailor.model.pieces.PatternFile` 1:1 on tiled pages
+  (:func:`ptailor.formats.pdf.write_pdf`).
 
 Callers look a file up by its name (:func:`reader_for`, :func:`writer_for`,
 :func:`is_pattern_file`), never by testing an extension themselves.
@@ -89,13 +92,14 @@ def write_svg(path: str | Path, *args: Any, **options: Any) -> None:
 
 
 def _register() -> None:
-    from ptailor.formats import dxf, obj, png
+    from ptailor.formats import dxf, obj, pdf, png
 
     READERS["obj"] = obj.read_obj
     WRITERS["obj"] = obj.write_obj
     PATTERN_READERS["dxf"] = dxf.read_dxf
     SIZES_READERS["dxf"] = dxf.read_dxf_sizes
     PATTERN_WRITERS["dxf"] = dxf.write_dxf
+    PATTERN_WRITERS["pdf"] = pdf.write_pdf
     SHEET_WRITERS["svg"] = write_svg
     SHEET_WRITERS["png"] = png.pattern_png
 

@@ -321,6 +321,7 @@ def _output_context(
         seam_allowance=allowance,
         show_measures=options.show_measures,
         nest=nest,
+        paper=options.paper,
         title=f"{Path(garment).name}: {Path(recipe.source).name}"
         + (f", seam allowance {allowance:g} {units}" if allowance else ""),
     )

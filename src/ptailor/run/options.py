@@ -13,7 +13,7 @@ import math
 from dataclasses import asdict, dataclass
 
 from ptailor.errors import PtailorError
-from ptailor.run.outputs import FORMATS
+from ptailor.run.outputs import DEFAULT_FORMATS, FORMATS
 from ptailor.verify.rest import REST_MODES
 
 #: the flatten overrides (``--method``, ``--intrinsic``)
@@ -45,7 +45,8 @@ class RunOptions:
     baseline : bool
         Compute uniform flattening for comparison.
     formats : tuple of str
-        Outputs to write besides ``report.json`` (:data:`ptailor.run.outputs.FORMATS`).
+        Outputs to write besides ``report.json`` (:data:`ptailor.run.outputs.FORMATS`;
+        default :data:`~ptailor.run.outputs.DEFAULT_FORMATS`, all but the cutting sheet).
     up, front : str, optional
         The garment's axes (``y``, ``-z``, ...); default the recipe's, else y up, z front.
     body : str, optional
@@ -82,6 +83,10 @@ class RunOptions:
     show_measures : bool
         ``pattern.svg`` and ``preview.png`` draw the adjusted garment's points of measure
         (:mod:`ptailor.measures`) on its pieces, named.
+    paper : str
+        The cutting sheet's (``pattern.pdf``) paper: ``A4``, ``Letter``, ``A3`` (tiled
+        pages), ``A0`` (a plotter sheet, tiled when outgrown) or ``roll:WIDTH``
+        (:func:`ptailor.formats.cutting.parse_paper`).
     """
 
     pattern_units: str | None = None
@@ -90,7 +95,7 @@ class RunOptions:
     method: str | None = None
     intrinsic: str | None = None
     baseline: bool = True
-    formats: tuple[str, ...] = FORMATS
+    formats: tuple[str, ...] = DEFAULT_FORMATS
     up: str | None = None
     front: str | None = None
     body: str | None = None
@@ -106,6 +111,7 @@ class RunOptions:
     spec: str | None = None
     spec_units: str | None = None
     show_measures: bool = False
+    paper: str = "A4"
 
     def __post_init__(self) -> None:
         from ptailor.formats.garment import parse_units, parse_weld
@@ -130,6 +136,9 @@ class RunOptions:
                 f"--formats: unknown output format(s) {', '.join(unknown or [self.formats])} "
                 f"(known: {', '.join(FORMATS)})"
             )
+        from ptailor.formats.cutting import parse_paper
+
+        parse_paper(self.paper)
         a = self.seam_allowance
         if a is not None and not (isinstance(a, (int, float)) and math.isfinite(a) and a >= 0):
             raise PtailorError(f"--seam-allowance must be a length >= 0, not {a}")
@@ -150,6 +159,8 @@ class RunOptions:
             del data["sizes"]
         if data["spec_units"] is None:  # (stamps written before the option stay valid)
             del data["spec_units"]
+        if data["paper"] == "A4":  # (the default: stamps written before the option stay valid)
+            del data["paper"]
         return dict(sorted(data.items()))
 
 

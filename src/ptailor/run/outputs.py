@@ -18,6 +18,7 @@ from ptailor.formats.garment import LoadedGarment
 from ptailor.formats.sheet import preview_sheet
 from ptailor.model.boundary import boundary_loops
 from ptailor.model.garment import panel_labels
+from ptailor.model.pieces import PatternFile
 from ptailor.model.structure import structure
 from ptailor.pieces import CarriedPiece, PiecePlan
 from ptailor.pieces.grade import GradedNest
@@ -29,14 +30,24 @@ FILE_NAMES = {
     "dxf": "pattern.dxf",
     "svg": "pattern.svg",
     "png": "preview.png",
+    "pdf": "pattern.pdf",
+    "cut": "pattern_cut.svg",
 }
+#: formats drawn from the pieces whose file's extension is a preview's (``.svg``)
+CUT_FORMATS = ("cut",)
 #: the output formats, in the order they are written
 FORMATS = tuple(FILE_NAMES)
+#: what a run writes unless told (the cutting sheet is asked for: ``--formats ...,pdf``)
+DEFAULT_FORMATS = ("obj", "dxf", "svg", "png")
 
 
 def needs_pieces(formats: tuple[str, ...]) -> bool:
     """True when one of ``formats`` writes a CAD pattern (its pieces must be planned)."""
-    return any(extension(FILE_NAMES[f]) in PATTERN_WRITERS for f in formats if f in FILE_NAMES)
+    return any(
+        f in CUT_FORMATS or extension(FILE_NAMES[f]) in PATTERN_WRITERS
+        for f in formats
+        if f in FILE_NAMES
+    )
 
 
 @dataclass(frozen=True)
@@ -65,6 +76,9 @@ class OutputContext:
     nest : GradedNest or None
         ``--sizes``: every chosen size's pieces (``pattern.dxf`` is then the graded nest,
         and each size is written alone too).
+    paper : str
+        The cutting sheet's paper (``--paper``: ``A4``, ``Letter``, ``A3``, ``A0``,
+        ``roll:WIDTH``).
     """
 
     loaded: LoadedGarment
@@ -76,6 +90,7 @@ class OutputContext:
     sheet: dict | None = None
     show_measures: bool = False
     nest: GradedNest | None = None
+    paper: str = "A4"
 
 
 def output_obj(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
@@ -226,10 +241,10 @@ def _dxf_pieces(pieces, ctx: OutputContext, k: float) -> list:
     return out
 
 
-def output_dxf(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str | list[str]:
-    """``pattern.dxf``: AAMA/ASTM pieces with their construction marks carried through;
-    with ``--sizes`` every chosen size as a graded nest, and ``pattern_SIZE.dxf`` each."""
-    from ptailor.model.pieces import PatternFile
+def pattern_file(adj: Adjustment, ctx: OutputContext) -> PatternFile:
+    """The adjusted pieces in the pattern's units, as ``pattern.dxf`` and ``pattern.pdf``
+    write them (a :class:`~ptailor.model.pieces.PatternFile`: with a seam allowance each
+    outline is the cut line and ``sew`` the sew line)."""
     from ptailor.model.units import CM_PER
 
     units = ctx.plan.units
@@ -245,12 +260,21 @@ def output_dxf(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str | list[str
     )
     if src is not None:
         pf = replace(pf, units_text=src.units_text)
+    return pf
+
+
+def output_dxf(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str | list[str]:
+    """``pattern.dxf``: AAMA/ASTM pieces with their construction marks carried through;
+    with ``--sizes`` every chosen size as a graded nest, and ``pattern_SIZE.dxf`` each."""
     name = FILE_NAMES["dxf"]
+    pf = pattern_file(adj, ctx)
     if ctx.nest is None:
         writer_for(name)(tmp / name, pf)
         return name
     from ptailor.formats.dxf import layout_nest
+    from ptailor.model.units import CM_PER
 
+    k = CM_PER[adj.garment.units] / CM_PER[ctx.plan.units]
     nest = ctx.nest
     files = size_file_names(nest.sizes)
     base = nest.base if nest.base in nest.sizes else nest.sizes[0]
@@ -269,15 +293,52 @@ def output_dxf(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str | list[str
     return [name, *files.values()]
 
 
+def output_pdf(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
+    """``pattern.pdf``: the cutting sheet, every piece 1:1 with its cut and sew lines,
+    notches, grain line, name, size and quantity, on ``ctx.paper``'s pages."""
+    name = FILE_NAMES["pdf"]
+    writer_for(name)(
+        tmp / name, pattern_file(adj, ctx), paper=ctx.paper, title=ctx.title,
+        note=_allowance_note(adj, ctx),
+    )  # fmt: skip
+    return name
+
+
+def _allowance_note(adj: Adjustment, ctx: OutputContext) -> str:
+    """The cutting sheet's word on the seam allowance."""
+    if ctx.seam_allowance:
+        a = f"{ctx.seam_allowance:g} {adj.garment.units}"
+        return f"Seam allowance {a} included: cut solid, sew dashed."
+    return "No seam allowance: the solid line is the sew line."
+
+
+def output_cut(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
+    """``pattern_cut.svg``: the cutting sheet's content on one sheet, 1:1 in mm (the file
+    is an SVG but not the preview: its writer is called by name, not by extension)."""
+    from ptailor.formats.cut_svg import write_cut_svg
+
+    name = FILE_NAMES["cut"]
+    note = _allowance_note(adj, ctx)
+    write_cut_svg(tmp / name, pattern_file(adj, ctx), title=ctx.title, note=note)
+    return name
+
+
 #: output format -> writer(folder, adjustment, context) returning the file name
-OUTPUTS = {"obj": output_obj, "dxf": output_dxf, "svg": output_svg, "png": output_png}
+OUTPUTS = {
+    "obj": output_obj, "dxf": output_dxf, "svg": output_svg, "png": output_png,
+    "pdf": output_pdf, "cut": output_cut,
+}  # fmt: skip
 
 
 def write_outputs(
     tmp: Path, adj: Adjustment, ctx: OutputContext, formats: tuple[str, ...]
 ) -> list[str]:
     """Write the adjusted garment in the requested formats into ``tmp``; return file names."""
-    sheets = [f for f in FORMATS if f in formats and extension(FILE_NAMES[f]) in SHEET_WRITERS]
+    sheets = [
+        f
+        for f in FORMATS
+        if f in formats and f not in CUT_FORMATS and extension(FILE_NAMES[f]) in SHEET_WRITERS
+    ]
     if ctx.sheet is None and sheets:  # the first writer names itself in the inputs' errors
         ctx = replace(ctx, sheet=sheet(adj, ctx, caller=f"pattern_{sheets[0]}"))
     names = []
