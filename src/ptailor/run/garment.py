@@ -45,6 +45,7 @@ from ptailor.run.checks import (
     check_size_against_body,
     run_warnings,
 )
+from ptailor.run.edited import read_edited_drape
 from ptailor.run.folder import check_output_dir, staged_dir, write_json
 from ptailor.run.inputs import (
     checked_recipe,
@@ -148,7 +149,7 @@ def staged_run(
     recipe = checked_recipe(recipe, options)
     body_file = options.body if options.body != "auto" else None
     spec_file = spec_input(garment, options.spec)
-    check_output_dir(out, [garment, drape, body_file, spec_file])
+    check_output_dir(out, [garment, drape, body_file, spec_file, options.edited_drape])
     shown = (display_inputs or {}).get("garment", garment)  # the garment errors name
     # the library's warnings (numpy, ezdxf, ...) of this run, for the report's warnings
     with capture_library_warnings() as library:
@@ -181,7 +182,7 @@ def _stage(
     inputs = _read_inputs(garment, drape, recipe, options, spec_file=spec_file, shown=shown)
     t1 = time.perf_counter()
     edits = inputs.edits
-    adj = _adjustment(inputs.loaded.garment, recipe, options, edits, shown=shown, progress=progress)
+    adj = _adjustment(inputs, recipe, options, shown=shown, progress=progress)
     errors, reference = _checked_errors(adj, shown=shown)
     t2 = time.perf_counter()
     sections = _measure_sections(adj, recipe, inputs.measures_before)
@@ -245,6 +246,7 @@ class _Inputs:
     spec_match: SpecMatching | None = None  # --spec: the specification matched
     spec_note: tuple[str, ...] = ()  # --spec auto without a specification: what was looked for
     measures_before: list[dict] = field(default_factory=list)  # the garment's, as read (cm)
+    edited: np.ndarray | None = None  # --edited-drape: the drape edited elsewhere
 
 
 def _read_inputs(
@@ -285,7 +287,8 @@ def _read_inputs(
     plan = plan_pieces(loaded, options)
     if options.seam_allowance:
         check_seam_allowance(loaded.garment, options.seam_allowance)
-    return _Inputs(loaded, edits, plan, body_fit, spec_match, spec_note, before)
+    edited = read_edited_drape(options.edited_drape, loaded) if options.edited_drape else None
+    return _Inputs(loaded, edits, plan, body_fit, spec_match, spec_note, before, edited)
 
 
 def _output_context(
@@ -311,7 +314,7 @@ def _output_context(
         errors=errors,
         seam_allowance=allowance,
         show_measures=options.show_measures,
-        title=f"{Path(garment).name}: {Path(recipe.source).name}"
+        title=f"{Path(garment).name}: {Path(options.edited_drape or recipe.source).name}"
         + (f", seam allowance {allowance:g} {units}" if allowance else ""),
     )
 
@@ -446,18 +449,20 @@ def _write_redrapes(tmp: Path, staged: _Staged) -> list[str]:
 
 
 def _adjustment(
-    garment, recipe: Recipe, options: RunOptions, edits, *, shown: str, progress=None
+    inputs: _Inputs, recipe: Recipe, options: RunOptions, *, shown: str, progress=None
 ) -> Adjustment:
-    """:func:`ptailor.pipeline.adjustment`, an error the garment decides naming it."""
+    """:func:`ptailor.pipeline.adjustment` (of the recipe's steps, or of the edited drape),
+    an error the garment decides naming it."""
     try:
         return adjustment(
-            garment,
+            inputs.loaded.garment,
             recipe,
             method=options.method,
             intrinsic=options.intrinsic,
             baseline=options.baseline,
-            options=edits,
+            options=inputs.edits,
             progress=progress,
+            edited=inputs.edited,
         )
     except PtailorError as exc:
         if exc.path is not None:
@@ -479,8 +484,9 @@ def _checked_errors(adj: Adjustment, *, shown: str) -> tuple[np.ndarray, ScaleRe
 
 
 def _read(inputs: dict[str, str], options: RunOptions) -> dict[str, str]:
-    """Role to the path read: ``inputs``, the body (a fitted body, ``--body auto``, is
-    no file read: the report's ``body_fit`` records it) and the specification."""
+    """Role to the path read: ``inputs``, the body (a fitted body, ``--body auto``, is no
+    file read: the report's ``body_fit`` records it), the specification, the edited drape."""
     body = options.body if options.body not in (None, "auto") else None
     spec = inputs.get("garment") and spec_input(inputs["garment"], options.spec)
-    return {**inputs, **({"body": body} if body else {}), **({"spec": spec} if spec else {})}
+    extra = {"body": body, "spec": spec, "edited_drape": options.edited_drape}
+    return {**inputs, **{role: path for role, path in extra.items() if path}}

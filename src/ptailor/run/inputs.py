@@ -16,6 +16,10 @@ def checked_recipe(recipe: Recipe | str, options: RunOptions) -> Recipe:
     against it; raises before any garment is read."""
     if not isinstance(recipe, Recipe):
         recipe = load_recipe(recipe)
+    if options.edited_drape is not None:
+        from ptailor.run.edited import check_edited_recipe
+
+        check_edited_recipe(recipe)
     if options.verify:
         check_engine()
     return recipe

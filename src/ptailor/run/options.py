@@ -78,6 +78,9 @@ class RunOptions:
     show_measures : bool
         ``pattern.svg`` and ``preview.png`` draw the adjusted garment's points of measure
         (:mod:`ptailor.measures`) on its pieces, named.
+    edited_drape : str, optional
+        An OBJ of the garment's drape edited elsewhere (same vertices and faces): the edit,
+        in place of the recipe's steps (:mod:`ptailor.run.edited`).
     """
 
     pattern_units: str | None = None
@@ -101,6 +104,7 @@ class RunOptions:
     spec: str | None = None
     spec_units: str | None = None
     show_measures: bool = False
+    edited_drape: str | None = None
 
     def __post_init__(self) -> None:
         from ptailor.formats.garment import parse_units, parse_weld
@@ -137,6 +141,7 @@ class RunOptions:
         a batch stamp hashes."""
         data = asdict(self)
         data["formats"] = sorted(data["formats"])
-        if data["spec_units"] is None:  # (stamps written before the option stay valid)
-            del data["spec_units"]
+        for key in ("spec_units", "edited_drape"):  # (older stamps stay valid)
+            if data[key] is None:
+                del data[key]
         return dict(sorted(data.items()))
