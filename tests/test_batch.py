@@ -318,6 +318,7 @@ def test_the_stamp_hashes_every_run_option(tmp_path):
         "spec_units": "cm",
         "sizes": "all",
         "paper": "Letter",
+        "edited_drape": str(g),
     }
     assert set(changed) == {f.name for f in fields(RunOptions)}
 
@@ -329,7 +330,9 @@ def test_the_stamp_hashes_every_run_option(tmp_path):
     assert len(keys) == 1 + len(changed)
     stamp = pb.job_stamp(pb.make_jobs([str(g)], tmp_path / "o", parse_recipe(WIDER))[0])
     # an option added later is left out at its default: earlier runs' stamps stay valid
-    assert list(stamp["options"]) == sorted(set(changed) - {"spec_units", "sizes", "paper"})
+    assert list(stamp["options"]) == sorted(
+        set(changed) - {"spec_units", "sizes", "paper", "edited_drape"}
+    )
     assert stamp["options"]["formats"] == sorted(base.formats)
 
 

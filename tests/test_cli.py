@@ -373,7 +373,7 @@ def test_the_command_sets_one_blas_thread_before_numpy_loads(tmp_path):
 #: adjust's options that batch does not take, and batch's own: docs/batch.md ("Options")
 #: says why. An option added to one command and not the other fails the test below until
 #: it is listed here and there.
-ADJUST_ONLY = {"--drape"}
+ADJUST_ONLY = {"--drape", "--edited-drape"}
 BATCH_ONLY = {
     "--manifest",
     "-j",

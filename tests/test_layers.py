@@ -37,7 +37,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("ptailor.run", "ptailor.samples"),
     ("ptailor.batch",),
     ("ptailor.catalogue",),
-    ("ptailor.cli", "ptailor.__main__"),
+    ("ptailor.cli", "ptailor.api", "ptailor.__main__"),
 )
 
 #: pairs in one layer that must not import each other

@@ -207,6 +207,22 @@ _RUN_ARGS = {
 }
 
 
+#: RunOptions fields that name one garment's own file: an option of ``adjust`` only, a
+#: manifest's column for ``batch`` (as ``--drape`` is), built with the command's ``fixed``
+_GARMENT_FILES = {"edited_drape": "--edited-drape"}
+
+
+def test_garment_files_are_adjusts_options_and_manifest_columns():
+    from ptailor.batch.manifest import MANIFEST_COLUMNS
+    from ptailor.cli.adjust import adjust
+    from ptailor.cli.options import build_run_options
+
+    opts = {o for p in adjust.params for o in getattr(p, "opts", ())}
+    for field, option in _GARMENT_FILES.items():
+        assert option in opts and field in MANIFEST_COLUMNS
+        assert getattr(build_run_options({}, **{field: "x.obj"}), field) == "x.obj"
+
+
 def _run_probe():
     import click
 
@@ -223,7 +239,7 @@ def test_one_builder_makes_every_run_option_from_the_command_line():
     from ptailor.cli.options import build_run_options
     from ptailor.run.options import RunOptions
 
-    assert set(_RUN_ARGS) == {f.name for f in fields(RunOptions)}
+    assert set(_RUN_ARGS) | set(_GARMENT_FILES) == {f.name for f in fields(RunOptions)}
     probe = _run_probe()
     default = RunOptions()
     assert build_run_options(probe.make_context("probe", []).params) == default

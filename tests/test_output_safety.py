@@ -475,8 +475,14 @@ def test_usage_errors_are_one_line(tmp_path, garment, recipe):
     assert str(tmp_path / "f") in r.stderr
     r = CliRunner().invoke(cli, ["adjust", str(garment)])
     assert r.exit_code == 2 and r.stderr.splitlines() == [
-        "ptailor adjust: error: Missing argument 'RECIPE'. (ptailor adjust --help)"
+        "ptailor adjust: error: Missing option '-o' / '--out'. (ptailor adjust --help)"
     ]
+    r = CliRunner().invoke(cli, ["adjust", str(garment), "-o", str(tmp_path / "o")])
+    assert r.exit_code == 2 and r.stderr.splitlines() == [
+        "ptailor adjust: error: Missing argument 'RECIPE' (or give --edited-drape). "
+        "(ptailor adjust --help)"
+    ]
+    assert not (tmp_path / "o").exists()
 
 
 @pytest.mark.parametrize("when", ["mkdtemp", "writing", "swap"])

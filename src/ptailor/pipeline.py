@@ -11,18 +11,16 @@ from functools import cached_property
 
 import numpy as np
 
-from ptailor import tolerances as tol
 from ptailor.edits import OPERATIONS, EditOptions, EditState, Step
+from ptailor.edits.drape import check_drape, edited_state
 from ptailor.edits.mirror import apply_mirrored
 from ptailor.edits.scale_seam import gather_bands
 from ptailor.errors import AbsentError, NumericError, PtailorError, RecipeError
-from ptailor.geometry.labels import used_indices
-from ptailor.geometry.triangles import triangle_areas
 from ptailor.method import tolerances as method_tol
 from ptailor.method.flatten import FlattenResult, flatten
 from ptailor.method.solver import SymbolicCache, counted_so_far, counting, reusing
 from ptailor.model.frame import Frame
-from ptailor.model.garment import Garment, panel_labels, vertex_labels, with_panel_names
+from ptailor.model.garment import Garment, vertex_labels, with_panel_names
 from ptailor.model.structure import structure
 from ptailor.model.symmetry import sagittal_plane
 from ptailor.recipe import Recipe
@@ -188,34 +186,6 @@ def numeric_failures(where: str):
         raise PtailorError(f"{where}: out of memory (the edit is too large)") from None
 
 
-def check_drape(state: EditState, where: str) -> None:
-    """Refuse a step that leaves the drape non-finite or collapses its triangles.
-
-    A triangle whose area falls below ``tol.EDIT_COLLAPSE_REL`` of its area on the
-    original drape (``state.base.V3``) is collapsed: the stitching would be singular.
-    """
-    g = state.base
-    V = state.V3
-    used = used_indices(g.F3, len(V))  # (np.unique's sort: 16 ms at 100k; this 1 ms)
-    if not np.all(np.isfinite(V[used])):
-        raise NumericError(f"{where}: the edited drape has non-finite coordinates")
-    if not len(g.F3):
-        return
-    with np.errstate(all="ignore"):
-        a0 = triangle_areas(g.V3, g.F3, robust=True)
-        a1 = triangle_areas(V, g.F3, robust=True)
-        bad = (a0 > 0) & ~(a1 >= tol.EDIT_COLLAPSE_REL * a0)
-    if np.any(bad):
-        flab = panel_labels(state.panels, g.n_faces)
-        names = sorted({state.panels[i].name for i in flab[bad] if i >= 0})
-        worst = float(np.min(a1[bad] / a0[bad])) if np.any(bad) else 0.0
-        raise PtailorError(
-            f"{where}: collapses {int(bad.sum())} drape triangle(s) of panel(s) "
-            f"{', '.join(names[:5]) or '?'} (area down to {worst:.3g} of the original, below "
-            f"{tol.EDIT_COLLAPSE_REL:g}): the pattern cannot follow"
-        )
-
-
 @contextmanager
 def caught_warnings(notes: list[str]):
     """Silence numpy's floating-point warnings and collect library warnings into ``notes``."""
@@ -287,6 +257,7 @@ def adjustment(
     baseline: bool = True,
     options: EditOptions | None = None,
     progress: Progress | None = None,
+    edited: np.ndarray | None = None,
 ) -> Adjustment:
     """Run a recipe on a garment and adjust its pattern.
 
@@ -307,6 +278,9 @@ def adjustment(
         ``progress(stage, iteration, residual)``: called with ``("edit", 0, None)`` before
         the steps and once per stitching iteration of ``"flatten"`` and ``"baseline"``
         (a progress line's feed; the result does not depend on it).
+    edited : (n3, 3) float array, optional
+        The drape edited elsewhere, in place of the recipe's steps (which must then be
+        none): :func:`ptailor.edits.drape.edited_state`; the recipe gives the settings.
 
     Returns
     -------
@@ -321,7 +295,7 @@ def adjustment(
         settings["seams"] = "free"  # the paper's baseline: the drape alone decides
     notes: list[str] = []
     with caught_warnings(notes), counting() as count:
-        adj = _adjust(garment, recipe, settings, baseline, options, progress)
+        adj = _adjust(garment, recipe, settings, baseline, options, progress, edited)
     adj.factorizations["repeated"] = count.repeated  # its own dict, made by _adjust
     return replace(adj, notes=tuple(notes))
 
@@ -333,6 +307,7 @@ def _adjust(
     baseline: bool,
     options: EditOptions | None,
     progress: Progress | None = None,
+    edited: np.ndarray | None = None,
 ) -> Adjustment:
     """:func:`adjust` once its settings are resolved."""
     marks: list[int] = []  # the factorisations so far at each stage's start and the end
@@ -342,8 +317,7 @@ def _adjust(
     options = options or EditOptions()
     # panel names (from the file, else from the drape in the garment's frame) fixed once
     garment = with_panel_names(garment, plist=structure(garment).panels)
-    with reusing():  # a matrix the steps factor again (same handles) takes its factor
-        state = apply_steps(garment, recipe, options=options)
+    state = _edit_state(garment, recipe, options, edited)
     t1 = _clock(marks)
     asap = asap_mask(state, settings["boundary"])
     kw = {
@@ -404,6 +378,16 @@ def _adjust(
         timing_s=timing,
         original=garment,
     )
+
+
+def _edit_state(garment, recipe: Recipe, options: EditOptions, edited) -> EditState:
+    """The recipe's steps applied, or the drape edited elsewhere (``edited``)."""
+    if edited is None:
+        with reusing():  # a matrix the steps factor again (same handles) takes its factor
+            return apply_steps(garment, recipe, options=options)
+    if recipe.steps:
+        raise PtailorError("a drape edited elsewhere takes a recipe without steps")
+    return edited_state(garment, edited)
 
 
 def _clock(marks: list[int]) -> float:

@@ -197,7 +197,7 @@ def job_stamp(job: GarmentJob) -> dict:
         The garment cannot be read.
     """
     spec = spec_input(job.garment_abs, job.options.spec)
-    digest = inputs_digest(job.garment_abs, job.drape_abs, spec)
+    digest = inputs_digest(job.garment_abs, job.drape_abs, spec, job.options.edited_drape)
     return make_stamp(job.garment, digest, job.recipe_sha, job.options.stamped())
 
 

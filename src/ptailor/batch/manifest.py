@@ -6,7 +6,9 @@ A manifest is CSV with a header row, or JSON Lines (one object a line): a ``.jso
 resolved against the manifest's folder), ``drape`` (the drape OBJ of a pattern-only
 garment; default: for ``X.dxf`` the ``X.obj`` beside it), ``spec`` (the garment's
 GarmentCode / Garment-Pattern-Generator specification JSON, resolved like ``garment``, or
-``auto``: the one beside it), ``name`` (the output folder;
+``auto``: the one beside it), ``edited_drape`` (the garment's drape edited elsewhere, resolved
+like ``garment``: the edit, in place of the recipe's steps; :mod:`ptailor.run.edited`),
+``name`` (the output folder;
 default: the garment file's stem, made unique) and the options of :data:`OPTION_COLUMNS`,
 which override the command line's for that garment. A cell that is empty (or a key that is
 absent or ``null``) falls back to the command line.
@@ -36,7 +38,7 @@ from ptailor.formats import is_pattern_file
 #: the command line's options (``pattern_units`` is ``--pattern-units``)
 OPTION_COLUMNS = ("pattern_units", "drape_units", "dxf_units", "size", "up", "front")
 #: every column a manifest may have
-MANIFEST_COLUMNS = ("garment", "drape", "spec", "name", *OPTION_COLUMNS)
+MANIFEST_COLUMNS = ("garment", "drape", "spec", "edited_drape", "name", *OPTION_COLUMNS)
 #: unit options, and whether each also takes ``auto`` (a [0, 1] atlas)
 UNIT_OPTIONS = {"pattern_units": True, "drape_units": False}
 #: suffixes read as JSON Lines (any other file is CSV unless it starts with ``{``)
@@ -296,13 +298,18 @@ def _row(n: int, cells: dict, base: str, check: Check) -> tuple[ManifestRow | No
     elif drape is None and is_pattern_file(garment) and not _is_file(drape_for(garment)):
         what = f"{drape_for(garment)}, the drape beside the pattern"
         problems.append((n, f"{what}: no such file (or give a drape column)"))
-    if "spec" in cells:
-        spec = cells["spec"] if cells["spec"] == "auto" else _resolve(base, cells["spec"])
-        if spec != "auto" and not _is_file(spec):
-            problems.append((n, f"spec {spec}: {_missing(spec)}"))
-        options["spec"] = spec
+    for column in ("spec", "edited_drape"):  # files the run reads beside the garment
+        if column in cells:
+            options[column] = path = _file_cell(base, column, cells[column])
+            if path != "auto" and not _is_file(path):
+                problems.append((n, f"{column} {path}: {_missing(path)}"))
     row = ManifestRow(garment=garment, row=n, drape=drape, name=name, options=options)
     return row, problems
+
+
+def _file_cell(base: str, column: str, cell: str) -> str:
+    """A file column's path (resolved: :func:`_resolve`), or ``auto`` for ``spec``'s."""
+    return cell if column == "spec" and cell == "auto" else _resolve(base, cell)
 
 
 def _resolve(base: str, path: str) -> str:

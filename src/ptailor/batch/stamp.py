@@ -27,10 +27,13 @@ def recipe_digest(recipe) -> str:
 
 
 def inputs_digest(
-    garment: str | Path, drape: str | Path | None = None, spec: str | Path | None = None
+    garment: str | Path,
+    drape: str | Path | None = None,
+    spec: str | Path | None = None,
+    edited: str | Path | None = None,
 ) -> str:
     """SHA-256 of a garment file, or of a CAD pattern's file with its drape's, and with the
-    specification's (``--spec``) when one is read.
+    specification's (``--spec``) and the edited drape's (``edited_drape``) when read.
 
     Raises
     ------
@@ -42,6 +45,8 @@ def inputs_digest(
         digest = text_sha256(f"{digest}:{file_sha256(drape)}")
     if spec is not None:  # so is a specification
         digest = text_sha256(f"{digest}:spec:{file_sha256(spec)}")
+    if edited is not None:  # and a drape edited elsewhere
+        digest = text_sha256(f"{digest}:edited:{file_sha256(edited)}")
     return digest
 
 

@@ -9,13 +9,20 @@ from ptailor.cli.options import GarmentPath, drape_option, run_options
 
 @click.command()
 @click.argument("garment", type=GarmentPath())
-@click.argument("recipe", type=click.Path(dir_okay=False, allow_dash=True))
+@click.argument("recipe", type=click.Path(dir_okay=False, allow_dash=True), required=False)
 @click.option("-o", "--out", required=True, type=click.Path(file_okay=False), help="Output folder.")
 @drape_option
+@click.option(
+    "--edited-drape",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="OBJ of GARMENT's drape edited in another tool (same vertices and faces; vt "
+    "ignored): the edit, in place of RECIPE's steps (RECIPE then optional: settings, expect).",
+)
 @run_options
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON on stdout.")
 @click.option("-q", "--quiet", is_flag=True, help="Print nothing on success.")
-def adjust(garment, recipe, out, drape, as_json, quiet, **run) -> None:
+def adjust(garment, recipe, out, drape, edited_drape, as_json, quiet, **run) -> None:
     """Apply RECIPE's 3D edits to GARMENT and write the adjusted pattern to OUT.
 
     GARMENT is an OBJ with v = drape and vt = pattern (faces f v/vt), or an AAMA/ASTM DXF
@@ -23,6 +30,10 @@ def adjust(garment, recipe, out, drape, as_json, quiet, **run) -> None:
     RECIPE is a YAML edit recipe ('-' reads it from stdin); it is validated whole before
     GARMENT is read. --verify re-drapes the result with the cloth engine (the body, when
     given, holds the re-drapes too; the top opening is pinned).
+
+    With --edited-drape EDITED.obj (GARMENT's drape edited in Blender, Maya, CLO, ...: the
+    same vertices and faces, moved), the pattern follows that drape instead of RECIPE's
+    steps; RECIPE is then optional and may give units, axes, flatten settings and expect:.
 
     When the result misses a measure the recipe's expect: asks for, the outputs are
     written, stderr has one line per missed measure and the exit status is 3.
@@ -35,9 +46,13 @@ def adjust(garment, recipe, out, drape, as_json, quiet, **run) -> None:
 
     check_engine_first(run["verify"])  # (before any file is read)
     # every input (the recipe too) is checked against the output folder before any is read
-    check_output_dir(out, [garment, recipe, drape, run["body"], run["spec"]])
-    rec = load_recipe(recipe)
-    options = build_run_options(run, units=rec.units)
+    check_output_dir(out, [garment, recipe, drape, run["body"], run["spec"], edited_drape])
+    if recipe is None and edited_drape is None:
+        raise click.UsageError("Missing argument 'RECIPE' (or give --edited-drape).")
+    from ptailor.run.edited import NO_RECIPE
+
+    rec = NO_RECIPE if recipe is None else load_recipe(recipe)
+    options = build_run_options(run, units=rec.units, edited_drape=edited_drape)
     with progress_line(quiet=quiet) as progress:
         report = run_garment(garment, rec, out, options=options, drape=drape, progress=progress)
     _show(report, out, as_json=as_json, quiet=quiet)

@@ -225,6 +225,10 @@ def batch(
     rec = load_recipe(recipe)
     options = build_run_options(run, units=rec.units)
     paths = _garment_paths(ctx, garments, manifest, out)
+    if any(getattr(row, "options", {}).get("edited_drape") for row in paths):
+        from ptailor.run.edited import check_edited_recipe
+
+        check_edited_recipe(rec)  # (edited drapes take a recipe without steps)
     if log:
         _check_log(log, paths, recipe, manifest)
     todo = make_jobs(paths, out, rec, options=options, gates=gates, force=force,

@@ -193,3 +193,13 @@ GIRTH_COVERAGE_MIN = 0.9
 #: ... measured at this many levels spanning the region along the girths' axis (a count:
 #: a few, as a tape measure is laid at a few heights).
 GIRTH_COVERAGE_LEVELS = 7
+
+# --- a drape edited elsewhere (ptailor.edits.drape) ---
+#: A panel of a drape edited in another tool keeps its outline shape (``boundary: auto``,
+#: as under a recipe's uniform scale of whole panels) when the best similarity (rotation,
+#: uniform scale, translation) of its triangles' corners leaves a root mean square residual
+#: below this fraction (unitless) of the panel's radius. An OBJ written with nine significant
+#: digits (ptailor's) and read back moves a 5 cm cuff 100 cm from the origin by up to 1e-7 of
+#: its radius; a deformed panel (the as-rigid-as-possible follow-up of a step) moves by far
+#: more than 1e-5.
+EDITED_SIMILAR_REL = 1e-5

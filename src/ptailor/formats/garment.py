@@ -91,6 +91,12 @@ class LoadedGarment:
         The pattern file's leading comments.
     pattern : PatternFile or None
         The CAD pattern (DXF pieces, in its own units) when the pattern came from one.
+    intake : dict
+        What the intake repaired (:func:`load_garment`).
+    vertex_map : (n3,) int array or None
+        The drape file's vertex of each drape vertex (the weld's,
+        :attr:`ptailor.model.repair.IntakeResult.vertex_map`): a drape edited elsewhere in
+        the file's numbering is welded as the garment was.
     """
 
     garment: Garment
@@ -101,6 +107,7 @@ class LoadedGarment:
     header: tuple[str, ...]
     pattern: PatternFile | None = None
     intake: dict = field(default_factory=dict)
+    vertex_map: np.ndarray | None = None
 
 
 def parse_weld(text: str | float, *, units: str) -> str | float:
@@ -279,6 +286,7 @@ def _load_garment(
         inputs=inputs,
         header=mesh.header,
         intake=record,
+        vertex_map=fixed.vertex_map,
     )
 
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -18,7 +18,7 @@ import numpy as np
 from ptailor.edits import EditOptions
 from ptailor.errors import NumericError, PtailorError
 from ptailor.formats.garment import LoadedGarment
-from ptailor.pieces import PiecePlan, carry_plan
+from ptailor.pieces import carry_plan
 from ptailor.pieces.grade import grade_nest
 from ptailor.pipeline import Adjustment, Progress, adjustment
 from ptailor.recipe import Recipe
@@ -32,43 +32,25 @@ from ptailor.report.expect import (
     expect_records,
     garment_measure_dicts,
     lost_measures,
-    measures_before,
     measures_section,
     steps_achieved,
 )
 from ptailor.report.metrics import ScaleReference
 from ptailor.report.records import Report
 from ptailor.run.checks import (
-    check_body_placement,
     check_finite_report,
     check_finite_result,
-    check_seam_allowance,
-    check_size_against_body,
     run_warnings,
 )
 from ptailor.run.folder import check_output_dir, staged_dir, write_json
-from ptailor.run.graded import check_sizes_input, grading_section, read_sizes
-from ptailor.run.inputs import (
-    checked_recipe,
-    edit_options,
-    fitted_body,
-    load_input,
-    plan_pieces,
-)
+from ptailor.run.graded import check_sizes_input, grading_section
+from ptailor.run.inputs import RunInputs, checked_recipe, read_inputs
 from ptailor.run.library_warnings import capture_library_warnings
 from ptailor.run.options import RunOptions
 from ptailor.run.outputs import OutputContext, write_outputs
 from ptailor.run.sections import pattern_section, units_section
-from ptailor.run.spec import (
-    matched_specification,
-    read_run_specification,
-    spec_input,
-    spec_outputs,
-    spec_unit,
-    spec_units,
-)
+from ptailor.run.spec import spec_input, spec_outputs
 from ptailor.run.verify import Redrapes
-from ptailor.spec.match import SpecMatching
 
 
 def run_garment(
@@ -150,7 +132,7 @@ def staged_run(
     recipe = checked_recipe(recipe, options)
     body_file = options.body if options.body != "auto" else None
     spec_file = spec_input(garment, options.spec)
-    check_output_dir(out, [garment, drape, body_file, spec_file])
+    check_output_dir(out, [garment, drape, body_file, spec_file, options.edited_drape])
     shown = (display_inputs or {}).get("garment", garment)  # the garment errors name
     check_sizes_input(garment, options, shown=shown)
     # the library's warnings (numpy, ezdxf, ...) of this run, for the report's warnings
@@ -159,7 +141,7 @@ def staged_run(
             garment, drape, recipe, options, spec_file=spec_file, shown=shown,
             progress=progress, library=library,
         )  # fmt: skip
-        with _staged_folder(
+        with staged_folder(
             out, staged, shown=shown, display=display_inputs or {}, extra_files=extra_files,
             divert=divert,
         ) as report:  # fmt: skip
@@ -176,26 +158,45 @@ def _stage(
     shown: str,
     progress: Progress | None,
     library: list[str],
-) -> _Staged:
-    """Read the inputs, adjust, re-drape (``--verify``): everything a folder is written from."""
+) -> Staged:
+    """Read the inputs (:func:`~ptailor.run.inputs.read_inputs`), then :func:`stage` them."""
     t0 = time.perf_counter()
     if progress is not None:
         progress("read", 0, None)
-    inputs = _read_inputs(garment, drape, recipe, options, spec_file=spec_file, shown=shown)
-    t1 = time.perf_counter()
+    inputs = read_inputs(garment, drape, recipe, options, spec_file=spec_file, shown=shown)
+    return stage(
+        inputs, recipe, options, shown=shown, library=library, progress=progress,
+        load_s=time.perf_counter() - t0,
+    )  # fmt: skip
+
+
+def stage(
+    inputs: RunInputs,
+    recipe: Recipe,
+    options: RunOptions,
+    *,
+    shown: str,
+    library: list[str],
+    load_s: float = 0.0,
+    progress: Progress | None = None,
+) -> Staged:
+    """Adjust what was read, re-drape (``--verify``): everything a folder is written from
+    (:func:`staged_folder`); ``shown`` the garment errors name, ``library`` the run's library
+    warnings (:func:`~ptailor.run.library_warnings.capture_library_warnings`'s list),
+    ``load_s`` the seconds the reading took."""
     edits = inputs.edits
-    adj = _adjustment(inputs.loaded.garment, recipe, options, edits, shown=shown, progress=progress)
+    adj = _adjustment(inputs, recipe, options, shown=shown, progress=progress)
     errors, reference = _checked_errors(adj, shown=shown)
     t2 = time.perf_counter()
     sections = _measure_sections(adj, recipe, inputs.measures_before)
-    timing = {"load": t1 - t0, **adj.timing_s, "measures": time.perf_counter() - t2}
+    timing = {"load": load_s, **adj.timing_s, "measures": time.perf_counter() - t2}
     redrapes = _redrapes(adj, edits, options, timing=timing, progress=progress)
     t3 = time.perf_counter()
     if progress is not None:
         progress("write", 0, None)
-    return _Staged(
+    return Staged(
         adj,
-        _output_context(adj, inputs, errors, garment=garment, recipe=recipe, options=options),
+        _output_context(adj, inputs, errors, garment=shown, recipe=recipe, options=options),
         options,
         timing=timing,
         start=t3,
@@ -236,66 +237,9 @@ def _redrapes(
     return redrapes
 
 
-@dataclass(frozen=True)
-class _Inputs:
-    """What a run read and checked before the adjustment: the garment, the edits' options
-    (with ``--body auto``'s fitted body), the pieces' plan, the matched specification."""
-
-    loaded: LoadedGarment
-    edits: EditOptions
-    plan: PiecePlan | None
-    body_fit: dict | None = None  # --body auto: the fit's record
-    spec_match: SpecMatching | None = None  # --spec: the specification matched
-    spec_note: tuple[str, ...] = ()  # --spec auto without a specification: what was looked for
-    measures_before: list[dict] = field(default_factory=list)  # the garment's, as read (cm)
-    graded: tuple | None = None  # --sizes: the sizes of a graded nest, as read
-
-
-def _read_inputs(
-    garment: str,
-    drape: str | None,
-    recipe: Recipe,
-    options: RunOptions,
-    *,
-    spec_file: str | None,
-    shown: str,
-) -> _Inputs:
-    """Read the garment, its specification and body; check them against each other (a
-    specification of another garment, a body elsewhere) before any work."""
-    edits = edit_options(recipe, options)
-    spec = read_run_specification(spec_file, options.spec_units) if spec_file else None
-    loaded = load_input(garment, drape, recipe, options)
-    graded = read_sizes(garment, loaded, options, shown=shown)
-    spec_match = None
-    spec_note: tuple[str, ...] = ()
-    if options.spec == "auto" and spec is None:
-        spec_note = (
-            f"--spec auto: no specification beside {Path(shown).name} (looked for "
-            "STEM_specification.json, its shorter prefixes, specification.json)",
-        )
-    if spec is not None:  # matched before any work: a specification of another garment fails
-        spec = spec_unit(loaded, spec)
-        loaded = spec_units(loaded, spec)
-        spec_match = matched_specification(loaded, spec)
-    # the garment's measures; a measure the recipe expects and the garment lacks fails here
-    before = measures_before(loaded.garment, recipe, shown=shown)
-    body_fit = None
-    if options.body == "auto":
-        body, body_fit = fitted_body(loaded.garment, path=shown)
-        edits = replace(edits, body=body)
-    elif edits.body is not None:
-        if options.drape_units is None:
-            check_size_against_body(loaded.garment, edits.body, path=shown)
-        check_body_placement(loaded.garment, edits.body, path=options.body)
-    plan = plan_pieces(loaded, options)
-    if options.seam_allowance:
-        check_seam_allowance(loaded.garment, options.seam_allowance)
-    return _Inputs(loaded, edits, plan, body_fit, spec_match, spec_note, before, graded)
-
-
 def _output_context(
     adj: Adjustment,
-    inputs: _Inputs,
+    inputs: RunInputs,
     errors: np.ndarray,
     *,
     garment: str,
@@ -322,13 +266,13 @@ def _output_context(
         show_measures=options.show_measures,
         nest=nest,
         paper=options.paper,
-        title=f"{Path(garment).name}: {Path(recipe.source).name}"
+        title=f"{Path(garment).name}: {Path(options.edited_drape or recipe.source).name}"
         + (f", seam allowance {allowance:g} {units}" if allowance else ""),
     )
 
 
 @dataclass(frozen=True)
-class _Staged:
+class Staged:
     """What is written: the adjustment, the writers' context, the options, the timing so
     far and when the writing phase started (``perf_counter``); with ``--verify`` the
     re-drapes and the edits' options (their body and axes, for the picture); what the
@@ -340,7 +284,7 @@ class _Staged:
     timing: dict[str, float]
     start: float
     redrapes: Redrapes | None
-    inputs: _Inputs  # (the edits' options, the body's fit, the specification matched)
+    inputs: RunInputs  # (the edits' options, the body's fit, the specification matched)
     reference: ScaleReference | None
     #: the run's library warnings (:func:`~ptailor.run.library_warnings.capture_library_warnings`'s
     #: list, which the writing still adds to)
@@ -350,13 +294,13 @@ class _Staged:
 
 
 @contextmanager
-def _staged_folder(
+def staged_folder(
     out: str | Path,
-    staged: _Staged,
+    staged: Staged,
     *,
     shown: str,
     display: dict[str, str],
-    extra_files: dict[str, str] | None,
+    extra_files: dict[str, str] | None = None,
     divert: tuple[type[BaseException], str | Path] | None = None,
 ) -> Iterator[dict]:
     """Write the outputs and the extra files into a staging folder, yield the report, then
@@ -405,7 +349,7 @@ def _staged_folder(
 
 def _report(
     loaded: LoadedGarment,
-    staged: _Staged,
+    staged: Staged,
     timing: dict,
     *,
     spec: tuple,
@@ -445,7 +389,7 @@ def _report(
     )
 
 
-def _write_redrapes(tmp: Path, staged: _Staged) -> list[str]:
+def _write_redrapes(tmp: Path, staged: Staged) -> list[str]:
     """The re-drape check's files (:func:`ptailor.run.verify.write_verify_files`)."""
     from ptailor.run.verify import write_verify_files
 
@@ -459,18 +403,20 @@ def _write_redrapes(tmp: Path, staged: _Staged) -> list[str]:
 
 
 def _adjustment(
-    garment, recipe: Recipe, options: RunOptions, edits, *, shown: str, progress=None
+    inputs: RunInputs, recipe: Recipe, options: RunOptions, *, shown: str, progress=None
 ) -> Adjustment:
-    """:func:`ptailor.pipeline.adjustment`, an error the garment decides naming it."""
+    """:func:`ptailor.pipeline.adjustment` (of the recipe's steps, or of the edited drape),
+    an error the garment decides naming it."""
     try:
         return adjustment(
-            garment,
+            inputs.loaded.garment,
             recipe,
             method=options.method,
             intrinsic=options.intrinsic,
             baseline=options.baseline,
-            options=edits,
+            options=inputs.edits,
             progress=progress,
+            edited=inputs.edited,
         )
     except PtailorError as exc:
         if exc.path is not None:
@@ -492,8 +438,9 @@ def _checked_errors(adj: Adjustment, *, shown: str) -> tuple[np.ndarray, ScaleRe
 
 
 def _read(inputs: dict[str, str], options: RunOptions) -> dict[str, str]:
-    """Role to the path read: ``inputs``, the body (a fitted body, ``--body auto``, is
-    no file read: the report's ``body_fit`` records it) and the specification."""
+    """Role to the path read: ``inputs``, the body (a fitted body, ``--body auto``, is no
+    file read: the report's ``body_fit`` records it), the specification, the edited drape."""
     body = options.body if options.body not in (None, "auto") else None
     spec = inputs.get("garment") and spec_input(inputs["garment"], options.spec)
-    return {**inputs, **({"body": body} if body else {}), **({"spec": spec} if spec else {})}
+    extra = {"body": body, "spec": spec, "edited_drape": options.edited_drape}
+    return {**inputs, **{role: path for role, path in extra.items() if path}}

@@ -1,14 +1,30 @@
-"""What one run reads: the recipe, the garment (and its drape), the body, the pieces' plan."""
+"""What one run reads: the recipe, the garment (and its drape), the body, the pieces' plan,
+the specification, the edited drape: :func:`read_inputs`, all checked before any work."""
 
 from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
 
 from ptailor.edits import EditOptions
 from ptailor.formats.garment import LoadedGarment, load_garment
 from ptailor.pieces import PiecePlan
 from ptailor.recipe import Recipe, load_recipe, resolve_frame
-from ptailor.run.checks import check_engine
+from ptailor.report.expect import measures_before
+from ptailor.run.checks import (
+    check_body_placement,
+    check_engine,
+    check_seam_allowance,
+    check_size_against_body,
+)
+from ptailor.run.edited import read_edited_drape
+from ptailor.run.graded import read_sizes
 from ptailor.run.options import RunOptions
 from ptailor.run.outputs import needs_pieces
+from ptailor.run.spec import matched_specification, read_run_specification, spec_unit, spec_units
+from ptailor.spec.match import SpecMatching
 
 
 def checked_recipe(recipe: Recipe | str, options: RunOptions) -> Recipe:
@@ -16,6 +32,10 @@ def checked_recipe(recipe: Recipe | str, options: RunOptions) -> Recipe:
     against it; raises before any garment is read."""
     if not isinstance(recipe, Recipe):
         recipe = load_recipe(recipe)
+    if options.edited_drape is not None:
+        from ptailor.run.edited import check_edited_recipe
+
+        check_edited_recipe(recipe)
     if options.verify:
         check_engine()
     return recipe
@@ -92,3 +112,68 @@ def plan_pieces(loaded: LoadedGarment, options: RunOptions) -> PiecePlan | None:
         return None
     # the panels: the garment's cached structure, the one the adjustment reads too
     return piece_plan(loaded.garment, pattern=loaded.pattern)
+
+
+@dataclass(frozen=True)
+class RunInputs:
+    """What a run read and checked before the adjustment: the garment, the edits' options
+    (with ``--body auto``'s fitted body), the pieces' plan, the matched specification, the
+    garment's measures as read, the edited drape (``--edited-drape``)."""
+
+    loaded: LoadedGarment
+    edits: EditOptions
+    plan: PiecePlan | None
+    body_fit: dict | None = None  # --body auto: the fit's record
+    spec_match: SpecMatching | None = None  # --spec: the specification matched
+    spec_note: tuple[str, ...] = ()  # --spec auto without a specification: what was looked for
+    measures_before: list[dict] = field(default_factory=list)  # the garment's, as read (cm)
+    edited: np.ndarray | None = None  # --edited-drape: the drape edited elsewhere
+    graded: tuple | None = None  # --sizes: the sizes of a graded nest, as read
+
+
+def read_inputs(
+    garment: str | LoadedGarment,
+    drape: str | None,
+    recipe: Recipe,
+    options: RunOptions,
+    *,
+    spec_file: str | None,
+    shown: str,
+) -> RunInputs:
+    """Read the garment (unless ``garment`` is one read already), its specification and
+    body; check them against each other (a specification of another garment, a body
+    elsewhere) before any work."""
+    edits = edit_options(recipe, options)
+    spec = read_run_specification(spec_file, options.spec_units) if spec_file else None
+    if isinstance(garment, LoadedGarment):
+        loaded = garment
+    else:
+        loaded = load_input(garment, drape, recipe, options)
+    path = garment if isinstance(garment, str) else shown
+    graded = read_sizes(path, loaded, options, shown=shown)
+    spec_match = None
+    spec_note: tuple[str, ...] = ()
+    if options.spec == "auto" and spec is None:
+        spec_note = (
+            f"--spec auto: no specification beside {Path(shown).name} (looked for "
+            "STEM_specification.json, its shorter prefixes, specification.json)",
+        )
+    if spec is not None:  # matched before any work: a specification of another garment fails
+        spec = spec_unit(loaded, spec)
+        loaded = spec_units(loaded, spec)
+        spec_match = matched_specification(loaded, spec)
+    # the garment's measures; a measure the recipe expects and the garment lacks fails here
+    before = measures_before(loaded.garment, recipe, shown=shown)
+    body_fit = None
+    if options.body == "auto":
+        body, body_fit = fitted_body(loaded.garment, path=shown)
+        edits = replace(edits, body=body)
+    elif edits.body is not None:
+        if options.drape_units is None:
+            check_size_against_body(loaded.garment, edits.body, path=shown)
+        check_body_placement(loaded.garment, edits.body, path=options.body)
+    plan = plan_pieces(loaded, options)
+    if options.seam_allowance:
+        check_seam_allowance(loaded.garment, options.seam_allowance)
+    edited = read_edited_drape(options.edited_drape, loaded) if options.edited_drape else None
+    return RunInputs(loaded, edits, plan, body_fit, spec_match, spec_note, before, edited, graded)

@@ -87,6 +87,9 @@ class RunOptions:
         The cutting sheet's (``pattern.pdf``) paper: ``A4``, ``Letter``, ``A3`` (tiled
         pages), ``A0`` (a plotter sheet, tiled when outgrown) or ``roll:WIDTH``
         (:func:`ptailor.formats.cutting.parse_paper`).
+    edited_drape : str, optional
+        An OBJ of the garment's drape edited elsewhere (same vertices and faces): the edit,
+        in place of the recipe's steps (:mod:`ptailor.run.edited`).
     """
 
     pattern_units: str | None = None
@@ -112,6 +115,7 @@ class RunOptions:
     spec_units: str | None = None
     show_measures: bool = False
     paper: str = "A4"
+    edited_drape: str | None = None
 
     def __post_init__(self) -> None:
         from ptailor.formats.garment import parse_units, parse_weld
@@ -155,10 +159,9 @@ class RunOptions:
         a batch stamp hashes."""
         data = asdict(self)
         data["formats"] = sorted(data["formats"])
-        if data["sizes"] is None:  # (stamps written before the option stay valid)
-            del data["sizes"]
-        if data["spec_units"] is None:  # (stamps written before the option stay valid)
-            del data["spec_units"]
+        for key in ("spec_units", "sizes", "edited_drape"):  # (older stamps stay valid)
+            if data[key] is None:
+                del data[key]
         if data["paper"] == "A4":  # (the default: stamps written before the option stay valid)
             del data["paper"]
         return dict(sorted(data.items()))
