@@ -55,7 +55,7 @@ from ptailor.run.inputs import (
 )
 from ptailor.run.library_warnings import capture_library_warnings
 from ptailor.run.options import RunOptions
-from ptailor.run.outputs import OutputContext, write_outputs
+from ptailor.run.outputs import OutputContext, allowance_text, cut_allowances, write_outputs
 from ptailor.run.sections import pattern_section, units_section
 from ptailor.run.spec import (
     matched_specification,
@@ -283,8 +283,9 @@ def _read_inputs(
             check_size_against_body(loaded.garment, edits.body, path=shown)
         check_body_placement(loaded.garment, edits.body, path=options.body)
     plan = plan_pieces(loaded, options)
-    if options.seam_allowance:
-        check_seam_allowance(loaded.garment, options.seam_allowance)
+    if options.seam_allowance or options.seam_allowances:
+        named = options.seam_allowances
+        check_seam_allowance(loaded.garment, options.seam_allowance, named, path=shown)
     return _Inputs(loaded, edits, plan, body_fit, spec_match, spec_note, before)
 
 
@@ -302,17 +303,17 @@ def _output_context(
     plan, carried = inputs.plan, []
     if plan is not None:
         plan, carried = carry_plan(adj, plan)
-    allowance = options.seam_allowance
-    units = inputs.loaded.garment.units
+    allowance, named = options.seam_allowance, options.seam_allowances
     return OutputContext(
         loaded=inputs.loaded,
         pieces=carried,
         plan=plan,
         errors=errors,
         seam_allowance=allowance,
+        allowances=cut_allowances(adj, plan, carried, allowance, named),
         show_measures=options.show_measures,
         title=f"{Path(garment).name}: {Path(recipe.source).name}"
-        + (f", seam allowance {allowance:g} {units}" if allowance else ""),
+        + allowance_text(allowance, named, inputs.loaded.garment.units),
     )
 
 
@@ -422,7 +423,7 @@ def _report(
         errors=ctx.errors,
         reference=staged.reference,
         extra={
-            "pattern": pattern_section(loaded, ctx.plan, ctx.pieces, options.seam_allowance),
+            "pattern": pattern_section(loaded, ctx, options.seam_allowances),
             "intake": loaded.intake,
             **({"verify": staged.redrapes.section} if staged.redrapes is not None else {}),
             **({"body_fit": staged.inputs.body_fit} if staged.inputs.body_fit is not None else {}),

@@ -59,7 +59,10 @@ class RunOptions:
         For a CAD pattern: the size to read, and its unit (default: from the file).
     seam_allowance : float, optional
         In the recipe's units: the DXF's cut line is the adjusted outline offset by this
-        (mitred corners), and the outline itself becomes the sew line (layer 14).
+        (GEOS's mitre buffer), and the outline itself becomes the sew line (layer 14).
+    seam_allowances : tuple of (str, float)
+        Allowances by seam, seam line or opening name (``hem=3cm``), in the recipe's
+        units, over ``seam_allowance`` (which is then the other edges'; none: 0).
     verify : bool
         Re-drape the adjusted pattern, the uniform baseline and the original pattern with
         the cloth engine (:mod:`ptailor.verify`): the report gets ``verify`` and the output
@@ -95,6 +98,7 @@ class RunOptions:
     size: str | None = None
     dxf_units: str | None = None
     seam_allowance: float | None = None
+    seam_allowances: tuple[tuple[str, float], ...] = ()
     verify: bool = False
     verify_rest: str = "intrinsic"
     verify_max_steps: int | None = None
@@ -128,6 +132,9 @@ class RunOptions:
         a = self.seam_allowance
         if a is not None and not (isinstance(a, (int, float)) and math.isfinite(a) and a >= 0):
             raise PtailorError(f"--seam-allowance must be a length >= 0, not {a}")
+        for name, a in self.seam_allowances:  # the named allowances
+            if not (isinstance(a, (int, float)) and math.isfinite(a) and a >= 0):
+                raise PtailorError(f"--seam-allowance {name} must be a length >= 0, not {a}")
         n = self.verify_max_steps
         if n is not None and (isinstance(n, bool) or not isinstance(n, int) or n < 1):
             raise PtailorError(f"--max-steps must be at least 1, not {n}")
@@ -137,6 +144,7 @@ class RunOptions:
         a batch stamp hashes."""
         data = asdict(self)
         data["formats"] = sorted(data["formats"])
-        if data["spec_units"] is None:  # (stamps written before the option stay valid)
-            del data["spec_units"]
+        for name in ("spec_units", "seam_allowances"):  # (earlier stamps stay valid)
+            if data[name] in (None, ()):
+                del data[name]
         return dict(sorted(data.items()))
