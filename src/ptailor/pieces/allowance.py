@@ -10,7 +10,7 @@ Examples
 --------
 >>> from ptailor.samples import cone_skirt
 >>> sorted(allowance_names(cone_skirt()).known())
-['hem', 'side_left', 'side_right', 'waist']
+['hem', 'skirt_side', 'skirt_side_left', 'skirt_side_right', 'waist']
 """
 
 from __future__ import annotations
