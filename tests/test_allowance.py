@@ -185,3 +185,43 @@ def test_an_unknown_seam_name_exits_2_naming_it_and_the_known_ones_writing_nothi
     assert "hems" in r.output and "known: " in r.output and "hem" in r.output.split("known: ")[1]
     assert str(obj) in r.output and len(r.output.strip().splitlines()) == 1
     assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.slow
+def test_file_pieces_moved_or_on_the_fold_take_their_seams_allowances(tmp_path):
+    """A DXF's pieces: the cuff moved (matched by shape) and cut on the fold; the sleeve's
+    top opening 3 cm, the rest 1 cm; the fold edge none."""
+    from ptailor.formats.dxf.reader import read_dxf
+    from tests.test_pattern_io import IDENTITY, _recipe, _setup
+
+    R, t = np.array([[0.0, -1.0], [1.0, 0.0]]), np.array([400.0, 50.0])
+
+    def move(pc):
+        return pc if pc.name != "cuff" else pc.map_points(lambda a: a @ R.T + t)
+
+    obj, dxf, _ = _setup(tmp_path, move=move)
+    rec = _recipe(tmp_path, IDENTITY)
+    out = {}
+    for key, extra in (("one", []), ("top", ["--seam-allowance", "top=3cm"])):
+        args = ["--drape", obj, "--formats", "dxf", "--seam-allowance", "1cm", *extra]
+        r = _run("adjust", dxf, rec, "-o", tmp_path / key, *args)
+        assert r.exit_code == 0, r.output
+        pieces = {p.name: p for p in read_dxf(tmp_path / key / "pattern.dxf").pieces}
+        report = json.loads((tmp_path / key / "report.json").read_text())["pattern"]
+        out[key] = (pieces, {p["name"]: p for p in report["pieces"]})
+    pieces, recs = out["top"]
+    assert recs["cuff"]["matched_by"] == "shape"
+    runs = {x["name"]: x for x in recs["sleeve"]["allowances"]}
+    assert runs["top"]["allowance"] == 3.0 and runs["sleeve"]["allowance"] == 1.0
+    assert all(x["allowance"] == 1.0 for x in recs["cuff"]["allowances"])
+    for pc in pieces.values():
+        _simple(pc.outline, pc.sew)
+    # the top's 2 cm more (mm): the cut line's area grows by 20 mm times the top's length
+    # and the sides' allowances at its square corners, which its strip runs on over
+    grown = shapely.Polygon(pieces["sleeve"].outline).area
+    grown -= shapely.Polygon(out["one"][0]["sleeve"].outline).area
+    assert grown == pytest.approx(20.0 * (10.0 * runs["top"]["length"] + 2 * 10.0), rel=1e-3)
+    cuff = pieces["cuff"]
+    assert cuff.mirror is not None  # cut on the fold: the cut line runs on the fold line
+    fold = shapely.LineString(cuff.mirror)
+    assert shapely.LinearRing(cuff.outline).distance(fold.interpolate(0.5, normalized=True)) < 1e-6
