@@ -310,6 +310,7 @@ def test_the_stamp_hashes_every_run_option(tmp_path):
         "size": "M",
         "dxf_units": "mm",
         "seam_allowance": 1.0,
+        "seam_allowances": (("hem", 3.0),),
         "verify": True,
         "verify_rest": "pattern",
         "verify_max_steps": 10,
@@ -331,7 +332,7 @@ def test_the_stamp_hashes_every_run_option(tmp_path):
     stamp = pb.job_stamp(pb.make_jobs([str(g)], tmp_path / "o", parse_recipe(WIDER))[0])
     # an option added later is left out at its default: earlier runs' stamps stay valid
     assert list(stamp["options"]) == sorted(
-        set(changed) - {"spec_units", "sizes", "paper", "edited_drape"}
+        set(changed) - {"spec_units", "sizes", "paper", "edited_drape", "seam_allowances"}
     )
     assert stamp["options"]["formats"] == sorted(base.formats)
 

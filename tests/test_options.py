@@ -196,6 +196,7 @@ _RUN_ARGS = {
     "size": ("--size", "M"),
     "dxf_units": ("--dxf-units", "mm"),
     "seam_allowance": ("--seam-allowance", "1cm"),
+    "seam_allowances": ("--seam-allowance", "hem=3cm"),
     "verify": ("--verify",),
     "verify_rest": ("--verify-rest", "pattern"),
     "verify_max_steps": ("--verify-max-steps", "10"),
@@ -251,6 +252,9 @@ def test_one_builder_makes_every_run_option_from_the_command_line():
         assert changed == [field]
     seam = probe.make_context("probe", ["--seam-allowance", "1cm"]).params
     assert build_run_options(seam, units="mm").seam_allowance == pytest.approx(10.0)
+    args = ["--seam-allowance", "hem=3cm", "--seam-allowance", "1cm", "--seam-allowance", "a=2"]
+    both = build_run_options(probe.make_context("probe", args).params, units="mm")
+    assert (both.seam_allowance, both.seam_allowances) == (10.0, (("hem", 30.0), ("a", 2.0)))
     assert build_run_options({"formats": "obj,svg"}).formats == ("obj", "svg")
 
 
@@ -264,6 +268,15 @@ def test_the_builder_takes_verifys_names_and_refuses_any_other():
         build_run_options({"out": "o"})  # a command's own parameter
     with pytest.raises(PtailorError, match="--seam-allowance"):
         build_run_options({"seam_allowance": "wide"})
+    for bad, said in [
+        (("1cm", "2cm"), "a bare length given twice"),
+        (("hem=1cm", "hem=2cm"), "hem given twice"),
+        (("=1cm",), "needs a name"),
+        (("hem=wide",), "--seam-allowance hem: not a length"),
+        (("hem=-1",), "--seam-allowance hem: must be a length >= 0"),
+    ]:
+        with pytest.raises(PtailorError, match=said):
+            build_run_options({"seam_allowance": bad})
 
 
 def test_the_command_line_choices_are_run_options_own():

@@ -376,7 +376,8 @@ def test_a_real_clo_pattern_through_identity_and_a_uniform_scale(tmp_path):
 def test_cut_lines_with_a_seam_allowance_match_the_mesh_of_the_sew_line(tmp_path, sample):
     """A CAD cut line 1 cm outside the drape's mesh (no sew line in the file) still matches,
     and an identity edit gives it back; the report shows the 1 cm."""
-    from ptailor.model.polyline import corners, offset_closed
+    from ptailor.model.offset import offset_closed
+    from ptailor.model.polyline import corners
 
     def allowance(pc):
         cut = offset_closed(pc.outline, 1.0)

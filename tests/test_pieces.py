@@ -9,8 +9,9 @@ from ptailor.errors import PtailorError
 from ptailor.method.transfer import carry_points, locate_points
 from ptailor.model.frame import Frame
 from ptailor.model.garment import panels
+from ptailor.model.offset import offset_closed
 from ptailor.model.pieces import Piece
-from ptailor.model.polyline import corners, offset_closed, signed_area
+from ptailor.model.polyline import corners, signed_area
 from ptailor.pieces.carry import carry_piece
 from ptailor.pieces.draw import mesh_pieces
 from ptailor.pieces.match import PieceMatch, match_pieces
@@ -71,15 +72,20 @@ def test_offset_of_a_rectangle_is_the_rectangle_grown_by_d_with_square_corners()
         assert abs(signed_area(grown)) == pytest.approx(13 * 8)
 
 
-def test_offset_of_a_circle_has_the_radius_plus_d_and_sharp_points_are_bevelled():
+def test_offset_of_a_circle_has_the_radius_plus_d_and_sharp_points_are_clipped():
     t = np.linspace(0, 2 * np.pi, 400, endpoint=False)
     C = 10 * np.stack([np.cos(t), np.sin(t)], 1)
     r = np.linalg.norm(offset_closed(C, 1.0), axis=1)
     assert r.min() > 10.99 and r.max() < 11.01
     spike = np.array([[0.0, 0.0], [20.0, 0.0], [0.0, 1.0]])  # a 2.9 degree point at (20, 0)
-    bev = offset_closed(spike, 1.0)
-    assert len(bev) == 4  # bevelled: two points at the spike
-    assert np.linalg.norm(bev - [20.0, 0.0], axis=1).min() <= 4.0 + 1e-9
+    tip = np.array([20.0, 0.0])
+    u = tip / 20 + (tip - spike[2]) / np.linalg.norm(tip - spike[2])
+    u /= np.linalg.norm(u)  # the point's bisector, outward
+    for d in (1.0, np.array([1.0, 1.0 + 1e-9, 1.0])):  # GEOS's buffer; the per-edge union
+        bev = offset_closed(spike, d)
+        assert len(bev) == 4  # clipped: two points at the spike
+        reach = (bev - tip) @ u
+        assert reach.max() == pytest.approx(4.0, abs=1e-6)  # the mitre limit, 4 allowances
 
 
 def test_corners_of_a_rectangle_and_none_on_a_circle():

@@ -90,7 +90,7 @@ CURVE_ARC_RADIUS_GROW_REL = 1e-12
 #: An outline point where the outline turns by more than this is a turn point (corner).
 CORNER_DEG = 30.0
 #: A seam-allowance corner is mitred unless the mitre would reach further than this many
-#: allowances from the corner; then it is bevelled.
+#: allowances from the corner; then it is clipped there (GEOS's mitre limit, the same ratio).
 MITER_LIMIT = 4.0
 #: A DXF piece matches a panel where it lies when the mean distance between their outlines
 #: is below this fraction of the piece's bounding-box diagonal ...

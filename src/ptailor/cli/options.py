@@ -9,7 +9,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import click
@@ -219,12 +219,14 @@ def output_options(fn):
             ),
             click.option(
                 "--seam-allowance",
-                default=None,
-                metavar="LENGTH",
-                help="Write pattern.dxf with this seam allowance: the cut line is the adjusted "
-                "outline offset outward (mitred corners), the outline becomes the sew line "
-                "(layer 14). A number in the recipe's units, or with a unit: 1cm, 10mm, "
-                "0.375in.",
+                multiple=True,
+                metavar="[NAME=]LENGTH",
+                help="Write pattern.dxf with a seam allowance: the cut line is the adjusted "
+                "outline offset outward (GEOS's mitre buffer: never crosses itself), the "
+                "outline becomes the sew line (layer 14). A bare LENGTH is every edge's; "
+                "NAME=LENGTH (repeatable) a seam's, seam line's or opening's as `ptailor "
+                "inspect` names them (hem=3cm). A number in the recipe's units, or with a "
+                "unit: 1cm, 10mm, 0.375in.",
             ),
             click.option(
                 "--show-measures",
@@ -423,7 +425,8 @@ def build_run_options(params: Mapping[str, Any], *, units: str = "cm", **fixed: 
     if "formats" in values:
         values["formats"] = parse_formats(values["formats"])
     if "seam_allowance" in values:
-        values["seam_allowance"] = parse_seam_allowance(values["seam_allowance"], units=units)
+        default, named = parse_seam_allowance(values["seam_allowance"], units=units)
+        values["seam_allowance"], values["seam_allowances"] = default, named
     return RunOptions(**values, **fixed)
 
 
@@ -440,16 +443,43 @@ def parse_formats(formats: str) -> tuple[str, ...]:
     return tuple(f for f in formats.split(",") if f)
 
 
-def parse_seam_allowance(seam_allowance: str | None, *, units: str) -> float | None:
-    """``--seam-allowance`` (``1cm``, ``10mm``, a bare number in ``units``) in ``units``.
+def parse_seam_allowance(
+    seam_allowance: str | Sequence[str] | None, *, units: str
+) -> tuple[float | None, tuple[tuple[str, float], ...]]:
+    """``--seam-allowance`` (repeatable: a bare ``1cm``, ``10mm``, a number in ``units``;
+    ``NAME=LENGTH`` for a seam, seam line or opening) in ``units``.
+
+    Returns
+    -------
+    default : float or None
+        The bare value (None when none is given).
+    named : tuple of (str, float)
+        ``NAME=LENGTH`` values, in the order given.
 
     Raises
     ------
     PtailorError
-        A bad length (exit 2).
+        A bad length, two bare values or one name twice (exit 2).
     """
+    from ptailor.errors import PtailorError
     from ptailor.formats.garment import parse_length
 
     if seam_allowance is None:
-        return None
-    return parse_length(seam_allowance, to=units, what="--seam-allowance")
+        return None, ()
+    given = [seam_allowance] if isinstance(seam_allowance, str) else list(seam_allowance)
+    default: float | None = None
+    named: dict[str, float] = {}
+    for text in given:  # a loop over the option's values
+        name, eq, length = text.rpartition("=")
+        name = name.strip()
+        what = f"--seam-allowance {name}" if eq else "--seam-allowance"
+        value = parse_length(length, to=units, what=what)
+        if eq and not name:
+            raise PtailorError(f"--seam-allowance {text!r}: NAME=LENGTH needs a name")
+        if (name in named) if eq else (default is not None):
+            raise PtailorError(f"--seam-allowance: {name or 'a bare length'} given twice")
+        if eq:
+            named[name] = value
+        else:
+            default = value
+    return default, tuple(named.items())

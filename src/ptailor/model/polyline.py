@@ -1,4 +1,7 @@
-"""Closed 2D polylines (piece outlines): area, corners, resampling, seam-allowance offset."""
+"""Closed 2D polylines (piece outlines): area, corners, resampling, folds, clipping.
+
+(The seam-allowance offset is :mod:`ptailor.model.offset`'s, made by GEOS.)
+"""
 
 from __future__ import annotations
 
@@ -85,51 +88,6 @@ def resample_closed(P: np.ndarray, n: int) -> np.ndarray:
     s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(Q, axis=0), axis=1))])
     t = np.linspace(0.0, s[-1], n, endpoint=False)
     return np.stack([np.interp(t, s, Q[:, 0]), np.interp(t, s, Q[:, 1])], axis=1)
-
-
-def offset_closed(P: np.ndarray, d: float, *, miter_limit: float = tol.MITER_LIMIT) -> np.ndarray:
-    """The closed polyline offset outward by ``d`` (a seam allowance), corners mitred.
-
-    Each edge moves ``d`` along its outward normal and neighbouring edges meet at the
-    intersection of their offset lines (a mitre). Where a mitre would reach further than
-    ``miter_limit * d`` from its corner (a very sharp point), the corner is bevelled: two
-    points, one on each offset edge.
-
-    Parameters
-    ----------
-    P : (k, 2) float array
-        A simple closed polyline, either orientation; the first point not repeated.
-    d : float
-        Offset distance, outward (negative: inward).
-    miter_limit : float
-
-    Returns
-    -------
-    (j, 2) float array
-        ``j >= k`` points in ``P``'s orientation; point ``i`` (or the pair at a bevel)
-        belongs to ``P[i]``.
-    """
-    P = np.asarray(P, dtype=np.float64)
-    P = P[dedupe_closed(P)]
-    if len(P) < 3 or d == 0:
-        return P.copy()
-    sign = 1.0 if signed_area(P) > 0 else -1.0  # outward normal = edge turned clockwise (CCW)
-    e = np.roll(P, -1, axis=0) - P  # edge i: P[i] -> P[i+1]
-    n = sign * np.stack([e[:, 1], -e[:, 0]], axis=1) / np.linalg.norm(e, axis=1)[:, None]
-    n_in = np.roll(n, 1, axis=0)  # the edge arriving at P[i]
-    m = n_in + n
-    denom = 1.0 + (n_in * n).sum(axis=1)  # = |m|^2 / 2
-    opposed = model_tol.MITER_OPPOSED
-    miter = np.where(denom[:, None] > opposed, d * m / np.maximum(denom, opposed)[:, None], 0.0)
-    bevel = (denom <= 2.0 / miter_limit**2) | (np.linalg.norm(miter, axis=1) > miter_limit * abs(d))
-    count = np.where(bevel, 2, 1)
-    idx = np.repeat(np.arange(len(P)), count)
-    first = np.concatenate([[True], idx[1:] != idx[:-1]])
-    out = P[idx] + miter[idx]
-    bi = bevel[idx]
-    out[bi & first] = P[idx][bi & first] + d * n_in[idx][bi & first]
-    out[bi & ~first] = P[idx][bi & ~first] + d * n[idx][bi & ~first]
-    return out
 
 
 def _line_side(P: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -34,14 +34,24 @@ UNIT_GUESS_TYPICAL_CM = 70.0
 #: length (unitless) is parallel to up (ptailor.model.frame.Frame): no side can be told.
 FRAME_PARALLEL = 1e-9
 
-# --- polylines (ptailor.model.polyline) ---
+# --- polylines (ptailor.model.polyline, ptailor.model.offset) ---
 #: Consecutive outline points closer than this fraction of the outline's extent (relative)
 #: are one point: rounding, not a segment.
 POLYLINE_DUPLICATE_REL = 1e-12
-#: A seam-allowance corner whose two edges turn back on each other (``|m|^2 / 2`` of the
-#: summed unit normals at most this, unitless) gets no mitre: the mitre's direction is
-#: undefined there (a bevel follows from MITER_LIMIT).
-MITER_OPPOSED = 1e-12
+#: A seam-allowance corner whose two edges' unit directions have a cross product at most
+#: this (unitless: the sine of the turn) is straight (ptailor.model.offset): no mitre point
+#: (the offset lines are parallel), and a wedge joins its two strips (a turn of a few ulps
+#: either way would leave them touching along a line only, a slit in GEOS's union).
+MITER_PARALLEL = 1e-12
+#: A cut line's points closer than this fraction of its diagonal (relative) to the line
+#: through their neighbours are dropped (Douglas-Peucker, topology kept): the collinear
+#: points a union of strips leaves, far below a plotter's step (1e-9 of 1 m: 1 nm).
+OFFSET_SIMPLIFY_REL = 1e-9
+#: The grid a per-edge cut line's union is computed on, as a fraction of the outline's
+#: diagonal (relative; rounded down to a power of ten): GEOS's floating-point union of many
+#: thin strips can lose one (measured on a 16x garment); on a grid it is exact. 1e-9 of
+#: 1 m is 1 nm, far below any drawing.
+OFFSET_GRID_REL = 1e-9
 #: Outline points closer to a fold line than this fraction of the outline's diagonal
 #: (relative) lie on the fold (a piece cut on the fold unfolds about them): the fold line is
 #: drawn on the piece's edge, so its points lie on it up to the file's precision.

@@ -16,8 +16,10 @@ import numpy as np
 
 from ptailor import tolerances as tol
 from ptailor.method.transfer import carry_points, locate_points
+from ptailor.model import tolerances as model_tol
+from ptailor.model.offset import offset_closed
 from ptailor.model.pieces import Piece
-from ptailor.model.polyline import clip_half_plane, corners, dedupe_closed, offset_closed
+from ptailor.model.polyline import clip_half_plane, corners, dedupe_closed
 from ptailor.pieces.draw import outer_loop
 from ptailor.pieces.match import ClosedCurve, PieceMatch
 
@@ -368,11 +370,39 @@ def scale_piece(piece: Piece, k: float) -> Piece:
     return piece.map_points(lambda a: a * k)
 
 
-def with_seam_allowance(piece: Piece, d: float) -> Piece:
+def with_seam_allowance(piece: Piece, d: float, *, edges: np.ndarray | None = None) -> Piece:
     """The piece with its outline as the sew line and the outline offset by ``d`` as cut line.
 
-    Turn points of the new outline are its mitred corners (where it turns by more than
-    ``tolerances.CORNER_DEG``).
+    The cut line is GEOS's (:func:`ptailor.model.offset.offset_closed`): a simple closed
+    polygon, corners mitred. A piece cut on the fold (``mirror``) gets no allowance along
+    the fold line. Turn points of the new outline are its corners (where it turns by more
+    than ``tolerances.CORNER_DEG``).
+
+    Parameters
+    ----------
+    piece : Piece
+    d : float
+        The allowance, ``>= 0``, in the piece's units.
+    edges : (k,) float array, optional
+        One allowance per outline edge (edge ``i`` runs from ``outline[i]`` to
+        ``outline[i + 1]``), in place of ``d`` (a hem 3 cm, the seams 1 cm).
+
+    Returns
+    -------
+    Piece
     """
-    cut = offset_closed(piece.outline, d)
+    P = np.asarray(piece.outline, dtype=np.float64)
+    dd = np.full(len(P), float(d)) if edges is None else np.asarray(edges, dtype=np.float64)
+    if piece.mirror is not None and len(P):
+        dd = np.where(_on_fold(P, np.asarray(piece.mirror, dtype=np.float64)), 0.0, dd)
+    cut = offset_closed(P, dd)
     return replace(piece, sew=piece.outline, outline=cut, turn=corners(cut))
+
+
+def _on_fold(P: np.ndarray, mirror: np.ndarray) -> np.ndarray:
+    """Per outline edge ``(k,)``, whether both its ends lie on the fold line ``mirror``."""
+    a, b = mirror[0], mirror[-1]
+    u = (b - a) / max(float(np.linalg.norm(b - a)), tol.TINY)
+    off = np.abs((P - a) @ np.array([-u[1], u[0]]))
+    on = off <= model_tol.FOLD_ON_LINE_REL * max(float(np.linalg.norm(np.ptp(P, axis=0))), tol.TINY)
+    return on & np.roll(on, -1)

@@ -103,12 +103,20 @@ class ClosedCurve:
 
     def nearest(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Distance from each point ``(j, 2)`` to the curve, and the nearest points."""
+        d, Q, _ = self._nearest(X)
+        return d, Q
+
+    def nearest_segment(self, X: np.ndarray) -> np.ndarray:
+        """The segment ``(j,)`` (``i``: ``P[i] -> P[i + 1]``) nearest each point ``(j, 2)``."""
+        return self._nearest(X)[2]
+
+    def _nearest(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         _, idx = self.tree.query(X, k=self.k)
         seg = self.sid[np.asarray(idx).reshape(len(X), self.k)]
         d, Q = segment_feet(X[:, None, :], self.A[seg], self.B[seg])
         best = np.argmin(d, axis=1)
         r = np.arange(len(X))
-        return d[r, best], Q[r, best]
+        return d[r, best], Q[r, best], seg[r, best]
 
 
 def _outline_distance(A: np.ndarray, ca: ClosedCurve, B: np.ndarray, cb: ClosedCurve) -> float:

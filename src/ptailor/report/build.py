@@ -387,7 +387,18 @@ def _pieces_line(pat: dict) -> str:
         + (f", {moved} matched by shape" if moved else "")
         + f"), {notches} notches"
         + (f", size {pat['size']}" if pat.get("size") else "")
+        + _allowance_words(pat)
     )
+
+
+def _allowance_words(pat: dict) -> str:
+    """``, seam allowance 1 (hem 3)``: the default and the named allowances asked."""
+    named = pat.get("seam_allowances", {})
+    if not (pat.get("seam_allowance") or named):
+        return ""
+    words = ", ".join(f"{n} {d:g}" for n, d in named.items())
+    default = f"{pat['seam_allowance']:g}" if pat.get("seam_allowance") else "none"
+    return f", seam allowance {default}" + (f" ({words})" if words else "")
 
 
 def summary_lines(report: Report) -> list[str]:

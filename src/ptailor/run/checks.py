@@ -26,18 +26,26 @@ def check_engine() -> None:
         raise EngineMissingError()
 
 
-def check_seam_allowance(garment, allowance: float) -> None:
-    """Refuse a seam allowance above ``tol.SEAM_ALLOWANCE_MAX_REL`` of the largest piece
+def check_seam_allowance(
+    garment, allowance: float | None, named: tuple[tuple[str, float], ...] = (), *, path: str = ""
+) -> None:
+    """Refuse a ``--seam-allowance NAME=D`` naming no seam, seam line or opening of the
+    garment, and an allowance above ``tol.SEAM_ALLOWANCE_MAX_REL`` of the largest piece
     (the garment's panels, found under its frame)."""
     from ptailor.model.structure import structure
+    from ptailor.pieces import check_allowance_names
 
+    check_allowance_names(garment, dict(named), path=path)
+    values = [a for a in (allowance, *(d for _, d in named)) if a]
+    if not values:
+        return
     diag = 0.0
     for p in structure(garment).panels:  # a loop over panels (kept for the run's later use)
         P = garment.V2[p.vertices]
         diag = max(diag, float(np.linalg.norm(P.max(axis=0) - P.min(axis=0))))
-    if not allowance <= tol.SEAM_ALLOWANCE_MAX_REL * diag:
+    if not max(values) <= tol.SEAM_ALLOWANCE_MAX_REL * diag:
         raise PtailorError(
-            f"--seam-allowance {allowance:g} {garment.units} is larger than "
+            f"--seam-allowance {max(values):g} {garment.units} is larger than "
             f"{tol.SEAM_ALLOWANCE_MAX_REL:g} of the largest piece's diagonal "
             f"({diag:.4g} {garment.units})"
         )

@@ -47,7 +47,7 @@ from ptailor.run.graded import check_sizes_input, grading_section
 from ptailor.run.inputs import RunInputs, checked_recipe, read_inputs
 from ptailor.run.library_warnings import capture_library_warnings
 from ptailor.run.options import RunOptions
-from ptailor.run.outputs import OutputContext, write_outputs
+from ptailor.run.outputs import OutputContext, allowance_text, cut_allowances, write_outputs
 from ptailor.run.sections import pattern_section, units_section
 from ptailor.run.spec import spec_input, spec_outputs
 from ptailor.run.verify import Redrapes
@@ -255,19 +255,19 @@ def _output_context(
         nest = grade_nest(
             plan, carried, inputs.loaded.pattern, inputs.graded, units=adj.garment.units
         )
-    allowance = options.seam_allowance
-    units = inputs.loaded.garment.units
+    allowance, named = options.seam_allowance, options.seam_allowances
     return OutputContext(
         loaded=inputs.loaded,
         pieces=carried,
         plan=plan,
         errors=errors,
         seam_allowance=allowance,
+        allowances=cut_allowances(adj, plan, carried, allowance, named),
         show_measures=options.show_measures,
         nest=nest,
         paper=options.paper,
         title=f"{Path(garment).name}: {Path(options.edited_drape or recipe.source).name}"
-        + (f", seam allowance {allowance:g} {units}" if allowance else ""),
+        + allowance_text(allowance, named, inputs.loaded.garment.units),
     )
 
 
@@ -378,7 +378,7 @@ def _report(
         errors=ctx.errors,
         reference=staged.reference,
         extra={
-            "pattern": pattern_section(loaded, ctx.plan, ctx.pieces, options.seam_allowance)
+            "pattern": pattern_section(loaded, ctx, options.seam_allowances)
             | ({"grading": grading_section(ctx.nest, loaded.pattern, options)} if ctx.nest else {}),
             "intake": loaded.intake,
             **({"verify": staged.redrapes.section} if staged.redrapes is not None else {}),

@@ -173,7 +173,8 @@ def read_inputs(
             check_size_against_body(loaded.garment, edits.body, path=shown)
         check_body_placement(loaded.garment, edits.body, path=options.body)
     plan = plan_pieces(loaded, options)
-    if options.seam_allowance:
-        check_seam_allowance(loaded.garment, options.seam_allowance)
+    if options.seam_allowance or options.seam_allowances:
+        named = options.seam_allowances
+        check_seam_allowance(loaded.garment, options.seam_allowance, named, path=shown)
     edited = read_edited_drape(options.edited_drape, loaded) if options.edited_drape else None
     return RunInputs(loaded, edits, plan, body_fit, spec_match, spec_note, before, edited, graded)

@@ -64,7 +64,10 @@ class RunOptions:
         (:mod:`ptailor.pieces.grade`).
     seam_allowance : float, optional
         In the recipe's units: the DXF's cut line is the adjusted outline offset by this
-        (mitred corners), and the outline itself becomes the sew line (layer 14).
+        (GEOS's mitre buffer), and the outline itself becomes the sew line (layer 14).
+    seam_allowances : tuple of (str, float)
+        Allowances by seam, seam line or opening name (``hem=3cm``), in the recipe's
+        units, over ``seam_allowance`` (which is then the other edges'; none: 0).
     verify : bool
         Re-drape the adjusted pattern, the uniform baseline and the original pattern with
         the cloth engine (:mod:`ptailor.verify`): the report gets ``verify`` and the output
@@ -108,6 +111,7 @@ class RunOptions:
     dxf_units: str | None = None
     sizes: str | None = None
     seam_allowance: float | None = None
+    seam_allowances: tuple[tuple[str, float], ...] = ()
     verify: bool = False
     verify_rest: str = "intrinsic"
     verify_max_steps: int | None = None
@@ -146,6 +150,9 @@ class RunOptions:
         a = self.seam_allowance
         if a is not None and not (isinstance(a, (int, float)) and math.isfinite(a) and a >= 0):
             raise PtailorError(f"--seam-allowance must be a length >= 0, not {a}")
+        for name, a in self.seam_allowances:  # the named allowances
+            if not (isinstance(a, (int, float)) and math.isfinite(a) and a >= 0):
+                raise PtailorError(f"--seam-allowance {name} must be a length >= 0, not {a}")
         if self.sizes is not None and not all(sizes_list(self.sizes)):
             raise PtailorError(
                 f"--sizes must be all or a comma-separated list of sizes, not {self.sizes!r}"
@@ -159,8 +166,8 @@ class RunOptions:
         a batch stamp hashes."""
         data = asdict(self)
         data["formats"] = sorted(data["formats"])
-        for key in ("spec_units", "sizes", "edited_drape"):  # (older stamps stay valid)
-            if data[key] is None:
+        for key in ("spec_units", "sizes", "edited_drape", "seam_allowances"):  # (older stamps)
+            if data[key] in (None, ()):
                 del data[key]
         if data["paper"] == "A4":  # (the default: stamps written before the option stay valid)
             del data["paper"]

@@ -8,7 +8,7 @@ OBJ's arrays, the DXF's pieces, the previews' sheet) and hands it to the writer 
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -18,9 +18,9 @@ from ptailor.formats.garment import LoadedGarment
 from ptailor.formats.sheet import preview_sheet
 from ptailor.model.boundary import boundary_loops
 from ptailor.model.garment import panel_labels
-from ptailor.model.pieces import PatternFile
+from ptailor.model.pieces import PatternFile, Piece
 from ptailor.model.structure import structure
-from ptailor.pieces import CarriedPiece, PiecePlan
+from ptailor.pieces import CarriedPiece, PieceAllowance, PiecePlan
 from ptailor.pieces.grade import GradedNest
 from ptailor.pipeline import Adjustment
 
@@ -65,7 +65,11 @@ class OutputContext:
     errors : (m,) float array
         Intrinsic-scale error per adjusted triangle.
     seam_allowance : float or None
-        Computation units; the pattern's outline is then the sew line.
+        Computation units: the default allowance (``--seam-allowance`` without a name).
+    allowances : list of PieceAllowance or None
+        Per piece (aligned with ``pieces``), its allowance per outline edge and its runs,
+        when any allowance is asked (:func:`cut_allowances`); empty otherwise. The
+        written pieces' outline is then the sew line (:meth:`cut_pieces`).
     title : str
         The previews' heading.
     sheet : dict or None
@@ -86,11 +90,51 @@ class OutputContext:
     plan: PiecePlan | None
     errors: np.ndarray
     seam_allowance: float | None = None
+    allowances: list[PieceAllowance | None] = field(default_factory=list)
     title: str = ""
     sheet: dict | None = None
     show_measures: bool = False
     nest: GradedNest | None = None
     paper: str = "A4"
+
+    def cut_pieces(self) -> list[Piece | None]:
+        """The pieces as cut (computation units, aligned with ``pieces``): with a seam
+        allowance asked, the outline is the cut line (a simple polygon, each edge offset by
+        its own allowance) and the adjusted outline the sew line; else the pieces."""
+        from ptailor.pieces import with_seam_allowance
+
+        out: list[Piece | None] = []
+        for i, cp in enumerate(self.pieces):  # a loop over pieces
+            a = self.allowances[i] if i < len(self.allowances) else None
+            pc = None if cp is None else cp.piece
+            if pc is not None and a is not None:
+                pc = with_seam_allowance(pc, self.seam_allowance or 0.0, edges=a.edges)
+            out.append(pc)
+        return out
+
+
+def cut_allowances(
+    adj: Adjustment,
+    plan: PiecePlan | None,
+    carried: list[CarriedPiece | None],
+    default: float | None,
+    named: tuple[tuple[str, float], ...],
+) -> list[PieceAllowance | None]:
+    """Each carried piece's seam allowance per outline edge
+    (:func:`~ptailor.pieces.allowance.piece_allowances`); empty when none is asked."""
+    from ptailor.pieces import piece_allowances
+
+    if plan is None or not (default or named):
+        return []
+    return piece_allowances(adj, plan, carried, default=default or 0.0, named=dict(named))
+
+
+def allowance_text(default: float | None, named: tuple[tuple[str, float], ...], units: str) -> str:
+    """The previews' title's part on the allowance (``, seam allowance 1 cm, hem 3``)."""
+    if not (default or named):
+        return ""
+    parts = ([f"{default:g} {units}"] if default else []) + [f"{n} {d:g}" for n, d in named]
+    return ", seam allowance " + ", ".join(parts)
 
 
 def output_obj(tmp: Path, adj: Adjustment, ctx: OutputContext) -> str:
@@ -228,14 +272,19 @@ def size_file_names(sizes: tuple[str, ...]) -> dict[str, str]:
 
 
 def _dxf_pieces(pieces, ctx: OutputContext, k: float) -> list:
-    """The pieces as written: seam allowance added, in the pattern file's unit."""
+    """Another size's pieces (aligned with ``ctx.pieces``) as written: the seam allowance
+    added (each edge its base piece's where the outline has as many points, else the
+    default), in the pattern file's unit."""
     from ptailor.pieces import scale_piece, with_seam_allowance
 
     out = []
-    for pc in pieces:  # a loop over pieces
+    for i, pc in enumerate(pieces):  # a loop over pieces
         if pc is None:
             continue
-        if ctx.seam_allowance:
+        a = ctx.allowances[i] if i < len(ctx.allowances) else None
+        if a is not None and len(a.edges) == len(pc.outline):
+            pc = with_seam_allowance(pc, ctx.seam_allowance or 0.0, edges=a.edges)
+        elif ctx.seam_allowance:
             pc = with_seam_allowance(pc, ctx.seam_allowance)
         out.append(scale_piece(pc, k))
     return out
@@ -246,12 +295,14 @@ def pattern_file(adj: Adjustment, ctx: OutputContext) -> PatternFile:
     write them (a :class:`~ptailor.model.pieces.PatternFile`: with a seam allowance each
     outline is the cut line and ``sew`` the sew line)."""
     from ptailor.model.units import CM_PER
+    from ptailor.pieces import scale_piece
 
     units = ctx.plan.units
     k = CM_PER[adj.garment.units] / CM_PER[units]
+    pieces = [scale_piece(pc, k) for pc in ctx.cut_pieces() if pc is not None]
     src = ctx.loaded.pattern
     pf = PatternFile(
-        pieces=tuple(_dxf_pieces([cp and cp.piece for cp in ctx.pieces], ctx, k)),
+        pieces=tuple(pieces),
         units=units,
         style=src.style if src is not None else Path(ctx.loaded.inputs.get("garment", "")).stem,
         sizes=(src.size,) if src is not None and src.size else (),

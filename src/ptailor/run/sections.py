@@ -7,6 +7,7 @@ import numpy as np
 
 from ptailor.formats.garment import LoadedGarment
 from ptailor.pieces import CarriedPiece, PiecePlan
+from ptailor.run.outputs import OutputContext
 
 
 def units_section(loaded: LoadedGarment) -> dict:
@@ -70,16 +71,20 @@ def pieces_record(plan: PiecePlan, pieces: list[CarriedPiece | None]) -> list:
 
 
 def pattern_section(
-    loaded: LoadedGarment,
-    plan: PiecePlan | None,
-    carried: list[CarriedPiece | None],
-    seam_allowance: float | None,
+    loaded: LoadedGarment, ctx: OutputContext, named: tuple[tuple[str, float], ...] = ()
 ) -> dict:
-    """The report's ``pattern``: pieces, and the CAD file's size and style when read."""
-    rec: dict = {"pieces": pieces_record(plan, carried) if plan else []}
+    """The report's ``pattern``: pieces (with their seam allowances by seam and opening when
+    one is asked), and the CAD file's size and style when read."""
+    plan = ctx.plan
+    rec: dict = {"pieces": pieces_record(plan, ctx.pieces) if plan else []}
     if loaded.pattern is not None:
         pf = loaded.pattern
         rec.update({"size": pf.size, "sizes": list(pf.sizes), "style": pf.style})
-    if seam_allowance:
-        rec["seam_allowance"] = seam_allowance
+    if ctx.seam_allowance:
+        rec["seam_allowance"] = ctx.seam_allowance
+    if named:
+        rec["seam_allowances"] = dict(named)
+    for p, a in zip(rec["pieces"], ctx.allowances, strict=False):  # a loop over pieces
+        if a is not None:
+            p["allowances"] = a.runs
     return rec
