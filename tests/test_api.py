@@ -128,3 +128,30 @@ def test_adjust_and_write_errors(tmp_path, tee_obj):
     with pytest.raises(ptailor.PtailorError):
         ptailor.write(a, foreign)
     assert (foreign / "notes.txt").read_text() == "mine"
+
+
+def test_the_api_runs_blas_on_one_thread_as_the_commands_do(monkeypatch):
+    """A library's caller loaded numpy (and its BLAS threads) before ptailor: the API limits
+    BLAS to one thread for the call (3x less CPU on a loaded machine), and gives the
+    caller's setting back after."""
+    from threadpoolctl import threadpool_info, threadpool_limits
+
+    import ptailor.api as api
+    from ptailor import samples
+
+    seen = []
+    real = api.adjustment
+
+    def spy(*args, **kwargs):
+        seen.append([i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"])
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(api, "adjustment", spy)
+    g = samples.flat_tee()
+    np.dot(np.ones((64, 64)), np.ones((64, 64)))  # BLAS loaded
+    with threadpool_limits(limits=2, user_api="blas"):
+        before = [i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"]
+        api.flatten(g, g.V3 * 1.1)
+        after = [i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"]
+    assert seen and all(n == 1 for n in seen[0])
+    assert 2 in before and after == before

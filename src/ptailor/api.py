@@ -236,7 +236,7 @@ def adjust(
     )
     source = garment.path if again else garment.loaded
     spec = spec_input(garment.path, options.spec)
-    with capture_library_warnings() as library:
+    with capture_library_warnings() as library, one_blas_thread():
         inputs = read_inputs(
             source, garment.drape, rec, options, spec_file=spec, shown=garment.path
         )
@@ -332,4 +332,17 @@ def flatten(
     if method is not None:
         RunOptions(method=method)  # (checks it)
     V = np.asarray(V3_edit, dtype=np.float64)
-    return adjustment(g, rec, method=method, baseline=False, edited=V).result.V2
+    with one_blas_thread():
+        return adjustment(g, rec, method=method, baseline=False, edited=V).result.V2
+
+
+def one_blas_thread():
+    """A context in which BLAS runs one thread, as every ptailor command runs it
+    (:func:`ptailor.cli.main.one_blas_thread` sets it before numpy loads; a library is
+    imported after, so threadpoolctl limits the loaded BLAS for the call). The method's
+    dense systems are small: a second thread costs CPU for no speed, and several on a
+    loaded machine busy-wait (the 88k-triangle tshirt's flatten: 1.9 s of CPU with one
+    thread, 6.3 s with OpenBLAS's default on a loaded 2-core machine)."""
+    from threadpoolctl import threadpool_limits
+
+    return threadpool_limits(limits=1, user_api="blas")
