@@ -313,9 +313,9 @@ def _garment_cases() -> list[tuple[Path, str]]:
 #: known misses of a bundled recipe's expect: on a shared garment it names (issue 42)
 SHARED_MISSES = {
     ("deeper-neckline", "dress"): "neck_drop +7.7 cm in the drape (4.08 -> 11.8) for +10 +-0.2 "
-    "(the V's tip is 10.1 below the front neck point, as asked): the V splits the front's upper "
-    "band in two, the pieces are read as straps after the cut, so the high point the drop is "
-    "measured from moves down 2.3 cm (the adjusted garment's parts are read afresh)",
+    "(the V's tip is 10.1 below the front neck point, as asked): the high point the drop is "
+    "measured from moves down 2.3 cm; not the reading of the parts (the cut garment keeps "
+    "its source's panel roles and opening names since 2026-12-06: the same miss)",
     ("wider-sleeves", "longsleeve"): "bicep pattern +18.8 % left (41.81 -> 49.7), +17.8 % "
     "right (43.21 -> 50.9), cuff_right drape +18.2 % (31.55 -> 37.3) for +20 % +-1 % "
     "(drape biceps +20 %), with the cuffs in the region ({part: sleeves}) or not",

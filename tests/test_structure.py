@@ -9,7 +9,14 @@ import pytest
 
 from ptailor.model.boundary import boundary_curves, boundary_loops
 from ptailor.model.frame import Frame
-from ptailor.model.garment import MOVED_FROM, Garment, panel_labels, panels, vertex_labels
+from ptailor.model.garment import (
+    CUT_FROM,
+    MOVED_FROM,
+    Garment,
+    panel_labels,
+    panels,
+    vertex_labels,
+)
 from ptailor.model.names import panel_layout
 from ptailor.model.openings import openings
 from ptailor.model.seams import seam_halfedges, seams
@@ -175,3 +182,32 @@ def test_a_moved_garment_keeps_what_each_panel_is_and_measures_where_it_lies():
     on_side = structure(g.with_drape(g.V3 @ R.T))
     assert [o.name for o in on_side.openings] == [o.name for o in s.openings]
     assert on_side.layout.role == s.layout.role
+
+
+def test_a_garment_cut_from_another_keeps_what_its_panels_and_openings_were():
+    """A cut (triangles removed) reshapes panels and openings but leaves them what they
+    were: the tee's front cropped to a band 15 % of its height tall is read afresh as a
+    collar (and the back as the front), its hem as an unnamed opening; cut from the tee
+    (``CUT_FROM``: each triangle's and drape vertex's source), the band is the front, the
+    back the back, the hem the hem."""
+    g = flat_tee()
+    s = structure(g)
+    front = next(p.index for p in s.panels if p.name == "front")
+    height = g.V3[g.F3].mean(axis=1)[:, 1]
+    lo, hi = g.V3[:, 1].min(), g.V3[:, 1].max()
+    keep = ~((s.face_panel == front) & (height < lo + 0.85 * (hi - lo)))
+    u3, u2 = np.unique(g.F3[keep]), np.unique(g.F2[keep])
+    m3, m2 = np.full(len(g.V3), -1), np.full(len(g.V2), -1)
+    m3[u3], m2[u2] = np.arange(len(u3)), np.arange(len(u2))
+    arrays = dict(V3=g.V3[u3], F3=m3[g.F3[keep]], V2=g.V2[u2], F2=m2[g.F2[keep]], frame=g.frame)
+    fresh = structure(Garment(**arrays))
+    assert "collar" in fresh.layout.role and "hem" not in [o.name for o in fresh.openings]
+    cut = Garment(**arrays)
+    cut.cache[CUT_FROM] = (g, np.flatnonzero(keep), u3)
+    c = structure(cut)
+    assert c.layout.role == s.layout.role and c.layout.names == s.layout.names
+    assert [o.name for o in c.openings] == [o.name for o in s.openings]
+    assert c.layout.mirror.tolist() == s.layout.mirror.tolist()
+    # positions are the cut garment's: the front band's centroid is high up
+    p = c.layout.names.index("front")
+    assert c.layout.centroid[p, 1] > 0.8 * c.layout.height

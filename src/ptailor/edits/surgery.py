@@ -21,7 +21,7 @@ from ptailor.edits.state import EditState
 from ptailor.edits.truing import seam_sides, true_cut
 from ptailor.errors import PtailorError
 from ptailor.geometry.topology import edge_keys
-from ptailor.model.garment import Garment, panel_labels
+from ptailor.model.garment import CUT_FROM, Garment, panel_labels
 from ptailor.model.structure import structure
 
 #: ``crossing(a2, b2, t, face) -> t``, see :func:`split_keep`.
@@ -424,6 +424,8 @@ def _compacted_state(
         units=g.units,
         frame=g.frame,
     )
+    kept3 = np.flatnonzero(used3)  # each drape vertex's source, -1 for the cuts' new ones
+    base.cache[CUT_FROM] = (g, parent, np.where(kept3 < len(g.V3), kept3, -1))
     new_panels = structure(base).panels
     # a panel that lost triangles has an edited outline: it no longer keeps its shape
     touched = np.zeros(len(plist), bool)

@@ -34,6 +34,13 @@ SAME_CLOTH = "same_cloth"
 #: seams, openings and what each panel is, measured where this one lies
 MOVED_FROM = "moved_from"
 
+#: ``Garment.cache`` key of the garment this one was cut from (a cut, a shorten: triangles
+#: removed, edges split), ``(source, face_parent, vertex_source)``: each triangle's source
+#: triangle, each drape vertex's source vertex (-1 for a vertex the cut made). Its panels
+#: are what their source panels were, and its openings keep their names where they keep
+#: vertices (:mod:`ptailor.model.structure`)
+CUT_FROM = "cut_from"
+
 
 def read_only(a) -> np.ndarray:
     """``a`` as an array nobody can write: itself when it already is one (a garment's own

@@ -99,6 +99,56 @@ def moved_openings(source: list[Opening], V3: np.ndarray) -> list[Opening]:
     return out
 
 
+def descended_openings(
+    source: list[Opening], found: list[Opening], vertex_source: np.ndarray
+) -> list[Opening]:
+    """The openings ``found`` on a garment cut from another, named as the source's were.
+
+    A cut that removes triangles (a V neckline, a shortened hem) reshapes an opening but
+    leaves it the same opening: each source opening names the found loop that keeps the
+    most of its vertices (a loop keeps a name only once); a loop that keeps none of a named
+    opening's vertices (a new hole) keeps the name the rules gave it unless a carried name
+    took it, then ``opening_<k>``.
+
+    Parameters
+    ----------
+    source : list of Opening
+        The source garment's openings.
+    found : list of Opening
+        :func:`openings` of the cut garment.
+    vertex_source : (n,) int array
+        Each drape vertex of the cut garment's source vertex, -1 for a vertex the cut made.
+
+    Returns
+    -------
+    list of Opening
+        ``found``, renamed, in its order.
+    """
+    vs = np.asarray(vertex_source, dtype=np.int64)
+    n_src = int(max((int(o.loop.max()) for o in source if len(o.loop)), default=-1)) + 1
+    owner = np.full(max(n_src, 1), -1, dtype=np.int64)
+    for k, o in enumerate(source):  # a loop over the openings (a handful)
+        owner[o.loop] = k
+    # shared[i, k]: how many of found loop i's vertices were source opening k's
+    shared = np.zeros((len(found), len(source)), dtype=np.int64)
+    for i, o in enumerate(found):  # a loop over the openings
+        src = vs[o.loop]
+        src = src[(src >= 0) & (src < len(owner))]
+        k = owner[src]
+        shared[i] = np.bincount(k[k >= 0], minlength=len(source))[: len(source)]
+    names: list[str | None] = [None] * len(found)
+    for k in np.argsort(-shared.max(axis=0, initial=0), kind="stable"):  # best kept first
+        free = [i for i in range(len(found)) if names[i] is None and shared[i, k] > 0]
+        if free:
+            names[max(free, key=lambda i: shared[i, k])] = source[k].name
+    taken = {n for n in names if n is not None}
+    out = []
+    for i, o in enumerate(found):  # a loop over the openings
+        name = names[i] or (o.name if o.name not in taken else f"opening_{i}")
+        out.append(Opening(name, o.loop, o.length, o.centroid, o.closed))
+    return out
+
+
 def openings(V3, F3, *, frame: Frame, F2=None, curves=None) -> list[Opening]:
     """The openings (boundary loops of the drape) with names from geometry.
 

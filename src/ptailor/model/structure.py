@@ -29,6 +29,7 @@ import numpy as np
 from ptailor.geometry.labels import component_labels
 from ptailor.model.boundary import boundary_curves, boundary_loops
 from ptailor.model.garment import (
+    CUT_FROM,
     MOVED_FROM,
     SAME_CLOTH,
     Garment,
@@ -39,8 +40,8 @@ from ptailor.model.garment import (
     vertex_labels,
 )
 from ptailor.model.names import PanelLayout, panel_layout, seam_names
-from ptailor.model.names.layout import moved_layout
-from ptailor.model.openings import Opening, moved_openings, openings
+from ptailor.model.names.layout import descended_layout, moved_layout
+from ptailor.model.openings import Opening, descended_openings, moved_openings, openings
 from ptailor.model.seams import Seam, seam_halfedges, seams
 
 #: ``Garment.cache`` key of the garment's structure
@@ -170,7 +171,11 @@ class GarmentStructure:
         src = self._source()
         if src is not None:  # the same loops under the same names, measured where they lie
             return moved_openings(src.openings, g.V3)
-        return openings(g.V3, g.F3, frame=g.frame, F2=g.F2, curves=self.drape_boundary)
+        found = openings(g.V3, g.F3, frame=g.frame, F2=g.F2, curves=self.drape_boundary)
+        cut = g.cache.get(CUT_FROM)
+        if cut is not None:  # reshaped by a cut: the openings it kept keep their names
+            return descended_openings(structure(cut[0]).openings, found, cut[2])
+        return found
 
     @cached_property
     def layout(self) -> PanelLayout:
@@ -182,6 +187,13 @@ class GarmentStructure:
         src = self._source()
         if src is not None:  # what each panel is stays what it was before the move
             return moved_layout(src.layout, g.V3, g.F3, lab, opening_list=self.openings)
+        cut = g.cache.get(CUT_FROM)
+        if cut is not None:  # each piece is what the panel it was cut from was
+            s0 = structure(cut[0])
+            return descended_layout(
+                s0.layout, s0.panel_components[0], g.V3, g.F3, lab, n_p, cut[1],
+                opening_list=self.openings,
+            )  # fmt: skip
         return panel_layout(
             g.V3,
             g.F3,

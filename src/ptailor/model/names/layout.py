@@ -257,6 +257,87 @@ def moved_layout(
     )
 
 
+def descended_layout(
+    source: PanelLayout,
+    source_face_panel: np.ndarray,
+    V3: np.ndarray,
+    F3: np.ndarray,
+    face_panel: np.ndarray,
+    n_panels: int,
+    face_parent: np.ndarray,
+    *,
+    opening_list: list[Opening],
+) -> PanelLayout:
+    """The layout of a garment cut from another (triangles removed, edges split): each
+    panel is what the source panel most of its triangles came from was (a front cut in two
+    by a V neckline is two pieces of the front, not two straps); positions are measured on
+    ``V3``.
+
+    Parameters
+    ----------
+    source : PanelLayout
+        The source garment's layout.
+    source_face_panel : (m0,) int array
+        The source garment's panel per triangle.
+    V3 : (n3, 3) float array
+    F3 : (m, 3) int array
+    face_panel : (m,) int array
+        The cut garment's panel per triangle, ``0 .. n_panels - 1``.
+    n_panels : int
+    face_parent : (m,) int array
+        Each triangle's source triangle.
+    opening_list : list of Opening
+        The cut garment's openings (:func:`ptailor.model.openings.descended_openings`).
+
+    Returns
+    -------
+    PanelLayout
+        Names the source's, a second piece of one source panel ``<name>_<k>``; ``mirror``
+        where both a panel's source and that source's mirror image have one piece each.
+    """
+    n_p = int(n_panels)
+    lab = np.asarray(face_panel, dtype=np.int64)
+    src_of = np.asarray(source_face_panel, dtype=np.int64)[np.asarray(face_parent)]
+    votes = np.zeros((n_p, len(source.names)), dtype=np.int64)
+    np.add.at(votes, (lab, src_of), 1)
+    src = votes.argmax(axis=1) if n_p else np.zeros(0, dtype=np.int64)
+    count = np.bincount(src, minlength=len(source.names))
+    seen: dict[int, int] = {}
+    names = []
+    for p in range(n_p):  # a loop over the panels (a few dozen at most)
+        k = seen[int(src[p])] = seen.get(int(src[p]), 0) + 1
+        names.append(source.names[src[p]] if k == 1 else f"{source.names[src[p]]}_{k}")
+    mirror = np.full(n_p, -1, dtype=np.int64)
+    one = count[src] == 1
+    piece_of = {int(src[p]): p for p in range(n_p) if one[p]}
+    for p in range(n_p):  # a loop over the panels
+        m = int(source.mirror[src[p]]) if len(source.mirror) else -1
+        if one[p] and m >= 0 and m in piece_of:
+            mirror[p] = piece_of[m]
+    R = source.frame
+    pm = panel_measures(np.asarray(V3, dtype=np.float64), F3, lab, n_p, R)
+    origin = np.array([pm.s0, pm.h0, pm.f0])
+    pick = [int(k) for k in src]
+    return PanelLayout(
+        names=names,
+        role=[source.role[k] for k in pick],
+        side=[source.side[k] for k in pick],
+        face=[source.face[k] for k in pick],
+        tier=[source.tier[k] for k in pick],
+        centroid=pm.cen_abs - origin,
+        lo=pm.lo_abs - origin,
+        hi=pm.hi_abs - origin,
+        height=pm.H,
+        s0=pm.s0,
+        f0=pm.f0,
+        h0=pm.h0,
+        frame=R,
+        openings=opening_list,
+        mirror=mirror,
+        why=[f"{source.why[k]} (the panel it was cut from)" if source.why else "" for k in pick],
+    )
+
+
 def _strips(
     perim: np.ndarray, At: np.ndarray, V2: np.ndarray | None, F2: np.ndarray, lab: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
