@@ -56,6 +56,7 @@ def test_a_mutated_file_read_back_fails_closed(pristine, kind, rnd):
     assert breaches == []
 
 
+@pytest.mark.slow
 @settings()
 @given(rnd=st.randoms(use_true_random=False))
 def test_the_checked_report_has_only_the_types_it_promises(rnd):

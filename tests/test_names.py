@@ -729,6 +729,7 @@ def subdivided_garment(g: Garment) -> Garment:
     return replace(g, V3=V3, F3=F3, V2=V2, F2=F2, face_group=g.face_group[parent])
 
 
+@pytest.mark.slow
 def test_one_catalogue_recipe_runs_on_the_generated_tee():
     from ptailor.samples import flat_tee
 

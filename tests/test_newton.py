@@ -88,6 +88,7 @@ def test_bordered_solver_solves_the_kkt_system_for_every_right_hand_side():
     assert bordered_solver(np.full((k, k), np.nan), B) is None
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("radius", [60.0, 200.0])
 def test_newton_steps_bend_a_slender_strip_that_local_global_steps_crawl_on(radius):
     V, F = strip()
@@ -108,6 +109,7 @@ def test_newton_steps_bend_a_slender_strip_that_local_global_steps_crawl_on(radi
     assert off(X0) > 1e-3 * size
 
 
+@pytest.mark.slow
 def test_newton_steps_keep_the_seams_exact():
     """Two strips sewn along their length, bent: the Newton steps' iterates meet the
     linearised seams, so the run ends converged with every seam pair at its ratio. (A third
@@ -132,6 +134,7 @@ def test_newton_steps_keep_the_seams_exact():
     np.testing.assert_allclose(lb, la, rtol=1e-9)
 
 
+@pytest.mark.slow
 def test_the_split_factor_and_two_solves_give_one_answer(monkeypatch):
     """The constrained steps through the factor that orders the seam unknowns last (one
     forward and one back-substitution) and through two plain solves (as without CHOLMOD)

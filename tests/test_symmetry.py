@@ -497,6 +497,7 @@ def test_centred_step_is_applied_once():
     assert adj.state.log[-1]["mirrored"] == "self"
 
 
+@pytest.mark.slow
 def test_a_region_of_mirror_pairs_is_applied_once():
     """[sleeve, sleeve_1] mirrors to [sleeve_1, sleeve]: the same panels, so a symmetric
     step is applied once (it used to be applied twice, in the listed order's mirror: the

@@ -152,6 +152,7 @@ def test_the_command_line_does_not_import_the_engine():
 # --------------------------------------------------------------------------- ptailor verify
 
 
+@pytest.mark.slow
 def test_verify_writes_the_check_all_or_nothing(tmp_path, fake_engine, picture):
     orig = small_sleeve(tmp_path / "s.obj")
     rec = tmp_path / "r.yaml"
@@ -215,6 +216,7 @@ def test_verify_refuses_an_original_with_other_faces(tmp_path, fake_engine):
     assert not out.exists() and fake_engine == []
 
 
+@pytest.mark.slow
 def test_verify_with_a_body_and_bad_options(tmp_path, fake_engine, picture):
     import trimesh
 
@@ -263,6 +265,7 @@ def test_a_body_that_is_not_worn_inside_the_garment_is_exit_2(tmp_path, fake_eng
     assert r.exit_code == 2 and "times its body's size" in r.output, r.output
 
 
+@pytest.mark.slow
 def test_write_body_writes_the_body_used(tmp_path, fake_engine, picture):
     """--write-body: OUT/body.obj is the body the re-drapes collided with, in the drape
     file's units (the garment's are cm here), listed in the outputs."""
@@ -345,6 +348,7 @@ def test_verify_names_a_missing_garment(tmp_path, fake_engine):
 # --------------------------------------------------------------------------- adjust --verify
 
 
+@pytest.mark.slow
 def test_adjust_verify_adds_the_section_and_the_files(tmp_path, fake_engine, picture):
     g = small_sleeve(tmp_path / "s.obj")
     rec = tmp_path / "r.yaml"
@@ -413,6 +417,7 @@ def test_records_carry_the_verify_numbers():
     assert nums["verify_stretch_p95"] is None and nums["verify_displacement_p95"] is None
 
 
+@pytest.mark.slow
 def test_batch_verify_gates_and_records(tmp_path, fake_engine, picture):
     g = small_sleeve(tmp_path / "s.obj")
     rec = tmp_path / "r.yaml"
