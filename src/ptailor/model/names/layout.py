@@ -195,13 +195,7 @@ def panel_layout(
         side=side,
         face=face,
         tier=tier,
-        centroid=rel,
-        lo=pm.lo_abs - origin,
-        hi=pm.hi_abs - origin,
-        height=pm.H,
-        s0=pm.s0,
-        f0=pm.f0,
-        h0=pm.h0,
+        **_positions(pm),
         frame=R,
         openings=ops,
         mirror=mirror,
@@ -243,18 +237,7 @@ def moved_layout(
     """
     n_p = len(source.names)
     pm = panel_measures(np.asarray(V3, dtype=np.float64), F3, face_panel, n_p, source.frame)
-    origin = np.array([pm.s0, pm.h0, pm.f0])
-    return replace(
-        source,
-        centroid=pm.cen_abs - origin,
-        lo=pm.lo_abs - origin,
-        hi=pm.hi_abs - origin,
-        height=pm.H,
-        s0=pm.s0,
-        f0=pm.f0,
-        h0=pm.h0,
-        openings=opening_list,
-    )
+    return replace(source, **_positions(pm), openings=opening_list)
 
 
 def descended_layout(
@@ -316,7 +299,6 @@ def descended_layout(
             mirror[p] = piece_of[m]
     R = source.frame
     pm = panel_measures(np.asarray(V3, dtype=np.float64), F3, lab, n_p, R)
-    origin = np.array([pm.s0, pm.h0, pm.f0])
     pick = [int(k) for k in src]
     return PanelLayout(
         names=names,
@@ -324,18 +306,27 @@ def descended_layout(
         side=[source.side[k] for k in pick],
         face=[source.face[k] for k in pick],
         tier=[source.tier[k] for k in pick],
-        centroid=pm.cen_abs - origin,
-        lo=pm.lo_abs - origin,
-        hi=pm.hi_abs - origin,
-        height=pm.H,
-        s0=pm.s0,
-        f0=pm.f0,
-        h0=pm.h0,
+        **_positions(pm),
         frame=R,
         openings=opening_list,
         mirror=mirror,
         why=[f"{source.why[k]} (the panel it was cut from)" if source.why else "" for k in pick],
     )
+
+
+def _positions(pm) -> dict:
+    """A layout's positions from :func:`panel_measures`' ``pm``: centroids and extents
+    relative to the garment's centre, its height, the centre line and the lowest height."""
+    origin = np.array([pm.s0, pm.h0, pm.f0])
+    return {
+        "centroid": pm.cen_abs - origin,
+        "lo": pm.lo_abs - origin,
+        "hi": pm.hi_abs - origin,
+        "height": pm.H,
+        "s0": pm.s0,
+        "f0": pm.f0,
+        "h0": pm.h0,
+    }
 
 
 def _strips(
