@@ -496,7 +496,9 @@ def test_tee6_on_its_own_body_settles_within_minutes(tmp_path):
             "--verify", "--verify-max-steps", 1, "-o", out, "-q")  # fmt: skip
     assert r.exit_code == 0, r.output
     report = json.loads((out / "report.json").read_text())
-    assert report["body_fit"]["pose"] == "t-pose" and report["body_fit"]["anchor"] == "neckline"
+    fit = report["body_fit"]
+    assert fit["pose"] == "a-pose" and fit["anchor"] == "neckline"  # posed to the sleeves
+    assert all(a["arm_abduction_deg"] > 80.0 for a in fit["arms"].values())  # a T-pose tee
     body = out / "body.obj"
     assert sum(1 for ln in body.read_text().splitlines() if ln.startswith("v ")) == 7002
     t0 = time.perf_counter()

@@ -23,6 +23,7 @@ No rotation is fitted: the garment's ``up``/``front`` axes say how it is worn.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 from importlib import resources
 
 import numpy as np
@@ -52,7 +53,14 @@ class BodyFit:
     anchor : str
         ``neckline`` or ``waist``.
     inside : float
-        Fraction of the garment's vertices inside the body.
+        Fraction of the torso's garment vertices inside the body (those the scale is fitted
+        to).
+    drape_inside : float or None
+        Fraction of all the drape's vertices (at most ``FIT_POINTS`` of them) inside the
+        body (trimesh's ray test), sleeves included; None where the arms were not posed.
+    arms : dict
+        Per posed arm (``left``, ``right``): the sleeve's abduction and forward swing and the
+        arm's (degrees), the shoulder's move onto the sleeve's axis (garment units).
     gap_rms, gap_median : float
         The garment's vertices' distances to the nearest body vertex (garment units).
     """
@@ -65,6 +73,8 @@ class BodyFit:
     inside: float
     gap_rms: float
     gap_median: float
+    drape_inside: float | None = None
+    arms: dict = field(default_factory=dict)
 
     def record(self) -> dict:
         """The fit as ``verify.json`` and the report hold it."""
@@ -76,6 +86,12 @@ class BodyFit:
             "inside_fraction": round(self.inside, 5),
             "gap_rms": round(self.gap_rms, 4),
             "gap_median": round(self.gap_median, 4),
+            **(
+                {}
+                if self.drape_inside is None
+                else {"drape_inside_fraction": round(self.drape_inside, 5)}
+            ),
+            **({"arms": self.arms} if self.arms else {}),
         }
 
 
@@ -90,6 +106,14 @@ def mean_body(pose: str) -> tuple[np.ndarray, np.ndarray]:
     ref = resources.files("ptailor.verify") / "bodies" / f"body_{pose}pose.npz"
     with resources.as_file(ref) as path, np.load(path) as data:
         return data["V"].astype(np.float64), data["F"].astype(np.int64)
+
+
+@lru_cache(maxsize=1)
+def _rigs() -> tuple:
+    """The A-pose body's arm rigs (:func:`ptailor.verify.pose.arm_rigs`), computed once."""
+    from ptailor.verify.pose import arm_rigs
+
+    return arm_rigs(*mean_body("a"))
 
 
 def _inside(P: np.ndarray, V: np.ndarray, N: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -120,6 +144,7 @@ def fit_body(
     frame: Frame,
     cm_per_unit: float = 1.0,
     path: str | None = None,
+    sleeves: dict | None = None,
 ) -> BodyFit:
     """Fit the mean body to a garment's drape (see the module docstring).
 
@@ -135,6 +160,10 @@ def fit_body(
         The drape's unit.
     path : str, optional
         The file named in errors.
+    sleeves : dict of str to SleeveAxis, optional
+        The garment's sleeves' axes (:func:`ptailor.verify.pose.sleeve_axes`): the A-pose
+        body's arms are posed to them before the fit, and its shoulders moved onto them
+        after.
 
     Returns
     -------
@@ -155,19 +184,24 @@ def fit_body(
             f"(its openings: {', '.join(sorted(ops)) or 'none'}); give a body with --body FILE",
             path=path,
         )
-    pose = _pose(ops, R)
+    to_m = cm_per_unit / 100.0
+    arms = _Arms.of(sleeves or {}, to_m)
+    pose = "a" if arms.bones else _pose(ops, R)
     BV, BF = mean_body(pose)
+    BV = arms.posed(BV)
     import trimesh
 
     BN = np.asarray(trimesh.Trimesh(BV, BF, process=False).vertex_normals)  # outward, unit
-    to_m = cm_per_unit / 100.0
-    P, a_g = _garment_points(V3, F3, ops, anchor, R, to_m)
-    fit = _Placement(P, BV, BN, _body_anchor(BV, anchor), a_g, _offsets())
+    sleeve_v = [sl.vertices for sl in (sleeves or {}).values()]
+    P, a_g = _garment_points(V3, F3, ops, anchor, R, to_m, sleeve_v)
+    fit = _Placement(P, BV, BN, _body_anchor(BV, anchor), a_g, _offsets(), arms)
     s = _largest_scale(fit, path=path)
-    inside, dist = _inside(P, fit.placed(s, fit.best[s]), BN)
-    V_g = (fit.placed(s, fit.best[s]) / to_m) @ R  # back to the garment's axes and units
+    V_b = fit.placed(s, fit.best[s])
+    arms.fill_record(fit, s)
+    inside, dist = _inside(P, V_b, BN)
+    drape_inside = _drape_inside(V3, F3, R, to_m, V_b, BF) if arms.bones else None
     return BodyFit(
-        V=V_g,
+        V=(V_b / to_m) @ R,  # back to the garment's axes and units
         F=BF,
         pose=pose,
         scale=s,
@@ -175,7 +209,90 @@ def fit_body(
         inside=float(inside.mean()),
         gap_rms=float(np.sqrt(np.mean(dist**2)) / to_m),
         gap_median=float(np.median(dist) / to_m),
+        drape_inside=drape_inside,
+        arms=arms.record,
     )
+
+
+def _drape_inside(
+    V3: np.ndarray, F3: np.ndarray, frame: np.ndarray, to_m: float, V_b: np.ndarray, BF: np.ndarray
+) -> float:
+    """The fraction of the drape's used vertices (at most about ``FIT_POINTS``, evenly
+    subsampled) inside the placed body ``V_b`` ``(nb, 3)``, ``BF`` ``(f, 3)`` (the body's
+    axes, metres), by trimesh's ray test (:func:`ptailor.edits.body.inside_body`)."""
+    import trimesh
+
+    from ptailor.edits.body import inside_body
+
+    used = np.unique(np.asarray(F3))
+    Q = (np.asarray(V3, dtype=np.float64)[used] @ frame.T) * to_m
+    Q = Q[:: max(1, len(Q) // verify_tol.FIT_POINTS)]
+    return float(inside_body(Q, trimesh.Trimesh(V_b, BF, process=False)).mean())
+
+
+@dataclass
+class _Arms:
+    """The arms posed to the sleeves (:mod:`ptailor.verify.pose`), in the body's axes and
+    metres: the rigs, each posed arm's new bone, the sleeves' axes, and the record."""
+
+    rigs: tuple
+    bones: dict
+    sleeves: dict
+    to_m: float
+    record: dict = field(default_factory=dict)
+
+    @classmethod
+    def of(cls, sleeves: dict, to_m: float) -> _Arms:
+        """The arms to pose for the sleeves given (none: no rig is built)."""
+        if not sleeves:
+            return cls((), {}, {}, to_m)
+        from ptailor.verify.pose import target_bone
+
+        rigs = _rigs()
+        bones = {
+            r.side: target_bone(r, sleeves[r.side].direction) for r in rigs if r.side in sleeves
+        }
+        return cls(rigs, bones, sleeves, to_m)
+
+    def posed(self, BV: np.ndarray) -> np.ndarray:
+        """The body's vertices ``(nb, 3)`` with the arms turned to their new bones."""
+        if not self.bones:
+            return BV
+        from ptailor.verify.pose import pose_arms
+
+        return pose_arms(BV, self.rigs, self.bones)
+
+    def shifts(self, joint_at) -> list:
+        """Per posed arm, its weights ``(nb,)`` and the move ``(3,)`` of its shoulder onto
+        its sleeve's axis (:func:`ptailor.verify.pose.shoulder_shift`), the body placed by
+        ``joint_at`` (a function of ``(1, 3)`` body points)."""
+        from ptailor.verify.pose import shoulder_shift
+
+        out = []
+        cap = verify_tol.FIT_SHOULDER_SHIFT_CM / 100.0
+        for rig in self.rigs:  # a loop over the two arms
+            if rig.side in self.bones:
+                sl, bone = self.sleeves[rig.side], self.bones[rig.side]
+                centre = joint_at(rig.turned(bone, rig.centre[None]))[0]
+                t = shoulder_shift(centre, sl.point * self.to_m, bone, cap=cap)
+                out.append((rig, t))
+        return out
+
+    def fill_record(self, fit: _Placement, s: float) -> None:
+        """Fill :attr:`record` for the body placed at scale ``s``."""
+        from ptailor.verify.pose import abduction, forward
+
+        off = fit.best[s]
+        for rig, t in self.shifts(lambda X: fit.placed(s, off, X, shift=False)):
+            sl, bone = self.sleeves[rig.side], self.bones[rig.side]
+            self.record[rig.side] = {
+                "sleeve_abduction_deg": round(abduction(sl.direction, rig.side), 1),
+                "sleeve_forward_deg": round(forward(sl.direction), 1),
+                "arm_abduction_deg": round(abduction(bone, rig.side), 1),
+                "arm_forward_deg": round(forward(bone), 1),
+                "shoulder_up": round(float(t[1]) / self.to_m, 3),
+                "shoulder_shift": round(float(np.linalg.norm(t)) / self.to_m, 3),
+            }
 
 
 def _garment_points(
@@ -185,9 +302,12 @@ def _garment_points(
     anchor: str,
     frame: np.ndarray,
     to_m: float,
+    sleeves: list | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The garment's vertices the fit looks at, in the body's axes and metres, and its
     anchor opening's centroid there.
+
+    ``sleeves`` (a list of ``(k,)`` int arrays: the sleeves' vertices) are left out.
 
     Returns
     -------
@@ -196,6 +316,8 @@ def _garment_points(
     a_g : (3,) float array
     """
     used = np.unique(np.asarray(F3))
+    if sleeves:  # the sleeves (their arms are posed to them) do not decide the torso's fit
+        used = np.setdiff1d(used, np.concatenate(sleeves))
     P = (np.asarray(V3, dtype=np.float64)[used] @ frame.T) * to_m  # body axes, metres
     a_g = (ops[anchor].centroid @ frame.T) * to_m
     # the torso decides: the vertices no farther out than the hem (or the waist) reaches,
@@ -245,6 +367,9 @@ class _Placement:
         The body's anchor and the garment's.
     offsets : (q, 2) float array
         :func:`_offsets`.
+    arms : _Arms, optional
+        The posed arms, whose shoulders move onto the sleeves' axes wherever the body is
+        placed.
     best : dict of float to (2,) float array
         The offset with the least inside, per scale tried.
     """
@@ -255,11 +380,21 @@ class _Placement:
     a_b: np.ndarray
     a_g: np.ndarray
     offsets: np.ndarray
+    arms: _Arms | None = None
     best: dict = field(default_factory=dict)
 
-    def placed(self, s: float, off=(0.0, 0.0)) -> np.ndarray:
-        """The body's vertices scaled by ``s`` about its anchor, moved by ``off``."""
-        return (self.BV - self.a_b) * s + self.a_g + np.array([0.0, off[0], off[1]])
+    def placed(
+        self, s: float, off=(0.0, 0.0), X: np.ndarray | None = None, *, shift: bool = True
+    ) -> np.ndarray:
+        """The body's vertices (or points ``X`` ``(k, 3)`` of it) scaled by ``s`` about its
+        anchor, moved by ``off``; with ``shift``, the body's posed shoulders then moved onto
+        their sleeves' axes (:meth:`_Arms.shifts`)."""
+        V = (self.BV if X is None else X) - self.a_b
+        V = V * s + self.a_g + np.array([0.0, off[0], off[1]])
+        if X is None and shift and self.arms is not None and self.arms.bones:
+            for rig, t in self.arms.shifts(lambda J: self.placed(s, off, J, shift=False)):
+                V = V + rig.weight[:, None] * t
+        return V
 
     def inside_fraction(self, s: float) -> float:
         """The least fraction of the points inside the body at scale ``s``, over the offsets

@@ -67,3 +67,25 @@ ENGINE_SELF_RADIUS_EDGES = 0.4
 #: turned by half a turn about x (the rotation formula divides by 1 + cos, which is zero
 #: there).
 UPSIDE_DOWN = 1e-12
+
+# --- the arms posed to the sleeves (ptailor.verify.pose) ---
+#: The body's rows, for finding its arms, are this fraction of its height apart (unitless:
+#: 1.7 cm on the mean body, about its vertex spacing) ...
+FIT_ARM_ROW = 0.01
+#: ... and a row whose vertices leave a gap wider than this many median edge lengths
+#: (unitless) between the torso and what lies beyond holds the arm beyond the gap (the
+#: mean body's armpit opens 2.8 cm at its top row, its edges are 1.5 cm).
+FIT_ARM_GAP_EDGES = 1.5
+#: The upper arm, whose principal axis is the bone: the arm from the armpit down this
+#: fraction of the height (unitless: 19 cm, the humerus without the elbow).
+FIT_UPPER_ARM = 0.11
+#: The arm moves rigidly beyond this fraction of the height from the shoulder joint along
+#: the bone (unitless: 8.6 cm); nearer, the weights blend to the torso's.
+FIT_ARM_BAND = 0.05
+#: An arm's abduction is kept within these (degrees from straight down): below, the arm
+#: enters the torso; above, the shoulder folds.
+FIT_ARM_ABDUCTION = (20.0, 100.0)
+#: ... and its forward swing within this (degrees either way).
+FIT_ARM_FORWARD = 30.0
+#: A shoulder moves at most this far (cm, the fitted body's) onto its sleeve's axis.
+FIT_SHOULDER_SHIFT_CM = 6.0
