@@ -174,6 +174,7 @@ def test_verify_writes_the_check_all_or_nothing(tmp_path, fake_engine, picture):
     assert sec["ours"]["panels"]["cuff"]["stretch"]["p95"] == 1.02
     (call,) = fake_engine
     assert call["rest"] == "intrinsic" and call["settings"].max_steps == 5
+    assert call["null_limits"] == (None, None)  # the defaults
     assert call["body"] is None and call["units_m"] == pytest.approx(0.01)
     assert sorted(call["names"]) == ["cuff", "sleeve"]
     # the settled drapes: v = the fake's drape (0.1 below the edited one), vt = the pattern
@@ -187,10 +188,15 @@ def test_verify_writes_the_check_all_or_nothing(tmp_path, fake_engine, picture):
     base = load_garment(out / "verify_baseline.obj", weld="off").garment
     assert np.allclose(base.V3, edited.V3 - [0, 0.2, 0], atol=1e-5)
     # the summary lines
-    r = run("verify", garment, "--original", orig, "-o", out, "--rest", "pattern")
+    r = run("verify", garment, "--original", orig, "-o", out, "--rest", "pattern",
+            "--null-mean", "5mm", "--null-p95", "2")  # fmt: skip
     assert r.exit_code == 0, r.output
     assert "ours" in r.output and "stretch p95 1.020" in r.output
     assert fake_engine[-1]["rest"] == "pattern"
+    assert fake_engine[-1]["null_limits"] == pytest.approx((0.5, 2.0))  # cm
+    r = run("verify", garment, "-o", tmp_path / "bad", "--null-p95", "far")
+    assert r.exit_code == 2 and "--null-p95: not a length" in r.output
+    assert not (tmp_path / "bad").exists()
 
 
 def test_verify_without_original_is_its_own_original(tmp_path, fake_engine, picture):
@@ -351,7 +357,7 @@ def test_adjust_verify_adds_the_section_and_the_files(tmp_path, fake_engine, pic
     rec.write_text(WIDER)
     out = tmp_path / "o"
     args = ["adjust", g, rec, "-o", out, "--formats", "obj", "--verify", "-q"]
-    r = run(*args, "--verify-rest", "pattern", "--verify-max-steps", 7)
+    r = run(*args, "--verify-rest", "pattern", "--verify-max-steps", 7, "--verify-null-p95", "1in")
     assert r.exit_code == 0, r.output
     report = json.loads((out / "report.json").read_text())
     assert report["verify"]["rest"] == "pattern"
@@ -360,7 +366,7 @@ def test_adjust_verify_adds_the_section_and_the_files(tmp_path, fake_engine, pic
     assert {p.name for p in out.iterdir()} == {".ptailor", *report["outputs"]}
     assert "verify" in report["timing_s"]
     (call,) = fake_engine
-    assert call["settings"].max_steps == 7
+    assert call["settings"].max_steps == 7 and call["null_limits"] == pytest.approx((None, 2.54))
     assert sorted(call["names"]) == sorted(p["name"] for p in report["panels"])
     # --no-baseline: the baseline is flattened for the check all the same
     r = run(*args[:-1], "--no-baseline")  # (not quiet: the summary names the check)
