@@ -382,6 +382,24 @@ def test_lantern_widened_on_an_arm_redrapes_like_the_edit(arm_check):
 
 
 @pytest.mark.slow
+def test_the_lantern_on_its_arm_passes_the_null_test_and_ours_wins(arm_check):
+    """The null test: the lantern's own pattern, re-draped from its own drape on the arm,
+    lands where it started (the arm fits the sleeve), so the verdict ranks: ours first.
+    Every re-drape says whether it settled and why (speed and displacement over a window)."""
+    section, _ = arm_check
+    null = section["null"]
+    assert null["holds"] and null["mean"] <= 1.0 and null["p95"] <= 2.5, null
+    assert section["verdict"]["holds"] and section["verdict"]["result"] == "ours", section
+    assert section["verdict"]["ranking"] == ["ours", "baseline"]
+    for kind in check.KINDS:
+        R = section[kind]
+        assert R["cpu_seconds"] > 0 and R["settle"]["window_steps"] == 100
+        assert R["settle"]["why"].startswith("settled at step" if R["settled"] else "not settled")
+        if R["settled"]:
+            assert R["settle"]["move_p95"] < R["settle"]["move_limit"]
+
+
+@pytest.mark.slow
 def test_lantern_baseline_cuff_is_held_by_the_arm(arm_check, lantern_adj):
     """The baseline's cuff is stretched over the arm, not through it (a contact search every
     10 steps let it pass through and rest inside at its own size, radius 3.75 cm)."""

@@ -117,6 +117,11 @@ class Settings:
         internal friction; lets a drape come to rest within the step cap).
     friction : float
         Coulomb friction between cloth and body.
+    friction_slip : float
+        Body friction's smoothing, m of slip per step: below it friction grows linearly with
+        the slip (Newton's IPC-style regularisation), so cloth creeping slower than this per
+        step is held only that fraction of ``friction``. Newton's Style3D default is 1 cm
+        (1 m/s at 1/100 s): cloth slides down a slope at any creep.
     contact_ke : float
         Body contact penalty stiffness (Newton's ``soft_contact_ke``).
     contact_kd : float
@@ -163,6 +168,7 @@ class Settings:
     bend: tuple[float, float, float] = (2e-5, 1e-5, 5e-6)
     drag: float = 5.0
     friction: float = 0.2
+    friction_slip: float = 1e-2
     contact_ke: float = 100.0
     contact_kd: float = 1e-5
     radius: float = 1e-3
@@ -329,6 +335,7 @@ def _solver(newton, model, s: Settings, radius: float, has_body: bool):
         # body contacts stay: Collision evaluates them with the cloth-cloth terms off
         solver.collision.stiff_vf = solver.collision.stiff_ee = solver.collision.stiff_ef = 0.0
     solver.collision.radius = radius  # the BVHs are refit with it every step
+    solver.collision.friction_epsilon = s.friction_slip
     return solver
 
 
