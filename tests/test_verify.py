@@ -310,6 +310,25 @@ def test_verify_patterns_for_any_names(lantern_adj, fake_engine):
     assert drapes["ours"].shape == b.V3.shape
 
 
+def test_an_identity_edits_null_redrape_is_ours_not_simulated_twice(lantern_adj, fake_engine):
+    """A garment checked as it is (``ptailor verify`` without ``--original``): ours and the
+    null re-drape are the same pattern from the same drape; the engine runs twice, not three
+    times, and the null's report says whose it is."""
+    b = lantern_adj.state.base
+    s = structure(b)
+    patterns = {"ours": b.V2, "baseline": lantern_adj.baseline.V2, "original": b.V2.copy()}
+    section, drapes, _ = check.verify_patterns(
+        b.V3, b.F3, b.F2, patterns, b.V2, b.V3.copy(), panel_names=[p.name for p in s.panels],
+        face_panel=s.face_panel, vertex_panel=s.vertex_panel, units_m=0.01, to_units=1.0,
+        frame=Frame(),
+    )  # fmt: skip
+    assert len(fake_engine) == 2
+    assert section["original"]["same_as"] == "ours" and "same_as" not in section["ours"]
+    assert section["steps"] == 80 and section["seconds"] == pytest.approx(1.0)
+    assert section["original"]["panels"] == section["ours"]["panels"]
+    assert drapes["original"] is drapes["ours"] and section["null"]["holds"]
+
+
 def test_verify_patterns_refuses_an_up_the_engine_cannot_simulate(lantern_adj, fake_engine):
     """Gravity is along -y: a z-up garment must be turned first, not pinned at the wrong loop
     and dropped sideways."""
