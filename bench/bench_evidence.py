@@ -10,7 +10,8 @@ the dress: its skirt 1.1 around instead of the sleeve edits), runs
 time) and reads ``report.json``: for ours, the uniform baseline and the original pattern,
 the worst panel's stretch p95, displacement mean and p95 from the edited drape, and the
 same minus the original's re-drape (what the pattern changes, not what any re-drape
-moves), settled, steps and seconds. The demo's lantern sleeve on its arm is the first row
+moves), settled, steps and seconds; the null test's numbers and the verdict. The demo's
+lantern sleeve on its arm is the first row
 (``ptailor demo``'s recipe, its arm cylinder as the body).
 
 Prints a Markdown table and writes ``bench/results/evidence.json``.
@@ -126,7 +127,18 @@ def run_one(shared: Path, work: Path, garment: str, edit: str) -> dict:
     row["triangles"] = rep.get("garment", {}).get("triangles")
     for k in KINDS:
         row[k] = worst(sec, k) | (relative(sec, k) if k != "original" else {})
-    return row
+    return row | judged(sec)
+
+
+def judged(section: dict) -> dict:
+    """The null test's numbers and the verdict (issue 46; absent from older reports)."""
+    null, ver = section.get("null"), section.get("verdict")
+    if not null or not ver:
+        return {}
+    return {
+        "null": {k: round(null[k], 2) for k in ("mean", "p95", "max")} | {"holds": null["holds"]},
+        "verdict": ver["result"],
+    }
 
 
 def lantern_row() -> dict:
@@ -150,7 +162,7 @@ def lantern_row() -> dict:
            "triangles": g.n_faces}  # fmt: skip
     for k in KINDS:
         row[k] = worst(sec, k) | (relative(sec, k) if k != "original" else {})
-    return row
+    return row | judged(sec)
 
 
 def table(rows: list[dict]) -> str:
@@ -193,6 +205,12 @@ def main() -> None:
     with ThreadPoolExecutor(a.jobs) as pool:
         rows += list(pool.map(lambda ge: run_one(shared, work, *ge), jobs))
     print(table(rows))
+    for r in rows:  # the null test and the verdict, one line per check
+        if "null" in r:
+            n = r["null"]
+            ok = "holds" if n["holds"] else "fails"
+            print(f"{r['garment']} {r['edit']}: null mean {n['mean']} p95 {n['p95']} max "
+                  f"{n['max']} ({ok}), verdict {r['verdict']}")  # fmt: skip
     res = ROOT / "bench/results"
     res.mkdir(exist_ok=True)
     (res / "evidence.json").write_text(json.dumps(rows, indent=1) + "\n")

@@ -314,6 +314,8 @@ def test_the_stamp_hashes_every_run_option(tmp_path):
         "verify": True,
         "verify_rest": "pattern",
         "verify_max_steps": 10,
+        "verify_null_mean": 2.0,
+        "verify_null_p95": 4.0,
         "spec": str(spec),
         "show_measures": True,
         "spec_units": "cm",
@@ -332,7 +334,9 @@ def test_the_stamp_hashes_every_run_option(tmp_path):
     stamp = pb.job_stamp(pb.make_jobs([str(g)], tmp_path / "o", parse_recipe(WIDER))[0])
     # an option added later is left out at its default: earlier runs' stamps stay valid
     assert list(stamp["options"]) == sorted(
-        set(changed) - {"spec_units", "sizes", "paper", "edited_drape", "seam_allowances"}
+        set(changed)
+        - {"spec_units", "sizes", "paper", "edited_drape", "seam_allowances"}
+        - {"verify_null_mean", "verify_null_p95"}
     )
     assert stamp["options"]["formats"] == sorted(base.formats)
 

@@ -163,6 +163,9 @@ def test_any_number_given_to_a_gate_is_refused_unless_finite_and_in_range(tmp_pa
         ("verify_rest", "sleep", "--rest"),
         ("verify_max_steps", 0, "--max-steps"),
         ("verify_max_steps", True, "--max-steps"),
+        ("verify_null_mean", 0.0, "--null-mean"),
+        ("verify_null_p95", float("inf"), "--null-p95"),
+        ("verify_null_p95", "2cm", "--null-p95"),
     ],
 )
 def test_run_options_are_checked_where_they_are_made(field, value, option):
@@ -200,6 +203,8 @@ _RUN_ARGS = {
     "verify": ("--verify",),
     "verify_rest": ("--verify-rest", "pattern"),
     "verify_max_steps": ("--verify-max-steps", "10"),
+    "verify_null_mean": ("--verify-null-mean", "2cm"),
+    "verify_null_p95": ("--verify-null-p95", "5"),
     "spec": ("--spec", "auto"),
     "spec_units": ("--spec-units", "0.3333cm"),
     "show_measures": ("--show-measures",),
@@ -256,14 +261,21 @@ def test_one_builder_makes_every_run_option_from_the_command_line():
     both = build_run_options(probe.make_context("probe", args).params, units="mm")
     assert (both.seam_allowance, both.seam_allowances) == (10.0, (("hem", 30.0), ("a", 2.0)))
     assert build_run_options({"formats": "obj,svg"}).formats == ("obj", "svg")
+    null = probe.make_context("probe", ["--verify-null-mean", "5mm", "--verify-null-p95", "3"])
+    built = build_run_options(null.params, units="mm")  # lengths in cm, a bare one in mm
+    assert (built.verify_null_mean, built.verify_null_p95) == pytest.approx((0.5, 0.3))
 
 
 def test_the_builder_takes_verifys_names_and_refuses_any_other():
     from ptailor.cli.options import build_run_options
     from ptailor.errors import PtailorError
 
-    built = build_run_options({"rest": "pattern", "max_steps": 5}, verify=True)
+    built = build_run_options({"rest": "pattern", "max_steps": 5, "null_mean": "2",
+                               "null_p95": "1in"}, verify=True)  # fmt: skip
     assert (built.verify, built.verify_rest, built.verify_max_steps) == (True, "pattern", 5)
+    assert (built.verify_null_mean, built.verify_null_p95) == pytest.approx((2.0, 2.54))
+    with pytest.raises(PtailorError, match="--null-mean: not a length"):
+        build_run_options({"null_mean": "wide"})
     with pytest.raises(TypeError):
         build_run_options({"out": "o"})  # a command's own parameter
     with pytest.raises(PtailorError, match="--seam-allowance"):

@@ -217,29 +217,39 @@ def test_verify_section_wiring(lantern_adj, fake_engine):
     body = (np.eye(3), np.array([[0, 1, 2]]))
     section, drapes = check.verify_section(adj, body=body, units_m=0.01, to_units=10.0,
                                            device="cpu")  # fmt: skip
-    assert set(section) == {"engine", "device", "steps", "seconds", "settled", "rest", "triangles",
-                            "ours", "baseline", "original"}  # fmt: skip
+    assert set(section) == {"engine", "device", "steps", "seconds", "cpu_seconds", "settled",
+                            "rest", "triangles", "ours", "baseline", "original", "null",
+                            "verdict"}  # fmt: skip
     assert (section["engine"], section["device"], section["rest"]) == ("fake 0", "cpu", "intrinsic")
     assert section["steps"] == 120 and section["seconds"] == pytest.approx(1.5)
     assert section["settled"] is True
     assert list(drapes) == ["ours", "baseline", "original"]
     for kind in check.KINDS:
         R = section[kind]
-        assert set(R) == {"panels", "settled", "steps", "seconds"}
+        assert set(R) == {"panels", "displacement", "settled", "steps", "seconds"}
+        assert R["displacement"] == {"mean": 0.0, "p95": 0.0, "max": 0.0}
         assert set(R["panels"]) == {"sleeve", "cuff"}
         for stats in R["panels"].values():
             assert {k: set(v) for k, v in stats.items()} == PANEL_KEYS
             assert stats["displacement"]["max"] == 0.0  # the fake does not move
-        np.testing.assert_array_equal(drapes[kind], adj.state.V3)
+    # ours and the baseline from the edited drape, the original from the original (the null)
+    np.testing.assert_array_equal(drapes["ours"], adj.state.V3)
+    np.testing.assert_array_equal(drapes["original"], adj.state.base.V3)
+    assert not np.allclose(adj.state.V3, adj.state.base.V3)
+    assert section["null"]["holds"] and section["null"]["mean"] == 0.0
+    assert section["verdict"]["result"] == "ours" and section["verdict"]["holds"]
     panels = {k: section[k]["panels"] for k in check.KINDS}
     assert panels["ours"]["cuff"]["stretch"]["p95"] == pytest.approx(1.0, abs=1e-3)
     assert panels["baseline"]["cuff"]["stretch"]["p95"] == pytest.approx(1 / 0.7, rel=2e-3)
-    assert panels["original"]["sleeve"]["stretch"]["p50"] == pytest.approx(1.2, rel=1e-6)
+    # the original pattern on the original drape rests as it (on the edited drape, 1.2 wider,
+    # it would stretch 1.2)
+    assert panels["original"]["sleeve"]["stretch"]["p50"] == pytest.approx(1.0, rel=1e-6)
     # every run: the edited drape, the top opening pinned, the body and units passed on
     assert len(fake_engine) == 3
     top = top_opening(adj.state.V3, adj.state.base.F3, frame=Frame())
-    for call in fake_engine:
-        np.testing.assert_array_equal(call["V3"], adj.state.V3)
+    for call, start in zip(fake_engine, [adj.state.V3, adj.state.V3, adj.state.base.V3],
+                           strict=True):  # fmt: skip
+        np.testing.assert_array_equal(call["V3"], start)
         np.testing.assert_array_equal(call["pinned"], top)
         assert call["body"] is body and call["units_m"] == 0.01 and call["device"] == "cpu"
     np.testing.assert_array_equal(adj.state.V3, V3_before)
@@ -264,6 +274,12 @@ def test_displacement_is_scaled_and_a_missing_baseline_is_computed(lantern_adj, 
     for kind in check.KINDS:
         for stats in section[kind]["panels"].values():
             assert stats["displacement"]["mean"] == pytest.approx(5.0)
+    # the null re-drape lands 5 mm (0.5 cm) from where it started, within the limits, but
+    # it did not settle: no ranking
+    assert section["null"]["holds"] and section["null"]["mean"] == pytest.approx(5.0)
+    assert section["null"]["limits"] == pytest.approx({"mean": 10.0, "p95": 25.0})
+    assert section["verdict"]["result"] == "inconclusive"
+    assert "did not settle" in section["verdict"]["reason"]
     # the baseline computed here is uniform flattening: its cuff lost the elastic
     expected = check.uniform_pattern(adj.state.V3, adj.state.base.F3, adj.state.base.V2,
                                      adj.state.base.F2)  # fmt: skip
@@ -279,11 +295,12 @@ def test_verify_patterns_for_any_names(lantern_adj, fake_engine):
         panel_names=[p.name for p in s.panels], face_panel=s.face_panel,
         vertex_panel=s.vertex_panel, units_m=0.01, to_units=1.0, frame=Frame(),
 )  # fmt: skip
-    assert set(section) == {
+    assert set(section) == {  # (no null test without an original pattern)
         "engine",
         "device",
         "steps",
         "seconds",
+        "cpu_seconds",
         "settled",
         "rest",
         "triangles",
@@ -291,6 +308,25 @@ def test_verify_patterns_for_any_names(lantern_adj, fake_engine):
     }
     assert stretches["ours"].shape == (len(b.F3), 2)
     assert drapes["ours"].shape == b.V3.shape
+
+
+def test_an_identity_edits_null_redrape_is_ours_not_simulated_twice(lantern_adj, fake_engine):
+    """A garment checked as it is (``ptailor verify`` without ``--original``): ours and the
+    null re-drape are the same pattern from the same drape; the engine runs twice, not three
+    times, and the null's report says whose it is."""
+    b = lantern_adj.state.base
+    s = structure(b)
+    patterns = {"ours": b.V2, "baseline": lantern_adj.baseline.V2, "original": b.V2.copy()}
+    section, drapes, _ = check.verify_patterns(
+        b.V3, b.F3, b.F2, patterns, b.V2, b.V3.copy(), panel_names=[p.name for p in s.panels],
+        face_panel=s.face_panel, vertex_panel=s.vertex_panel, units_m=0.01, to_units=1.0,
+        frame=Frame(),
+    )  # fmt: skip
+    assert len(fake_engine) == 2
+    assert section["original"]["same_as"] == "ours" and "same_as" not in section["ours"]
+    assert section["steps"] == 80 and section["seconds"] == pytest.approx(1.0)
+    assert section["original"]["panels"] == section["ours"]["panels"]
+    assert drapes["original"] is drapes["ours"] and section["null"]["holds"]
 
 
 def test_verify_patterns_refuses_an_up_the_engine_cannot_simulate(lantern_adj, fake_engine):
@@ -362,6 +398,24 @@ def test_lantern_widened_on_an_arm_redrapes_like_the_edit(arm_check):
     assert ours["stretch"]["p95"] <= 1.05, section
     assert ours["displacement"]["mean"] <= 1.0, section
     assert base["stretch"]["p95"] >= 1.15, section
+
+
+@pytest.mark.slow
+def test_the_lantern_on_its_arm_passes_the_null_test_and_ours_wins(arm_check):
+    """The null test: the lantern's own pattern, re-draped from its own drape on the arm,
+    lands where it started (the arm fits the sleeve), so the verdict ranks: ours first.
+    Every re-drape says whether it settled and why (speed and displacement over a window)."""
+    section, _ = arm_check
+    null = section["null"]
+    assert null["holds"] and null["mean"] <= 1.0 and null["p95"] <= 2.5, null
+    assert section["verdict"]["holds"] and section["verdict"]["result"] == "ours", section
+    assert section["verdict"]["ranking"] == ["ours", "baseline"]
+    for kind in check.KINDS:
+        R = section[kind]
+        assert R["cpu_seconds"] > 0 and R["settle"]["window_steps"] == 100
+        assert R["settle"]["why"].startswith("settled at step" if R["settled"] else "not settled")
+        if R["settled"]:
+            assert R["settle"]["move_p95"] < R["settle"]["move_limit"]
 
 
 @pytest.mark.slow

@@ -84,7 +84,7 @@ def _show(report, out, *, as_json: bool, quiet: bool) -> None:
         for line in summary_lines(report):
             click.echo(line)
         if "verify" in report:
-            from ptailor.run.verify import summary_lines as verify_lines
+            from ptailor.verify.summary import summary_lines as verify_lines
 
             for line in verify_lines(report):
                 click.echo(line)

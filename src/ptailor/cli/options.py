@@ -14,6 +14,8 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
+from ptailor.cli.verify_options import parse_cm, verify_options
+
 if TYPE_CHECKING:
     from ptailor.run.options import RunOptions
 
@@ -287,31 +289,6 @@ def report_units_option(help_text: str = "Unit to report lengths in."):
     )
 
 
-def rest_option(name: str = "--rest"):
-    """``--rest intrinsic|pattern``: how the re-drapes' triangles rest."""
-    return click.option(
-        name,
-        type=click.Choice(["intrinsic", "pattern"]),
-        default="intrinsic",
-        show_default=True,
-        help="Re-drape rest shapes: intrinsic (each pattern triangle through the original "
-        "garment's intrinsic scale: the original pattern rests as the original drape) or "
-        "pattern (plain cloth cut from the pattern).",
-    )
-
-
-def max_steps_option(name: str = "--max-steps"):
-    """``--max-steps N``: the re-drapes' step cap."""
-    return click.option(
-        name,
-        type=click.IntRange(min=1),
-        default=None,
-        metavar="N",
-        help="Re-drape: stop each simulation after N steps when it has not settled "
-        "[default: the engine's, 1000 = 10 s].",
-    )
-
-
 def body_options(fn):
     """``--body`` (a file or ``auto``), ``--body-units`` and ``--write-body``: the body a
     garment is worn on."""
@@ -332,26 +309,6 @@ def body_options(fn):
         "out of it; the re-drapes collide with it), or auto: GarmentCode's mean body fitted "
         "to the drape (pose, scale and place; the fit goes into the report and verify.json).",
     )(fn)
-
-
-def verify_options(fn):
-    """``--verify``, ``--verify-rest``, ``--verify-max-steps``: the re-drape check."""
-    for opt in reversed(
-        [
-            click.option(
-                "--verify",
-                is_flag=True,
-                help="Re-drape check: sew the adjusted pattern, the uniform baseline and the "
-                "original pattern on the edited drape with the cloth engine (pip install "
-                "'ptailor[sim]'); the report gets verify, the folder verify_ours.obj, "
-                "verify_baseline.obj and verify.png.",
-            ),
-            rest_option("--verify-rest"),
-            max_steps_option("--verify-max-steps"),
-        ]
-    ):
-        fn = opt(fn)
-    return fn
 
 
 def run_options(fn):
@@ -384,8 +341,13 @@ def run_options(fn):
 
 
 #: run parameters whose :class:`~ptailor.run.options.RunOptions` field has another name
-#: (``ptailor verify``'s ``--rest`` and ``--max-steps``)
-RENAMED = {"rest": "verify_rest", "max_steps": "verify_max_steps"}
+#: (``ptailor verify``'s ``--rest``, ``--max-steps``, ``--null-mean`` and ``--null-p95``)
+RENAMED = {
+    "rest": "verify_rest",
+    "max_steps": "verify_max_steps",
+    "null_mean": "verify_null_mean",
+    "null_p95": "verify_null_p95",
+}
 
 
 def build_run_options(params: Mapping[str, Any], *, units: str = "cm", **fixed: Any) -> RunOptions:
@@ -398,8 +360,9 @@ def build_run_options(params: Mapping[str, Any], *, units: str = "cm", **fixed: 
         The run parameters by their click name, as the command got them (its ``**run``):
         a ``RunOptions`` field by its own name, or ``no_baseline`` (``baseline`` negated),
         ``formats`` (``obj,svg``: split), ``seam_allowance`` (``1cm``: parsed), ``rest`` and
-        ``max_steps`` (``verify_rest`` and ``verify_max_steps``, :data:`RENAMED`). A field
-        not given keeps its default.
+        ``max_steps`` (``verify_rest`` and ``verify_max_steps``, :data:`RENAMED`),
+        ``null_mean`` / ``verify_null_mean`` and the p95's (a length: in cm). A field not
+        given keeps its default.
     units : str
         The recipe's unit (default cm): a seam allowance is converted to it (a bare number
         is in it).
@@ -427,6 +390,9 @@ def build_run_options(params: Mapping[str, Any], *, units: str = "cm", **fixed: 
     if "seam_allowance" in values:
         default, named = parse_seam_allowance(values["seam_allowance"], units=units)
         values["seam_allowance"], values["seam_allowances"] = default, named
+    for key in ("verify_null_mean", "verify_null_p95"):
+        if isinstance(values.get(key), str):
+            values[key] = parse_cm(values[key], units=units, what=f"--{key[7:].replace('_', '-')}")
     return RunOptions(**values, **fixed)
 
 

@@ -77,6 +77,10 @@ class RunOptions:
         garment's intrinsic scale) or ``pattern`` (plain cloth cut from the pattern).
     verify_max_steps : int, optional
         The re-drapes' step cap (default: the engine's).
+    verify_null_mean, verify_null_p95 : float, optional
+        The null test's limits, cm: the original pattern re-draped from the original drape
+        must land at most this far from it, mean and 95th percentile (default 1.0 and 2.5
+        cm, :mod:`ptailor.verify.verdict`), else the verdict is inconclusive.
     spec : str, optional
         A GarmentCode or Garment-Pattern-Generator specification JSON of the garment's
         pattern: matched to its panels and written back adjusted (``specification.json``).
@@ -115,6 +119,8 @@ class RunOptions:
     verify: bool = False
     verify_rest: str = "intrinsic"
     verify_max_steps: int | None = None
+    verify_null_mean: float | None = None
+    verify_null_p95: float | None = None
     spec: str | None = None
     spec_units: str | None = None
     show_measures: bool = False
@@ -157,6 +163,17 @@ class RunOptions:
             raise PtailorError(
                 f"--sizes must be all or a comma-separated list of sizes, not {self.sizes!r}"
             )
+        for opt, v in (
+            ("--null-mean", self.verify_null_mean),
+            ("--null-p95", self.verify_null_p95),
+        ):
+            if v is not None and not (
+                isinstance(v, (int, float))
+                and not isinstance(v, bool)
+                and math.isfinite(v)
+                and v > 0
+            ):
+                raise PtailorError(f"{opt} must be a length > 0, not {v}")
         n = self.verify_max_steps
         if n is not None and (isinstance(n, bool) or not isinstance(n, int) or n < 1):
             raise PtailorError(f"--max-steps must be at least 1, not {n}")
@@ -166,7 +183,8 @@ class RunOptions:
         a batch stamp hashes."""
         data = asdict(self)
         data["formats"] = sorted(data["formats"])
-        for key in ("spec_units", "sizes", "edited_drape", "seam_allowances"):  # (older stamps)
+        for key in ("spec_units", "sizes", "edited_drape", "seam_allowances",
+                    "verify_null_mean", "verify_null_p95"):  # (older stamps)  # fmt: skip
             if data[key] in (None, ()):
                 del data[key]
         if data["paper"] == "A4":  # (the default: stamps written before the option stay valid)

@@ -1,5 +1,6 @@
-"""The re-drape check of a run: the adjusted pattern, the uniform baseline and the original
-pattern sewn and settled with the cloth engine (:mod:`ptailor.verify`), and its files.
+"""The re-drape check of a run: the adjusted pattern and the uniform baseline sewn on the
+edited drape, the original pattern on the original drape (the null test), settled with the
+cloth engine (:mod:`ptailor.verify`), and its files.
 
 ``adjust --verify`` calls :func:`adjustment_redrapes` and :func:`write_verify_files`;
 ``ptailor verify`` calls :func:`verify_garment`, the same check for any garment (an
@@ -144,7 +145,14 @@ def to_y_up(frame: Frame) -> np.ndarray:
 
 
 def redrape_check(
-    inp: Redrape, *, body, rest: str, units: str, max_steps: int | None, progress=None
+    inp: Redrape,
+    *,
+    body,
+    rest: str,
+    units: str,
+    max_steps: int | None,
+    null_limits: tuple[float | None, float | None] = (None, None),
+    progress=None,
 ) -> Redrapes:
     """Run the three re-drapes (:func:`ptailor.verify.check.verify_patterns`), the garment
     turned so that its frame's up is +y (the engine's gravity is along -y) and the settled
@@ -159,6 +167,8 @@ def redrape_check(
     units : str
         The computation unit (the report's).
     max_steps : int, optional
+    null_limits : (float or None, float or None)
+        The null test's mean and p95 limits, cm (None: the defaults).
     progress : callable, optional
         ``progress(stage, iteration, residual)``: one line per re-drape's settle checks.
     """
@@ -182,6 +192,7 @@ def redrape_check(
         units_m=units_m(units),
         to_units=1.0,
         settings=engine_settings(max_steps),
+        null_limits=null_limits,
         progress=progress,
     )
     drapes = {k: np.asarray(V) @ R for k, V in drapes.items()}
@@ -189,9 +200,9 @@ def redrape_check(
 
 
 def adjustment_redrapes(adj: Adjustment, *, body, options: RunOptions, progress=None) -> Redrapes:
-    """The re-drape check of an adjustment (``adjust --verify``): its pattern, its
-    baseline (flattened uniform here when the run skipped it) and the original pattern,
-    each sewn onto the edited drape."""
+    """The re-drape check of an adjustment (``adjust --verify``): its pattern and its
+    baseline (flattened uniform here when the run skipped it) sewn onto the edited drape,
+    the original pattern onto the original drape (the null test)."""
     from ptailor.model.garment import panel_labels
 
     base = adj.state.base
@@ -218,8 +229,14 @@ def adjustment_redrapes(adj: Adjustment, *, body, options: RunOptions, progress=
         rest=options.verify_rest,
         units=base.units,
         max_steps=options.verify_max_steps,
+        null_limits=null_limits(options),
         progress=progress,
     )
+
+
+def null_limits(options: RunOptions) -> tuple[float | None, float | None]:
+    """The null test's limits (cm) from ``--null-mean`` / ``--null-p95`` (None: default)."""
+    return options.verify_null_mean, options.verify_null_p95
 
 
 def _baseline(adj: Adjustment) -> np.ndarray:
@@ -348,6 +365,7 @@ def verify_garment(
         rest=options.verify_rest,
         units=units,
         max_steps=options.verify_max_steps,
+        null_limits=null_limits(options),
         progress=progress,
     )
     inputs = {"garment": garment, "original": original or garment}
@@ -411,9 +429,9 @@ def same_faces(edited: Garment, orig: Garment, *, garment: str, original: str) -
 
 
 def garment_redrape(edited: Garment, orig: Garment) -> Redrape:
-    """What ``ptailor verify`` re-drapes: ``edited``'s pattern (ours), its uniform
-    flattening (baseline) and ``orig``'s pattern, each on ``edited``'s drape (panels named
-    under ``orig``'s frame)."""
+    """What ``ptailor verify`` re-drapes: ``edited``'s pattern (ours) and its uniform
+    flattening (baseline) on ``edited``'s drape, ``orig``'s pattern on ``orig``'s drape (the
+    null test; panels named under ``orig``'s frame)."""
     from ptailor.model.structure import structure
     from ptailor.verify.check import uniform_pattern
 
@@ -433,31 +451,3 @@ def garment_redrape(edited: Garment, orig: Garment) -> Redrape:
         vertex_panel=np.asarray(st.vertex_panel),
         frame=orig.frame,
     )
-
-
-def summary_lines(doc: dict) -> list[str]:
-    """The check in a few lines: per re-drape, its worst panel's stretch and displacement."""
-    sec = doc["verify"]
-    units = doc.get("units", "")
-    if isinstance(units, dict):  # (adjust's report)
-        units = units.get("computation", "")
-    lines = [
-        f"re-drape: {sec.get('engine', '?')} on {sec.get('device', '?')}, rest "
-        f"{sec.get('rest', '?')}, {sec.get('steps', 0)} steps in {sec.get('seconds', 0):.1f} s"
-    ]
-    for kind in ("ours", "baseline", "original"):
-        r = sec.get(kind)
-        if not isinstance(r, dict):
-            continue
-        panels = r.get("panels", {})
-        s95 = max((p["stretch"]["p95"] for p in panels.values()), default=float("nan"))
-        d95 = max((p["displacement"]["p95"] for p in panels.values()), default=float("nan"))
-        state = "settled" if r.get("settled") else "step cap"
-        if not r.get("settled") and r.get("moving"):
-            m = r["moving"][0]
-            state += f"; still moving {r['speed_p95']:.3g} {units}/s, most {m['panel']}"
-            state += f" {m['speed_p95']:.3g} {units}/s"
-        lines.append(
-            f"  {kind:<9} stretch p95 {s95:.3f}  displacement p95 {d95:.3g} {units}  ({state})"
-        )
-    return lines

@@ -7,7 +7,11 @@ Modules (imported on demand; nothing here pulls in the cloth engine):
   only inside its functions).
 - :mod:`ptailor.verify.rest`: each triangle's rest shape from a pattern.
 - :mod:`ptailor.verify.measure`: principal stretches, per-panel statistics, the top opening.
-- :mod:`ptailor.verify.check`: the three re-drapes (ours, baseline, original), the report
-  section.
+- :mod:`ptailor.verify.settle`: when a re-drape has settled (speed, displacement over a
+  window), and why not.
+- :mod:`ptailor.verify.check`: the three re-drapes (ours and baseline from the edited drape,
+  the original from the original drape: the null test), the report section.
+- :mod:`ptailor.verify.verdict`: the null test and the verdict, from a section alone.
+- :mod:`ptailor.verify.summary`: the check in a few terminal lines.
 - :mod:`ptailor.verify.picture`: ``verify.png``.
 """

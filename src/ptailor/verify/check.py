@@ -1,10 +1,13 @@
-"""The re-drape check: sew each pattern on the edited drape, simulate, measure.
+"""The re-drape check: sew each pattern on its drape, simulate, measure, judge.
 
-Three re-drapes start from the same edited drape on the same body: ours (the adjusted
-pattern), the uniform baseline, and the original pattern (the reference for how much any
-re-drape moves). Each pattern's triangles rest as :func:`ptailor.verify.rest.rest_shapes`
-says; the top opening is pinned; the cloth engine (:mod:`ptailor.verify.engine`) settles
-it; :mod:`ptailor.verify.measure` gives per-panel stretch and displacement.
+Three re-drapes on the same body: ours (the adjusted pattern) and the uniform baseline
+start from the edited drape; the original pattern starts from the original drape (the
+**null test**: it must land where it started, else the body does not fit the garment and
+the check ranks nothing). Each pattern's triangles rest as
+:func:`ptailor.verify.rest.rest_shapes` says; the top opening is pinned; the cloth engine
+(:mod:`ptailor.verify.engine`) settles it; :mod:`ptailor.verify.measure` gives per-panel
+stretch and displacement (from the drape it started from); :mod:`ptailor.verify.verdict`
+the null test and the verdict.
 """
 
 from __future__ import annotations
@@ -26,11 +29,14 @@ from ptailor.verify.measure import (
 )
 from ptailor.verify.proxy import simulation_mesh
 from ptailor.verify.rest import rest_shapes
+from ptailor.verify.verdict import null_test, verdict
 
 __all__ = ["KINDS", "uniform_pattern", "verify_patterns", "verify_section"]
 
 #: The three re-drapes, in report order.
 KINDS: tuple[str, ...] = ("ours", "baseline", "original")
+#: The re-drape that starts from the original drape: the null test.
+NULL = "original"
 
 
 def uniform_pattern(
@@ -57,14 +63,17 @@ def uniform_pattern(
     return flatten(g, g.V3, method="uniform", seams="free").V2
 
 
-def _one(V2, *, common: dict, run: dict, measure: dict) -> tuple[dict, np.ndarray, np.ndarray]:
-    """One re-drape: rest shapes, the engine, the measures (report ``R``, drape, stretch)."""
+def _one(
+    V2, start, *, common: dict, run: dict, measure: dict
+) -> tuple[dict, np.ndarray, np.ndarray]:
+    """One re-drape from the drape ``start`` (n3, 3): rest shapes, the engine, the measures
+    (report ``R``, drape, stretch); displacements are from ``start``."""
     rest = rest_shapes(
         V2, common["F2"], common["V2_orig"], common["V3_orig"], common["F3"], mode=common["rest"]
     )
     sim = common["sim"]
     if sim is None:
-        drape = redrape(common["V3_edit"], common["F3"], rest, **run)  # run: its progress too
+        drape = redrape(start, common["F3"], rest, **run)  # run: its progress too
         V = np.asarray(drape.V, dtype=float)
         speed = drape.speed
     else:  # on the simulation mesh, carried back
@@ -73,24 +82,48 @@ def _one(V2, *, common: dict, run: dict, measure: dict) -> tuple[dict, np.ndarra
             V2[k2], sim.F2, common["V2_orig"][k2], common["V3_orig"][k3], sim.F3,
             mode=common["rest"],
         )  # fmt: skip
-        drape = redrape(common["V3_edit"][k3], sim.F3, rest_sim, **run)
+        drape = redrape(start[k3], sim.F3, rest_sim, **run)
         V = sim.carry(drape.V)
         speed = None if drape.speed is None else sim.carry(drape.speed)
     stretch = principal_stretches(V, common["F3"], rest)
-    d3 = np.linalg.norm(V - common["V3_edit"], axis=1) * measure["to_units"]
+    d3 = np.linalg.norm(V - start, axis=1) * measure["to_units"]
     d2 = pattern_vertex_values(d3, common["F3"], common["F2"], len(common["V2_orig"]))
     panels = panel_stats(
         stretch, d2, measure["face_panel"], measure["vertex_panel"], measure["names"]
     )
     R = {
         "panels": panels,
+        "displacement": _whole(d3[np.unique(common["F3"])]),
         "settled": bool(drape.settled),
         "steps": int(drape.steps),
         "seconds": float(drape.seconds),
     }
+    if drape.cpu_seconds is not None:
+        R["cpu_seconds"] = round(float(drape.cpu_seconds), 3)
     if speed is not None:
         R.update(_still_moving(speed, common["F3"], measure))
+    if drape.settle is not None:
+        R["settle"] = _settle_record(drape.settle, measure["to_units"])
     return {"R": R, "drape": drape}, V, stretch
+
+
+def _whole(d: np.ndarray) -> dict:
+    """``{mean, p95, max}`` of the drape vertices' displacements (nan for none)."""
+    d = d[np.isfinite(d)]
+    if len(d) == 0:
+        return {"mean": float("nan"), "p95": float("nan"), "max": float("nan")}
+    return {"mean": float(d.mean()), "p95": float(np.percentile(d, 95)), "max": float(d.max())}
+
+
+def _settle_record(settle: dict, to_units: float) -> dict:
+    """The engine's settle record in report units (the speed is ``R["speed_p95"]``)."""
+    out = {"why": settle["why"], "speed_limit": round(settle["speed_limit"] * to_units, 6)}
+    if "window_steps" in settle:
+        move = settle["move_p95"]
+        out["window_steps"] = int(settle["window_steps"])
+        out["move_p95"] = None if move is None else round(move * to_units, 6)
+        out["move_limit"] = round(settle["move_limit"] * to_units, 6)
+    return out
 
 
 def _still_moving(speed: np.ndarray, F3: np.ndarray, measure: dict) -> dict:
@@ -148,23 +181,26 @@ def verify_patterns(
     to_units: float,
     settings: Settings | None = None,
     device: str | None = None,
+    null_limits: tuple[float | None, float | None] = (None, None),
     progress=None,
 ) -> tuple[dict, dict[str, np.ndarray], dict[str, np.ndarray]]:
-    """Re-drape several patterns from the same edited drape and measure them.
+    """Re-drape several patterns, measure them, and judge them (the null test and the
+    verdict, with ``ours``, ``baseline`` and ``original``).
 
     Parameters
     ----------
     V3_edit : (n3, 3) float array
-        The edited drape: every re-drape starts there, and displacements are from it.
+        The edited drape: every re-drape but ``original`` starts there (displacements are
+        from the start).
     F3, F2 : (m, 3) int arrays
         Drape and pattern triangles (shared by every pattern).
     patterns : dict of str to (n2, 2) float array
-        ``{"ours": V2, "baseline": V2, "original": V2_orig}`` (any names; report order is
-        the dict's).
+        ``{"ours": V2, "baseline": V2, "original": V2_orig}`` (any names, in report order);
+        ``original`` (:data:`NULL`) starts from the original drape: the null test.
     V2_orig : (n2, 2) float array
-        The original pattern.
     V3_orig : (n3, 3) float array
-        The original drape (its intrinsic scale makes the rest shapes).
+        The original pattern and drape (its intrinsic scale makes the rest shapes; the null
+        re-drape starts there).
     panel_names : list of str
     face_panel : (m,) int array
     vertex_panel : (n2,) int array
@@ -172,28 +208,24 @@ def verify_patterns(
     body : (V (nb, 3), F (mb, 3)), optional
         A static collider in the garment's frame and units.
     rest : {"intrinsic", "pattern"}
-        :func:`ptailor.verify.rest.rest_shapes`'s mode.
     frame : Frame
-        The drapes' wearer's axes, whose up must be +y: the engine's gravity pulls along -y
-        (turn a garment with another up axis first, as ``ptailor.run.verify`` does). The
-        top opening (highest boundary loop) is pinned.
+        The drapes' axes, up +y (the engine's gravity is -y: ``ptailor.run.verify`` turns a
+        garment); the top opening (highest boundary loop) is pinned.
     units_m : float
         Metres per garment unit.
     to_units : float
         Report units per garment unit (displacements are multiplied by it).
     settings : Settings, optional
     device : str, optional
-        Passed to :func:`ptailor.verify.engine.redrape`.
+    null_limits : (float or None, float or None)
+        The null test's mean and p95 limits, cm (None: the defaults).
 
     Returns
     -------
     section : dict
-        ``{"engine", "device", "steps", "seconds", "settled", "rest", NAME: R...}`` with
-        ``R = {"panels": panel_stats(...), "settled", "steps", "seconds", "speed_p95",
-        "moving"}`` (how fast the free vertices still moved when it stopped, garment units
-        per second, and the three fastest panels); the top-level
-        ``steps`` and ``seconds`` are totals over the re-drapes, ``settled`` is whether all
-        settled.
+        :func:`_section`'s; with ``ours``, ``baseline`` and ``original`` also ``null``
+        (:func:`ptailor.verify.verdict.null_test`) and ``verdict``
+        (:func:`ptailor.verify.verdict.verdict`).
     drapes : dict of str to (n3, 3) float array
         The settled drapes, in the garment's units.
     stretches : dict of str to (m, 2) float array
@@ -207,7 +239,17 @@ def verify_patterns(
     )
     measure = _measure_options(to_units, face_panel, vertex_panel, panel_names)
     reports, drapes, stretches = _redrapes(patterns, common, run, measure, progress)
-    return _section(reports, common, rest), drapes, stretches
+    section = _section(reports, common, rest)
+    if set(KINDS) <= set(section):
+        _judge(section, cm_per_unit=units_m * 100.0 / float(to_units), limits=null_limits)
+    return section, drapes, stretches
+
+
+def _judge(section: dict, *, cm_per_unit: float, limits) -> None:
+    """Add the null test and the verdict to ``section``."""
+    null = null_test(section[NULL], cm_per_unit=cm_per_unit, mean_cm=limits[0], p95_cm=limits[1])
+    section["null"] = null
+    section["verdict"] = verdict(section, null, cm_per_unit=cm_per_unit)
 
 
 def _check_up(frame: Frame) -> None:
@@ -267,26 +309,59 @@ def _measure_options(to_units: float, face_panel, vertex_panel, panel_names) -> 
 def _redrapes(
     patterns: dict[str, np.ndarray], common: dict, run: dict, measure: dict, progress
 ) -> tuple[dict, dict[str, np.ndarray], dict[str, np.ndarray]]:
-    """Each pattern re-draped and measured (:func:`_one`): reports, drapes and stretches by
-    name, each with its own progress feed."""
+    """Each pattern re-draped and measured (:func:`_one`), from the edited drape
+    (:data:`NULL` from the original drape): reports, drapes and stretches by name, each with
+    its own progress feed. A pattern and start that an earlier one had (an identity edit's
+    ours and null) is not simulated again: its report is that one's, with ``same_as``."""
     reports, drapes, stretches = {}, {}, {}
+    done: list[tuple[str, np.ndarray, np.ndarray]] = []
     for kind, V2 in patterns.items():
         feed = None if progress is None else _feed(progress, kind, run["settings"])
+        start = common["V3_orig"] if kind == NULL else common["V3_edit"]
+        same = next(
+            (k for k, P, S in done if np.array_equal(P, V2) and np.array_equal(S, start)), None
+        )
+        done.append((kind, V2, start))
+        if same is not None:  # deterministic: the same run
+            R = {**reports[same]["R"], "same_as": same}
+            reports[kind] = {"R": R, "drape": reports[same]["drape"]}
+            drapes[kind], stretches[kind] = drapes[same], stretches[same]
+            continue
         reports[kind], drapes[kind], stretches[kind] = _one(
-            V2, common=common, run={**run, **({"progress": feed} if feed else {})}, measure=measure
+            V2,
+            start,
+            common=common,
+            run={**run, **({"progress": feed} if feed else {})},
+            measure=measure,
         )
     return reports, drapes, stretches
 
 
 def _section(reports: dict, common: dict, rest: str) -> dict:
-    """The report section of the re-drapes (:func:`verify_patterns`)."""
+    """The report section of the re-drapes (:func:`verify_patterns`).
+
+    Returns
+    -------
+    dict
+        ``{"engine", "device", "steps", "seconds", "cpu_seconds", "settled", "rest",
+        "triangles", NAME: R...}`` with ``R = {"panels": panel_stats(...),
+        "displacement": {"mean", "p95", "max"}, "settled", "steps", "seconds",
+        "cpu_seconds", "speed_p95", "moving", "settle"}``: the displacements over the
+        drape's vertices from the drape it started from (report units), how fast the free
+        vertices still moved when it stopped (report units per second), the three fastest
+        panels, why it settled or not; the top-level ``steps``, ``seconds`` and
+        ``cpu_seconds`` are totals (of the re-drapes simulated: one with ``same_as`` was
+        not), ``settled`` whether all settled.
+    """
     sim = common["sim"]
     first = next(iter(reports.values()))["drape"] if reports else None
+    ran = [r["R"] for r in reports.values() if "same_as" not in r["R"]]
     return {
         "engine": first.engine if first is not None else "",
         "device": first.device if first is not None else "",
-        "steps": int(sum(r["R"]["steps"] for r in reports.values())),
-        "seconds": float(sum(r["R"]["seconds"] for r in reports.values())),
+        "steps": int(sum(R["steps"] for R in ran)),
+        "seconds": float(sum(R["seconds"] for R in ran)),
+        "cpu_seconds": round(sum(R.get("cpu_seconds", 0.0) for R in ran), 3),
         "settled": all(r["R"]["settled"] for r in reports.values()),
         "rest": rest,
         "triangles": {
@@ -306,6 +381,7 @@ def verify_section(
     to_units: float,
     settings: Settings | None = None,
     device: str | None = None,
+    null_limits: tuple[float | None, float | None] = (None, None),
 ) -> tuple[dict, dict[str, np.ndarray]]:
     """The re-drape check of an :class:`ptailor.pipeline.Adjustment`.
 
@@ -315,7 +391,7 @@ def verify_section(
         ``adj.state.base`` the original garment on the current triangles, ``adj.state.V3``
         the edited drape, ``adj.result.V2`` ours, ``adj.baseline.V2`` the uniform baseline
         (computed with :func:`uniform_pattern` when ``adj.baseline`` is None).
-    body, rest, units_m, to_units, settings, device
+    body, rest, units_m, to_units, settings, device, null_limits
         As in :func:`verify_patterns` (the frame is the garment's: its up must be +y).
 
     Returns
@@ -333,6 +409,7 @@ def verify_section(
         to_units=to_units,
         settings=settings,
         device=device,
+        null_limits=null_limits,
     )
     return section, drapes
 

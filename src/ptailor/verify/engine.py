@@ -99,7 +99,13 @@ class Settings:
     settle_speed : float
         Settled when the 95th percentile of the free vertices' speeds is below this, m/s ...
     settle_checks : int
-        ... on this many checks in a row.
+        ... on this many checks in a row ...
+    settle_window : int
+        ... and the 95th percentile of the free vertices' displacement over the last this
+        many steps (rounded up to whole checks) ...
+    settle_move : float
+        ... is below this, m (:mod:`ptailor.verify.settle`; a window or move of 0 turns the
+        displacement test off).
     density : float
         Cloth mass per rest area, kg/m^2 (cotton shirting 0.1-0.2).
     stretch : tuple of float
@@ -111,6 +117,11 @@ class Settings:
         internal friction; lets a drape come to rest within the step cap).
     friction : float
         Coulomb friction between cloth and body.
+    friction_slip : float
+        Body friction's smoothing, m of slip per step: below it friction grows linearly with
+        the slip (Newton's IPC-style regularisation), so cloth creeping slower than this per
+        step is held only that fraction of ``friction``. Newton's Style3D default is 1 cm
+        (1 m/s at 1/100 s): cloth slides down a slope at any creep.
     contact_ke : float
         Body contact penalty stiffness (Newton's ``soft_contact_ke``).
     contact_kd : float
@@ -150,11 +161,14 @@ class Settings:
     check_every: int = 20
     settle_speed: float = 2e-3
     settle_checks: int = 3
+    settle_window: int = 100
+    settle_move: float = 1e-3
     density: float = 0.15
     stretch: tuple[float, float, float] = (100.0, 100.0, 10.0)
     bend: tuple[float, float, float] = (2e-5, 1e-5, 5e-6)
     drag: float = 5.0
     friction: float = 0.2
+    friction_slip: float = 1e-2
     contact_ke: float = 100.0
     contact_kd: float = 1e-5
     radius: float = 1e-3
@@ -188,6 +202,10 @@ class Drape:
     speed : (n,) float array or None
         Each vertex's speed when it stopped (the last settle check), input units per second
         (0 for pinned and unused vertices).
+    settle : dict or None
+        Why it settled or not (:meth:`ptailor.verify.settle.Settle.record`, input units).
+    cpu_seconds : float or None
+        CPU time of the simulation (this process, every thread), s.
     """
 
     V: np.ndarray
@@ -197,6 +215,8 @@ class Drape:
     device: str
     engine: str
     speed: np.ndarray | None = None
+    settle: dict | None = None
+    cpu_seconds: float | None = None
 
 
 def panel_triangles(rest: np.ndarray) -> np.ndarray:
@@ -289,24 +309,6 @@ def _pin(wp, newton, model, pinned: np.ndarray) -> None:
     model.particle_flags = wp.array(flags, dtype=model.particle_flags.dtype, device=model.device)
 
 
-class _Settle:
-    """Counts consecutive settle checks below the speed threshold."""
-
-    def __init__(self, s: Settings, free: np.ndarray) -> None:
-        self.s = s
-        self.free = free
-        self.run = 0
-        self.speed = np.zeros(len(free))  # every vertex's speed at the last check, m/s
-
-    def check(self, qd: np.ndarray) -> bool:
-        """Record one check of velocities ``qd`` (n, 3); True once settled."""
-        self.speed = np.where(self.free, np.linalg.norm(qd, axis=1), 0.0)
-        speed = self.speed[self.free] if self.free.any() else np.zeros(1)
-        slow = float(np.percentile(speed, 95)) < self.s.settle_speed
-        self.run = self.run + 1 if slow else 0
-        return self.run >= self.s.settle_checks
-
-
 def self_radius(P: np.ndarray, s: Settings) -> float:
     """The cloth-cloth contact radius for panel triangles ``P`` (m, 3, 2), m: see Settings."""
     if len(P) == 0:
@@ -333,6 +335,7 @@ def _solver(newton, model, s: Settings, radius: float, has_body: bool):
         # body contacts stay: Collision evaluates them with the cloth-cloth terms off
         solver.collision.stiff_vf = solver.collision.stiff_ee = solver.collision.stiff_ef = 0.0
     solver.collision.radius = radius  # the BVHs are refit with it every step
+    solver.collision.friction_epsilon = s.friction_slip
     return solver
 
 
@@ -340,7 +343,9 @@ def _simulate(
     wp, newton, model, s: Settings, free: np.ndarray, has_body: bool, radius: float, progress=None
 ):
     """Step until settled or ``max_steps``; returns (positions (n, 3), steps, settled, the
-    vertices' speeds (n,) at the last settle check, m/s)."""
+    :class:`ptailor.verify.settle.Settle` with the last check's speeds and why)."""
+    from ptailor.verify.settle import Settle
+
     solver = _solver(newton, model, s, radius, has_body)
     a, b = model.state(), model.state()
     control = model.control()
@@ -349,7 +354,7 @@ def _simulate(
     if contacts is None:
         contacts = newton.CollisionPipeline(model).contacts()
     keep = float(np.exp(-s.drag * s.dt))
-    settle = _Settle(s, free)
+    settle = Settle(s, free)
     steps, settled = 0, False
     while steps < s.max_steps and not settled:
         if pipeline is not None and steps % s.collide_every == 0:
@@ -361,18 +366,17 @@ def _simulate(
             a.particle_qd.assign(a.particle_qd.numpy() * keep)
         steps += 1
         if steps % s.check_every == 0:
-            settled = settle.check(a.particle_qd.numpy())
+            settled = settle.check(a.particle_q.numpy(), a.particle_qd.numpy())
             if progress is not None:
-                speed = settle.speed[free]
-                progress(steps, float(np.percentile(speed, 95)) if len(speed) else 0.0)
+                progress(steps, settle.speed_p95)
     if steps % s.check_every:  # the speeds where it stopped
-        settle.check(a.particle_qd.numpy())
-    return a.particle_q.numpy().astype(float), steps, settled, settle.speed
+        settle.check(a.particle_q.numpy(), a.particle_qd.numpy())
+    return a.particle_q.numpy().astype(float), steps, settled, settle
 
 
 def _sew_and_settle(wp, newton, V, F, P, body, s: Settings, dev, pinned, progress):
     """Build the cloth model (SI units), pin ``pinned`` and step it until it settles;
-    returns :func:`_simulate`'s (positions, steps, settled, speeds)."""
+    returns :func:`_simulate`'s (positions, steps, settled, settle)."""
     model = _model(wp, newton, V, F, P, body, s, dev)
     _pin(wp, newton, model, pinned)
     free = np.zeros(len(V), dtype=bool)
@@ -414,7 +418,6 @@ def redrape(
     settings : Settings
     device : str, optional
         Warp device; default the first GPU when warp finds one, else ``"cpu"``.
-
     progress : callable, optional
         ``progress(steps, speed_p95)`` at every settle check (the free vertices' 95th
         percentile speed, m/s): a progress line's feed.
@@ -437,7 +440,7 @@ def redrape(
     pinned = np.unique(np.asarray(pinned, dtype=np.int64).reshape(-1))
     _check_inputs(V3, F, rest, units_m, pinned)
     wp, newton = _modules()
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     with contextlib.redirect_stderr(io.StringIO()):
         wp.init()  # on a machine without a GPU driver warp says so on stderr, every time
     dev = _pick_device(wp, device)
@@ -447,7 +450,7 @@ def redrape(
         body = (np.asarray(body[0], dtype=float) * units_m, np.asarray(body[1]))
     # newton times its precompute with a ScopedTimer that prints to stdout
     with wp.ScopedDevice(dev), contextlib.redirect_stdout(io.StringIO()):
-        X, steps, settled, speed = _sew_and_settle(
+        X, steps, settled, settle = _sew_and_settle(
             wp, newton, V, F, P, body, settings, dev, pinned, progress
         )
     X = X / units_m
@@ -459,5 +462,7 @@ def redrape(
         settled=settled,
         device=str(dev),
         engine=f"newton {newton.__version__} (SolverStyle3D)",
-        speed=np.asarray(speed, dtype=float) / units_m,
+        speed=np.asarray(settle.speed, dtype=float) / units_m,
+        settle=settle.record(settled=settled, steps=steps, units_m=units_m),
+        cpu_seconds=time.process_time() - c0,
     )

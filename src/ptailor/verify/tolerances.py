@@ -89,3 +89,17 @@ FIT_ARM_ABDUCTION = (20.0, 100.0)
 FIT_ARM_FORWARD = 30.0
 #: A shoulder moves at most this far (cm, the fitted body's) onto its sleeve's axis.
 FIT_SHOULDER_SHIFT_CM = 6.0
+
+# --- the null test and the verdict (ptailor.verify.verdict) ---
+#: The null test (the original pattern re-draped from the original drape) holds when its
+#: vertices land on average at most this far from the original drape (cm) ...
+NULL_MEAN_CM = 1.0
+#: ... and their 95th percentile at most this far (cm): a re-drape that does not reproduce
+#: the garment it started from (a body that does not fit it) cannot rank two patterns.
+NULL_P95_CM = 2.5
+#: Two re-drapes whose worst-panel stretch p95 above the null's differ by at most this
+#: (unitless) tie on stretch ...
+VERDICT_STRETCH_TIE = 0.005
+#: ... and whose displacement p95 from their start differ by at most this (cm) tie on
+#: displacement (a few mm: the settle test's own resolution).
+VERDICT_DISPLACEMENT_TIE_CM = 0.2
