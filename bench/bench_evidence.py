@@ -39,6 +39,11 @@ LOOSEN = "units: cm\nsteps: [{op: loosen, region: all, by: 2}]\n"
 GATHER = (
     "units: cm\nsteps: [{op: scale_seam, seam: armhole_left, part: sleeve_left, factor: 1.2}]\n"
 )
+#: tee6's sleeves are front and back panels: its left armhole gathered on the front one
+GATHER_TEE6 = (
+    "units: cm\nsteps: [{op: scale_seam, seam: [front, sleeve_left_front], "
+    "part: sleeve_left_front, factor: 1.2}]\n"
+)
 SKIRT = (
     "units: cm\nsteps: [{op: scale, region: {panels: [skirt]}, direction: around, "
     "axis: auto, factor: 1.1}]\n"
@@ -49,7 +54,7 @@ GARMENTS = {
     "tee6": (
         "garments/gpg_tee6/tee6_sim.obj",
         ["--pattern-units", "0.3333cm", "--drape-units", "0.3333cm"],
-        {"sleeve 1.1": SLEEVE, "loosen 2": LOOSEN, "gather 1.2": GATHER},
+        {"sleeve 1.1": SLEEVE, "loosen 2": LOOSEN, "gather 1.2": GATHER_TEE6},
     ),
     "tshirt": (
         "garments/diffavatar/tshirt.obj",
