@@ -87,8 +87,10 @@ FIT_ARM_BAND = 0.05
 FIT_ARM_ABDUCTION = (20.0, 100.0)
 #: ... and its forward swing within this (degrees either way).
 FIT_ARM_FORWARD = 30.0
-#: A shoulder moves at most this far (cm, the fitted body's) onto its sleeve's axis.
-FIT_SHOULDER_SHIFT_CM = 6.0
+#: A shoulder moves at most this far (cm, the fitted body's) onto its sleeve's axis (at 6 the
+#: draped tops reached it, tee6's sleeves hung off the arms and its null test failed, mean
+#: 1.03 cm; at 10: 0.43 cm, and tshirt 0.41, long-sleeve 0.96 hold it too).
+FIT_SHOULDER_SHIFT_CM = 10.0
 
 # --- the null test and the verdict (ptailor.verify.verdict) ---
 #: The null test (the original pattern re-draped from the original drape) holds when its
