@@ -44,18 +44,24 @@ def at_places(field: np.ndarray, places: Places) -> np.ndarray:
     return field[places.seg] + places.t[:, None] * (field[nxt] - field[places.seg])
 
 
-def point_by_point(src: np.ndarray, dst: np.ndarray) -> bool:
-    """Whether outlines ``src`` and ``dst`` (``(k, 2)`` each) correspond point by point: the
-    same number of points, and an affine map from one to the other that leaves an RMS
-    residual within ``DXF_GRADE_FIT_REL`` of ``dst``'s diagonal (a grade rule moves points,
-    it does not renumber them)."""
+def grade_fit(src: np.ndarray, dst: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """The affine map (row vectors: ``x @ A + t``) from outline ``src`` to ``dst`` taken
+    point by point (``(k, 2)`` each), or None when they do not correspond: another number of
+    points, or an RMS residual beyond ``DXF_GRADE_FIT_REL`` of ``dst``'s diagonal (a grade
+    rule moves points, it does not renumber them)."""
     if len(src) != len(dst) or len(src) < 3:
-        return False
+        return None
     X = np.c_[src, np.ones(len(src))]
     M, *_ = np.linalg.lstsq(X, dst, rcond=None)  # (3, 2)
     rms = float(np.sqrt(np.mean(np.sum((X @ M - dst) ** 2, axis=1))))
     diag = float(np.hypot(*np.ptp(dst, axis=0)))
-    return rms <= tol.DXF_GRADE_FIT_REL * max(diag, tol.TINY)
+    return (M[:2], M[2]) if rms <= tol.DXF_GRADE_FIT_REL * max(diag, tol.TINY) else None
+
+
+def point_by_point(src: np.ndarray, dst: np.ndarray) -> bool:
+    """Whether outlines ``src`` and ``dst`` (``(k, 2)`` each) correspond point by point
+    (:func:`grade_fit` finds a map)."""
+    return grade_fit(src, dst) is not None
 
 
 def _box_map(src: np.ndarray, dst: np.ndarray) -> np.ndarray:

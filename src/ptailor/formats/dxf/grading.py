@@ -12,6 +12,7 @@ import numpy as np
 from ptailor import tolerances as tol
 from ptailor.formats.dxf.astm import quantity_text
 from ptailor.formats.dxf.entities import Candidate, apply_affine
+from ptailor.model.correspond import grade_fit
 from ptailor.model.pieces import Piece
 
 
@@ -65,7 +66,7 @@ def _carry_from_sample(
     if not p.annotations and sp.annotations:
         ch["annotations"] = sp.annotations
         carried.append("annotations")
-    A = _grade_fit(sp.outline, p.outline)
+    A = grade_fit(sp.outline, p.outline)
     arc = _ArcMap.fit(sp.outline, p.outline) if A is None else None
     if arc is not None:
         A = arc.box
@@ -123,18 +124,6 @@ def _carried_mark(
     if what == "drill holes":
         return {"drills": apply_affine(sp.drills, A)}
     return {"internal": tuple(apply_affine(a, A) for a in sp.internal)}
-
-
-def _grade_fit(src: np.ndarray, dst: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
-    """The affine map (row vectors: ``x @ A + t``) from outline ``src`` to ``dst`` taken point
-    by point, or None when they do not correspond."""
-    if len(src) != len(dst) or len(src) < 3:
-        return None
-    X = np.c_[src, np.ones(len(src))]
-    M, *_ = np.linalg.lstsq(X, dst, rcond=None)  # (3, 2)
-    rms = float(np.sqrt(np.mean(np.sum((X @ M - dst) ** 2, axis=1))))
-    diag = float(np.hypot(*np.ptp(dst, axis=0)))
-    return (M[:2], M[2]) if rms <= tol.DXF_GRADE_FIT_REL * max(diag, tol.TINY) else None
 
 
 def _arc_params(P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
