@@ -1,7 +1,7 @@
 """The paper's evidence on real garments: the re-drape check per shared garment and edit.
 
     python bench/bench_evidence.py [--shared ../shared] [--jobs 2] [--only tee6 ...]
-                                   [--keep DIR]
+                                   [--edits "loosen 2" ...] [--levels 0 2] [--keep DIR]
 
 For each garment of ``../shared`` (tee6, tshirt, longsleeve_initial, dress_initial) and each
 edit that applies to it (one sleeve 1.1 around, loosen 2 cm, a 1.2 gather of one armhole;
@@ -10,7 +10,10 @@ the dress: its skirt 1.1 around instead of the sleeve edits), runs
 time) and reads ``report.json``: for ours, the uniform baseline and the original pattern,
 the worst panel's stretch p95, displacement mean and p95 from the edited drape, and the
 same minus the original's re-drape (what the pattern changes, not what any re-drape
-moves), settled, steps and seconds; the null test's numbers and the verdict. The demo's
+moves), settled, steps, seconds and CPU seconds; the null test's numbers and the verdict;
+and each command's CPU seconds (imports, body fit, adjustment and the three re-drapes: the
+check's CPU budget). ``--levels 2`` runs each garment subdivided to 16x the triangles
+(``bench/subdivide.py``; the check simulates on its 8,000-triangle copy). The demo's
 lantern sleeve on its arm is the first row
 (``ptailor demo``'s recipe, its arm cylinder as the body).
 
@@ -86,6 +89,7 @@ def worst(section: dict, kind: str) -> dict:
         "settled": bool(section[kind]["settled"]),
         "steps": int(section[kind]["steps"]),
         "seconds": round(float(section[kind]["seconds"]), 1),
+        "cpu_s": round(float(section[kind].get("cpu_seconds", float("nan"))), 1),
         "speed_p95": section[kind].get("speed_p95"),
     }
 
@@ -112,24 +116,50 @@ def relative(section: dict, kind: str) -> dict:
     }
 
 
-def run_one(shared: Path, work: Path, garment: str, edit: str) -> dict:
-    path, units, edits = GARMENTS[garment]
-    recipe = work / f"{garment}-{edit.replace(' ', '_')}.yaml"
+def timed(cmd: list[str]) -> tuple[int, str, float, float]:
+    """Run ``cmd``: its exit status, stderr, wall seconds and CPU seconds (user + system of
+    the process and its children, from ``os.wait4``: per command, whatever runs beside it)."""
+    with tempfile.TemporaryFile("w+") as err:
+        t0 = time.perf_counter()
+        proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=err, env={**os.environ})
+        _, status, usage = os.wait4(proc.pid, 0)
+        wall = time.perf_counter() - t0
+        err.seek(0)
+        return os.waitstatus_to_exitcode(status), err.read(), wall, usage.ru_utime + usage.ru_stime
+
+
+def garment_path(shared: Path, work: Path, garment: str, levels: int) -> Path:
+    """The garment's OBJ, subdivided ``levels`` times (4 ** levels the triangles; written
+    once into ``work`` by ``bench/subdivide.py``)."""
+    path = shared / GARMENTS[garment][0]
+    if levels == 0:
+        return path
+    out = work / f"{garment}-{4**levels}x.obj"
+    if not out.exists():
+        subprocess.run([sys.executable, str(ROOT / "bench/subdivide.py"), str(path), str(out),
+                        "--levels", str(levels)], check=True)  # fmt: skip
+    return out
+
+
+def run_one(shared: Path, work: Path, garment: str, edit: str, levels: int = 0) -> dict:
+    _, units, edits = GARMENTS[garment]
+    tag = f"{garment}-{4**levels}x-{edit.replace(' ', '_')}"
+    recipe = work / f"{tag}.yaml"
     recipe.write_text(edits[edit])
-    out = work / f"{garment}-{edit.replace(' ', '_')}"
-    cmd = [sys.executable, "-m", "ptailor", "adjust", str(shared / path), str(recipe),
-           *units, "--verify", "--body", "auto", "-o", str(out), "-q"]  # fmt: skip
-    t0 = time.perf_counter()
-    proc = subprocess.run(cmd, capture_output=True, text=True, env={**os.environ})
-    wall = time.perf_counter() - t0
-    row = {"garment": garment, "edit": edit, "wall_s": round(wall, 1), "rc": proc.returncode}
-    if proc.returncode != 0:
-        row["error"] = proc.stderr.strip().splitlines()[-1:] or [""]
+    out = work / tag
+    obj = garment_path(shared, work, garment, levels)
+    cmd = [sys.executable, "-m", "ptailor", "adjust", str(obj), str(recipe), *units,
+           "--verify", "--body", "auto", "-o", str(out), "-q"]  # fmt: skip
+    rc, err, wall, cpu = timed(cmd)
+    row = {"garment": garment if levels == 0 else f"{garment} {4**levels}x", "edit": edit,
+           "wall_s": round(wall, 1), "cpu_s": round(cpu, 1), "rc": rc}  # fmt: skip
+    if rc != 0:
+        row["error"] = err.strip().splitlines()[-1:] or [""]
         return row
     rep = json.loads((out / "report.json").read_text())
     sec = rep["verify"]
     row["body_fit"] = rep.get("body_fit")
-    row["triangles"] = rep.get("garment", {}).get("triangles")
+    row["triangles"] = sec.get("triangles")
     for k in KINDS:
         row[k] = worst(sec, k) | (relative(sec, k) if k != "original" else {})
     return row | judged(sec)
@@ -172,12 +202,12 @@ def lantern_row() -> dict:
 
 def table(rows: list[dict]) -> str:
     head = ("| garment | edit | pattern | stretch p95 | disp. mean | disp. p95 | mean - orig. "
-            "| p95 - orig. | settled | steps | s |")  # fmt: skip
-    lines = [head, "|" + "---|" * 11]
+            "| p95 - orig. | settled | steps | s | CPU s |")  # fmt: skip
+    lines = [head, "|" + "---|" * 12]
     for r in rows:
         if r["rc"] != 0:
             lines.append(
-                f"| {r['garment']} | {r['edit']} | exit {r['rc']}: {r.get('error')} |" + " |" * 8
+                f"| {r['garment']} | {r['edit']} | exit {r['rc']}: {r.get('error')} |" + " |" * 9
             )
             continue
         for k in KINDS:
@@ -187,7 +217,7 @@ def table(rows: list[dict]) -> str:
                 f"| {x['disp_mean']:.2f} "
                 f"| {x['disp_p95']:.2f} | {x.get('disp_mean_minus_original', 0):+.2f} "
                 f"| {x.get('disp_p95_minus_original', 0):+.2f} | {'yes' if x['settled'] else 'no'} "
-                f"| {x['steps']} | {x['seconds']} |"
+                f"| {x['steps']} | {x['seconds']} | {x.get('cpu_s', '')} |"
             )
     return "\n".join(lines)
 
@@ -199,17 +229,37 @@ def main() -> None:
     ap.add_argument("--only", nargs="*", default=None)
     ap.add_argument("--no-lantern", action="store_true")
     ap.add_argument("--keep", default=None)
+    ap.add_argument(
+        "--levels",
+        type=int,
+        nargs="*",
+        default=[0],
+        help="subdivision levels to run each garment at (1: 4x, 2: 16x)",
+    )
+    ap.add_argument("--edits", nargs="*", default=None, help="only these edits")
     a = ap.parse_args()
     shared = Path(a.shared)
     work = Path(a.keep) if a.keep else Path(tempfile.mkdtemp(prefix="ptailor-evidence-"))
     work.mkdir(parents=True, exist_ok=True)
     jobs = [
-        (g, e) for g, (_, _, edits) in GARMENTS.items() if not a.only or g in a.only for e in edits
+        (g, e, lv)
+        for g, (_, _, edits) in GARMENTS.items()
+        if not a.only or g in a.only
+        for lv in a.levels
+        for e in edits
+        if not a.edits or e in a.edits
     ]
+    for g, lv in {(g, lv) for g, _, lv in jobs}:  # subdivided once, before the jobs
+        garment_path(shared, work, g, lv)
     rows = [] if a.no_lantern else [lantern_row()]
     with ThreadPoolExecutor(a.jobs) as pool:
-        rows += list(pool.map(lambda ge: run_one(shared, work, *ge), jobs))
+        rows += list(pool.map(lambda gel: run_one(shared, work, *gel), jobs))
     print(table(rows))
+    for r in rows:  # the whole check's CPU, one line per command
+        if "cpu_s" in r:
+            drapes = " + ".join(f"{r[k]['cpu_s']}" for k in KINDS if k in r)
+            print(f"{r['garment']} {r['edit']}: the command {r['cpu_s']} s CPU "
+                  f"({r['wall_s']} s wall), its re-drapes {drapes} s")  # fmt: skip
     for r in rows:  # the null test and the verdict, one line per check
         if "null" in r:
             n = r["null"]
