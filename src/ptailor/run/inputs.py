@@ -72,6 +72,7 @@ def fitted_body(garment, *, path: str | None = None):
     from ptailor.model.structure import structure
     from ptailor.model.units import CM_PER
     from ptailor.verify.fit import fit_body
+    from ptailor.verify.legs import trouser_axes
     from ptailor.verify.pose import sleeve_axes
 
     fit = fit_body(
@@ -82,6 +83,7 @@ def fitted_body(garment, *, path: str | None = None):
         cm_per_unit=CM_PER.get(garment.units, 1.0),
         path=path,
         sleeves=sleeve_axes(garment),
+        trousers=trouser_axes(garment),
     )
     return trimesh.Trimesh(fit.V, fit.F, process=False), fit.record()
 

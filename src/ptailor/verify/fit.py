@@ -5,8 +5,11 @@ hang the cloth on. ptailor ships GarmentCode's MIT mean body (``verify/bodies``:
 T-pose, decimated by pymeshlab to 7,002 vertices, in metres, y up, z front, feet at 0;
 ``bench/make_bodies.py`` makes them from ``../shared/bodies``). The fit is a similarity:
 
-1. *Pose*: a top whose cuffs lie more than ``FIT_T_POSE_DEG`` from straight down, seen from
-   the neckline, takes the T-pose body, every other garment the A-pose one.
+1. *Pose*: a garment with sleeves or trouser legs takes the A-pose body, its arms posed to
+   the sleeves (:mod:`ptailor.verify.pose`) and its legs to the trouser legs
+   (:mod:`ptailor.verify.legs`); otherwise a top whose cuffs lie more than ``FIT_T_POSE_DEG``
+   from straight down, seen from the neckline, takes the T-pose body, every other garment
+   the A-pose one.
 2. *Anchor*: where the garment hangs. A top's neckline centroid goes to the body's neck
    base (``FIT_NECK_HEIGHT`` of its height, on the torso's mid-depth), a skirt's or trousers'
    waist centroid to its waist (``FIT_WAIST_HEIGHT``). A drape with neither is refused.
@@ -57,10 +60,13 @@ class BodyFit:
         to).
     drape_inside : float or None
         Fraction of all the drape's vertices (at most ``FIT_POINTS`` of them) inside the
-        body (trimesh's ray test), sleeves included; None where the arms were not posed.
+        body (trimesh's ray test), sleeves and legs included; None where no limb was posed.
     arms : dict
         Per posed arm (``left``, ``right``): the sleeve's abduction and forward swing and the
         arm's (degrees), the shoulder's move onto the sleeve's axis (garment units).
+    legs : dict
+        Per posed leg (``left``, ``right``): the trouser leg's abduction and forward swing
+        and the leg's (degrees), the hip's move onto the trouser leg's axis (garment units).
     gap_rms, gap_median : float
         The garment's vertices' distances to the nearest body vertex (garment units).
     """
@@ -75,6 +81,7 @@ class BodyFit:
     gap_median: float
     drape_inside: float | None = None
     arms: dict = field(default_factory=dict)
+    legs: dict = field(default_factory=dict)
 
     def record(self) -> dict:
         """The fit as ``verify.json`` and the report hold it."""
@@ -92,6 +99,7 @@ class BodyFit:
                 else {"drape_inside_fraction": round(self.drape_inside, 5)}
             ),
             **({"arms": self.arms} if self.arms else {}),
+            **({"legs": self.legs} if self.legs else {}),
         }
 
 
@@ -108,12 +116,15 @@ def mean_body(pose: str) -> tuple[np.ndarray, np.ndarray]:
         return data["V"].astype(np.float64), data["F"].astype(np.int64)
 
 
-@lru_cache(maxsize=1)
-def _rigs() -> tuple:
-    """The A-pose body's arm rigs (:func:`ptailor.verify.pose.arm_rigs`), computed once."""
+@lru_cache(maxsize=2)
+def _rigs(kind: str) -> tuple:
+    """The A-pose body's arm (``kind`` ``arm``) or leg rigs
+    (:func:`ptailor.verify.pose.arm_rigs`, :func:`ptailor.verify.legs.leg_rigs`), computed
+    once."""
+    from ptailor.verify.legs import leg_rigs
     from ptailor.verify.pose import arm_rigs
 
-    return arm_rigs(*mean_body("a"))
+    return (arm_rigs if kind == "arm" else leg_rigs)(*mean_body("a"))
 
 
 def _inside(P: np.ndarray, V: np.ndarray, N: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -145,6 +156,7 @@ def fit_body(
     cm_per_unit: float = 1.0,
     path: str | None = None,
     sleeves: dict | None = None,
+    trousers: dict | None = None,
 ) -> BodyFit:
     """Fit the mean body to a garment's drape (see the module docstring).
 
@@ -160,10 +172,10 @@ def fit_body(
         The drape's unit.
     path : str, optional
         The file named in errors.
-    sleeves : dict of str to SleeveAxis, optional
-        The garment's sleeves' axes (:func:`ptailor.verify.pose.sleeve_axes`): the A-pose
-        body's arms are posed to them before the fit, and its shoulders moved onto them
-        after.
+    sleeves, trousers : dict of str to LimbAxis, optional
+        The garment's sleeves' and trouser legs' axes (:func:`ptailor.verify.pose.
+        sleeve_axes`, :func:`ptailor.verify.legs.trouser_axes`): the A-pose body's arms and
+        legs are posed to them before the fit, its shoulders and hips moved onto them after.
 
     Returns
     -------
@@ -173,7 +185,7 @@ def fit_body(
     ------
     PtailorError
         A drape with no neckline and no waist (nothing to hang it on), or one the body
-        cannot be fitted inside at any scale in ``FIT_SCALE_RANGE``.
+        fits inside at no scale in ``FIT_SCALE_RANGE``.
     """
     R = frame.matrix()  # rows: left, up, front (the body's x, y, z)
     ops = {o.name: o for o in openings}
@@ -185,21 +197,22 @@ def fit_body(
             path=path,
         )
     to_m = cm_per_unit / 100.0
-    arms = _Arms.of(sleeves or {}, to_m)
-    pose = "a" if arms.bones else _pose(ops, R)
+    arms = _Limbs.of("arm", sleeves or {}, to_m)
+    legs = _Limbs.of("leg", trousers or {}, to_m)
+    pose = "a" if (posed := bool(arms.bones or legs.bones)) else _pose(ops, R)
     BV, BF = mean_body(pose)
-    BV = arms.posed(BV)
+    BV = legs.posed(arms.posed(BV))
     import trimesh
 
     BN = np.asarray(trimesh.Trimesh(BV, BF, process=False).vertex_normals)  # outward, unit
-    sleeve_v = [sl.vertices for sl in (sleeves or {}).values()]
-    P, a_g = _garment_points(V3, F3, ops, anchor, R, to_m, sleeve_v)
-    fit = _Placement(P, BV, BN, _body_anchor(BV, anchor), a_g, _offsets(), arms)
+    P, a_g = _garment_points(V3, F3, ops, anchor, R, to_m, [a.vertices for a in arms.axes.values()])
+    fit = _Placement(P, BV, BN, _body_anchor(BV, anchor), a_g, _offsets(), (arms, legs))
     s = _largest_scale(fit, path=path)
     V_b = fit.placed(s, fit.best[s])
-    arms.fill_record(fit, s)
+    for limbs in (arms, legs):
+        limbs.fill_record(fit, s)
     inside, dist = _inside(P, V_b, BN)
-    drape_inside = _drape_inside(V3, F3, R, to_m, V_b, BF) if arms.bones else None
+    drape_inside = _drape_inside(V3, F3, R, to_m, V_b, BF) if posed else None
     return BodyFit(
         V=(V_b / to_m) @ R,  # back to the garment's axes and units
         F=BF,
@@ -211,6 +224,7 @@ def fit_body(
         gap_median=float(np.median(dist) / to_m),
         drape_inside=drape_inside,
         arms=arms.record,
+        legs=legs.record,
     )
 
 
@@ -219,43 +233,62 @@ def _drape_inside(
 ) -> float:
     """The fraction of the drape's used vertices (at most about ``FIT_POINTS``, evenly
     subsampled) inside the placed body ``V_b`` ``(nb, 3)``, ``BF`` ``(f, 3)`` (the body's
-    axes, metres), by trimesh's ray test (:func:`ptailor.edits.body.inside_body`)."""
+    axes, metres), by trimesh's ray test (:func:`ptailor.edits.body.inside_body`).
+
+    The ray test (seconds for some thousand points) is asked only of the points inside by
+    the nearest vertex's normal (:func:`_inside`) or within ``FIT_NEAR_EDGES`` median body
+    edges of the body: one farther out, in front of that normal, is outside.
+    """
     import trimesh
 
     from ptailor.edits.body import inside_body
+    from ptailor.geometry.triangles import edge_lengths
 
     used = np.unique(np.asarray(F3))
     Q = (np.asarray(V3, dtype=np.float64)[used] @ frame.T) * to_m
     Q = Q[:: max(1, len(Q) // verify_tol.FIT_POINTS)]
-    return float(inside_body(Q, trimesh.Trimesh(V_b, BF, process=False)).mean())
+    body = trimesh.Trimesh(V_b, BF, process=False)
+    behind, d = _inside(Q, V_b, np.asarray(body.vertex_normals))
+    ask = behind | (d < verify_tol.FIT_NEAR_EDGES * float(np.median(edge_lengths(V_b, BF))))
+    inside = np.zeros(len(Q), dtype=bool)
+    inside[ask] = inside_body(Q[ask], body)
+    return float(inside.mean())
 
 
 @dataclass
-class _Arms:
-    """The arms posed to the sleeves (:mod:`ptailor.verify.pose`), in the body's axes and
-    metres: the rigs, each posed arm's new bone, the sleeves' axes, and the record."""
+class _Limbs:
+    """The arms posed to the sleeves (:mod:`ptailor.verify.pose`), or the legs to the
+    trouser legs (:mod:`ptailor.verify.legs`), in the body's axes and metres: the rigs, each
+    posed limb's new bone, the garment's axes, and the record.
 
+    Attributes
+    ----------
+    kind : str
+        ``arm`` or ``leg``.
+    """
+
+    kind: str
     rigs: tuple
     bones: dict
-    sleeves: dict
+    axes: dict
     to_m: float
     record: dict = field(default_factory=dict)
 
     @classmethod
-    def of(cls, sleeves: dict, to_m: float) -> _Arms:
-        """The arms to pose for the sleeves given (none: no rig is built)."""
-        if not sleeves:
-            return cls((), {}, {}, to_m)
+    def of(cls, kind: str, axes: dict, to_m: float) -> _Limbs:
+        """The limbs to pose for the axes given (none: no rig is built)."""
+        if not axes:
+            return cls(kind, (), {}, {}, to_m)
+        from ptailor.verify.legs import target_leg
         from ptailor.verify.pose import target_bone
 
-        rigs = _rigs()
-        bones = {
-            r.side: target_bone(r, sleeves[r.side].direction) for r in rigs if r.side in sleeves
-        }
-        return cls(rigs, bones, sleeves, to_m)
+        rigs = _rigs(kind)
+        target = target_bone if kind == "arm" else target_leg
+        bones = {r.side: target(r, axes[r.side].direction) for r in rigs if r.side in axes}
+        return cls(kind, rigs, bones, axes, to_m)
 
     def posed(self, BV: np.ndarray) -> np.ndarray:
-        """The body's vertices ``(nb, 3)`` with the arms turned to their new bones."""
+        """The body's vertices ``(nb, 3)`` with the limbs turned to their new bones."""
         if not self.bones:
             return BV
         from ptailor.verify.pose import pose_arms
@@ -263,18 +296,19 @@ class _Arms:
         return pose_arms(BV, self.rigs, self.bones)
 
     def shifts(self, joint_at) -> list:
-        """Per posed arm, its weights ``(nb,)`` and the move ``(3,)`` of its shoulder onto
-        its sleeve's axis (:func:`ptailor.verify.pose.shoulder_shift`), the body placed by
-        ``joint_at`` (a function of ``(1, 3)`` body points)."""
+        """Per posed limb, its rig and the move ``(3,)`` of its joint onto its axis
+        (:func:`ptailor.verify.pose.shoulder_shift`, at most ``FIT_SHOULDER_SHIFT_CM`` for
+        an arm, ``FIT_HIP_SHIFT_CM`` for a leg), the body placed by ``joint_at`` (a function
+        of ``(1, 3)`` body points)."""
         from ptailor.verify.pose import shoulder_shift
 
         out = []
-        cap = verify_tol.FIT_SHOULDER_SHIFT_CM / 100.0
-        for rig in self.rigs:  # a loop over the two arms
+        cm = verify_tol.FIT_SHOULDER_SHIFT_CM if self.kind == "arm" else verify_tol.FIT_HIP_SHIFT_CM
+        for rig in self.rigs:  # a loop over the two limbs
             if rig.side in self.bones:
-                sl, bone = self.sleeves[rig.side], self.bones[rig.side]
+                ax, bone = self.axes[rig.side], self.bones[rig.side]
                 centre = joint_at(rig.turned(bone, rig.centre[None]))[0]
-                t = shoulder_shift(centre, sl.point * self.to_m, bone, cap=cap)
+                t = shoulder_shift(centre, ax.point * self.to_m, bone, cap=cm / 100.0)
                 out.append((rig, t))
         return out
 
@@ -282,16 +316,17 @@ class _Arms:
         """Fill :attr:`record` for the body placed at scale ``s``."""
         from ptailor.verify.pose import abduction, forward
 
+        part, joint = ("sleeve", "shoulder") if self.kind == "arm" else ("trouser", "hip")
         off = fit.best[s]
         for rig, t in self.shifts(lambda X: fit.placed(s, off, X, shift=False)):
-            sl, bone = self.sleeves[rig.side], self.bones[rig.side]
+            ax, bone = self.axes[rig.side], self.bones[rig.side]
             self.record[rig.side] = {
-                "sleeve_abduction_deg": round(abduction(sl.direction, rig.side), 1),
-                "sleeve_forward_deg": round(forward(sl.direction), 1),
-                "arm_abduction_deg": round(abduction(bone, rig.side), 1),
-                "arm_forward_deg": round(forward(bone), 1),
-                "shoulder_up": round(float(t[1]) / self.to_m, 3),
-                "shoulder_shift": round(float(np.linalg.norm(t)) / self.to_m, 3),
+                f"{part}_abduction_deg": round(abduction(ax.direction, rig.side), 1),
+                f"{part}_forward_deg": round(forward(ax.direction), 1),
+                f"{self.kind}_abduction_deg": round(abduction(bone, rig.side), 1),
+                f"{self.kind}_forward_deg": round(forward(bone), 1),
+                f"{joint}_up": round(float(t[1]) / self.to_m, 3),
+                f"{joint}_shift": round(float(np.linalg.norm(t)) / self.to_m, 3),
             }
 
 
@@ -367,9 +402,9 @@ class _Placement:
         The body's anchor and the garment's.
     offsets : (q, 2) float array
         :func:`_offsets`.
-    arms : _Arms, optional
-        The posed arms, whose shoulders move onto the sleeves' axes wherever the body is
-        placed.
+    limbs : tuple of _Limbs
+        The posed arms and legs, whose shoulders and hips move onto the sleeves' and
+        trouser legs' axes wherever the body is placed.
     best : dict of float to (2,) float array
         The offset with the least inside, per scale tried.
     """
@@ -380,20 +415,21 @@ class _Placement:
     a_b: np.ndarray
     a_g: np.ndarray
     offsets: np.ndarray
-    arms: _Arms | None = None
+    limbs: tuple = ()
     best: dict = field(default_factory=dict)
 
     def placed(
         self, s: float, off=(0.0, 0.0), X: np.ndarray | None = None, *, shift: bool = True
     ) -> np.ndarray:
         """The body's vertices (or points ``X`` ``(k, 3)`` of it) scaled by ``s`` about its
-        anchor, moved by ``off``; with ``shift``, the body's posed shoulders then moved onto
-        their sleeves' axes (:meth:`_Arms.shifts`)."""
+        anchor, moved by ``off``; with ``shift``, the body's posed shoulders and hips then
+        moved onto their sleeves' and trouser legs' axes (:meth:`_Limbs.shifts`)."""
         V = (self.BV if X is None else X) - self.a_b
         V = V * s + self.a_g + np.array([0.0, off[0], off[1]])
-        if X is None and shift and self.arms is not None and self.arms.bones:
-            for rig, t in self.arms.shifts(lambda J: self.placed(s, off, J, shift=False)):
-                V = V + rig.weight[:, None] * t
+        if X is None and shift:
+            for limbs in self.limbs:  # the arms, the legs
+                for rig, t in limbs.shifts(lambda J: self.placed(s, off, J, shift=False)):
+                    V = V + rig.weight[:, None] * t
         return V
 
     def inside_fraction(self, s: float) -> float:

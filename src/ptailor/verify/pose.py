@@ -37,10 +37,18 @@ from ptailor.verify import tolerances as verify_tol
 
 __all__ = [
     "ArmRig",
+    "LimbAxis",
+    "LimbRig",
     "SleeveAxis",
     "abduction",
     "arm_rigs",
+    "clamped_bone",
+    "component",
+    "forward",
+    "harmonic_weights",
+    "limb_axis",
     "pose_arms",
+    "rotation",
     "shoulder_shift",
     "sleeve_axes",
 ]
@@ -50,23 +58,25 @@ SIDES = {"left": 1.0, "right": -1.0}
 
 
 @dataclass(frozen=True)
-class ArmRig:
-    """One arm of a body: its joint, its bone and its skinning weights.
+class LimbRig:
+    """One limb of a body (an arm, or a leg: :mod:`ptailor.verify.legs`): its joint, its
+    bone and its skinning weights.
 
     Attributes
     ----------
     side : str
         ``left`` (+x) or ``right``.
     joint : (3,) float array
-        The shoulder joint (the body's axes and units).
+        The shoulder (hip) joint (the body's axes and units).
     bone : (3,) float array
-        Unit direction from the joint to the hand.
+        Unit direction from the joint to the hand (foot).
     radius : float
-        The upper arm's median radius.
+        The upper arm's (thigh's) median radius.
     weight : (nb,) float array
-        Per body vertex, in [0, 1]: how much it follows the arm.
+        Per body vertex, in [0, 1]: how much it follows the limb.
     centre : (3,) float array
-        The upper arm's centroid: the arm's axis is the line through it along the bone.
+        The upper arm's (thigh's) centroid: the limb's axis is the line through it along
+        the bone.
     """
 
     side: str
@@ -79,28 +89,37 @@ class ArmRig:
     def turned(self, bone: np.ndarray, X: np.ndarray) -> np.ndarray:
         """Points ``(k, 3)`` turned about the joint by the least rotation from this arm's
         bone to ``bone`` (unit)."""
-        return (X - self.joint) @ _rotation(self.bone, bone).T + self.joint
+        return (X - self.joint) @ rotation(self.bone, bone).T + self.joint
+
+
+#: an arm's rig (the name it had before the legs were rigged too)
+ArmRig = LimbRig
 
 
 @dataclass(frozen=True)
-class SleeveAxis:
-    """A sleeve's axis, in the garment's frame axes (left, up, front) and units.
+class LimbAxis:
+    """A sleeve's (a trouser leg's) axis, in the garment's frame axes (left, up, front) and
+    units.
 
     Attributes
     ----------
     side : str
     point : (3,) float array
-        The sleeve's area-weighted centroid (on the axis of a tube).
+        The sleeve's (leg's) area-weighted centroid (on the axis of a tube).
     direction : (3,) float array
-        Unit, from the shoulder to the cuff.
+        Unit, from the shoulder to the cuff (the hip to the leg opening).
     vertices : (k,) int array
-        The sleeve's drape vertices (into ``V3``).
+        The sleeve's (leg's) drape vertices (into ``V3``).
     """
 
     side: str
     point: np.ndarray
     direction: np.ndarray
     vertices: np.ndarray
+
+
+#: a sleeve's axis (the name it had before the trouser legs' axes)
+SleeveAxis = LimbAxis
 
 
 def abduction(direction: np.ndarray, side: str) -> float:
@@ -114,7 +133,7 @@ def forward(direction: np.ndarray) -> float:
     return float(np.degrees(np.arcsin(np.clip(direction[2], -1.0, 1.0))))
 
 
-def arm_rigs(V: np.ndarray, F: np.ndarray) -> tuple[ArmRig, ...]:
+def arm_rigs(V: np.ndarray, F: np.ndarray) -> tuple[LimbRig, ...]:
     """Both arms' rigs (left, right) of a body ``V`` ``(nb, 3)``, ``F`` ``(f, 3)`` in the
     A-pose (y up, its left +x; see the module docstring)."""
     return tuple(_arm_rig(V, F, side) for side in SIDES)
@@ -150,7 +169,7 @@ def _arm_rows(V: np.ndarray, F: np.ndarray, s: float) -> tuple[np.ndarray, float
     return arm, float(V[:, 1].min() + (top + 1) * verify_tol.FIT_ARM_ROW * h), x_a
 
 
-def _arm_rig(V: np.ndarray, F: np.ndarray, side: str) -> ArmRig:
+def _arm_rig(V: np.ndarray, F: np.ndarray, side: str) -> LimbRig:
     """One arm's rig (see the module docstring)."""
     s = SIDES[side]
     h = float(np.ptp(V[:, 1]))
@@ -166,13 +185,13 @@ def _arm_rig(V: np.ndarray, F: np.ndarray, side: str) -> ArmRig:
     on_bone = c + bone * ((y_j - c[1]) / bone[1])
     joint = np.array([s * (x_a + radius), y_j, on_bone[2]])
     far = (V - joint) @ bone > verify_tol.FIT_ARM_BAND * h
-    one = _component(F, far, int(np.argmax(s * V[:, 0])))
+    one = component(F, far, int(np.argmax(s * V[:, 0])))
     inner = s * V[:, 0] < x_a - 0.5 * verify_tol.FIT_ARM_BAND * h
     zero = inner | (far & ~one) | ((V[:, 1] < y_a) & ~arm & ~one)  # the torso, its side too
-    return ArmRig(side, joint, bone, radius, _harmonic(V, F, one, zero & ~one), c)
+    return LimbRig(side, joint, bone, radius, harmonic_weights(V, F, one, zero & ~one), c)
 
 
-def _component(F: np.ndarray, keep: np.ndarray, seed: int) -> np.ndarray:
+def component(F: np.ndarray, keep: np.ndarray, seed: int) -> np.ndarray:
     """The vertices ``(nb,)`` bool of ``keep`` joined to ``seed`` through edges among them."""
     import scipy.sparse as sp
     from scipy.sparse.csgraph import connected_components
@@ -185,7 +204,7 @@ def _component(F: np.ndarray, keep: np.ndarray, seed: int) -> np.ndarray:
     return keep & (label == label[seed])
 
 
-def _harmonic(V: np.ndarray, F: np.ndarray, one: np.ndarray, zero: np.ndarray) -> np.ndarray:
+def harmonic_weights(V: np.ndarray, F: np.ndarray, one: np.ndarray, zero: np.ndarray) -> np.ndarray:
     """Weights ``(nb,)``: 1 on ``one``, 0 on ``zero``, harmonic (the graph Laplacian's
     solution) on the rest."""
     import scipy.sparse as sp
@@ -204,7 +223,7 @@ def _harmonic(V: np.ndarray, F: np.ndarray, one: np.ndarray, zero: np.ndarray) -
     return np.clip(w, 0.0, 1.0)
 
 
-def _rotation(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def rotation(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """The least rotation ``(3, 3)`` taking unit ``a`` to unit ``b`` (Rodrigues)."""
     v = np.cross(a, b)
     c = float(a @ b)
@@ -212,23 +231,36 @@ def _rotation(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.eye(3) + K + K @ K / max(1.0 + c, tol.TINY)
 
 
-def target_bone(rig: ArmRig, sleeve: np.ndarray) -> np.ndarray:
-    """The arm's new bone ``(3,)``: the sleeve's direction, its abduction kept within
-    ``FIT_ARM_ABDUCTION`` and its forward swing within ``FIT_ARM_FORWARD`` (degrees)."""
-    s = SIDES[rig.side]
-    lo, hi = verify_tol.FIT_ARM_ABDUCTION
-    ab = np.radians(np.clip(abduction(sleeve, rig.side), lo, hi))
-    fw = np.radians(
-        np.clip(forward(sleeve), -verify_tol.FIT_ARM_FORWARD, verify_tol.FIT_ARM_FORWARD)
-    )
+def clamped_bone(
+    direction: np.ndarray, side: str, *, abduction_range: tuple, forward_max: float
+) -> np.ndarray:
+    """A limb's new bone ``(3,)``: the unit ``direction`` ``(3,)`` with its abduction
+    (:func:`abduction`) clipped to ``abduction_range`` and its forward swing
+    (:func:`forward`) to ``forward_max`` either way (degrees)."""
+    s = SIDES[side]
+    lo, hi = abduction_range
+    ab = np.radians(np.clip(abduction(direction, side), lo, hi))
+    fw = np.radians(np.clip(forward(direction), -forward_max, forward_max))
     return np.array([s * np.sin(ab) * np.cos(fw), -np.cos(ab) * np.cos(fw), np.sin(fw)])
 
 
-def pose_arms(V: np.ndarray, rigs: tuple[ArmRig, ...], bones: dict[str, np.ndarray]) -> np.ndarray:
-    """The body's vertices ``(nb, 3)`` with each arm named in ``bones`` turned about its
-    joint from its bone to the bone given (unit, the body's axes), blended by its weights."""
+def target_bone(rig: LimbRig, sleeve: np.ndarray) -> np.ndarray:
+    """The arm's new bone ``(3,)``: the sleeve's direction, its abduction kept within
+    ``FIT_ARM_ABDUCTION`` and its forward swing within ``FIT_ARM_FORWARD`` (degrees)."""
+    return clamped_bone(
+        sleeve,
+        rig.side,
+        abduction_range=verify_tol.FIT_ARM_ABDUCTION,
+        forward_max=verify_tol.FIT_ARM_FORWARD,
+    )
+
+
+def pose_arms(V: np.ndarray, rigs: tuple[LimbRig, ...], bones: dict[str, np.ndarray]) -> np.ndarray:
+    """The body's vertices ``(nb, 3)`` with each limb (arm or leg) named by its side in
+    ``bones`` turned about its joint from its bone to the bone given (unit, the body's
+    axes), blended by its weights."""
     out = np.array(V, dtype=np.float64)
-    for rig in rigs:  # a loop over the two arms
+    for rig in rigs:  # a loop over the two limbs
         if rig.side not in bones:
             continue
         out += rig.weight[:, None] * (rig.turned(bones[rig.side], V) - V)
@@ -247,8 +279,8 @@ def shoulder_shift(
     return t if n <= cap else t * (cap / n)
 
 
-def sleeve_axes(garment) -> dict[str, SleeveAxis]:
-    """Each side's sleeve axis (:class:`SleeveAxis`), in the garment's frame axes and units.
+def sleeve_axes(garment) -> dict[str, LimbAxis]:
+    """Each side's sleeve axis (:class:`LimbAxis`), in the garment's frame axes and units.
 
     The side's sleeve and cuff panels (``structure(garment).layout``) make the tube; its
     direction is oriented towards the side's cuff opening where there is one, else away
@@ -270,20 +302,34 @@ def sleeve_axes(garment) -> dict[str, SleeveAxis]:
             for k, (r, sd) in enumerate(zip(lay.role, lay.side, strict=True))
             if r in ("sleeve", "cuff") and sd == side
         ]
-        faces = F[np.isin(st.face_panel, panels)]
-        if len(faces) == 0:
-            continue
-        T = P[faces]
-        area = np.linalg.norm(np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]), axis=1)
-        point = (T.mean(axis=1) * area[:, None]).sum(axis=0) / max(float(area.sum()), tol.TINY)
         cuff = ops.get(f"cuff_{side}")
-        out_dir = (cuff.centroid @ R.T - point) if cuff is not None else np.array([s, 0.0, 0.0])
-        # a tube's axis; flat panels (a box mesh, not draped) are no tube: the centroid to
-        # the cuff's centre then gives it
-        axis = tube_axis(P, faces)
-        if axis is None and cuff is None:
-            continue
-        axis = out_dir if axis is None else axis
-        axis = axis if axis @ out_dir >= 0.0 else -axis
-        out[side] = SleeveAxis(side, point, axis / np.linalg.norm(axis), np.unique(faces))
+        end = None if cuff is None else cuff.centroid @ R.T
+        axis = limb_axis(side, P, F[np.isin(st.face_panel, panels)], end, np.array([s, 0, 0.0]))
+        if axis is not None:
+            out[side] = axis
     return out
+
+
+def limb_axis(
+    side: str, P: np.ndarray, faces: np.ndarray, end: np.ndarray | None, away: np.ndarray
+) -> LimbAxis | None:
+    """The axis of a limb's tube: the triangles ``faces`` ``(k, 3)`` of the drape ``P``
+    ``(n, 3)`` (the garment's frame axes), its direction oriented towards its opening's
+    centroid ``end`` ``(3,)`` where there is one, else along ``away`` ``(3,)``.
+
+    Flat panels (a box mesh, not draped) are no tube
+    (:func:`ptailor.geometry.tube_axis.tube_axis` returns None): the centroid to ``end``
+    then gives the direction; without ``end`` either, None.
+    """
+    if len(faces) == 0:
+        return None
+    T = P[faces]
+    area = np.linalg.norm(np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]), axis=1)
+    point = (T.mean(axis=1) * area[:, None]).sum(axis=0) / max(float(area.sum()), tol.TINY)
+    out_dir = away if end is None else end - point
+    axis = tube_axis(P, faces)
+    if axis is None and end is None:
+        return None
+    axis = out_dir if axis is None else axis
+    axis = axis if axis @ out_dir >= 0.0 else -axis
+    return LimbAxis(side, point, axis / np.linalg.norm(axis), np.unique(faces))
