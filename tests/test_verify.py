@@ -226,14 +226,16 @@ def test_verify_section_wiring(lantern_adj, fake_engine):
     assert list(drapes) == ["ours", "baseline", "original"]
     for kind in check.KINDS:
         R = section[kind]
-        assert set(R) == {"panels", "displacement", "settled", "steps", "seconds"}
-        assert R["displacement"] == {"mean": 0.0, "p95": 0.0, "max": 0.0}
+        warm = {"start"} if kind != check.NULL else set()  # from the settled null re-drape
+        assert set(R) == {"panels", "displacement", "settled", "steps", "seconds"} | warm
+        assert R.get("start", "null+edit") == "null+edit"
+        np.testing.assert_allclose(list(R["displacement"].values()), 0.0, atol=1e-12)
         assert set(R["panels"]) == {"sleeve", "cuff"}
         for stats in R["panels"].values():
             assert {k: set(v) for k, v in stats.items()} == PANEL_KEYS
-            assert stats["displacement"]["max"] == 0.0  # the fake does not move
-    # ours and the baseline from the edited drape, the original from the original (the null)
-    np.testing.assert_array_equal(drapes["ours"], adj.state.V3)
+            assert stats["displacement"]["max"] < 1e-12  # the fake does not move
+    # ours and the baseline of the edited drape, the original of the original (the null)
+    np.testing.assert_allclose(drapes["ours"], adj.state.V3, atol=1e-12)
     np.testing.assert_array_equal(drapes["original"], adj.state.base.V3)
     assert not np.allclose(adj.state.V3, adj.state.base.V3)
     assert section["null"]["holds"] and section["null"]["mean"] == 0.0
@@ -244,12 +246,14 @@ def test_verify_section_wiring(lantern_adj, fake_engine):
     # the original pattern on the original drape rests as it (on the edited drape, 1.2 wider,
     # it would stretch 1.2)
     assert panels["original"]["sleeve"]["stretch"]["p50"] == pytest.approx(1.0, rel=1e-6)
-    # every run: the edited drape, the top opening pinned, the body and units passed on
+    # the null first, from the original drape; then ours and the baseline from the settled
+    # null moved by the edit (the fake null stays put: the edited drape); the top opening
+    # pinned, the body and units passed on
     assert len(fake_engine) == 3
     top = top_opening(adj.state.V3, adj.state.base.F3, frame=Frame())
-    for call, start in zip(fake_engine, [adj.state.V3, adj.state.V3, adj.state.base.V3],
+    for call, start in zip(fake_engine, [adj.state.base.V3, adj.state.V3, adj.state.V3],
                            strict=True):  # fmt: skip
-        np.testing.assert_array_equal(call["V3"], start)
+        np.testing.assert_allclose(call["V3"], start, atol=1e-12)
         np.testing.assert_array_equal(call["pinned"], top)
         assert call["body"] is body and call["units_m"] == 0.01 and call["device"] == "cpu"
     np.testing.assert_array_equal(adj.state.V3, V3_before)
@@ -313,7 +317,7 @@ def test_verify_patterns_for_any_names(lantern_adj, fake_engine):
 def test_an_identity_edits_null_redrape_is_ours_not_simulated_twice(lantern_adj, fake_engine):
     """A garment checked as it is (``ptailor verify`` without ``--original``): ours and the
     null re-drape are the same pattern from the same drape; the engine runs twice, not three
-    times, and the null's report says whose it is."""
+    times (the null first), and ours says whose it is."""
     b = lantern_adj.state.base
     s = structure(b)
     patterns = {"ours": b.V2, "baseline": lantern_adj.baseline.V2, "original": b.V2.copy()}
@@ -323,10 +327,43 @@ def test_an_identity_edits_null_redrape_is_ours_not_simulated_twice(lantern_adj,
         frame=Frame(),
     )  # fmt: skip
     assert len(fake_engine) == 2
-    assert section["original"]["same_as"] == "ours" and "same_as" not in section["ours"]
+    assert section["ours"]["same_as"] == "original" and "same_as" not in section["original"]
     assert section["steps"] == 80 and section["seconds"] == pytest.approx(1.0)
     assert section["original"]["panels"] == section["ours"]["panels"]
     assert drapes["original"] is drapes["ours"] and section["null"]["holds"]
+
+
+def test_the_edited_drapes_redrapes_start_from_the_settled_null_moved_by_the_edit(
+    lantern_adj, monkeypatch
+):
+    """A null re-drape that sags 5 mm and settles: ours and the baseline are simulated from
+    it moved by the edit (their own sag is not settled again), and measured from the edited
+    drape (5 mm too); a null that did not settle gives no such start."""
+    from ptailor.verify.engine import Drape
+
+    adj = lantern_adj
+    sag = np.array([0.0, -0.5, 0.0])
+    for settled in (True, False):
+        starts = []
+
+        def sagging(V3, F3, rest, **kw):
+            starts.append(np.array(V3))  # noqa: B023  (read before the next loop)
+            return Drape(V=V3 + sag, steps=1, seconds=0.0, settled=settled,  # noqa: B023
+                         device="cpu", engine="fake 0")  # fmt: skip
+
+        monkeypatch.setattr(check, "redrape", sagging)
+        section, _ = check.verify_section(adj, units_m=0.01, to_units=10.0)
+        np.testing.assert_allclose(starts[0], adj.state.base.V3)  # the null, from the original
+        for k, start in zip(("ours", "baseline"), starts[1:], strict=True):
+            if settled:
+                np.testing.assert_allclose(start, adj.state.V3 + sag, atol=1e-12)
+                assert section[k]["start"] == "null+edit"
+                # the fake sags again from there: 10 mm from the edited drape, where a
+                # re-drape's displacement is measured from
+                assert section[k]["displacement"]["mean"] == pytest.approx(10.0)
+            else:
+                np.testing.assert_array_equal(start, adj.state.V3)
+                assert "start" not in section[k]
 
 
 def test_verify_patterns_refuses_an_up_the_engine_cannot_simulate(lantern_adj, fake_engine):
