@@ -17,7 +17,6 @@ the CPU seconds of the GEOS offsets (uniform and per-edge together).
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 import time
 from pathlib import Path
@@ -25,14 +24,9 @@ from pathlib import Path
 import numpy as np
 import shapely
 
+from garments import REAL, SHARED
+
 ROOT = Path(__file__).resolve().parents[1]
-SHARED = Path(os.environ.get("PTAILOR_SHARED", ROOT.parent / "shared"))
-REAL = {
-    "tee6": ("gpg_tee6/tee6_sim.obj", "cm"),
-    "tshirt": ("diffavatar/tshirt.obj", "auto"),
-    "longsleeve": ("diffavatar/longsleeve_initial.obj", "auto"),
-    "dress": ("diffavatar/dress_initial.obj", "auto"),
-}
 
 
 def hand_offset(P: np.ndarray, d: float, limit: float = 4.0) -> np.ndarray:

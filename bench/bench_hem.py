@@ -19,12 +19,12 @@ units, the DiffAvatar atlases ``auto``). Generated samples (``ptailor.samples``)
 from __future__ import annotations
 
 import argparse
-import os
 import time
 from pathlib import Path
 
 import numpy as np
 
+from garments import REAL, SHARED
 from ptailor.edits.extend import opening_edges
 from ptailor.geometry.segments import nearest_segment_distance
 from ptailor.model.frame import Frame
@@ -35,13 +35,6 @@ from ptailor.recipe import parse_recipe
 from ptailor.samples import SAMPLES
 
 ROOT = Path(__file__).resolve().parents[1]
-SHARED = Path(os.environ.get("PTAILOR_SHARED", ROOT.parent / "shared"))
-REAL = {
-    "tee6": ("gpg_tee6/tee6_sim.obj", "cm"),
-    "tshirt": ("diffavatar/tshirt.obj", "auto"),
-    "longsleeve": ("diffavatar/longsleeve_initial.obj", "auto"),
-    "dress": ("diffavatar/dress_initial.obj", "auto"),
-}
 
 
 def load(key: str) -> Garment | None:

@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import os
 import subprocess
 from pathlib import Path
 
@@ -22,6 +23,17 @@ import numpy as np
 from timing import one_blas_thread_env, ptailor_command
 
 AXES = ("x", "y", "z", "-x", "-y", "-z")
+
+#: ``../shared`` beside the project (``PTAILOR_SHARED`` moves it)
+SHARED = Path(os.environ.get("PTAILOR_SHARED", Path(__file__).resolve().parents[2] / "shared"))
+#: the shared garments the benchmarks run on: key -> (path under ``SHARED/garments``,
+#: pattern units)
+REAL = {
+    "tee6": ("gpg_tee6/tee6_sim.obj", "cm"),
+    "tshirt": ("diffavatar/tshirt.obj", "auto"),
+    "longsleeve": ("diffavatar/longsleeve_initial.obj", "auto"),
+    "dress": ("diffavatar/dress_initial.obj", "auto"),
+}
 
 
 def add_garment_options(ap: argparse.ArgumentParser, *, many: bool = False) -> None:
