@@ -59,7 +59,7 @@ class BodyFit:
         Fraction of the torso's garment vertices inside the body (those the scale is fitted
         to).
     drape_inside : float or None
-        Fraction of all the drape's vertices (at most ``FIT_POINTS`` of them) inside the
+        Fraction of all the drape's vertices (at most ``FIT_INSIDE_POINTS`` of them) inside the
         body (trimesh's ray test), sleeves and legs included; None where no limb was posed.
     arms : dict
         Per posed arm (``left``, ``right``): the sleeve's abduction and forward swing and the
@@ -231,7 +231,7 @@ def fit_body(
 def _drape_inside(
     V3: np.ndarray, F3: np.ndarray, frame: np.ndarray, to_m: float, V_b: np.ndarray, BF: np.ndarray
 ) -> float:
-    """The fraction of the drape's used vertices (at most about ``FIT_POINTS``, evenly
+    """The fraction of the drape's used vertices (at most ``FIT_INSIDE_POINTS``, evenly
     subsampled) inside the placed body ``V_b`` ``(nb, 3)``, ``BF`` ``(f, 3)`` (the body's
     axes, metres), by trimesh's ray test (:func:`ptailor.edits.body.inside_body`).
 
@@ -246,7 +246,7 @@ def _drape_inside(
 
     used = np.unique(np.asarray(F3))
     Q = (np.asarray(V3, dtype=np.float64)[used] @ frame.T) * to_m
-    Q = Q[:: max(1, len(Q) // verify_tol.FIT_POINTS)]
+    Q = Q[:: -(-len(Q) // verify_tol.FIT_INSIDE_POINTS)] if len(Q) else Q
     body = trimesh.Trimesh(V_b, BF, process=False)
     behind, d = _inside(Q, V_b, np.asarray(body.vertex_normals))
     ask = behind | (d < verify_tol.FIT_NEAR_EDGES * float(np.median(edge_lengths(V_b, BF))))

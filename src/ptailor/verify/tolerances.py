@@ -37,6 +37,10 @@ FIT_POINTS = 6000
 #: ... of the torso (those no farther out than the hem reaches) when it has at least this
 #: many (a count), else of the whole garment.
 FIT_TORSO_MIN_POINTS = 100
+#: The drape's vertices the posed body's inside fraction is measured on, at most (a count,
+#: evenly subsampled: trimesh's ray test costs per point, 7 s for 6,900 at tee6 16x; the
+#: fraction's standard error at 5 % is 0.5 % with 2,000).
+FIT_INSIDE_POINTS = 2000
 #: The whole drape's inside fraction asks the ray test only of the points inside by the
 #: nearest body vertex's normal or within this many median body edges of the body (unitless:
 #: farther out, that normal's side is the body's side: exact on the shared garments, and the
