@@ -27,7 +27,7 @@ def max_steps_option(name: str = "--max-steps"):
         default=None,
         metavar="N",
         help="Re-drape: stop each simulation after N steps when it has not settled "
-        "[default: the engine's, 1500 = 15 s].",
+        "[default: the engine's, 2000 = 20 s].",
     )
 
 
