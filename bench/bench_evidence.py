@@ -24,13 +24,14 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import subprocess
 import sys
 import tempfile
 import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
+
+from timing import run_measured
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -117,15 +118,16 @@ def relative(section: dict, kind: str) -> dict:
 
 
 def timed(cmd: list[str]) -> tuple[int, str, float, float]:
-    """Run ``cmd``: its exit status, stderr, wall seconds and CPU seconds (user + system of
-    the process and its children, from ``os.wait4``: per command, whatever runs beside it)."""
+    """Run ``cmd``: its exit status, stderr, and wall and CPU seconds of that command alone
+    (:func:`timing.run_measured`; nan when it failed)."""
     with tempfile.TemporaryFile("w+") as err:
-        t0 = time.perf_counter()
-        proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=err, env={**os.environ})
-        _, status, usage = os.wait4(proc.pid, 0)
-        wall = time.perf_counter() - t0
+        try:
+            wall, cpu, _ = run_measured(cmd, stdout=subprocess.DEVNULL, stderr=err)
+            rc = 0
+        except subprocess.CalledProcessError as e:
+            rc, wall, cpu = e.returncode, float("nan"), float("nan")
         err.seek(0)
-        return os.waitstatus_to_exitcode(status), err.read(), wall, usage.ru_utime + usage.ru_stime
+        return rc, err.read(), wall, cpu
 
 
 def garment_path(shared: Path, work: Path, garment: str, levels: int) -> Path:

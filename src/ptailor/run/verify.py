@@ -139,9 +139,9 @@ def to_y_up(frame: Frame) -> np.ndarray:
     c = float(u @ y)
     if c < -1.0 + verify_tol.UPSIDE_DOWN:  # upside down: half a turn about x
         return np.diag([1.0, -1.0, -1.0])
-    k = np.cross(u, y)
-    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-    return np.eye(3) + K + K @ K / (1.0 + c)
+    from ptailor.verify.pose import rotation
+
+    return rotation(u, y)
 
 
 def redrape_check(

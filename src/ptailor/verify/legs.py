@@ -35,6 +35,7 @@ from ptailor.verify.pose import (
     SIDES,
     LimbAxis,
     LimbRig,
+    body_rows,
     clamped_bone,
     component,
     harmonic_weights,
@@ -54,11 +55,7 @@ def crotch_height(V: np.ndarray, F: np.ndarray) -> float:
     ValueError
         A body whose lowest row is not parted (no legs apart).
     """
-    from ptailor.geometry.triangles import edge_lengths
-
-    h = float(np.ptp(V[:, 1]))
-    gap = verify_tol.FIT_ARM_GAP_EDGES * float(np.median(edge_lengths(V, F)))
-    row = np.floor((V[:, 1] - V[:, 1].min()) / (verify_tol.FIT_ARM_ROW * h)).astype(np.int64)
+    row, h, gap = body_rows(V, F)
     n = int(row.max()) + 1
     left, right = np.full(n, np.inf), np.full(n, -np.inf)
     pos = V[:, 0] > 0.0

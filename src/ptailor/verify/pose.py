@@ -42,6 +42,7 @@ __all__ = [
     "SleeveAxis",
     "abduction",
     "arm_rigs",
+    "body_rows",
     "clamped_bone",
     "component",
     "forward",
@@ -139,15 +140,31 @@ def arm_rigs(V: np.ndarray, F: np.ndarray) -> tuple[LimbRig, ...]:
     return tuple(_arm_rig(V, F, side) for side in SIDES)
 
 
-def _arm_rows(V: np.ndarray, F: np.ndarray, s: float) -> tuple[np.ndarray, float, float]:
-    """The arm's vertices ``(nb,)`` bool on the side of sign ``s``, the armpit's height
-    and its distance from the centre line (see the module docstring, step 1)."""
+def body_rows(V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, float, float]:
+    """The body's rows, as the arm and leg rigs read them.
+
+    Returns
+    -------
+    row : (nb,) int array
+        Each vertex's row, from the feet up, ``FIT_ARM_ROW`` of the height apart.
+    h : float
+        The body's height.
+    gap : float
+        The gap that parts a row: ``FIT_ARM_GAP_EDGES`` median edges.
+    """
     from ptailor.geometry.triangles import edge_lengths
 
     h = float(np.ptp(V[:, 1]))
     gap = verify_tol.FIT_ARM_GAP_EDGES * float(np.median(edge_lengths(V, F)))
-    xs = s * V[:, 0]
     row = np.floor((V[:, 1] - V[:, 1].min()) / (verify_tol.FIT_ARM_ROW * h)).astype(np.int64)
+    return row, h, gap
+
+
+def _arm_rows(V: np.ndarray, F: np.ndarray, s: float) -> tuple[np.ndarray, float, float]:
+    """The arm's vertices ``(nb,)`` bool on the side of sign ``s``, the armpit's height
+    and its distance from the centre line (see the module docstring, step 1)."""
+    row, h, gap = body_rows(V, F)
+    xs = s * V[:, 0]
     arm = np.zeros(len(V), dtype=bool)
     top, x_a = None, 0.0
     for r in range(int(row[np.argmax(xs)]), int(row.max()) + 1):  # a loop over rows, upward
